@@ -1,0 +1,123 @@
+"""Shared helpers for the subcommands: argument types, JSON output, progress display."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import time
+
+import numpy as np
+
+
+def p_value(text: str):
+    """A polygon size p: an integer, or 'inf' (only where a limit makes sense)."""
+    t = text.strip().lower()
+    if t in ("inf", "infinity", "oo"):
+        return math.inf
+    try:
+        return int(t)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"p must be an integer or 'inf', got {text!r}") from None
+
+
+def positive_int(text: str) -> int:
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+    if v < 1:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {v}")
+    return v
+
+
+def finite_float(text: str) -> float:
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not math.isfinite(v):
+        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
+    return v
+
+
+def complex_value(text: str) -> complex:
+    """Parse a (possibly complex) number such as ``-2.95`` or ``-2.5+0.1j`` without eval."""
+    t = text.strip().replace(" ", "").replace("i", "j")
+    try:
+        v = complex(t)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a real or complex number like -2.5+0.1j, got {text!r}") from None
+    if not (math.isfinite(v.real) and math.isfinite(v.imag)):
+        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
+    return v
+
+
+def add_pq(parser: argparse.ArgumentParser, *, default_p: int = 7) -> None:
+    parser.add_argument("-p", type=int, default=default_p, help=f"polygon size p (default {default_p})")
+    parser.add_argument("-q", type=int, default=3, help="coordination number q (default 3)")
+
+
+def to_jsonable(obj):
+    """Convert numpy scalars/arrays (and inf) to plain JSON values."""
+    if isinstance(obj, dict):
+        return {str(k): to_jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [to_jsonable(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return to_jsonable(obj.tolist())
+    if isinstance(obj, (np.integer,)):
+        return int(obj)
+    if isinstance(obj, (np.floating, float)):
+        f = float(obj)
+        if math.isinf(f):
+            return "inf" if f > 0 else "-inf"
+        if math.isnan(f):
+            return None
+        return f
+    if isinstance(obj, (complex, np.complexfloating)):
+        return {"re": float(obj.real), "im": float(obj.imag)}
+    return obj
+
+
+def print_json(obj) -> None:
+    json.dump(to_jsonable(obj), sys.stdout, indent=2)
+    sys.stdout.write("\n")
+
+
+class Progress:
+    """Minimal stderr progress display: silent for the first ``delay`` seconds.
+
+    Only draws when stderr is a terminal or ``force`` is set, so pipes and logs stay clean
+    while long interactive runs still show what they are doing.
+    """
+
+    def __init__(self, label: str, *, delay: float = 2.0, force: bool | None = None):
+        self.label = label
+        self.delay = delay
+        self.t0 = time.perf_counter()
+        self.enabled = sys.stderr.isatty() if force is None else force
+        self._shown = False
+
+    def update(self, message: str) -> None:
+        if not self.enabled:
+            return
+        elapsed = time.perf_counter() - self.t0
+        if elapsed < self.delay:
+            return
+        sys.stderr.write(f"\r{self.label}: {message} [{elapsed:6.1f} s]\033[K")
+        sys.stderr.flush()
+        self._shown = True
+
+    def close(self) -> None:
+        if self._shown:
+            sys.stderr.write("\n")
+            sys.stderr.flush()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+        return False

@@ -1,0 +1,270 @@
+r"""Geometry of the Poincaré disk and the constants of regular {p,q} tessellations.
+
+Conventions (Boettcher et al., PRA 102, 032208, Eq. (3)): the metric is
+
+.. math:: ds^2 = \frac{dx^2 + dy^2}{(1-|z|^2)^2},
+
+i.e. Gaussian curvature :math:`K=-4`. Distances are therefore half the usual
+curvature :math:`-1` distances, the point at distance :math:`d` from the origin
+has radius :math:`\tanh d`, and a geodesic polygon with :math:`n` vertices and
+interior angles :math:`\gamma_j` has area :math:`[(n-2)\pi - \sum_j\gamma_j]/4`.
+
+Everything here is a pure function of numbers or complex numpy arrays.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = [
+    "check_pq",
+    "distance",
+    "mobius",
+    "mobius_inverse",
+    "rotate_about",
+    "geodesic_point",
+    "midpoint",
+    "TilingConstants",
+    "tiling_constants",
+    "r0",
+    "d0",
+    "lattice_h",
+    "site_area",
+    "radius_constant",
+    "effective_radius",
+    "counting_slope",
+    "rho",
+]
+
+
+# ----------------------------------------------------------------------------
+# validation
+# ----------------------------------------------------------------------------
+
+def _as_int(name: str, value) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        if isinstance(value, float) and value.is_integer():
+            return int(value)
+        raise ValueError(f"{name} must be an integer, got {value!r}.")
+    return int(value)
+
+
+def check_pq(p, q, *, allow_infinite_p: bool = False) -> tuple[float | int, int]:
+    """Validate a Schläfli symbol {p,q} and return it as integers.
+
+    A regular tessellation of the hyperbolic plane exists iff (p-2)(q-2) > 4.
+    With ``allow_infinite_p`` the limit ``p = inf`` is accepted (for constants only).
+    """
+    if allow_infinite_p and isinstance(p, float) and math.isinf(p) and p > 0:
+        q = _as_int("q", q)
+        if q < 3:
+            raise ValueError(f"q must be at least 3, got {q}.")
+        return math.inf, q
+    p = _as_int("p", p)
+    q = _as_int("q", q)
+    if p < 3 or q < 3:
+        raise ValueError(f"p and q must both be at least 3, got {{{p},{q}}}.")
+    if (p - 2) * (q - 2) <= 4:
+        raise ValueError(
+            f"{{{p},{q}}} is not a hyperbolic tessellation: need (p-2)(q-2) > 4, "
+            f"got {(p - 2) * (q - 2)}."
+        )
+    return p, q
+
+
+def _check_in_disk(name: str, z: np.ndarray) -> None:
+    if not np.all(np.isfinite(z)):
+        raise ValueError(f"{name} contains NaN or infinite values.")
+    if np.any(np.abs(z) >= 1.0):
+        raise ValueError(f"{name} must lie inside the unit disk |z| < 1.")
+
+
+# ----------------------------------------------------------------------------
+# maps and distances
+# ----------------------------------------------------------------------------
+
+def distance(z1, z2, *, check: bool = True):
+    r"""Hyperbolic distance of Eq. (4),
+
+    .. math:: d(z,z') = \tfrac12\,\mathrm{arcosh}\Bigl(1 + \frac{2|z-z'|^2}{(1-|z|^2)(1-|z'|^2)}\Bigr).
+
+    Evaluated as :math:`\mathrm{artanh}|(z-z')/(1-z\bar z')|`'s stable equivalent
+    ``arcsinh``-form, which keeps full relative accuracy both for nearby points and
+    near the boundary |z| -> 1 (where ``1-|z|^2`` is computed as ``(1-|z|)(1+|z|)``).
+    Broadcasts over numpy arrays.
+    """
+    z1 = np.asarray(z1, dtype=complex)
+    z2 = np.asarray(z2, dtype=complex)
+    if check:
+        _check_in_disk("z1", z1)
+        _check_in_disk("z2", z2)
+    a1 = np.abs(z1)
+    a2 = np.abs(z2)
+    s1 = (1.0 - a1) * (1.0 + a1)
+    s2 = (1.0 - a2) * (1.0 + a2)
+    # cosh(2d) - 1 = 2 sinh(d)^2 = 2|z-z'|^2 / (s1 s2)  =>  d = arcsinh(|z-z'| / sqrt(s1 s2))
+    return np.arcsinh(np.abs(z1 - z2) / np.sqrt(s1 * s2))
+
+
+def mobius(z, a, eta: float = 0.0):
+    r"""The disk automorphism of Eq. (5), :math:`w(z) = e^{i\eta}(a - z)/(1 - z\bar a)`.
+
+    It exchanges ``a`` and the origin (for ``eta = 0`` it is an involution).
+    """
+    z = np.asarray(z, dtype=complex)
+    a = np.asarray(a, dtype=complex)
+    return np.exp(1j * eta) * (a - z) / (1.0 - z * np.conj(a))
+
+
+def mobius_inverse(w, a, eta: float = 0.0):
+    """Inverse of :func:`mobius`: returns z with ``mobius(z, a, eta) == w``."""
+    w = np.asarray(w, dtype=complex) * np.exp(-1j * eta)
+    a = np.asarray(a, dtype=complex)
+    return (a - w) / (1.0 - w * np.conj(a))
+
+
+def rotate_about(z, center, angle):
+    """Rotate ``z`` about ``center`` by ``angle`` (counterclockwise, hyperbolic isometry)."""
+    z = np.asarray(z, dtype=complex)
+    c = np.asarray(center, dtype=complex)
+    cc = np.conj(c)
+    w = (z - c) / (1.0 - cc * z) * np.exp(1j * np.asarray(angle))
+    return (w + c) / (1.0 + cc * w)
+
+
+def geodesic_point(z1, z2, t):
+    """Point at fraction ``t`` of the hyperbolic distance along the geodesic from z1 to z2."""
+    z1 = np.asarray(z1, dtype=complex)
+    z2 = np.asarray(z2, dtype=complex)
+    c1 = np.conj(z1)
+    w = (z2 - z1) / (1.0 - c1 * z2)  # z1 -> 0
+    aw = np.abs(w)
+    d = np.arctanh(aw)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        u = np.where(aw > 0, w / np.where(aw > 0, aw, 1.0), 0.0) * np.tanh(np.asarray(t) * d)
+    return (u + z1) / (1.0 + c1 * u)
+
+
+def midpoint(z1, z2):
+    """Hyperbolic midpoint of the geodesic segment between z1 and z2."""
+    return geodesic_point(z1, z2, 0.5)
+
+
+def rho(r):
+    r"""The hyperbolic invariant :math:`\rho = (1+r^2)/(1-r^2) = \cosh 2d(r,0)` of Eq. (sum3)."""
+    r = np.asarray(r, dtype=float)
+    return (1.0 + r * r) / ((1.0 - r) * (1.0 + r))
+
+
+# ----------------------------------------------------------------------------
+# {p,q} constants
+# ----------------------------------------------------------------------------
+
+def r0(p, q=3) -> float:
+    r"""Euclidean radius of the central p-gon's vertices, Eq. (Eqr0):
+    :math:`r_0 = \sqrt{\cos(\pi/q+\pi/p)/\cos(\pi/p-\pi/q)}` (1 for p = inf)."""
+    p, q = check_pq(p, q, allow_infinite_p=True)
+    if math.isinf(p):
+        return 1.0
+    return math.sqrt(math.cos(math.pi / q + math.pi / p) / math.cos(math.pi / p - math.pi / q))
+
+
+def d0(p, q=3) -> float:
+    r"""Hyperbolic edge length of {p,q} in the paper's metric.
+
+    Closed form from the right triangle (polygon centre, vertex, edge midpoint) with
+    angles :math:`\pi/p, \pi/q, \pi/2`: the half edge in curvature -1 satisfies
+    :math:`\cosh a = \cos(\pi/p)/\sin(\pi/q)`, and since the paper's distances are half
+    the curvature -1 ones, :math:`d_0 = a`. This equals :math:`d(r_0, r_0 e^{2\pi i/p})`
+    (checked in the tests) and has the finite limit
+    :math:`\tfrac12\mathrm{arcosh}(1 + 2\cot^2(\pi/q))` for p -> inf
+    (:math:`\tfrac12\ln 3 = 0.549306` for q = 3).
+    """
+    p, q = check_pq(p, q, allow_infinite_p=True)
+    cp = 1.0 if math.isinf(p) else math.cos(math.pi / p)
+    return math.acosh(cp / math.sin(math.pi / q))
+
+
+def lattice_h(p, q=3) -> float:
+    r""":math:`h = \tanh d_0 = \sqrt{1 - \sin^2(\pi/q)/\cos^2(\pi/p)}`, Eq. (adj6).
+
+    It is also the Euclidean distance from the origin of a neighbour of a site
+    mapped to the origin. Limit p -> inf: :math:`\cos(\pi/q)` (1/2 for q = 3).
+    """
+    p, q = check_pq(p, q, allow_infinite_p=True)
+    cp = 1.0 if math.isinf(p) else math.cos(math.pi / p)
+    s = math.sin(math.pi / q) / cp
+    return math.sqrt((1.0 - s) * (1.0 + s))
+
+
+def site_area(p, q=3) -> float:
+    r"""Hyperbolic area per lattice site, :math:`\mathcal A = \frac{\pi}{4p}(pq-2p-2q)`.
+
+    Each site of {p,q} is the centre of a face of the dual tessellation {q,p}: a
+    regular q-gon with interior angles :math:`2\pi/p`, whose area in curvature -4 is
+    :math:`[(q-2)\pi - 2\pi q/p]/4`. For q = 3 this is Eq. (sum1c),
+    :math:`\frac{\pi}{4}(1-6/p)` (:math:`\pi/28` for {7,3}). Limit p -> inf:
+    :math:`\pi(q-2)/4`.
+    """
+    p, q = check_pq(p, q, allow_infinite_p=True)
+    if math.isinf(p):
+        return math.pi * (q - 2) / 4.0
+    return math.pi * (p * q - 2 * p - 2 * q) / (4.0 * p)
+
+
+def radius_constant(p, q=3) -> float:
+    r"""The constant :math:`c = \pi/\mathcal A = 4p/(pq-2p-2q)` in :math:`L = \sqrt{N/(N+c)}`.
+
+    Derivation (Eq. (eq11) with f = 1): :math:`N = \frac{1}{\mathcal A}\frac{\pi L^2}{1-L^2}`,
+    hence :math:`L^2 = N/(N+\pi/\mathcal A)`. For {p,3}: :math:`4p/(p-6)`, i.e. 28 for {7,3}.
+    """
+    return math.pi / site_area(p, q)
+
+
+def counting_slope(p, q=3) -> float:
+    r"""Slope of the counting function :math:`\mathcal N(r) \approx s\rho + b`, Eq. (sum4).
+
+    From :math:`\mathcal N(r) = \frac{\pi}{\mathcal A}\frac{r^2}{1-r^2} = \frac{c}{2}(\rho-1)`:
+    :math:`s = c/2 = 2p/(pq-2p-2q)` (14 for {7,3})."""
+    return radius_constant(p, q) / 2.0
+
+
+def effective_radius(sites, p=7, q=3):
+    r"""Effective disk radius of Eq. (eq12), :math:`L = \sqrt{N/(N + c_{pq})}`.
+
+    ``sites`` (N) may be an integer or an array; :math:`c_{pq}` is :func:`radius_constant`.
+    """
+    n = np.asarray(sites, dtype=float)
+    if np.any(~np.isfinite(n)) or np.any(n <= 0):
+        raise ValueError("the number of sites must be a positive finite number.")
+    c = radius_constant(p, q)
+    out = np.sqrt(n / (n + c))
+    return float(out) if out.ndim == 0 else out
+
+
+@dataclass(frozen=True)
+class TilingConstants:
+    """The geometric constants of a {p,q} tessellation in the paper's metric."""
+
+    p: float | int
+    q: int
+    r0: float
+    d0: float
+    h: float
+    site_area: float
+    radius_constant: float
+
+    def as_dict(self) -> dict:
+        p = "inf" if isinstance(self.p, float) and math.isinf(self.p) else self.p
+        return {"p": p, "q": self.q, "r0": self.r0, "d0": self.d0, "h": self.h,
+                "site_area": self.site_area}
+
+
+def tiling_constants(p, q=3) -> TilingConstants:
+    """All constants of {p,q} at once (p may be ``math.inf``)."""
+    p, q = check_pq(p, q, allow_infinite_p=True)
+    return TilingConstants(p=p, q=q, r0=r0(p, q), d0=d0(p, q), h=lattice_h(p, q),
+                           site_area=site_area(p, q), radius_constant=radius_constant(p, q))
