@@ -47,6 +47,8 @@ def onsite_values(lattice: Lattice, onsite: OnSite) -> np.ndarray | None:
         v = np.asarray(onsite(lattice.z, lattice.ring))
     else:
         v = np.asarray(onsite)
+    if v.dtype.kind not in "biufc":
+        raise ValueError(f"the on-site term must be numeric, got values of type {v.dtype}.")
     if v.ndim == 0:
         v = np.full(lattice.sites, v.item())
     if v.shape != (lattice.sites,):
