@@ -1,0 +1,203 @@
+"""``hyperlattice scaling``: frame angles, the formal operator A_h, its convergence, sums as integrals.
+
+Tasks (paper, App. AppAdj, AppFS, AppSum):
+
+* ``angles``      chi_i and delta_i of every site (Eqs. (adj7)-(adj9)), star check, Fig. FigScos3delta
+* ``operator``    A_h f - q f with the quadratic / cubic approximations per radius (Fig. FigSh)
+* ``convergence`` powers of h in the errors of the order-2/3/4 approximations
+* ``counting``    fit of the counting function N(r) ~ s rho + b (Eq. (sum4), Fig. FigS1)
+* ``sums``        lattice sums against (1/A) * disk integrals, Eq. (eq11), for several rings
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..dictionary import fit_counting, sum_check
+from ..lattice import ring_lattice
+from ..scaling import (PRESETS, SmoothFunction, convergence_study, expansion, formal_operator,
+                       frame_angles, radial_profile)
+from ._common import add_pq, finite_float, positive_int, print_json
+
+NAME = "scaling"
+ORDER = 55
+HELP = "frame angles chi_i, the formal operator A_h and its h-expansion, sums as integrals"
+DESCRIPTION = __doc__
+
+
+def _common(p, *, rings_default: int, many_rings: bool = False):
+    add_pq(p)
+    if many_rings:
+        p.add_argument("--rings", type=positive_int, nargs="+", default=list(range(4, 11)),
+                       help="numbers of rings (default 4..10)")
+    else:
+        p.add_argument("--rings", type=positive_int, default=rings_default,
+                       help=f"number of rings (default {rings_default})")
+    p.add_argument("--json", action="store_true", help="print JSON")
+
+
+def _plot_opt(p):
+    p.add_argument("--plot", metavar="FILE.png", help="also save the figure to this file")
+
+
+def add_arguments(parser):
+    sub = parser.add_subparsers(dest="task", metavar="TASK", parser_class=type(parser))
+    sub.required = True
+    fnames = ", ".join(PRESETS)
+
+    a = sub.add_parser("angles", help="chi_i, delta_i and the ideal-star check (Fig. FigScos3delta)")
+    _common(a, rings_default=5)
+    _plot_opt(a)
+
+    o = sub.add_parser("operator", help="A_h f - q f and its approximations per radius (Fig. FigSh)")
+    _common(o, rings_default=5)
+    o.add_argument("--h", type=finite_float, nargs="+", default=None,
+                   help="values of h <= tanh(d0) (default: tanh(d0), 0.1, 0.05)")
+    o.add_argument("--function", choices=list(PRESETS), default="cos-distance",
+                   help=f"test function (default cos-distance = cos(pi d(z,0))); one of {fnames}")
+    _plot_opt(o)
+
+    c = sub.add_parser("convergence", help="fitted powers of h in the errors of the approximations")
+    _common(c, rings_default=4)
+    c.add_argument("--function", choices=list(PRESETS), default="cos-distance", help="test function")
+    c.add_argument("--h-min", type=finite_float, default=0.01, help="smallest h (default 0.01)")
+    c.add_argument("--h-max", type=finite_float, default=0.08, help="largest h (default 0.08)")
+    c.add_argument("--points", type=positive_int, default=8, help="number of h values (default 8)")
+
+    n = sub.add_parser("counting", help="fit N(r) ~ s rho + b (Eq. (sum4), Fig. FigS1)")
+    _common(n, rings_default=4)
+    n.add_argument("--window", choices=["all", "complete"], default="all",
+                   help="'all' radii (the paper's fit) or only radii below ring l+1 ('complete')")
+    n.add_argument("--slope", type=finite_float, default=None, help="fix the slope, fit only b")
+    _plot_opt(n)
+
+    s = sub.add_parser("sums", help="lattice sums against (1/A) * integral over |z| <= L, Eq. (eq11)")
+    _common(s, rings_default=4, many_rings=True)
+    s.add_argument("--function", choices=list(PRESETS), nargs="+",
+                   default=["inverse-rho-squared", "gaussian", "anisotropic"],
+                   help="test functions (default inverse-rho-squared gaussian anisotropic)")
+
+
+def _save(ax, path):
+    if path:
+        ax.figure.savefig(path, dpi=120)
+
+
+def _angles(args) -> int:
+    lat = ring_lattice(args.p, args.q, args.rings)
+    ang = frame_angles(lat)
+    sel = np.isfinite(ang.delta)
+    prof = radial_profile(ang.z[sel], np.cos(ang.q * ang.delta[sel]))
+    out = {"p": lat.p, "q": lat.q, "rings": lat.rings, "sites": lat.sites,
+           "full_sites": int(ang.full.sum()), "h": ang.h, "max_star_residual": ang.max_residual,
+           "distinct_radii": int(prof.r.size), "non_unique_radii": int((~prof.unique).sum()),
+           "profile": {"r": prof.r, "cos_q_delta_mean": prof.mean, "min": prof.min,
+                       "max": prof.max, "count": prof.count, "unique": prof.unique}}
+    if args.plot:
+        from ..plots.scaling import plot_frame_angles
+        _save(plot_frame_angles(ang), args.plot)
+    if args.json:
+        print_json(out)
+        return 0
+    print(f"{{{lat.p},{lat.q}}}, {lat.rings} rings: {lat.sites} sites, {out['full_sites']} with full coordination")
+    print(f"  mapped neighbours lie on the star h e^(i chi) e^(2 pi i a/q) to {ang.max_residual:.2e} (h = {ang.h:.6f})")
+    print(f"  {prof.r.size} distinct radii, cos({lat.q} delta) not unique at {out['non_unique_radii']} of them")
+    print(f"  {'r':>10} {'cos(q delta)':>13} {'sites':>6}")
+    for r, m, k, u in zip(prof.r, prof.mean, prof.count, prof.unique):
+        print(f"  {r:10.6f} {m:13.6f} {k:6d}{'' if u else '  (not unique)'}")
+    return 0
+
+
+def _operator(args) -> int:
+    lat = ring_lattice(args.p, args.q, args.rings)
+    ang = frame_angles(lat)
+    f = SmoothFunction.preset(args.function)
+    hs = args.h if args.h is not None else [ang.h, 0.1, 0.05]
+    z = ang.z[ang.full]
+    base = ang.q * f(z)
+    rows = []
+    for h in hs:
+        ex = formal_operator(ang, f, h)
+        a2, a3 = expansion(ang, f, h, 2), expansion(ang, f, h, 3)
+        pe, p2, p3 = (radial_profile(z, (v - base).real) for v in (ex, a2, a3))
+        rows.append({"h": h, "max_error_quadratic": float(np.max(np.abs(ex - a2))),
+                     "max_error_cubic": float(np.max(np.abs(ex - a3))),
+                     "distance": pe.distance, "A_h_minus_qf": pe.mean,
+                     "quadratic_minus_qf": p2.mean, "cubic_minus_qf": p3.mean})
+    if args.plot:
+        import matplotlib.pyplot as plt
+
+        from ..plots.scaling import plot_formal_operator
+        fig, axs = plt.subplots(1, len(hs), figsize=(5.2 * len(hs), 4.2), layout="constrained", squeeze=False)
+        for h, ax in zip(hs, axs[0]):
+            plot_formal_operator(ang, h=h, f=f, ax=ax)
+        fig.savefig(args.plot, dpi=120)
+    out = {"p": lat.p, "q": lat.q, "rings": lat.rings, "function": f.name, "results": rows}
+    if args.json:
+        print_json(out)
+        return 0
+    print(f"{{{lat.p},{lat.q}}}, {lat.rings} rings, f = {f.name}, {int(ang.full.sum())} fully coordinated sites")
+    print(f"  {'h':>10} {'max|A_h f - A2 f|':>18} {'max|A_h f - A3 f|':>18}")
+    for r in rows:
+        print(f"  {r['h']:10.6f} {r['max_error_quadratic']:18.3e} {r['max_error_cubic']:18.3e}")
+    return 0
+
+
+def _convergence(args) -> int:
+    if not 0 < args.h_min < args.h_max:
+        raise ValueError("need 0 < --h-min < --h-max.")
+    if args.points < 3:
+        raise ValueError("need at least 3 --points for a fit.")
+    lat = ring_lattice(args.p, args.q, args.rings)
+    f = SmoothFunction.preset(args.function)
+    st = convergence_study(lat, f, np.geomspace(args.h_min, args.h_max, args.points))
+    if args.json:
+        print_json({**st.as_dict(), "rings": lat.rings})
+        return 0
+    print(f"{{{lat.p},{lat.q}}}, {lat.rings} rings, f = {f.name}, h in [{args.h_min:g}, {args.h_max:g}]")
+    print(f"  {'order':>5} {'fitted power':>13} {'expected':>9}")
+    for k in st.errors:
+        print(f"  {k:>5} {st.exponents[k]:13.3f} {st.expected[k]:9d}")
+    return 0
+
+
+def _counting(args) -> int:
+    lat = ring_lattice(args.p, args.q, args.rings)
+    fit = fit_counting(lat, slope=args.slope, window=args.window)
+    if args.plot:
+        from ..plots.scaling import plot_counting
+        _save(plot_counting(lat), args.plot)
+    if args.json:
+        print_json(fit.as_dict())
+        return 0
+    kind = "fixed" if fit.slope_fixed else "fitted"
+    print(f"{{{lat.p},{lat.q}}}, {lat.rings} rings: N(r) ~ s rho + b over {fit.radii.size} distinct radii ({args.window})")
+    print(f"  s = {fit.slope:.4f} ({kind}; pi/(2A) = {fit.expected_slope:.4f}),  b = {fit.intercept:.4f},  rms = {fit.rms:.3f}")
+    return 0
+
+
+def _sums(args) -> int:
+    funcs = [SmoothFunction.preset(name) for name in args.function]
+    rows = []
+    for rings in args.rings:
+        lat = ring_lattice(args.p, args.q, rings)
+        for f in funcs:
+            rows.append(sum_check(lat, f).as_dict())
+    if args.json:
+        print_json(rows)
+        return 0
+    print(f"{'rings':>5} {'sites':>8} {'L':>10} {'function':>16} {'lattice sum':>14} {'integral/A':>14} {'rel. error':>11}")
+    for r in rows:
+        ls, it = r["lattice_sum"], r["integral"]
+        ls = ls if isinstance(ls, float) else complex(ls["re"], ls["im"]).real
+        it = it if isinstance(it, float) else complex(it["re"], it["im"]).real
+        print(f"{r['rings']:5d} {r['sites']:8d} {r['radius']:10.7f} {r['function']:>16} {ls:14.6f} {it:14.6f} {r['rel_error']:11.2e}")
+    return 0
+
+
+_TASKS = {"angles": _angles, "operator": _operator, "convergence": _convergence,
+          "counting": _counting, "sums": _sums}
+
+
+def run(args) -> int:
+    return _TASKS[args.task](args)
