@@ -74,6 +74,13 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         sys.stderr.write("hyperlattice: interrupted\n")
         return 130
+    except BrokenPipeError:
+        # output piped into e.g. `head`, which closed early: not an error of ours
+        import os
+
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 0
 
 
 if __name__ == "__main__":  # pragma: no cover
