@@ -1,0 +1,310 @@
+r"""The p-fold rotation as a site permutation, and the angular-momentum sectors of H.
+
+The rotation :math:`R: z \mapsto e^{2\pi i/p} z` maps the lattice onto itself and acts freely
+on its sites (no site is fixed by any power :math:`R^s`, :math:`0 < s < p`), so the sites fall
+into :math:`N/p` orbits of exactly p sites each. A state of angular momentum m obeys
+
+.. math:: \psi(R^s i) = \omega^{m s}\, \psi(i), \qquad \omega = e^{2\pi i/p},
+
+the lattice counterpart of :math:`e^{i m \phi}` in the continuum (paper, Eqs. ``spec1`` and
+``spec2``). Writing :math:`\psi(R^s r_o) = \omega^{m s} \phi_o / \sqrt{p}` for the orbit
+representatives :math:`r_o`, the rotation-invariant Hamiltonian :math:`H = -tA + V` becomes
+the :math:`N/p \times N/p` Bloch block
+
+.. math:: (H_m)_{o o'} = V_{r_o}\delta_{o o'} - t \sum_{j \sim r_o,\; j = R^{s_j} r_{o'}} \omega^{m s_j},
+
+built here directly from the edge list (never from a dense projector). :math:`H_m` is real
+symmetric for m = 0 and m = p/2 and complex Hermitian otherwise, with
+:math:`H_{-m} = \overline{H_m}` because H is real: sectors m and p - m (= -m) are degenerate.
+Sector labels are signed, :math:`m \in (-p/2, p/2]`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from .lattice import Lattice
+from .operators import OnSite, onsite_values
+
+__all__ = [
+    "RotationOrbits",
+    "SectorTable",
+    "rotation_orbits",
+    "signed_sector",
+    "rotation_invariant",
+    "sector_table",
+    "sector_hamiltonian",
+    "lift",
+]
+
+
+@dataclass(frozen=True, eq=False)
+class RotationOrbits:
+    """Orbits of the p-fold rotation on the sites of a lattice.
+
+    Attributes
+    ----------
+    p : int
+        Order of the rotation.
+    representatives : ndarray of int64, shape (N/p,)
+        One site per orbit (the smallest site index of the orbit, i.e. its sector-0 site).
+    orbit : ndarray of int64, shape (N,)
+        Orbit index of every site.
+    shift : ndarray of int64, shape (N,)
+        The power s with ``site == R^s(representatives[orbit[site]])``.
+    """
+
+    p: int
+    representatives: np.ndarray
+    orbit: np.ndarray
+    shift: np.ndarray
+
+    @property
+    def size(self) -> int:
+        """Number of orbits N/p (the dimension of every sector block)."""
+        return int(self.representatives.shape[0])
+
+
+def _check_lattice(lattice) -> None:
+    if not isinstance(lattice, Lattice):
+        raise ValueError(f"expected a Lattice (from ring_lattice or line_graph), got {type(lattice).__name__}.")
+
+
+def rotation_orbits(lattice: Lattice) -> RotationOrbits:
+    """Split the sites into orbits of the p-fold rotation ``lattice.rotation``.
+
+    Works from the permutation itself (not from an assumed site layout), so it serves the
+    line graph as well. Cost O(pN) in vectorised numpy.
+
+    Raises
+    ------
+    ValueError
+        If the permutation is not of order p or fixes a site under some power
+        :math:`R^s`, 0 < s < p (then the sector blocks would not all have size N/p).
+    """
+    _check_lattice(lattice)
+    p = int(lattice.p)
+    n = lattice.sites
+    rot = np.asarray(lattice.rotation, dtype=np.int64)
+    if rot.shape != (n,) or n % p:
+        raise ValueError(f"the lattice rotation is not a permutation of its {n} sites into orbits of size {p}.")
+    ident = np.arange(n, dtype=np.int64)
+    cur = ident.copy()
+    smallest = ident.copy()
+    for s in range(1, p):
+        cur = rot[cur]
+        if np.any(cur == ident):
+            raise ValueError(f"the rotation fixes a site after {s} of {p} steps: it does not act freely.")
+        np.minimum(smallest, cur, out=smallest)
+    if not np.array_equal(rot[cur], ident):
+        raise ValueError(f"the lattice rotation is not of order p = {p}.")
+    reps = np.flatnonzero(smallest == ident)
+    orbit = np.empty(n, dtype=np.int64)
+    shift = np.empty(n, dtype=np.int64)
+    ids = np.arange(reps.shape[0], dtype=np.int64)
+    cur = reps
+    for s in range(p):
+        orbit[cur] = ids
+        shift[cur] = s
+        cur = rot[cur]
+    return RotationOrbits(p=p, representatives=reps, orbit=orbit, shift=shift)
+
+
+def signed_sector(m, p: int) -> int:
+    """Normalise a sector label to the signed form ``m in (-p/2, p/2]``.
+
+    Accepts ``0 <= m < p`` (Bloch phase :math:`e^{2\\pi i m/p}`) or an already signed value
+    ``-p/2 < m <= p/2``; sector p - m is reported as -m.
+    """
+    if isinstance(m, bool) or not isinstance(m, (int, np.integer)):
+        raise ValueError(f"sector m must be an integer, got {m!r}.")
+    m = int(m)
+    if not (-p / 2 < m < p):
+        raise ValueError(
+            f"sector m must be in range(p) = 0..{p - 1} or a signed value in ({-p / 2:g}, {p / 2:g}], got {m}.")
+    m %= p
+    return m - p if m > p / 2 else m
+
+
+def _real_onsite(lattice: Lattice, onsite: OnSite) -> np.ndarray | None:
+    v = onsite_values(lattice, onsite)
+    if v is None:
+        return None
+    if np.iscomplexobj(v):
+        if np.any(v.imag != 0):
+            raise ValueError("the on-site term must be real so that H is Hermitian.")
+        v = v.real
+    return v.astype(np.float64)
+
+
+def rotation_invariant(lattice: Lattice, onsite: OnSite = None) -> bool:
+    """True if the on-site term is invariant under the p-fold rotation (to 1e-12 relative)."""
+    v = _real_onsite(lattice, onsite)
+    if v is None:
+        return True
+    scale = max(1.0, float(np.max(np.abs(v))))
+    return bool(np.max(np.abs(v[lattice.rotation] - v)) <= 1e-12 * scale)
+
+
+@dataclass(frozen=True, eq=False)
+class SectorTable:
+    """A Hamiltonian block as a fixed-width neighbour table (what the kernels consume).
+
+    Row ``i`` of the block acts as ``(H x)_i = diag[i] x_i + sum_k weights[i, k] x[cols[i, k]]``;
+    unused slots point at ``i`` itself with weight 0.
+    """
+
+    m: int | None
+    cols: np.ndarray
+    weights: np.ndarray
+    diag: np.ndarray
+
+    @property
+    def size(self) -> int:
+        return int(self.diag.shape[0])
+
+    @property
+    def is_complex(self) -> bool:
+        return bool(np.iscomplexobj(self.weights))
+
+    def bounds(self) -> tuple[float, float]:
+        """Gershgorin bounds (lo, hi) on the spectrum of the block."""
+        radius = np.abs(self.weights).sum(axis=1)
+        return float(np.min(self.diag - radius)), float(np.max(self.diag + radius))
+
+    def to_csr(self) -> sp.csr_matrix:
+        n, w = self.cols.shape
+        rows = np.repeat(np.arange(n), w)
+        mat = sp.csr_matrix((self.weights.ravel(), (rows, self.cols.ravel())), shape=(n, n))
+        mat = mat + sp.diags(self.diag.astype(mat.dtype), format="csr")
+        mat.eliminate_zeros()
+        mat.sort_indices()
+        return mat.tocsr()
+
+
+def _fixed_width(n: int, rows: np.ndarray, cols: np.ndarray, vals: np.ndarray):
+    """Pack (row, col, value) entries into n x width arrays, padding with (row, 0)."""
+    order = np.argsort(rows, kind="stable")
+    rows, cols, vals = rows[order], cols[order], vals[order]
+    counts = np.bincount(rows, minlength=n)
+    width = max(1, int(counts.max()) if counts.size else 1)
+    start = np.zeros(n, dtype=np.int64)
+    np.cumsum(counts[:-1], out=start[1:])
+    slot = np.arange(rows.shape[0]) - start[rows]
+    table_cols = np.repeat(np.arange(n, dtype=np.int32)[:, None], width, axis=1)
+    table_vals = np.zeros((n, width), dtype=vals.dtype)
+    table_cols[rows, slot] = cols
+    table_vals[rows, slot] = vals
+    return table_cols, table_vals
+
+
+def full_table(lattice: Lattice, t: float = 1.0, onsite: OnSite = None) -> SectorTable:
+    """The whole Hamiltonian :math:`H = -tA + V` as a fixed-width table (``m`` is None)."""
+    _check_lattice(lattice)
+    e = lattice.edges.astype(np.int64)
+    n = lattice.sites
+    rows = np.concatenate([e[:, 0], e[:, 1]])
+    cols = np.concatenate([e[:, 1], e[:, 0]])
+    vals = np.full(rows.shape[0], -float(t))
+    tc, tv = _fixed_width(n, rows, cols, vals)
+    v = _real_onsite(lattice, onsite)
+    diag = np.zeros(n) if v is None else v
+    return SectorTable(m=None, cols=tc, weights=tv, diag=diag)
+
+
+def sector_table(lattice: Lattice, m: int, t: float = 1.0, onsite: OnSite = None, *,
+                 orbits: RotationOrbits | None = None) -> SectorTable:
+    """The Bloch block :math:`H_m` as a fixed-width table over the orbit representatives.
+
+    Parameters
+    ----------
+    lattice : Lattice
+    m : int
+        Sector, signed or in ``range(p)`` (see :func:`signed_sector`).
+    t : float
+        Hopping amplitude.
+    onsite : optional
+        Rotation-invariant on-site term (checked).
+    orbits : RotationOrbits, optional
+        Precomputed orbits (saves O(pN) when several sectors are built).
+    """
+    _check_lattice(lattice)
+    p = int(lattice.p)
+    m = signed_sector(m, p)
+    t = float(t)
+    if not np.isfinite(t):
+        raise ValueError("the hopping t must be a finite number.")
+    if orbits is None:
+        orbits = rotation_orbits(lattice)
+    v = _real_onsite(lattice, onsite)
+    if v is not None and not rotation_invariant(lattice, v):
+        raise ValueError("the on-site term is not invariant under the p-fold rotation, so H has no "
+                         "angular-momentum sectors; use method='dense' or 'sparse'.")
+    orbit, shift = orbits.orbit, orbits.shift
+    e = lattice.edges.astype(np.int64)
+    i, j = e[:, 0], e[:, 1]
+    # only edges touching a representative are needed: the other p-1 copies of each edge orbit
+    # carry the same relative phase and are accounted for by the Bloch ansatz itself.
+    a = shift[i] == 0
+    b = shift[j] == 0
+    rows = np.concatenate([orbit[i[a]], orbit[j[b]]])
+    cols = np.concatenate([orbit[j[a]], orbit[i[b]]])
+    s = np.concatenate([shift[j[a]], shift[i[b]]])
+    if 2 * m % p == 0:
+        # m = 0 or p/2: the phases are +-1, keep the block real (half the work of complex)
+        vals = -t * np.where(s % 2 == 0, 1.0, -1.0) if m else np.full(s.shape[0], -t)
+    else:
+        vals = -t * np.exp(2j * np.pi * ((m * s) % p) / p)
+    tc, tv = _fixed_width(orbits.size, rows, cols, vals)
+    diag = np.zeros(orbits.size) if v is None else v[orbits.representatives].copy()
+    return SectorTable(m=m, cols=tc, weights=tv, diag=diag)
+
+
+def sector_hamiltonian(lattice: Lattice, m: int, t: float = 1.0, onsite: OnSite = None) -> sp.csr_matrix:
+    r"""The angular-momentum block :math:`H_m` of :math:`H = -tA + V` as CSR.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        Site lattice or line graph; its rotation must act freely.
+    m : int
+        Sector: ``0 <= m < p`` or signed ``-p/2 < m <= p/2`` (Bloch phase :math:`e^{2\pi i m/p}`).
+    t : float
+        Hopping amplitude (t = 1 in the paper).
+    onsite : scalar, array or callable, optional
+        On-site term; must be invariant under the rotation.
+
+    Returns
+    -------
+    scipy.sparse.csr_matrix, shape (N/p, N/p)
+        Real symmetric for m = 0 and m = p/2, complex Hermitian otherwise. Row and column o
+        belong to the orbit of ``rotation_orbits(lattice).representatives[o]``; the union of
+        the spectra over the p sectors is the spectrum of H.
+
+    Examples
+    --------
+    >>> from hyperlattice import ring_lattice
+    >>> h0 = sector_hamiltonian(ring_lattice(7, 3, 1), 0)
+    >>> h0.toarray()
+    array([[-2.]])
+    """
+    return sector_table(lattice, m, t, onsite).to_csr()
+
+
+def lift(orbits: RotationOrbits, m: int, phi: np.ndarray) -> np.ndarray:
+    r"""Lift sector vectors :math:`\phi` (shape (N/p,) or (N/p, k)) to full-lattice vectors.
+
+    :math:`\psi(R^s r_o) = \omega^{m s}\phi_o/\sqrt{p}`, so a normalised :math:`\phi` gives a
+    normalised :math:`\psi` with :math:`\psi(R i) = \omega^m \psi(i)`.
+    """
+    p = orbits.p
+    m = signed_sector(m, p)
+    phi = np.asarray(phi)
+    phase = np.exp(2j * np.pi * ((m * orbits.shift) % p) / p) / np.sqrt(p)
+    if 2 * m % p == 0:
+        phase = phase.real
+    out = phi[orbits.orbit]
+    return out * (phase[:, None] if out.ndim == 2 else phase)
