@@ -292,7 +292,7 @@ def _chebyshev_lowest(table: SectorTable, k: int, tol: float, progress: Progress
             return b.copy()
 
         op = spla.LinearOperator((n, n), matvec=cheb, dtype=dt)
-        ncv = min(n - 1, max(2 * k + 1, k + 16))
+        ncv = min(n, max(2 * k + 1, k + 16))
         v0 = rng.standard_normal(n).astype(dt)
         try:
             _, vecs = spla.eigsh(op, k=k, which="LA", ncv=ncv, tol=arpack_tol, v0=v0, maxiter=5000)
@@ -510,7 +510,7 @@ def _sector_levels(lattice, levels, t, onsite, sector, want_vecs, tol, progress,
         if levels > size and sector is not None:
             raise ValueError(f"sector {m} has only {size} levels, fewer than the {levels} requested.")
         table = sector_table(lattice, m, t, onsite, orbits=orbits)
-        if size <= DENSE_MAX:
+        if size <= DENSE_MAX or size < 2 * k_m + 3:  # ARPACK needs a basis larger than k + 1
             e, v = _dense_lowest(table, k_m)
             per_method.add("dense")
         else:
@@ -561,7 +561,7 @@ def _full_levels(lattice, levels, t, onsite, method, symmetric, want_vecs, tol, 
         if method == "dense":
             e, v = sla.eigh(h.toarray(), subset_by_index=[0, want - 1])
         else:
-            if want >= n_sites - 1:
+            if n_sites < 2 * want + 3:
                 raise ValueError(f"method='sparse' needs fewer levels than N - 1 = {n_sites - 1}; use 'dense'.")
             e, v, _ = _chebyshev_lowest(table, want, tol, progress, "full lattice")
         if not symmetric:

@@ -1,0 +1,193 @@
+"""Lowest levels: dense vs sparse vs sector, labels (n, m), reference values, partition function."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+from hyperlattice import spectrum as spectrum_mod
+from hyperlattice.errors import ConvergenceError, ConvergenceWarning
+from hyperlattice.lattice import line_graph, ring_lattice
+from hyperlattice.operators import hamiltonian
+from hyperlattice.spectrum import full_spectrum, lowest_levels, partition_function
+
+
+@pytest.fixture
+def force_sparse_blocks(monkeypatch):
+    """Send every block, however small, through the Chebyshev-ARPACK path."""
+    monkeypatch.setattr(spectrum_mod, "DENSE_MAX", 0)
+
+
+@pytest.mark.parametrize("rings", [2, 3, 4, 5, 6])
+def test_dense_sparse_sector_agree(rings, force_sparse_blocks):
+    lat = ring_lattice(7, 3, rings)
+    k = 6
+    sector = lowest_levels(lat, k, method="sector")
+    # at two rings the blocks (5 x 5) are too small for ARPACK and stay dense
+    assert sector.method == ("sector-dense" if rings == 2 else "sector-sparse")
+    sparse = lowest_levels(lat, k, method="sparse")
+    exact = np.linalg.eigvalsh(hamiltonian(lat).toarray())[:k]
+    dense = lowest_levels(lat, k, method="dense")
+    for spec in (sector, sparse, dense):
+        assert np.allclose(spec.energies, exact, atol=1e-10, rtol=0)
+        assert np.all(spec.residuals < 1e-10)
+        # labels agree too: the same (n, m) sequence whichever solver ran
+        assert spec.m.tolist() == dense.m.tolist() and spec.n.tolist() == dense.n.tolist()
+    assert dense.method == "dense" and sparse.method == "sparse"
+
+
+def test_auto_method_is_reported_and_dense_for_small_blocks():
+    assert lowest_levels(ring_lattice(7, 3, 4), 2).method == "sector-dense"
+    assert lowest_levels(ring_lattice(7, 3, 4), 2, onsite=lambda z, r: z.real).method == "dense"
+
+
+def test_heptagon_is_exact():
+    # l = 1: a single 7-cycle, E_n = -2 cos(2 pi n / 7), n = 0..6, with m = n (signed)
+    spec = lowest_levels(ring_lattice(7, 3, 1), 7)
+    exact = np.sort(-2 * np.cos(2 * np.pi * np.arange(7) / 7))
+    assert np.allclose(spec.energies, exact, atol=1e-14)
+    assert spec.m.tolist() == [0, 1, -1, 2, -2, 3, -3]
+    assert spec.n.tolist() == [1] * 7
+    assert spec.degeneracy.tolist() == [1, 2, 2, 2, 2, 2, 2]
+
+
+# Paper, table Tab1 / SuppTab1 (exact diagonalisation for l <= 7), printed to 3 decimals.
+# Tolerance: half a unit in the last printed digit. One entry disagrees with this: the paper
+# prints E1 = -1.274 for l = 1, while the single heptagon has E1 = -2 cos(2 pi/7) = -1.24698
+# exactly (the heptagon's m = 1 Bloch state); -1.274 is a transposition of the digits of
+# -1.247, so the test checks -1.247 there.
+PAPER = [  # (rings, E0, E1, half-unit tolerance)
+    (1, -2.0, -1.247, 5e-4),
+    (2, -2.636, -2.283, 5e-4),
+    (3, -2.787, -2.627, 5e-4),
+    (4, -2.847, -2.762, 5e-4),
+    (5, -2.877, -2.827, 5e-4),
+    (6, -2.894, -2.863, 5e-4),
+    (7, -2.905, -2.884, 5e-4),
+]
+
+
+@pytest.mark.parametrize("rings,e0,e1,tol", PAPER)
+def test_paper_table(rings, e0, e1, tol):
+    spec = lowest_levels(ring_lattice(7, 3, rings), 2)
+    assert abs(spec.energies[0] - e0) <= tol
+    assert abs(spec.energies[1] - e1) <= tol
+    # the graph's quantum numbers are those of the continuum (spec1/spec2): ground state
+    # (n, m) = (1, 0), first excited level the pair (1, +-1)
+    assert spec.m.tolist() == [0, 1] and spec.n.tolist() == [1, 1]
+
+
+def test_paper_misprint_is_really_a_misprint():
+    spec = lowest_levels(ring_lattice(7, 3, 1), 2)
+    assert abs(spec.energies[1] - (-1.274)) > 0.02
+
+
+def test_ground_state_m0_first_excited_pair_m1():
+    spec = lowest_levels(ring_lattice(7, 3, 6), 3, eigenvectors=True)
+    assert spec.m.tolist() == [0, 1, -1]
+    assert spec.energies[1] == spec.energies[2]
+    lat = ring_lattice(7, 3, 6)
+    psi = spec.eigenvectors
+    omega = np.exp(2j * np.pi / 7)
+    for col, m in enumerate(spec.m):
+        assert np.allclose(psi[lat.rotation, col], omega**m * psi[:, col], atol=1e-12)
+        assert np.isclose(np.linalg.norm(psi[:, col]), 1.0)
+    # ground state of -A on a connected graph: Perron vector, one sign
+    g = psi[:, 0].real
+    assert np.all(g > 0) or np.all(g < 0)
+    # true residuals with the full H agree with the reported ones
+    h = hamiltonian(lat)
+    res = np.linalg.norm(h @ psi - psi * spec.energies, axis=0)
+    assert np.all(res < 1e-12)
+
+
+def test_single_sector_and_radial_index():
+    lat = ring_lattice(7, 3, 5)
+    all_levels = lowest_levels(lat, 40)
+    for m in (0, 2, -3, 4):  # 4 is sector -3 in the 0..p-1 notation
+        one = lowest_levels(lat, 3, sector=m)
+        signed = m if m <= 3 else m - 7
+        assert one.m.tolist() == [signed] * 3 and one.n.tolist() == [1, 2, 3]
+        ref = all_levels.energies[all_levels.m == signed][:3]
+        assert np.allclose(one.energies, ref, atol=1e-12)
+    # within the 40 lowest, n counts the levels of each sector in ascending order
+    for m in set(all_levels.m.tolist()):
+        sel = all_levels.m == m
+        assert all_levels.n[sel].tolist() == list(range(1, sel.sum() + 1))
+        assert np.all(np.diff(all_levels.energies[sel]) >= 0)
+    assert np.all(np.diff(all_levels.energies) >= 0)
+
+
+def test_line_graph_levels():
+    lg = line_graph(ring_lattice(7, 3, 3))
+    spec = lowest_levels(lg, 5)
+    exact = np.linalg.eigvalsh(hamiltonian(lg).toarray())[:5]
+    assert np.allclose(spec.energies, exact, atol=1e-12)
+    assert spec.m[0] == 0
+
+
+def test_onsite_term_rotation_invariant_and_not():
+    lat = ring_lattice(7, 3, 3)
+    v = lambda z, ring: 0.3 * ring  # noqa: E731 - a rotation-invariant potential
+    spec = lowest_levels(lat, 4, onsite=v)
+    exact = np.linalg.eigvalsh(hamiltonian(lat, onsite=v).toarray())[:4]
+    assert np.allclose(spec.energies, exact, atol=1e-12)
+    broken = lowest_levels(lat, 4, onsite=lambda z, ring: z.real)
+    assert broken.m is None and broken.n.tolist() == [1, 2, 3, 4]
+    with pytest.raises(ValueError, match="not invariant"):
+        lowest_levels(lat, 2, method="sector", onsite=lambda z, ring: z.real)
+
+
+@pytest.mark.parametrize("kwargs,match", [
+    ({"levels": 0}, "levels"), ({"levels": 2.5}, "levels"), ({"method": "lanczos"}, "method"),
+    ({"sector": 7}, "sector m must be in range"), ({"tol": -1.0}, "tol"), ({"t": np.nan}, "finite"),
+    ({"sector": 1, "method": "dense"}, "sector"),
+])
+def test_bad_input(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        lowest_levels(ring_lattice(7, 3, 2), **kwargs)
+
+
+def test_unconverged_results_do_not_pass_silently(monkeypatch):
+    lat = ring_lattice(7, 3, 3)
+    # an impossible tolerance must raise; one within a factor 100 of the residual warns
+    with pytest.raises(ConvergenceError):
+        lowest_levels(lat, 2, tol=1e-30)
+    real = spectrum_mod._residuals
+
+    def inflated(table, vecs, energies):
+        return real(table, vecs, energies) + 5e-10
+    monkeypatch.setattr(spectrum_mod, "_residuals", inflated)
+    with pytest.warns(ConvergenceWarning):
+        lowest_levels(lat, 2, tol=1e-10)
+
+
+def test_partition_function():
+    lat = ring_lattice(7, 3, 4)
+    energies = full_spectrum(lat)
+    assert np.allclose(energies, np.linalg.eigvalsh(hamiltonian(lat).toarray()), atol=1e-11)
+    beta = np.array([0.0, 1.0, 10.0])
+    z = partition_function(lat, beta)
+    neg = energies[energies < 0]
+    assert z[0] == neg.size  # beta = 0 counts the negative levels
+    assert np.isclose(z[1], np.exp(-neg).sum())
+    # low-temperature asymptote ln Z ~ -beta E0 (inset of Fig. 2)
+    assert abs(np.log(partition_function(lat, 200.0)) / 200.0 + energies[0]) < 1e-3
+    assert partition_function([-1.0, 2.0], 0.0) == 1.0
+    with pytest.raises(ValueError, match="beta"):
+        partition_function(lat, -1.0)
+    with pytest.raises(ValueError, match="dense"):
+        full_spectrum(lat, max_sites=10)
+
+
+@pytest.mark.slow
+def test_residuals_at_twelve_rings():
+    lat = ring_lattice(7, 3, 12)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        spec = lowest_levels(lat, 2)
+    assert spec.sites == 725_760 and spec.method == "sector-sparse"
+    assert np.all(spec.residuals < 1e-9)
+    assert spec.m.tolist() == [0, 1]
+    # the levels are close (gap ~5e-3) but their residuals make each good to ~1e-13
+    assert spec.energies[1] - spec.energies[0] > 1e-3
