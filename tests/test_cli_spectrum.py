@@ -1,0 +1,68 @@
+"""``hyperlattice spectrum``: the JSON contract, sectors, line graph, errors."""
+
+import json
+
+import numpy as np
+import pytest
+
+from hyperlattice.cli import main
+
+KEYS = {"p", "q", "rings", "sites", "method", "energies", "n", "m", "residuals"}
+
+
+def run_json(capsys, *argv):
+    assert main(["spectrum", *argv, "--json"]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def test_json_contract(capsys):
+    out = run_json(capsys, "-p", "7", "-q", "3", "--rings", "5", "--levels", "4")
+    assert set(out) == KEYS
+    assert (out["p"], out["q"], out["rings"], out["sites"]) == (7, 3, 5, 847)
+    assert out["method"] in ("dense", "sparse", "sector-dense", "sector-sparse")
+    lengths = {len(out[k]) for k in ("energies", "n", "m", "residuals")}
+    assert lengths == {4}
+    assert out["energies"] == sorted(out["energies"])
+    # degenerate +-1 pair listed once per state, +m first
+    assert out["m"] == [0, 1, -1, 2] and out["n"] == [1, 1, 1, 1]
+    assert out["energies"][1] == out["energies"][2]
+    assert max(out["residuals"]) < 1e-10
+    assert abs(out["energies"][0] - (-2.877)) < 5e-4  # paper, Tab1, l = 5
+
+
+def test_sector_accepts_signed_and_unsigned(capsys):
+    a = run_json(capsys, "--rings", "4", "--levels", "3", "--sector", "6")
+    b = run_json(capsys, "--rings", "4", "--levels", "3", "--sector", "-1")
+    assert a == b
+    assert a["m"] == [-1, -1, -1] and a["n"] == [1, 2, 3]
+
+
+def test_line_graph(capsys):
+    out = run_json(capsys, "--rings", "3", "--levels", "2", "--line-graph")
+    assert out["sites"] == 140  # edges of the 3-ring lattice
+    assert len(out["energies"]) == 2
+
+
+def test_table_output(capsys):
+    assert main(["spectrum", "--rings", "2", "--levels", "3"]) == 0
+    text = capsys.readouterr().out
+    assert "method=sector-dense" in text and "-2.636404" in text
+
+
+@pytest.mark.parametrize("argv,match", [
+    (["--sector", "7"], "sector m must be in range"),
+    (["--sector", "x"], "sector m must be an integer"),
+    (["--tol", "-1"], "tol"),
+    (["-p", "6", "-q", "3"], ""),
+])
+def test_errors_are_one_line_and_exit_2(capsys, argv, match):
+    assert main(["spectrum", "--rings", "2", *argv]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "error" in err and match in err
+
+
+def test_argparse_errors_exit_2(capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["spectrum", "--rings", "0"])
+    assert exc.value.code == 2
+    assert np.char.count(capsys.readouterr().err, "\n") == 1
