@@ -17,7 +17,7 @@ $(STAMP): pyproject.toml
 setup: $(STAMP)
 
 run: $(STAMP)
-	$(BIN)/hyperlattice lattice -p 7 -q 3 --rings 6
+	$(BIN)/hyperlattice reproduce --out reproduction
 
 test: $(STAMP)
 	$(BIN)/python -m pytest

@@ -1,0 +1,88 @@
+"""Figures Fig1 (tessellation and ring graph) and Fig2 (lowest levels vs rings, Z(beta))."""
+
+from __future__ import annotations
+
+import numpy as np
+import matplotlib.pyplot as plt
+from matplotlib.collections import LineCollection
+
+from .. import geometry
+from ..lattice import Lattice, ring_lattice
+
+
+def _axes(ax, size=(5.0, 5.0)):
+    if ax is None:
+        _, ax = plt.subplots(figsize=size, layout="constrained")
+    return ax
+
+
+def _geodesic_segments(lattice: Lattice, samples: int = 12) -> np.ndarray:
+    """Edges drawn as hyperbolic geodesics (circular arcs orthogonal to the unit circle)."""
+    t = np.linspace(0.0, 1.0, samples)
+    a = lattice.z[lattice.edges[:, 0]][:, None]
+    b = lattice.z[lattice.edges[:, 1]][:, None]
+    pts = geometry.geodesic_point(a, b, t[None, :])
+    return np.stack([pts.real, pts.imag], axis=-1)
+
+
+def plot_tessellation(rings: int = 3, background_rings: int = 7, p: int = 7, q: int = 3, ax=None):
+    """Fig1: the {p,q} tessellation in the Poincaré disk (grey) with the ``rings``-ring graph
+    highlighted, sites coloured by ring."""
+    ax = _axes(ax)
+    bg = ring_lattice(p, q, background_rings)
+    ax.add_collection(LineCollection(_geodesic_segments(bg), colors="0.7", linewidths=0.4))
+    lat = ring_lattice(p, q, rings)
+    ax.add_collection(LineCollection(_geodesic_segments(lat), colors="k", linewidths=1.1))
+    sc = ax.scatter(lat.z.real, lat.z.imag, c=lat.ring, cmap="viridis", s=14, zorder=3)
+    ax.add_patch(plt.Circle((0, 0), 1.0, fill=False, color="k", lw=1.0))
+    cb = ax.figure.colorbar(sc, ax=ax, shrink=0.7, ticks=range(1, rings + 1))
+    cb.set_label("ring", fontsize=11)
+    ax.set_aspect("equal")
+    ax.set_xlim(-1.03, 1.03)
+    ax.set_ylim(-1.03, 1.03)
+    ax.set_xlabel("Re z", fontsize=11)
+    ax.set_ylabel("Im z", fontsize=11)
+    ax.set_title(fr"$\{{{p},{q}\}}$ tessellation; graph with $\ell={rings}$ rings ({lat.sites} sites)",
+                 fontsize=11)
+    return ax
+
+
+def plot_levels(table: list[dict], ax=None, *, lnphi_form: bool = True):
+    """Fig2 main panel: E0 and E1 against the number of rings, graph (filled) and continuum
+    (open), with the asymptotic formulas of Eq. (eq19) as lines.
+
+    ``table`` rows need keys rings, E0_graph, E1_graph, E0_continuum, E1_continuum and the
+    asymptotes are recomputed for a continuous l from ``hyperlattice.continuum.spectrum``.
+    """
+    from ..continuum.spectrum import asymptotic_energies
+
+    ax = _axes(ax, (6.4, 4.6))
+    rings = np.array([r["rings"] for r in table])
+    for key, color, label in (("E0", "C0", "$E_0$"), ("E1", "C1", "$E_1$")):
+        ax.plot(rings, [r[f"{key}_graph"] for r in table], "o", color=color, ms=6, label=f"{label} graph")
+        ax.plot(rings, [r[f"{key}_continuum"] for r in table], "o", mfc="none", mec=color, ms=10,
+                mew=1.4, label=f"{label} continuum")
+    ell = np.linspace(max(1.5, rings.min()), rings.max() + 0.5, 200)
+    asym = [asymptotic_energies(7, 3, rings=float(x)) if lnphi_form else None for x in ell]
+    ax.plot(ell, [a["E0"] for a in asym], "-", color="C0", lw=1.2, label="Eq. (eq19), $c_0=\\ln 2$")
+    ax.plot(ell, [a["E1"] for a in asym], "-", color="C1", lw=1.2, label="Eq. (eq19), $c_1=\\ln 2-1$")
+    ax.axhline(asym[0]["E_inf"], color="0.4", ls=":", lw=1.0, label=r"$E_\infty=-3+\frac{3}{4}h^2$")
+    lo = min(min(r["E0_graph"] for r in table), asym[0]["E_inf"]) - 0.02
+    ax.set_ylim(lo, -2.45)
+    ax.set_xlabel(r"number of rings $\ell$", fontsize=12)
+    ax.set_ylabel("energy (units of t)", fontsize=12)
+    ax.legend(fontsize=8.5, ncol=2, loc="upper right")
+    return ax
+
+
+def plot_partition(beta: np.ndarray, z_graph: np.ndarray, z_cont: np.ndarray, e0: float, ax=None):
+    """Fig2 inset: ln Z(beta) over negative energies, graph vs disk, and the asymptote -beta E0."""
+    ax = _axes(ax, (3.2, 2.4))
+    ax.plot(beta, np.log(z_graph), "-", color="C0", lw=1.6, label="graph")
+    ax.plot(beta, np.log(z_cont), "--", color="C3", lw=1.6, label="disk")
+    ax.plot(beta, -beta * e0, ":", color="k", lw=1.0, label=r"$-\beta E_0$")
+    ax.set_xlabel(r"$\beta$", fontsize=9)
+    ax.set_ylabel(r"$\ln Z$", fontsize=9)
+    ax.tick_params(labelsize=8)
+    ax.legend(fontsize=7)
+    return ax
