@@ -327,7 +327,9 @@ def _p_far_terms(nu, m, t, q):
     F2, F2A = _hyp_series(mf - nu, (mf + 0.5).astype(complex), 0.5 - nu, q,
                           what="P_nu^m (q-series, second term)")
     sign = np.where(m % 2 == 0, 1.0, -1.0)
-    tanv = np.tan(np.pi * nu)
+    # tan has period pi: reduce by the (exactly representable) nearest integer first, so that
+    # tan(nu pi) is exactly 0 at integer nu (where P_n^m = 0 for n < m must come out as 0)
+    tanv = np.tan(np.pi * (nu - np.round(nu.real)))
     l1 = sc.loggamma(nu + mf + 1.0) - sc.loggamma(nu + 1.5) - (nu + 1.0) * t + mf * np.log1p(-q)
     a2 = np.where(m == 0, -sc.rgamma(nu + 1.0), _rising(1.0 - nu, np.maximum(m - 1, 0)) * sc.rgamma(nu))
     l2 = sc.loggamma(nu + 0.5) + nu * t + mf * np.log1p(-q)

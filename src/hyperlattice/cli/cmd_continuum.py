@@ -1,0 +1,42 @@
+"""``hyperlattice continuum``: lowest Dirichlet levels of the continuum Hamiltonian on a disk."""
+
+from __future__ import annotations
+
+from ._common import add_pq, finite_float, positive_int, print_json
+
+NAME = "continuum"
+ORDER = 40
+HELP = "lowest continuum levels E = -q + (q/4) h^2 (1 + k^2) on the Dirichlet disk (spec2)"
+
+
+def add_arguments(parser):
+    add_pq(parser)
+    size = parser.add_mutually_exclusive_group()
+    size.add_argument("--rings", type=positive_int, default=None,
+                      help="disk of the {p,q} lattice with this many rings (L from eq12); default 10")
+    size.add_argument("--radius", type=finite_float, default=None, metavar="L",
+                      help="disk radius 0 < L < 1 instead of --rings")
+    parser.add_argument("--levels", type=positive_int, default=4,
+                        help="number of lowest states (a +-m pair counts twice; default 4)")
+    parser.add_argument("--json", action="store_true", help="print one JSON object")
+
+
+def run(args) -> int:
+    from ..continuum.spectrum import continuum_levels
+
+    rings = args.rings
+    if rings is None and args.radius is None:
+        rings = 10
+    spec = continuum_levels(args.p, args.q, radius=args.radius, rings=rings, levels=args.levels)
+    out = spec.as_dict()
+    if args.json:
+        print_json(out)
+        return 0
+    where = f"rings={spec.rings}, " if spec.rings is not None else ""
+    print(f"{{{spec.p},{spec.q}}} continuum disk: {where}L={spec.radius:.12g}, h={spec.h:.8f}")
+    print(f"{'#':>3} {'n':>3} {'m':>4} {'k':>16} {'E':>16}")
+    for i, (n, m, k, e) in enumerate(zip(spec.n, spec.m, spec.k, spec.energies)):
+        print(f"{i:>3} {n:>3} {m:>4} {k:16.10f} {e:16.10f}")
+    a = spec.asymptotic
+    print(f"asymptotic: E0={a['E0']:.6f}  E1={a['E1']:.6f}  E_inf={a['E_inf']:.6f}")
+    return 0

@@ -1,0 +1,59 @@
+"""CLI contract for `hyperlattice continuum`."""
+
+import json
+
+import pytest
+
+from hyperlattice.cli import main
+
+KEYS = {"p", "q", "rings", "radius", "h", "energies", "n", "m", "k", "asymptotic"}
+
+
+def run_cli(capsys, *argv):
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_json_contract_rings(capsys):
+    code, out, _ = run_cli(capsys, "continuum", "-p", "7", "-q", "3", "--rings", "10", "--levels", "4", "--json")
+    assert code == 0
+    d = json.loads(out)
+    assert set(d) == KEYS
+    assert set(d["asymptotic"]) == {"E0", "E1", "E_inf"}
+    assert (d["p"], d["q"], d["rings"]) == (7, 3, 10)
+    assert len(d["energies"]) == len(d["n"]) == len(d["m"]) == len(d["k"]) == 4
+    assert d["m"] == [0, 1, -1, 2] and d["n"] == [1, 1, 1, 1]
+    assert round(d["energies"][0], 3) == -2.924 and round(d["energies"][1], 3) == -2.915
+    assert d["energies"] == sorted(d["energies"])
+    assert round(d["asymptotic"]["E_inf"], 5) == -2.94295
+    assert d["radius"] == pytest.approx((105875 / (105875 + 28)) ** 0.5, rel=1e-14)
+
+
+def test_json_radius_and_other_pq(capsys):
+    code, out, _ = run_cli(capsys, "continuum", "-p", "9", "--radius", "0.9", "--levels", "3", "--json")
+    assert code == 0
+    d = json.loads(out)
+    assert d["rings"] is None and d["radius"] == 0.9 and d["p"] == 9
+    assert d["m"] == [0, 1, -1]
+
+
+def test_table_output(capsys):
+    code, out, _ = run_cli(capsys, "continuum", "--rings", "3", "--levels", "2")
+    assert code == 0 and "asymptotic" in out and "-2.77038" in out
+
+
+@pytest.mark.parametrize("argv", [
+    ["continuum", "--radius", "1.0"],
+    ["continuum", "--radius", "0"],
+    ["continuum", "-p", "6", "--rings", "3"],
+])
+def test_bad_input_exit_2(capsys, argv):
+    code, _, err = run_cli(capsys, *argv)
+    assert code == 2 and err.strip() and len(err.strip().splitlines()) == 1
+
+
+def test_rings_and_radius_are_exclusive(capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["continuum", "--rings", "3", "--radius", "0.5"])
+    assert exc.value.code == 2

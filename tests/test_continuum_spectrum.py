@@ -1,0 +1,164 @@
+"""Continuum Dirichlet spectrum (spec2), energies, asymptotics and eigenfunctions."""
+
+import math
+
+import mpmath as mp
+import numpy as np
+import pytest
+from scipy.special import jv
+
+from hyperlattice.continuum.spectrum import (asymptotic_energies, asymptotic_k0, asymptotic_k1,
+                                             continuum_levels, dirichlet_levels, dirichlet_roots,
+                                             disk_argument, energy_infinity, level_energy, psi_K,
+                                             radial_g)
+
+# SuppTab1 (= Tab1 continuum row), printed to 3 decimals: (ell, E0 exact, E0 asym, E1 exact, E1 asym)
+SUPP_TAB1 = [
+    (1, -1.500, -2.535, 0.620, 15.58),
+    (2, -2.570, -2.738, -2.085, -1.633),
+    (3, -2.770, -2.820, -2.578, -2.507),
+    (4, -2.842, -2.861, -2.746, -2.728),
+    (5, -2.876, -2.884, -2.821, -2.815),
+    (6, -2.895, -2.899, -2.861, -2.858),
+    (7, -2.906, -2.909, -2.884, -2.883),
+    (8, -2.914, -2.916, -2.899, -2.898),
+    (9, -2.920, -2.921, -2.908, -2.908),
+    (10, -2.924, -2.924, -2.915, -2.915),
+]
+
+
+def _n73(ell):
+    g = (3 + math.sqrt(5)) / 2
+    return round(7 * (g**ell + (1 / g) ** ell - 2))
+
+
+@pytest.mark.parametrize("ell,e0,e0a,e1,e1a", SUPP_TAB1)
+def test_supp_tab1_continuum_rows(ell, e0, e0a, e1, e1a):
+    spec = continuum_levels(7, 3, rings=ell, levels=2)
+    assert list(spec.m) == [0, 1] and list(spec.n) == [1, 1]
+    # the paper's h = 0.275798 and our exact h give the same 3-decimal rounding
+    assert round(spec.energies[0], 3) == pytest.approx(e0, abs=1e-9)
+    assert round(spec.energies[1], 3) == pytest.approx(e1, abs=1e-9)
+    a = spec.asymptotic
+    digits = 2 if abs(e1a) > 10 else 3           # 15.58 is printed with 2 decimals
+    assert round(a["E0"], 3) == pytest.approx(e0a, abs=1e-9)
+    assert round(a["E1"], digits) == pytest.approx(e1a, abs=1e-9)
+    # Tab1 radius row (and the closed form of N)
+    assert spec.radius == pytest.approx(math.sqrt(_n73(ell) / (_n73(ell) + 28)), rel=1e-14)
+
+
+@pytest.mark.parametrize("radius,m,n", [(0.5, 0, 1), (0.7454, 2, 2), (0.99, 1, 3), (0.2, 4, 1)])
+def test_roots_against_mpmath_findroot(radius, m, n):
+    """Independent reference: mpmath.legenp at 30 digits and findroot from our bracket mid."""
+    k = dirichlet_roots(m, radius, n_roots=n)[n - 1]
+    mp.mp.dps = 30
+    x = (1 + mp.mpf(radius) ** 2) / (1 - mp.mpf(radius) ** 2)
+    ref = mp.findroot(lambda kk: mp.re(mp.legenp(mp.mpc(-0.5, kk / 2), m, x, type=3)), k * (1 + 1e-6))
+    assert k == pytest.approx(float(ref), rel=1e-12)
+
+
+def test_roots_robust_over_radii_with_node_check():
+    for radius in (0.1, 0.3, 0.9, 1 - 1e-4, 1 - 1e-9):
+        k = dirichlet_roots(np.arange(11), radius, n_roots=5, check_nodes=True)
+        assert k.shape == (11, 5) and np.all(np.isfinite(k)) and np.all(k > 0)
+        assert np.all(np.diff(k, axis=1) > 0)
+        assert np.all(np.diff(k[:, 0]) > 0)
+
+
+def test_small_disk_is_euclidean():
+    """L -> 0: k_nm L' -> j_{m,n} with L' = artanh(L)*2/2 ... Bessel zeros of the flat disk."""
+    from scipy.special import jn_zeros
+    radius = 0.01
+    k = dirichlet_roots(3, radius, n_roots=3)
+    # hyperbolic radius of the disk in the metric ds = |dz|/(1-|z|^2) is artanh(L)
+    assert k * math.atanh(radius) == pytest.approx(jn_zeros(3, 3), rel=1e-3)
+
+
+def test_asymptotic_k0_k1_approached():
+    prev0 = prev1 = np.inf
+    for radius in (1 - 1e-3, 1 - 1e-5, 1 - 1e-7, 1 - 1e-9):
+        _, x = disk_argument(radius)
+        k = dirichlet_roots([0, 1], radius, n_roots=1)[:, 0]
+        d0 = abs(k[0] / asymptotic_k0(x) - 1)
+        d1 = abs(k[1] / asymptotic_k1(x) - 1)
+        assert d0 < prev0 and d1 < prev1
+        prev0, prev1 = d0, d1
+    assert prev0 < 2e-3 and prev1 < 2e-2
+
+
+def test_energy_q_dependence_and_e_inf():
+    h = 0.275798
+    assert energy_infinity(7, 3) == pytest.approx(-3 + 0.75 * h * h, abs=1e-6)
+    assert round(energy_infinity(7, 3), 5) == -2.94295
+    assert level_energy(1.3, 7, 3) == pytest.approx(-3 + 0.75 * 0.2757977789799760**2 * (1 + 1.69))
+    from hyperlattice.geometry import lattice_h
+    hh = lattice_h(5, 4)
+    assert level_energy(0.5, 5, 4) == pytest.approx(-4 + hh * hh * 1.25)
+
+
+@pytest.mark.parametrize("p", [8, 9, 10])
+def test_other_p_levels_finite_and_ordered(p):
+    for rings in (2, 5, 8):
+        spec = continuum_levels(p, 3, rings=rings, levels=8)
+        e = spec.energies
+        assert np.all(np.isfinite(e)) and np.all(np.diff(e) >= 0)
+        assert e[0] > -3 and e[0] > energy_infinity(p, 3)
+        assert list(spec.m[:3]) == [0, 1, -1]
+    small = continuum_levels(p, 3, rings=3, levels=1).energies[0]
+    large = continuum_levels(p, 3, rings=6, levels=1).energies[0]
+    assert large < small
+
+
+def test_level_ordering_convention_and_degeneracy():
+    spec = continuum_levels(7, 3, radius=0.95, levels=9)
+    labels = list(zip(spec.n.tolist(), spec.m.tolist()))
+    assert labels[:4] == [(1, 0), (1, 1), (1, -1), (1, 2)]
+    for i, (n, m) in enumerate(labels):
+        if m > 0 and i + 1 < len(labels):
+            assert labels[i + 1] == (n, -m) and spec.energies[i + 1] == spec.energies[i]
+    # the K lowest states are the K lowest of a brute-force table
+    table = dirichlet_levels(7, 3, radius=0.95, n_max=6, m_max=6)
+    flat = sorted([table.energies[n, 0] for n in range(6)]
+                  + [e for m in range(1, 7) for n in range(6) for e in (table.energies[n, m],) * 2])
+    assert np.allclose(spec.energies, flat[:9], rtol=1e-13)
+
+
+def test_bad_input():
+    for bad in (0.0, 1.0, -0.3, 1.2, float("nan")):
+        with pytest.raises(ValueError):
+            dirichlet_roots(0, bad, 2)
+    with pytest.raises(ValueError):
+        continuum_levels(6, 3, radius=0.5)
+    with pytest.raises(ValueError):
+        continuum_levels(7, 3, radius=0.5, rings=3)
+    with pytest.raises(ValueError):
+        dirichlet_roots(-1.5, 0.5, 2)
+
+
+@pytest.mark.parametrize("m", [0, 1, 2, -1, -3, 5])
+def test_radial_g_closed_form_equals_integral(m):
+    r = np.array([0.05, 0.3, 0.6, 0.9])
+    for k in (0.4, 2.3, 9.0):
+        a = radial_g(k, m, r, method="closed")
+        b = radial_g(k, m, r, method="integral")
+        assert np.allclose(a, b, rtol=1e-10, atol=1e-13)
+
+
+def test_partial_wave_sum_reconstructs_psi_and_euclidean_limit():
+    k, r, phi = 1.7, 0.4, 0.9
+    z = r * np.exp(1j * phi)
+    total = sum((1j) ** m * radial_g(k, m, r) * np.exp(1j * m * phi) for m in range(-40, 41))
+    assert total == pytest.approx(psi_K(z, k), rel=1e-12)          # eig15 with beta = 0
+    # Euclidean limit r << 1, k >> 1: g_km(r) ~ J_m(k r)
+    kk, rr = 400.0, 0.004
+    for m in (0, 2):
+        assert radial_g(kk, m, rr).real == pytest.approx(jv(m, kk * rr), abs=2e-2)
+
+
+def test_psi_K_is_eigenfunction():
+    """Delta_g psi = -(1+k^2) psi (eig12b), by central differences in x and y."""
+    k, beta, z0, h = 1.3, 0.7, 0.3 + 0.2j, 1e-3
+    f = lambda z: psi_K(z, k, beta)
+    lap = (f(z0 + h) + f(z0 - h) + f(z0 + 1j * h) + f(z0 - 1j * h) - 4 * f(z0)) / h**2
+    dg = (1 - abs(z0) ** 2) ** 2 * lap
+    assert dg == pytest.approx(-(1 + k * k) * f(z0), rel=1e-5)
