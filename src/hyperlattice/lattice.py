@@ -175,10 +175,7 @@ class Lattice:
         e = self.edges
         src = np.concatenate([e[:, 0], e[:, 1]])
         dst = np.concatenate([e[:, 1], e[:, 0]])
-        order = np.lexsort((dst, src))
-        indptr = np.zeros(self.sites + 1, dtype=np.int64)
-        np.cumsum(np.bincount(src, minlength=self.sites), out=indptr[1:])
-        return indptr, dst[order].astype(np.int32)
+        return _csr_sorted(src, dst, self.sites)
 
     # -- export --------------------------------------------------------------
     def to_networkx(self):
@@ -208,6 +205,15 @@ class Lattice:
         else:
             raise ValueError(f"unknown output format {path.suffix!r}: use .dat or .npz.")
         return path
+
+
+def _csr_sorted(rows: np.ndarray, cols: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Group ``cols`` by ``rows`` (a counting sort, O(N + E)) with sorted columns per row."""
+    import scipy.sparse as sp
+
+    m = sp.csr_matrix((np.ones(rows.shape[0], dtype=np.int8), (rows, cols)), shape=(n, n))
+    m.sort_indices()  # rows hold at most a few entries: cheap, unlike a global comparison sort
+    return m.indptr.astype(np.int64), m.indices.astype(np.int32)
 
 
 def load_lattice(path) -> Lattice:
@@ -438,25 +444,35 @@ def ring_lattice(p: int = 7, q: int = 3, rings: int = 3, *, max_sites: int | Non
         ids, spokes = layer.ids, layer.spokes
         owner, k, n_new, spoke_slot, mid_poly, mid_t, mid_slot, poly_count, n_old = _layer_topology(spokes, p, q)
         zb = z[ids]
-        zprev = np.roll(zb, 1)
+        # The construction order of every ring is exactly p-periodic (ring 1 starts at angle
+        # 0 and the layer rule is rotation equivariant), so coordinates are computed for the
+        # first 1/p of the new ring only and the rest are rotated copies: p times less
+        # Moebius arithmetic, and the p-fold symmetry holds to rounding.
+        n_spokes = owner.shape[0]
+        n_sub = n_spokes // p             # spokes (= polygons) of one angular sector
+        m_sub = n_new // p                # new-ring slots of one angular sector
+        js = np.arange(n_sub + 1)         # one extra spoke: the second end of the last polygon
+        own = owner[js]
         # spoke ends: boundary predecessor rotated ccw about the owner by k * 2pi/q
-        v = zb[owner]
-        ends = geometry.rotate_about(zprev[owner], v, k * theta)
-        new_z = np.empty(n_new, dtype=np.complex128)
-        new_z[spoke_slot] = ends  # for p = 3 merged ends coincide; any copy will do
+        ends = geometry.rotate_about(zb[own - 1], zb[own], k[js] * theta)
+        sub_z = np.empty(m_sub, dtype=np.complex128)
+        first = spoke_slot[:n_sub] < m_sub  # p = 3 may merge the sector's last end into the next sector
+        sub_z[spoke_slot[:n_sub][first]] = ends[:n_sub][first]
         # middles: polygon j is traversed clockwise  w_j, a, ..., b, w_{j+1}, m_1, ..., m_r.
         # Its centre lies at the circumradius from w_{j+1}, bisecting the interior angle
         # between the directions to b and to m_1; the middles are w_{j+1} rotated about the
         # centre by -2*pi*t/p. One rotation per vertex keeps the error from compounding
         # along the polygon (a vertex-to-vertex walk amplifies it Fibonacci-like in p).
-        if mid_poly.size:
-            n_spokes = owner.shape[0]
-            last_old = np.roll(owner, -1)           # boundary position of b
-            second_end = ends[np.roll(np.arange(n_spokes), -1)][mid_poly]
-            b_pt = zb[last_old][mid_poly]
+        sel = mid_poly < n_sub
+        if np.any(sel):
+            mp, mt = mid_poly[sel], mid_t[sel]
+            second_end = ends[mp + 1]
+            b_pt = zb[owner[mp + 1]]              # boundary vertex b, owner of the next spoke
             toward_b = geometry.geodesic_point(second_end, b_pt, circumradius / d0)
             centre = geometry.rotate_about(toward_b, second_end, 0.5 * theta)
-            new_z[mid_slot] = geometry.rotate_about(second_end, centre, -2.0 * math.pi * mid_t / p)
+            sub_z[mid_slot[sel]] = geometry.rotate_about(second_end, centre, -2.0 * math.pi * mt / p)
+        phases = np.exp(2j * math.pi * np.arange(p) / p)
+        new_z = (phases[:, None] * sub_z[None, :]).ravel()
         # assemble ids and edges
         new_ids = base + np.arange(n_new, dtype=np.int64)
         z[base:base + n_new] = new_z
@@ -480,8 +496,9 @@ def ring_lattice(p: int = 7, q: int = 3, rings: int = 3, *, max_sites: int | Non
     znew = np.empty_like(z)
     znew[perm] = z
     edges = perm[edges]
-    edges = np.sort(edges, axis=1)
-    edges = edges[np.lexsort((edges[:, 1], edges[:, 0]))].astype(np.int32)
+    lo, hi = np.minimum(edges[:, 0], edges[:, 1]), np.maximum(edges[:, 0], edges[:, 1])
+    indptr, cols = _csr_sorted(lo, hi, n_total)  # lexicographic order without a comparison sort
+    edges = np.column_stack([np.repeat(np.arange(n_total, dtype=np.int32), np.diff(indptr)), cols])
     rotation = _ring_rotation(ring_starts, p)
     return Lattice(p=p, q=q, rings=rings, z=znew, ring=ring, edges=edges, rotation=rotation)
 
