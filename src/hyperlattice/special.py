@@ -747,16 +747,11 @@ def legendre_cm(nu, m):
 def nu_from_lambda(lam):
     r"""Degree :math:`\nu` for the Helmholtz parameter :math:`\lambda` of ``green16``.
 
-    :math:`\lambda/4 = -\nu(\nu+1)`; the branch :math:`\nu = -\tfrac12 + \tfrac12\sqrt{1-\lambda}`
-    with the principal square root (:math:`\operatorname{Re}\nu \ge -\tfrac12`, cut along
-    :math:`\lambda \in [1, \infty)`, the continuous spectrum) gives the paper's
-    :math:`\nu = \tfrac12(-1 + \mathrm{i}\sqrt{\lambda-1})` for real :math:`\lambda > 1`
-    (approached from :math:`\operatorname{Im}\lambda \le 0`... see note), :math:`\nu = 0` for
-    :math:`\lambda = 0`, and makes :math:`Q_\nu^m` the solution decaying at :math:`x\to\infty`.
-
-    Note: on the cut the principal root gives :math:`\sqrt{1-\lambda} = +\mathrm{i}\sqrt{\lambda-1}`
-    for real :math:`\lambda > 1` (numpy's convention for ``-0j`` imaginary part aside), so
-    ``nu_from_lambda(1 + k**2) == -0.5 + 0.5j*k``.
+    :math:`\lambda/4 = -\nu(\nu+1)`. The branch :math:`\nu = -\tfrac12 + \tfrac12\sqrt{1-\lambda}`
+    with the principal square root has :math:`\operatorname{Re}\nu \ge -\tfrac12` and its cut on
+    :math:`\lambda \in [1, \infty)` (the continuous spectrum). It gives :math:`\nu = 0` at
+    :math:`\lambda = 0`, makes :math:`Q_\nu^m` the solution decaying as :math:`x\to\infty`, and for
+    real :math:`\lambda = 1 + k^2 > 1` gives the paper's :math:`\nu = \tfrac12(-1+\mathrm{i}k)`.
     """
     lam_a = np.asarray(lam, dtype=complex)
     if np.any(~np.isfinite(lam_a)):
