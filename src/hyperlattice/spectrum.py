@@ -255,15 +255,20 @@ def _ritz_values(table: SectorTable, steps: int, rng: np.random.Generator) -> np
 
 
 def _chebyshev_lowest(table: SectorTable, k: int, tol: float, progress: ProgressFn | None, label: str,
-                      degree: int = 12) -> tuple[np.ndarray, np.ndarray, dict]:
+                      degree: int = 32, partial: bool = False) -> tuple[np.ndarray, np.ndarray, dict]:
     """k lowest eigenpairs of a table by ARPACK on a Chebyshev polynomial (see module doc)."""
     n = table.size
     rng = np.random.default_rng(12345)
     lo, hi = table.bounds()
     theta = _ritz_values(table, 60, rng)
     # theta[k] >= lambda_{k+1} >= lambda_k (interlacing): every wanted level lies below c.
-    c = float(theta[min(k, theta.shape[0] - 1)])
-    c = min(c + 1e-3 * (hi - lo), hi - 1e-3 * (hi - lo))
+    # Halfway to the next Ritz value keeps c clear of a level that sits exactly at theta[k]
+    # (a converged Ritz value), where the polynomial would not lift it above 1.
+    if theta.shape[0] > k + 1:
+        c = 0.5 * (float(theta[k]) + float(theta[k + 1]))
+    else:
+        c = float(theta[min(k, theta.shape[0] - 1)]) + 1e-3 * (hi - lo)
+    c = min(c, hi - 1e-3 * (hi - lo))
     dt = np.complex128 if table.is_complex else np.float64
     kern = _kernel()
     info = {"products": 0, "restarts": 0}
@@ -308,6 +313,11 @@ def _chebyshev_lowest(table: SectorTable, k: int, tol: float, progress: Progress
         if np.all(energies < c):
             res = np.linalg.norm(_matvec(table, vecs) - vecs * energies[None, :], axis=0)
             if np.all(res <= tol) or attempt >= 2:
+                if partial:
+                    # a Krylov run sees one state of an exactly degenerate pair: the slots it
+                    # cannot fill hold unconverged mixtures; the caller completes the pairs
+                    good = res <= tol
+                    return energies[good], vecs[:, good], info
                 return energies, vecs, info
             # accurate enough in the polynomial's terms but not in H's: tighten and go again
             arpack_tol = 0.0
@@ -348,8 +358,8 @@ def _check_residuals(res: np.ndarray, tol: float, what: str) -> None:
 def _rotation_labels(lattice: Lattice, h, energies: np.ndarray, vecs: np.ndarray, keep: int):
     """Label full-matrix eigenvectors by m: diagonalise the rotation in each degenerate cluster.
 
-    Returns (energies, vecs, m) for the first ``keep`` states, or None if the cluster at the
-    cut reaches the end of the computed states (then more states are needed).
+    Returns (energies, vecs, m) for the first ``keep`` states. A cluster cut by the end of the
+    computed states, or missing a partner, is completed by the rotated copies of its states.
     """
     p = lattice.p
     scale = max(1.0, float(np.max(np.abs(energies))))
@@ -360,9 +370,15 @@ def _rotation_labels(lattice: Lattice, h, energies: np.ndarray, vecs: np.ndarray
     for a, b in zip(starts, ends):
         if a >= keep:
             break
-        if b == energies.shape[0] and b < lattice.sites:
-            return None
         u = vecs[:, a:b].astype(np.complex128)
+        # A Krylov method may return one state of a degenerate +-m pair only (from a single
+        # start vector it cannot see the partner). The rotated copies R^s u are eigenvectors
+        # of the same level, so their span closes the cluster into a rotation-invariant space.
+        copies = [u]
+        for _ in range(p - 1):
+            copies.append(copies[-1][lattice.rotation, :])
+        basis, sing, _ = np.linalg.svd(np.concatenate(copies, axis=1), full_matrices=False)
+        u = basis[:, sing > 1e-8 * sing[0]]
         rot_u = u[lattice.rotation, :]          # (S psi)(i) = psi(R i) = omega^m psi(i)
         mat = u.conj().T @ rot_u
         t_form, z = sla.schur(mat, output="complex")
@@ -555,23 +571,25 @@ def _full_levels(lattice, levels, t, onsite, method, symmetric, want_vecs, tol, 
     table = full_table(lattice, t, onsite) if method == "sparse" else None
     timings = {"setup": time.perf_counter() - t_start}
     t0 = time.perf_counter()
-    extra = 2 if symmetric else 0
-    while True:
-        want = min(n_sites, levels + extra)
-        if method == "dense":
-            e, v = sla.eigh(h.toarray(), subset_by_index=[0, want - 1])
-        else:
-            if n_sites < 2 * want + 3:
-                raise ValueError(f"method='sparse' needs fewer levels than N - 1 = {n_sites - 1}; use 'dense'.")
-            e, v, _ = _chebyshev_lowest(table, want, tol, progress, "full lattice")
-        if not symmetric:
-            labelled = (e[:levels], v[:, :levels], None)
-            break
-        labelled = _rotation_labels(lattice, h, e, v, levels)
-        if labelled is not None:
-            break
-        extra += lattice.p
-    e, v, m = labelled
+    if method == "dense":
+        e, v = sla.eigh(h.toarray(), subset_by_index=[0, levels - 1])
+    else:
+        if n_sites < 2 * levels + 3:
+            raise ValueError(f"method='sparse' needs at most (N - 3)/2 = {(n_sites - 3) // 2} levels; use 'dense'.")
+        e, v, _ = _chebyshev_lowest(table, levels, tol, progress, "full lattice", partial=symmetric)
+    if symmetric:
+        e, v, m = _rotation_labels(lattice, h, e, v, levels)
+        ask = levels
+        while method == "sparse" and e.shape[0] < levels and n_sites >= 2 * (ask + 2) + 3:
+            # ask for more states so that the unresolved pair falls inside the converged ones
+            ask += 2
+            e, v, _ = _chebyshev_lowest(table, ask, tol, progress, "full lattice", partial=True)
+            e, v, m = _rotation_labels(lattice, h, e, v, levels)
+        if e.shape[0] < levels:
+            raise ConvergenceError(f"the sparse eigensolver resolved only {e.shape[0]} of {levels} levels; "
+                                   "use method='sector' or 'dense'.")
+    else:
+        m = None
     timings["solve"] = time.perf_counter() - t0
     res = np.linalg.norm(h @ v - v * e[None, :], axis=0)
     _check_residuals(res, tol, f"{method} eigensolver")
