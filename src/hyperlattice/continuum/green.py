@@ -1,0 +1,574 @@
+r"""Continuum Green function of the hyperbolic Helmholtz operator on a disk of radius :math:`L`.
+
+:math:`G(z, z', \lambda, L)` solves (``green1``)
+
+.. math:: (\lambda + \Delta_g)\,G(z,z',\lambda,L) = -(1-|z|^2)^2\,\delta^{(2)}(z-z'),
+          \qquad G = 0 \text{ for } |z| = L \text{ or } |z'| = L,
+
+with :math:`\Delta_g = (1-|z|^2)^2(\partial_x^2+\partial_y^2)` (``eq7``). It is the continuum
+side of the dictionary ``eq21`` (see :mod:`hyperlattice.green`).
+
+Forms implemented
+-----------------
+* :math:`\lambda = 0`: the image-charge closed form ``eq23``/``green6``.
+* :math:`L = 1`: :math:`G = \frac{1}{2\pi}Q_\nu(y)`, :math:`y = \cosh 2d(z,z')` (``green30``), for
+  :math:`\lambda \in \mathbb{C}\setminus[1,\infty)`. This *is* the paper's
+  :math:`\frac{1}{2\pi}[Q_{\nu_p}(y) - \mathcal C P_{\nu_p}(y)]` written with the other root
+  :math:`\nu = -\nu_p - 1` of :math:`\lambda/4 = -\nu(\nu+1)`: since
+  :math:`P_{\nu_p} = P_{-\nu_p-1}` and :math:`Q_{\nu_p} - Q_{-\nu_p-1} = \pi\cot(\pi\nu_p)\,P_{\nu_p}`
+  (A&S 8.2.3 with :math:`m = 0`), :math:`\mathcal C = \pi\cot(\pi\nu_p)`.
+  :func:`boundary_constant` evaluates the paper's printed expression for :math:`\mathcal C`
+  and the tests compare both with :math:`\lim_{y\to\infty} Q_{\nu_p}/P_{\nu_p}`.
+* :math:`0 < L < 1`: ``green33`` = ``green34`` :math:`-` ``green36``, the fundamental solution
+  minus the Dirichlet correction as a Fourier series in the angle, truncated adaptively.
+
+Branch of :math:`\nu`
+---------------------
+:math:`\nu = -\tfrac12 + \tfrac12\sqrt{1-\lambda}` with the principal root
+(:func:`hyperlattice.special.nu_from_lambda`), i.e. :math:`\operatorname{Re}\nu \ge -\tfrac12`.
+For real :math:`\lambda < 1` this is the root :math:`\nu > -\tfrac12` (the paper's ``green35``
+picks :math:`\nu_p = -\nu - 1 < -\tfrac12`); for :math:`\lambda > 1` it is the paper's
+:math:`\tfrac12(-1+\mathrm i\sqrt{\lambda-1})`. With this root :math:`Q_\nu^m(x)` is the solution
+that *decays* as :math:`x\to\infty` (:math:`|Q_\nu| \sim x^{-\operatorname{Re}\nu-1}`), so the
+:math:`L=1` Green function needs no boundary term, and :math:`Q_\nu^m` never meets its poles
+(:math:`\nu+m+1 \in \{0,-1,\dots\}`), which the paper's root hits at :math:`\lambda = 0`
+(:math:`\nu_p = -1`). For :math:`L < 1` the Dirichlet Green function does not depend on the root:
+both :math:`\mathcal G_0` and :math:`\delta\mathcal G` change, their difference does not.
+
+The coefficient :math:`C_m` and the convention of :math:`Q_\nu^m`
+---------------------------------------------------------------
+The jump condition of ``green22`` with :math:`G_m = C_m u_m(\rho_>)v_m(\rho_<)` gives
+:math:`C_m = 1/[(1-\rho^2)\,W\{P_\nu^m, Q_\nu^m\}]` (the Wronskian times :math:`p(\rho)` is
+constant). :mod:`hyperlattice.special` uses DLMF/mpmath type-3 :math:`Q_\nu^m`, which carries
+the phase :math:`e^{\mathrm i m\pi} = (-1)^m`; its Wronskian is
+:math:`(-1)^m\Gamma(\nu+m+1)/[(1-x^2)\Gamma(\nu-m+1)]`, hence
+
+.. math:: C_m = (-1)^m\,\frac{\Gamma(\nu-m+1)}{\Gamma(\nu+m+1)}
+              = (-1)^m \times \texttt{legendre\_cm}(\nu, m).
+
+The paper's ``green38`` (= ``legendre_cm``) lacks the :math:`(-1)^m`: it belongs to a
+:math:`Q_\nu^m` without the phase. Using it with type-3 :math:`Q` flips the sign of every odd
+term of ``green36``; the tests catch this through the addition theorem
+:math:`Q_\nu(y) = \sum_m \epsilon_m C_m Q_\nu^m(\rho_>)P_\nu^m(\rho_<)\cos m\Delta\phi` and through
+the boundary values. :func:`coefficient_cm` returns the correct :math:`C_m`.
+
+Evaluation of ``green36``
+-------------------------
+Write :math:`\tilde P_\nu^m = P_\nu^m\,\Gamma(\nu-m+1)/\Gamma(\nu+m+1)` (entire in :math:`\nu`;
+no zero factor at integer :math:`\nu < m`). Then the :math:`m`-th term of ``green36`` is
+
+.. math:: t_m = \frac{\epsilon_m}{2\pi}(-1)^m Q_\nu^m(\rho_L)\,
+          \frac{\tilde P_\nu^m(\rho)\tilde P_\nu^m(\rho')}{\tilde P_\nu^m(\rho_L)}\cos m(\phi-\phi'),
+          \qquad \epsilon_0 = 1,\ \epsilon_{m>0} = 2 .
+
+:math:`\tilde P^m` obeys DLMF 14.10.6 divided by :math:`\Gamma(\nu+m+2)/\Gamma(\nu-m)`,
+
+.. math:: \tilde P^m = 2(m+1)\frac{x}{\sqrt{x^2-1}}\tilde P^{m+1}
+                       + (\nu-m-1)(\nu+m+2)\tilde P^{m+2},
+
+which has no division and in which :math:`\tilde P^m` is the *dominant* solution going down in
+:math:`m` (:math:`\tilde P^m\sim r^m/m!` against :math:`\sim r^{-m}` for the :math:`Q` branch), so
+the downward run from accurate values at :math:`M, M+1` (:func:`~hyperlattice.special.legendre_log_p`)
+is stable. All distinct radii (targets, sources and :math:`L`) run in one vectorized recurrence,
+carried with per-point logarithmic scales so that :math:`m!`-sized factors neither overflow nor
+underflow. Cost: two Legendre evaluations per distinct radius plus :math:`M` cheap vector steps.
+
+Truncation
+----------
+:math:`|t_m| \sim (r r'/L^2)^m/m` for large :math:`m`. :math:`M` is first chosen from that
+bound, then the neglected tail is estimated per pair as :math:`|t_M|\,\varrho/(1-\varrho)` with
+:math:`\varrho = \max(rr'/L^2, |t_M|/|t_{M-1}|)` (envelopes without the cosine) and required to be
+below ``tol`` times the scale :math:`|\mathcal G_0| + |\delta\mathcal G|` of the two cancelling
+terms; if not, :math:`M` is doubled (up to ``max_terms``). The largest relative estimate is
+reported in :class:`GreenInfo`; a :class:`~hyperlattice.errors.ConvergenceWarning` is issued
+when the tolerance is not met.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import special as sc
+
+from ..errors import ConvergenceWarning
+from ..special import legendre_cm, legendre_log_p, legendre_log_q, legendre_q, nu_from_lambda
+
+__all__ = [
+    "continuum_green",
+    "GreenInfo",
+    "green_nu",
+    "coefficient_cm",
+    "boundary_constant",
+    "fundamental_solution",
+    "green_laplace",
+    "green_infinite_disk",
+]
+
+_MAX_TERMS = 400        # hard cap on the m-sum; (rr'/L^2)^400 < 1e-10 needs rr'/L^2 < 0.944
+_RESCALE = 1e30         # renormalize recurrence values beyond this magnitude (per point)
+_EIGEN_REL = 1e-12      # |P~^m(rho_L)| below this times its recurrence envelope: Dirichlet eigenvalue
+
+
+@dataclass(frozen=True)
+class GreenInfo:
+    """How a continuum Green function was evaluated.
+
+    Attributes
+    ----------
+    method : str
+        ``"laplace"`` (``eq23``), ``"infinite_disk"`` (:math:`L = 1`) or ``"series"``
+        (``green34`` - ``green36``).
+    nu : complex
+        The degree used (branch :math:`\\operatorname{Re}\\nu \\ge -1/2`).
+    terms : int
+        Number of Fourier orders :math:`m = 0..M` summed (0 for closed forms).
+    tail_estimate : float
+        Largest estimated truncation error relative to :math:`|\\mathcal G_0|+|\\delta\\mathcal G|`.
+    tol : float
+        Requested tolerance.
+    """
+
+    method: str
+    nu: complex
+    terms: int
+    tail_estimate: float
+    tol: float
+
+    @property
+    def converged(self) -> bool:
+        return self.tail_estimate <= self.tol
+
+
+# ----------------------------------------------------------------------------
+# parameters and constants
+# ----------------------------------------------------------------------------
+
+def green_nu(lam) -> complex:
+    r"""Degree :math:`\nu` with :math:`\lambda/4 = -\nu(\nu+1)` and :math:`\operatorname{Re}\nu\ge-\frac12`.
+
+    The principal-root branch :math:`\nu = -\frac12+\frac12\sqrt{1-\lambda}` (see the module
+    docstring for why this root and how it relates to ``green35``).
+    """
+    lam = _check_lambda(lam)
+    return complex(nu_from_lambda(lam))
+
+
+def coefficient_cm(nu, m):
+    r""":math:`C_m` of ``green23`` for the type-3 :math:`Q_\nu^m` of :mod:`hyperlattice.special`.
+
+    :math:`C_m = 1/[(1-x^2)W\{P^m_\nu,Q^m_\nu\}] = (-1)^m\Gamma(\nu-m+1)/\Gamma(\nu+m+1)`;
+    the paper's ``green38`` without :math:`(-1)^m` matches a phase-free :math:`Q_\nu^m`.
+    """
+    m_arr = np.asarray(m)
+    sign = np.where(m_arr % 2 == 0, 1.0, -1.0)
+    return sign * legendre_cm(nu, m_arr)
+
+
+def boundary_constant(lam) -> complex:
+    r"""The constant :math:`\mathcal C` of App. ``AppGreen`` as printed in the paper.
+
+    .. math:: \mathcal C = \frac{2^{\nu}\mathrm i^{-\nu}\pi^{3/2}\Gamma(-\nu)}
+              {\Gamma(1+\frac\nu2)\Gamma(\frac{1+\nu}2)}\Bigl[-\cos\frac{\pi\nu}{2}
+              \frac{\Gamma(1+\frac\nu2)^2}{\Gamma(\frac{1-\nu}2)^2}
+              + \mathrm i\sin\frac{\pi\nu}{2}\frac{\Gamma(\frac{1+\nu}2)^2}{\Gamma(-\frac\nu2)^2}\Bigr]
+
+    with the paper's root :math:`\nu_p = -\frac12 - \frac12\sqrt{1-\lambda}` (:math:`\nu_p < -1/2`
+    for real :math:`\lambda < 1`), for :math:`\lambda\in\mathbb C\setminus[1,\infty)`. The
+    :math:`L=1` Green function is :math:`\frac1{2\pi}[Q_{\nu_p}(y) - \mathcal C P_{\nu_p}(y)]`; it
+    is evaluated in :func:`green_infinite_disk` through the equivalent decaying form
+    :math:`\frac1{2\pi}Q_{-\nu_p-1}(y)`, which has no pole at :math:`\lambda = 0`. This
+    function exists so that the printed constant can be checked (tests compare it with
+    :math:`\lim_{y\to\infty}Q_{\nu_p}/P_{\nu_p}` and with :math:`\pi\cot\pi\nu_p`).
+    """
+    lam = _check_lambda(lam)
+    if lam.imag == 0 and lam.real >= 1:
+        raise ValueError("the constant C exists only for lambda off the continuous spectrum [1, inf).")
+    nu = -1.0 - green_nu(lam)
+    g = sc.gamma
+    pre = 2.0**nu * np.exp(-1j * np.pi / 2 * nu) * np.pi**1.5 * g(-nu) / (g(1 + nu / 2) * g((1 + nu) / 2))
+    br = (-np.cos(np.pi * nu / 2) * g(1 + nu / 2) ** 2 / g((1 - nu) / 2) ** 2
+          + 1j * np.sin(np.pi * nu / 2) * g((1 + nu) / 2) ** 2 / g(-nu / 2) ** 2)
+    return complex(pre * br)
+
+
+# ----------------------------------------------------------------------------
+# input handling
+# ----------------------------------------------------------------------------
+
+def _check_lambda(lam) -> complex:
+    try:
+        lam_c = complex(lam)
+    except (TypeError, ValueError):
+        raise ValueError(f"lambda must be a real or complex number, got {lam!r}.") from None
+    if not (math.isfinite(lam_c.real) and math.isfinite(lam_c.imag)):
+        raise ValueError("lambda must be finite (no NaN or inf).")
+    return lam_c
+
+
+def _check_radius(radius) -> float:
+    try:
+        L = float(radius)
+    except (TypeError, ValueError):
+        raise ValueError(f"the disk radius L must be a number in (0, 1], got {radius!r}.") from None
+    if not math.isfinite(L) or not 0.0 < L <= 1.0:
+        raise ValueError(f"the disk radius L must lie in (0, 1], got {radius!r}.")
+    return L
+
+
+def _check_points(name: str, z, L: float, extend: bool) -> np.ndarray:
+    z = np.asarray(z)
+    if z.dtype.kind not in "biufc":
+        raise ValueError(f"{name} must be numbers (complex coordinates in the disk).")
+    z = z.astype(complex)
+    if not np.all(np.isfinite(z)):
+        raise ValueError(f"{name} contains NaN or inf.")
+    r = np.abs(z)
+    if L == 1.0:
+        if np.any(r >= 1.0):
+            raise ValueError(f"{name} must lie inside the unit disk |z| < 1.")
+    elif np.any(r > L * (1.0 + 4e-16)) and not extend:     # |z| = L up to rounding is allowed
+        raise ValueError(
+            f"{name} has points outside the disk |z| <= L = {L:.12g} (largest |z| = {r.max():.12g}); "
+            "pass extend=True to evaluate the analytic continuation of green33 there.")
+    return z
+
+
+def _cosh2d(z, zp):
+    """:math:`y - 1 = 2|z-z'|^2/((1-|z|^2)(1-|z'|^2))` with compensated :math:`1-|z|^2`."""
+    from ..geometry import one_minus_abs2
+
+    return 2.0 * np.abs(z - zp) ** 2 / (one_minus_abs2(z) * one_minus_abs2(zp))
+
+
+# ----------------------------------------------------------------------------
+# closed forms
+# ----------------------------------------------------------------------------
+
+def _q0_of_ym1(nu: complex, ym1: np.ndarray) -> np.ndarray:
+    r""":math:`Q_\nu(1 + y_{m1})`, inf at coincident points, and the logarithmic expansion
+    :math:`-\frac12\ln(y_{m1}/2) - \gamma - \psi(\nu+1)` (DLMF 14.8.9 for x>1) where
+    :math:`1 + y_{m1}` rounds too close to 1 for a direct evaluation."""
+    out = np.empty(ym1.shape, complex)
+    coincide = ym1 == 0.0
+    tiny = (ym1 < 1e-12) & ~coincide
+    normal = ~(coincide | tiny)
+    out[coincide] = complex(np.inf, 0.0)
+    if np.any(tiny):
+        out[tiny] = -0.5 * np.log(ym1[tiny] / 2.0) - np.euler_gamma - sc.psi(nu + 1.0)
+    if np.any(normal):
+        out[normal] = legendre_q(nu, 0, 1.0 + ym1[normal])
+    return out
+
+
+def fundamental_solution(z, zp, lam):
+    r"""Fundamental solution ``green34``: :math:`\mathcal G_0 = \frac1{2\pi}Q_\nu(\cosh 2d(z,z'))`.
+
+    ``inf`` where :math:`z = z'`. Branch of :math:`\nu` as in :func:`green_nu` (decaying).
+    """
+    lam = _check_lambda(lam)
+    z = _check_points("z", z, 1.0, False)
+    zp = _check_points("z'", zp, 1.0, False)
+    z, zp = np.broadcast_arrays(z, zp)
+    val = _q0_of_ym1(green_nu(lam), _cosh2d(z, zp))
+    val.real *= 1.0 / (2.0 * np.pi)     # part-wise: inf at coincident points stays inf + 0j
+    val.imag *= 1.0 / (2.0 * np.pi)
+    return val[()] if val.ndim == 0 else val
+
+
+def green_laplace(z, zp, radius=1.0):
+    r"""``eq23``: :math:`G(z,z',0,L) = -\frac1{4\pi}\ln\bigl|\frac{L(z-z')}{L^2-z\bar z'}\bigr|^2` (real)."""
+    L = _check_radius(radius)
+    z = _check_points("z", z, L, True)
+    zp = _check_points("z'", zp, L, True)
+    z, zp = np.broadcast_arrays(z, zp)
+    with np.errstate(divide="ignore"):
+        val = -np.log(np.abs(L * (z - zp)) / np.abs(L * L - z * np.conj(zp))) / (2.0 * np.pi)
+    return val[()] if val.ndim == 0 else val
+
+
+def green_infinite_disk(z, zp, lam):
+    r""":math:`L = 1`: :math:`G = \frac1{2\pi}Q_\nu(y)` with the decaying root (``green30``).
+
+    Equal to the paper's :math:`\frac1{2\pi}[Q_{\nu_p}(y)-\mathcal C P_{\nu_p}(y)]`; requires
+    :math:`\lambda\notin[1,\infty)` (there the infinite disk has continuous spectrum).
+    """
+    lam = _check_lambda(lam)
+    if lam.imag == 0 and lam.real >= 1.0:
+        raise ValueError(f"lambda = {lam.real:g} lies on the continuous spectrum [1, inf) of -Delta_g "
+                         "on the infinite disk (L = 1); give it an imaginary part or use L < 1.")
+    return fundamental_solution(z, zp, lam)
+
+
+# ----------------------------------------------------------------------------
+# the boundary correction green36
+# ----------------------------------------------------------------------------
+
+def _logpoch(nu: complex, m: int) -> complex:
+    """log Gamma(nu+m+1)/Gamma(nu-m+1) = sum_{j=1-m}^{m} log(nu+j) (complex, no overflow)."""
+    if m == 0:
+        return 0j
+    return complex(np.sum(np.log(nu + np.arange(1 - m, m + 1) + 0j)))
+
+
+def _ptilde_log0(nu, m, x):
+    """log-scaled P~^m(x) from the Legendre module (m <= 1 here): (real scale, complex mantissa)."""
+    s, mt = legendre_log_p(nu, m, x)
+    lp = _logpoch(nu, m)
+    return s - lp.real, mt * np.exp(-1j * lp.imag)
+
+
+def _rescale(a, b, sig):
+    """Divide the pair (a, b) by |a| where |a| > _RESCALE; keep the log in sig (per point)."""
+    big = np.abs(a) > _RESCALE
+    if np.any(big):
+        f = np.where(big, np.abs(a), 1.0)
+        return a / f, b / f, sig + np.log(f)
+    return a, b, sig
+
+
+def _ptilde_table(nu: complex, rho: np.ndarray, M: int, r_split: float):
+    r"""Table of :math:`\tilde P^m_\nu(\rho_k)`, m = 0..M, as (mantissa, log-scale), each (M+1, n).
+
+    Radii :math:`r \le` ``r_split``: Miller's backward recurrence (``P~`` dominant downward)
+    from :math:`M_s = M + \lceil\ln 10^{-17}/(2\ln r_{\max})\rceil`, normalised to the module's
+    :math:`\tilde P^0, \tilde P^1`; its contamination by the other solution is
+    :math:`\sim r^{2(M_s-m)}`, which fixes the extra steps. Radii above ``r_split``: upward
+    recurrence of :math:`P^m` (no division, module values at m = 0, 1) divided by
+    :math:`\Gamma(\nu+m+1)/\Gamma(\nu-m+1)`; its relative error grows like :math:`r^{-2m}`,
+    harmless where :math:`r` is close to 1. Returns also the Miller contamination bound.
+    """
+    n = rho.size
+    mant = np.zeros((M + 1, n), complex)
+    logs = np.zeros((M + 1, n))
+    r = np.sqrt((rho - 1.0) / (rho + 1.0))
+    at_one = rho == 1.0
+    rho_run = np.where(at_one, 2.0, rho)
+    c = rho_run / np.sqrt((rho_run - 1.0) * (rho_run + 1.0))        # x / sqrt(x^2 - 1)
+    s0, m0 = _ptilde_log0(nu, 0, rho_run)
+    s1, m1 = _ptilde_log0(nu, 1, rho_run) if M >= 1 else (s0, m0)
+    contamination = 0.0
+
+    down = r <= r_split
+    if np.any(down):
+        idx = np.flatnonzero(down)
+        rmax = float(r[idx].max())
+        extra = 0 if rmax < 1e-3 else int(math.ceil(math.log(1e-17) / (2.0 * math.log(rmax))))
+        extra = min(max(extra, 8), 6000)
+        contamination = rmax ** (2 * extra)
+        Ms = M + extra
+        cc = c[idx]
+        a_hi = np.zeros(idx.size, complex)        # f_{Ms+1}
+        a = np.ones(idx.size, complex)            # f_{Ms}
+        sig = np.zeros(idx.size)
+        for m in range(Ms, -1, -1):
+            if m < Ms:
+                new = 2.0 * (m + 1) * cc * a + (nu - m - 1) * (nu + m + 2) * a_hi
+                a_hi, a = a, new
+                a, a_hi, sig = _rescale(a, a_hi, sig)
+            if m <= M:
+                mant[m, idx] = a
+                logs[m, idx] = sig
+        # normalise with the accurate m = 0, 1 values (least squares over the two, so that a
+        # zero of P~^0 does not spoil the scale)
+        base = logs[0, idx].copy()
+        f0 = mant[0, idx]
+        f1 = mant[1, idx] * np.exp(logs[1, idx] - base) if M >= 1 else f0
+        t0 = m0[idx]
+        t1 = m1[idx] * np.exp(s1[idx] - s0[idx]) if M >= 1 else t0
+        norm = (np.conj(f0) * t0 + np.conj(f1) * t1) / (np.abs(f0) ** 2 + np.abs(f1) ** 2)
+        mant[:, idx] *= norm
+        logs[:, idx] += s0[idx] - base
+
+    up = ~down
+    if np.any(up):
+        idx = np.flatnonzero(up)
+        cc = c[idx]
+        # P^m = g_m P~^m with g_0 = 1, g_1 = nu(nu+1): start from the module's P^0, P^1
+        lg1 = _logpoch(nu, 1)
+        sig = s0[idx].copy()
+        a_lo = m0[idx].copy()                                          # P^0 / e^sig
+        a = m1[idx] * np.exp(s1[idx] + lg1.real - sig) * np.exp(1j * lg1.imag)   # P^1 / e^sig
+        mant[0, idx], logs[0, idx] = a_lo, sig
+        lg = 0j
+        for m in range(1, M + 1):
+            if m > 1:
+                k = m - 2
+                new = -2.0 * (k + 1) * cc * a + (nu - k) * (nu + k + 1) * a_lo
+                a_lo, a = a, new
+                a, a_lo, sig = _rescale(a, a_lo, sig)
+            lg += np.log(nu + m + 0j) + np.log(nu - m + 1 + 0j)          # log g_m
+            mant[m, idx] = a * np.exp(-1j * lg.imag)
+            logs[m, idx] = sig - lg.real
+    if np.any(at_one):
+        mant[:, at_one] = 0.0
+        mant[0, at_one] = 1.0
+        logs[:, at_one] = 0.0
+    return mant, logs, contamination
+
+
+def _series(nu, rho_u, iu, ju, dphi, x_L, M, r_split):
+    """Sum green36 over m = 0..M for pairs (iu, ju) of distinct radii ``rho_u`` (rho_L last).
+
+    Returns (sum, envelope of term M, envelope of term M-1, Miller contamination bound).
+    """
+    mant, logs, contamination = _ptilde_table(nu, rho_u, M, r_split)
+    # a vanishing P~^m(rho_L) makes the boundary factor infinite: lambda is a Dirichlet
+    # eigenvalue; compare with the neighbouring orders' size to decide "zero to rounding"
+    pl = np.abs(mant[:, -1])
+    if np.any(pl == 0) or np.any(~np.isfinite(pl)):
+        raise ValueError("lambda is a Dirichlet eigenvalue of the disk; the Green function does not exist there.")
+    sq, mq = legendre_log_q(nu, np.arange(M + 1), x_L)
+    c1 = np.cos(dphi)
+    cm_prev, cm = np.ones_like(dphi), np.ones_like(dphi)
+    total = np.zeros(iu.shape, complex)
+    env_M = env_M1 = None
+    for m in range(M + 1):
+        if m == 1:
+            cm_prev, cm = cm, c1
+        elif m > 1:
+            cm_prev, cm = cm, 2.0 * c1 * cm - cm_prev
+        expo = logs[m, iu] + logs[m, ju] - logs[m, -1] + sq[m]
+        with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+            mag = (mq[m] / mant[m, -1]) * mant[m, iu] * mant[m, ju] * np.exp(expo)
+        mag = mag * ((2.0 if m else 1.0) * (-1.0 if m % 2 else 1.0) / (2.0 * np.pi))
+        if m == M:
+            env_M = np.abs(mag)
+        elif m == M - 1:
+            env_M1 = np.abs(mag)
+        total += mag * cm
+    if env_M1 is None:
+        env_M1 = env_M
+    return total, env_M, env_M1, contamination
+
+
+def _boundary_correction(nu, z, zp, L, tol, max_terms, g0_abs):
+    """delta G of green36 for flattened pair arrays: (dG, absolute tail estimate, M)."""
+    r, rp = np.abs(z), np.abs(zp)
+    x_L = (1.0 + L * L) / ((1.0 - L) * (1.0 + L))
+    rho = (1.0 + r * r) / ((1.0 - r) * (1.0 + r))
+    rhop = (1.0 + rp * rp) / ((1.0 - rp) * (1.0 + rp))
+    allrho = np.concatenate([rho, rhop])
+    rho_u, inv = np.unique(allrho, return_inverse=True)
+    rho_u = np.append(rho_u, x_L)            # rho_L last
+    iu, ju = inv[: len(rho)], inv[len(rho):]
+    dphi = np.angle(z) - np.angle(zp)
+    ratio = r * rp / (L * L)
+    qmax = float(ratio.max()) if ratio.size else 0.0
+    if qmax >= 1.0:
+        raise ValueError("the Fourier series of green36 diverges for these points (|z||z'| >= L^2); "
+                         "at least one of z, z' must lie well inside the disk.")
+    # a-priori order from |t_m| ~ qmax^m / m
+    if qmax > 0:
+        M = int(math.ceil(math.log(tol) / math.log(qmax))) + 3
+    else:
+        M = 2
+    M = max(4, min(M, max_terms))
+    # Miller below r_split, upward recurrence above (see _ptilde_table): the upward error
+    # (r'/(r L^2))^m stays O(1) for r >= r'/L^2, so r_split follows the outermost source.
+    r_split = min(max(0.9, float(rp.max()) / (L * L) if rp.size else 0.0), 0.995)
+    if abs(nu.imag) < 1e-3 and nu.real > 0.5 and abs(nu.real - round(nu.real)) < 1e-3:
+        # near nu = n >= 1 the upward recurrence of P^m cancels to O(nu - n): Miller only
+        r_split = 1.0
+    while True:
+        dG, env_M, env_M1, contamination = _series(nu, rho_u, iu, ju, dphi, x_L, M, r_split)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            measured = np.where(env_M1 > 0, env_M / env_M1, 0.0)
+        rate = np.minimum(np.maximum(ratio, measured), 0.999)
+        tail = env_M * rate / (1.0 - rate) + contamination * np.abs(dG)
+        if np.all(tail <= tol * (g0_abs + np.abs(dG))) or M >= max_terms:
+            return dG, tail, M
+        M = min(2 * M, max_terms)
+
+
+def continuum_green(z, zp, lam, radius=1.0, *, tol: float = 1e-12, extend: bool = False,
+                    max_terms: int = _MAX_TERMS, return_info: bool = False):
+    r"""Dirichlet Green function :math:`G(z, z', \lambda, L)` of :math:`\lambda + \Delta_g`.
+
+    Vectorized over ``z`` and ``zp`` (broadcast against each other). Forms (see module
+    docstring): ``eq23`` for :math:`\lambda = 0`, :math:`\frac1{2\pi}Q_\nu(y)` for :math:`L=1`,
+    ``green33`` = ``green34`` - ``green36`` otherwise.
+
+    Parameters
+    ----------
+    z, zp : complex or array_like
+        Points of the disk (:math:`|z| \le L`). At coincident points the value is ``inf``.
+    lam : complex
+        Helmholtz parameter :math:`\lambda` (``eq21``: :math:`4(\omega+q)/(qh^2)`).
+    radius : float
+        Disk radius :math:`0 < L \le 1`.
+    tol : float
+        Target for the truncation error of the ``green36`` sum, relative to
+        :math:`|\mathcal G_0| + |\delta\mathcal G|` at each pair (the size of the terms that
+        cancel near the boundary); ``1e-15 <= tol < 1``.
+    extend : bool
+        Allow points with :math:`L < |z| < 1` (analytic continuation of ``green33`` across the
+        Dirichlet circle, needed to compare with the outermost sites of a lattice, which may lie
+        slightly outside the area-matched radius ``eq12``). Requires :math:`|z||z'| < L^2`.
+    max_terms : int
+        Cap on the number of Fourier orders.
+    return_info : bool
+        Also return a :class:`GreenInfo` with the truncation order and tail estimate.
+
+    Returns
+    -------
+    complex or ndarray of complex (and :class:`GreenInfo` if ``return_info``)
+
+    Raises
+    ------
+    ValueError
+        NaN input, :math:`L\notin(0,1]`, points outside the disk, :math:`\lambda` on
+        :math:`[1,\infty)` for :math:`L=1`, or :math:`\lambda` a Dirichlet eigenvalue.
+
+    Warns
+    -----
+    ConvergenceWarning
+        If the estimated truncation error exceeds ``tol`` after ``max_terms`` orders.
+    """
+    lam = _check_lambda(lam)
+    L = _check_radius(radius)
+    try:
+        tol = float(tol)
+    except (TypeError, ValueError):
+        raise ValueError(f"tol must be a number, got {tol!r}.") from None
+    if not (1e-15 <= tol < 1.0):
+        raise ValueError(f"tol must lie in [1e-15, 1), got {tol!r}.")
+    if isinstance(max_terms, bool) or int(max_terms) != max_terms or max_terms < 1:
+        raise ValueError(f"max_terms must be a positive integer, got {max_terms!r}.")
+    z = _check_points("z", z, L, extend)
+    zp = _check_points("z'", zp, L, extend)
+    zb, zpb = np.broadcast_arrays(z, zp)
+    shape = zb.shape
+    zf, zpf = zb.ravel(), zpb.ravel()
+    nu = green_nu(lam)
+
+    def finish(val, info):
+        val = val.reshape(shape)
+        val = val[()] if val.ndim == 0 else val
+        return (val, info) if return_info else val
+
+    if lam == 0:
+        val = green_laplace(zf, zpf, L).astype(complex)
+        return finish(val, GreenInfo("laplace", nu, 0, 0.0, tol))
+    if L == 1.0:
+        val = green_infinite_disk(zf, zpf, lam)
+        return finish(np.asarray(val, complex), GreenInfo("infinite_disk", nu, 0, 0.0, tol))
+
+    # green34 at all pairs (the continuation beyond |z| = L stays inside the unit disk)
+    g0 = _q0_of_ym1(nu, _cosh2d(zf, zpf))
+    g0.real *= 1.0 / (2.0 * np.pi)      # part-wise: inf at coincident points stays inf + 0j
+    g0.imag *= 1.0 / (2.0 * np.pi)
+    dG, tail, M = _boundary_correction(nu, zf, zpf, L, tol, int(max_terms), np.abs(g0))
+    val = g0 - dG
+    finite = np.isfinite(g0)
+    scale = np.where(finite, np.abs(g0) + np.abs(dG), np.inf)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rel = np.where(finite, tail / np.maximum(scale, 1e-300), 0.0)
+    worst = float(rel.max()) if rel.size else 0.0
+    if worst > tol:
+        warnings.warn(f"green36 truncated at m = {M} with estimated relative error {worst:.1e} > tol = {tol:.1e} "
+                      "(points too close to the boundary for the Fourier series); raise max_terms.",
+                      ConvergenceWarning, stacklevel=2)
+    return finish(val, GreenInfo("series", nu, M + 1, worst, tol))
