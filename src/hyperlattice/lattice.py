@@ -94,7 +94,9 @@ class Lattice:
     ring : ndarray of int16, shape (N,)
         Ring index (1-based) of each site; sites are sorted by ring.
     edges : ndarray of int32, shape (E, 2)
-        Undirected edges ``i < j``, sorted lexicographically.
+        Undirected edges ``i < j``, grouped by the ring in which they were created (ring
+        1's cycle, then for each further ring its edges to the previous ring and its own
+        cycle). Use :meth:`neighbours` or :func:`hyperlattice.adjacency` for sorted access.
     rotation : ndarray of int64, shape (N,)
         The p-fold rotation :math:`z \mapsto e^{2\pi i/p} z` as a site permutation:
         site ``i`` is mapped onto site ``rotation[i]``.
@@ -496,9 +498,9 @@ def ring_lattice(p: int = 7, q: int = 3, rings: int = 3, *, max_sites: int | Non
     znew = np.empty_like(z)
     znew[perm] = z
     edges = perm[edges]
-    lo, hi = np.minimum(edges[:, 0], edges[:, 1]), np.maximum(edges[:, 0], edges[:, 1])
-    indptr, cols = _csr_sorted(lo, hi, n_total)  # lexicographic order without a comparison sort
-    edges = np.column_stack([np.repeat(np.arange(n_total, dtype=np.int32), np.diff(indptr)), cols])
+    # i < j; edges stay grouped by the ring they were created with (no global sort: the
+    # operators build their CSR structure with a counting sort anyway)
+    edges = np.sort(edges, axis=1).astype(np.int32)
     rotation = _ring_rotation(ring_starts, p)
     return Lattice(p=p, q=q, rings=rings, z=znew, ring=ring, edges=edges, rotation=rotation)
 
