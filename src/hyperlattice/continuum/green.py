@@ -417,9 +417,21 @@ def _series(nu, rho_u, iu, ju, dphi, x_L, M, r_split):
     mant, logs, contamination = _ptilde_table(nu, rho_u, M, r_split)
     # a vanishing P~^m(rho_L) makes the boundary factor infinite: lambda is a Dirichlet
     # eigenvalue; compare with the neighbouring orders' size to decide "zero to rounding"
-    pl = np.abs(mant[:, -1])
-    if np.any(pl == 0) or np.any(~np.isfinite(pl)):
-        raise ValueError("lambda is a Dirichlet eigenvalue of the disk; the Green function does not exist there.")
+    # compare each P~^m(rho_L) with the terms of the recurrence that produce it, on its own scale
+    pL, sL = mant[:, -1], logs[:, -1]
+    if M >= 2:
+        c_L = x_L / math.sqrt((x_L - 1.0) * (x_L + 1.0))
+        m = np.arange(M - 1)
+        with np.errstate(over="ignore", under="ignore"):
+            env = (np.abs(2.0 * (m + 1) * c_L * pL[1:-1]) * np.exp(sL[1:-1] - sL[:-2])
+                   + np.abs((nu - m - 1) * (nu + m + 2) * pL[2:]) * np.exp(sL[2:] - sL[:-2]))
+        small = np.abs(pL[:-2]) <= _EIGEN_REL * env
+    else:
+        small = np.abs(pL) == 0
+    if np.any(small) or not np.all(np.isfinite(pL)):
+        m_bad = int(np.argmax(small)) if np.any(small) else -1
+        raise ValueError(f"lambda is (within rounding of) a Dirichlet eigenvalue of the disk of radius L "
+                         f"(P_nu^m(rho_L) = 0 for m = {m_bad}); the Green function does not exist there.")
     sq, mq = legendre_log_q(nu, np.arange(M + 1), x_L)
     c1 = np.cos(dphi)
     cm_prev, cm = np.ones_like(dphi), np.ones_like(dphi)
