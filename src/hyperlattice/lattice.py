@@ -97,7 +97,7 @@ class Lattice:
         Undirected edges ``i < j``, grouped by the ring in which they were created (ring
         1's cycle, then for each further ring its edges to the previous ring and its own
         cycle). Use :meth:`neighbours` or :func:`hyperlattice.adjacency` for sorted access.
-    rotation : ndarray of int64, shape (N,)
+    rotation : ndarray of int32, shape (N,)
         The p-fold rotation :math:`z \mapsto e^{2\pi i/p} z` as a site permutation:
         site ``i`` is mapped onto site ``rotation[i]``.
     kind : str
@@ -248,15 +248,16 @@ def _layer_topology(spokes: np.ndarray, p: int, q: int):
     ring position ``mid_slot``. ``poly_count``: number of new polygons containing each
     new-ring vertex.
     """
+    # int32 throughout: a ring of 2**31 sites could not be held in memory anyway
     nb = spokes.shape[0]
-    owner = np.repeat(np.arange(nb), spokes)
+    owner = np.repeat(np.arange(nb, dtype=np.int32), spokes)
     n_spokes = owner.shape[0]
     if n_spokes == 0:
         raise RuntimeError("boundary without outward spokes: not a hyperbolic tessellation")
     # k = 1..s within each vertex
-    first = np.zeros(nb, dtype=np.int64)
+    first = np.zeros(nb, dtype=np.int32)
     np.cumsum(spokes[:-1], out=first[1:])
-    k = np.arange(n_spokes) - first[owner] + 1
+    k = np.arange(n_spokes, dtype=np.int32) - first[owner] + 1
     nxt_owner = np.roll(owner, -1)
     n_old = np.mod(nxt_owner - owner, nb) + 1
     if n_spokes == 1:
@@ -264,24 +265,24 @@ def _layer_topology(spokes: np.ndarray, p: int, q: int):
     contrib = p - n_old - 1  # new-ring entries per polygon: its first spoke end + middles
     if np.any(contrib < 0):
         raise RuntimeError("inconsistent layer combinatorics (polygon with too many old vertices)")
-    offsets = np.zeros(n_spokes, dtype=np.int64)
+    offsets = np.zeros(n_spokes, dtype=np.int32)
     np.cumsum(contrib[:-1], out=offsets[1:])
     n_new = int(offsets[-1] + contrib[-1])
     spoke_slot = offsets % n_new
     # middles of polygon j: t = 1..r_j, r_j = contrib_j - 1, at slot offsets_j + contrib_j - t
     r = contrib - 1
     rpos = np.maximum(r, 0)
-    mid_poly = np.repeat(np.arange(n_spokes), rpos)
-    mstart = np.zeros(n_spokes, dtype=np.int64)
+    mid_poly = np.repeat(np.arange(n_spokes, dtype=np.int32), rpos)
+    mstart = np.zeros(n_spokes, dtype=np.int32)
     np.cumsum(rpos[:-1], out=mstart[1:])
-    mid_t = np.arange(mid_poly.shape[0]) - mstart[mid_poly] + 1
+    mid_t = np.arange(mid_poly.shape[0], dtype=np.int32) - mstart[mid_poly] + 1
     mid_slot = offsets[mid_poly] + contrib[mid_poly] - mid_t
     # polygons per new vertex (spoke ends shared by neighbouring polygons; p = 3 merges them)
     nxt_slot = np.roll(spoke_slot, -1)
     distinct = nxt_slot != spoke_slot
-    poly_count = np.bincount(spoke_slot, minlength=n_new)
-    poly_count += np.bincount(nxt_slot[distinct], minlength=n_new)
-    poly_count += np.bincount(mid_slot, minlength=n_new)
+    poly_count = np.bincount(spoke_slot, minlength=n_new).astype(np.int8)
+    poly_count += np.bincount(nxt_slot[distinct], minlength=n_new).astype(np.int8)
+    poly_count += np.bincount(mid_slot, minlength=n_new).astype(np.int8)
     return owner, k, n_new, spoke_slot, mid_poly, mid_t, mid_slot, poly_count, n_old
 
 
@@ -400,6 +401,52 @@ def _check_size(p: int, q: int, rings: int, max_sites: int | None) -> int:
 # the builder
 # ----------------------------------------------------------------------------
 
+def _grow_ring(z: np.ndarray, ring: np.ndarray, layer: _Layer, base: int, level: int, p: int, q: int,
+               centre_fraction: float):
+    """Add ring ``level`` around the cluster whose boundary is ``layer``: fills ``z`` and
+    ``ring`` from position ``base`` and returns (n_new, spoke_edges, cycle_edges, next layer).
+
+    A function of its own so that the large per-ring temporaries are freed on return."""
+    theta = 2.0 * math.pi / q
+    ids, spokes = layer.ids, layer.spokes
+    owner, k, n_new, spoke_slot, mid_poly, mid_t, mid_slot, poly_count, _ = _layer_topology(spokes, p, q)
+    zb = z[ids]
+    # The construction order of every ring is exactly p-periodic (ring 1 starts at angle
+    # 0 and the layer rule is rotation equivariant), so coordinates are computed for the
+    # first 1/p of the new ring only and the rest are rotated copies: p times less
+    # Moebius arithmetic, and the p-fold symmetry holds to rounding.
+    n_spokes = owner.shape[0]
+    n_sub = n_spokes // p             # spokes (= polygons) of one angular sector
+    m_sub = n_new // p                # new-ring slots of one angular sector
+    js = np.arange(n_sub + 1)         # one extra spoke: the second end of the last polygon
+    own = owner[js]
+    # spoke ends: boundary predecessor rotated ccw about the owner by k * 2pi/q
+    ends = geometry.rotate_about(zb[own - 1], zb[own], k[js] * theta)
+    sub_z = np.empty(m_sub, dtype=np.complex128)
+    first = spoke_slot[:n_sub] < m_sub  # p = 3 may merge the sector's last end into the next sector
+    sub_z[spoke_slot[:n_sub][first]] = ends[:n_sub][first]
+    # middles: polygon j is traversed clockwise  w_j, a, ..., b, w_{j+1}, m_1, ..., m_r.
+    # Its centre lies at the circumradius from w_{j+1}, bisecting the interior angle
+    # between the directions to b and to m_1; the middles are w_{j+1} rotated about the
+    # centre by -2*pi*t/p. One rotation per vertex keeps the error from compounding
+    # along the polygon (a vertex-to-vertex walk amplifies it Fibonacci-like in p).
+    sel = mid_poly < n_sub
+    if np.any(sel):
+        mp, mt = mid_poly[sel], mid_t[sel]
+        second_end = ends[mp + 1]
+        b_pt = zb[owner[mp + 1]]              # boundary vertex b, owner of the next spoke
+        toward_b = geometry.geodesic_point(second_end, b_pt, centre_fraction)
+        centre = geometry.rotate_about(toward_b, second_end, 0.5 * theta)
+        sub_z[mid_slot[sel]] = geometry.rotate_about(second_end, centre, -2.0 * math.pi * mt / p)
+    phases = np.exp(2j * math.pi * np.arange(p) / p)
+    z[base:base + n_new].reshape(p, m_sub)[:] = phases[:, None] * sub_z[None, :]
+    ring[base:base + n_new] = level
+    new_ids = np.arange(base, base + n_new, dtype=np.int32)
+    spoke_edges = np.column_stack([ids[owner], new_ids[spoke_slot]])
+    cycle_edges = np.column_stack([new_ids, np.roll(new_ids, -1)])
+    return n_new, spoke_edges, cycle_edges, _Layer(ids=new_ids, spokes=q - poly_count - 1)
+
+
 def ring_lattice(p: int = 7, q: int = 3, rings: int = 3, *, max_sites: int | None = None) -> Lattice:
     r"""Build the finite {p,q} lattice of ``rings`` quasi-concentric rings.
 
@@ -429,7 +476,6 @@ def ring_lattice(p: int = 7, q: int = 3, rings: int = 3, *, max_sites: int | Non
     rings = _check_rings(rings)
     n_total = _check_size(p, q, rings, max_sites)
 
-    theta = 2.0 * math.pi / q
     d0 = geometry.d0(p, q)
     circumradius = math.atanh(geometry.r0(p, q))  # hyperbolic distance centre-vertex
     z = np.empty(n_total, dtype=np.complex128)
@@ -437,81 +483,42 @@ def ring_lattice(p: int = 7, q: int = 3, rings: int = 3, *, max_sites: int | Non
     r0 = geometry.r0(p, q)
     z[:p] = r0 * np.exp(2j * math.pi * np.arange(p) / p)
     ring[:p] = 1
-    edge_blocks = [np.column_stack([np.arange(p), np.roll(np.arange(p), -1)])]
-    layer = _Layer(ids=np.arange(p, dtype=np.int64), spokes=np.full(p, q - 2, dtype=np.int64))
+    edge_blocks = [np.column_stack([np.arange(p, dtype=np.int32), np.roll(np.arange(p, dtype=np.int32), -1)])]
+    # int32 ids/edges: N < 2**31 is guaranteed by the memory check, and it halves the peak
+    layer = _Layer(ids=np.arange(p, dtype=np.int32), spokes=np.full(p, q - 2, dtype=np.int64))
     ring_starts = [0, p]
     base = p
 
     for level in range(2, rings + 1):
-        ids, spokes = layer.ids, layer.spokes
-        owner, k, n_new, spoke_slot, mid_poly, mid_t, mid_slot, poly_count, n_old = _layer_topology(spokes, p, q)
-        zb = z[ids]
-        # The construction order of every ring is exactly p-periodic (ring 1 starts at angle
-        # 0 and the layer rule is rotation equivariant), so coordinates are computed for the
-        # first 1/p of the new ring only and the rest are rotated copies: p times less
-        # Moebius arithmetic, and the p-fold symmetry holds to rounding.
-        n_spokes = owner.shape[0]
-        n_sub = n_spokes // p             # spokes (= polygons) of one angular sector
-        m_sub = n_new // p                # new-ring slots of one angular sector
-        js = np.arange(n_sub + 1)         # one extra spoke: the second end of the last polygon
-        own = owner[js]
-        # spoke ends: boundary predecessor rotated ccw about the owner by k * 2pi/q
-        ends = geometry.rotate_about(zb[own - 1], zb[own], k[js] * theta)
-        sub_z = np.empty(m_sub, dtype=np.complex128)
-        first = spoke_slot[:n_sub] < m_sub  # p = 3 may merge the sector's last end into the next sector
-        sub_z[spoke_slot[:n_sub][first]] = ends[:n_sub][first]
-        # middles: polygon j is traversed clockwise  w_j, a, ..., b, w_{j+1}, m_1, ..., m_r.
-        # Its centre lies at the circumradius from w_{j+1}, bisecting the interior angle
-        # between the directions to b and to m_1; the middles are w_{j+1} rotated about the
-        # centre by -2*pi*t/p. One rotation per vertex keeps the error from compounding
-        # along the polygon (a vertex-to-vertex walk amplifies it Fibonacci-like in p).
-        sel = mid_poly < n_sub
-        if np.any(sel):
-            mp, mt = mid_poly[sel], mid_t[sel]
-            second_end = ends[mp + 1]
-            b_pt = zb[owner[mp + 1]]              # boundary vertex b, owner of the next spoke
-            toward_b = geometry.geodesic_point(second_end, b_pt, circumradius / d0)
-            centre = geometry.rotate_about(toward_b, second_end, 0.5 * theta)
-            sub_z[mid_slot[sel]] = geometry.rotate_about(second_end, centre, -2.0 * math.pi * mt / p)
-        phases = np.exp(2j * math.pi * np.arange(p) / p)
-        new_z = (phases[:, None] * sub_z[None, :]).ravel()
-        # assemble ids and edges
-        new_ids = base + np.arange(n_new, dtype=np.int64)
-        z[base:base + n_new] = new_z
-        ring[base:base + n_new] = level
-        spoke_edges = np.column_stack([ids[owner], new_ids[spoke_slot]])
-        cycle_edges = np.column_stack([new_ids, np.roll(new_ids, -1)])
+        n_new, spoke_edges, cycle_edges, layer = _grow_ring(z, ring, layer, base, level, p, q, circumradius / d0)
         edge_blocks.extend([spoke_edges, cycle_edges])
-        layer = _Layer(ids=new_ids, spokes=q - poly_count - 1)
         base += n_new
         ring_starts.append(base)
 
     edges = np.concatenate(edge_blocks)
+    del edge_blocks
     # renumber: roll each ring to start at the smallest polar angle >= 0
-    perm = np.empty(n_total, dtype=np.int64)  # perm[old] = new
+    perm = np.empty(n_total, dtype=np.int32)  # perm[old] = new
     for a, b in zip(ring_starts[:-1], ring_starts[1:]):
         ang = np.angle(z[a:b])
         # sites exactly on the positive real axis may come out as -1e-17: count them as 0
         ang = np.where(ang < -1e-12, ang + 2 * math.pi, np.maximum(ang, 0.0))
         start = int(np.argmin(ang))
         perm[a:b] = a + np.mod(np.arange(b - a) - start, b - a)
-    znew = np.empty_like(z)
-    znew[perm] = z
-    edges = perm[edges]
-    # i < j; edges stay grouped by the ring they were created with (no global sort: the
-    # operators build their CSR structure with a counting sort anyway)
-    edges = np.sort(edges, axis=1).astype(np.int32)
+        z[a:b] = np.roll(z[a:b], -start)  # in place, one ring at a time
+    np.take(perm, edges, out=edges)  # renumber in place
+    edges.sort(axis=1)  # i < j
     rotation = _ring_rotation(ring_starts, p)
-    return Lattice(p=p, q=q, rings=rings, z=znew, ring=ring, edges=edges, rotation=rotation)
+    return Lattice(p=p, q=q, rings=rings, z=z, ring=ring, edges=edges, rotation=rotation)
 
 
 def _ring_rotation(ring_starts, p: int) -> np.ndarray:
     """Site permutation of the rotation by 2*pi/p: a cyclic shift by n_ring/p in each ring."""
     n = ring_starts[-1]
-    rot = np.empty(n, dtype=np.int64)
+    rot = np.empty(n, dtype=np.int32)
     for a, b in zip(ring_starts[:-1], ring_starts[1:]):
         m = b - a
-        rot[a:b] = a + np.mod(np.arange(m) + m // p, m)
+        rot[a:b] = a + np.mod(np.arange(m, dtype=np.int32) + m // p, m)
     return rot
 
 
