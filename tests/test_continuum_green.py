@@ -102,7 +102,7 @@ def test_tends_to_infinite_disk_form(lam):
 
 def test_infinite_disk_closed_form_and_constant():
     """L = 1: (1/2pi) Q_nu(y) with the decaying root equals the paper's Q_{nu_p} - C P_{nu_p};
-    the printed C equals lim Q_{nu_p}/P_{nu_p} = pi cot(pi nu_p)."""
+    lim Q_{nu_p}/P_{nu_p} = pi cot(pi nu_p) for type-3 Q."""
     mp.mp.dps = 30
     for lam in (0.5, -3.0, 0.3 + 0.4j):
         nu_p = -1 - green_nu(lam)
@@ -115,8 +115,10 @@ def test_infinite_disk_closed_form_and_constant():
         yv = 1 + 2 * abs(z - zp) ** 2 / ((1 - abs(z) ** 2) * (1 - abs(zp) ** 2))
         paper = (complex(mp.legenq(nu_p, 0, yv, type=3)) - c_cot * complex(mp.legenp(nu_p, 0, yv, type=3))) / (2 * np.pi)
         assert continuum_green(z, zp, lam, 1.0) == pytest.approx(paper, rel=1e-12)
-        # record how the printed constant relates (documented in docs/green.md)
-        assert np.isfinite(c_print)
+        # the printed constant is pi cot(pi nu_p) - i pi/2: it belongs to a Q_nu that is the
+        # type-3 one minus (i pi/2) P_nu (the Ferrers-type branch continued to x > 1), and
+        # Q^paper - C^paper P = Q^type3 - pi cot(pi nu_p) P is the same Green function
+        assert c_print == pytest.approx(c_cot - 0.5j * np.pi, rel=1e-12, abs=1e-12)
 
 
 @pytest.mark.slow

@@ -17,8 +17,10 @@ Forms implemented
   :math:`\nu = -\nu_p - 1` of :math:`\lambda/4 = -\nu(\nu+1)`: since
   :math:`P_{\nu_p} = P_{-\nu_p-1}` and :math:`Q_{\nu_p} - Q_{-\nu_p-1} = \pi\cot(\pi\nu_p)\,P_{\nu_p}`
   (A&S 8.2.3 with :math:`m = 0`), :math:`\mathcal C = \pi\cot(\pi\nu_p)`.
-  :func:`boundary_constant` evaluates the paper's printed expression for :math:`\mathcal C`
-  and the tests compare both with :math:`\lim_{y\to\infty} Q_{\nu_p}/P_{\nu_p}`.
+  :func:`boundary_constant` evaluates the paper's printed expression for :math:`\mathcal C`;
+  it equals :math:`\pi\cot(\pi\nu_p) - \mathrm i\pi/2` (checked in the tests), i.e. the paper's
+  :math:`Q_\nu` there is the type-3 one minus :math:`\frac{\mathrm i\pi}2 P_\nu`, and both
+  conventions give the same :math:`Q_{\nu_p} - \mathcal C P_{\nu_p}`.
 * :math:`0 < L < 1`: ``green33`` = ``green34`` :math:`-` ``green36``, the fundamental solution
   minus the Dirichlet correction as a Fourier series in the angle, truncated adaptively.
 
