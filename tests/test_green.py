@@ -139,3 +139,18 @@ def test_relative_l2_excludes_source():
     g = np.array([1.0, 2.0, 100.0])
     c = np.array([1.0, 2.0, np.inf])
     assert relative_l2(g, c, exclude=2) == 0.0
+
+
+def test_fig3_panels_render(tmp_path):
+    import matplotlib.pyplot as plt
+
+    from hyperlattice.plots.green import plot_disk_map, plot_distance_profile
+
+    lat = ring_lattice(7, 3, 3)
+    c = compare_green(lat, -2.5 + 0.1j, 10)
+    ax = plot_disk_map(lat, c.continuum, 10, radius=lat.radius)
+    assert len(ax.collections[0].get_offsets()) == lat.sites - 1        # source left out
+    ax2 = plot_distance_profile(c, lat)
+    assert len(ax2.get_legend().get_texts()) == 2
+    ax.figure.savefig(tmp_path / "map.png")
+    plt.close("all")
