@@ -69,11 +69,17 @@ no zero factor at integer :math:`\nu < m`). Then the :math:`m`-th term of ``gree
                        + (\nu-m-1)(\nu+m+2)\tilde P^{m+2},
 
 which has no division and in which :math:`\tilde P^m` is the *dominant* solution going down in
-:math:`m` (:math:`\tilde P^m\sim r^m/m!` against :math:`\sim r^{-m}` for the :math:`Q` branch), so
-the downward run from accurate values at :math:`M, M+1` (:func:`~hyperlattice.special.legendre_log_p`)
-is stable. All distinct radii (targets, sources and :math:`L`) run in one vectorized recurrence,
-carried with per-point logarithmic scales so that :math:`m!`-sized factors neither overflow nor
-underflow. Cost: two Legendre evaluations per distinct radius plus :math:`M` cheap vector steps.
+:math:`m` (:math:`\tilde P^m\sim r^m/m!` against :math:`\sim r^{-m}` for the :math:`Q` branch).
+Radii :math:`r \le r_{\rm split}` (0.9, raised up to 0.995 for sources near the boundary) use
+Miller's backward recurrence, normalised to the Legendre module's :math:`m = 0, 1` values; its
+contamination :math:`\sim r^{2(M_s-m)}` sets the extra start depth. Larger radii use the upward
+recurrence of :math:`P^m` (relative error growth :math:`\sim r^{-2m}`, harmless near
+:math:`r = 1`), divided by :math:`\Gamma(\nu+m+1)/\Gamma(\nu-m+1)`; near integer
+:math:`\nu \ge 1` (where that cancels) Miller is used throughout. All distinct radii (targets,
+sources and :math:`L`) run in one vectorized recurrence, with per-point logarithmic scales so
+that :math:`m!`-sized factors neither overflow nor underflow (the Legendre module itself stops
+at :math:`m \approx 100`). Cost: two Legendre evaluations per distinct radius plus
+:math:`O(M)` vector steps.
 
 Truncation
 ----------
