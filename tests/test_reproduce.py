@@ -50,7 +50,8 @@ def test_files_exist(repro):
     rep = out / "report"
     for name in ("report.html", "report.md", "table_s1.csv", "table_s1.json", "table_geometry.csv",
                  "table_tab1_sizes.csv", "fig_fig1.png", "fig_fig1.svg", "fig_fig2.png", "fig_figS1.png",
-                 "fig_figScos3delta.png", "fig_figSh.png", "timings.json"):
+                 "fig_figScos3delta.png", "fig_figSh.png", "fig_fig3a.png", "fig_fig3b.png",
+                 "table_fig3_green.csv", "timings.json"):
         assert (rep / name).stat().st_size > 0, name
 
 
@@ -82,6 +83,20 @@ def test_table_s1_matches_api(repro):
         assert len(json.load(fh)) == 4
 
 
+def test_fig3_table_matches_api(repro):
+    from hyperlattice import ring_lattice
+    from hyperlattice.green import compare_green
+
+    out, _ = repro
+    with open(out / "report" / "table_fig3_green.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    assert [int(r["rings"]) for r in rows[::2]] == [3, 4, 5, 6, 7, 8]
+    row = rows[0]
+    assert row["omega"] == "-2.95"
+    cmp = compare_green(ring_lattice(7, 3, 3), -2.95, 10)
+    assert float(row["rel_l2"]) == pytest.approx(cmp.rel_l2, abs=1e-4)
+
+
 def test_html_is_valid_and_self_contained(repro):
     out, _ = repro
     text = (out / "report" / "report.html").read_text()
@@ -100,7 +115,7 @@ def test_report_flags_the_known_misprints(repro):
     md = (out / "report" / "report.md").read_text()
     assert "printed -1.274" in md  # E1 of the heptagon
     assert "(1/2) ln 3" in md      # p = inf column
-    for label in ("Tab1", "SuppTab1", "Fig1", "Fig2", "FigS1", "FigScos3delta", "FigSh"):
+    for label in ("Tab1", "SuppTab1", "Fig1", "Fig2", "Fig3", "FigS1", "FigScos3delta", "FigSh"):
         assert label in md
 
 
