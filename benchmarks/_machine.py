@@ -3,6 +3,7 @@
 import os
 import platform
 import resource
+import time
 
 import numpy as np
 import scipy
@@ -25,3 +26,13 @@ def machine() -> str:
 def peak_rss_mb() -> float:
     """Peak resident memory of this process so far (MB)."""
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def best_of(fn, repeat: int):
+    """Best wall-clock time of ``repeat`` calls of ``fn`` (noise on a shared machine only adds)."""
+    best, out = float("inf"), None
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        out = fn()
+        best = min(best, time.perf_counter() - t0)
+    return best, out

@@ -21,7 +21,7 @@ import mpmath as mp
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(__file__))
-from _machine import machine  # noqa: E402
+from _machine import best_of, machine  # noqa: E402
 
 from hyperlattice.continuum.spectrum import dirichlet_roots  # noqa: E402
 from hyperlattice.special import legendre_p  # noqa: E402
@@ -45,14 +45,6 @@ def mpmath_roots(radius, m_max=6, n_max=3):
         out[m] = found
     return out
 
-
-def best_of(fn, repeat):
-    best = np.inf
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        res = fn()
-        best = min(best, time.perf_counter() - t0)
-    return best, res
 
 
 def main():

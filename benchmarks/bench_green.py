@@ -21,16 +21,8 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _machine import machine, peak_rss_mb  # noqa: E402
+from _machine import best_of, machine, peak_rss_mb  # noqa: E402
 
-
-def best_of(fn, repeat):
-    best, out = float("inf"), None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
 
 
 def mpmath_green(z, zp, lam, L, M):

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy.special import jv
 
-from hyperlattice.continuum.spectrum import (asymptotic_energies, asymptotic_k0, asymptotic_k1,
+from hyperlattice.continuum.spectrum import (asymptotic_k0, asymptotic_k1,
                                              continuum_levels, dirichlet_levels, dirichlet_roots,
                                              disk_argument, energy_infinity, level_energy, psi_K,
                                              radial_g)

@@ -60,11 +60,9 @@ def brute_force_ring_counts(p: int, q: int, rings: int) -> list[int]:
         w = np.conj(w * rot) / rot
         return (w + a) / (1 + np.conj(a) * w)
 
-    polys = {key(0j): central}
     cluster = {key(0j)}
     sites = {key(v) for v in central}
     counts = [p]
-    frontier = [central]
     all_polys = {key(0j): central}
     for _ in range(rings - 1):
         # generate every polygon touching a cluster vertex: close the fan of q polygons at

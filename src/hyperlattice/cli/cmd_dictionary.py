@@ -29,6 +29,6 @@ def run(args) -> int:
     print(f"{{{c.p},{c.q}}}: h = tanh(d0) = {c.h:.6f}, area per site A = {c.site_area:.6f}")
     print(f"  lattice:   t  = {c.t:.10g}   mu  = {c.mu:.10g}   U  = {c.U:.10g}")
     print(f"  continuum: t' = {c.t_prime:.10g}   mu' = {c.mu_prime:.10g}   U' = {c.U_prime:.10g}")
-    print(f"  (t' = (q/4) h^2 t, mu' = mu + q t, U' = A U)")
+    print("  (t' = (q/4) h^2 t, mu' = mu + q t, U' = A U)")
     print(f"  field: alpha(z_i) = {c.field_scale:.10g} a_i   (= a_i / sqrt(A))")
     return 0

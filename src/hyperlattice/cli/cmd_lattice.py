@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..lattice import line_graph, ring_lattice
-from ._common import add_pq, positive_int, print_json
+from ._common import add_pq, print_json
 
 NAME = "lattice"
 ORDER = 20

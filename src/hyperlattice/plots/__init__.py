@@ -2,3 +2,12 @@
 
 Every plotting function takes an optional matplotlib ``ax`` and returns the axes it drew on.
 """
+
+
+def new_axes(ax=None, size=(6.0, 4.2)):
+    """Return ``ax``, or a fresh axes of ``size`` inches (constrained layout) when it is None."""
+    if ax is None:
+        import matplotlib.pyplot as plt
+
+        _, ax = plt.subplots(figsize=size, layout="constrained")
+    return ax

@@ -7,16 +7,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import new_axes
 from ..green import GreenComparison, bin_by_distance, correlation_pairs
 from ..lattice import Lattice
 
 
 def _axes(ax, size=(4.6, 4.4)):
-    if ax is None:
-        import matplotlib.pyplot as plt
-
-        _, ax = plt.subplots(figsize=size, layout="constrained")
-    return ax
+    return new_axes(ax, size)
 
 
 def plot_disk_map(lattice: Lattice, values, source: int | None = None, *, scale: float = 60.0,

@@ -6,14 +6,13 @@ import numpy as np
 import matplotlib.pyplot as plt
 from matplotlib.collections import LineCollection
 
+from . import new_axes
 from .. import geometry
 from ..lattice import Lattice, ring_lattice
 
 
 def _axes(ax, size=(5.0, 5.0)):
-    if ax is None:
-        _, ax = plt.subplots(figsize=size, layout="constrained")
-    return ax
+    return new_axes(ax, size)
 
 
 def _geodesic_segments(lattice: Lattice, samples: int = 12) -> np.ndarray:

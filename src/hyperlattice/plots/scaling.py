@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import new_axes
 from .. import geometry
 from ..dictionary import fit_counting
 from ..lattice import Lattice, ring_lattice
@@ -14,12 +15,8 @@ from ..scaling import (FrameAngles, SmoothFunction, expansion, formal_operator, 
                        radial_profile)
 
 
-def _axes(ax):
-    if ax is None:
-        import matplotlib.pyplot as plt
-
-        _, ax = plt.subplots(figsize=(6.0, 4.2), layout="constrained")
-    return ax
+def _axes(ax, size=(6.0, 4.2)):
+    return new_axes(ax, size)
 
 
 def plot_frame_angles(lattice: Lattice | FrameAngles | None = None, ax=None):
