@@ -507,7 +507,9 @@ def ring_lattice(p: int = 7, q: int = 3, rings: int = 3, *, max_sites: int | Non
         perm[a:b] = a + np.mod(np.arange(b - a) - start, b - a)
         z[a:b] = np.roll(z[a:b], -start)  # in place, one ring at a time
     np.take(perm, edges, out=edges)  # renumber in place
-    edges.sort(axis=1)  # i < j
+    first = edges[:, 0].copy()  # i < j via min/max (a row-wise sort of pairs is ~10x slower)
+    np.minimum(first, edges[:, 1], out=edges[:, 0])
+    np.maximum(first, edges[:, 1], out=edges[:, 1])
     rotation = _ring_rotation(ring_starts, p)
     return Lattice(p=p, q=q, rings=rings, z=z, ring=ring, edges=edges, rotation=rotation)
 
