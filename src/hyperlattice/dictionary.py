@@ -32,7 +32,7 @@ from scipy import integrate
 
 from . import geometry
 from .errors import ConvergenceWarning
-from .lattice import Lattice
+from .lattice import Lattice, check_lattice
 
 __all__ = [
     "counting_function",
@@ -51,19 +51,13 @@ __all__ = [
 # counting function, Eqs. (sum2)-(sum4)
 # ----------------------------------------------------------------------------
 
-def _check_lattice(lattice) -> Lattice:
-    if not isinstance(lattice, Lattice):
-        raise ValueError("expected a Lattice from ring_lattice().")
-    return lattice
-
-
 def counting_function(lattice: Lattice, *, rtol: float = 1e-9) -> tuple[np.ndarray, np.ndarray]:
     r"""Distinct site radii :math:`r_k` and :math:`\mathcal N(r_k) = \#\{i: r_i \le r_k\}`, Eq. (sum2).
 
     Radii closer than ``rtol`` (relative) count as equal: symmetry-related sites agree to
     a few ulp, while distinct shells of the lattices built here differ by more than 1e-4.
     """
-    _check_lattice(lattice)
+    check_lattice(lattice)
     r = np.sort(np.abs(lattice.z))
     last = np.r_[np.diff(r) > rtol * np.maximum(r[1:], 1.0), True]
     idx = np.flatnonzero(last)
@@ -125,7 +119,7 @@ def fit_counting(lattice: Lattice, *, slope: float | None = None, window: str = 
     ConvergenceWarning
         If a free slope differs from :math:`\pi/(2\mathcal A)` by more than ``slope_rtol``.
     """
-    _check_lattice(lattice)
+    check_lattice(lattice)
     radii, counts = counting_function(lattice)
     if window == "complete":
         from .lattice import ring_lattice
@@ -255,7 +249,7 @@ def sum_check(lattice: Lattice, f: Callable, *, name: str | None = None) -> SumC
     ``f`` maps complex arrays to arrays (e.g. a :class:`hyperlattice.scaling.SmoothFunction`).
     L is the effective radius of Eq. (eq12) generalised to {p,q}, which makes f = 1 exact.
     """
-    _check_lattice(lattice)
+    check_lattice(lattice)
     if not callable(f):
         raise ValueError("f must be a callable of complex coordinates.")
     vals = np.asarray(f(lattice.z), dtype=complex)
@@ -301,16 +295,6 @@ class ContinuumParameters:
                 "field_scale": self.field_scale, "h": self.h, "site_area": self.site_area}
 
 
-def _finite(name: str, value) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number, got {value!r}.") from None
-    if not math.isfinite(v):
-        raise ValueError(f"{name} must be finite, got {value!r}.")
-    return v
-
-
 def continuum_parameters(t: float, mu: float, U: float, p: int = 7, q: int = 3) -> ContinuumParameters:
     r"""Map the lattice Bose-Hubbard parameters of Eq. (eq13) to those of Eq. (eq14).
 
@@ -326,7 +310,7 @@ def continuum_parameters(t: float, mu: float, U: float, p: int = 7, q: int = 3) 
     and the measure :math:`1/\mathcal A` leave one factor :math:`\mathcal A` on U.
     """
     p, q = geometry.check_pq(p, q)
-    t, mu, U = _finite("t", t), _finite("mu", mu), _finite("U", U)
+    t, mu, U = (geometry.finite_number(name, v) for name, v in (("t", t), ("mu", mu), ("U", U)))
     h = geometry.lattice_h(p, q)
     area = geometry.site_area(p, q)
     return ContinuumParameters(p=p, q=q, t=t, mu=mu, U=U, t_prime=0.25 * q * h * h * t,
@@ -338,7 +322,8 @@ def lattice_parameters(t_prime: float, mu_prime: float, U_prime: float, p: int =
                        q: int = 3) -> ContinuumParameters:
     """Inverse of :func:`continuum_parameters`: the lattice (t, mu, U) giving (t', mu', U')."""
     p, q = geometry.check_pq(p, q)
-    tp, mp, up = _finite("t_prime", t_prime), _finite("mu_prime", mu_prime), _finite("U_prime", U_prime)
+    tp, mp, up = (geometry.finite_number(name, v)
+                  for name, v in (("t_prime", t_prime), ("mu_prime", mu_prime), ("U_prime", U_prime)))
     h = geometry.lattice_h(p, q)
     t = tp / (0.25 * q * h * h)
     return continuum_parameters(t, mp - q * t, up / geometry.site_area(p, q), p, q)

@@ -21,6 +21,7 @@ import numpy as np
 
 __all__ = [
     "check_pq",
+    "finite_number",
     "distance",
     "one_minus_abs2",
     "mobius",
@@ -74,6 +75,17 @@ def check_pq(p, q, *, allow_infinite_p: bool = False) -> tuple[float | int, int]
             f"got {(p - 2) * (q - 2)}."
         )
     return p, q
+
+
+def finite_number(name: str, value) -> float:
+    """``value`` as a float, or a ``ValueError`` naming ``name`` if it is not a finite number."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number, got {value!r}.") from None
+    if not math.isfinite(v):
+        raise ValueError(f"{name} must be finite, got {value!r}.")
+    return v
 
 
 def _check_in_disk(name: str, z: np.ndarray) -> None:

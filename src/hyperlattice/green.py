@@ -45,7 +45,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from .geometry import distance, lattice_h, site_area
-from .lattice import Lattice
+from .lattice import Lattice, check_lattice
 from .operators import hamiltonian
 
 __all__ = [
@@ -310,7 +310,7 @@ def continuum_column(lattice: Lattice, omega, source: int, *, tol: float = 1e-12
     """
     from .continuum.green import continuum_green
 
-    _check_lattice(lattice)
+    check_lattice(lattice, kind="sites")
     source = _check_site("source", source, lattice.sites)
     lam, pref = dictionary_parameters(omega, lattice.p, lattice.q)
     vals, info = continuum_green(lattice.z, lattice.z[source], lam, lattice.radius, tol=tol,
@@ -320,13 +320,6 @@ def continuum_column(lattice: Lattice, omega, source: int, *, tol: float = 1e-12
     out.real = pref * vals.real            # part-wise: keeps inf + 0j at the source
     out.imag = pref * vals.imag
     return out, info
-
-
-def _check_lattice(lattice) -> None:
-    if not isinstance(lattice, Lattice):
-        raise ValueError("expected a Lattice from hyperlattice.lattice.ring_lattice.")
-    if lattice.kind != "sites":
-        raise ValueError("the eq21 dictionary is derived for the {p,q} lattice itself, not its line graph.")
 
 
 def relative_l2(graph: np.ndarray, continuum: np.ndarray, exclude: int | None = None) -> float:
@@ -371,7 +364,7 @@ def compare_green(lattice: Lattice, omega, source: int, *, tol: float = 1e-12,
 
     ``rel_l2`` is the relative L2 distance over all sites except the source.
     """
-    _check_lattice(lattice)
+    check_lattice(lattice, kind="sites")
     source = _check_site("source", source, lattice.sites)
     om, scalar = _as_omegas(omega)
     if not scalar:

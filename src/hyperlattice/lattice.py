@@ -44,7 +44,7 @@ __all__ = [
     "ring_sizes",
     "site_count",
     "load_lattice",
-    "MAX_SITES_DEFAULT",
+    "check_lattice",
 ]
 
 #: Bytes of peak memory per site while building a lattice and its adjacency (measured,
@@ -64,9 +64,6 @@ def _available_memory() -> int:
         return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_AVPHYS_PAGES")
     except (ValueError, OSError, AttributeError):
         return 8 * 1024**3
-
-
-MAX_SITES_DEFAULT = None  # resolved at call time from the machine's available memory
 
 
 # ----------------------------------------------------------------------------
@@ -218,6 +215,16 @@ def _csr_sorted(rows: np.ndarray, cols: np.ndarray, n: int) -> tuple[np.ndarray,
     return m.indptr.astype(np.int64), m.indices.astype(np.int32)
 
 
+def check_lattice(lattice, *, kind: str | None = None) -> Lattice:
+    """Validate at the door: a :class:`Lattice` (of the given ``kind``) or a ``ValueError``."""
+    if not isinstance(lattice, Lattice):
+        raise ValueError(f"expected a Lattice (from ring_lattice or line_graph), got {type(lattice).__name__}.")
+    if kind is not None and lattice.kind != kind:
+        raise ValueError(f"this computation needs a lattice of kind {kind!r}, got {lattice.kind!r} "
+                         "(the continuum dictionary is derived for the {p,q} lattice itself, not its line graph).")
+    return lattice
+
+
 def load_lattice(path) -> Lattice:
     """Read a lattice written by :meth:`Lattice.save` in ``.npz`` format."""
     with np.load(path, allow_pickle=False) as f:
@@ -259,9 +266,7 @@ def _layer_topology(spokes: np.ndarray, p: int, q: int):
     np.cumsum(spokes[:-1], out=first[1:])
     k = np.arange(n_spokes, dtype=np.int32) - first[owner] + 1
     nxt_owner = np.roll(owner, -1)
-    n_old = np.mod(nxt_owner - owner, nb) + 1
-    if n_spokes == 1:
-        n_old = np.array([nb + 1])
+    n_old = np.mod(nxt_owner - owner, nb) + 1  # boundary vertices of each new polygon
     contrib = p - n_old - 1  # new-ring entries per polygon: its first spoke end + middles
     if np.any(contrib < 0):
         raise RuntimeError("inconsistent layer combinatorics (polygon with too many old vertices)")
@@ -283,7 +288,7 @@ def _layer_topology(spokes: np.ndarray, p: int, q: int):
     poly_count = np.bincount(spoke_slot, minlength=n_new).astype(np.int8)
     poly_count += np.bincount(nxt_slot[distinct], minlength=n_new).astype(np.int8)
     poly_count += np.bincount(mid_slot, minlength=n_new).astype(np.int8)
-    return owner, k, n_new, spoke_slot, mid_poly, mid_t, mid_slot, poly_count, n_old
+    return owner, k, n_new, spoke_slot, mid_poly, mid_t, mid_slot, poly_count
 
 
 def _ring_counts(p: int, q: int, rings: int, stop_above: int | None = None) -> list[int]:
@@ -292,7 +297,8 @@ def _ring_counts(p: int, q: int, rings: int, stop_above: int | None = None) -> l
     spokes = np.full(p, q - 2, dtype=np.int64)
     total = p
     for _ in range(rings - 1):
-        *_, n_new, _s, _mp, _mt, _ms, poly_count, _n_old = _layer_topology(spokes, p, q)
+        topology = _layer_topology(spokes, p, q)
+        n_new, poly_count = topology[2], topology[7]
         counts.append(n_new)
         total += n_new
         spokes = q - poly_count - 1
@@ -304,10 +310,11 @@ def _ring_counts(p: int, q: int, rings: int, stop_above: int | None = None) -> l
 def ring_sizes(p: int, q: int, rings: int) -> np.ndarray:
     """Number of sites on each ring 1..rings (e.g. 7, 28, 77, 203, ... for {7,3}).
 
-    Exact for any size: small rings are counted combinatorially, and once the ring
-    pattern is long the count follows from the same layer rule on run-length-compressed
-    vertex types (for {p,3} with p >= 7 and q >= 4 the type counts obey a linear
-    recursion, which is what is used here, checked against the explicit construction).
+    Exact and O(rings) for p >= 4: the new ring's vertices are of two types (in one or in
+    two new polygons) whose counts obey a linear recursion, validated against the explicit
+    layer construction for the first six rings. For p = 3 (merging spoke ends) the rings are
+    counted explicitly, extrapolated by the growth ratio beyond 1e9 sites (a size only ever
+    used to refuse the request).
     """
     p, q = check_pq(p, q)
     rings = _check_rings(rings)
@@ -409,7 +416,7 @@ def _grow_ring(z: np.ndarray, ring: np.ndarray, layer: _Layer, base: int, level:
     A function of its own so that the large per-ring temporaries are freed on return."""
     theta = 2.0 * math.pi / q
     ids, spokes = layer.ids, layer.spokes
-    owner, k, n_new, spoke_slot, mid_poly, mid_t, mid_slot, poly_count, _ = _layer_topology(spokes, p, q)
+    owner, k, n_new, spoke_slot, mid_poly, mid_t, mid_slot, poly_count = _layer_topology(spokes, p, q)
     zb = z[ids]
     # The construction order of every ring is exactly p-periodic (ring 1 starts at angle
     # 0 and the layer rule is rotation equivariant), so coordinates are computed for the

@@ -15,21 +15,17 @@ from typing import Callable, Union
 import numpy as np
 import scipy.sparse as sp
 
-from .lattice import Lattice
+from .geometry import finite_number
+from .lattice import Lattice, check_lattice
 
 __all__ = ["adjacency", "hamiltonian", "incidence", "onsite_values"]
 
 OnSite = Union[None, float, np.ndarray, Callable[[np.ndarray, np.ndarray], np.ndarray]]
 
 
-def _check_lattice(lattice) -> None:
-    if not isinstance(lattice, Lattice):
-        raise ValueError(f"expected a Lattice (from ring_lattice or line_graph), got {type(lattice).__name__}.")
-
-
 def adjacency(lattice: Lattice, dtype=np.float64) -> sp.csr_matrix:
     """Adjacency matrix A (N x N, symmetric, entries 1) in CSR format with sorted indices."""
-    _check_lattice(lattice)
+    check_lattice(lattice)
     indptr, indices = lattice.neighbours()
     n = lattice.sites
     data = np.ones(indices.shape[0], dtype=dtype)
@@ -70,9 +66,7 @@ def hamiltonian(lattice: Lattice, t: float = 1.0, onsite: OnSite = None) -> sp.c
     onsite : scalar, array of length N, or callable ``(z, ring) -> array``, optional
         On-site potential :math:`V_i` (e.g. ``-mu`` or disorder).
     """
-    t = float(t)
-    if not np.isfinite(t):
-        raise ValueError("the hopping t must be a finite number.")
+    t = finite_number("the hopping t", t)
     a = adjacency(lattice)
     h = a * (-t)
     v = onsite_values(lattice, onsite)
@@ -88,7 +82,7 @@ def incidence(lattice: Lattice) -> sp.csr_matrix:
 
     For q = 3 the line graph's adjacency is :math:`B^T B - 2I`.
     """
-    _check_lattice(lattice)
+    check_lattice(lattice)
     e = lattice.edges
     n_e = e.shape[0]
     rows = e.T.ravel()

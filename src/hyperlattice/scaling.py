@@ -438,12 +438,7 @@ def _angles(obj) -> FrameAngles:
 def _check_h(h, angles: FrameAngles) -> float:
     if h is None:
         return angles.h
-    try:
-        h = float(h)
-    except (TypeError, ValueError):
-        raise ValueError(f"h must be a number, got {h!r}.") from None
-    if not math.isfinite(h):
-        raise ValueError(f"h must be finite, got {h}.")
+    h = geometry.finite_number("h", h)
     if h <= 0:
         raise ValueError(f"h must be positive, got {h}.")
     # 1e-12 slack so that the printed lattice value 0.275798 and lattice.h both pass
