@@ -24,7 +24,7 @@ sys.path.insert(0, os.path.dirname(__file__))
 from _machine import best_of, machine  # noqa: E402
 
 from hyperlattice.continuum.spectrum import dirichlet_roots  # noqa: E402
-from hyperlattice.special import legendre_p  # noqa: E402
+from hyperlattice.continuum.special import legendre_p  # noqa: E402
 
 
 def mpmath_roots(radius, m_max=6, n_max=3):

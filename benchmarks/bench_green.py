@@ -63,8 +63,9 @@ def main(argv=None):
     args = ap.parse_args(argv)
 
     from hyperlattice.continuum.green import continuum_green
-    from hyperlattice.green import GraphResolvent, dictionary_parameters
-    from hyperlattice.lattice import ring_lattice
+    from hyperlattice.dictionary import dictionary_parameters
+    from hyperlattice.graph.green import GraphResolvent
+    from hyperlattice.graph.lattice import ring_lattice
 
     print(machine())
     lat = ring_lattice(7, 3, args.rings)

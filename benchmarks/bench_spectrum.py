@@ -33,9 +33,9 @@ def main(argv=None):
     import numpy as np
     import scipy.sparse.linalg as spla
 
-    from hyperlattice.lattice import ring_lattice
-    from hyperlattice.operators import adjacency
-    from hyperlattice.spectrum import _single_threaded_blas, lowest_levels
+    from hyperlattice.graph.lattice import ring_lattice
+    from hyperlattice.graph.operators import adjacency
+    from hyperlattice.graph.spectrum import _single_threaded_blas, lowest_levels
 
     print(f"machine: {machine()}")
     t0 = time.perf_counter()

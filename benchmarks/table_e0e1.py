@@ -20,8 +20,8 @@ def main(argv=None):
     ap.add_argument("--max-rings", type=int, default=14)
     args = ap.parse_args(argv)
 
-    from hyperlattice.lattice import ring_lattice
-    from hyperlattice.spectrum import lowest_levels
+    from hyperlattice.graph.lattice import ring_lattice
+    from hyperlattice.graph.spectrum import lowest_levels
 
     print(f"<!-- machine: {machine()} -->")
     print("| ℓ | N | E0 (n,m)=(1,0) | E1 (n,m)=(1,±1) | E1 − E0 | method | time [s] | max residual |")

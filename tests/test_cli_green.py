@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from hyperlattice.cli import main
-from hyperlattice.green import compare_green
-from hyperlattice.lattice import ring_lattice
+from hyperlattice.compare.green import compare_green
+from hyperlattice.graph.lattice import ring_lattice
 
 COLUMNS = "site,ring,re_z,im_z,distance,graph_re,graph_im,continuum_re,continuum_im".split(",")
 

@@ -9,7 +9,7 @@ from hyperlattice.continuum.green import (boundary_constant, coefficient_cm, con
                                           fundamental_solution, green_laplace, green_nu)
 from hyperlattice.continuum.spectrum import dirichlet_roots, radial_g
 from hyperlattice.errors import ConvergenceWarning
-from hyperlattice.special import legendre_cm, legendre_p, legendre_q, legendre_wronskian
+from hyperlattice.continuum.special import legendre_cm, legendre_p, legendre_q, legendre_wronskian
 
 # (lambda, L): real below 1 (omega = -2.95 of {7,3}), complex (omega = -2.5+0.1i), real above
 # 1 (conical nu), negative (omega < -3) and a small disk

@@ -5,12 +5,12 @@ import math
 import numpy as np
 import pytest
 
-from hyperlattice.dictionary import (continuum_parameters, counting_function, disk_integral,
-                                     fit_counting, lattice_parameters, sum_check)
+from hyperlattice.compare.sums import counting_function, disk_integral, fit_counting, sum_check
+from hyperlattice.dictionary import continuum_parameters, lattice_parameters
 from hyperlattice.errors import ConvergenceWarning
 from hyperlattice.geometry import counting_slope
-from hyperlattice.lattice import ring_lattice
-from hyperlattice.scaling import SmoothFunction
+from hyperlattice.graph.lattice import ring_lattice
+from hyperlattice.compare.scaling import SmoothFunction
 
 
 def test_counting_fit_reproduces_paper_b():

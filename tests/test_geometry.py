@@ -7,6 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from hyperlattice import _validate
 from hyperlattice import geometry as g
 
 # The paper's table in App. AppFS (p, d0, h); source: graphs-to-geometry.tex, table after Eq. (adj36).
@@ -133,16 +134,16 @@ def test_geodesic_point_splits_distance(z1, z2, t):
 @given(p=st.integers(-5, 40), q=st.integers(-5, 40))
 def test_check_pq_accepts_exactly_the_hyperbolic_symbols(p, q):
     if p >= 3 and q >= 3 and (p - 2) * (q - 2) > 4:
-        assert g.check_pq(p, q) == (p, q)
+        assert _validate.pq(p, q) == (p, q)
     else:
         with pytest.raises(ValueError):
-            g.check_pq(p, q)
+            _validate.pq(p, q)
 
 
 @pytest.mark.parametrize("bad", [0.5, "7", None, 7.5, float("nan")])
 def test_check_pq_rejects_non_integers(bad):
     with pytest.raises(ValueError):
-        g.check_pq(bad, 3)
+        _validate.pq(bad, 3)
 
 
 @pytest.mark.parametrize("z", [1.0, 1.5j, complex("nan"), complex(float("inf"), 0)])

@@ -6,11 +6,12 @@ import numpy as np
 import pytest
 
 from hyperlattice.geometry import lattice_h, site_area
-from hyperlattice.green import (GraphResolvent, bin_by_distance, collapse_measure, compare_green,
-                                continuum_column, correlation_pairs, dictionary_parameters,
-                                graph_green, relative_l2)
-from hyperlattice.lattice import line_graph, ring_lattice
-from hyperlattice.operators import hamiltonian
+from hyperlattice.compare.correlation import bin_by_distance, collapse_measure, correlation_pairs
+from hyperlattice.compare.green import compare_green, continuum_column, relative_l2
+from hyperlattice.dictionary import dictionary_parameters
+from hyperlattice.graph.green import GraphResolvent, graph_green
+from hyperlattice.graph.lattice import line_graph, ring_lattice
+from hyperlattice.graph.operators import hamiltonian
 
 
 @pytest.fixture(scope="module")

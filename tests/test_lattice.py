@@ -7,7 +7,7 @@ import pytest
 from scipy.spatial import cKDTree
 
 from hyperlattice import geometry
-from hyperlattice.lattice import Lattice, line_graph, load_lattice, ring_lattice, ring_sizes, site_count
+from hyperlattice.graph.lattice import Lattice, line_graph, load_lattice, ring_lattice, ring_sizes, site_count
 
 GOLD2 = (3 + math.sqrt(5)) / 2
 
@@ -190,7 +190,7 @@ def test_same_sites_and_bonds_as_hypertiling(rings):
 
 
 def test_line_graph_structure():
-    from hyperlattice.operators import adjacency, incidence
+    from hyperlattice.graph.operators import adjacency, incidence
 
     lat = ring_lattice(7, 3, 5)
     lg = line_graph(lat)

@@ -5,7 +5,7 @@ import pytest
 import scipy.sparse as sp
 
 from hyperlattice import adjacency, hamiltonian, ring_lattice
-from hyperlattice.operators import incidence
+from hyperlattice.graph.operators import incidence
 
 
 def test_adjacency_symmetric_binary_and_matches_edges():

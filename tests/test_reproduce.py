@@ -57,7 +57,7 @@ def test_files_exist(repro):
 def test_table_s1_matches_api(repro):
     from hyperlattice import ring_lattice
     from hyperlattice.continuum.spectrum import asymptotic_energies, continuum_levels
-    from hyperlattice.spectrum import lowest_levels
+    from hyperlattice.graph.spectrum import lowest_levels
 
     out, _ = repro
     with open(out / "report" / "table_s1.csv") as fh:
@@ -84,7 +84,7 @@ def test_table_s1_matches_api(repro):
 
 def test_fig3_table_matches_api(repro):
     from hyperlattice import ring_lattice
-    from hyperlattice.green import compare_green
+    from hyperlattice.compare.green import compare_green
 
     out, _ = repro
     with open(out / "report" / "table_fig3_green.csv") as fh:

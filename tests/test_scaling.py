@@ -10,9 +10,9 @@ import sympy as sp
 from hyperlattice import frame_angles as exported_frame_angles
 from hyperlattice.errors import ConvergenceWarning
 from hyperlattice.geometry import mobius
-from hyperlattice.lattice import ring_lattice
-from hyperlattice.operators import adjacency
-from hyperlattice.scaling import (SmoothFunction, convergence_study, expansion,
+from hyperlattice.graph.lattice import ring_lattice
+from hyperlattice.graph.operators import adjacency
+from hyperlattice.compare.scaling import (SmoothFunction, convergence_study, expansion,
                                   expected_error_order, formal_operator, frame_angles,
                                   radial_profile)
 
@@ -176,7 +176,7 @@ def test_bad_inputs(ang5):
 
 
 def test_line_graph_rejected():
-    from hyperlattice.lattice import line_graph
+    from hyperlattice.graph.lattice import line_graph
 
     with pytest.raises(ValueError):
         frame_angles(line_graph(ring_lattice(7, 3, 2)))

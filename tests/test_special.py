@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from hyperlattice.errors import ConvergenceWarning
-from hyperlattice.special import (conical_p, legendre_cm, legendre_log_p, legendre_p, legendre_q,
+from hyperlattice.continuum.special import (conical_p, legendre_cm, legendre_log_p, legendre_p, legendre_q,
                                   legendre_q_over_p, legendre_wronskian, nu_from_lambda)
 
 mp.mp.dps = 30

@@ -5,11 +5,11 @@ import warnings
 import numpy as np
 import pytest
 
-from hyperlattice import spectrum as spectrum_mod
+from hyperlattice.graph import spectrum as spectrum_mod
 from hyperlattice.errors import ConvergenceError, ConvergenceWarning
-from hyperlattice.lattice import line_graph, ring_lattice
-from hyperlattice.operators import hamiltonian
-from hyperlattice.spectrum import full_spectrum, lowest_levels, partition_function
+from hyperlattice.graph.lattice import line_graph, ring_lattice
+from hyperlattice.graph.operators import hamiltonian
+from hyperlattice.graph.spectrum import full_spectrum, lowest_levels, partition_function
 
 
 @pytest.fixture

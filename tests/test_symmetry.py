@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 import scipy.linalg as sla
 
-from hyperlattice.lattice import line_graph, ring_lattice
-from hyperlattice.operators import hamiltonian
-from hyperlattice.symmetry import (
+from hyperlattice.graph.lattice import line_graph, ring_lattice
+from hyperlattice.graph.operators import hamiltonian
+from hyperlattice.graph.symmetry import (
     lift,
     rotation_invariant,
     rotation_orbits,

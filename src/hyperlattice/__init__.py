@@ -24,30 +24,42 @@ _EXPORTS = {
     "tiling_constants": "geometry",
     "effective_radius": "geometry",
     "lattice_h": "geometry",
-    # lattice
-    "Lattice": "lattice",
-    "ring_lattice": "lattice",
-    "line_graph": "lattice",
-    "ring_sizes": "lattice",
-    "load_lattice": "lattice",
-    # operators
-    "adjacency": "operators",
-    "hamiltonian": "operators",
-    "incidence": "operators",
-    # symmetry / spectra
-    "sector_hamiltonian": "symmetry",
-    "lowest_levels": "spectrum",
-    "partition_function": "spectrum",
-    # continuum
-    "legendre_p": "special",
-    "legendre_q": "special",
+    # results
+    "Result": "results",
+    "Levels": "results",
+    "load_result": "results",
+    # graph side
+    "Lattice": "graph.lattice",
+    "ring_lattice": "graph.lattice",
+    "line_graph": "graph.lattice",
+    "ring_sizes": "graph.lattice",
+    "load_lattice": "graph.lattice",
+    "adjacency": "graph.operators",
+    "hamiltonian": "graph.operators",
+    "incidence": "graph.operators",
+    "sector_hamiltonian": "graph.symmetry",
+    "Spectrum": "graph.spectrum",
+    "lowest_levels": "graph.spectrum",
+    "full_spectrum": "graph.spectrum",
+    "partition_function": "graph.spectrum",
+    "graph_green": "graph.green",
+    # continuum side
+    "legendre_p": "continuum.special",
+    "legendre_q": "continuum.special",
     "dirichlet_levels": "continuum.spectrum",
     "continuum_levels": "continuum.spectrum",
+    "ContinuumSpectrum": "continuum.spectrum",
     "continuum_green": "continuum.green",
-    # green functions on the graph
-    "graph_green": "green",
-    # A_h and scaling
-    "frame_angles": "scaling",
+    # the dictionary (the bridge)
+    "lambda_from_energy": "dictionary",
+    "energy_from_lambda": "dictionary",
+    "continuum_parameters": "dictionary",
+    "lattice_parameters": "dictionary",
+    # comparisons
+    "compare_green": "compare.green",
+    "frame_angles": "compare.scaling",
+    "fit_counting": "compare.sums",
+    "sum_check": "compare.sums",
 }
 
 __all__ = sorted(_EXPORTS) + ["__version__"]

@@ -1,46 +1,49 @@
-r"""The lattice-continuum dictionary: sums as integrals and many-body parameters.
+r"""The graph <-> continuum dictionary: every map between the two sides, written once.
 
-Paper, Eqs. (eq11)-(eq14) and App. ``AppSum``:
+Both sides import this module; nothing else writes these formulas. A convention change (or an
+improved dictionary) is one edit here.
 
-* :math:`\sum_{i\in G} f(z_i) \approx \frac{1}{\mathcal A}\int_{|z|\le L} dV_g\, f`, with
-  :math:`dV_g = d^2z/(1-|z|^2)^2`, :math:`\mathcal A = \pi(pq-2p-2q)/(4p)` the area per site
-  (:math:`\pi/28` for {7,3}) and :math:`L = \sqrt{N/(N + \pi/\mathcal A)}` (Eq. (eq12));
-* the counting function :math:`\mathcal N(r) = \sum_i\Theta(r - r_i)` (Eq. (sum2)) grows
-  like :math:`s\rho + b` (Eq. (sum4)) with :math:`\rho = (1+r^2)/(1-r^2)` and
-  :math:`s = \pi/(2\mathcal A) = 2p/(pq-2p-2q)` (14 for {7,3});
-* the Bose-Hubbard model of Eq. (eq13) maps onto the continuum Hamiltonian of Eq. (eq14).
+From the small-h expansion of the adjacency operator on a {p,q} lattice (paper, ``eq10``/``adj26``
+with 3 replaced by q: the q neighbours sit at :math:`h e^{\mathrm i(\chi + 2\pi k/q)}`, whose first
+and second moments vanish),
 
-How the paper's :math:`b = -9.096` (Fig. FigS1, :math:`\ell = 4`) arises: an ordinary
-least-squares line :math:`\mathcal N \approx s\rho + b` with *free* slope through the upper
-corners of the staircase, one point :math:`(\rho(r_k), \mathcal N(r_k))` per distinct site
-radius :math:`r_k` (24 points for :math:`\ell = 4`, :math:`\Theta(0) = 1`). It gives
-s = 14.199 and b = -9.0954 from exact coordinates; b moves by 4e-4 when the radii are
-rounded to 6 digits, which accounts for the last printed digit. Fixing s = 14 on the same
-points gives b = -6.81, and fits through every site or the continuous staircase give
-b between -12 and -14.9, so none of those is what the paper did.
+.. math:: A \approx q + \frac q4 h^2 \Delta_g, \qquad h = \tanh d_0,
+
+and from sums as integrals, :math:`\sum_i \approx \frac1{\mathcal A}\int dV_g` (``eq11``, area per
+site :math:`\mathcal A`, :func:`hyperlattice.geometry.site_area`):
+
+* energies and eigenvalues (``spec2``, ``eq21``): a lattice energy :math:`E` (or frequency
+  :math:`\omega`) corresponds to the eigenvalue :math:`\lambda = \kappa` of :math:`-\Delta_g`,
+
+  .. math:: \lambda = \frac{4(\omega + q)}{q h^2}, \qquad E = -q + \frac q4 h^2 \kappa,
+            \qquad \kappa = 1 + k^2 \text{ on the continuum spectrum};
+
+* Green functions (``eq21``): :math:`G_{ij}(\omega) \approx \frac{4\mathcal A}{q h^2}
+  G(z_i, z_j, \lambda, L)` (:func:`green_prefactor`);
+* the disk radius (``eq12``): :math:`L = \sqrt{N/(N + \pi/\mathcal A)}` for a lattice of N sites
+  (:func:`disk_radius`);
+* many-body parameters (``eq13`` -> ``eq14``): :math:`t' = \frac q4 h^2 t`, :math:`\mu' = \mu + qt`,
+  :math:`U' = \mathcal A U` (:func:`continuum_parameters`).
 """
 
 from __future__ import annotations
 
 import math
-import warnings
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
-from scipy import integrate
 
-from . import geometry
-from .errors import ConvergenceWarning
-from .lattice import Lattice, check_lattice
+from . import _validate, geometry
+from .results import Result
 
 __all__ = [
-    "counting_function",
-    "CountingFit",
-    "fit_counting",
-    "disk_integral",
-    "SumCheck",
-    "sum_check",
+    "hopping_scale",
+    "lambda_from_energy",
+    "energy_from_lambda",
+    "energy_from_k",
+    "green_prefactor",
+    "dictionary_parameters",
+    "disk_radius",
     "ContinuumParameters",
     "continuum_parameters",
     "lattice_parameters",
@@ -48,227 +51,67 @@ __all__ = [
 
 
 # ----------------------------------------------------------------------------
-# counting function, Eqs. (sum2)-(sum4)
+# energies <-> eigenvalues of -Delta_g
 # ----------------------------------------------------------------------------
 
-def counting_function(lattice: Lattice, *, rtol: float = 1e-9) -> tuple[np.ndarray, np.ndarray]:
-    r"""Distinct site radii :math:`r_k` and :math:`\mathcal N(r_k) = \#\{i: r_i \le r_k\}`, Eq. (sum2).
+def hopping_scale(p=7, q=3) -> float:
+    r"""The factor :math:`\frac q4 h^2` of :math:`A \approx q + \frac q4 h^2\Delta_g` (``eq10``).
 
-    Radii closer than ``rtol`` (relative) count as equal: symmetry-related sites agree to
-    a few ulp, while distinct shells of the lattices built here differ by more than 1e-4.
+    It converts continuum eigenvalues into lattice energies (:math:`t'/t`, ``eq14``):
+    :math:`\frac34 h^2 = 0.0570...` for {7,3}.
     """
-    check_lattice(lattice)
-    r = np.sort(np.abs(lattice.z))
-    last = np.r_[np.diff(r) > rtol * np.maximum(r[1:], 1.0), True]
-    idx = np.flatnonzero(last)
-    return r[idx], (idx + 1).astype(np.int64)
+    h = geometry.lattice_h(p, q)
+    q = _validate.pq(p, q, allow_infinite_p=True)[1]
+    return 0.25 * q * h * h
 
 
-@dataclass(frozen=True)
-class CountingFit:
-    r"""Least-squares fit :math:`\mathcal N(r) \approx s\rho + b` of Eq. (sum4)."""
-
-    p: int
-    q: int
-    rings: int
-    slope: float
-    intercept: float
-    expected_slope: float
-    slope_fixed: bool
-    window: str
-    radii: np.ndarray
-    counts: np.ndarray
-    rms: float
-
-    @property
-    def rho(self) -> np.ndarray:
-        """:math:`\\rho = (1+r^2)/(1-r^2)` at the fitted radii."""
-        return geometry.rho(self.radii)
-
-    def as_dict(self) -> dict:
-        return {"p": self.p, "q": self.q, "rings": self.rings, "slope": self.slope,
-                "intercept": self.intercept, "expected_slope": self.expected_slope,
-                "slope_fixed": self.slope_fixed, "window": self.window, "points": int(self.radii.size), "rms": self.rms}
+def lambda_from_energy(omega, p=7, q=3):
+    r""":math:`\lambda = 4(\omega + q)/(q h^2)`: the eigenvalue of :math:`-\Delta_g` that matches the
+    lattice energy (or frequency) :math:`\omega` (``eq21``). Real or complex, scalar or array."""
+    scale = hopping_scale(p, q)
+    q = _validate.pq(p, q, allow_infinite_p=True)[1]
+    return (np.asarray(omega) + q) / scale if np.ndim(omega) else (omega + q) / scale
 
 
-def fit_counting(lattice: Lattice, *, slope: float | None = None, window: str = "all",
-                 slope_rtol: float = 0.1) -> CountingFit:
-    r"""Fit :math:`\mathcal N(r) \approx s\rho + b` (Eq. (sum4), Fig. FigS1).
+def energy_from_lambda(lam, p=7, q=3):
+    r""":math:`E = -q + \frac q4 h^2 \lambda`, the inverse of :func:`lambda_from_energy` (``spec2``)."""
+    scale = hopping_scale(p, q)
+    q = _validate.pq(p, q, allow_infinite_p=True)[1]
+    return -q + scale * (np.asarray(lam) if np.ndim(lam) else lam)
 
-    Procedure (the one that reproduces the paper's b = -9.096 for {7,3}, :math:`\ell=4`):
-    ordinary least squares through one point :math:`(\rho(r_k), \mathcal N(r_k))` per
-    distinct radius, :math:`\mathcal N` right-continuous. The slope is free unless ``slope``
-    is given; the geometric value is :math:`s = \pi/(2\mathcal A) = 2p/(pq-2p-2q)`.
 
-    Parameters
-    ----------
-    lattice : Lattice
-    slope : float, optional
-        Fix the slope and fit only b (the mean residual).
-    window : {"all", "complete"}
-        ``"all"``: every distinct radius (the paper's choice). ``"complete"``: only radii
-        below the innermost site of ring :math:`\ell+1`, where :math:`\mathcal N` counts every
-        site of the infinite tessellation. The outermost ring of a ring lattice is spread
-        over a range of radii, so with ``"all"`` the free slope drifts below
-        :math:`\pi/(2\mathcal A)` as :math:`\ell` grows (11.7 instead of 14 at {7,3},
-        :math:`\ell = 8`); ``"complete"`` gives the geometric slope to about 2 % for every
-        {p,q} tried.
+def energy_from_k(k, p=7, q=3):
+    r"""Lattice energy of a continuum level with :math:`-\Delta_g\psi = (1 + k^2)\psi` (``spec2``):
+    :math:`E = -q + \frac q4 h^2 (1 + k^2)`. Real k for Dirichlet levels, complex k allowed."""
+    k = np.asarray(k)
+    return energy_from_lambda(1.0 + k * k, p, q)
 
-    Warns
-    -----
-    ConvergenceWarning
-        If a free slope differs from :math:`\pi/(2\mathcal A)` by more than ``slope_rtol``.
+
+def green_prefactor(p=7, q=3) -> float:
+    r"""The prefactor :math:`4\mathcal A/(q h^2)` of ``eq21`` (:math:`\pi/(21 h^2)` for {7,3})."""
+    return geometry.site_area(p, q) / hopping_scale(p, q)
+
+
+def dictionary_parameters(omega, p=7, q=3) -> tuple[complex, float]:
+    r"""``(lambda, prefactor)`` of ``eq21`` for one lattice frequency :math:`\omega` (real or complex)."""
+    om = _validate.complex_number("omega", omega)
+    return complex(lambda_from_energy(om, p, q)), green_prefactor(p, q)
+
+
+def disk_radius(sites, p=7, q=3):
+    r"""The effective disk radius of ``eq12``, :math:`L = \sqrt{N/(N + \pi/\mathcal A)}`, for N sites.
+
+    Same as :func:`hyperlattice.geometry.effective_radius` (kept there for the geometry tables).
     """
-    check_lattice(lattice)
-    radii, counts = counting_function(lattice)
-    if window == "complete":
-        from .lattice import ring_lattice
-
-        outer = ring_lattice(lattice.p, lattice.q, lattice.rings + 1)
-        rcut = np.min(np.abs(outer.z[outer.ring == lattice.rings + 1]))
-        keep = radii < rcut
-        radii, counts = radii[keep], counts[keep]
-    elif window != "all":
-        raise ValueError(f"window must be 'all' or 'complete', got {window!r}.")
-    rho = geometry.rho(radii)
-    expected = geometry.counting_slope(lattice.p, lattice.q)
-    if slope is None:
-        if radii.size < 3:
-            raise ValueError(f"a free-slope fit needs at least 3 distinct radii; the lattice has "
-                             f"{radii.size}: use more rings.")
-        s, b = np.polyfit(rho, counts, 1)
-        fixed = False
-    else:
-        s = float(slope)
-        if not math.isfinite(s):
-            raise ValueError(f"slope must be finite, got {slope!r}.")
-        b = float(np.mean(counts - s * rho))
-        fixed = True
-    rms = float(np.sqrt(np.mean((counts - s * rho - b) ** 2)))
-    if not fixed and abs(s - expected) > slope_rtol * expected:
-        hint = " (the outer ring is incomplete: try window='complete')" if window == "all" else ""
-        warnings.warn(f"fitted counting slope {s:.3f} differs from pi/(2A) = {expected:.3f} "
-                      f"by more than {slope_rtol:.0%}{hint}.", ConvergenceWarning, stacklevel=2)
-    return CountingFit(p=lattice.p, q=lattice.q, rings=lattice.rings, slope=float(s),
-                       intercept=float(b), expected_slope=expected, slope_fixed=fixed,
-                       window=window, radii=radii, counts=counts, rms=rms)
-
-
-# ----------------------------------------------------------------------------
-# sums as integrals, Eq. (eq11)
-# ----------------------------------------------------------------------------
-
-def disk_integral(f: Callable, radius: float, *, angular_points: int = 64,
-                  rtol: float = 1e-10) -> complex:
-    r""":math:`\int_{|z|\le L} \frac{d^2z}{(1-|z|^2)^2} f(z)`.
-
-    In geodesic polar coordinates :math:`z = \tanh(d)e^{i\phi}` the volume element is
-    :math:`\tfrac12\sinh(2d)\,dd\,d\phi`, smooth up to :math:`L \to 1`. The angular integral
-    of a smooth periodic function uses the trapezoidal rule (spectrally accurate), checked
-    against twice the points; the radial one uses adaptive quadrature.
-
-    Warns
-    -----
-    ConvergenceWarning
-        If doubling the angular points or the radial quadrature's error estimate exceeds
-        ``rtol`` relative to the result.
-    """
-    L = float(radius)
-    if not (math.isfinite(L) and 0 < L < 1):
-        raise ValueError(f"the disk radius must lie in (0, 1), got {radius!r}.")
-    if angular_points < 4:
-        raise ValueError("angular_points must be at least 4.")
-    D = math.atanh(L)
-
-    def ring_average(d, m, absolute=False):
-        phi = 2 * np.pi * np.arange(m) / m
-        v = np.asarray(f(np.tanh(d) * np.exp(1j * phi)), dtype=complex)
-        return np.mean(np.abs(v)) if absolute else np.mean(v)
-
-    def part(d, m, which):
-        v = ring_average(d, m, absolute=which == 2) * math.pi * math.sinh(2 * d)
-        return v.real if which != 1 else v.imag
-
-    def quad(m, which, epsabs):
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always", integrate.IntegrationWarning)
-            val, err = integrate.quad(part, 0.0, D, args=(m, which), epsabs=epsabs,
-                                      epsrel=rtol / 10, limit=400)
-        # quad's own complaint becomes an unbounded error, reported once below
-        if any(issubclass(c.category, integrate.IntegrationWarning) for c in caught):
-            err = math.inf
-        return val, err
-
-    # absolute scale: the integral of |f|. Tolerances are relative to it,
-    # so that an integral which vanishes by symmetry (or the imaginary part of a real f)
-    # does not send quad chasing zero to relative accuracy.
-    scale, _ = integrate.quad(part, 0.0, D, args=(angular_points, 2), epsrel=1e-3, limit=200)
-    scale = max(scale, 1e-300)
-    out = []
-    for m in (angular_points, 2 * angular_points):
-        re, re_err = quad(m, 0, scale * rtol / 10)
-        im, im_err = quad(m, 1, scale * rtol / 10)
-        out.append((complex(re, im), re_err + im_err))
-    (v1, e1), (v2, _) = out
-    if abs(v1 - v2) > rtol * scale or e1 > rtol * scale:
-        warnings.warn(f"disk integral converged only to {max(abs(v1 - v2), e1) / scale:.1e} "
-                      f"of its scale, tolerance {rtol:.0e}.", ConvergenceWarning, stacklevel=2)
-    return v2
-
-
-@dataclass(frozen=True)
-class SumCheck:
-    r"""One check of Eq. (eq11): lattice sum against :math:`(1/\mathcal A)\int_{|z|\le L} f\,dV_g`."""
-
-    p: int
-    q: int
-    rings: int
-    sites: int
-    radius: float
-    function: str
-    lattice_sum: complex
-    integral: complex
-
-    @property
-    def rel_error(self) -> float:
-        """:math:`|\\Sigma - I|/|I|`."""
-        return float(abs(self.lattice_sum - self.integral) / abs(self.integral))
-
-    def as_dict(self) -> dict:
-        def num(c):
-            return float(c.real) if abs(c.imag) <= 1e-12 * max(abs(c), 1e-300) else c
-        return {"p": self.p, "q": self.q, "rings": self.rings, "sites": self.sites,
-                "radius": self.radius, "function": self.function,
-                "lattice_sum": num(self.lattice_sum), "integral": num(self.integral),
-                "rel_error": self.rel_error}
-
-
-def sum_check(lattice: Lattice, f: Callable, *, name: str | None = None) -> SumCheck:
-    r"""Compare :math:`\sum_i f(z_i)` with :math:`\frac{1}{\mathcal A}\int_{|z|\le L}dV_g f`, Eq. (eq11).
-
-    ``f`` maps complex arrays to arrays (e.g. a :class:`hyperlattice.scaling.SmoothFunction`).
-    L is the effective radius of Eq. (eq12) generalised to {p,q}, which makes f = 1 exact.
-    """
-    check_lattice(lattice)
-    if not callable(f):
-        raise ValueError("f must be a callable of complex coordinates.")
-    vals = np.asarray(f(lattice.z), dtype=complex)
-    if vals.shape != lattice.z.shape or not np.all(np.isfinite(vals)):
-        raise ValueError("f must return one finite value per site.")
-    L = lattice.radius
-    integral = disk_integral(f, L) / geometry.site_area(lattice.p, lattice.q)
-    label = name or getattr(f, "name", None) or getattr(f, "__name__", "f")
-    return SumCheck(p=lattice.p, q=lattice.q, rings=lattice.rings, sites=lattice.sites,
-                    radius=float(L), function=str(label), lattice_sum=complex(vals.sum()),
-                    integral=complex(integral))
+    return geometry.effective_radius(sites, p, q)
 
 
 # ----------------------------------------------------------------------------
 # many-body dictionary, Eqs. (eq13)-(eq14)
 # ----------------------------------------------------------------------------
 
-@dataclass(frozen=True)
-class ContinuumParameters:
+@dataclass(frozen=True, eq=False, kw_only=True)
+class ContinuumParameters(Result):
     r"""Parameters of Eq. (eq14) for a lattice model of Eq. (eq13) on {p,q}.
 
     ``field_scale`` is :math:`1/\sqrt{\mathcal A}`: :math:`\hat\alpha(z_i) = \hat a_i/\sqrt{\mathcal A}`
@@ -287,7 +130,8 @@ class ContinuumParameters:
     h: float
     site_area: float
 
-    def as_dict(self) -> dict:
+    def summary(self) -> dict:
+        """The JSON printed by ``hyperlattice dictionary``."""
         return {"p": self.p, "q": self.q,
                 "lattice": {"t": self.t, "mu": self.mu, "U": self.U},
                 "continuum": {"t_prime": self.t_prime, "mu_prime": self.mu_prime,
@@ -309,21 +153,22 @@ def continuum_parameters(t: float, mu: float, U: float, p: int = 7, q: int = 3) 
     which shifts the chemical potential; :math:`(a^\dagger a)^2 = \mathcal A^2(\alpha^\dagger\alpha)^2`
     and the measure :math:`1/\mathcal A` leave one factor :math:`\mathcal A` on U.
     """
-    p, q = geometry.check_pq(p, q)
-    t, mu, U = (geometry.finite_number(name, v) for name, v in (("t", t), ("mu", mu), ("U", U)))
-    h = geometry.lattice_h(p, q)
+    p, q = _validate.pq(p, q)
+    t, mu, U = (_validate.real(name, v) for name, v in (("t", t), ("mu", mu), ("U", U)))
     area = geometry.site_area(p, q)
-    return ContinuumParameters(p=p, q=q, t=t, mu=mu, U=U, t_prime=0.25 * q * h * h * t,
-                               mu_prime=mu + q * t, U_prime=area * U,
-                               field_scale=1.0 / math.sqrt(area), h=h, site_area=area)
+    values = {"t_prime": hopping_scale(p, q) * t, "mu_prime": mu + q * t, "U_prime": area * U}
+    for name, v in values.items():
+        if not math.isfinite(v):
+            raise ValueError(f"{name} = {v} overflows: the lattice parameters are too large.")
+    return ContinuumParameters(p=p, q=q, t=t, mu=mu, U=U, **values,
+                               field_scale=1.0 / math.sqrt(area), h=geometry.lattice_h(p, q), site_area=area)
 
 
 def lattice_parameters(t_prime: float, mu_prime: float, U_prime: float, p: int = 7,
                        q: int = 3) -> ContinuumParameters:
     """Inverse of :func:`continuum_parameters`: the lattice (t, mu, U) giving (t', mu', U')."""
-    p, q = geometry.check_pq(p, q)
-    tp, mp, up = (geometry.finite_number(name, v)
+    p, q = _validate.pq(p, q)
+    tp, mp, up = (_validate.real(name, v)
                   for name, v in (("t_prime", t_prime), ("mu_prime", mu_prime), ("U_prime", U_prime)))
-    h = geometry.lattice_h(p, q)
-    t = tp / (0.25 * q * h * h)
+    t = tp / hopping_scale(p, q)
     return continuum_parameters(t, mp - q * t, up / geometry.site_area(p, q), p, q)

@@ -19,9 +19,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import _validate
+
 __all__ = [
-    "check_pq",
-    "finite_number",
     "distance",
     "one_minus_abs2",
     "mobius",
@@ -45,48 +45,6 @@ __all__ = [
 # ----------------------------------------------------------------------------
 # validation
 # ----------------------------------------------------------------------------
-
-def _as_int(name: str, value) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        if isinstance(value, float) and value.is_integer():
-            return int(value)
-        raise ValueError(f"{name} must be an integer, got {value!r}.")
-    return int(value)
-
-
-def check_pq(p, q, *, allow_infinite_p: bool = False) -> tuple[float | int, int]:
-    """Validate a Schläfli symbol {p,q} and return it as integers.
-
-    A regular tessellation of the hyperbolic plane exists iff (p-2)(q-2) > 4.
-    With ``allow_infinite_p`` the limit ``p = inf`` is accepted (for constants only).
-    """
-    if allow_infinite_p and isinstance(p, float) and math.isinf(p) and p > 0:
-        q = _as_int("q", q)
-        if q < 3:
-            raise ValueError(f"q must be at least 3, got {q}.")
-        return math.inf, q
-    p = _as_int("p", p)
-    q = _as_int("q", q)
-    if p < 3 or q < 3:
-        raise ValueError(f"p and q must both be at least 3, got {{{p},{q}}}.")
-    if (p - 2) * (q - 2) <= 4:
-        raise ValueError(
-            f"{{{p},{q}}} is not a hyperbolic tessellation: need (p-2)(q-2) > 4, "
-            f"got {(p - 2) * (q - 2)}."
-        )
-    return p, q
-
-
-def finite_number(name: str, value) -> float:
-    """``value`` as a float, or a ``ValueError`` naming ``name`` if it is not a finite number."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number, got {value!r}.") from None
-    if not math.isfinite(v):
-        raise ValueError(f"{name} must be finite, got {value!r}.")
-    return v
-
 
 def _check_in_disk(name: str, z: np.ndarray) -> None:
     if not np.all(np.isfinite(z)):
@@ -217,7 +175,7 @@ def rho(r):
 def r0(p, q=3) -> float:
     r"""Euclidean radius of the central p-gon's vertices, Eq. (Eqr0):
     :math:`r_0 = \sqrt{\cos(\pi/q+\pi/p)/\cos(\pi/p-\pi/q)}` (1 for p = inf)."""
-    p, q = check_pq(p, q, allow_infinite_p=True)
+    p, q = _validate.pq(p, q, allow_infinite_p=True)
     if math.isinf(p):
         return 1.0
     return math.sqrt(math.cos(math.pi / q + math.pi / p) / math.cos(math.pi / p - math.pi / q))
@@ -234,7 +192,7 @@ def d0(p, q=3) -> float:
     :math:`\tfrac12\mathrm{arcosh}(1 + 2\cot^2(\pi/q))` for p -> inf
     (:math:`\tfrac12\ln 3 = 0.549306` for q = 3).
     """
-    p, q = check_pq(p, q, allow_infinite_p=True)
+    p, q = _validate.pq(p, q, allow_infinite_p=True)
     cp = 1.0 if math.isinf(p) else math.cos(math.pi / p)
     return math.acosh(cp / math.sin(math.pi / q))
 
@@ -245,7 +203,7 @@ def lattice_h(p, q=3) -> float:
     It is also the Euclidean distance from the origin of a neighbour of a site
     mapped to the origin. Limit p -> inf: :math:`\cos(\pi/q)` (1/2 for q = 3).
     """
-    p, q = check_pq(p, q, allow_infinite_p=True)
+    p, q = _validate.pq(p, q, allow_infinite_p=True)
     cp = 1.0 if math.isinf(p) else math.cos(math.pi / p)
     s = math.sin(math.pi / q) / cp
     return math.sqrt((1.0 - s) * (1.0 + s))
@@ -260,7 +218,7 @@ def site_area(p, q=3) -> float:
     :math:`\frac{\pi}{4}(1-6/p)` (:math:`\pi/28` for {7,3}). Limit p -> inf:
     :math:`\pi(q-2)/4`.
     """
-    p, q = check_pq(p, q, allow_infinite_p=True)
+    p, q = _validate.pq(p, q, allow_infinite_p=True)
     if math.isinf(p):
         return math.pi * (q - 2) / 4.0
     return math.pi * (p * q - 2 * p - 2 * q) / (4.0 * p)
@@ -308,7 +266,7 @@ class TilingConstants:
     site_area: float
     radius_constant: float
 
-    def as_dict(self) -> dict:
+    def summary(self) -> dict:
         p = "inf" if isinstance(self.p, float) and math.isinf(self.p) else self.p
         return {"p": p, "q": self.q, "r0": self.r0, "d0": self.d0, "h": self.h,
                 "site_area": self.site_area}
@@ -316,6 +274,6 @@ class TilingConstants:
 
 def tiling_constants(p, q=3) -> TilingConstants:
     """All constants of {p,q} at once (p may be ``math.inf``)."""
-    p, q = check_pq(p, q, allow_infinite_p=True)
+    p, q = _validate.pq(p, q, allow_infinite_p=True)
     return TilingConstants(p=p, q=q, r0=r0(p, q), d0=d0(p, q), h=lattice_h(p, q),
                            site_area=site_area(p, q), radius_constant=radius_constant(p, q))

@@ -28,7 +28,7 @@ def run(args) -> int:
     if rings is None and args.radius is None:
         rings = 10
     spec = continuum_levels(args.p, args.q, radius=args.radius, rings=rings, levels=args.levels)
-    out = spec.as_dict()
+    out = spec.summary()
     if args.json:
         print_json(out)
         return 0

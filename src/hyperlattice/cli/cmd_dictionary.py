@@ -24,7 +24,7 @@ def run(args) -> int:
     fn = lattice_parameters if args.inverse else continuum_parameters
     c = fn(args.t, args.mu, args.U, args.p, args.q)
     if args.json:
-        print_json(c.as_dict())
+        print_json(c.summary())
         return 0
     print(f"{{{c.p},{c.q}}}: h = tanh(d0) = {c.h:.6f}, area per site A = {c.site_area:.6f}")
     print(f"  lattice:   t  = {c.t:.10g}   mu  = {c.mu:.10g}   U  = {c.U:.10g}")

@@ -18,7 +18,7 @@ def add_arguments(parser):
 
 
 def run(args) -> int:
-    rows = [tiling_constants(p, args.q).as_dict() for p in args.p]
+    rows = [tiling_constants(p, args.q).summary() for p in args.p]
     if args.json:
         print_json(rows)
         return 0

@@ -39,8 +39,8 @@ def _write_csv(handle, lat, cmp) -> None:
 
 
 def run(args) -> int:
-    from ..green import compare_green
-    from ..lattice import ring_lattice
+    from ..compare.green import compare_green
+    from ..graph.lattice import ring_lattice
 
     lat = ring_lattice(args.p, args.q, args.rings)
     if not 0 <= args.site < lat.sites:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..lattice import line_graph, ring_lattice
+from ..graph.lattice import line_graph, ring_lattice
 from ._common import add_pq, print_json
 
 NAME = "lattice"

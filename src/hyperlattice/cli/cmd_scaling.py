@@ -13,9 +13,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..dictionary import fit_counting, sum_check
-from ..lattice import ring_lattice
-from ..scaling import (PRESETS, SmoothFunction, convergence_study, expansion, formal_operator,
+from ..compare.sums import fit_counting, sum_check
+from ..graph.lattice import ring_lattice
+from ..compare.scaling import (PRESETS, SmoothFunction, convergence_study, expansion, formal_operator,
                        frame_angles, radial_profile)
 from ._common import add_pq, finite_float, positive_int, print_json
 
@@ -152,7 +152,7 @@ def _convergence(args) -> int:
     f = SmoothFunction.preset(args.function)
     st = convergence_study(lat, f, np.geomspace(args.h_min, args.h_max, args.points))
     if args.json:
-        print_json({**st.as_dict(), "rings": lat.rings})
+        print_json({**st.summary(), "rings": lat.rings})
         return 0
     print(f"{{{lat.p},{lat.q}}}, {lat.rings} rings, f = {f.name}, h in [{args.h_min:g}, {args.h_max:g}]")
     print(f"  {'order':>5} {'fitted power':>13} {'expected':>9}")
@@ -168,7 +168,7 @@ def _counting(args) -> int:
         from ..plots.scaling import plot_counting
         _save(plot_counting(lat), args.plot)
     if args.json:
-        print_json(fit.as_dict())
+        print_json(fit.summary())
         return 0
     kind = "fixed" if fit.slope_fixed else "fitted"
     print(f"{{{lat.p},{lat.q}}}, {lat.rings} rings: N(r) ~ s rho + b over {fit.radii.size} distinct radii ({args.window})")
@@ -182,7 +182,7 @@ def _sums(args) -> int:
     for rings in args.rings:
         lat = ring_lattice(args.p, args.q, rings)
         for f in funcs:
-            rows.append(sum_check(lat, f).as_dict())
+            rows.append(sum_check(lat, f).summary())
     if args.json:
         print_json(rows)
         return 0

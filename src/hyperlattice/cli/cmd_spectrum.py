@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-from ..lattice import line_graph, ring_lattice
-from ..spectrum import lowest_levels
-from ..symmetry import signed_sector
+from ..graph.lattice import line_graph, ring_lattice
+from ..graph.spectrum import lowest_levels
+from ..graph.symmetry import signed_sector
 from ._common import Progress, add_pq, positive_int, print_json
 
 NAME = "spectrum"
@@ -50,7 +50,7 @@ def run(args) -> int:
         spec = lowest_levels(lattice, args.levels, method=args.method, sector=sector, tol=args.tol,
                              progress=progress.update)
     if args.json:
-        print_json(spec.as_dict())
+        print_json(spec.summary())
         return 0
     what = "line graph of " if args.line_graph else ""
     print(f"{what}{{{args.p},{args.q}}} rings={args.rings} sites={spec.sites} method={spec.method} "

@@ -1,22 +1,7 @@
-"""Continuum theory on the Poincaré disk: Dirichlet spectrum (``spectrum``), and — in sibling
-modules — Green functions and the lattice/continuum dictionary.
+"""The continuum side: the Poincaré disk with the paper's metric. Legendre functions of complex
+degree (:mod:`.special`), the Dirichlet spectrum of :math:`-\\Delta_g` (:mod:`.spectrum`) and the
+Green functions of the Helmholtz operator (:mod:`.green`). Nothing here knows about lattices;
+energies are mapped to the lattice's units through :mod:`hyperlattice.dictionary`.
 
-Only the spectrum names are re-exported here; import submodules directly for the rest so that
-importing this package stays cheap.
+Import the submodules directly, or the public names from :mod:`hyperlattice`.
 """
-
-from .spectrum import (  # noqa: F401
-    ContinuumSpectrum,
-    DirichletTable,
-    asymptotic_energies,
-    asymptotic_k0,
-    asymptotic_k1,
-    continuum_levels,
-    dirichlet_levels,
-    dirichlet_roots,
-    disk_argument,
-    energy_infinity,
-    level_energy,
-    psi_K,
-    radial_g,
-)

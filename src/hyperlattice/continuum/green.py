@@ -102,7 +102,7 @@ import numpy as np
 from scipy import special as sc
 
 from ..errors import ConvergenceWarning
-from ..special import legendre_cm, legendre_log_p, legendre_log_q, legendre_q, nu_from_lambda
+from .special import legendre_cm, legendre_log_p, legendre_log_q, legendre_q, nu_from_lambda
 
 __all__ = [
     "continuum_green",

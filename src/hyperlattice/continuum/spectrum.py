@@ -30,9 +30,10 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import elementwise as _elementwise
 
+from .. import _validate
 from ..errors import ConvergenceError
-from ..geometry import check_pq, lattice_h, one_minus_abs2, radius_constant
-from ..special import _check_m, _log_p_parts, _guarded, legendre_p
+from ..geometry import lattice_h, one_minus_abs2, radius_constant
+from .special import _check_m, _log_p_parts, _guarded, legendre_p
 
 __all__ = [
     "disk_argument",
@@ -78,11 +79,11 @@ def disk_argument(radius=None, *, p=7, q=3, rings=None) -> tuple[float, float]:
     if (radius is None) == (rings is None):
         raise ValueError("give exactly one of radius or rings.")
     if rings is not None:
-        from ..lattice import site_count
+        from ..graph.lattice import site_count
 
         if isinstance(rings, bool) or int(rings) != rings or rings < 1:
             raise ValueError(f"rings must be a positive integer, got {rings!r}.")
-        p, q = check_pq(p, q)
+        p, q = _validate.pq(p, q)
         n_sites = site_count(p, q, int(rings))
         c = radius_constant(p, q)
         return math.sqrt(n_sites / (n_sites + c)), (2.0 * n_sites + c) / c
@@ -110,7 +111,7 @@ def level_energy(k, p=7, q=3):
     eigenvalue :math:`-(1+k^2)` of :math:`\Delta_g` gives the energy above; for :math:`q=3` this
     is ``spec1``, :math:`-3 + \frac34 h^2(1+k^2)`.
     """
-    p, q = check_pq(p, q)
+    p, q = _validate.pq(p, q)
     h = lattice_h(p, q)
     k = np.asarray(k, dtype=float)
     out = -q + 0.25 * q * h * h * (1.0 + k * k)
@@ -148,7 +149,7 @@ def asymptotic_energies(p=7, q=3, *, radius=None, rings=None, form="auto") -> di
     dict
         ``{"E0", "E1", "E_inf"}`` (floats).
     """
-    p, q = check_pq(p, q)
+    p, q = _validate.pq(p, q)
     h = lattice_h(p, q)
     e_inf = energy_infinity(p, q)
     if form == "auto":
@@ -320,7 +321,7 @@ def dirichlet_levels(p=7, q=3, radius=None, rings=None, n_max: int = 5, m_max: i
                      *, check_nodes: bool = False) -> DirichletTable:
     r"""Table of Dirichlet roots :math:`k_{nm}` (``spec2``) and energies
     :math:`E_{nm} = -q + \frac{q}{4}h^2(1+k_{nm}^2)` for n = 1..n_max, m = 0..m_max."""
-    p, q = check_pq(p, q)
+    p, q = _validate.pq(p, q)
     radius, x = disk_argument(radius, p=p, q=q, rings=rings)
     if isinstance(m_max, bool) or int(m_max) != m_max or m_max < 0:
         raise ValueError(f"m_max must be a non-negative integer, got {m_max!r}.")
@@ -351,7 +352,7 @@ class ContinuumSpectrum:
     asymptotic: dict
     method: str = "spec2 roots: grid bracketing + Chandrupatla (scipy.optimize.elementwise)"
 
-    def as_dict(self) -> dict:
+    def summary(self) -> dict:
         """The CLI contract: keys p, q, rings, radius, h, energies, n, m, k, asymptotic."""
         return {"p": self.p, "q": self.q, "rings": self.rings, "radius": self.radius,
                 "h": self.h, "energies": self.energies.tolist(), "n": self.n.tolist(),
@@ -381,7 +382,7 @@ def continuum_levels(p=7, q=3, radius=None, rings=None, levels: int = 4,
     :math:`n \le K` (m = 0) or :math:`n \le \lceil K/2 \rceil` (m != 0), which are the
     roots computed.
     """
-    p, q = check_pq(p, q)
+    p, q = _validate.pq(p, q)
     if isinstance(levels, bool) or int(levels) != levels or levels < 1:
         raise ValueError(f"levels must be a positive integer, got {levels!r}.")
     K = int(levels)

@@ -8,8 +8,9 @@ from __future__ import annotations
 import numpy as np
 
 from . import new_axes
-from ..green import GreenComparison, bin_by_distance, correlation_pairs
-from ..lattice import Lattice
+from ..compare.correlation import bin_by_distance, correlation_pairs
+from ..compare.green import GreenComparison
+from ..graph.lattice import Lattice
 
 
 def _axes(ax, size=(4.6, 4.4)):
@@ -73,7 +74,7 @@ def plot_distance_profile(comparison: GreenComparison, lattice: Lattice, *, widt
 
 def plot_fig3_row(lattice: Lattice, omega, source: int = 10, *, axes=None):
     """One row of Fig3: graph map, continuum map, distance profile. Returns the three axes."""
-    from ..green import compare_green
+    from ..compare.green import compare_green
 
     if axes is None:
         import matplotlib.pyplot as plt

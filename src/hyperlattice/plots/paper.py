@@ -8,7 +8,7 @@ from matplotlib.collections import LineCollection
 
 from . import new_axes
 from .. import geometry
-from ..lattice import Lattice, ring_lattice
+from ..graph.lattice import Lattice, ring_lattice
 
 
 def _axes(ax, size=(5.0, 5.0)):

@@ -9,9 +9,9 @@ import numpy as np
 
 from . import new_axes
 from .. import geometry
-from ..dictionary import fit_counting
-from ..lattice import Lattice, ring_lattice
-from ..scaling import (FrameAngles, SmoothFunction, expansion, formal_operator, frame_angles,
+from ..compare.sums import fit_counting
+from ..graph.lattice import Lattice, ring_lattice
+from ..compare.scaling import (FrameAngles, SmoothFunction, expansion, formal_operator, frame_angles,
                        radial_profile)
 
 

@@ -26,7 +26,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from .lattice import Lattice, check_lattice
+from .. import _validate
+from .lattice import Lattice
 from .operators import OnSite, onsite_values
 
 __all__ = [
@@ -80,7 +81,7 @@ def rotation_orbits(lattice: Lattice) -> RotationOrbits:
         If the permutation is not of order p or fixes a site under some power
         :math:`R^s`, 0 < s < p (then the sector blocks would not all have size N/p).
     """
-    check_lattice(lattice)
+    _validate.lattice(lattice)
     p = int(lattice.p)
     n = lattice.sites
     rot = np.asarray(lattice.rotation, dtype=np.int64)
@@ -198,7 +199,7 @@ def _fixed_width(n: int, rows: np.ndarray, cols: np.ndarray, vals: np.ndarray):
 
 def full_table(lattice: Lattice, t: float = 1.0, onsite: OnSite = None) -> SectorTable:
     """The whole Hamiltonian :math:`H = -tA + V` as a fixed-width table (``m`` is None)."""
-    check_lattice(lattice)
+    _validate.lattice(lattice)
     e = lattice.edges.astype(np.int64)
     n = lattice.sites
     rows = np.concatenate([e[:, 0], e[:, 1]])
@@ -226,7 +227,7 @@ def sector_table(lattice: Lattice, m: int, t: float = 1.0, onsite: OnSite = None
     orbits : RotationOrbits, optional
         Precomputed orbits (saves O(pN) when several sectors are built).
     """
-    check_lattice(lattice)
+    _validate.lattice(lattice)
     p = int(lattice.p)
     m = signed_sector(m, p)
     t = float(t)

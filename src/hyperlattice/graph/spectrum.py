@@ -43,7 +43,7 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse.linalg as spla
 
-from .errors import ConvergenceError, ConvergenceWarning
+from ..errors import ConvergenceError, ConvergenceWarning
 from .lattice import Lattice
 from .operators import OnSite, hamiltonian
 from .symmetry import (
@@ -120,7 +120,7 @@ class Spectrum:
             return np.ones(len(self), dtype=int)
         return np.where((2 * self.m) % self.p == 0, 1, 2)
 
-    def as_dict(self) -> dict:
+    def summary(self) -> dict:
         """The CLI's JSON contract: p, q, rings, sites, method, energies, n, m, residuals."""
         return {
             "p": self.p, "q": self.q, "rings": self.rings, "sites": self.sites, "method": self.method,

@@ -28,9 +28,9 @@ from typing import Callable
 
 import numpy as np
 
-from . import __version__, geometry
-from .cache import Cache
-from .lattice import ring_lattice, ring_sizes
+from .. import __version__, geometry
+from ..cache import Cache
+from ..graph.lattice import ring_lattice, ring_sizes
 
 __all__ = ["reproduce", "PAPER"]
 
@@ -163,7 +163,7 @@ def _save_figure(fig, out: Path, name: str, caption: str) -> Figure:
 
 def _graph_levels(cache: Cache, rings: int, timings: dict) -> dict:
     def compute():
-        from .spectrum import lowest_levels
+        from ..graph.spectrum import lowest_levels
 
         t0 = time.perf_counter()
         spec = lowest_levels(ring_lattice(7, 3, rings), levels=2)
@@ -177,7 +177,7 @@ def _graph_levels(cache: Cache, rings: int, timings: dict) -> dict:
 
 
 def _continuum_levels(rings: int) -> dict:
-    from .continuum.spectrum import asymptotic_energies, continuum_levels
+    from ..continuum.spectrum import asymptotic_energies, continuum_levels
 
     spec = continuum_levels(7, 3, rings=rings, levels=2)
     asym = asymptotic_energies(7, 3, rings=rings)
@@ -339,9 +339,9 @@ def _section_spectrum(cache: Cache, max_rings: int, timings: dict, progress: Cal
 def _section_fig2(records: list[dict], out: Path, progress) -> Section:
     import matplotlib.pyplot as plt
 
-    from .continuum.spectrum import dirichlet_levels
-    from .plots.paper import plot_levels, plot_partition
-    from .spectrum import full_spectrum
+    from ..continuum.spectrum import dirichlet_levels
+    from ..plots.paper import plot_levels, plot_partition
+    from ..graph.spectrum import full_spectrum
 
     progress("Fig2: partition functions for l = 4")
     lat = ring_lattice(7, 3, 4)
@@ -384,7 +384,7 @@ def _section_fig2(records: list[dict], out: Path, progress) -> Section:
 def _section_fig1(out: Path) -> Section:
     import matplotlib.pyplot as plt
 
-    from .plots.paper import plot_tessellation
+    from ..plots.paper import plot_tessellation
 
     fig, ax = plt.subplots(figsize=(6.2, 5.4), layout="constrained")
     plot_tessellation(rings=3, background_rings=7, ax=ax)
@@ -396,9 +396,9 @@ def _section_fig1(out: Path) -> Section:
 def _section_scaling(out: Path, progress) -> Section:
     import matplotlib.pyplot as plt
 
-    from .dictionary import fit_counting
-    from .plots.scaling import plot_counting, plot_formal_operator, plot_frame_angles
-    from .scaling import frame_angles
+    from ..compare.sums import fit_counting
+    from ..plots.scaling import plot_counting, plot_formal_operator, plot_frame_angles
+    from ..compare.scaling import frame_angles
 
     progress("FigS1, FigScos3delta, FigSh")
     figs = []
@@ -433,8 +433,9 @@ def _section_scaling(out: Path, progress) -> Section:
 def _section_green(cache: Cache, max_rings: int, out: Path, progress) -> Section:
     import matplotlib.pyplot as plt
 
-    from .green import collapse_measure, compare_green
-    from .plots.green import plot_fig3_row
+    from ..compare.correlation import collapse_measure
+    from ..compare.green import compare_green
+    from ..plots.green import plot_fig3_row
 
     source = 10  # a site on ring 2, as in the paper's Fig3
     omegas = (-2.95, complex(-2.5, 0.1))

@@ -34,9 +34,8 @@ from pathlib import Path
 
 import numpy as np
 
-from . import geometry
-from .geometry import check_pq
-
+from .. import _validate
+from .. import geometry
 __all__ = [
     "Lattice",
     "ring_lattice",
@@ -44,7 +43,6 @@ __all__ = [
     "ring_sizes",
     "site_count",
     "load_lattice",
-    "check_lattice",
 ]
 
 #: Bytes of peak memory per site while building a lattice and its adjacency (measured,
@@ -215,16 +213,6 @@ def _csr_sorted(rows: np.ndarray, cols: np.ndarray, n: int) -> tuple[np.ndarray,
     return m.indptr.astype(np.int64), m.indices.astype(np.int32)
 
 
-def check_lattice(lattice, *, kind: str | None = None) -> Lattice:
-    """Validate at the door: a :class:`Lattice` (of the given ``kind``) or a ``ValueError``."""
-    if not isinstance(lattice, Lattice):
-        raise ValueError(f"expected a Lattice (from ring_lattice or line_graph), got {type(lattice).__name__}.")
-    if kind is not None and lattice.kind != kind:
-        raise ValueError(f"this computation needs a lattice of kind {kind!r}, got {lattice.kind!r} "
-                         "(the continuum dictionary is derived for the {p,q} lattice itself, not its line graph).")
-    return lattice
-
-
 def load_lattice(path) -> Lattice:
     """Read a lattice written by :meth:`Lattice.save` in ``.npz`` format."""
     with np.load(path, allow_pickle=False) as f:
@@ -316,7 +304,7 @@ def ring_sizes(p: int, q: int, rings: int) -> np.ndarray:
     counted explicitly, extrapolated by the growth ratio beyond 1e9 sites (a size only ever
     used to refuse the request).
     """
-    p, q = check_pq(p, q)
+    p, q = _validate.pq(p, q)
     rings = _check_rings(rings)
     return np.array(_type_recursion(p, q, rings), dtype=np.int64)
 
@@ -479,7 +467,7 @@ def ring_lattice(p: int = 7, q: int = 3, rings: int = 3, *, max_sites: int | Non
     >>> lat.sites, lat.sites_per_ring.tolist()
     (112, [7, 28, 77])
     """
-    p, q = check_pq(p, q)
+    p, q = _validate.pq(p, q)
     rings = _check_rings(rings)
     n_total = _check_size(p, q, rings, max_sites)
 

@@ -54,9 +54,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import geometry
-from .errors import ConvergenceWarning
-from .lattice import Lattice
+from .. import _validate
+from .. import geometry
+from ..errors import ConvergenceWarning
+from ..graph.lattice import Lattice
 
 __all__ = [
     "FrameAngles",
@@ -438,7 +439,7 @@ def _angles(obj) -> FrameAngles:
 def _check_h(h, angles: FrameAngles) -> float:
     if h is None:
         return angles.h
-    h = geometry.finite_number("h", h)
+    h = _validate.real("h", h)
     if h <= 0:
         raise ValueError(f"h must be positive, got {h}.")
     # 1e-12 slack so that the printed lattice value 0.275798 and lattice.h both pass
@@ -537,7 +538,7 @@ def expected_error_order(q: int, order: int) -> int:
     The next non-vanishing order k > ``order``: even k always (isotropic m = n term), odd k
     only for odd q with q <= k (an anisotropic term with m - n = +-q). Generic f assumed.
     """
-    geometry.check_pq(7 if q == 3 else 5, q)  # validates q >= 3
+    _validate.pq(7 if q == 3 else 5, q)  # validates q >= 3
     k = order + 1
     while True:
         if k % 2 == 0 or (q % 2 == 1 and q <= k):
@@ -562,7 +563,7 @@ class ConvergenceStudy:
     expected: dict
     fit_rms: dict
 
-    def as_dict(self) -> dict:
+    def summary(self) -> dict:
         return {"p": self.p, "q": self.q, "function": self.function, "h": self.h,
                 "orders": {str(k): {"errors": self.errors[k], "exponent": self.exponents[k],
                                     "expected": self.expected[k], "fit_rms": self.fit_rms[k]}

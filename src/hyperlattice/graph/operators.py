@@ -15,8 +15,8 @@ from typing import Callable, Union
 import numpy as np
 import scipy.sparse as sp
 
-from .geometry import finite_number
-from .lattice import Lattice, check_lattice
+from .. import _validate
+from .lattice import Lattice
 
 __all__ = ["adjacency", "hamiltonian", "incidence", "onsite_values"]
 
@@ -25,7 +25,7 @@ OnSite = Union[None, float, np.ndarray, Callable[[np.ndarray, np.ndarray], np.nd
 
 def adjacency(lattice: Lattice, dtype=np.float64) -> sp.csr_matrix:
     """Adjacency matrix A (N x N, symmetric, entries 1) in CSR format with sorted indices."""
-    check_lattice(lattice)
+    _validate.lattice(lattice)
     indptr, indices = lattice.neighbours()
     n = lattice.sites
     data = np.ones(indices.shape[0], dtype=dtype)
@@ -66,7 +66,7 @@ def hamiltonian(lattice: Lattice, t: float = 1.0, onsite: OnSite = None) -> sp.c
     onsite : scalar, array of length N, or callable ``(z, ring) -> array``, optional
         On-site potential :math:`V_i` (e.g. ``-mu`` or disorder).
     """
-    t = finite_number("the hopping t", t)
+    t = _validate.real("the hopping t", t)
     a = adjacency(lattice)
     h = a * (-t)
     v = onsite_values(lattice, onsite)
@@ -82,7 +82,7 @@ def incidence(lattice: Lattice) -> sp.csr_matrix:
 
     For q = 3 the line graph's adjacency is :math:`B^T B - 2I`.
     """
-    check_lattice(lattice)
+    _validate.lattice(lattice)
     e = lattice.edges
     n_e = e.shape[0]
     rows = e.T.ravel()

@@ -103,7 +103,7 @@ import warnings
 import numpy as np
 from scipy import special as sc
 
-from .errors import ConvergenceError, ConvergenceWarning
+from ..errors import ConvergenceError, ConvergenceWarning
 
 __all__ = [
     "legendre_p",

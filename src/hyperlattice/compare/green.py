@@ -1,0 +1,125 @@
+r"""Graph vs continuum Green functions through the dictionary ``eq21``, and the distance collapse.
+
+The graph side is :mod:`hyperlattice.graph.green`, the continuum side
+:mod:`hyperlattice.continuum.green`, the maps between them :mod:`hyperlattice.dictionary`.
+
+Dictionary (``eq21``, generalised to {p,q})
+-------------------------------------------
+Following ``path5``/``path6``: write :math:`G_{ij}` as the Gaussian integral
+:math:`\langle\theta_i\theta_j\rangle` with weight
+:math:`\exp[-\frac12\sum_{ij}\theta_i(H-\omega)_{ij}\theta_j]`. For a {p,q} lattice the
+small-h expansion of the adjacency operator is :math:`A \approx q + \frac q4 h^2\Delta_g`
+(``adj26`` with 3 replaced by q: the q neighbours sit at :math:`h e^{\mathrm i(\chi+2\pi k/q)}`,
+whose first and second moments vanish), so
+:math:`H - \omega \approx -\frac q4 h^2\Delta_g - (\omega + q) = \frac q4 h^2(-\Delta_g - \lambda)`
+with :math:`\lambda = 4(\omega+q)/(qh^2)`. With :math:`\sum_i \approx \frac1{\mathcal A}\int dV`
+(``eq11``, :math:`\mathcal A` the area per site, :func:`hyperlattice.geometry.site_area`) the
+exponent becomes :math:`-\frac12 C'\int dV\,\theta(-\Delta_g-\lambda)\theta` with
+:math:`C' = qh^2/(4\mathcal A)`, and by ``path2`` the two-point function is :math:`G/C'`:
+
+.. math:: G_{ij}(\omega) \approx \frac{4\mathcal A}{q h^2}\,
+          G\Bigl(z_i, z_j, \lambda = \frac{4(\omega+q)}{qh^2}, L\Bigr),
+
+with :math:`L` from ``eq12``. For {7,3}, :math:`\mathcal A = \pi/28` gives :math:`\pi/(21h^2)`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .. import _validate
+from ..dictionary import dictionary_parameters
+from ..geometry import distance
+from ..graph.green import GraphResolvent
+from ..graph.lattice import Lattice
+from ..results import Result
+
+__all__ = [
+    "continuum_column",
+    "compare_green",
+    "GreenComparison",
+    "relative_l2",
+]
+
+
+# ----------------------------------------------------------------------------
+# graph vs continuum, eq21
+# ----------------------------------------------------------------------------
+
+def continuum_column(lattice: Lattice, omega, source: int, *, tol: float = 1e-12):
+    r"""Right-hand side of ``eq21`` at every site i for source j: :math:`\frac{4\mathcal A}{qh^2}G(z_i,z_j,\lambda,L)`.
+
+    Uses :math:`L` of ``eq12`` (``lattice.radius``); sites beyond :math:`L` get the analytic
+    continuation of ``green33`` (``extend=True``). The source entry is ``inf`` (coincident
+    points). Returns ``(values, info)`` with :class:`hyperlattice.continuum.green.GreenInfo`.
+    """
+    from ..continuum.green import continuum_green
+
+    _validate.lattice(lattice, kind="sites")
+    source = _validate.site_index("source", source, lattice.sites)
+    lam, pref = dictionary_parameters(omega, lattice.p, lattice.q)
+    vals, info = continuum_green(lattice.z, lattice.z[source], lam, lattice.radius, tol=tol,
+                                 extend=True, return_info=True)
+    vals = np.asarray(vals, complex)
+    out = np.empty_like(vals)
+    out.real = pref * vals.real            # part-wise: keeps inf + 0j at the source
+    out.imag = pref * vals.imag
+    return out, info
+
+
+def relative_l2(graph: np.ndarray, continuum: np.ndarray, exclude: int | None = None) -> float:
+    r""":math:`\|G^{\rm graph} - G^{\rm cont}\|_2 / \|G^{\rm graph}\|_2` over all sites but ``exclude``."""
+    g = np.asarray(graph, complex)
+    c = np.asarray(continuum, complex)
+    keep = np.ones(g.shape, bool)
+    if exclude is not None:
+        keep[exclude] = False
+    return float(np.linalg.norm(g[keep] - c[keep]) / np.linalg.norm(g[keep]))
+
+
+@dataclass(frozen=True)
+class GreenComparison:
+    """Graph column and continuum prediction (``eq21``) for one source and one omega."""
+
+    p: int
+    q: int
+    rings: int
+    source: int
+    omega: complex
+    lam: complex
+    radius: float
+    prefactor: float
+    graph: np.ndarray = field(repr=False)
+    continuum: np.ndarray = field(repr=False)
+    distance: np.ndarray = field(repr=False)
+    rel_l2: float
+    terms: int
+    tail_estimate: float
+
+    def summary(self) -> dict:
+        """The JSON summary of the ``green`` command."""
+        return {"p": self.p, "q": self.q, "rings": self.rings, "site": self.source,
+                "omega": self.omega, "lambda": self.lam, "radius": self.radius,
+                "rel_l2": self.rel_l2}
+
+
+def compare_green(lattice: Lattice, omega, source: int, *, tol: float = 1e-12,
+                  resolvent: GraphResolvent | None = None) -> GreenComparison:
+    r"""Graph column :math:`G_{\cdot j}(\omega)` against the generalised ``eq21``.
+
+    ``rel_l2`` is the relative L2 distance over all sites except the source.
+    """
+    _validate.lattice(lattice, kind="sites")
+    source = _validate.site_index("source", source, lattice.sites)
+    omega = _validate.complex_number("omega", omega)
+    res = resolvent if resolvent is not None else GraphResolvent(lattice)
+    g = res.column(omega, source)
+    c, info = continuum_column(lattice, omega, source, tol=tol)
+    lam, pref = dictionary_parameters(omega, lattice.p, lattice.q)
+    d = distance(lattice.z, lattice.z[source])
+    return GreenComparison(p=lattice.p, q=lattice.q, rings=lattice.rings, source=source, omega=omega,
+                           lam=lam, radius=lattice.radius, prefactor=pref, graph=g, continuum=c,
+                           distance=d, rel_l2=relative_l2(g, c, exclude=source), terms=info.terms,
+                           tail_estimate=info.tail_estimate)

@@ -1,0 +1,215 @@
+r"""Graph Green functions (``eq20``): :math:`G_{ij}(\omega) = [(H-\omega)^{-1}]_{ij}`.
+
+:math:`H = -tA` (plus optional on-site terms), for real or complex :math:`\omega`. Small
+lattices use one dense eigendecomposition for many frequencies; large ones a sparse LU per
+frequency. The comparison with the continuum through the dictionary ``eq21`` lives in
+:mod:`hyperlattice.compare.green`.
+"""
+
+from __future__ import annotations
+
+
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from .. import _validate
+from .lattice import Lattice
+from .operators import hamiltonian
+
+__all__ = ["graph_green", "GraphResolvent"]
+
+_DENSE_MAX = 4000          # full matrices / eigendecompositions only up to this many sites
+_ON_SPECTRUM = 1e3         # |omega - E_n| below this many ulps of ||H|| counts as "on the spectrum"
+
+
+def _as_omegas(omega) -> tuple[np.ndarray, bool]:
+    """One frequency or a 1-d array of them, as complex128 (and whether it was a scalar)."""
+    arr = _validate.complex_array("omega", omega, ndim=(0, 1))
+    return np.atleast_1d(arr), arr.ndim == 0
+
+
+class GraphResolvent:
+    r"""The resolvent :math:`(H-\omega)^{-1}` of one lattice Hamiltonian for many :math:`\omega`.
+
+    ``method="dense"`` diagonalises :math:`H = V\,\mathrm{diag}(E)\,V^T` once
+    (:math:`O(N^3)`); afterwards a column costs :math:`O(N^2)` per :math:`\omega` via
+    ``eq20`` and the distance of :math:`\omega` to the spectrum is known exactly. That pays
+    for :math:`N \lesssim 4000` and more than a few :math:`\omega`. ``method="sparse"``
+    factorises :math:`H-\omega` (SuperLU, COLAMD; the fill-in is tiny on these graphs, see
+    NUMERICS-NOTES) once per :math:`\omega` (the factorization of the last :math:`\omega` is
+    kept, so several sources at one :math:`\omega` reuse it). ``"auto"`` picks sparse.
+
+    Parameters
+    ----------
+    system : Lattice or sparse/dense matrix
+        A lattice (then :math:`H` = :func:`hyperlattice.operators.hamiltonian`) or :math:`H`.
+    t : float
+        Hopping amplitude (lattice input only).
+    onsite : callable, array or None
+        On-site term (lattice input only), as in :func:`~hyperlattice.operators.hamiltonian`.
+    method : {"auto", "dense", "sparse"}
+
+    Raises
+    ------
+    ValueError
+        On a non-square or non-symmetric matrix, an unknown method, ``dense`` above
+        ``_DENSE_MAX`` sites, and (in the evaluation methods) for :math:`\omega` on the real
+        spectrum to within rounding.
+    """
+
+    def __init__(self, system, *, t: float = 1.0, onsite=None, method: str = "auto"):
+        if isinstance(system, Lattice):
+            H = hamiltonian(system, t=t, onsite=onsite)
+        else:
+            H = sp.csr_matrix(system) if not sp.issparse(system) else system.tocsr()
+            if H.shape[0] != H.shape[1]:
+                raise ValueError("the Hamiltonian must be a square matrix.")
+            if abs(H - H.T).max() > 1e-12 * max(1.0, abs(H).max()) if H.nnz else False:
+                raise ValueError("the Hamiltonian must be real symmetric (Hermitian hopping).")
+        if method not in ("auto", "dense", "sparse"):
+            raise ValueError(f"method must be 'auto', 'dense' or 'sparse', got {method!r}.")
+        self.H = H.astype(float).tocsc()
+        self.n = H.shape[0]
+        if method == "auto":
+            method = "sparse"
+        if method == "dense" and self.n > _DENSE_MAX:
+            raise ValueError(f"the dense method is limited to {_DENSE_MAX} sites (this lattice has {self.n}).")
+        self.method = method
+        self.norm = float(abs(self.H).sum(axis=0).max()) if self.H.nnz else 0.0   # ||H||_1 >= ||H||_2
+        self._eig = None
+        self._lu = None
+        self._lu_omega = None
+
+    # -- spectrum checks -------------------------------------------------------
+    def _tol(self, omega: complex) -> float:
+        return _ON_SPECTRUM * np.finfo(float).eps * max(1.0, self.norm + abs(omega))
+
+    def _on_spectrum_error(self, omega: complex, detail: str) -> ValueError:
+        return ValueError(
+            f"omega = {omega:g} lies on (or within rounding of) the real spectrum of H ({detail}); "
+            "the graph Green function does not exist there. Give omega a small imaginary part.")
+
+    def _eigh(self):
+        if self._eig is None:
+            self._eig = sla.eigh(self.H.toarray())
+        return self._eig
+
+    def _factor(self, omega: complex):
+        if self._lu is not None and self._lu_omega == omega:
+            return self._lu
+        shift = omega.real if omega.imag == 0 else omega      # real arithmetic for real omega
+        M = (self.H - shift * sp.identity(self.n, format="csc")).tocsc()
+        try:
+            lu = spla.splu(M, permc_spec="COLAMD")
+        except RuntimeError as exc:     # SuperLU: "Factor is exactly singular"
+            raise self._on_spectrum_error(omega, "singular factorization") from exc
+        piv = np.abs(lu.U.diagonal())
+        if piv.size and piv.min() <= self._tol(omega):
+            raise self._on_spectrum_error(omega, f"LU pivot {piv.min():.1e}")
+        self._lu, self._lu_omega = lu, omega
+        return lu
+
+    # -- evaluation ------------------------------------------------------------
+    def columns(self, omega, sources) -> np.ndarray:
+        r"""Columns :math:`G_{\cdot j}(\omega)` for the given sources: array ``(N, len(sources))``."""
+        om, _ = _as_omegas(omega)
+        if om.size != 1:
+            raise ValueError("columns() takes one omega; use graph_green for several.")
+        omega = complex(om[0])
+        src = _validate.site_indices("sources", sources, self.n)
+        if self.method == "dense":
+            E, V = self._eigh()
+            dist = np.min(np.abs(E - omega))
+            if dist <= self._tol(omega):
+                raise self._on_spectrum_error(omega, f"distance {dist:.1e} to an eigenvalue")
+            out = (V / (E - omega)) @ V[src].T
+        else:
+            lu = self._factor(omega)
+            rhs = np.zeros((self.n, src.size), dtype=float if omega.imag == 0 else complex)
+            rhs[src, np.arange(src.size)] = 1.0
+            out = lu.solve(rhs)
+            # ||(H - omega)^{-1}||_2 = 1/dist(omega, spectrum) for symmetric H: a column this
+            # large means the factorization was done within rounding of an eigenvalue
+            big = np.max(np.linalg.norm(out, axis=0)) if src.size else 0.0
+            if not np.all(np.isfinite(out)) or big * self._tol(omega) >= 1.0:
+                raise self._on_spectrum_error(omega, f"column norm {big:.1e}")
+        return out.astype(complex)
+
+    def column(self, omega, source) -> np.ndarray:
+        r"""One column :math:`G_{\cdot j}(\omega)` (all targets i for source j), shape ``(N,)``."""
+        source = _validate.site_index("source", source, self.n)
+        return self.columns(omega, [source])[:, 0]
+
+    def entries(self, omega, rows, cols) -> np.ndarray:
+        r"""Entries :math:`G_{r_k c_k}(\omega)` for paired index arrays (one solve per distinct column)."""
+        rows = _validate.site_indices("rows", rows, self.n)
+        cols = _validate.site_indices("cols", cols, self.n)
+        rows, cols = np.broadcast_arrays(rows, cols)
+        ucols, inv = np.unique(cols, return_inverse=True)
+        block = self.columns(omega, ucols)
+        return block[rows, inv]
+
+
+def graph_green(lattice, omega, source=None, targets=None, *, t: float = 1.0, onsite=None,
+                method: str = "auto") -> np.ndarray:
+    r"""Graph Green function ``eq20``, :math:`G_{ij}(\omega) = [(H-\omega)^{-1}]_{ij}`, :math:`H=-tA`.
+
+    Parameters
+    ----------
+    lattice : Lattice or matrix
+        The lattice (or :math:`H` itself).
+    omega : complex or 1-d array_like
+        Frequency; real values must not lie on the spectrum. Several values reuse one
+        eigendecomposition when ``method="dense"`` (worth it for many :math:`\omega` and
+        :math:`N \lesssim 4000`).
+    source : int, sequence of int, or None
+        Source site(s) j (0-based). ``None``: the full matrix (small lattices only).
+    targets : int or sequence of int, optional
+        Restrict the result to these target sites i.
+    t, onsite, method
+        See :class:`GraphResolvent`.
+
+    Returns
+    -------
+    ndarray of complex
+        Shape ``(N,)`` for one source, ``(N, k)`` for k sources, ``(N, N)`` for ``source=None``
+        (first axis restricted to ``targets`` if given); a leading axis of length
+        ``len(omega)`` if ``omega`` is an array.
+
+    Raises
+    ------
+    ValueError
+        Bad site index, NaN omega, omega on the spectrum, too large for a full matrix.
+    """
+    res = lattice if isinstance(lattice, GraphResolvent) else GraphResolvent(
+        lattice, t=t, onsite=onsite, method=method)
+    oms, scalar = _as_omegas(omega)
+    if source is None:
+        if res.n > _DENSE_MAX:
+            raise ValueError(f"the full Green matrix is limited to {_DENSE_MAX} sites (this lattice has {res.n}).")
+        src = np.arange(res.n)
+        one = False
+    elif np.ndim(source) == 0:
+        src = np.array([_validate.site_index("source", source, res.n)])
+        one = True
+    else:
+        src = _validate.site_indices("source", source, res.n)
+        one = False
+    tg = None
+    if targets is not None:
+        tg = _validate.site_indices("targets", targets, res.n)
+        if np.ndim(targets) == 0:
+            tg = tg[:1]
+    out = []
+    for w in oms:
+        block = res.columns(complex(w), src)
+        if tg is not None:
+            block = block[tg]
+        if one:
+            block = block[:, 0]
+        if targets is not None and np.ndim(targets) == 0:
+            block = block[0]
+        out.append(block)
+    return out[0] if scalar else np.stack(out)
