@@ -37,6 +37,7 @@ from . import _validate, geometry
 from .results import Result
 
 __all__ = [
+    "laplacian_coefficient",
     "hopping_scale",
     "lambda_from_energy",
     "energy_from_lambda",
@@ -54,15 +55,24 @@ __all__ = [
 # energies <-> eigenvalues of -Delta_g
 # ----------------------------------------------------------------------------
 
+def laplacian_coefficient(q: int, h):
+    r"""The coefficient :math:`\frac q4 h^2` of :math:`\Delta_g` in :math:`A \approx q + \frac q4 h^2\Delta_g`
+    for a q-fold star of neighbours at Euclidean distance h (after a Möbius map to the origin).
+
+    The one place this factor is written; :func:`hopping_scale` evaluates it at :math:`h = \tanh d_0`,
+    and the h-expansion of :mod:`hyperlattice.compare.scaling` at any h.
+    """
+    return 0.25 * q * h * h
+
+
 def hopping_scale(p=7, q=3) -> float:
-    r"""The factor :math:`\frac q4 h^2` of :math:`A \approx q + \frac q4 h^2\Delta_g` (``eq10``).
+    r"""The factor :math:`\frac q4 h^2` of :math:`A \approx q + \frac q4 h^2\Delta_g` (``eq10``), :math:`h = \tanh d_0`.
 
     It converts continuum eigenvalues into lattice energies (:math:`t'/t`, ``eq14``):
     :math:`\frac34 h^2 = 0.0570...` for {7,3}.
     """
-    h = geometry.lattice_h(p, q)
-    q = _validate.pq(p, q, allow_infinite_p=True)[1]
-    return 0.25 * q * h * h
+    p, q = _validate.pq(p, q, allow_infinite_p=True)
+    return laplacian_coefficient(q, geometry.lattice_h(p, q))
 
 
 def lambda_from_energy(omega, p=7, q=3):

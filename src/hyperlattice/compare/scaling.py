@@ -55,6 +55,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _validate
+from ..dictionary import laplacian_coefficient
 from .. import geometry
 from ..errors import ConvergenceWarning
 from ..graph.lattice import Lattice
@@ -521,7 +522,7 @@ def expansion(lattice: Lattice | FrameAngles, f: SmoothFunction, h: float | None
     q = angles.q
     z = angles.z[idx]
     lap = f.laplacian(z)
-    out = q * f(z) + 0.25 * q * h ** 2 * lap
+    out = q * f(z) + laplacian_coefficient(q, h) * lap
     for k in range(3, order + 1):
         if k % 2 == 0:
             out = out + q * h ** k * (f.bilaplacian(z) / 64.0 + lap / 8.0)

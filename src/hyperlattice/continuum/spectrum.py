@@ -31,6 +31,7 @@ import numpy as np
 from scipy.optimize import elementwise as _elementwise
 
 from .. import _validate
+from ..dictionary import energy_from_k, hopping_scale
 from ..errors import ConvergenceError
 from ..geometry import lattice_h, one_minus_abs2, radius_constant
 from .special import _check_m, _log_p_parts, _guarded, legendre_p
@@ -111,11 +112,9 @@ def level_energy(k, p=7, q=3):
     eigenvalue :math:`-(1+k^2)` of :math:`\Delta_g` gives the energy above; for :math:`q=3` this
     is ``spec1``, :math:`-3 + \frac34 h^2(1+k^2)`.
     """
-    p, q = _validate.pq(p, q)
-    h = lattice_h(p, q)
-    k = np.asarray(k, dtype=float)
-    out = -q + 0.25 * q * h * h * (1.0 + k * k)
-    return float(out) if out.ndim == 0 else out
+    _validate.pq(p, q)
+    out = energy_from_k(np.asarray(k, dtype=float), p, q)
+    return float(out) if np.ndim(out) == 0 else out
 
 
 def energy_infinity(p=7, q=3) -> float:
@@ -150,7 +149,6 @@ def asymptotic_energies(p=7, q=3, *, radius=None, rings=None, form="auto") -> di
         ``{"E0", "E1", "E_inf"}`` (floats).
     """
     p, q = _validate.pq(p, q)
-    h = lattice_h(p, q)
     e_inf = energy_infinity(p, q)
     if form == "auto":
         form = "rings" if (rings is not None and (p, q) == (7, 3)) else "radius"
@@ -158,7 +156,7 @@ def asymptotic_energies(p=7, q=3, *, radius=None, rings=None, form="auto") -> di
         if rings is None or (p, q) != (7, 3):
             raise ValueError("the ring form of eq19 is defined for {7,3} with a number of rings.")
         lnphi = math.log(GOLDEN)
-        pref = 0.25 * q * math.pi**2 * h * h
+        pref = math.pi**2 * hopping_scale(p, q)
         e0 = e_inf + pref / (lnphi * rings + math.log(2.0)) ** 2
         e1 = e_inf + pref / (lnphi * rings + math.log(2.0) - 1.0) ** 2
         return {"E0": e0, "E1": e1, "E_inf": e_inf}

@@ -9,6 +9,7 @@ import numpy as np
 
 from . import new_axes
 from .. import geometry
+from ..dictionary import laplacian_coefficient
 from ..compare.sums import fit_counting
 from ..graph.lattice import Lattice, ring_lattice
 from ..compare.scaling import (FrameAngles, SmoothFunction, expansion, formal_operator, frame_angles,
@@ -67,7 +68,7 @@ def plot_formal_operator(lattice: Lattice | FrameAngles | None = None, h: float 
     # drawn as a curve; for other f it is averaged over sites like the rest
     if _is_radial(f, z):
         grid = np.linspace(0.0, np.abs(z).max(), 400)[1:] + 0j
-        quad_d, quad_v = np.arctanh(grid.real), (0.25 * angles.q * hh ** 2 * f.laplacian(grid)).real
+        quad_d, quad_v = np.arctanh(grid.real), (laplacian_coefficient(angles.q, hh) * f.laplacian(grid)).real
     else:
         quad = radial_profile(z, (expansion(angles, f, hh, 2) - base).real)
         quad_d, quad_v = quad.distance, quad.mean
