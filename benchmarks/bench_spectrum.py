@@ -35,7 +35,8 @@ def main(argv=None):
 
     from hyperlattice.graph.lattice import ring_lattice
     from hyperlattice.graph.operators import adjacency
-    from hyperlattice.graph.spectrum import _single_threaded_blas, lowest_levels
+    from hyperlattice.graph.solvers import _single_threaded_blas
+    from hyperlattice.graph.spectrum import lowest_levels
 
     print(f"machine: {machine()}")
     t0 = time.perf_counter()

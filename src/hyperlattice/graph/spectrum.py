@@ -3,26 +3,20 @@ r"""Lowest levels of :math:`H = -tA + V` on a lattice, labelled by angular momen
 Methods (``lowest_levels(..., method=...)``):
 
 ``"sector"`` (default whenever V is rotation invariant)
-    H splits into p Bloch blocks :math:`H_m` of size N/p (:mod:`hyperlattice.symmetry`).
+    H splits into p Bloch blocks :math:`H_m` of size N/p (:mod:`hyperlattice.graph.symmetry`).
     Sectors m and -m are complex conjugates, so only :math:`m = 0, 1, \dots, \lfloor p/2
     \rfloor` are solved. Each block is diagonalised densely when small (reported
     ``"sector-dense"``) and otherwise by ARPACK applied to a Chebyshev polynomial of the block
-    (``"sector-sparse"``, see below). Inside a sector the lowest gap is much larger than the
+    (``"sector-sparse"``). Inside a sector the lowest gap is much larger than the
     full :math:`E_1 - E_0` (which separates different sectors), so the Krylov method converges
     in far fewer steps.
 ``"dense"`` / ``"sparse"``
     The full N x N matrix (needed when V breaks the rotation); levels are still labelled by m
     by diagonalising the rotation inside each degenerate cluster of eigenvectors.
 
-*Chebyshev-accelerated Lanczos.* ARPACK's own work per step (re-orthogonalisation against
-its whole basis) costs far more than one sparse matrix-vector product on these graphs, and the
-plain ``eigsh(A, which="LA")`` spends most of its time there. ARPACK is therefore run on
-:math:`T_d((H - c)/w)`, a degree-d Chebyshev polynomial that maps the bulk of the spectrum
-:math:`[c, E_{\max}]` into :math:`[-1, 1]` and stretches the wanted low levels below c
-(monotonically, d even). One ARPACK step then costs d products, which run in a fused numba
-kernel over a fixed-width neighbour table. The cut c comes from a short Lanczos run: its
-Ritz values bound the true levels from above (Cauchy interlacing), so the wanted levels lie
-below c; a result with a level above c is rejected and recomputed with a larger c.
+The solvers themselves (the fixed-width neighbour tables, the Chebyshev-accelerated Lanczos
+with its numba kernel, the dense fallback, the residual checks) live in
+:mod:`hyperlattice.graph.solvers`; this module chooses among them and labels the levels.
 
 Every returned level carries its residual :math:`\|H\psi - E\psi\|` for the normalised
 state, evaluated with the true H (a sector residual equals the full residual of the lifted
@@ -32,23 +26,25 @@ with :class:`~hyperlattice.errors.ConvergenceWarning` when within a factor 100).
 
 from __future__ import annotations
 
-import contextlib
-import ctypes
 import time
-import warnings
 from dataclasses import dataclass, field
-from typing import Callable
 
 import numpy as np
 import scipy.linalg as sla
-import scipy.sparse.linalg as spla
 
-from ..errors import ConvergenceError, ConvergenceWarning
+from ..errors import ConvergenceError
 from .lattice import Lattice
 from .operators import OnSite, hamiltonian
-from .symmetry import (
-    SectorTable,
+from .solvers import (
+    ProgressFn,
+    _check_residuals,
+    _chebyshev_lowest,
+    _dense_lowest,
+    _residuals,
+    _single_threaded_blas,
     full_table,
+)
+from .symmetry import (
     lift,
     rotation_invariant,
     rotation_orbits,
@@ -63,8 +59,6 @@ __all__ = ["Spectrum", "lowest_levels", "full_spectrum", "partition_function", "
 DENSE_MAX = 2000
 
 _METHODS = ("auto", "sector", "dense", "sparse")
-
-ProgressFn = Callable[[str], None]
 
 
 # ----------------------------------------------------------------------------
@@ -132,211 +126,6 @@ class Spectrum:
 
 
 # ----------------------------------------------------------------------------
-# kernels (numba, compiled on first use, never at import)
-# ----------------------------------------------------------------------------
-
-_KERNEL = None
-
-
-def _kernel():
-    """Fused Chebyshev step ``out = alpha*((H - cen) y) - beta*yprev`` on a neighbour table.
-
-    Serial on purpose: on a shared 2-core machine a parallel loop waits for descheduled
-    threads (measured 12 ms instead of 0.45 ms per product at 100k rows under load).
-    """
-    global _KERNEL
-    if _KERNEL is None:
-        import numba
-
-        @numba.njit(cache=True)
-        def step(cols, weights, diag, cen, alpha, beta, y, yprev, out):  # pragma: no cover - jitted
-            n, width = cols.shape
-            for i in range(n):
-                acc = (diag[i] - cen) * y[i]
-                for k in range(width):
-                    acc += weights[i, k] * y[cols[i, k]]
-                out[i] = alpha * acc - beta * yprev[i]
-
-        _KERNEL = step
-    return _KERNEL
-
-
-_BLAS_SYMBOLS = (
-    ("scipy_openblas_set_num_threads64_", "scipy_openblas_get_num_threads64_"),
-    ("scipy_openblas_set_num_threads", "scipy_openblas_get_num_threads"),
-    ("openblas_set_num_threads64_", "openblas_get_num_threads64_"),
-    ("openblas_set_num_threads", "openblas_get_num_threads"),
-)
-
-
-@contextlib.contextmanager
-def _single_threaded_blas():
-    """Run ARPACK's many small BLAS calls on one thread, restoring the setting afterwards.
-
-    On vectors of 1e5-1e6 entries a multi-threaded OpenBLAS spends more on waking its
-    threads than on the arithmetic, and on a loaded 2-core machine each call can wait for a
-    descheduled thread: measured 15x slower ARPACK runs (5.1 s vs 0.34 s for sector m = 0 at
-    rings = 12). The OpenBLAS copies bundled with numpy and scipy are found among the loaded
-    libraries (as threadpoolctl does); other BLAS builds are left alone.
-    """
-    restore = []
-    try:
-        with open("/proc/self/maps") as fh:
-            paths = {line.split()[-1] for line in fh if "openblas" in line.lower() and "/" in line}
-    except OSError:  # pragma: no cover - not Linux
-        paths = set()
-    for path in sorted(paths):
-        try:
-            lib = ctypes.CDLL(path)
-        except OSError:  # pragma: no cover
-            continue
-        for set_name, get_name in _BLAS_SYMBOLS:
-            if hasattr(lib, set_name) and hasattr(lib, get_name):
-                setter, getter = getattr(lib, set_name), getattr(lib, get_name)
-                getter.restype = ctypes.c_int
-                old = int(getter())
-                setter(1)
-                restore.append((setter, old))
-                break
-    try:
-        yield
-    finally:
-        for setter, old in restore:
-            setter(old)
-
-
-def _dtype(table: SectorTable, x: np.ndarray):
-    return np.result_type(table.weights.dtype, x.dtype, np.float64)
-
-
-def _matvec(table: SectorTable, x: np.ndarray) -> np.ndarray:
-    """H x for a table and a vector or an (n, k) block."""
-    if x.ndim == 2:
-        return np.column_stack([_matvec(table, x[:, c]) for c in range(x.shape[1])]) if x.shape[1] else x.copy()
-    x = np.ascontiguousarray(x, dtype=_dtype(table, x))
-    out = np.empty_like(x)
-    _kernel()(table.cols, table.weights, table.diag, 0.0, 1.0, 0.0, x, x, out)
-    return out
-
-
-def _residuals(table: SectorTable, vecs: np.ndarray, energies: np.ndarray) -> np.ndarray:
-    hv = _matvec(table, vecs)
-    return np.linalg.norm(hv - vecs * energies[None, :], axis=0)
-
-
-def _ritz_values(table: SectorTable, steps: int, rng: np.random.Generator) -> np.ndarray:
-    """Ritz values of a short plain Lanczos run: upper bounds of the lowest levels.
-
-    Run without re-orthogonalisation: in so few steps none of the clustered low levels
-    converges, which is when orthogonality would be lost.
-    """
-    n = table.size
-    dt = np.complex128 if table.is_complex else np.float64
-    v = rng.standard_normal(n).astype(dt)
-    v /= np.linalg.norm(v)
-    v_old = np.zeros_like(v)
-    w = np.empty_like(v)
-    kern = _kernel()
-    alphas, betas = [], []
-    beta = 0.0
-    for _ in range(min(steps, n)):
-        kern(table.cols, table.weights, table.diag, 0.0, 1.0, 0.0, v, v, w)
-        w -= beta * v_old
-        a = float(np.vdot(v, w).real)
-        w -= a * v
-        alphas.append(a)
-        beta = float(np.linalg.norm(w))
-        if beta < 1e-12:
-            break
-        betas.append(beta)
-        v_old, v = v, w / beta
-    k = len(alphas)
-    return sla.eigh_tridiagonal(np.array(alphas), np.array(betas[: k - 1]), eigvals_only=True)
-
-
-def _chebyshev_lowest(table: SectorTable, k: int, tol: float, progress: ProgressFn | None, label: str,
-                      degree: int = 32, partial: bool = False) -> tuple[np.ndarray, np.ndarray, dict]:
-    """k lowest eigenpairs of a table by ARPACK on a Chebyshev polynomial (see module doc)."""
-    n = table.size
-    rng = np.random.default_rng(12345)
-    lo, hi = table.bounds()
-    theta = _ritz_values(table, 60, rng)
-    # theta[k] >= lambda_{k+1} >= lambda_k (interlacing): every wanted level lies below c.
-    # Halfway to the next Ritz value keeps c clear of a level that sits exactly at theta[k]
-    # (a converged Ritz value), where the polynomial would not lift it above 1.
-    if theta.shape[0] > k + 1:
-        c = 0.5 * (float(theta[k]) + float(theta[k + 1]))
-    else:
-        c = float(theta[min(k, theta.shape[0] - 1)]) + 1e-3 * (hi - lo)
-    c = min(c, hi - 1e-3 * (hi - lo))
-    dt = np.complex128 if table.is_complex else np.float64
-    kern = _kernel()
-    info = {"products": 0, "restarts": 0}
-    arpack_tol = 1e-14
-    for attempt in range(6):
-        cen = 0.5 * (c + hi)
-        half = 0.5 * (hi - c)
-        y0 = np.empty(n, dtype=dt)
-        y1 = np.empty(n, dtype=dt)
-        y2 = np.empty(n, dtype=dt)
-        steps = [0]
-
-        def cheb(x, cen=cen, half=half):
-            x = np.ascontiguousarray(np.ravel(x), dtype=dt)
-            kern(table.cols, table.weights, table.diag, cen, 1.0 / half, 0.0, x, x, y1)
-            a, b = x, y1
-            for _ in range(degree - 1):
-                out = y2 if a is not y2 else y0
-                if out is b:
-                    out = y0 if b is not y0 else y2
-                kern(table.cols, table.weights, table.diag, cen, 2.0 / half, 1.0, b, a, out)
-                a, b = b, out
-            steps[0] += 1
-            if progress is not None and steps[0] % 5 == 0:
-                progress(f"{label}: {steps[0] * degree} products")
-            return b.copy()
-
-        op = spla.LinearOperator((n, n), matvec=cheb, dtype=dt)
-        ncv = min(n, max(2 * k + 1, k + 16))
-        v0 = rng.standard_normal(n).astype(dt)
-        try:
-            _, vecs = spla.eigsh(op, k=k, which="LA", ncv=ncv, tol=arpack_tol, v0=v0, maxiter=5000)
-        except spla.ArpackNoConvergence as exc:  # pragma: no cover - depends on the matrix
-            raise ConvergenceError(f"{label}: ARPACK did not converge ({exc}).") from exc
-        info["products"] += steps[0] * degree
-        # Rayleigh quotients with the true block (the polynomial's eigenvalues are only a proxy)
-        vecs /= np.linalg.norm(vecs, axis=0)[None, :]
-        hv = _matvec(table, vecs)
-        energies = np.real(np.einsum("ij,ij->j", vecs.conj(), hv))
-        order = np.argsort(energies)
-        energies, vecs = energies[order], vecs[:, order]
-        if np.all(energies < c):
-            res = np.linalg.norm(_matvec(table, vecs) - vecs * energies[None, :], axis=0)
-            if np.all(res <= tol) or attempt >= 2:
-                if partial:
-                    # a Krylov run sees one state of an exactly degenerate pair: the slots it
-                    # cannot fill hold unconverged mixtures; the caller completes the pairs
-                    good = res <= tol
-                    return energies[good], vecs[:, good], info
-                return energies, vecs, info
-            # accurate enough in the polynomial's terms but not in H's: tighten and go again
-            arpack_tol = 0.0
-            degree = min(2 * degree, 48)
-        else:
-            # fewer than k levels below c: the polynomial folded some of them; widen
-            c = c + 0.5 * (hi - c)
-        info["restarts"] += 1
-    raise ConvergenceError(f"{label}: could not bracket the {k} lowest levels.")  # pragma: no cover
-
-
-def _dense_lowest(table: SectorTable, k: int) -> tuple[np.ndarray, np.ndarray]:
-    mat = table.to_csr().toarray()
-    k = min(k, mat.shape[0])
-    w, v = sla.eigh(mat, subset_by_index=[0, k - 1])
-    return w, v
-
-
-# ----------------------------------------------------------------------------
 # checks and labels
 # ----------------------------------------------------------------------------
 
@@ -344,15 +133,6 @@ def _check_levels(levels) -> int:
     if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or int(levels) < 1:
         raise ValueError(f"levels must be a positive integer, got {levels!r}.")
     return int(levels)
-
-
-def _check_residuals(res: np.ndarray, tol: float, what: str) -> None:
-    worst = float(np.max(res)) if res.size else 0.0
-    if not np.isfinite(worst) or worst > 100 * tol:
-        raise ConvergenceError(f"{what}: residual {worst:.2e} exceeds the tolerance {tol:.1e}.")
-    if worst > tol:
-        warnings.warn(f"{what}: residual {worst:.2e} slightly exceeds the tolerance {tol:.1e}.",
-                      ConvergenceWarning, stacklevel=3)
 
 
 def _rotation_labels(lattice: Lattice, h, energies: np.ndarray, vecs: np.ndarray, keep: int):

@@ -28,11 +28,11 @@ import scipy.sparse as sp
 
 from .. import _validate
 from .lattice import Lattice
-from .operators import OnSite, onsite_values
+from .operators import OnSite
+from .solvers import SectorTable, _fixed_width, _real_onsite
 
 __all__ = [
     "RotationOrbits",
-    "SectorTable",
     "rotation_orbits",
     "signed_sector",
     "rotation_invariant",
@@ -125,17 +125,6 @@ def signed_sector(m, p: int) -> int:
     return m - p if m > p / 2 else m
 
 
-def _real_onsite(lattice: Lattice, onsite: OnSite) -> np.ndarray | None:
-    v = onsite_values(lattice, onsite)
-    if v is None:
-        return None
-    if np.iscomplexobj(v):
-        if np.any(v.imag != 0):
-            raise ValueError("the on-site term must be real so that H is Hermitian.")
-        v = v.real
-    return v.astype(np.float64)
-
-
 def rotation_invariant(lattice: Lattice, onsite: OnSite = None) -> bool:
     """True if the on-site term is invariant under the p-fold rotation (to 1e-12 relative)."""
     v = _real_onsite(lattice, onsite)
@@ -143,72 +132,6 @@ def rotation_invariant(lattice: Lattice, onsite: OnSite = None) -> bool:
         return True
     scale = max(1.0, float(np.max(np.abs(v))))
     return bool(np.max(np.abs(v[lattice.rotation] - v)) <= 1e-12 * scale)
-
-
-@dataclass(frozen=True, eq=False)
-class SectorTable:
-    """A Hamiltonian block as a fixed-width neighbour table (what the kernels consume).
-
-    Row ``i`` of the block acts as ``(H x)_i = diag[i] x_i + sum_k weights[i, k] x[cols[i, k]]``;
-    unused slots point at ``i`` itself with weight 0.
-    """
-
-    m: int | None
-    cols: np.ndarray
-    weights: np.ndarray
-    diag: np.ndarray
-
-    @property
-    def size(self) -> int:
-        return int(self.diag.shape[0])
-
-    @property
-    def is_complex(self) -> bool:
-        return bool(np.iscomplexobj(self.weights))
-
-    def bounds(self) -> tuple[float, float]:
-        """Gershgorin bounds (lo, hi) on the spectrum of the block."""
-        radius = np.abs(self.weights).sum(axis=1)
-        return float(np.min(self.diag - radius)), float(np.max(self.diag + radius))
-
-    def to_csr(self) -> sp.csr_matrix:
-        n, w = self.cols.shape
-        rows = np.repeat(np.arange(n), w)
-        mat = sp.csr_matrix((self.weights.ravel(), (rows, self.cols.ravel())), shape=(n, n))
-        mat = mat + sp.diags(self.diag.astype(mat.dtype), format="csr")
-        mat.eliminate_zeros()
-        mat.sort_indices()
-        return mat.tocsr()
-
-
-def _fixed_width(n: int, rows: np.ndarray, cols: np.ndarray, vals: np.ndarray):
-    """Pack (row, col, value) entries into n x width arrays, padding with (row, 0)."""
-    order = np.argsort(rows, kind="stable")
-    rows, cols, vals = rows[order], cols[order], vals[order]
-    counts = np.bincount(rows, minlength=n)
-    width = max(1, int(counts.max()) if counts.size else 1)
-    start = np.zeros(n, dtype=np.int64)
-    np.cumsum(counts[:-1], out=start[1:])
-    slot = np.arange(rows.shape[0]) - start[rows]
-    table_cols = np.repeat(np.arange(n, dtype=np.int32)[:, None], width, axis=1)
-    table_vals = np.zeros((n, width), dtype=vals.dtype)
-    table_cols[rows, slot] = cols
-    table_vals[rows, slot] = vals
-    return table_cols, table_vals
-
-
-def full_table(lattice: Lattice, t: float = 1.0, onsite: OnSite = None) -> SectorTable:
-    """The whole Hamiltonian :math:`H = -tA + V` as a fixed-width table (``m`` is None)."""
-    _validate.lattice(lattice)
-    e = lattice.edges.astype(np.int64)
-    n = lattice.sites
-    rows = np.concatenate([e[:, 0], e[:, 1]])
-    cols = np.concatenate([e[:, 1], e[:, 0]])
-    vals = np.full(rows.shape[0], -float(t))
-    tc, tv = _fixed_width(n, rows, cols, vals)
-    v = _real_onsite(lattice, onsite)
-    diag = np.zeros(n) if v is None else v
-    return SectorTable(m=None, cols=tc, weights=tv, diag=diag)
 
 
 def sector_table(lattice: Lattice, m: int, t: float = 1.0, onsite: OnSite = None, *,
