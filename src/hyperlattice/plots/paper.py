@@ -1,4 +1,5 @@
-"""Figures Fig1 (tessellation and ring graph) and Fig2 (lowest levels vs rings, Z(beta))."""
+"""Figures Fig1 (tessellation and ring graph) and Fig2 (lowest levels vs rings, Z(beta)), and the
+plots of the graph-vs-continuum level results of :mod:`hyperlattice.compare.levels`."""
 
 from __future__ import annotations
 
@@ -84,4 +85,50 @@ def plot_partition(beta: np.ndarray, z_graph: np.ndarray, z_cont: np.ndarray, e0
     ax.set_ylabel(r"$\ln Z$", fontsize=9)
     ax.tick_params(labelsize=8)
     ax.legend(fontsize=7)
+    return ax
+
+
+def plot_relative_error(trend, ax=None):
+    r"""Signed relative error :math:`(E_{\rm graph}-E_{\rm cont})/|E_{\rm graph}|` against l
+    (a :class:`~hyperlattice.compare.levels.RelativeErrorTrend`), with its last sign change and,
+    when it saturates, the Aitken limit as a dotted line."""
+    ax = _axes(ax, (6.0, 4.2))
+    ax.plot(trend.rings, trend.relative_error, "o-", color="C0", ms=5, lw=1.0, label=trend.level)
+    ax.axhline(0.0, color="0.7", lw=0.8)
+    if trend.sign_change is not None:
+        ax.axvspan(*trend.sign_change, color="0.9", lw=0, label="last sign change")
+    if trend.saturates:
+        ax.axhline(trend.aitken_limit, color="C3", ls=":", lw=1.0, label="Aitken limit")
+    ax.set_yscale("symlog", linthresh=1e-4)
+    ax.set_xlabel(r"number of rings $\ell$")
+    ax.set_ylabel(r"$(E_{\rm graph}-E_{\rm cont})/|E_{\rm graph}|$")
+    ax.legend(fontsize=8)
+    return ax
+
+
+def plot_level_counting(count, ax=None, *, label: str | None = None, **kwargs):
+    r"""Counting function :math:`\mathcal N(E)` (states up to E) of a
+    :class:`~hyperlattice.compare.levels.LevelCount` as a staircase."""
+    ax = _axes(ax, (5.2, 3.8))
+    e = np.concatenate([[count.energies[0] if count.energies.size else count.cutoff], count.energies,
+                        [count.cutoff]])
+    n = np.concatenate([[0], np.cumsum(count.degeneracy), [count.states]])
+    ax.step(e, n, where="post", label=label or count.side, **kwargs)
+    ax.set_xlabel("energy E / t")
+    ax.set_ylabel(r"states below E, $\mathcal{N}(E)$")
+    ax.legend(fontsize=8)
+    return ax
+
+
+def plot_level_comparison(comparison, ax=None):
+    """Graph (filled) and continuum (open) levels of a
+    :class:`~hyperlattice.compare.levels.LevelComparison` against the level index."""
+    ax = _axes(ax, (5.2, 3.8))
+    k = np.arange(len(comparison))
+    ax.plot(k, comparison.graph.energies[:k.size], "o", color="C0", ms=6, label=f"graph ({comparison.graph.method})")
+    ax.plot(k, comparison.continuum.energies[:k.size], "o", mfc="none", mec="C3", ms=10, mew=1.4,
+            label=f"continuum ({comparison.continuum.method})")
+    ax.set_xlabel("level index (a ±m pair counts twice)")
+    ax.set_ylabel("energy E / t")
+    ax.legend(fontsize=8)
     return ax
