@@ -54,6 +54,11 @@ def test_table_output(capsys):
     (["--sector", "x"], "sector m must be an integer"),
     (["--tol", "-1"], "tol"),
     (["-p", "6", "-q", "3"], ""),
+    # more levels than states used to be cut silently to N (the 35 states of two rings)
+    (["--levels", "10000"], "levels = 10,000 exceeds the 35 states"),
+    (["--levels", "36", "--method", "dense"], "exceeds the 35 states"),
+    (["--levels", "36", "--method", "sparse"], "exceeds the 35 states"),
+    (["--tol", "nan"], "tol"),
 ])
 def test_errors_are_one_line_and_exit_2(capsys, argv, match):
     assert main(["spectrum", "--rings", "2", *argv]) == 2
@@ -66,3 +71,8 @@ def test_argparse_errors_exit_2(capsys):
         main(["spectrum", "--rings", "0"])
     assert exc.value.code == 2
     assert np.char.count(capsys.readouterr().err, "\n") == 1
+
+
+def test_all_states_by_levels_equal_to_n(capsys):
+    out = run_json(capsys, "--rings", "2", "--levels", "35")
+    assert len(out["energies"]) == 35 and out["sites"] == 35

@@ -200,3 +200,163 @@ def test_residuals_at_twelve_rings():
     assert spec.m.tolist() == [0, 1]
     # the levels are close (gap ~5e-3) but their residuals make each good to ~1e-13
     assert spec.energies[1] - spec.energies[0] > 1e-3
+
+
+# ----------------------------------------------------------------------------
+# the result protocol
+# ----------------------------------------------------------------------------
+
+CLI_KEYS = ["p", "q", "rings", "sites", "method", "energies", "n", "m", "residuals"]
+
+
+def test_spectrum_is_a_levels_result():
+    from hyperlattice.results import Levels
+
+    spec = lowest_levels(ring_lattice(7, 3, 4), 3)
+    assert isinstance(spec, Levels)
+    assert spec.error_kind == "residual" and spec.method == "sector-dense"
+    assert spec.residuals is spec.errors
+    assert spec.description.endswith(".") and "angular-momentum" in spec.description
+    assert (spec.rings, spec.sites, spec.kind) == (4, 315, "sites") and spec.eigenvectors is None
+    assert spec.degeneracy.tolist() == [1, 2, 2] and len(spec) == 3
+    assert set(spec.timings) >= {"setup", "solve", "total"}
+    with pytest.raises(ValueError):
+        spec.energies[0] = 0.0  # read-only
+    # summary() is exactly the CLI's JSON contract (keys, order, values)
+    summary = spec.summary()
+    assert list(summary) == CLI_KEYS
+    assert summary["energies"] == [float(e) for e in spec.energies]
+    assert summary["residuals"] == [float(r) for r in spec.errors]
+    assert summary["m"] == [0, 1, -1] and summary["n"] == [1, 1, 1]
+    for method in ("dense", "sparse"):
+        full = lowest_levels(ring_lattice(7, 3, 4), 3, method=method)
+        assert full.method == method and "full" in full.description
+
+
+def _same(a, b):
+    from hyperlattice.graph.spectrum import Spectrum
+
+    assert isinstance(b, Spectrum)
+    for name in ("energies", "n", "m", "errors", "eigenvectors"):
+        x, y = getattr(a, name), getattr(b, name)
+        if x is None:
+            assert y is None
+        else:
+            assert y.dtype == x.dtype and np.array_equal(x, y)
+    for name in ("error_kind", "method", "description", "p", "q", "rings", "sites", "kind", "timings"):
+        assert getattr(a, name) == getattr(b, name)
+    assert a.summary() == b.summary()
+
+
+@pytest.mark.parametrize("kwargs", [
+    {}, {"eigenvectors": True}, {"eigenvectors": True, "sector": 0}, {"onsite": lambda z, ring: z.real},
+    {"onsite": lambda z, ring: z.real, "eigenvectors": True},
+], ids=["plain", "complex-vectors", "real-vectors", "no-m", "no-m-vectors"])
+def test_spectrum_round_trips(tmp_path, kwargs):
+    from hyperlattice.graph.spectrum import Spectrum
+    from hyperlattice.results import Result, load_result
+
+    spec = lowest_levels(ring_lattice(7, 3, 3), 3, **kwargs)
+    if kwargs.get("eigenvectors") and "sector" not in kwargs and "onsite" not in kwargs:
+        assert np.iscomplexobj(spec.eigenvectors)
+    _same(spec, Spectrum.from_dict(spec.as_dict()))
+    _same(spec, Result.from_dict(spec.as_dict()))
+    for suffix in (".json", ".npz"):
+        path = spec.save(tmp_path / f"spec{suffix}")
+        _same(spec, Spectrum.load(path))
+        _same(spec, load_result(path))
+
+
+# ----------------------------------------------------------------------------
+# defects found by unusual input (issue 10, item 10)
+# ----------------------------------------------------------------------------
+
+@pytest.mark.parametrize("method", ["auto", "sector", "dense", "sparse"])
+def test_more_levels_than_states_is_refused_for_every_method(method):
+    lat = ring_lattice(7, 3, 3)  # 112 states
+    with pytest.raises(ValueError, match="exceeds the 112 states"):
+        lowest_levels(lat, 10_000, method=method)
+    with pytest.raises(ValueError, match="exceeds the 112 states"):
+        lowest_levels(lat, 113, method=method)
+
+
+def test_all_states_can_be_asked_for():
+    lat = ring_lattice(7, 3, 3)
+    spec = lowest_levels(lat, lat.sites)
+    assert len(spec) == lat.sites
+    assert np.allclose(spec.energies, np.linalg.eigvalsh(hamiltonian(lat).toarray()), atol=1e-12)
+    with pytest.raises(ValueError, match="sector 2 has only 16 levels"):
+        lowest_levels(lat, 17, sector=2)
+
+
+def test_partition_function_overflow_is_an_error_and_log_z_is_finite():
+    from hyperlattice.graph.spectrum import log_partition_function
+
+    lat = ring_lattice(7, 3, 3)
+    e = full_spectrum(lat)
+    # used to return inf silently
+    with pytest.raises(ValueError, match="log_partition_function"):
+        partition_function(lat, 1000.0)
+    with pytest.raises(ValueError, match="beta = 1000"):
+        partition_function(lat, [1.0, 1000.0])
+    log_z = log_partition_function(lat, 1000.0)
+    assert np.isfinite(log_z)
+    # the ground state dominates: ln Z = -beta E0 + ln(1 + tiny)
+    assert log_z == pytest.approx(-1000.0 * e[0], rel=1e-15)
+    beta = np.array([0.0, 0.5, 3.0, 40.0])
+    neg = e[e < 0]
+    assert np.allclose(log_partition_function(lat, beta), np.log(np.exp(-np.outer(beta, neg)).sum(axis=1)),
+                       rtol=1e-14, atol=0)
+    assert np.allclose(np.log(partition_function(lat, beta)), log_partition_function(lat, beta), rtol=1e-14)
+    assert log_partition_function(lat, 0.0) == pytest.approx(np.log(neg.size), rel=1e-15)
+    # a Spectrum (any Levels) is accepted as the list of levels
+    spec = lowest_levels(lat, 5)
+    assert log_partition_function(spec, 2.0) == pytest.approx(np.log(np.exp(-2.0 * spec.energies).sum()))
+    # no negative level: Z = 0 exactly, and its logarithm is refused
+    assert partition_function([1.0, 2.0], 3.0) == 0.0
+    with pytest.raises(ValueError, match="no level is negative"):
+        log_partition_function([1.0, 2.0], 3.0)
+    with pytest.raises(ValueError, match="float range"):
+        log_partition_function([-2.0], 1e308)
+
+
+BAD = [None, float("nan"), True, "2", [1, 2]]
+
+
+# (argument, message) and the values from BAD that are valid for it
+ARGUMENTS = [("levels", "levels", ()), ("t", "hopping t", ()), ("tol", "tol", ()), ("method", "method", ()),
+             ("sector", "sector m", (None,)), ("eigenvectors", "eigenvectors", (True,)),
+             ("progress", "progress", (None,))]
+
+
+@pytest.mark.parametrize("name,match,bad", [(n, m, b) for n, m, ok in ARGUMENTS for b in BAD if b not in ok],
+                         ids=lambda v: repr(v) if not isinstance(v, str) or len(v) > 1 else v)
+def test_bad_values_give_value_error(name, match, bad):
+    with pytest.raises(ValueError, match=match):
+        lowest_levels(ring_lattice(7, 3, 2), **{name: bad})
+
+
+@pytest.mark.parametrize("bad", BAD + [np.eye(3)], ids=repr)
+def test_bad_lattice_gives_value_error(bad):
+    for call in (lambda: lowest_levels(bad), lambda: full_spectrum(bad)):
+        with pytest.raises(ValueError, match="Lattice"):
+            call()
+
+
+@pytest.mark.parametrize("bad", BAD + [0, 2.5], ids=repr)
+def test_bad_max_sites(bad):
+    # max_sites=nan used to be accepted (every comparison with nan is False)
+    with pytest.raises(ValueError, match="max_sites"):
+        full_spectrum(ring_lattice(7, 3, 2), max_sites=bad)
+
+
+@pytest.mark.parametrize("bad", [None, np.nan, True, "2", -1.0, 1 + 2j, [[1.0], [1.0, 2.0]], np.inf], ids=repr)
+def test_bad_beta(bad):
+    with pytest.raises(ValueError, match="beta"):
+        partition_function([-1.0, 0.5], bad)
+
+
+@pytest.mark.parametrize("bad", [None, "x", True, [[-1.0], [1.0, 2.0]], [np.nan, -1.0], 1 + 2j])
+def test_bad_energies_for_partition_function(bad):
+    with pytest.raises(ValueError, match="energies"):
+        partition_function(bad, 1.0)

@@ -24,7 +24,7 @@ def _sector(text: str) -> int:
         raise ValueError(f"sector m must be an integer, got {text!r}.") from None
 
 
-def add_arguments(parser):
+def add_arguments(parser) -> None:
     add_pq(parser)
     parser.add_argument("--rings", type=positive_int, default=4, help="number of rings (default 4)")
     parser.add_argument("--levels", type=positive_int, default=2, help="number of lowest states (default 2)")
@@ -56,7 +56,7 @@ def run(args) -> int:
     print(f"{what}{{{args.p},{args.q}}} rings={args.rings} sites={spec.sites} method={spec.method} "
           f"time={spec.timings.get('total', 0.0):.2f} s")
     print(f"{'E':>20} {'n':>3} {'m':>4} {'deg':>3} {'residual':>10}")
-    for e, n, m, d, r in zip(spec.energies, spec.n, spec.m, spec.degeneracy, spec.residuals):
+    for e, n, m, d, r in zip(spec.energies, spec.n, spec.m, spec.degeneracy, spec.errors):
         print(f"{e:20.14f} {n:3d} {m:4d} {d:3d} {r:10.1e}")
     print("deg = 2: sectors m and -m (= p - m) are degenerate.")
     return 0

@@ -32,7 +32,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.linalg as sla
 
+from .. import _validate
 from ..errors import ConvergenceError
+from ..results import Levels
 from .lattice import Lattice
 from .operators import OnSite, hamiltonian
 from .solvers import (
@@ -52,7 +54,8 @@ from .symmetry import (
     signed_sector,
 )
 
-__all__ = ["Spectrum", "lowest_levels", "full_spectrum", "partition_function", "DENSE_MAX"]
+__all__ = ["Spectrum", "lowest_levels", "full_spectrum", "partition_function", "log_partition_function",
+           "DENSE_MAX"]
 
 #: Largest matrix (full or sector block) diagonalised densely by ``method="auto"``: eigh of
 #: 2000 x 2000 takes well under a second here, while ARPACK start-up dominates below that.
@@ -65,9 +68,9 @@ _METHODS = ("auto", "sector", "dense", "sparse")
 # the result
 # ----------------------------------------------------------------------------
 
-@dataclass(frozen=True, eq=False)
-class Spectrum:
-    r"""Lowest levels of a lattice Hamiltonian with their labels.
+@dataclass(frozen=True, eq=False, kw_only=True)
+class Spectrum(Levels):
+    r"""Lowest levels of a lattice Hamiltonian with their labels (a :class:`~hyperlattice.results.Levels`).
 
     Attributes
     ----------
@@ -78,10 +81,14 @@ class Spectrum:
     m : ndarray of int, shape (K,), or None
         Signed angular momentum in :math:`(-p/2, p/2]`; the pair +m, -m is listed +m first.
         ``None`` if the on-site term breaks the rotation (then n just counts levels).
-    residuals : ndarray, shape (K,)
-        :math:`\|H\psi - E\psi\|` of each normalised state.
+    errors : ndarray, shape (K,)
+        :math:`\|H\psi - E\psi\|` of each normalised state (also available as ``residuals``).
+    error_kind : str
+        Always ``"residual"``.
     method : str
         ``"dense"``, ``"sparse"``, ``"sector-dense"`` or ``"sector-sparse"`` (what actually ran).
+    description : str
+        One sentence on what ran.
     p, q, rings, sites : int
     kind : str
         ``"sites"`` or ``"line_graph"``.
@@ -91,28 +98,18 @@ class Spectrum:
         Normalised states (complex for m not in {0, p/2}), column k belonging to ``energies[k]``.
     """
 
-    energies: np.ndarray
-    n: np.ndarray
-    m: np.ndarray | None
-    residuals: np.ndarray
-    method: str
-    p: int
-    q: int
+    error_kind: str = "residual"
+    description: str = ""
     rings: int
     sites: int
     kind: str = "sites"
     timings: dict = field(default_factory=dict)
     eigenvectors: np.ndarray | None = None
 
-    def __len__(self) -> int:
-        return int(self.energies.shape[0])
-
     @property
-    def degeneracy(self) -> np.ndarray:
-        """Symmetry degeneracy of each level: 2 for m not in {0, p/2} (m and -m = p - m), else 1."""
-        if self.m is None:
-            return np.ones(len(self), dtype=int)
-        return np.where((2 * self.m) % self.p == 0, 1, 2)
+    def residuals(self) -> np.ndarray:
+        r""":math:`\|H\psi - E\psi\|` of each normalised state (the same array as ``errors``)."""
+        return self.errors
 
     def summary(self) -> dict:
         """The CLI's JSON contract: p, q, rings, sites, method, energies, n, m, residuals."""
@@ -121,19 +118,13 @@ class Spectrum:
             "energies": [float(e) for e in self.energies],
             "n": [int(v) for v in self.n],
             "m": None if self.m is None else [int(v) for v in self.m],
-            "residuals": [float(r) for r in self.residuals],
+            "residuals": [float(r) for r in self.errors],
         }
 
 
 # ----------------------------------------------------------------------------
 # checks and labels
 # ----------------------------------------------------------------------------
-
-def _check_levels(levels) -> int:
-    if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or int(levels) < 1:
-        raise ValueError(f"levels must be a positive integer, got {levels!r}.")
-    return int(levels)
-
 
 def _rotation_labels(lattice: Lattice, h, energies: np.ndarray, vecs: np.ndarray, keep: int):
     """Label full-matrix eigenvectors by m: diagonalise the rotation in each degenerate cluster.
@@ -221,7 +212,7 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
     Parameters
     ----------
     lattice : Lattice
-        From :func:`~hyperlattice.lattice.ring_lattice` or :func:`~hyperlattice.lattice.line_graph`
+        From :func:`~hyperlattice.graph.lattice.ring_lattice` or :func:`~hyperlattice.graph.lattice.line_graph`
         (the line graph gives the resonator-array Hamiltonian).
     levels : int
         Number K of lowest states returned (each state of a degenerate pair counts once).
@@ -259,17 +250,17 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
     ([-2.0, -1.24698, -1.24698], [0, 1, -1])
     """
     t_start = time.perf_counter()
-    if not isinstance(lattice, Lattice):
-        raise ValueError(f"expected a Lattice (from ring_lattice or line_graph), got {type(lattice).__name__}.")
-    levels = _check_levels(levels)
-    if method not in _METHODS:
-        raise ValueError(f"method must be one of {', '.join(_METHODS)}, got {method!r}.")
-    tol = float(tol)
-    if not (tol > 0 and np.isfinite(tol)):
-        raise ValueError(f"tol must be a positive number, got {tol!r}.")
-    t = float(t)
-    if not np.isfinite(t):
-        raise ValueError("the hopping t must be a finite number.")
+    _validate.lattice(lattice)
+    levels = _validate.positive_int("levels", levels)
+    method = _validate.choice("method", method, _METHODS)
+    tol = _validate.positive_real("tol", tol)
+    t = _validate.real("the hopping t", t)
+    eigenvectors = _validate.flag("eigenvectors", eigenvectors)
+    if progress is not None:
+        _validate.function("progress", progress)
+    if levels > lattice.sites:
+        # refused for every method: a silently shorter list would look like a complete answer
+        raise ValueError(f"levels = {levels:,} exceeds the {lattice.sites:,} states of this lattice.")
     p = lattice.p
     if sector is not None:
         sector = signed_sector(sector, p)
@@ -298,13 +289,13 @@ def _sector_levels(lattice, levels, t, onsite, sector, want_vecs, tol, progress,
         wanted = {m: (levels if (2 * m) % p == 0 else (levels + 1) // 2) for m in range(p // 2 + 1)}
     else:
         wanted = {sector: levels}
+    if sector is not None and levels > size:
+        raise ValueError(f"sector {sector} has only {size} levels, fewer than the {levels} requested.")
     per_method = set()
     found = []  # (energy, m, n, residual, vector or None)
     for m, k_m in wanted.items():
         t0 = time.perf_counter()
         k_m = min(k_m, size)
-        if levels > size and sector is not None:
-            raise ValueError(f"sector {m} has only {size} levels, fewer than the {levels} requested.")
         table = sector_table(lattice, m, t, onsite, orbits=orbits)
         if size <= DENSE_MAX or size < 2 * k_m + 3:  # ARPACK needs a basis larger than k + 1
             e, v = _dense_lowest(table, k_m)
@@ -336,15 +327,18 @@ def _sector_levels(lattice, levels, t, onsite, sector, want_vecs, tol, progress,
     timings["solve"] = sum(v for k, v in timings.items() if k.startswith("sector"))
     timings["total"] = time.perf_counter() - t_start
     method = "sector-" + ("sparse" if "sparse" in per_method else "dense")
-    return Spectrum(energies=energies, n=ns, m=ms, residuals=res, method=method, p=p, q=lattice.q,
-                    rings=lattice.rings, sites=lattice.sites, kind=lattice.kind, timings=timings,
+    solved = ", ".join(str(m) for m in wanted)
+    how = ("ARPACK on a Chebyshev polynomial of" if method == "sector-sparse" else "dense LAPACK eigh of")
+    description = (f"{how[0].upper()}{how[1:]} the {size:,} x {size:,} angular-momentum block"
+                   f"{'s' if len(wanted) > 1 else ''} H_m for m = {solved}"
+                   + (" (sector -m is the complex conjugate of m)." if sector is None else "."))
+    return Spectrum(energies=energies, n=ns, m=ms, errors=res, method=method, description=description, p=p,
+                    q=lattice.q, rings=lattice.rings, sites=lattice.sites, kind=lattice.kind, timings=timings,
                     eigenvectors=vecs)
 
 
 def _full_levels(lattice, levels, t, onsite, method, symmetric, want_vecs, tol, progress, t_start) -> Spectrum:
     n_sites = lattice.sites
-    if levels > n_sites:
-        raise ValueError(f"the lattice has only {n_sites} states, fewer than the {levels} requested.")
     h = hamiltonian(lattice, t=t, onsite=onsite)
     if np.iscomplexobj(h.data):
         raise ValueError("the on-site term must be real so that H is Hermitian.")
@@ -375,9 +369,13 @@ def _full_levels(lattice, levels, t, onsite, method, symmetric, want_vecs, tol, 
     _check_residuals(res, tol, f"{method} eigensolver")
     ns = np.arange(1, e.shape[0] + 1) if m is None else _radial_index(m)
     timings["total"] = time.perf_counter() - t_start
-    return Spectrum(energies=np.asarray(e, dtype=float), n=ns, m=m, residuals=res, method=method, p=lattice.p,
-                    q=lattice.q, rings=lattice.rings, sites=n_sites, kind=lattice.kind, timings=timings,
-                    eigenvectors=v if want_vecs else None)
+    how = "Dense LAPACK eigh of" if method == "dense" else "ARPACK on a Chebyshev polynomial of"
+    labels = ("levels labelled by m by diagonalising the rotation in each degenerate cluster" if symmetric
+              else "no m labels, the on-site term breaks the rotation")
+    description = f"{how} the full {n_sites:,} x {n_sites:,} Hamiltonian; {labels}."
+    return Spectrum(energies=np.asarray(e, dtype=float), n=ns, m=m, errors=res, method=method,
+                    description=description, p=lattice.p, q=lattice.q, rings=lattice.rings, sites=n_sites,
+                    kind=lattice.kind, timings=timings, eigenvectors=v if want_vecs else None)
 
 
 def full_spectrum(lattice: Lattice, *, t: float = 1.0, onsite: OnSite = None,
@@ -387,13 +385,28 @@ def full_spectrum(lattice: Lattice, *, t: float = 1.0, onsite: OnSite = None,
     Uses the p sector blocks (each diagonalised densely, p times less memory and about
     :math:`p^2` less work than the full matrix) when V is rotation invariant.
 
+    Parameters
+    ----------
+    lattice : Lattice
+    t : float
+        Hopping amplitude.
+    onsite : scalar, array or callable, optional
+        On-site term V.
+    max_sites : int
+        Largest N accepted (the full spectrum is a dense computation).
+
+    Returns
+    -------
+    ndarray, shape (N,)
+
     Raises
     ------
     ValueError
-        If N exceeds ``max_sites`` (the full spectrum is a dense computation).
+        If N exceeds ``max_sites``.
     """
-    if not isinstance(lattice, Lattice):
-        raise ValueError(f"expected a Lattice (from ring_lattice or line_graph), got {type(lattice).__name__}.")
+    _validate.lattice(lattice)
+    t = _validate.real("the hopping t", t)
+    max_sites = _validate.positive_int("max_sites", max_sites)
     if lattice.sites > max_sites:
         raise ValueError(f"the full spectrum of {lattice.sites:,} sites is a dense computation; "
                          f"raise max_sites (now {max_sites:,}) if that is intended.")
@@ -407,14 +420,46 @@ def full_spectrum(lattice: Lattice, *, t: float = 1.0, onsite: OnSite = None,
     return sla.eigvalsh(hamiltonian(lattice, t=t, onsite=onsite).toarray())
 
 
+def _negative_levels(system, beta, t: float, onsite: OnSite) -> tuple[np.ndarray, np.ndarray]:
+    """The negative energies of ``system`` (ascending) and beta as a checked array."""
+    if isinstance(system, Lattice):
+        energies = full_spectrum(system, t=t, onsite=onsite)
+    elif isinstance(system, Levels):
+        energies = np.asarray(system.energies, dtype=float)
+        if not np.all(np.isfinite(energies)):
+            raise ValueError("the energies must be finite numbers.")
+    else:
+        energies = _validate.real_array("energies", system).ravel()
+    b = _validate.real_array("beta", beta)
+    if np.any(b < 0):
+        raise ValueError(f"beta must be non-negative, got {float(b.min()):g}.")
+    return np.sort(energies[energies < 0]), b
+
+
+def _shifted_sum(neg: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    r"""Z split as :math:`e^{-\beta E_0}(1 + r)`: returns :math:`(-\beta E_0,\ r)`, :math:`r \ge 0`.
+
+    Every term of r is at most 1, so nothing overflows but the prefactor; a product
+    :math:`\beta (E_n - E_0)` beyond the float range is an exact zero term.
+    """
+    with np.errstate(over="ignore"):
+        shift = -b * neg[0]
+        rest = np.exp(-np.multiply.outer(b, neg[1:] - neg[0])).sum(axis=-1)
+    return shift, rest
+
+
 def partition_function(system, beta, *, t: float = 1.0, onsite: OnSite = None) -> np.ndarray | float:
     r"""Graph partition function summed over negative energies (inset of the paper's Fig. 2).
 
     .. math:: Z(\beta) = \sum_n \Theta(-E_n)\, e^{-\beta E_n}
+              = e^{-\beta E_0} \sum_n \Theta(-E_n)\, e^{-\beta (E_n - E_0)}
+
+    evaluated in the second form (shifted by the ground energy :math:`E_0`), so that only
+    the prefactor can overflow.
 
     Parameters
     ----------
-    system : Lattice, Spectrum or array of energies
+    system : Lattice, Levels (e.g. a Spectrum) or array of energies
         A lattice (its full spectrum is computed, see :func:`full_spectrum`) or given levels.
     beta : float or array
         Inverse temperature(s) :math:`\beta \ge 0`.
@@ -425,19 +470,60 @@ def partition_function(system, beta, *, t: float = 1.0, onsite: OnSite = None) -
     -------
     float or ndarray
         Z for each beta (the shape of ``beta``). Levels with :math:`E_n \ge 0` are left out,
-        as in the paper, to cut off energies outside the continuum approximation.
+        as in the paper, to cut off energies outside the continuum approximation (Z = 0 if
+        no level is negative).
+
+    Raises
+    ------
+    ValueError
+        If Z exceeds the float range (about 1.8e308) for some beta; then use
+        :func:`log_partition_function`.
     """
-    if isinstance(system, Lattice):
-        energies = full_spectrum(system, t=t, onsite=onsite)
-    elif isinstance(system, Spectrum):
-        energies = system.energies
+    neg, b = _negative_levels(system, beta, t, onsite)
+    if neg.size == 0:
+        z = np.zeros(b.shape)
     else:
-        energies = np.asarray(system, dtype=float).ravel()
-    if not np.all(np.isfinite(energies)):
-        raise ValueError("the energies must be finite numbers.")
-    b = np.asarray(beta, dtype=float)
-    if not np.all(np.isfinite(b)) or np.any(b < 0):
-        raise ValueError("beta must be finite and non-negative.")
-    neg = energies[energies < 0]
-    z = np.exp(-np.multiply.outer(b, neg)).sum(axis=-1)
+        shift, rest = _shifted_sum(neg, b)
+        with np.errstate(over="ignore"):
+            z = np.exp(shift) * (1.0 + rest)
+        if not np.all(np.isfinite(z)):
+            k = int(np.flatnonzero(~np.isfinite(np.ravel(z)))[0])
+            raise ValueError(f"Z(beta) exceeds the float range at beta = {float(np.ravel(b)[k]):g} "
+                             f"(log Z = {float(np.ravel(shift + np.log1p(rest))[k]):.6g}); "
+                             "use log_partition_function for log Z instead.")
     return float(z) if np.ndim(z) == 0 else z
+
+
+def log_partition_function(system, beta, *, t: float = 1.0, onsite: OnSite = None) -> np.ndarray | float:
+    r"""Logarithm of the partition function of :func:`partition_function`, for any beta.
+
+    .. math:: \ln Z(\beta) = -\beta E_0 + \ln\Big(1 + \sum_{n > 0} \Theta(-E_n)\,
+              e^{-\beta (E_n - E_0)}\Big)
+
+    (log-sum-exp shifted by the ground energy :math:`E_0`); finite where Z itself overflows,
+    and tends to :math:`-\beta E_0` at low temperature (the paper's Fig. 2 inset).
+
+    Parameters
+    ----------
+    system, beta, t, onsite
+        As in :func:`partition_function`.
+
+    Returns
+    -------
+    float or ndarray
+        :math:`\ln Z` for each beta (the shape of ``beta``).
+
+    Raises
+    ------
+    ValueError
+        If no level is negative (then Z = 0 and its logarithm is :math:`-\infty`), or if
+        :math:`\beta |E_0|` itself exceeds the float range.
+    """
+    neg, b = _negative_levels(system, beta, t, onsite)
+    if neg.size == 0:
+        raise ValueError("no level is negative, so Z = 0 and log Z is minus infinity.")
+    shift, rest = _shifted_sum(neg, b)
+    log_z = shift + np.log1p(rest)
+    if not np.all(np.isfinite(log_z)):
+        raise ValueError(f"beta * |E0| exceeds the float range for beta = {float(np.max(b)):g}.")
+    return float(log_z) if np.ndim(log_z) == 0 else log_z
