@@ -90,3 +90,55 @@ def test_heptagon_blocks_are_bloch_phases():
     lat = ring_lattice(7, 3, 1)
     for m in range(7):
         assert np.isclose(sector_hamiltonian(lat, m).toarray()[0, 0], -2 * np.cos(2 * np.pi * m / 7))
+
+
+BAD = [None, float("nan"), True, "1", [1, 2], 1.5]
+
+
+@pytest.mark.parametrize("bad", BAD, ids=repr)
+def test_bad_sector_label(bad):
+    with pytest.raises(ValueError, match="sector m must be an integer"):
+        signed_sector(bad, 7)
+    with pytest.raises(ValueError, match="sector m must be an integer"):
+        sector_hamiltonian(ring_lattice(7, 3, 2), bad)
+    with pytest.raises(ValueError, match="p must be an integer"):
+        signed_sector(1, bad)
+
+
+@pytest.mark.parametrize("bad", BAD[:-1], ids=repr)
+def test_bad_lattice_hopping_and_orbits(bad):
+    lat = ring_lattice(7, 3, 2)
+    with pytest.raises(ValueError, match="Lattice"):
+        rotation_invariant(bad)
+    with pytest.raises(ValueError, match="Lattice"):
+        rotation_orbits(bad)
+    with pytest.raises(ValueError, match="hopping t"):
+        sector_table(lat, 0, t=bad)
+    with pytest.raises(ValueError, match="orbits"):
+        lift(bad, 0, np.ones(5))
+    if bad is not None:  # orbits=None means "compute them"
+        with pytest.raises(ValueError, match="orbits"):
+            sector_table(lat, 0, orbits=bad)
+
+
+def test_orbits_of_another_lattice_are_refused():
+    with pytest.raises(ValueError, match="different lattice"):
+        sector_table(ring_lattice(7, 3, 3), 0, orbits=rotation_orbits(ring_lattice(7, 3, 2)))
+
+
+@pytest.mark.parametrize("bad,match", [
+    (None, "phi"), ("x", "phi"), (np.ones(4), "one row per orbit"), (np.full(5, np.nan), "NaN"),
+    (np.ones((5, 2, 2)), "dimension"), ([[1.0], [1.0, 2.0]], "phi"), (np.ones(5, dtype=bool), "phi"),
+])
+def test_lift_checks_its_vectors(bad, match):
+    orb = rotation_orbits(ring_lattice(7, 3, 2))
+    with pytest.raises(ValueError, match=match):
+        lift(orb, 1, bad)
+
+
+def test_lift_keeps_real_vectors_real():
+    orb = rotation_orbits(ring_lattice(8, 3, 2))
+    assert not np.iscomplexobj(lift(orb, 0, np.ones(orb.size)))
+    assert not np.iscomplexobj(lift(orb, 4, [1.0] * orb.size))     # m = p/2: phases +-1
+    assert np.iscomplexobj(lift(orb, 1, np.ones(orb.size)))
+    assert lift(orb, 0, np.ones((orb.size, 3))).shape == (8 * orb.size, 3)

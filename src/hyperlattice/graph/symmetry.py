@@ -109,15 +109,21 @@ def rotation_orbits(lattice: Lattice) -> RotationOrbits:
     return RotationOrbits(p=p, representatives=reps, orbit=orbit, shift=shift)
 
 
+def _check_orbits(orbits, lattice: Lattice | None = None) -> None:
+    if not isinstance(orbits, RotationOrbits):
+        raise ValueError(f"orbits must come from rotation_orbits(lattice), got {type(orbits).__name__}.")
+    if lattice is not None and (orbits.p != lattice.p or orbits.orbit.shape[0] != lattice.sites):
+        raise ValueError("orbits belong to a different lattice (call rotation_orbits on this one).")
+
+
 def signed_sector(m, p: int) -> int:
     """Normalise a sector label to the signed form ``m in (-p/2, p/2]``.
 
     Accepts ``0 <= m < p`` (Bloch phase :math:`e^{2\\pi i m/p}`) or an already signed value
     ``-p/2 < m <= p/2``; sector p - m is reported as -m.
     """
-    if isinstance(m, bool) or not isinstance(m, (int, np.integer)):
-        raise ValueError(f"sector m must be an integer, got {m!r}.")
-    m = int(m)
+    p = _validate.integer("p", p, minimum=3)
+    m = _validate.integer("sector m", m)
     if not (-p / 2 < m < p):
         raise ValueError(
             f"sector m must be in range(p) = 0..{p - 1} or a signed value in ({-p / 2:g}, {p / 2:g}], got {m}.")
@@ -127,6 +133,7 @@ def signed_sector(m, p: int) -> int:
 
 def rotation_invariant(lattice: Lattice, onsite: OnSite = None) -> bool:
     """True if the on-site term is invariant under the p-fold rotation (to 1e-12 relative)."""
+    _validate.lattice(lattice)
     v = _real_onsite(lattice, onsite)
     if v is None:
         return True
@@ -153,11 +160,11 @@ def sector_table(lattice: Lattice, m: int, t: float = 1.0, onsite: OnSite = None
     _validate.lattice(lattice)
     p = int(lattice.p)
     m = signed_sector(m, p)
-    t = float(t)
-    if not np.isfinite(t):
-        raise ValueError("the hopping t must be a finite number.")
+    t = _validate.real("the hopping t", t)
     if orbits is None:
         orbits = rotation_orbits(lattice)
+    else:
+        _check_orbits(orbits, lattice)
     v = _real_onsite(lattice, onsite)
     if v is not None and not rotation_invariant(lattice, v):
         raise ValueError("the on-site term is not invariant under the p-fold rotation, so H has no "
@@ -219,9 +226,17 @@ def lift(orbits: RotationOrbits, m: int, phi: np.ndarray) -> np.ndarray:
     :math:`\psi(R^s r_o) = \omega^{m s}\phi_o/\sqrt{p}`, so a normalised :math:`\phi` gives a
     normalised :math:`\psi` with :math:`\psi(R i) = \omega^m \psi(i)`.
     """
+    _check_orbits(orbits)
     p = orbits.p
     m = signed_sector(m, p)
-    phi = np.asarray(phi)
+    try:
+        kind = np.asarray(phi).dtype.kind
+    except (TypeError, ValueError):
+        kind = "c"  # ragged or odd input: let the validator word the error
+    # real vectors stay real (sectors 0 and p/2 have real phases)
+    phi = (_validate.real_array if kind in "biuf" else _validate.complex_array)("phi", phi, ndim=(1, 2))
+    if phi.shape[0] != orbits.size:
+        raise ValueError(f"phi must have one row per orbit ({orbits.size}), got shape {phi.shape}.")
     phase = np.exp(2j * np.pi * ((m * orbits.shift) % p) / p) / np.sqrt(p)
     if 2 * m % p == 0:
         phase = phase.real
