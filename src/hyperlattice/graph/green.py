@@ -8,7 +8,6 @@ frequency. The comparison with the continuum through the dictionary ``eq21`` liv
 
 from __future__ import annotations
 
-
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
@@ -22,6 +21,34 @@ __all__ = ["graph_green", "GraphResolvent"]
 
 _DENSE_MAX = 4000          # full matrices / eigendecompositions only up to this many sites
 _ON_SPECTRUM = 1e3         # |omega - E_n| below this many ulps of ||H|| counts as "on the spectrum"
+
+
+def _real_symmetric(system) -> sp.csr_matrix:
+    """A user's Hamiltonian matrix (dense or sparse) as real symmetric CSR, or a ValueError."""
+    if sp.issparse(system):
+        H = sp.csr_matrix(system)
+        data = H.data
+        if data.dtype.kind not in "iufc":
+            raise ValueError(f"the Hamiltonian must contain real numbers, got values of type {data.dtype}.")
+        if not np.all(np.isfinite(data)):
+            raise ValueError("the Hamiltonian contains NaN or infinite values.")
+    else:
+        H = sp.csr_matrix(_validate.complex_array("the Hamiltonian", system, ndim=2))
+    if H.shape[0] != H.shape[1]:
+        raise ValueError(f"the Hamiltonian must be a square matrix, got shape {H.shape}.")
+    if np.iscomplexobj(H.data):
+        if np.any(H.data.imag != 0):
+            raise ValueError("the Hamiltonian must be real symmetric (Hermitian hopping); it has complex entries.")
+        H = H.real
+    H = H.astype(float)
+    if H.nnz and abs(H - H.T).max() > 1e-12 * max(1.0, abs(H).max()):
+        raise ValueError("the Hamiltonian must be real symmetric (Hermitian hopping).")
+    return H
+
+
+def _is_scalar(x) -> bool:
+    """One site index (as opposed to a list of them); decided without np.asarray on odd input."""
+    return bool(np.isscalar(x) or (isinstance(x, np.ndarray) and x.ndim == 0))
 
 
 def _as_omegas(omega) -> tuple[np.ndarray, bool]:
@@ -44,11 +71,11 @@ class GraphResolvent:
     Parameters
     ----------
     system : Lattice or sparse/dense matrix
-        A lattice (then :math:`H` = :func:`hyperlattice.operators.hamiltonian`) or :math:`H`.
+        A lattice (then :math:`H` = :func:`hyperlattice.graph.operators.hamiltonian`) or :math:`H`.
     t : float
         Hopping amplitude (lattice input only).
     onsite : callable, array or None
-        On-site term (lattice input only), as in :func:`~hyperlattice.operators.hamiltonian`.
+        On-site term (lattice input only), as in :func:`~hyperlattice.graph.operators.hamiltonian`.
     method : {"auto", "dense", "sparse"}
 
     Raises
@@ -59,17 +86,19 @@ class GraphResolvent:
         spectrum to within rounding.
     """
 
-    def __init__(self, system, *, t: float = 1.0, onsite=None, method: str = "auto"):
+    def __init__(self, system, *, t: float = 1.0, onsite=None, method: str = "auto") -> None:
+        method = _validate.choice("method", method, ("auto", "dense", "sparse"))
+        t = _validate.real("the hopping t", t)
         if isinstance(system, Lattice):
             H = hamiltonian(system, t=t, onsite=onsite)
         else:
-            H = sp.csr_matrix(system) if not sp.issparse(system) else system.tocsr()
-            if H.shape[0] != H.shape[1]:
-                raise ValueError("the Hamiltonian must be a square matrix.")
-            if abs(H - H.T).max() > 1e-12 * max(1.0, abs(H).max()) if H.nnz else False:
-                raise ValueError("the Hamiltonian must be real symmetric (Hermitian hopping).")
-        if method not in ("auto", "dense", "sparse"):
-            raise ValueError(f"method must be 'auto', 'dense' or 'sparse', got {method!r}.")
+            if t != 1.0 or onsite is not None:
+                raise ValueError("t and onsite apply to a lattice; a matrix H is used as given.")
+            H = _real_symmetric(system)
+        if np.iscomplexobj(H.data):
+            if np.any(H.data.imag != 0):
+                raise ValueError("the on-site term must be real so that H is Hermitian.")
+            H = H.real
         self.H = H.astype(float).tocsc()
         self.n = H.shape[0]
         if method == "auto":
@@ -146,6 +175,8 @@ class GraphResolvent:
         r"""Entries :math:`G_{r_k c_k}(\omega)` for paired index arrays (one solve per distinct column)."""
         rows = _validate.site_indices("rows", rows, self.n)
         cols = _validate.site_indices("cols", cols, self.n)
+        if rows.size != cols.size and 1 not in (rows.size, cols.size):
+            raise ValueError(f"rows and cols must pair up: got {rows.size} rows and {cols.size} cols.")
         rows, cols = np.broadcast_arrays(rows, cols)
         ucols, inv = np.unique(cols, return_inverse=True)
         block = self.columns(omega, ucols)
@@ -191,7 +222,7 @@ def graph_green(lattice, omega, source=None, targets=None, *, t: float = 1.0, on
             raise ValueError(f"the full Green matrix is limited to {_DENSE_MAX} sites (this lattice has {res.n}).")
         src = np.arange(res.n)
         one = False
-    elif np.ndim(source) == 0:
+    elif _is_scalar(source):
         src = np.array([_validate.site_index("source", source, res.n)])
         one = True
     else:
@@ -199,9 +230,9 @@ def graph_green(lattice, omega, source=None, targets=None, *, t: float = 1.0, on
         one = False
     tg = None
     if targets is not None:
-        tg = _validate.site_indices("targets", targets, res.n)
-        if np.ndim(targets) == 0:
-            tg = tg[:1]
+        one_target = _is_scalar(targets)
+        tg = (np.array([_validate.site_index("targets", targets, res.n)]) if one_target
+              else _validate.site_indices("targets", targets, res.n))
     out = []
     for w in oms:
         block = res.columns(complex(w), src)
@@ -209,7 +240,7 @@ def graph_green(lattice, omega, source=None, targets=None, *, t: float = 1.0, on
             block = block[tg]
         if one:
             block = block[:, 0]
-        if targets is not None and np.ndim(targets) == 0:
+        if tg is not None and one_target:
             block = block[0]
         out.append(block)
     return out[0] if scalar else np.stack(out)
