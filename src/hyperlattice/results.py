@@ -5,12 +5,14 @@ a fit) is a :class:`Result`:
 
 * a frozen dataclass with ``eq=False``: results hold arrays, and ``==`` between arrays has no
   single truth value, so results compare by identity (compare fields explicitly instead);
-* its numpy arrays are read-only (``result.energies[0] = 1`` raises), so a result cannot be
-  changed behind the back of a cache or a figure that already used it;
-* :meth:`Result.as_dict` / :meth:`Result.from_dict` round-trip it exactly through plain JSON
-  types (arrays become lists, complex numbers ``{"re", "im"}``, with a ``"type"`` tag), and
-  :meth:`Result.save` / :func:`load_result` through ``.json`` or ``.npz`` files;
-* :meth:`Result.summary` is the short JSON view the CLI prints (a stable contract);
+* its numpy arrays are read-only (``result.energies[0] = 1`` raises), also inside dict, list
+  and tuple fields, so a result cannot be changed behind the back of a cache or a figure that
+  already used it;
+* :meth:`Result.as_dict` / :meth:`Result.from_dict` round-trip it *exactly* through strict JSON
+  (see "Stored form" below), and :meth:`Result.save` / :func:`load_result` through ``.json`` or
+  ``.npz`` files;
+* :meth:`Result.summary` is the short JSON view the CLI prints (a stable contract; by default
+  the plain view of :func:`to_jsonable`);
 * :meth:`Result.plot` draws it on a matplotlib ``ax`` and returns the axes, where a plot makes
   sense.
 
@@ -18,6 +20,19 @@ a fit) is a :class:`Result`:
 continuum alike: ``energies``, ``n``, ``m``, ``degeneracy``, ``errors`` (a residual or an error
 estimate, see ``error_kind``), a short ``method`` label and a ``description``, so that a graph
 spectrum and a continuum spectrum can be compared field by field (:func:`compare_levels`).
+
+Stored form
+-----------
+:meth:`Result.as_dict` gives ``{"type": tag, field: value, ...}`` in strict JSON types. Values
+that JSON cannot hold exactly are written as one-key objects whose key starts with ``__``:
+
+* an array: ``{"__ndarray__": "int32", "shape": [2, 3], "data": [...]}`` (``data`` flat, in C
+  order; complex arrays have ``"real"`` and ``"imag"`` instead; non-finite floats are the
+  strings ``"nan"``, ``"inf"``, ``"-inf"``), so dtype and shape survive, empty arrays included;
+* a non-finite float ``{"__float__": "inf"}``, a complex number ``{"__complex__": [re, im]}``,
+  a tuple ``{"__tuple__": [...]}``, a dict whose keys are not plain strings (``{2: ...}``)
+  ``{"__dict__": [[key, value], ...]}``, a path ``{"__path__": "..."}``;
+* a nested result: its own ``as_dict()`` (recognised by its ``"type"``).
 
 This module imports only numpy (matplotlib only inside ``plot``): every layer may use it.
 """
@@ -28,6 +43,7 @@ import dataclasses
 import json
 import math
 import typing
+import zipfile
 from pathlib import Path
 from typing import Any, ClassVar
 
@@ -44,7 +60,7 @@ def result_types() -> dict[str, type]:
 
 
 # ----------------------------------------------------------------------------
-# JSON encoding of numbers and arrays
+# the plain (display) JSON view: lossy, for summaries and the CLI
 # ----------------------------------------------------------------------------
 
 def _float(x: float):
@@ -57,14 +73,16 @@ def _float(x: float):
 
 
 def to_jsonable(obj):
-    """Plain JSON types for numbers, arrays, tuples, dicts and results.
+    """Plain JSON types for numbers, arrays, tuples, dicts and results (a display view).
 
     Complex numbers become ``{"re": x, "im": y}``, non-finite floats the strings
     ``"inf"``, ``"-inf"``, ``"nan"`` (strict JSON has no such numbers); arrays become nested
-    lists (complex arrays ``{"re": [...], "im": [...]}``).
+    lists (complex arrays ``{"re": [...], "im": [...]}``); a result becomes its
+    :meth:`Result.summary`. Not exactly invertible (dtypes, tuples and int keys are lost): the
+    exact form is :meth:`Result.as_dict`.
     """
     if isinstance(obj, Result):
-        return obj.as_dict()
+        return obj.summary()
     if isinstance(obj, dict):
         return {str(k): to_jsonable(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
@@ -103,16 +121,121 @@ def from_jsonable(obj):
     return _number(obj)
 
 
-def _array_from(value, dtype=None) -> np.ndarray:
-    if isinstance(value, dict) and set(value) == {"re", "im"}:
-        return _array_from(value["re"], float) + 1j * _array_from(value["im"], float)
+# ----------------------------------------------------------------------------
+# the exact stored form (see "Stored form" in the module docstring)
+# ----------------------------------------------------------------------------
 
-    def conv(v):
-        if isinstance(v, list):
-            return [conv(u) for u in v]
-        return _number(v)
+#: array dtypes stored exactly (bool, signed/unsigned integers, floats, complex, unicode)
+_ARRAY_KINDS = "biufcU"
 
-    return np.asarray(conv(value), dtype=dtype)
+
+def _plain_key(k) -> bool:
+    # "type" marks a nested result and "__..." our tagged values: such keys go the long way
+    return isinstance(k, str) and k != "type" and not k.startswith("__")
+
+
+def _encode_floats(values: list) -> list:
+    return [v if math.isfinite(v) else _float(v) for v in values]
+
+
+def _encode_array(a: np.ndarray) -> dict:
+    if a.dtype.kind not in _ARRAY_KINDS:
+        raise ValueError(f"an array of dtype {a.dtype} cannot be stored in a result.")
+    if a.dtype.kind == "f" and a.dtype.itemsize > 8:
+        raise ValueError(f"an array of dtype {a.dtype} cannot be stored exactly; use float64.")
+    flat = a.ravel()
+    out: dict[str, Any] = {"__ndarray__": a.dtype.str if a.dtype.kind == "U" else a.dtype.name,
+                           "shape": list(a.shape)}
+    if a.dtype.kind == "c":
+        out["real"] = _encode_floats(flat.real.tolist())
+        out["imag"] = _encode_floats(flat.imag.tolist())
+    elif a.dtype.kind == "f":
+        out["data"] = _encode_floats(flat.tolist())
+    else:
+        out["data"] = flat.tolist()
+    return out
+
+
+def _encode(obj):
+    """``obj`` in the exact stored form (strict JSON types only)."""
+    if isinstance(obj, Result):
+        return obj.as_dict()
+    if obj is None or isinstance(obj, (bool, str)):
+        return obj
+    if isinstance(obj, np.bool_):
+        return bool(obj)
+    if isinstance(obj, (int, np.integer)):
+        return int(obj)
+    if isinstance(obj, (float, np.floating)):
+        x = float(obj)
+        return x if math.isfinite(x) else {"__float__": _float(x)}
+    if isinstance(obj, (complex, np.complexfloating)):
+        return {"__complex__": [_encode(float(obj.real)), _encode(float(obj.imag))]}
+    if isinstance(obj, np.ndarray):
+        return _encode_array(obj)
+    if isinstance(obj, tuple):
+        return {"__tuple__": [_encode(v) for v in obj]}
+    if isinstance(obj, list):
+        return [_encode(v) for v in obj]
+    if isinstance(obj, dict):
+        if all(_plain_key(k) for k in obj):
+            return {k: _encode(v) for k, v in obj.items()}
+        return {"__dict__": [[_encode(k), _encode(v)] for k, v in obj.items()]}
+    if isinstance(obj, Path):
+        return {"__path__": str(obj)}
+    raise ValueError(f"a value of type {type(obj).__name__} cannot be stored in a result.")
+
+
+def _decode_floats(values) -> list:
+    return [_number(v) for v in values]
+
+
+def _decode_array(obj: dict) -> np.ndarray:
+    dtype = np.dtype(obj["__ndarray__"])
+    shape = tuple(int(n) for n in obj["shape"])
+    if dtype.kind == "c":
+        re = np.asarray(_decode_floats(obj["real"]), dtype=float)
+        im = np.asarray(_decode_floats(obj["imag"]), dtype=float)
+        flat = np.empty(re.shape, dtype=dtype)
+        flat.real, flat.imag = re, im
+    elif dtype.kind == "f":
+        flat = np.asarray(_decode_floats(obj["data"]), dtype=dtype)
+    else:
+        flat = np.asarray(obj["data"], dtype=dtype)
+    return flat.reshape(shape)
+
+
+def _decode(obj):
+    """Inverse of :func:`_encode`."""
+    if isinstance(obj, list):
+        return [_decode(v) for v in obj]
+    if not isinstance(obj, dict):
+        return obj
+    if "type" in obj:
+        return Result.from_dict(obj)
+    if "__ndarray__" in obj:
+        return _decode_array(obj)
+    if len(obj) == 1:
+        (key, value), = obj.items()
+        if key == "__float__":
+            return float(_number(value)) if value in ("nan", "inf", "-inf") else _bad(obj)
+        if key == "__complex__":
+            re, im = (_decode(v) for v in value)
+            return complex(float(re), float(im))
+        if key == "__tuple__":
+            return tuple(_decode(v) for v in value)
+        if key == "__dict__":
+            return {_decode(k): _decode(v) for k, v in value}
+        if key == "__path__":
+            return Path(value)
+    if any(isinstance(k, str) and k.startswith("__") for k in obj):
+        _bad(obj)
+    return {k: _decode(v) for k, v in obj.items()}
+
+
+def _bad(obj):
+    text = json.dumps(obj)
+    raise ValueError(f"unreadable stored value {text[:60]}{'...' if len(text) > 60 else ''}.")
 
 
 # ----------------------------------------------------------------------------
@@ -132,12 +255,25 @@ def _freeze(a: np.ndarray) -> np.ndarray:
     return a
 
 
+def _freeze_nested(v):
+    """Read-only arrays inside dict/list/tuple fields too (containers rebuilt, same type)."""
+    if isinstance(v, np.ndarray):
+        return _freeze(v)
+    if isinstance(v, dict):
+        return {k: _freeze_nested(u) for k, u in v.items()}
+    if isinstance(v, (list, tuple)):
+        return type(v)(_freeze_nested(u) for u in v)
+    return v
+
+
 class Result:
     """Base of all result objects (see the module docstring).
 
     Subclasses are ``@dataclass(frozen=True, eq=False, kw_only=True)``; fields annotated as
-    ``np.ndarray`` are converted with :func:`numpy.asarray` and made read-only at birth.
-    ``TYPE`` is the tag written by :meth:`as_dict` (default: the class name).
+    ``np.ndarray`` are converted with :func:`numpy.asarray` and made read-only at birth, and
+    arrays inside dict, list or tuple fields are made read-only too.
+    ``TYPE`` is the tag written by :meth:`as_dict` (default: the class name); two classes may
+    not share a tag.
     """
 
     TYPE: ClassVar[str] = ""
@@ -147,6 +283,11 @@ class Result:
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
         tag = cls.__dict__.get("TYPE") or cls.__name__
+        old = _REGISTRY.get(tag)
+        if old is not None and (old.__module__, old.__qualname__) != (cls.__module__, cls.__qualname__):
+            # two results with one tag could not be told apart when loading: a programming error
+            raise TypeError(f"result type tag {tag!r} of {cls.__module__}.{cls.__qualname__} is "
+                            f"already used by {old.__module__}.{old.__qualname__}; set TYPE.")
         cls.TYPE = tag
         _REGISTRY[tag] = cls
 
@@ -155,79 +296,102 @@ class Result:
         hints = _hints(type(self))
         for f in dataclasses.fields(self):
             v = getattr(self, f.name)
-            if isinstance(v, np.ndarray) or (v is not None and _is_array_field(f, hints)):
+            if v is not None and not isinstance(v, np.ndarray) and _is_array_field(f, hints):
                 object.__setattr__(self, f.name, _freeze(np.asarray(v)))
+            elif isinstance(v, (np.ndarray, dict, list, tuple)):
+                object.__setattr__(self, f.name, _freeze_nested(v))
 
     # -- dict / JSON -----------------------------------------------------------------
     def as_dict(self) -> dict:
-        """Every field as plain JSON types plus ``"type"``; :meth:`from_dict` inverts it exactly."""
+        """Every field in the exact stored form plus ``"type"``; :meth:`from_dict` inverts it exactly."""
         out: dict[str, Any] = {"type": self.TYPE}
         for f in dataclasses.fields(self):
             if f.name in self._TRANSIENT:
                 continue
-            out[f.name] = to_jsonable(getattr(self, f.name))
+            try:
+                out[f.name] = _encode(getattr(self, f.name))
+            except ValueError as exc:
+                raise ValueError(f"{self.TYPE}.{f.name}: {exc}") from None
         return out
 
     @classmethod
-    def from_dict(cls, data: dict):
-        """Rebuild a result from :meth:`as_dict` output (dispatching on ``"type"`` from the base)."""
+    def from_dict(cls, data: dict) -> "Result":
+        """Rebuild a result from :meth:`as_dict` output (dispatching on ``"type"`` from the base).
+
+        Raises
+        ------
+        ValueError
+            If ``data`` is not the stored form of a result of this class.
+        """
         if not isinstance(data, dict):
             raise ValueError(f"a result is stored as a dict, got {type(data).__name__}.")
         tag = data.get("type", cls.TYPE)
+        if not isinstance(tag, str):
+            raise ValueError(f"the type tag of a stored result must be a string, got {tag!r}.")
         target = _REGISTRY.get(tag) if cls is Result else cls
         if target is None or (cls is not Result and tag != cls.TYPE):
             raise ValueError(f"stored result of type {tag!r} cannot be read as {cls.__name__}.")
-        hints = _hints(target)
-        kwargs = {}
-        names = {f.name for f in dataclasses.fields(target)}
-        unknown = set(data) - names - {"type"}
+        fields = {f.name: f for f in dataclasses.fields(target)}
+        unknown = set(data) - set(fields) - {"type"}
         if unknown:
-            raise ValueError(f"stored {tag} has unknown fields {sorted(unknown)}.")
-        for f in dataclasses.fields(target):
-            if f.name not in data:
-                if f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING:
-                    raise ValueError(f"stored {tag} lacks the field {f.name!r}.")
-                continue
-            v = data[f.name]
-            if v is not None and _is_array_field(f, hints):
-                kwargs[f.name] = _array_from(v)
-            else:
-                kwargs[f.name] = _field_value(v, hints.get(f.name))
-        return target(**kwargs)
+            raise ValueError(f"stored {tag} has unknown fields {sorted(map(str, unknown))}.")
+        kwargs = {}
+        for name in fields:
+            if name in data:
+                try:
+                    kwargs[name] = _decode(data[name])
+                except ValueError as exc:
+                    raise ValueError(f"stored {tag}.{name}: {exc}") from None
+                except (TypeError, KeyError, IndexError, AttributeError):
+                    raise ValueError(f"stored {tag}.{name} is malformed.") from None
+        return _build(target, kwargs)
 
     def to_json(self) -> str:
-        """:meth:`as_dict` as a JSON string."""
-        return json.dumps(self.as_dict())
+        """:meth:`as_dict` as a (strict) JSON string."""
+        return json.dumps(self.as_dict(), allow_nan=False)
 
     def summary(self) -> dict:
-        """The short JSON view printed by the CLI (default: :meth:`as_dict`)."""
-        return self.as_dict()
+        """The short JSON view printed by the CLI (default: every field in the plain view of
+        :func:`to_jsonable`, plus ``"type"``)."""
+        out: dict[str, Any] = {"type": self.TYPE}
+        for f in dataclasses.fields(self):
+            if f.name not in self._TRANSIENT:
+                out[f.name] = to_jsonable(getattr(self, f.name))
+        return out
 
     # -- files -------------------------------------------------------------------------
     def save(self, path) -> Path:
-        """Write the result to ``path`` (``.json`` or ``.npz``, by suffix) and return the path."""
+        """Write the result to ``path`` (``.json`` or ``.npz``, by suffix) and return the path.
+
+        Raises
+        ------
+        ValueError
+            If the path is not writable (checked before anything is written).
+        """
         from . import _validate
 
         path = _validate.output_path("path", path, suffixes=(".json", ".npz"))
-        if path.suffix == ".json":
-            path.write_text(self.to_json())
-            return path
-        arrays = {}
-        meta = {"type": self.TYPE}
-        hints = _hints(type(self))
-        for f in dataclasses.fields(self):
-            if f.name in self._TRANSIENT:
-                continue
-            v = getattr(self, f.name)
-            if isinstance(v, np.ndarray) and _is_array_field(f, hints):
-                arrays[f.name] = v
-            else:
-                meta[f.name] = to_jsonable(v)
-        np.savez(path, __meta__=np.array(json.dumps(meta)), **arrays)
+        try:
+            if path.suffix == ".json":
+                path.write_text(self.to_json())
+                return path
+            arrays = {}
+            meta = {"type": self.TYPE}
+            for f in dataclasses.fields(self):
+                if f.name in self._TRANSIENT:
+                    continue
+                v = getattr(self, f.name)
+                if isinstance(v, np.ndarray) and v.dtype.kind in _ARRAY_KINDS:
+                    arrays[f.name] = v
+                else:
+                    meta[f.name] = _encode(v)
+            np.savez(path, __meta__=np.array(json.dumps(meta, allow_nan=False)), **arrays)
+        except OSError as exc:
+            raise ValueError(f"cannot write {str(path)!r}: {exc.strerror or exc}.") from None
         return path
 
     @classmethod
-    def load(cls, path):
+    def load(cls, path) -> "Result":
         """Read a result written by :meth:`save`."""
         res = load_result(path)
         if cls is not Result and not isinstance(res, cls):
@@ -247,16 +411,27 @@ def _hints(cls) -> dict:
         return {f.name: f.type for f in dataclasses.fields(cls)}
 
 
-def _field_value(v, hint):
-    if isinstance(v, dict) and v.get("type") in _REGISTRY and "Result" not in str(hint or ""):
-        return Result.from_dict(v)
-    if isinstance(v, dict) and "type" in v and v["type"] in _REGISTRY:
-        return Result.from_dict(v)
-    return from_jsonable(v)
+def _build(cls, kwargs: dict) -> Result:
+    """``cls(**kwargs)`` with missing fields and bad values reported as ValueError."""
+    missing = [f.name for f in dataclasses.fields(cls)
+               if f.init and f.name not in kwargs
+               and f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING]
+    if missing:
+        raise ValueError(f"stored {cls.TYPE} lacks the field(s) {', '.join(map(repr, missing))}.")
+    try:
+        return cls(**kwargs)
+    except (TypeError, AttributeError, KeyError, IndexError) as exc:
+        raise ValueError(f"stored {cls.TYPE} is malformed: {exc}.") from None
 
 
 def load_result(path) -> Result:
-    """Read any result written by :meth:`Result.save` (``.json`` or ``.npz``)."""
+    """Read any result written by :meth:`Result.save` (``.json`` or ``.npz``).
+
+    Raises
+    ------
+    ValueError
+        If the file is missing, unreadable or does not hold a saved result.
+    """
     from . import _validate
 
     path = _validate.input_path("path", path, suffixes=(".json", ".npz"))
@@ -268,20 +443,28 @@ def load_result(path) -> Result:
                 raise ValueError(f"{path} is not a saved hyperlattice result.")
             meta = json.loads(str(data["__meta__"]))
             arrays = {k: data[k] for k in data.files if k != "__meta__"}
-    except (OSError, json.JSONDecodeError, UnicodeDecodeError) as exc:
+    except (OSError, EOFError, zipfile.BadZipFile, json.JSONDecodeError, UnicodeDecodeError) as exc:
         raise ValueError(f"cannot read a result from {path}: {exc}.") from None
+    if not isinstance(meta, dict):
+        raise ValueError(f"{path} is not a saved hyperlattice result.")
     tag = meta.get("type")
-    cls = _REGISTRY.get(tag)
+    cls = _REGISTRY.get(tag) if isinstance(tag, str) else None
     if cls is None:
         raise ValueError(f"{path} holds an unknown result type {tag!r}.")
-    kwargs = {}
-    hints = _hints(cls)
-    for f in dataclasses.fields(cls):
-        if f.name in arrays:
-            kwargs[f.name] = arrays[f.name]
-        elif f.name in meta:
-            kwargs[f.name] = _field_value(meta[f.name], hints.get(f.name))
-    return cls(**kwargs)
+    names = {f.name for f in dataclasses.fields(cls)}
+    unknown = (set(meta) | set(arrays)) - names - {"type"}
+    if unknown:
+        raise ValueError(f"{path}: stored {tag} has unknown fields {sorted(unknown)}.")
+    kwargs = dict(arrays)
+    for name, v in meta.items():
+        if name != "type":
+            try:
+                kwargs[name] = _decode(v)
+            except ValueError as exc:
+                raise ValueError(f"{path}: stored {tag}.{name}: {exc}") from None
+            except (TypeError, KeyError, IndexError, AttributeError):
+                raise ValueError(f"{path}: stored {tag}.{name} is malformed.") from None
+    return _build(cls, kwargs)
 
 
 # ----------------------------------------------------------------------------

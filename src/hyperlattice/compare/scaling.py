@@ -55,35 +55,44 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _validate
-from ..dictionary import laplacian_coefficient
 from .. import geometry
+from ..dictionary import laplacian_coefficient
 from ..errors import ConvergenceWarning
 from ..graph.lattice import Lattice
+from ..results import Result
 
 __all__ = [
     "FrameAngles",
     "frame_angles",
     "RadialProfile",
     "radial_profile",
+    "angle_profile",
+    "OperatorProfile",
+    "operator_profile",
     "SmoothFunction",
     "formal_operator",
     "expansion",
     "expected_error_order",
     "ConvergenceStudy",
     "convergence_study",
+    "MAX_H_VALUES",
 ]
 
 #: Tolerance for the ideal-star check of Eqs. (adj7)-(adj9); the lattice coordinates are
 #: accurate to a few ulp, so anything above this means a wrong lattice, not round-off.
 STAR_TOL = 1e-10
 
+#: Most values of h in one :func:`convergence_study` (each costs one evaluation of
+#: :math:`\hat A_h` and three expansions on every site; a fit needs about ten).
+MAX_H_VALUES = 1000
+
 
 # ----------------------------------------------------------------------------
 # local frame angles chi_i and delta_i
 # ----------------------------------------------------------------------------
 
-@dataclass(frozen=True, eq=False)
-class FrameAngles:
+@dataclass(frozen=True, eq=False, kw_only=True)
+class FrameAngles(Result):
     r"""The local frame of every site: Eqs. (adj7)-(adj9), generalised to {p,q}.
 
     Attributes
@@ -134,6 +143,12 @@ class FrameAngles:
         """Largest star residual over the fully coordinated sites."""
         return float(np.max(self.residual[self.full])) if np.any(self.full) else 0.0
 
+    def plot(self, ax=None):
+        """Fig. ``FigScos3delta`` for these angles (:func:`hyperlattice.plots.scaling.plot_frame_angles`)."""
+        from ..plots.scaling import plot_frame_angles
+
+        return plot_frame_angles(self, ax=ax)
+
 
 def _mapped_neighbours(lattice: Lattice) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """For every directed edge (i, j): owner i and w = w_i(z_j) of Eq. (adj2)."""
@@ -179,8 +194,7 @@ def frame_angles(lattice: Lattice, *, tol: float = STAR_TOL) -> FrameAngles:
         raise ValueError("frame_angles needs a Lattice from ring_lattice().")
     if lattice.kind != "sites":
         raise ValueError("frame angles are defined for the {p,q} lattice itself, not its line graph.")
-    if not (tol > 0 and math.isfinite(tol)):
-        raise ValueError(f"tol must be a positive finite number, got {tol!r}.")
+    tol = _validate.positive_real("tol", tol)
     q = lattice.q
     h = lattice.h
     owner, w, indptr = _mapped_neighbours(lattice)
@@ -210,8 +224,8 @@ def frame_angles(lattice: Lattice, *, tol: float = STAR_TOL) -> FrameAngles:
     return out
 
 
-@dataclass(frozen=True)
-class RadialProfile:
+@dataclass(frozen=True, eq=False, kw_only=True)
+class RadialProfile(Result):
     """Site values grouped at equal radius: mean, min and max per distinct radius.
 
     ``unique`` is False where the sites at one radius do not share one value (the
@@ -230,6 +244,12 @@ class RadialProfile:
         """Hyperbolic distance :math:`d(r, 0) = \\mathrm{artanh}\\, r` of each radius."""
         return np.arctanh(self.r)
 
+    def plot(self, ax=None, *, label: str = r"mean over sites at equal $r$"):
+        """Mean against radius; red bars span min..max where the sites of one radius disagree."""
+        from ..plots.scaling import draw_radial_profile
+
+        return draw_radial_profile(self, ax=ax, label=label)
+
 
 def radial_profile(z: np.ndarray, values: np.ndarray, *, rtol: float = 1e-9,
                    value_tol: float = 1e-8) -> RadialProfile:
@@ -237,12 +257,12 @@ def radial_profile(z: np.ndarray, values: np.ndarray, *, rtol: float = 1e-9,
 
     ``value_tol`` decides when the sites of one radius disagree (non-unique map r -> value).
     """
-    z = np.asarray(z)
-    values = np.asarray(values, dtype=float)
-    if z.shape != values.shape or z.ndim != 1 or z.size == 0:
+    z = _validate.complex_array("z", z, ndim=1)
+    values = _validate.real_array("values", values, ndim=1)
+    rtol = _validate.real("rtol", rtol, minimum=0.0)
+    value_tol = _validate.real("value_tol", value_tol, minimum=0.0)
+    if z.shape != values.shape or z.size == 0:
         raise ValueError("z and values must be non-empty 1-d arrays of the same length.")
-    if not np.all(np.isfinite(values)):
-        raise ValueError("values contains NaN or infinite entries.")
     r = np.abs(z)
     order = np.argsort(r, kind="stable")
     rs, vs = r[order], values[order]
@@ -257,6 +277,18 @@ def radial_profile(z: np.ndarray, values: np.ndarray, *, rtol: float = 1e-9,
     rmean = np.bincount(gid, rs) / count
     return RadialProfile(r=rmean, mean=mean, min=vmin, max=vmax, count=count,
                          unique=(vmax - vmin) <= value_tol)
+
+
+def angle_profile(lattice: Lattice | FrameAngles) -> RadialProfile:
+    r""":math:`\cos(q\delta_i)` averaged over the sites of equal radius (Fig. ``FigScos3delta``).
+
+    :math:`\delta_i` is defined modulo :math:`2\pi/q`, so :math:`\cos(q\delta_i)` (the
+    combination entering ``adj36``) is the quantity with a meaning; sites without neighbours
+    (undefined :math:`\delta_i`) are left out. The one place the CLI and the figure get it from.
+    """
+    angles = _angles(lattice)
+    sel = np.isfinite(angles.delta)
+    return radial_profile(angles.z[sel], np.cos(angles.q * angles.delta[sel]))
 
 
 # ----------------------------------------------------------------------------
@@ -429,6 +461,12 @@ PRESETS = {
 # the formal operator and its expansion
 # ----------------------------------------------------------------------------
 
+def _smooth(f) -> SmoothFunction:
+    if not isinstance(f, SmoothFunction):
+        raise ValueError("f must be a SmoothFunction (the expansion needs its exact derivatives).")
+    return f
+
+
 def _angles(obj) -> FrameAngles:
     if isinstance(obj, FrameAngles):
         return obj
@@ -451,18 +489,18 @@ def _check_h(h, angles: FrameAngles) -> float:
 
 
 def _selection(angles: FrameAngles, sites) -> np.ndarray:
-    if sites is None or (isinstance(sites, str) and sites == "full"):
-        idx = np.flatnonzero(angles.full)
-    elif isinstance(sites, str) and sites == "all":
-        idx = np.flatnonzero(np.isfinite(angles.chi))
+    if sites is None or isinstance(sites, str):
+        sites = _validate.choice("sites", "full" if sites is None else sites, ("full", "all"))
+        return np.flatnonzero(angles.full if sites == "full" else np.isfinite(angles.chi))
+    mask = np.asarray(sites) if isinstance(sites, (np.ndarray, list, tuple)) else None
+    if mask is not None and mask.dtype == bool:
+        if mask.shape != angles.z.shape:
+            raise ValueError(f"a boolean mask of sites must have shape {angles.z.shape}, got {mask.shape}.")
+        idx = np.flatnonzero(mask)
     else:
-        idx = np.asarray(sites)
-        if idx.dtype == bool:
-            idx = np.flatnonzero(idx)
-        if idx.ndim != 1 or (idx.size and (idx.min() < 0 or idx.max() >= angles.z.size)):
-            raise ValueError("sites must be 'full', 'all', a boolean mask or valid site indices.")
-        if np.any(~np.isfinite(angles.chi[idx])):
-            raise ValueError("some selected sites have no neighbours, so chi_i is undefined there.")
+        idx = _validate.site_indices("sites", sites, angles.z.size)
+    if idx.size and np.any(~np.isfinite(angles.chi[idx])):
+        raise ValueError("some selected sites have no neighbours, so chi_i is undefined there.")
     return idx
 
 
@@ -492,6 +530,7 @@ def formal_operator(lattice: Lattice | FrameAngles, f: SmoothFunction, h: float 
         One value per selected site.
     """
     angles = _angles(lattice)
+    f = _validate.function("f", f)
     h = _check_h(h, angles)
     idx = _selection(angles, sites)
     q = angles.q
@@ -514,9 +553,10 @@ def expansion(lattice: Lattice | FrameAngles, f: SmoothFunction, h: float | None
     Every derivative is exact (:class:`SmoothFunction`). See the module docstring for the
     derivation. Parameters as in :func:`formal_operator`.
     """
-    if isinstance(order, bool) or order not in (2, 3, 4):
+    if isinstance(order, bool) or not isinstance(order, (int, np.integer)) or order not in (2, 3, 4):
         raise ValueError(f"order must be 2, 3 or 4 (the expansion is derived through h^4), got {order!r}.")
     angles = _angles(lattice)
+    _smooth(f)
     h = _check_h(h, angles)
     idx = _selection(angles, sites)
     q = angles.q
@@ -533,22 +573,117 @@ def expansion(lattice: Lattice | FrameAngles, f: SmoothFunction, h: float | None
     return out
 
 
+@dataclass(frozen=True, eq=False, kw_only=True)
+class OperatorProfile(Result):
+    r""":math:`\hat A_h f - qf` and its approximations at one h, averaged at equal radius (Fig. ``FigSh``).
+
+    Attributes
+    ----------
+    p, q : int
+        Schläfli symbol.
+    h : float
+        The h of :math:`\hat A_h`.
+    function : str
+        Name of the test function f.
+    exact, quadratic, cubic : RadialProfile
+        Real parts of :math:`\hat A_h f - qf` (``adj34``), :math:`\hat A^{(2)}_h f - qf` (``adj35``)
+        and :math:`\hat A^{(3)}_h f - qf` (``adj36``) on the fully coordinated sites, grouped by radius.
+    max_error_quadratic, max_error_cubic : float
+        :math:`\max_i |\hat A_h f - \hat A^{(k)}_h f|` over those sites (complex values).
+    curve_distance, curve_quadratic : ndarray or None
+        For a radial f the quadratic approximation depends on r alone (it has no :math:`\chi_i`):
+        its real part on a fine grid of :math:`d(r, 0)` up to the outermost site. None otherwise.
+    """
+
+    p: int
+    q: int
+    h: float
+    function: str
+    exact: RadialProfile
+    quadratic: RadialProfile
+    cubic: RadialProfile
+    max_error_quadratic: float
+    max_error_cubic: float
+    curve_distance: np.ndarray | None = None
+    curve_quadratic: np.ndarray | None = None
+
+    def summary(self) -> dict:
+        """One row of ``hyperlattice scaling operator --json``."""
+        return {"h": self.h, "max_error_quadratic": self.max_error_quadratic,
+                "max_error_cubic": self.max_error_cubic, "distance": self.exact.distance,
+                "A_h_minus_qf": self.exact.mean, "quadratic_minus_qf": self.quadratic.mean,
+                "cubic_minus_qf": self.cubic.mean}
+
+    def plot(self, ax=None):
+        """Fig. ``FigSh`` for this h (:func:`hyperlattice.plots.scaling.draw_operator_profile`)."""
+        from ..plots.scaling import draw_operator_profile
+
+        return draw_operator_profile(self, ax=ax)
+
+
+def _is_radial(f: SmoothFunction, z: np.ndarray) -> bool:
+    """True if f takes equal values on the sites' radii rotated to the real axis."""
+    r = np.abs(z[:50]) + 0j
+    return bool(np.allclose(f(z[:50]), f(r), rtol=1e-12, atol=1e-12))
+
+
+def operator_profile(lattice: Lattice | FrameAngles, f: SmoothFunction | None = None,
+                     h: float | None = None) -> OperatorProfile:
+    r"""The radial profile of :math:`\hat A_h f - qf` and of its quadratic and cubic approximations.
+
+    The one computation behind ``hyperlattice scaling operator`` and Fig. ``FigSh``
+    (:func:`hyperlattice.plots.scaling.plot_formal_operator`).
+
+    Parameters
+    ----------
+    lattice : Lattice or FrameAngles
+        The lattice, or its :func:`frame_angles`.
+    f : SmoothFunction, optional
+        Test function; default :math:`\cos[\pi d(z, 0)]` (the paper's).
+    h : float, optional
+        :math:`0 < h \le \tanh d_0`; default the lattice value.
+
+    Returns
+    -------
+    OperatorProfile
+    """
+    angles = _angles(lattice)
+    f = _smooth(f if f is not None else SmoothFunction.cos_distance())
+    h = _check_h(h, angles)
+    if not np.any(angles.full):
+        raise ValueError("the lattice has no fully coordinated site: use at least 2 rings.")
+    z = angles.z[angles.full]
+    base = angles.q * f(z)
+    ex = formal_operator(angles, f, h)
+    a2, a3 = expansion(angles, f, h, 2), expansion(angles, f, h, 3)
+    pe, p2, p3 = (radial_profile(z, (v - base).real) for v in (ex, a2, a3))
+    curve_d = curve_v = None
+    if _is_radial(f, z):
+        grid = np.linspace(0.0, np.abs(z).max(), 400)[1:] + 0j
+        curve_d = np.arctanh(grid.real)
+        curve_v = (laplacian_coefficient(angles.q, h) * f.laplacian(grid)).real
+    return OperatorProfile(p=angles.p, q=angles.q, h=float(h), function=f.name, exact=pe, quadratic=p2,
+                           cubic=p3, max_error_quadratic=float(np.max(np.abs(ex - a2))),
+                           max_error_cubic=float(np.max(np.abs(ex - a3))),
+                           curve_distance=curve_d, curve_quadratic=curve_v)
+
+
 def expected_error_order(q: int, order: int) -> int:
     r"""Power of h with which :math:`\hat A_h f - \hat A_h^{(\rm order)} f` vanishes.
 
     The next non-vanishing order k > ``order``: even k always (isotropic m = n term), odd k
     only for odd q with q <= k (an anisotropic term with m - n = +-q). Generic f assumed.
     """
-    _validate.pq(7 if q == 3 else 5, q)  # validates q >= 3
-    k = order + 1
+    q = _validate.integer("q", q, minimum=3)
+    k = _validate.integer("order", order, minimum=1) + 1
     while True:
         if k % 2 == 0 or (q % 2 == 1 and q <= k):
             return k
         k += 1
 
 
-@dataclass(frozen=True)
-class ConvergenceStudy:
+@dataclass(frozen=True, eq=False, kw_only=True)
+class ConvergenceStudy(Result):
     r"""Errors :math:`\max_i|\hat A_h f - \hat A_h^{(k)} f|` against h and their fitted powers.
 
     ``errors[k]`` and ``exponents[k]`` for each order k; ``expected[k]`` from
@@ -565,10 +700,17 @@ class ConvergenceStudy:
     fit_rms: dict
 
     def summary(self) -> dict:
+        """The JSON printed by ``hyperlattice scaling convergence --json`` (without ``rings``)."""
         return {"p": self.p, "q": self.q, "function": self.function, "h": self.h,
                 "orders": {str(k): {"errors": self.errors[k], "exponent": self.exponents[k],
                                     "expected": self.expected[k], "fit_rms": self.fit_rms[k]}
                            for k in self.errors}}
+
+    def plot(self, ax=None):
+        """Errors against h in log-log, one line per order, with the expected powers dashed."""
+        from ..plots.scaling import plot_convergence
+
+        return plot_convergence(self, ax=ax)
 
 
 def convergence_study(lattice: Lattice | FrameAngles, f: SmoothFunction, hs=None,
@@ -587,17 +729,22 @@ def convergence_study(lattice: Lattice | FrameAngles, f: SmoothFunction, hs=None
         or the log-log fit is not straight (rms residual > 0.05).
     """
     angles = _angles(lattice)
+    _smooth(f)
+    tol = _validate.positive_real("tol", tol)
     if hs is None:
         hs = np.geomspace(0.01, 0.08, 8)
-    hs = np.asarray(hs, dtype=float)
-    if hs.ndim != 1 or hs.size < 3:
+    hs = _validate.real_array("hs", hs, ndim=1)
+    if hs.size < 3:
         raise ValueError("need at least three values of h for a convergence fit.")
+    if hs.size > MAX_H_VALUES:
+        raise ValueError(f"at most {MAX_H_VALUES} values of h (a fit needs about ten), got {hs.size}.")
     for h in hs:
         _check_h(h, angles)
-    orders = tuple(orders)
-    for k in orders:
-        if k not in (2, 3, 4):
-            raise ValueError(f"orders must be among 2, 3, 4, got {k!r}.")
+    if isinstance(orders, (str, bytes)) or not isinstance(orders, (list, tuple, np.ndarray)):
+        raise ValueError(f"orders must be a list of 2, 3 and/or 4, got {orders!r}.")
+    orders = tuple(_validate.integer("orders", k, minimum=2, maximum=4) for k in orders)
+    if not orders:
+        raise ValueError("orders must name at least one of 2, 3, 4.")
     if not np.any(angles.full):
         raise ValueError("the lattice has no fully coordinated site: use at least 2 rings.")
     errors = {k: np.empty(hs.size) for k in orders}

@@ -33,6 +33,7 @@ from .. import _validate
 from .. import geometry
 from ..errors import ConvergenceWarning
 from ..graph.lattice import Lattice
+from ..results import Result
 
 __all__ = [
     "counting_function",
@@ -41,7 +42,12 @@ __all__ = [
     "disk_integral",
     "SumCheck",
     "sum_check",
+    "MAX_SLOPE",
 ]
+
+#: Largest |slope| accepted by :func:`fit_counting`: the geometric slope pi/(2A) of every
+#: hyperbolic {p,q} is at most 14 ({7,3}); beyond 1e6 the fitted intercept is round-off of s rho.
+MAX_SLOPE = 1e6
 
 
 # ----------------------------------------------------------------------------
@@ -55,15 +61,20 @@ def counting_function(lattice: Lattice, *, rtol: float = 1e-9) -> tuple[np.ndarr
     a few ulp, while distinct shells of the lattices built here differ by more than 1e-4.
     """
     _validate.lattice(lattice)
+    rtol = _validate.real("rtol", rtol, minimum=0.0)
     r = np.sort(np.abs(lattice.z))
     last = np.r_[np.diff(r) > rtol * np.maximum(r[1:], 1.0), True]
     idx = np.flatnonzero(last)
     return r[idx], (idx + 1).astype(np.int64)
 
 
-@dataclass(frozen=True)
-class CountingFit:
-    r"""Least-squares fit :math:`\mathcal N(r) \approx s\rho + b` of Eq. (sum4)."""
+@dataclass(frozen=True, eq=False, kw_only=True)
+class CountingFit(Result):
+    r"""Least-squares fit :math:`\mathcal N(r) \approx s\rho + b` of Eq. (sum4).
+
+    ``radii`` and ``counts`` are the fitted points :math:`(r_k, \mathcal N(r_k))`, one per
+    distinct radius of the window; ``rms`` is the rms residual of the fit.
+    """
 
     p: int
     q: int
@@ -83,9 +94,16 @@ class CountingFit:
         return geometry.rho(self.radii)
 
     def summary(self) -> dict:
+        """The JSON printed by ``hyperlattice scaling counting --json``."""
         return {"p": self.p, "q": self.q, "rings": self.rings, "slope": self.slope,
                 "intercept": self.intercept, "expected_slope": self.expected_slope,
                 "slope_fixed": self.slope_fixed, "window": self.window, "points": int(self.radii.size), "rms": self.rms}
+
+    def plot(self, ax=None):
+        """Fig. ``FigS1`` from the fitted points (:func:`hyperlattice.plots.scaling.plot_counting`)."""
+        from ..plots.scaling import plot_counting
+
+        return plot_counting(self, ax=ax)
 
 
 def fit_counting(lattice: Lattice, *, slope: float | None = None, window: str = "all",
@@ -117,6 +135,10 @@ def fit_counting(lattice: Lattice, *, slope: float | None = None, window: str = 
         If a free slope differs from :math:`\pi/(2\mathcal A)` by more than ``slope_rtol``.
     """
     _validate.lattice(lattice)
+    window = _validate.choice("window", window, ("all", "complete"))
+    if slope is not None:
+        slope = _validate.real("slope", slope, minimum=-MAX_SLOPE, maximum=MAX_SLOPE)
+    slope_rtol = _validate.positive_real("slope_rtol", slope_rtol)
     radii, counts = counting_function(lattice)
     if window == "complete":
         from ..graph.lattice import ring_lattice
@@ -125,8 +147,6 @@ def fit_counting(lattice: Lattice, *, slope: float | None = None, window: str = 
         rcut = np.min(np.abs(outer.z[outer.ring == lattice.rings + 1]))
         keep = radii < rcut
         radii, counts = radii[keep], counts[keep]
-    elif window != "all":
-        raise ValueError(f"window must be 'all' or 'complete', got {window!r}.")
     rho = geometry.rho(radii)
     expected = geometry.counting_slope(lattice.p, lattice.q)
     if slope is None:
@@ -136,12 +156,12 @@ def fit_counting(lattice: Lattice, *, slope: float | None = None, window: str = 
         s, b = np.polyfit(rho, counts, 1)
         fixed = False
     else:
-        s = float(slope)
-        if not math.isfinite(s):
-            raise ValueError(f"slope must be finite, got {slope!r}.")
+        s = slope
         b = float(np.mean(counts - s * rho))
         fixed = True
     rms = float(np.sqrt(np.mean((counts - s * rho - b) ** 2)))
+    if not (math.isfinite(s) and math.isfinite(b) and math.isfinite(rms)):  # pragma: no cover - bounded above
+        raise ValueError("the counting fit overflowed; the slope is too large.")
     if not fixed and abs(s - expected) > slope_rtol * expected:
         hint = " (the outer ring is incomplete: try window='complete')" if window == "all" else ""
         warnings.warn(f"fitted counting slope {s:.3f} differs from pi/(2A) = {expected:.3f} "
@@ -170,11 +190,11 @@ def disk_integral(f: Callable, radius: float, *, angular_points: int = 64,
         If doubling the angular points or the radial quadrature's error estimate exceeds
         ``rtol`` relative to the result.
     """
-    L = float(radius)
-    if not (math.isfinite(L) and 0 < L < 1):
-        raise ValueError(f"the disk radius must lie in (0, 1), got {radius!r}.")
-    if angular_points < 4:
-        raise ValueError("angular_points must be at least 4.")
+    f = _validate.function("f", f)
+    L = _validate.radius("radius", radius)
+    # 2**20 points per ring is far past spectral accuracy for any f worth integrating
+    angular_points = _validate.integer("angular_points", angular_points, minimum=4, maximum=2 ** 20)
+    rtol = _validate.real("rtol", rtol, minimum=0.0, maximum=1.0, open_min=True)
     D = math.atanh(L)
 
     def ring_average(d, m, absolute=False):
@@ -213,8 +233,8 @@ def disk_integral(f: Callable, radius: float, *, angular_points: int = 64,
     return v2
 
 
-@dataclass(frozen=True)
-class SumCheck:
+@dataclass(frozen=True, eq=False, kw_only=True)
+class SumCheck(Result):
     r"""One check of Eq. (eq11): lattice sum against :math:`(1/\mathcal A)\int_{|z|\le L} f\,dV_g`."""
 
     p: int
@@ -232,6 +252,7 @@ class SumCheck:
         return float(abs(self.lattice_sum - self.integral) / abs(self.integral))
 
     def summary(self) -> dict:
+        """One row of ``hyperlattice scaling sums --json`` (complex values only where not real)."""
         def num(c):
             return float(c.real) if abs(c.imag) <= 1e-12 * max(abs(c), 1e-300) else c
         return {"p": self.p, "q": self.q, "rings": self.rings, "sites": self.sites,
@@ -247,8 +268,9 @@ def sum_check(lattice: Lattice, f: Callable, *, name: str | None = None) -> SumC
     L is the effective radius of Eq. (eq12) generalised to {p,q}, which makes f = 1 exact.
     """
     _validate.lattice(lattice)
-    if not callable(f):
-        raise ValueError("f must be a callable of complex coordinates.")
+    f = _validate.function("f", f)
+    if name is not None and not isinstance(name, str):
+        raise ValueError(f"name must be a string, got {name!r}.")
     vals = np.asarray(f(lattice.z), dtype=complex)
     if vals.shape != lattice.z.shape or not np.all(np.isfinite(vals)):
         raise ValueError("f must return one finite value per site.")

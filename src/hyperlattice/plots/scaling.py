@@ -9,15 +9,25 @@ import numpy as np
 
 from . import new_axes
 from .. import geometry
-from ..dictionary import laplacian_coefficient
-from ..compare.sums import fit_counting
+from ..compare.scaling import (ConvergenceStudy, FrameAngles, OperatorProfile, RadialProfile, SmoothFunction,
+                               angle_profile, frame_angles, operator_profile)
+from ..compare.sums import CountingFit, fit_counting
 from ..graph.lattice import Lattice, ring_lattice
-from ..compare.scaling import (FrameAngles, SmoothFunction, expansion, formal_operator, frame_angles,
-                       radial_profile)
 
 
 def _axes(ax, size=(6.0, 4.2)):
     return new_axes(ax, size)
+
+
+def draw_radial_profile(profile: RadialProfile, ax=None, *, label: str = r"mean over sites at equal $r$"):
+    """Mean of a :class:`RadialProfile` against r; red bars span min..max where it is not unique."""
+    ax = _axes(ax)
+    ax.plot(profile.r, profile.mean, "o", ms=3.5, color="C0", label=label)
+    bad = ~profile.unique
+    if np.any(bad):
+        ax.vlines(profile.r[bad], profile.min[bad], profile.max[bad], color="red", lw=1.2,
+                  label=fr"not unique ({int(bad.sum())} radii)")
+    return ax
 
 
 def plot_frame_angles(lattice: Lattice | FrameAngles | None = None, ax=None):
@@ -26,18 +36,13 @@ def plot_frame_angles(lattice: Lattice | FrameAngles | None = None, ax=None):
     :math:`\delta_i` is defined modulo :math:`2\pi/q`, so :math:`\cos(q\delta_i)` (the quantity
     entering Eq. (adj36)) is plotted; red bars span min..max where sites of one radius
     disagree (the map :math:`r \mapsto \delta` is not unique). Default lattice: {7,3}, 5 rings.
+    The profile is :func:`hyperlattice.compare.scaling.angle_profile`.
     """
     ax = _axes(ax)
     angles = lattice if isinstance(lattice, FrameAngles) else frame_angles(
         lattice if lattice is not None else ring_lattice(7, 3, 5))
     q = angles.q
-    sel = np.isfinite(angles.delta)
-    prof = radial_profile(angles.z[sel], np.cos(q * angles.delta[sel]))
-    ax.plot(prof.r, prof.mean, "o", ms=3.5, color="C0", label=r"mean over sites at equal $r$")
-    bad = ~prof.unique
-    if np.any(bad):
-        ax.vlines(prof.r[bad], prof.min[bad], prof.max[bad], color="red", lw=1.2,
-                  label=fr"not unique ({int(bad.sum())} radii)")
+    draw_radial_profile(angle_profile(angles), ax)
     ax.set_xlabel(r"site radius $r_i$", fontsize=12)
     ax.set_ylabel(fr"$\cos({q}\delta_i)$,  $\delta_i=\chi_i-\phi_i$", fontsize=12)
     ax.set_title(fr"$\{{{angles.p},{q}\}}$, {angles.z.size} sites", fontsize=12)
@@ -47,66 +52,88 @@ def plot_frame_angles(lattice: Lattice | FrameAngles | None = None, ax=None):
     return ax
 
 
-def plot_formal_operator(lattice: Lattice | FrameAngles | None = None, h: float | None = None,
-                         f: SmoothFunction | None = None, ax=None):
-    r"""Fig. FigSh: :math:`\hat A_h f - qf` against :math:`d(r,0)` with the approximations.
+def draw_operator_profile(profile: OperatorProfile, ax=None):
+    r"""Fig. FigSh for one :class:`OperatorProfile`: :math:`\hat A_h f - qf` against :math:`d(r,0)`.
 
     Circles: Eq. (adj34); squares: cubic approximation (adj36); line: quadratic (adj35),
-    all averaged over fully coordinated sites of equal radius. Default {7,3}, 5 rings,
-    :math:`f = \cos[\pi d(r,0)]`, h the lattice value.
+    all averaged over fully coordinated sites of equal radius (the quadratic one as a curve in r
+    when f is radial).
     """
     ax = _axes(ax)
-    angles = lattice if isinstance(lattice, FrameAngles) else frame_angles(
-        lattice if lattice is not None else ring_lattice(7, 3, 5))
-    f = f if f is not None else SmoothFunction.cos_distance()
-    hh = angles.h if h is None else h
-    z = angles.z[angles.full]
-    base = angles.q * f(z)
-    exact = radial_profile(z, (formal_operator(angles, f, hh) - base).real)
-    cubic = radial_profile(z, (expansion(angles, f, hh, 3) - base).real)
-    # the quadratic approximation has no chi_i: for radial f it is a function of r alone and is
-    # drawn as a curve; for other f it is averaged over sites like the rest
-    if _is_radial(f, z):
-        grid = np.linspace(0.0, np.abs(z).max(), 400)[1:] + 0j
-        quad_d, quad_v = np.arctanh(grid.real), (laplacian_coefficient(angles.q, hh) * f.laplacian(grid)).real
+    if profile.curve_distance is not None:
+        quad_d, quad_v = profile.curve_distance, profile.curve_quadratic
     else:
-        quad = radial_profile(z, (expansion(angles, f, hh, 2) - base).real)
-        quad_d, quad_v = quad.distance, quad.mean
+        quad_d, quad_v = profile.quadratic.distance, profile.quadratic.mean
+    cubic, exact = profile.cubic, profile.exact
     ax.plot(quad_d, quad_v, "-", color="0.55", lw=2, label=r"quadratic $\hat A^{(2)}_h$, Eq. (adj35)")
     ax.plot(cubic.distance, cubic.mean, "s", color="C0", ms=4, label=r"cubic $\hat A^{(3)}_h$, Eq. (adj36)")
     ax.plot(exact.distance, exact.mean, "o", mfc="none", mec="k", ms=6, label=r"$\hat A_h f$, Eq. (adj34)")
     ax.set_xlabel(r"$d(r,0)$", fontsize=12)
-    ax.set_ylabel(fr"$\hat A_h f - {angles.q}f$", fontsize=12)
-    ax.set_title(f"f = {f.name},  h = {hh:.6g}", fontsize=12)
+    ax.set_ylabel(fr"$\hat A_h f - {profile.q}f$", fontsize=12)
+    ax.set_title(f"f = {profile.function},  h = {profile.h:.6g}", fontsize=12)
     ax.tick_params(labelsize=10)
     ax.legend(fontsize=9)
     return ax
 
 
-def _is_radial(f: SmoothFunction, z: np.ndarray) -> bool:
-    """True if f takes equal values on the sites' radii rotated to the real axis."""
-    r = np.abs(z[:50]) + 0j
-    return bool(np.allclose(f(z[:50]), f(r), rtol=1e-12, atol=1e-12))
+def plot_formal_operator(lattice: Lattice | FrameAngles | None = None, h: float | None = None,
+                         f: SmoothFunction | None = None, ax=None):
+    r"""Fig. FigSh: :math:`\hat A_h f - qf` against :math:`d(r,0)` with the approximations.
+
+    Default {7,3}, 5 rings, :math:`f = \cos[\pi d(r,0)]`, h the lattice value. The numbers are
+    :func:`hyperlattice.compare.scaling.operator_profile`; see :func:`draw_operator_profile`.
+    """
+    angles = lattice if isinstance(lattice, FrameAngles) else frame_angles(
+        lattice if lattice is not None else ring_lattice(7, 3, 5))
+    return draw_operator_profile(operator_profile(angles, f, h), ax)
 
 
-def plot_counting(lattice: Lattice | None = None, ax=None):
-    r"""Fig. FigS1: the counting function :math:`\mathcal{N}(r)` (Eq. (sum2)) against
-    :math:`\rho` with the fitted line :math:`s\rho + b` (Eq. (sum4)). Default {7,3}, 4 rings."""
+def plot_convergence(study: ConvergenceStudy, ax=None):
+    r"""Errors of the order-k approximations of :math:`\hat A_h` against h (log-log), one line
+    per order, each with a dashed line of its expected power through its last point."""
     ax = _axes(ax)
-    lat = lattice if lattice is not None else ring_lattice(7, 3, 4)
-    fit = fit_counting(lat)
-    r = np.sort(np.abs(lat.z))
-    grid = np.linspace(0.0, r[-1], 2000)
-    n = np.searchsorted(r, grid, side="right")
-    ax.step(geometry.rho(grid), n, where="post", color="C0", lw=1.5, label=r"$\mathcal{N}(r)$")
-    rr = np.linspace(1.0, geometry.rho(r[-1]), 50)
+    h = study.h
+    for i, (k, err) in enumerate(study.errors.items()):
+        color = f"C{i}"
+        ax.loglog(h, err, "o-", color=color, ms=4,
+                  label=fr"order {k}: $h^{{{study.exponents[k]:.2f}}}$")
+        ref = err[-1] * (h / h[-1]) ** study.expected[k]
+        ax.loglog(h, ref, "--", color=color, lw=1, label=fr"$h^{{{study.expected[k]}}}$")
+    ax.set_xlabel(r"$h$", fontsize=12)
+    ax.set_ylabel(r"$\max_i|\hat A_h f - \hat A^{(k)}_h f|$", fontsize=12)
+    ax.set_title(fr"$\{{{study.p},{study.q}\}}$, f = {study.function}", fontsize=12)
+    ax.legend(fontsize=9)
+    return ax
+
+
+def plot_counting(lattice: Lattice | CountingFit | None = None, ax=None):
+    r"""Fig. FigS1: the counting function :math:`\mathcal{N}(r)` (Eq. (sum2)) against
+    :math:`\rho` with the fitted line :math:`s\rho + b` (Eq. (sum4)). Default {7,3}, 4 rings.
+
+    Given a :class:`~hyperlattice.compare.sums.CountingFit`, draws its own points (one per
+    distinct radius of its window) instead of the staircase of every site.
+    """
+    ax = _axes(ax)
+    if isinstance(lattice, CountingFit):
+        fit = lattice
+        ax.step(fit.rho, fit.counts, where="post", color="C0", lw=1.5, label=r"$\mathcal{N}(r)$")
+        rmax, title = fit.radii[-1], fr"$\{{{fit.p},{fit.q}\}}$, $\ell={fit.rings}$ ({fit.window} radii)"
+    else:
+        lat = lattice if lattice is not None else ring_lattice(7, 3, 4)
+        fit = fit_counting(lat)
+        r = np.sort(np.abs(lat.z))
+        grid = np.linspace(0.0, r[-1], 2000)
+        n = np.searchsorted(r, grid, side="right")
+        ax.step(geometry.rho(grid), n, where="post", color="C0", lw=1.5, label=r"$\mathcal{N}(r)$")
+        rmax, title = r[-1], fr"$\{{{lat.p},{lat.q}\}}$, $\ell={lat.rings}$ ({lat.sites} sites)"
+    rr = np.linspace(1.0, geometry.rho(rmax), 50)
     ax.plot(rr, fit.slope * rr + fit.intercept, "--", color="C3", lw=1.5,
             label=fr"${fit.slope:.3f}\,\rho {fit.intercept:+.3f}$ (fit)")
     ax.plot(rr, fit.expected_slope * rr + fit.intercept, ":", color="0.4", lw=1.5,
             label=fr"${fit.expected_slope:g}\,\rho {fit.intercept:+.3f}$")
     ax.set_xlabel(r"$\rho=(1+r^2)/(1-r^2)$", fontsize=12)
     ax.set_ylabel(r"$\mathcal{N}(r)$", fontsize=12)
-    ax.set_title(fr"$\{{{lat.p},{lat.q}\}}$, $\ell={lat.rings}$ ({lat.sites} sites)", fontsize=12)
+    ax.set_title(title, fontsize=12)
     ax.tick_params(labelsize=10)
     ax.legend(fontsize=10)
     return ax

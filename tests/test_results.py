@@ -1,0 +1,347 @@
+"""The result protocol (results.py): exact round trips, read-only arrays, identity equality.
+
+Every registered Result type is walked: the ones of this package that are cheap to compute are
+built by their real functions, the others from their field annotations.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import importlib
+import json
+import math
+import pkgutil
+import typing
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import hyperlattice
+from hyperlattice.results import Levels, Result, load_result, result_types, to_jsonable
+
+
+def _import_everything() -> None:
+    """Import every module so that every Result subclass is registered."""
+    for info in pkgutil.walk_packages(hyperlattice.__path__, "hyperlattice."):
+        if not info.name.endswith("__main__"):
+            importlib.import_module(info.name)
+
+
+_import_everything()
+
+
+@dataclasses.dataclass(frozen=True, eq=False, kw_only=True)
+class Everything(Result):
+    """Every kind of value a field may hold (the defects of the first results.py)."""
+
+    TYPE = "tests.Everything"
+
+    ints: np.ndarray
+    int32: np.ndarray
+    empty: np.ndarray
+    bools: np.ndarray
+    floats: np.ndarray
+    cplx: np.ndarray
+    strings: np.ndarray
+    none_array: np.ndarray | None
+    scalar: complex
+    nonfinite: float
+    negzero: float
+    label: str
+    pair: tuple
+    by_int: dict
+    nested: Levels
+    results: list
+    path: Path
+    big: int
+
+
+def _levels() -> Levels:
+    return Levels(energies=np.array([-2.9, -2.8, -2.8]), n=np.array([1, 1, 1]), m=np.array([0, 1, -1]),
+                  errors=np.array([1e-13, 2e-13, np.nan]), error_kind="residual", method="dense",
+                  description="dense eigensolver", p=7, q=3)
+
+
+def _everything() -> Everything:
+    return Everything(
+        ints=np.arange(6, dtype=np.int64).reshape(2, 3), int32=np.array([[0, 1], [1, 2]], dtype=np.int32),
+        empty=np.zeros((0, 2), dtype=np.int32), bools=np.array([True, False]),
+        floats=np.array([0.1, -0.0, np.inf, -np.inf, np.nan, 1e-310]),
+        cplx=np.array([1 + 2j, np.nan - 1j, complex(0, np.inf)]), strings=np.array(["a", "bc"]),
+        none_array=None, scalar=0.1 - 2.5j, nonfinite=-math.inf, negzero=-0.0, label="nan",
+        pair=(1, 2.5, "x", (3,)), by_int={2: np.arange(3.0), 3: {"inner": (1, 2)}, "type": "not a result"},
+        nested=_levels(), results=[_levels(), None], path=Path("a/b.json"), big=2 ** 70)
+
+
+def _factories():
+    """Real constructions of this package's results, by type tag (cheap: small lattices)."""
+    from hyperlattice.compare import scaling, sums
+    from hyperlattice.dictionary import continuum_parameters
+    from hyperlattice.graph.lattice import ring_lattice
+
+    return {
+        Everything.TYPE: _everything,
+        "Levels": _levels,
+        "ContinuumParameters": lambda: continuum_parameters(1.0, 0.5, 2.0),
+        "FrameAngles": lambda: scaling.frame_angles(ring_lattice(7, 3, 2)),
+        "RadialProfile": lambda: scaling.angle_profile(ring_lattice(7, 3, 2)),
+        "OperatorProfile": lambda: scaling.operator_profile(ring_lattice(7, 3, 3), h=0.1),
+        "ConvergenceStudy": lambda: scaling.convergence_study(ring_lattice(7, 3, 3), scaling.SmoothFunction.exp_x()),
+        "CountingFit": lambda: sums.fit_counting(ring_lattice(7, 3, 4)),
+        "SumCheck": lambda: sums.SumCheck(p=7, q=3, rings=2, sites=77, radius=0.9, function="f",
+                                          lattice_sum=1.5 + 1e-3j, integral=complex(1.49, 0.0)),
+    }
+
+
+_SAMPLES = {"int": 3, "float": 0.25, "str": "x", "bool": True, "complex": 1 - 2j, "dict": {2: np.arange(3.0)},
+            "list": [1, 2.5], "tuple": (1, "a")}
+
+
+def _sample(hint: str):
+    """A value for a field annotated ``hint`` (a string such as ``'np.ndarray | None'``)."""
+    first = hint.split("|")[0].strip()
+    if "ndarray" in first:
+        return np.array([0.5, -1.5, 2.0])
+    if first in _SAMPLES:
+        return _SAMPLES[first]
+    cls = result_types().get(first)
+    if cls is not None:
+        return _generic(cls)
+    raise LookupError(hint)
+
+
+def _generic(cls):
+    kwargs = {}
+    for f in dataclasses.fields(cls):
+        if f.init and f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING:
+            kwargs[f.name] = _sample(str(f.type))
+    return cls(**kwargs)
+
+
+_BUILT: dict = {}
+
+
+def _build(tag: str):
+    """One instance per tag (results are immutable, so tests may share them)."""
+    if tag not in _BUILT:
+        factory = _factories().get(tag)
+        if factory is not None:
+            _BUILT[tag] = factory()
+        else:
+            try:
+                _BUILT[tag] = _generic(result_types()[tag])
+            except (LookupError, ValueError, TypeError) as exc:  # fields that need real data
+                pytest.skip(f"{tag} cannot be built from its annotations ({exc}); add a factory")
+    return _BUILT[tag]
+
+
+def _norm(x):
+    if isinstance(x, np.bool_):
+        return bool(x)
+    if isinstance(x, np.integer):
+        return int(x)
+    if isinstance(x, np.floating):
+        return float(x)
+    if isinstance(x, np.complexfloating):
+        return complex(x)
+    return x
+
+
+def same(a, b, where="") -> None:
+    """Exact equality of values, types, dtypes and shapes (NaN equals NaN, -0.0 is not 0.0)."""
+    a, b = _norm(a), _norm(b)
+    if isinstance(a, np.ndarray):
+        assert isinstance(b, np.ndarray), where
+        assert (a.dtype, a.shape) == (b.dtype, b.shape), where
+        if a.dtype.kind in "fc":
+            assert np.array_equal(a, b, equal_nan=True), where
+            assert np.array_equal(np.signbit(a.real), np.signbit(b.real)), where
+        else:
+            assert np.array_equal(a, b), where
+        return
+    assert type(a) is type(b), f"{where}: {type(a).__name__} vs {type(b).__name__}"
+    if isinstance(a, Result):
+        for f in dataclasses.fields(a):
+            if f.name not in a._TRANSIENT:
+                same(getattr(a, f.name), getattr(b, f.name), f"{where}.{f.name}")
+    elif isinstance(a, dict):
+        assert list(a) == list(b) and [type(k) for k in a] == [type(k) for k in b], where
+        for k in a:
+            same(a[k], b[k], f"{where}[{k!r}]")
+    elif isinstance(a, (list, tuple)):
+        assert len(a) == len(b), where
+        for i, (u, v) in enumerate(zip(a, b)):
+            same(u, v, f"{where}[{i}]")
+    elif isinstance(a, float):
+        assert (a == b or (math.isnan(a) and math.isnan(b))) and math.copysign(1, a) == math.copysign(1, b), where
+    elif isinstance(a, complex):
+        same(a.real, b.real, where)
+        same(a.imag, b.imag, where)
+    else:
+        assert a == b, where
+
+
+def _arrays(value):
+    if isinstance(value, np.ndarray):
+        yield value
+    elif isinstance(value, Result):
+        for f in dataclasses.fields(value):
+            yield from _arrays(getattr(value, f.name))
+    elif isinstance(value, dict):
+        for v in value.values():
+            yield from _arrays(v)
+    elif isinstance(value, (list, tuple)):
+        for v in value:
+            yield from _arrays(v)
+
+
+TAGS = sorted(result_types())
+
+
+@pytest.mark.parametrize("tag", TAGS)
+def test_dict_round_trip_is_exact(tag):
+    res = _build(tag)
+    d = res.as_dict()
+    text = json.dumps(d, allow_nan=False)  # strict JSON
+    back = type(res).from_dict(json.loads(text))
+    same(res, back, tag)
+    assert json.dumps(back.as_dict(), allow_nan=False) == text
+    same(Result.from_dict(json.loads(text)), res, tag)  # dispatch on "type" from the base
+
+
+@pytest.mark.parametrize("suffix", [".json", ".npz"])
+@pytest.mark.parametrize("tag", TAGS)
+def test_file_round_trip_is_exact(tag, suffix, tmp_path):
+    res = _build(tag)
+    path = res.save(tmp_path / f"r{suffix}")
+    same(res, load_result(path), tag)
+    same(res, type(res).load(path), tag)
+
+
+@pytest.mark.parametrize("tag", TAGS)
+def test_arrays_read_only_and_eq_by_identity(tag):
+    res = _build(tag)
+    for a in _arrays(res):
+        assert not a.flags.writeable
+        if a.size:
+            with pytest.raises(ValueError):
+                a.flat[0] = a.flat[0]
+    other = type(res).from_dict(res.as_dict())
+    assert (res == res) is True and (res == other) is False and (res != other) is True
+    json.dumps(to_jsonable(res.summary()), allow_nan=False)  # the CLI's view, as print_json writes it
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        setattr(res, dataclasses.fields(res)[0].name, None)
+
+
+# ---------------------------------------------------------------------------------------------
+# defects of the first version, one regression test each
+# ---------------------------------------------------------------------------------------------
+
+def test_int_keys_survive():
+    """ConvergenceStudy.errors is keyed by the order (int); keys came back as '2', '3', '4'."""
+    from hyperlattice.compare.scaling import SmoothFunction, convergence_study
+    from hyperlattice.graph.lattice import ring_lattice
+
+    st = convergence_study(ring_lattice(7, 3, 3), SmoothFunction.exp_x())
+    back = Result.from_dict(st.as_dict())
+    assert list(back.errors) == [2, 3, 4] and back.exponents[2] == st.exponents[2]
+    assert to_jsonable(back.summary()) == to_jsonable(st.summary())
+
+
+def test_dtype_shape_and_strings_survive():
+    e = _everything()
+    back = Result.from_dict(json.loads(e.to_json()))
+    assert back.int32.dtype == np.int32 and back.empty.shape == (0, 2) and back.empty.dtype == np.int32
+    assert back.label == "nan" and isinstance(back.label, str)  # was turned into float('nan')
+    assert back.pair == (1, 2.5, "x", (3,)) and back.by_int["type"] == "not a result"
+    assert back.none_array is None and back.scalar == 0.1 - 2.5j and back.big == 2 ** 70
+
+
+def test_nested_arrays_are_read_only():
+    e = _everything()
+    assert not e.by_int[2].flags.writeable and not e.nested.energies.flags.writeable
+
+
+def test_summary_is_the_plain_view():
+    lv = _levels()
+    s = lv.summary()
+    assert s["type"] == "Levels" and s["energies"] == [-2.9, -2.8, -2.8] and s["errors"][2] == "nan"
+    assert to_jsonable(lv) == s
+
+
+@pytest.mark.parametrize("data, match", [
+    ([1, 2], "dict"),
+    ({"type": ["Levels"]}, "string"),
+    ({"type": "NoSuchResult"}, "cannot be read"),
+    ({"type": "Levels", "energies": [1.0]}, "lacks"),
+    ({"type": "Levels", "bogus": 1}, "unknown fields"),
+    ({**_levels().as_dict(), "energies": {"__ndarray__": "float64", "shape": [2], "data": [1.0]}}, "energies"),
+    ({**_levels().as_dict(), "energies": {"__ndarray__": "nonsense", "shape": [1], "data": [1.0]}}, "energies"),
+    ({**_levels().as_dict(), "p": {"__float__": "seven"}}, "p"),
+    ({**_levels().as_dict(), "p": {"__complex__": 3}}, "p"),
+])
+def test_from_dict_bad_data_is_valueerror(data, match):
+    with pytest.raises(ValueError, match=match):
+        Result.from_dict(data)
+
+
+def test_from_dict_of_other_class_refused():
+    from hyperlattice.dictionary import ContinuumParameters
+
+    with pytest.raises(ValueError, match="cannot be read as ContinuumParameters"):
+        ContinuumParameters.from_dict(_levels().as_dict())
+
+
+def test_load_bad_files_is_valueerror(tmp_path):
+    cases = {"list.json": "[1, 2]", "text.json": "not json", "bad.npz": "not a zip file"}
+    for name, text in cases.items():
+        (tmp_path / name).write_text(text)
+        with pytest.raises(ValueError):
+            load_result(tmp_path / name)
+    np.savez(tmp_path / "plain.npz", a=np.arange(3))
+    with pytest.raises(ValueError, match="not a saved"):
+        load_result(tmp_path / "plain.npz")
+    meta = json.dumps({"type": "Levels", "p": 7})  # fields missing: was a TypeError
+    np.savez(tmp_path / "short.npz", __meta__=np.array(meta), energies=np.zeros(2))
+    with pytest.raises(ValueError, match="lacks"):
+        load_result(tmp_path / "short.npz")
+    np.savez(tmp_path / "meta.npz", __meta__=np.array("[1]"))
+    with pytest.raises(ValueError):
+        load_result(tmp_path / "meta.npz")
+    with pytest.raises(ValueError):
+        load_result(tmp_path / "missing.json")
+
+
+def test_load_as_wrong_class(tmp_path):
+    from hyperlattice.dictionary import ContinuumParameters
+
+    path = _levels().save(tmp_path / "l.json")
+    with pytest.raises(ValueError, match="not a ContinuumParameters"):
+        ContinuumParameters.load(path)
+
+
+@pytest.mark.parametrize("where", ["directory", "suffix", "missing-folder"])
+def test_save_to_bad_path_is_valueerror(where, tmp_path):
+    path = {"directory": tmp_path, "suffix": tmp_path / "r.txt", "missing-folder": tmp_path / "no" / "r.json"}[where]
+    with pytest.raises(ValueError):
+        _levels().save(path)
+
+
+def test_unstorable_value_is_valueerror():
+    @dataclasses.dataclass(frozen=True, eq=False, kw_only=True)
+    class Holder(Result):
+        TYPE = "tests.Holder"
+        value: typing.Any
+
+    with pytest.raises(ValueError, match="cannot be stored"):
+        Holder(value=object()).as_dict()
+    with pytest.raises(ValueError, match="cannot be stored"):
+        Holder(value=np.array([object()])).as_dict()
+
+
+def test_duplicate_type_tag_refused():
+    with pytest.raises(TypeError, match="already used"):
+        @dataclasses.dataclass(frozen=True, eq=False, kw_only=True)
+        class Levels(Result):  # noqa: F811 - the point of the test
+            x: int
