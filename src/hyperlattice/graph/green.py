@@ -120,12 +120,12 @@ class GraphResolvent:
             f"omega = {omega:g} lies on (or within rounding of) the real spectrum of H ({detail}); "
             "the graph Green function does not exist there. Give omega a small imaginary part.")
 
-    def _eigh(self):
+    def _eigh(self) -> tuple[np.ndarray, np.ndarray]:
         if self._eig is None:
             self._eig = sla.eigh(self.H.toarray())
         return self._eig
 
-    def _factor(self, omega: complex):
+    def _factor(self, omega: complex) -> spla.SuperLU:
         if self._lu is not None and self._lu_omega == omega:
             return self._lu
         shift = omega.real if omega.imag == 0 else omega      # real arithmetic for real omega

@@ -158,7 +158,7 @@ def full_table(lattice: Lattice, t: float = 1.0, onsite: OnSite = None) -> Secto
 _KERNEL = None
 
 
-def _kernel():
+def _kernel() -> Callable:
     """Fused Chebyshev step ``out = alpha*((H - cen) y) - beta*yprev`` on a neighbour table.
 
     Serial on purpose: on a shared 2-core machine a parallel loop waits for descheduled
@@ -225,7 +225,7 @@ def _single_threaded_blas() -> Iterator[None]:
             setter(old)
 
 
-def _dtype(table: SectorTable, x: np.ndarray):
+def _dtype(table: SectorTable, x: np.ndarray) -> np.dtype:
     return np.result_type(table.weights.dtype, x.dtype, np.float64)
 
 
@@ -323,7 +323,7 @@ def _chebyshev_lowest(table: SectorTable, k: int, tol: float, progress: Progress
         y2 = np.empty(n, dtype=dt)
         steps = [0]
 
-        def cheb(x, cen=cen, half=half):
+        def cheb(x, cen=cen, half=half) -> np.ndarray:
             x = np.ascontiguousarray(np.ravel(x), dtype=dt)
             kern(table.cols, table.weights, table.diag, cen, 1.0 / half, 0.0, x, x, y1)
             a, b = x, y1

@@ -126,7 +126,8 @@ class Spectrum(Levels):
 # checks and labels
 # ----------------------------------------------------------------------------
 
-def _rotation_labels(lattice: Lattice, h, energies: np.ndarray, vecs: np.ndarray, keep: int):
+def _rotation_labels(lattice: Lattice, h, energies: np.ndarray, vecs: np.ndarray,
+                     keep: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Label full-matrix eigenvectors by m: diagonalise the rotation in each degenerate cluster.
 
     Returns (energies, vecs, m) for the first ``keep`` states. A cluster cut by the end of the
@@ -242,11 +243,20 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
         Energies ascending with labels (n, m), residuals, method and timings. The continuum
         counterpart lists (n, m) = (1, 0), (1, 1), (1, -1), (1, 2), ... in the same way.
 
+    Raises
+    ------
+    ValueError
+        Bad input, including ``levels`` above the number N of states (or, with ``sector``,
+        above the N/p states of that sector), a rotation-breaking V with ``method="sector"``,
+        or more than (N - 3)/2 levels with ``method="sparse"``.
+    ConvergenceError
+        If a residual exceeds 100 ``tol``.
+
     Examples
     --------
     >>> from hyperlattice import ring_lattice
     >>> spec = lowest_levels(ring_lattice(7, 3, 1), 3)
-    >>> [round(e, 6) for e in spec.energies], spec.m.tolist()
+    >>> [round(float(e), 6) for e in spec.energies], spec.m.tolist()
     ([-2.0, -1.24698, -1.24698], [0, 1, -1])
     """
     t_start = time.perf_counter()
