@@ -262,7 +262,7 @@ def site_indices(name: str, value, n: int) -> np.ndarray:
 
 def _as_path(name: str, value) -> Path:
     if isinstance(value, bool) or not isinstance(value, (str, os.PathLike)) or str(value) == "":
-        raise ValueError(f"{name} must be a file path, got {_shown(value)}.")
+        raise ValueError(f"{name} must be a path, got {_shown(value)}.")
     return Path(value)
 
 
@@ -307,7 +307,7 @@ def directory(name: str, value, *, create: bool = True) -> Path:
         try:
             path.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
-            raise ValueError(f"cannot create the directory {str(path)!r}: {exc.strerror or exc}.") from None
+            raise ValueError(f"{name} {str(path)!r} cannot be created: {exc.strerror or exc}.") from None
     if not os.access(path, os.W_OK | os.X_OK):
-        raise ValueError(f"cannot write into {str(path)!r}: permission denied.")
+        raise ValueError(f"{name} {str(path)!r} is not writable (permission denied).")
     return path

@@ -1,25 +1,61 @@
-"""A small on-disk cache for expensive, deterministic results (JSON values).
+"""A small on-disk cache for expensive, deterministic results.
 
 Entries are keyed on a name, the inputs and the package version, so a new version never
-reads an old result. The directory is ``$HYPERLATTICE_CACHE`` or ``~/.cache/hyperlattice``;
-it can be deleted at any time (``hyperlattice reproduce --clear-cache``).
+reads an old result. The directory is ``$HYPERLATTICE_CACHE`` or ``~/.cache/hyperlattice``
+(``$XDG_CACHE_HOME/hyperlattice``); it can be deleted at any time
+(``hyperlattice reproduce --clear-cache``).
+
+An entry is one JSON file, ``<dir>/<version>/<name>-<digest>.json``::
+
+    {"schema": "hyperlattice-cache/1", "name": ..., "inputs": ..., "version": ...,
+     "type": "dict" or a result type tag, "sha256": ..., "value": ...}
+
+``sha256`` is the digest of the canonical JSON of ``value`` (sorted keys, no spaces). A value is
+a plain JSON dict, or any :class:`hyperlattice.results.Result` stored through its exact
+``as_dict`` / ``from_dict`` round trip.
+
+Trust, but check: an entry that cannot be parsed, lacks the schema, belongs to other inputs,
+fails its checksum (a hand-edited number), cannot be rebuilt into its result type, or is a
+directory, is **discarded and recomputed**, with a :class:`CacheWarning`. Writes go to a unique
+temporary file in the same directory (:func:`tempfile.mkstemp`) that replaces the entry with
+:func:`os.replace`, which is atomic on POSIX and Windows: concurrent runs never see half an entry
+and never collide on a temporary name; the last writer wins. A failure to *store* (disk full,
+permissions changed) only warns: the value was computed and is returned.
+
+Why hand-written and not ``diskcache`` (the obvious library): the entries stay plain JSON files a
+person can open, diff and delete one by one (the reproduction's numbers can be traced to them);
+``diskcache`` keeps values in SQLite, pickled by default (unpickling a shared cache directory runs
+code), and checks no value against a checksum; and this file is the whole feature, without a new
+dependency.
 """
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import os
 import shutil
+import tempfile
+import warnings
 from pathlib import Path
 from typing import Callable
 
-from . import __version__
+from . import __version__, _validate
+from .results import Result
 
-__all__ = ["Cache", "default_cache_dir"]
+__all__ = ["Cache", "CacheWarning", "default_cache_dir"]
+
+#: Written into every entry; an entry with another schema is recomputed.
+SCHEMA = "hyperlattice-cache/1"
+
+
+class CacheWarning(UserWarning):
+    """A cache entry was bad and has been recomputed, or a value could not be stored."""
 
 
 def default_cache_dir() -> Path:
+    """``$HYPERLATTICE_CACHE``, else ``$XDG_CACHE_HOME/hyperlattice``, else ``~/.cache/hyperlattice``."""
     env = os.environ.get("HYPERLATTICE_CACHE")
     if env:
         return Path(env)
@@ -27,12 +63,46 @@ def default_cache_dir() -> Path:
     return Path(base) / "hyperlattice"
 
 
+def _canonical(value) -> str:
+    # allow_nan: plain dict values may hold inf/nan (Python's JSON writes Infinity/NaN and reads
+    # them back); results are encoded without them
+    return json.dumps(value, sort_keys=True, separators=(",", ":"))
+
+
+def _checksum(value) -> str:
+    return hashlib.sha256(_canonical(value).encode()).hexdigest()
+
+
 class Cache:
-    """JSON cache keyed on (name, inputs, package version). ``enabled=False`` computes always."""
+    """JSON cache keyed on (name, inputs, package version). ``enabled=False`` computes always.
+
+    Parameters
+    ----------
+    directory : str or Path, optional
+        Cache directory (created if missing); default :func:`default_cache_dir`.
+    enabled : bool
+        False: never read or write, every :meth:`get` computes.
+
+    Raises
+    ------
+    ValueError
+        If the cache is enabled and the directory cannot be created or written to.
+
+    Attributes
+    ----------
+    hits, misses : int
+        Entries read, and values computed (including recomputed bad entries).
+    """
 
     def __init__(self, directory: str | Path | None = None, *, enabled: bool = True):
-        self.directory = Path(directory) if directory is not None else default_cache_dir()
-        self.enabled = enabled
+        self.enabled = _validate.flag("enabled", enabled)
+        if directory is None:
+            directory = default_cache_dir()
+        if self.enabled:
+            # refuse an unusable directory now, not after the first hour of computing
+            self.directory = _validate.directory("cache directory", directory)
+        else:
+            self.directory = _validate._as_path("cache directory", directory)
         self.hits = 0
         self.misses = 0
 
@@ -41,28 +111,160 @@ class Cache:
         digest = hashlib.sha256(blob.encode()).hexdigest()[:24]
         return self.directory / __version__ / f"{name}-{digest}.json"
 
-    def get(self, name: str, inputs: dict, compute: Callable[[], dict]) -> dict:
-        """Return the cached value for ``(name, inputs)`` or compute, store and return it."""
+    @staticmethod
+    def _key(name, inputs) -> tuple[str, dict]:
+        if not isinstance(name, str) or not name or not name.replace("_", "").replace("-", "").isalnum():
+            raise ValueError(f"a cache entry name must be letters, digits, '-' and '_', got {name!r}.")
+        if not isinstance(inputs, dict):
+            raise ValueError(f"cache inputs must be a dict of JSON values, got {type(inputs).__name__}.")
+        try:
+            # the round trip normalises tuples to lists, so the stored inputs compare equal
+            inputs = json.loads(json.dumps(inputs, sort_keys=True, allow_nan=False))
+        except (TypeError, ValueError):
+            raise ValueError("cache inputs must be JSON values (numbers, strings, lists, dicts).") from None
+        return name, inputs
+
+    # -- reading ----------------------------------------------------------------------
+    def _discard(self, path: Path, why: str) -> None:
+        warnings.warn(f"cache entry {path.name} {why}; it is discarded and recomputed.", CacheWarning,
+                      stacklevel=4)
+        with contextlib.suppress(OSError):
+            if path.is_dir() and not path.is_symlink():
+                shutil.rmtree(path)
+            else:
+                path.unlink()
+
+    def _read(self, path: Path, name: str, inputs: dict, expect):
+        """The stored value, or None (after a warning and removal) if the entry is bad."""
+        if path.is_dir():
+            self._discard(path, "is a directory")
+            return None
+        try:
+            with open(path, encoding="utf-8") as fh:
+                entry = json.load(fh)
+        except FileNotFoundError:
+            return None
+        except (OSError, ValueError) as exc:  # JSONDecodeError and UnicodeDecodeError are ValueErrors
+            self._discard(path, f"cannot be read ({type(exc).__name__})")
+            return None
+        if not isinstance(entry, dict) or entry.get("schema") != SCHEMA \
+                or not {"name", "inputs", "version", "type", "sha256", "value"} <= set(entry):
+            self._discard(path, f"is not a {SCHEMA} entry")
+            return None
+        if (entry["name"], entry["inputs"], entry["version"]) != (name, inputs, __version__):
+            self._discard(path, "belongs to other inputs")
+            return None
+        value = entry["value"]
+        if entry["sha256"] != _checksum(value):
+            self._discard(path, "fails its checksum (edited or damaged)")
+            return None
+        kind = entry["type"]
+        wanted = None if expect is None else ("dict" if expect is dict else expect.TYPE)
+        if wanted is not None and kind != wanted:
+            self._discard(path, f"holds a {kind}, not the expected {wanted}")
+            return None
+        if kind == "dict":
+            if not isinstance(value, dict):
+                self._discard(path, "holds a value of the wrong type")
+                return None
+            return value
+        if not isinstance(value, dict) or value.get("type") != kind:
+            self._discard(path, "has a type tag that does not match its value")
+            return None
+        try:
+            return Result.from_dict(value)
+        except ValueError as exc:
+            self._discard(path, f"cannot be rebuilt ({exc})")
+            return None
+
+    # -- writing ----------------------------------------------------------------------
+    def _write(self, path: Path, name: str, inputs: dict, value) -> None:
+        if isinstance(value, Result):
+            kind, stored = value.TYPE, value.as_dict()
+        else:
+            kind, stored = "dict", value
+        entry = {"schema": SCHEMA, "name": name, "inputs": inputs, "version": __version__,
+                 "type": kind, "sha256": _checksum(stored), "value": stored}
+        text = json.dumps(entry)
+        tmp = None
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            if path.is_dir() and not path.is_symlink():
+                shutil.rmtree(path)  # os.replace cannot put a file over a directory
+            fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=".tmp")
+            with os.fdopen(fd, "w", encoding="utf-8") as fh:
+                fh.write(text)
+            os.replace(tmp, path)
+            tmp = None
+        except OSError as exc:
+            warnings.warn(f"could not store cache entry {path.name}: {exc.strerror or exc}.", CacheWarning,
+                          stacklevel=3)
+        finally:
+            if tmp is not None:
+                with contextlib.suppress(OSError):
+                    os.unlink(tmp)
+
+    # -- public -----------------------------------------------------------------------
+    def get(self, name: str, inputs: dict, compute: Callable[[], dict | Result], *,
+            expect: type | None = None) -> dict | Result:
+        """Return the cached value for ``(name, inputs)`` or compute, store and return it.
+
+        Parameters
+        ----------
+        name : str
+            Kind of entry (letters, digits, ``-``, ``_``), e.g. ``"graph_levels"``.
+        inputs : dict
+            JSON values that determine the result.
+        compute : callable
+            Returns a dict of JSON values or a :class:`~hyperlattice.results.Result`.
+        expect : type, optional
+            ``dict`` or a Result class: a stored value of another type counts as a bad entry.
+
+        Warns
+        -----
+        CacheWarning
+            When a bad entry was discarded, or the value could not be stored.
+        """
+        name, inputs = self._key(name, inputs)
+        if expect is not None and not (expect is dict or (isinstance(expect, type) and issubclass(expect, Result))):
+            raise ValueError(f"expect must be dict or a Result class, got {expect!r}.")
         path = self._path(name, inputs)
-        if self.enabled and path.exists():
-            try:
-                with open(path) as fh:
-                    value = json.load(fh)
+        if self.enabled and (path.exists() or path.is_symlink()):
+            value = self._read(path, name, inputs, expect)
+            if value is not None:
                 self.hits += 1
                 return value
-            except (OSError, ValueError):
-                pass  # unreadable entry: recompute and overwrite
         value = compute()
+        if not isinstance(value, (dict, Result)):
+            raise ValueError(f"a cached computation must return a dict or a Result, got {type(value).__name__}.")
         self.misses += 1
         if self.enabled:
-            path.parent.mkdir(parents=True, exist_ok=True)
-            tmp = path.with_suffix(".tmp")
-            with open(tmp, "w") as fh:
-                json.dump(value, fh)
-            os.replace(tmp, path)
+            self.put(name, inputs, value)
         return value
 
+    def put(self, name: str, inputs: dict, value: dict | Result) -> None:
+        """Store ``value`` for ``(name, inputs)`` atomically (a no-op when disabled)."""
+        name, inputs = self._key(name, inputs)
+        if not isinstance(value, (dict, Result)):
+            raise ValueError(f"the cache stores dicts and Results, got {type(value).__name__}.")
+        if isinstance(value, dict):
+            try:
+                value = json.loads(json.dumps(value))  # what a later read returns, checked now
+            except (TypeError, ValueError):
+                raise ValueError("a cached dict must hold JSON values only.") from None
+        if self.enabled:
+            self._write(self._path(name, inputs), name, inputs, value)
+
     def clear(self) -> None:
-        """Delete the whole cache directory."""
+        """Delete the whole cache directory.
+
+        Raises
+        ------
+        ValueError
+            If it cannot be deleted.
+        """
         if self.directory.exists():
-            shutil.rmtree(self.directory)
+            try:
+                shutil.rmtree(self.directory)
+            except OSError as exc:
+                raise ValueError(f"cannot clear the cache {str(self.directory)!r}: {exc.strerror or exc}.") from None

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from .. import _validate
 from ..cache import Cache
 from ._common import Progress
 
@@ -10,7 +11,7 @@ ORDER = 5
 HELP = "recompute every table and figure of the paper (report.html/.md, CSV/JSON, PNG/SVG)"
 
 
-def add_arguments(parser):
+def add_arguments(parser) -> None:
     parser.add_argument("--out", default="reproduction", metavar="DIR", help="output directory (default reproduction/)")
     parser.add_argument("--max-rings", type=int, default=10,
                         help="largest l in the spectrum tables, 2..14 (default 10, the paper's range)")
@@ -24,6 +25,8 @@ def run(args) -> int:
 
     if not 2 <= args.max_rings <= 14:
         raise ValueError(f"--max-rings must be between 2 and 14, got {args.max_rings}.")
+    # every path is checked before the first computation, so a run never fails at its end
+    _validate.directory("--out", args.out)
     cache = Cache(args.cache_dir, enabled=not args.no_cache)
     if args.clear_cache:
         cache.clear()
