@@ -1,5 +1,6 @@
 """Geometry of the Poincaré disk and {p,q} constants."""
 
+import json
 import math
 
 import numpy as np
@@ -156,3 +157,75 @@ def test_distance_rejects_points_outside_disk(z):
 def test_effective_radius_rejects_bad_sizes(n):
     with pytest.raises(ValueError):
         g.effective_radius(n)
+
+
+# ----------------------------------------------------------------------------
+# input checks through _validate, and TilingConstants as a Result
+# ----------------------------------------------------------------------------
+
+_BAD_POINTS = [None, "0.1", [0.1, "x"], complex("nan"), 1.0, [0.2, 1.5j]]
+
+
+@pytest.mark.parametrize("bad", _BAD_POINTS)
+@pytest.mark.parametrize("call", [
+    lambda z: g.distance(z, 0.1),
+    lambda z: g.distance(0.1, z),
+    lambda z: g.mobius(z, 0.2),
+    lambda z: g.mobius(0.1, z),
+    lambda z: g.mobius_inverse(z, 0.2),
+    lambda z: g.rotate_about(z, 0.2, 1.0),
+    lambda z: g.rotate_about(0.1, z, 1.0),
+    lambda z: g.geodesic_point(z, 0.2, 0.5),
+    lambda z: g.midpoint(0.1, z),
+])
+def test_disk_maps_refuse_bad_points(call, bad):
+    # None used to raise TypeError, NaN passed silently through the maps
+    with pytest.raises(ValueError):
+        call(bad)
+
+
+@pytest.mark.parametrize("bad", [None, "x", float("nan"), 1j, [1.0, 2.0], [0.5, 1.0]])
+def test_rho_refuses_bad_radii(bad):
+    with pytest.raises(ValueError):
+        g.rho(bad)
+
+
+@pytest.mark.parametrize("bad", [None, "x", float("nan"), [1.0, "a"]])
+def test_one_minus_abs2_refuses_non_numbers(bad):
+    with pytest.raises(ValueError):
+        g.one_minus_abs2(bad)
+
+
+@pytest.mark.parametrize("bad", [None, "100", True, [100, -1], 1j])
+def test_effective_radius_rejects_bad_types(bad):
+    with pytest.raises(ValueError):
+        g.effective_radius(bad)
+
+
+def test_checked_maps_agree_with_kernels():
+    rng = np.random.default_rng(3)
+    z1 = 0.9 * rng.uniform(0, 1, 50) * np.exp(2j * np.pi * rng.uniform(0, 1, 50))
+    z2 = 0.9 * rng.uniform(0, 1, 50) * np.exp(2j * np.pi * rng.uniform(0, 1, 50))
+    t = rng.uniform(0, 1, 50)
+    assert np.array_equal(g.geodesic_point(z1, z2, t), g._geodesic_point(z1, z2, t))
+    assert np.array_equal(g.rotate_about(z1, z2, t), g._rotate_about(z1, z2, t))
+    assert np.array_equal(g.distance(z1, z2), g.distance(z1, z2, check=False))
+    assert g.rho(0.5) == pytest.approx(1.25 / 0.75, rel=1e-15)
+    assert np.allclose(g.effective_radius(np.array([7, 35])), np.sqrt([7 / 35, 35 / 63]), rtol=1e-15)
+
+
+def test_tiling_constants_is_a_result(tmp_path):
+    from hyperlattice.results import Result, load_result
+
+    tc = g.tiling_constants(7, 3)
+    assert isinstance(tc, Result)
+    assert tc.summary() == {"p": 7, "q": 3, "r0": tc.r0, "d0": tc.d0, "h": tc.h, "site_area": tc.site_area}
+    back = g.TilingConstants.from_dict(json.loads(json.dumps(tc.as_dict())))
+    assert back.as_dict() == tc.as_dict()
+    inf = g.tiling_constants(math.inf, 3)
+    assert inf.summary()["p"] == "inf"
+    back = load_result(inf.save(tmp_path / "tc.json"))
+    assert back.p == math.inf and back.h == inf.h
+    assert tc != g.tiling_constants(7, 3)  # eq=False: compared by identity, never element-wise
+    with pytest.raises(AttributeError):
+        tc.p = 8

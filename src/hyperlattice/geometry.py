@@ -9,7 +9,10 @@ curvature :math:`-1` distances, the point at distance :math:`d` from the origin
 has radius :math:`\tanh d`, and a geodesic polygon with :math:`n` vertices and
 interior angles :math:`\gamma_j` has area :math:`[(n-2)\pi - \sum_j\gamma_j]/4`.
 
-Everything here is a pure function of numbers or complex numpy arrays.
+Everything here is a pure function of numbers or complex numpy arrays. The public functions
+check their input through :mod:`hyperlattice._validate` (points must lie in the open disk);
+the lattice builder calls the unchecked kernels ``_rotate_about`` and ``_geodesic_point``
+on coordinates it made itself.
 """
 
 from __future__ import annotations
@@ -20,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _validate
+from .results import Result
 
 __all__ = [
     "distance",
@@ -40,17 +44,6 @@ __all__ = [
     "counting_slope",
     "rho",
 ]
-
-
-# ----------------------------------------------------------------------------
-# validation
-# ----------------------------------------------------------------------------
-
-def _check_in_disk(name: str, z: np.ndarray) -> None:
-    if not np.all(np.isfinite(z)):
-        raise ValueError(f"{name} contains NaN or infinite values.")
-    if np.any(np.abs(z) >= 1.0):
-        raise ValueError(f"{name} must lie inside the unit disk |z| < 1.")
 
 
 # ----------------------------------------------------------------------------
@@ -78,14 +71,18 @@ def _two_sum(a, b):
     return s, e
 
 
-def one_minus_abs2(z):
+def one_minus_abs2(z) -> np.ndarray | float:
     r""":math:`1-|z|^2` to full relative accuracy, also for :math:`|z| \to 1`.
 
     The coordinates are exact binary numbers, so the only loss is cancellation in
     :math:`1 - x^2 - y^2`; compensated (double-double) arithmetic removes it. This is
     what keeps hyperbolic distances accurate near the boundary of large lattices.
+    ``z`` may be any finite complex number or array (outside the disk the result is negative).
     """
-    z = np.asarray(z, dtype=complex)
+    return _one_minus_abs2(_validate.complex_array("z", z))
+
+
+def _one_minus_abs2(z: np.ndarray) -> np.ndarray:
     x, y = z.real, z.imag
     x2, ex = _two_prod(x, x)
     y2, ey = _two_prod(y, y)
@@ -94,7 +91,7 @@ def one_minus_abs2(z):
     return s2 + ((e1 + e2) - (ex + ey))
 
 
-def distance(z1, z2, *, check: bool = True):
+def distance(z1, z2, *, check: bool = True) -> np.ndarray | float:
     r"""Hyperbolic distance of Eq. (4),
 
     .. math:: d(z,z') = \tfrac12\,\mathrm{arcosh}\Bigl(1 + \frac{2|z-z'|^2}{(1-|z|^2)(1-|z'|^2)}\Bigr).
@@ -103,37 +100,50 @@ def distance(z1, z2, *, check: bool = True):
     :math:`d = \mathrm{arcsinh}\bigl(|z-z'|/\sqrt{(1-|z|^2)(1-|z'|^2)}\bigr)`, which keeps
     full relative accuracy for nearby points (no ``arcosh`` near 1) and, with
     :func:`one_minus_abs2`, near the boundary |z| -> 1. Broadcasts over numpy arrays.
+
+    ``check=False`` skips the input check (points known to lie in the open disk).
     """
-    z1 = np.asarray(z1, dtype=complex)
-    z2 = np.asarray(z2, dtype=complex)
     if check:
-        _check_in_disk("z1", z1)
-        _check_in_disk("z2", z2)
-    s1 = one_minus_abs2(z1)
-    s2 = one_minus_abs2(z2)
+        z1 = _validate.disk_points("z1", z1)
+        z2 = _validate.disk_points("z2", z2)
+    else:
+        z1 = np.asarray(z1, dtype=complex)
+        z2 = np.asarray(z2, dtype=complex)
+    s1 = _one_minus_abs2(z1)
+    s2 = _one_minus_abs2(z2)
     # cosh(2d) - 1 = 2 sinh(d)^2 = 2|z-z'|^2 / (s1 s2)  =>  d = arcsinh(|z-z'| / sqrt(s1 s2))
     return np.arcsinh(np.abs(z1 - z2) / np.sqrt(s1 * s2))
 
 
-def mobius(z, a, eta: float = 0.0):
+def mobius(z, a, eta: float = 0.0) -> np.ndarray | complex:
     r"""The disk automorphism of Eq. (5), :math:`w(z) = e^{i\eta}(a - z)/(1 - z\bar a)`.
 
-    It exchanges ``a`` and the origin (for ``eta = 0`` it is an involution).
+    It exchanges ``a`` and the origin (for ``eta = 0`` it is an involution). ``z`` and ``a``
+    lie in the open unit disk; ``eta`` is a real angle.
     """
-    z = np.asarray(z, dtype=complex)
-    a = np.asarray(a, dtype=complex)
+    z = _validate.disk_points("z", z)
+    a = _validate.disk_points("a", a)
+    eta = _validate.real("eta", eta)
     return np.exp(1j * eta) * (a - z) / (1.0 - z * np.conj(a))
 
 
-def mobius_inverse(w, a, eta: float = 0.0):
+def mobius_inverse(w, a, eta: float = 0.0) -> np.ndarray | complex:
     """Inverse of :func:`mobius`: returns z with ``mobius(z, a, eta) == w``."""
-    w = np.asarray(w, dtype=complex) * np.exp(-1j * eta)
-    a = np.asarray(a, dtype=complex)
+    w = _validate.disk_points("w", w) * np.exp(-1j * _validate.real("eta", eta))
+    a = _validate.disk_points("a", a)
     return (a - w) / (1.0 - w * np.conj(a))
 
 
-def rotate_about(z, center, angle):
-    """Rotate ``z`` about ``center`` by ``angle`` (counterclockwise, hyperbolic isometry)."""
+def rotate_about(z, center, angle) -> np.ndarray | complex:
+    """Rotate ``z`` about ``center`` by ``angle`` (counterclockwise, hyperbolic isometry).
+
+    ``z`` and ``center`` lie in the open unit disk; ``angle`` is real (arrays broadcast).
+    """
+    return _rotate_about(_validate.disk_points("z", z), _validate.disk_points("center", center),
+                         _validate.real_array("angle", angle))
+
+
+def _rotate_about(z, center, angle):
     z = np.asarray(z, dtype=complex)
     c = np.asarray(center, dtype=complex)
     cc = np.conj(c)
@@ -141,8 +151,17 @@ def rotate_about(z, center, angle):
     return (w + c) / (1.0 + cc * w)
 
 
-def geodesic_point(z1, z2, t):
-    """Point at fraction ``t`` of the hyperbolic distance along the geodesic from z1 to z2."""
+def geodesic_point(z1, z2, t) -> np.ndarray | complex:
+    """Point at fraction ``t`` of the hyperbolic distance along the geodesic from z1 to z2.
+
+    ``z1`` and ``z2`` lie in the open unit disk; ``t`` is real (0 gives z1, 1 gives z2;
+    values outside [0, 1] continue the geodesic). Arrays broadcast.
+    """
+    return _geodesic_point(_validate.disk_points("z1", z1), _validate.disk_points("z2", z2),
+                           _validate.real_array("t", t))
+
+
+def _geodesic_point(z1, z2, t):
     z1 = np.asarray(z1, dtype=complex)
     z2 = np.asarray(z2, dtype=complex)
     c1 = np.conj(z1)
@@ -157,14 +176,24 @@ def geodesic_point(z1, z2, t):
     return (u + z1) / (1.0 + c1 * u)
 
 
-def midpoint(z1, z2):
-    """Hyperbolic midpoint of the geodesic segment between z1 and z2."""
+def midpoint(z1, z2) -> np.ndarray | complex:
+    """Hyperbolic midpoint of the geodesic segment between z1 and z2 (points of the open disk)."""
     return geodesic_point(z1, z2, 0.5)
 
 
-def rho(r):
-    r"""The hyperbolic invariant :math:`\rho = (1+r^2)/(1-r^2) = \cosh 2d(r,0)` of Eq. (sum3)."""
-    r = np.asarray(r, dtype=float)
+def _midpoint(z1, z2):
+    return _geodesic_point(z1, z2, 0.5)
+
+
+def rho(r) -> np.ndarray | float:
+    r"""The hyperbolic invariant :math:`\rho = (1+r^2)/(1-r^2) = \cosh 2d(r,0)` of ``sum3``.
+
+    ``r`` is a real radius (or array of radii) with :math:`|r| < 1`.
+    """
+    r = _validate.real_array("r", r)
+    if np.any(np.abs(r) >= 1.0):
+        raise ValueError(f"r must lie in -1 < r < 1 (a radius in the disk); the largest |r| is "
+                         f"{float(np.max(np.abs(r))):.6g}.")
     return (1.0 + r * r) / ((1.0 - r) * (1.0 + r))
 
 
@@ -241,22 +270,33 @@ def counting_slope(p, q=3) -> float:
     return radius_constant(p, q) / 2.0
 
 
-def effective_radius(sites, p=7, q=3):
-    r"""Effective disk radius of Eq. (eq12), :math:`L = \sqrt{N/(N + c_{pq})}`.
+def effective_radius(sites, p=7, q=3) -> float | np.ndarray:
+    r"""Effective disk radius of ``eq12``, :math:`L = \sqrt{N/(N + c_{pq})}`.
 
-    ``sites`` (N) may be an integer or an array; :math:`c_{pq}` is :func:`radius_constant`.
+    ``sites`` (N) may be a positive number or an array of them; :math:`c_{pq}` is
+    :func:`radius_constant`.
     """
-    n = np.asarray(sites, dtype=float)
-    if np.any(~np.isfinite(n)) or np.any(n <= 0):
-        raise ValueError("the number of sites must be a positive finite number.")
+    n = _validate.real_array("the number of sites", sites)
+    if np.any(n <= 0):
+        raise ValueError("the number of sites must be positive.")
     c = radius_constant(p, q)
     out = np.sqrt(n / (n + c))
     return float(out) if out.ndim == 0 else out
 
 
-@dataclass(frozen=True)
-class TilingConstants:
-    """The geometric constants of a {p,q} tessellation in the paper's metric."""
+@dataclass(frozen=True, eq=False, kw_only=True)
+class TilingConstants(Result):
+    """The geometric constants of a {p,q} tessellation in the paper's metric (a :class:`Result`).
+
+    Attributes
+    ----------
+    p : int or float
+        Polygon size (``math.inf`` for the limit p -> inf).
+    q : int
+        Coordination number.
+    r0, d0, h, site_area, radius_constant : float
+        :func:`r0`, :func:`d0`, :func:`lattice_h`, :func:`site_area`, :func:`radius_constant`.
+    """
 
     p: float | int
     q: int
@@ -267,6 +307,7 @@ class TilingConstants:
     radius_constant: float
 
     def summary(self) -> dict:
+        """The CLI's JSON row: p (``"inf"`` for the limit), q, r0, d0, h, site_area."""
         p = "inf" if isinstance(self.p, float) and math.isinf(self.p) else self.p
         return {"p": p, "q": self.q, "r0": self.r0, "d0": self.d0, "h": self.h,
                 "site_area": self.site_area}

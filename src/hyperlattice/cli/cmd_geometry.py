@@ -10,7 +10,7 @@ ORDER = 10
 HELP = "constants r0, d0, h = tanh(d0) and area per site of {p,q} tessellations"
 
 
-def add_arguments(parser):
+def add_arguments(parser) -> None:
     parser.add_argument("-p", type=p_value, nargs="+", default=[7, 8, 9, 10, float("inf")],
                         help="one or more polygon sizes (integers or 'inf'); default 7 8 9 10 inf")
     parser.add_argument("-q", type=int, default=3, help="coordination number (default 3)")
@@ -18,7 +18,7 @@ def add_arguments(parser):
 
 
 def run(args) -> int:
-    rows = [tiling_constants(p, args.q).summary() for p in args.p]
+    rows = [tiling_constants(p, args.q).summary() for p in args.p]  # the Result's CLI view
     if args.json:
         print_json(rows)
         return 0
