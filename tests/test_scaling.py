@@ -186,3 +186,96 @@ def test_no_warning_on_good_lattice(lat5):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         frame_angles(lat5)
+
+
+# ---------------------------------------------------------------------------------------------
+# one A_h profile for the CLI and the figure; results; bad arguments
+# ---------------------------------------------------------------------------------------------
+
+def test_operator_profile_matches_direct_computation(ang5):
+    from hyperlattice.compare.scaling import operator_profile
+
+    f = SmoothFunction.cos_distance()
+    prof = operator_profile(ang5, f, 0.1)
+    z = ang5.z[ang5.full]
+    base = 3 * f(z)
+    ex, a2 = formal_operator(ang5, f, 0.1), expansion(ang5, f, 0.1, 2)
+    np.testing.assert_array_equal(prof.exact.mean, radial_profile(z, (ex - base).real).mean)
+    np.testing.assert_array_equal(prof.quadratic.mean, radial_profile(z, (a2 - base).real).mean)
+    assert prof.max_error_quadratic == float(np.max(np.abs(ex - a2)))
+    assert prof.curve_distance is not None and prof.curve_quadratic.shape == (399,)  # radial f
+    assert operator_profile(ang5, SmoothFunction.exp_x(), 0.1).curve_distance is None
+    assert prof.h == 0.1 and operator_profile(ang5).h == ang5.h
+
+
+def test_angle_profile_is_the_cos_q_delta_profile(ang5):
+    from hyperlattice.compare.scaling import angle_profile
+
+    prof = angle_profile(ang5)
+    ref = radial_profile(ang5.z, np.cos(3 * ang5.delta))
+    np.testing.assert_array_equal(prof.mean, ref.mean)
+    np.testing.assert_array_equal(prof.unique, ref.unique)
+
+
+def test_plots_return_axes(lat5, ang5):
+    import matplotlib.pyplot as plt
+
+    from hyperlattice.compare.scaling import angle_profile, operator_profile
+    from hyperlattice.compare.sums import fit_counting
+
+    st = convergence_study(ring_lattice(7, 3, 3), SmoothFunction.exp_x())
+    for res in (ang5, angle_profile(ang5), operator_profile(ang5, h=0.1), st, fit_counting(ring_lattice(7, 3, 4))):
+        ax = res.plot()
+        assert ax.has_data()
+        plt.close(ax.figure)
+
+
+def test_cli_and_figure_share_operator_profile(monkeypatch, tmp_path, capsys):
+    """cmd_scaling and plots/scaling get A_h from one function (issue: both computed it)."""
+    import hyperlattice.compare.scaling as sc
+    from hyperlattice.cli import main
+
+    calls = []
+    real = sc.operator_profile
+
+    def spy(*args, **kwargs):
+        calls.append(kwargs.get("h", args[2] if len(args) > 2 else None))
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(sc, "operator_profile", spy)
+    import hyperlattice.cli.cmd_scaling as cmd
+    import hyperlattice.plots.scaling as ps
+
+    monkeypatch.setattr(cmd, "operator_profile", spy)
+    monkeypatch.setattr(ps, "operator_profile", spy)
+    assert main(["scaling", "operator", "--rings", "3", "--h", "0.1", "0.05", "--json",
+                 "--plot", str(tmp_path / "sh.png")]) == 0
+    assert calls == [0.1, 0.05]
+    ps.plot_formal_operator(ring_lattice(7, 3, 3), h=0.1)
+    assert calls == [0.1, 0.05, 0.1]
+    capsys.readouterr()
+
+
+@pytest.mark.parametrize("call", [
+    lambda a: frame_angles(ring_lattice(7, 3, 3), tol=None),
+    lambda a: formal_operator(a, None, 0.1),
+    lambda a: formal_operator(a, SmoothFunction.exp_x(), 0.1, sites=True),
+    lambda a: formal_operator(a, SmoothFunction.exp_x(), 0.1, sites="none"),
+    lambda a: formal_operator(a, SmoothFunction.exp_x(), 0.1, sites=[0, 10 ** 6]),
+    lambda a: formal_operator(a, SmoothFunction.exp_x(), 0.1, sites=np.ones(3, dtype=bool)),
+    lambda a: expansion(a, lambda z: z, 0.1, 2),
+    lambda a: expansion(a, SmoothFunction.exp_x(), 0.1, 2.0),
+    lambda a: expected_error_order(3, None),
+    lambda a: expected_error_order(None, 2),
+    lambda a: convergence_study(a, SmoothFunction.exp_x(), orders=None),
+    lambda a: convergence_study(a, SmoothFunction.exp_x(), orders=[5]),
+    lambda a: convergence_study(a, SmoothFunction.exp_x(), tol=None),
+    lambda a: convergence_study(a, SmoothFunction.exp_x(), np.geomspace(0.01, 0.08, 1001)),
+    lambda a: convergence_study(a, SmoothFunction.exp_x(), [0.01, math.nan, 0.05]),
+    lambda a: radial_profile(None, [1.0]),
+    lambda a: radial_profile([0.1, 0.2], [1.0, math.nan]),
+    lambda a: radial_profile([0.1], [1.0], rtol=None),
+])
+def test_bad_arguments_are_valueerror(ang5, call):
+    with pytest.raises(ValueError):
+        call(ang5)
