@@ -113,3 +113,74 @@ def test_bad_inputs():
         disk_integral(lambda z: z, 1.0)
     with pytest.raises(ValueError):
         sum_check(ring_lattice(7, 3, 2), lambda z: np.full(np.shape(z), np.nan))
+
+
+# ---------------------------------------------------------------------------------------------
+# regressions: overflow, bad scalars and arrays in the energy maps, the counting slope
+# ---------------------------------------------------------------------------------------------
+
+def test_overflow_is_valueerror():
+    """dictionary --t 1e308 printed mu' = inf; the inverse map overflowed into a message about t."""
+    with pytest.raises(ValueError, match="mu_prime"):
+        continuum_parameters(1e308, 0.0, 0.0)
+    with pytest.raises(ValueError, match="lattice t"):
+        lattice_parameters(1e308, 0.0, 0.0)
+
+
+@pytest.mark.parametrize("bad", [None, math.nan, math.inf, True, "x", [[1, 2], [3]], [1.0, math.nan], object()])
+def test_energy_maps_refuse_bad_values(bad):
+    from hyperlattice.dictionary import energy_from_k, energy_from_lambda, lambda_from_energy
+
+    for fn in (lambda_from_energy, energy_from_lambda, energy_from_k):
+        with pytest.raises(ValueError):
+            fn(bad)
+
+
+def test_energy_maps_keep_kind_and_numbers():
+    from hyperlattice.dictionary import energy_from_k, energy_from_lambda, hopping_scale, lambda_from_energy
+
+    s = hopping_scale(7, 3)
+    assert lambda_from_energy(-2.95) == (-2.95 + 3) / s and isinstance(lambda_from_energy(-2.95), float)
+    assert lambda_from_energy(-2.5 + 0.1j) == (-2.5 + 0.1j + 3) / s
+    lam = lambda_from_energy([-2.9, -2.8])
+    assert lam.dtype == np.float64 and np.array_equal(lam, (np.array([-2.9, -2.8]) + 3) / s)
+    assert lambda_from_energy(np.array([-2.9 + 0.1j])).dtype == np.complex128
+    assert energy_from_lambda(lambda_from_energy(-2.95)) == pytest.approx(-2.95, abs=1e-15)
+    assert energy_from_k(0.0) == pytest.approx(-3 + s, abs=1e-15)
+
+
+def test_disk_radius_and_dictionary_parameters_need_a_finite_lattice():
+    from hyperlattice.dictionary import dictionary_parameters, disk_radius
+
+    assert disk_radius(112) == pytest.approx(math.sqrt(112 / 140))
+    for bad in (True, 2.5, 0, 1 + 2j, object()):
+        with pytest.raises(ValueError):
+            disk_radius(bad)
+    with pytest.raises(ValueError):
+        disk_radius(112, p=math.inf)
+    with pytest.raises(ValueError):
+        dictionary_parameters(-2.9, p=math.inf)
+
+
+@pytest.mark.parametrize("slope", [1e308, -1e7, math.nan, True, "14"])
+def test_fixed_slope_bounded(slope):
+    """--slope 1e308 printed b = -inf and eight RuntimeWarnings."""
+    with pytest.raises(ValueError, match="slope"):
+        fit_counting(ring_lattice(7, 3, 4), slope=slope)
+
+
+def test_counting_and_sum_results_round_trip():
+    from hyperlattice.results import Result
+
+    fit = fit_counting(ring_lattice(7, 3, 4))
+    back = Result.from_dict(fit.as_dict())
+    assert back.summary() == fit.summary() and back.radii.dtype == fit.radii.dtype
+    assert not fit.radii.flags.writeable
+
+
+@pytest.mark.parametrize("kwargs", [dict(f=None), dict(radius=None), dict(radius=True), dict(angular_points=None),
+                                    dict(angular_points=2 ** 30), dict(rtol=None), dict(rtol=0.0)])
+def test_disk_integral_bad_arguments(kwargs):
+    call = {"f": lambda z: np.ones(np.shape(z)), "radius": 0.5, **kwargs}
+    with pytest.raises(ValueError):
+        disk_integral(**call)

@@ -55,7 +55,17 @@ __all__ = [
 # energies <-> eigenvalues of -Delta_g
 # ----------------------------------------------------------------------------
 
-def laplacian_coefficient(q: int, h):
+def _value(name: str, value):
+    """A real or complex scalar, or an array of them, all finite (arrays as float64/complex128)."""
+    if isinstance(value, (np.ndarray, list, tuple)):
+        a = _validate.complex_array(name, value)  # refuses ragged lists, strings, NaN and inf
+        return a if np.asarray(value).dtype.kind == "c" else a.real.copy()
+    if isinstance(value, (complex, np.complexfloating)):
+        return _validate.complex_number(name, value)
+    return _validate.real(name, value)
+
+
+def laplacian_coefficient(q: int, h) -> float:
     r"""The coefficient :math:`\frac q4 h^2` of :math:`\Delta_g` in :math:`A \approx q + \frac q4 h^2\Delta_g`
     for a q-fold star of neighbours at Euclidean distance h (after a Möbius map to the origin).
 
@@ -78,6 +88,7 @@ def hopping_scale(p=7, q=3) -> float:
 def lambda_from_energy(omega, p=7, q=3):
     r""":math:`\lambda = 4(\omega + q)/(q h^2)`: the eigenvalue of :math:`-\Delta_g` that matches the
     lattice energy (or frequency) :math:`\omega` (``eq21``). Real or complex, scalar or array."""
+    omega = _value("omega", omega)
     scale = hopping_scale(p, q)
     q = _validate.pq(p, q, allow_infinite_p=True)[1]
     return (np.asarray(omega) + q) / scale if np.ndim(omega) else (omega + q) / scale
@@ -85,6 +96,7 @@ def lambda_from_energy(omega, p=7, q=3):
 
 def energy_from_lambda(lam, p=7, q=3):
     r""":math:`E = -q + \frac q4 h^2 \lambda`, the inverse of :func:`lambda_from_energy` (``spec2``)."""
+    lam = _value("lam", lam)
     scale = hopping_scale(p, q)
     q = _validate.pq(p, q, allow_infinite_p=True)[1]
     return -q + scale * (np.asarray(lam) if np.ndim(lam) else lam)
@@ -93,7 +105,7 @@ def energy_from_lambda(lam, p=7, q=3):
 def energy_from_k(k, p=7, q=3):
     r"""Lattice energy of a continuum level with :math:`-\Delta_g\psi = (1 + k^2)\psi` (``spec2``):
     :math:`E = -q + \frac q4 h^2 (1 + k^2)`. Real k for Dirichlet levels, complex k allowed."""
-    k = np.asarray(k)
+    k = np.asarray(_value("k", k))
     return energy_from_lambda(1.0 + k * k, p, q)
 
 
@@ -104,16 +116,19 @@ def green_prefactor(p=7, q=3) -> float:
 
 def dictionary_parameters(omega, p=7, q=3) -> tuple[complex, float]:
     r"""``(lambda, prefactor)`` of ``eq21`` for one lattice frequency :math:`\omega` (real or complex)."""
+    _validate.pq(p, q)  # a lattice's Green function: p finite
     om = _validate.complex_number("omega", omega)
     return complex(lambda_from_energy(om, p, q)), green_prefactor(p, q)
 
 
-def disk_radius(sites, p=7, q=3):
+def disk_radius(sites, p=7, q=3) -> float:
     r"""The effective disk radius of ``eq12``, :math:`L = \sqrt{N/(N + \pi/\mathcal A)}`, for N sites.
 
-    Same as :func:`hyperlattice.geometry.effective_radius` (kept there for the geometry tables).
+    Same as :func:`hyperlattice.geometry.effective_radius` (kept there for the geometry tables);
+    ``sites`` is one positive integer here.
     """
-    return geometry.effective_radius(sites, p, q)
+    p, q = _validate.pq(p, q)
+    return geometry.effective_radius(_validate.positive_int("sites", sites), p, q)
 
 
 # ----------------------------------------------------------------------------
@@ -169,7 +184,7 @@ def continuum_parameters(t: float, mu: float, U: float, p: int = 7, q: int = 3) 
     values = {"t_prime": hopping_scale(p, q) * t, "mu_prime": mu + q * t, "U_prime": area * U}
     for name, v in values.items():
         if not math.isfinite(v):
-            raise ValueError(f"{name} = {v} overflows: the lattice parameters are too large.")
+            raise ValueError(f"the continuum {name} = {v} overflows: the lattice parameters are too large.")
     return ContinuumParameters(p=p, q=q, t=t, mu=mu, U=U, **values,
                                field_scale=1.0 / math.sqrt(area), h=geometry.lattice_h(p, q), site_area=area)
 
@@ -181,4 +196,8 @@ def lattice_parameters(t_prime: float, mu_prime: float, U_prime: float, p: int =
     tp, mp, up = (_validate.real(name, v)
                   for name, v in (("t_prime", t_prime), ("mu_prime", mu_prime), ("U_prime", U_prime)))
     t = tp / hopping_scale(p, q)
-    return continuum_parameters(t, mp - q * t, up / geometry.site_area(p, q), p, q)
+    values = {"t": t, "mu": mp - q * t, "U": up / geometry.site_area(p, q)}
+    for name, v in values.items():
+        if not math.isfinite(v):
+            raise ValueError(f"the lattice {name} = {v} overflows: the continuum parameters are too large.")
+    return continuum_parameters(values["t"], values["mu"], values["U"], p, q)
