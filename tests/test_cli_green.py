@@ -57,3 +57,41 @@ def test_errors_exit_2(argv, msg, capsys):
     assert code == 2
     err = capsys.readouterr().err
     assert msg in err and err.count("\n") <= 3
+
+
+@pytest.mark.parametrize("where", ["directory", "missing-folder"])
+def test_unwritable_out_refused_before_computing(where, tmp_path, capsys, monkeypatch):
+    import hyperlattice.compare.green as cg
+
+    def fail(*args, **kwargs):
+        raise AssertionError("computed before checking --out")
+
+    monkeypatch.setattr(cg, "compare_green", fail)
+    target = tmp_path if where == "directory" else tmp_path / "no" / "g.csv"
+    assert main(["green", "--rings", "2", "--out", str(target)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and ("--out" in err or "cannot write" in err)
+
+
+@pytest.mark.parametrize("tol", ["3.5", "0", "-1", "nan", "1e400"])
+def test_tol_must_be_a_tolerance(tol, capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["green", "--rings", "2", f"--tol={tol}"])
+    assert exc.value.code == 2 and capsys.readouterr().err.count("\n") == 1
+
+
+def test_oserror_while_writing_is_one_line(tmp_path, capsys, monkeypatch):
+    """A write that fails after the checks (disk full, ...) gives one line and exit 2."""
+    import builtins
+
+    real_open = builtins.open
+
+    def full_disk(path, *args, **kwargs):
+        if str(path).endswith("g.csv"):
+            raise OSError(28, "No space left on device", str(path))
+        return real_open(path, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "open", full_disk)
+    assert main(["green", "--rings", "2", "--out", str(tmp_path / "g.csv")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "No space left on device" in err and "Traceback" not in err

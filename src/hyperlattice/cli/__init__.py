@@ -6,14 +6,18 @@ Each subcommand lives in its own module ``hyperlattice.cli.cmd_<name>`` that def
 * ``add_arguments(parser)`` and ``run(args) -> int``.
 
 Modules are discovered automatically, so adding a command touches no shared file.
-Errors raised as :class:`ValueError` (bad input) or :class:`hyperlattice.errors.HyperlatticeError`
-become a one-line message on stderr and exit code 2; there is never a traceback for bad input.
+Errors raised as :class:`ValueError` (bad input), :class:`hyperlattice.errors.HyperlatticeError`,
+:class:`MemoryError` or :class:`OSError` (a file that cannot be written) become a one-line message
+on stderr and exit code 2. Warnings are printed as one line each. Anything else is a bug of
+hyperlattice: one line asking for a report and exit code 1 (``HYPERLATTICE_TRACEBACK=1`` shows
+the traceback instead). There is never a traceback for bad input.
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import pkgutil
 import sys
 import warnings
@@ -22,17 +26,18 @@ from .. import __version__
 from ..errors import HyperlatticeError
 
 EXIT_USAGE = 2
+EXIT_BUG = 1
 
 
 class _OneLineParser(argparse.ArgumentParser):
     """argparse prints usage plus an error; our contract is one line and exit 2."""
 
-    def error(self, message):  # noqa: D102 - argparse API
+    def error(self, message) -> None:  # noqa: D102 - argparse API
         sys.stderr.write(f"{self.prog}: error: {message}\n")
         raise SystemExit(EXIT_USAGE)
 
 
-def _commands():
+def _commands() -> list:
     mods = []
     for info in pkgutil.iter_modules(__path__):
         if info.name.startswith("cmd_"):
@@ -57,30 +62,51 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _one_line(text: str) -> str:
+    return " ".join(str(text).split())
+
+
 def main(argv=None) -> int:
+    """Run the command line ``hyperlattice ...`` (``argv`` without the program name); return the exit code."""
     parser = build_parser()
     args = parser.parse_args(argv)
+    prefix = f"hyperlattice {args.command}"
+
+    def show_warning(message, category, filename, lineno, file=None, line=None):
+        # one line per warning, like the errors; the source line of the warn() call means nothing here
+        sys.stderr.write(f"{prefix}: warning: {_one_line(message)} ({category.__name__})\n")
+
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("default")
+            warnings.showwarning = show_warning
             return int(args._run(args) or 0)
     except (ValueError, HyperlatticeError) as exc:
-        msg = " ".join(str(exc).split()) or exc.__class__.__name__
-        sys.stderr.write(f"hyperlattice {args.command}: error: {msg}\n")
+        msg = _one_line(exc) or exc.__class__.__name__
+        sys.stderr.write(f"{prefix}: error: {msg}\n")
         return EXIT_USAGE
     except MemoryError:
-        sys.stderr.write(f"hyperlattice {args.command}: error: out of memory for this size.\n")
+        sys.stderr.write(f"{prefix}: error: out of memory for this size.\n")
+        return EXIT_USAGE
+    except BrokenPipeError:
+        # output piped into e.g. `head`, which closed early: not an error of ours
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 0
+    except OSError as exc:
+        # a file failed after the up-front checks (disk full, folder removed meanwhile, ...)
+        where = f"{exc.filename!s}: " if getattr(exc, "filename", None) else ""
+        sys.stderr.write(f"{prefix}: error: {where}{_one_line(exc.strerror or exc)}.\n")
         return EXIT_USAGE
     except KeyboardInterrupt:
         sys.stderr.write("hyperlattice: interrupted\n")
         return 130
-    except BrokenPipeError:
-        # output piped into e.g. `head`, which closed early: not an error of ours
-        import os
-
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
-        return 0
+    except Exception as exc:  # a bug of ours: say so in one line, keep the traceback on request
+        if os.environ.get("HYPERLATTICE_TRACEBACK"):
+            raise
+        sys.stderr.write(f"{prefix}: internal error ({type(exc).__name__}: {_one_line(exc)[:200]}); "
+                         "please report it (HYPERLATTICE_TRACEBACK=1 shows the traceback).\n")
+        return EXIT_BUG
 
 
 if __name__ == "__main__":  # pragma: no cover

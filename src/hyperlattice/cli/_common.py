@@ -1,4 +1,4 @@
-"""Shared helpers for the subcommands: argument types, JSON output, progress display."""
+"""Shared helpers for the subcommands: argument types, output paths, JSON output, progress display."""
 
 from __future__ import annotations
 
@@ -7,8 +7,11 @@ import json
 import math
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
+
+from .. import _validate
 
 
 def p_value(text: str):
@@ -23,6 +26,7 @@ def p_value(text: str):
 
 
 def positive_int(text: str) -> int:
+    """An integer >= 1 (argparse type)."""
     try:
         v = int(text)
     except ValueError:
@@ -32,7 +36,16 @@ def positive_int(text: str) -> int:
     return v
 
 
+def tolerance(text: str) -> float:
+    """A relative tolerance: a number with 0 < tol < 1 (argparse type)."""
+    v = finite_float(text)
+    if not 0 < v < 1:
+        raise argparse.ArgumentTypeError(f"expected a tolerance between 0 and 1, got {text!r}")
+    return v
+
+
 def finite_float(text: str) -> float:
+    """A finite real number (argparse type)."""
     try:
         v = float(text)
     except ValueError:
@@ -52,6 +65,34 @@ def complex_value(text: str) -> complex:
     if not (math.isfinite(v.real) and math.isfinite(v.imag)):
         raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
     return v
+
+
+def output_file(flag: str, value) -> Path:
+    """``value`` as a file the command may write, checked before any work is done.
+
+    Refuses directories, missing folders and read-only places with one sentence naming ``flag``.
+    """
+    return _validate.output_path(flag, value)
+
+
+#: suffixes matplotlib writes without extra packages; a figure path must end in one of them
+PLOT_SUFFIXES = (".png", ".pdf", ".svg", ".eps", ".ps", ".jpg", ".jpeg", ".tif", ".tiff", ".webp")
+
+
+def plot_file(flag: str, value) -> Path:
+    """A figure file: as :func:`output_file`, and its suffix names the format.
+
+    matplotlib appends ``.png`` to a name without a known suffix (``--plot DIR`` wrote
+    ``DIR.png``), so such a name is refused rather than silently changed.
+    """
+    path = _validate._as_path(flag, value)
+    if path.is_dir():
+        raise ValueError(f"{flag} {str(path)!r} is a directory; give a file name such as "
+                         f"{str(path / 'figure.png')!r}.")
+    if path.suffix.lower() not in PLOT_SUFFIXES:
+        raise ValueError(f"{flag} {str(path)!r} must end in one of {', '.join(PLOT_SUFFIXES)} "
+                         "(the suffix chooses the format).")
+    return output_file(flag, path)
 
 
 def add_pq(parser: argparse.ArgumentParser, *, default_p: int = 7) -> None:
@@ -82,6 +123,7 @@ def to_jsonable(obj):
 
 
 def print_json(obj) -> None:
+    """Write ``obj`` as indented JSON (numpy values converted) to stdout."""
     json.dump(to_jsonable(obj), sys.stdout, indent=2)
     sys.stdout.write("\n")
 

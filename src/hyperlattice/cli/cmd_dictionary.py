@@ -10,7 +10,7 @@ ORDER = 60
 HELP = "map lattice (t, mu, U) on {p,q} to the continuum (t', mu', U') of Eqs. (13)-(14), or back"
 
 
-def add_arguments(parser):
+def add_arguments(parser) -> None:
     add_pq(parser)
     parser.add_argument("--t", type=finite_float, default=1.0, help="hopping t (default 1)")
     parser.add_argument("--mu", type=finite_float, default=0.0, help="chemical potential mu (default 0)")

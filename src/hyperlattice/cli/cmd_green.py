@@ -5,7 +5,7 @@ from __future__ import annotations
 import csv
 import sys
 
-from ._common import add_pq, complex_value, positive_int, print_json
+from ._common import add_pq, complex_value, output_file, positive_int, print_json, tolerance
 
 NAME = "green"
 ORDER = 50
@@ -14,14 +14,14 @@ HELP = "graph Green function G_ij(omega) for one source vs the continuum Green f
 COLUMNS = ["site", "ring", "re_z", "im_z", "distance", "graph_re", "graph_im", "continuum_re", "continuum_im"]
 
 
-def add_arguments(parser):
+def add_arguments(parser) -> None:
     add_pq(parser)
     parser.add_argument("--rings", type=positive_int, default=6, help="number of rings l (default 6)")
     parser.add_argument("--omega", type=complex_value, default=complex(-2.95),
                         help="frequency, real or complex, e.g. --omega=-2.5+0.1j (default -2.95)")
     parser.add_argument("--site", type=int, default=10,
                         help="source site j, 0-based (default 10, on ring 2)")
-    parser.add_argument("--tol", type=float, default=1e-12,
+    parser.add_argument("--tol", type=tolerance, default=1e-12,
                         help="truncation tolerance of the continuum Fourier series (default 1e-12)")
     parser.add_argument("--out", default=None, metavar="FILE",
                         help="write one CSV row per target site (columns: " + ",".join(COLUMNS) + "); '-' for stdout")
@@ -42,14 +42,15 @@ def run(args) -> int:
     from ..compare.green import compare_green
     from ..graph.lattice import ring_lattice
 
+    out = output_file("--out", args.out) if args.out not in (None, "-") else None  # before computing
     lat = ring_lattice(args.p, args.q, args.rings)
     if not 0 <= args.site < lat.sites:
         raise ValueError(f"--site {args.site} is not a site of this lattice (valid: 0..{lat.sites - 1}).")
     cmp = compare_green(lat, args.omega, args.site, tol=args.tol)
     if args.out == "-":
         _write_csv(sys.stdout, lat, cmp)
-    elif args.out:
-        with open(args.out, "w", newline="") as fh:
+    elif out is not None:
+        with open(out, "w", newline="") as fh:
             _write_csv(fh, lat, cmp)
     summary = cmp.summary()
     if args.json:

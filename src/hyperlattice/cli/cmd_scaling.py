@@ -13,19 +13,23 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..compare.sums import fit_counting, sum_check
+from .. import _validate
+from ..compare.scaling import (MAX_H_VALUES, PRESETS, SmoothFunction, angle_profile, convergence_study,
+                               frame_angles, operator_profile)
+from ..compare.sums import MAX_SLOPE, fit_counting, sum_check
 from ..graph.lattice import ring_lattice
-from ..compare.scaling import (PRESETS, SmoothFunction, convergence_study, expansion, formal_operator,
-                       frame_angles, radial_profile)
-from ._common import add_pq, finite_float, positive_int, print_json
+from ._common import add_pq, finite_float, plot_file, positive_int, print_json
 
 NAME = "scaling"
 ORDER = 55
+
+#: most --h values of ``operator`` (one figure panel each) and --rings values of ``sums``
+MAX_LIST = 50
 HELP = "frame angles chi_i, the formal operator A_h and its h-expansion, sums as integrals"
 DESCRIPTION = __doc__
 
 
-def _common(p, *, rings_default: int, many_rings: bool = False):
+def _common(p, *, rings_default: int, many_rings: bool = False) -> None:
     add_pq(p)
     if many_rings:
         p.add_argument("--rings", type=positive_int, nargs="+", default=list(range(4, 11)),
@@ -36,11 +40,11 @@ def _common(p, *, rings_default: int, many_rings: bool = False):
     p.add_argument("--json", action="store_true", help="print JSON")
 
 
-def _plot_opt(p):
+def _plot_opt(p) -> None:
     p.add_argument("--plot", metavar="FILE.png", help="also save the figure to this file")
 
 
-def add_arguments(parser):
+def add_arguments(parser) -> None:
     sub = parser.add_subparsers(dest="task", metavar="TASK", parser_class=type(parser))
     sub.required = True
     fnames = ", ".join(PRESETS)
@@ -78,24 +82,37 @@ def add_arguments(parser):
                    help="test functions (default inverse-rho-squared gaussian anisotropic)")
 
 
-def _save(ax, path):
+def _plot_path(args):
+    """The --plot file, checked before computing (None without --plot)."""
+    return plot_file("--plot", args.plot) if getattr(args, "plot", None) is not None else None
+
+
+def _save(ax, path) -> None:
     if path:
+        import matplotlib.pyplot as plt
+
         ax.figure.savefig(path, dpi=120)
+        plt.close(ax.figure)
+
+
+def _count(flag: str, values, most: int) -> None:
+    if len(values) > most:
+        raise ValueError(f"at most {most} values of {flag}, got {len(values)}.")
 
 
 def _angles(args) -> int:
+    plot = _plot_path(args)
     lat = ring_lattice(args.p, args.q, args.rings)
     ang = frame_angles(lat)
-    sel = np.isfinite(ang.delta)
-    prof = radial_profile(ang.z[sel], np.cos(ang.q * ang.delta[sel]))
+    prof = angle_profile(ang)
     out = {"p": lat.p, "q": lat.q, "rings": lat.rings, "sites": lat.sites,
            "full_sites": int(ang.full.sum()), "h": ang.h, "max_star_residual": ang.max_residual,
            "distinct_radii": int(prof.r.size), "non_unique_radii": int((~prof.unique).sum()),
            "profile": {"r": prof.r, "cos_q_delta_mean": prof.mean, "min": prof.min,
                        "max": prof.max, "count": prof.count, "unique": prof.unique}}
-    if args.plot:
+    if plot:
         from ..plots.scaling import plot_frame_angles
-        _save(plot_frame_angles(ang), args.plot)
+        _save(plot_frame_angles(ang), plot)
     if args.json:
         print_json(out)
         return 0
@@ -109,29 +126,24 @@ def _angles(args) -> int:
 
 
 def _operator(args) -> int:
+    plot = _plot_path(args)
+    if args.h is not None:
+        _count("--h", args.h, MAX_LIST)
     lat = ring_lattice(args.p, args.q, args.rings)
     ang = frame_angles(lat)
     f = SmoothFunction.preset(args.function)
     hs = args.h if args.h is not None else [ang.h, 0.1, 0.05]
-    z = ang.z[ang.full]
-    base = ang.q * f(z)
-    rows = []
-    for h in hs:
-        ex = formal_operator(ang, f, h)
-        a2, a3 = expansion(ang, f, h, 2), expansion(ang, f, h, 3)
-        pe, p2, p3 = (radial_profile(z, (v - base).real) for v in (ex, a2, a3))
-        rows.append({"h": h, "max_error_quadratic": float(np.max(np.abs(ex - a2))),
-                     "max_error_cubic": float(np.max(np.abs(ex - a3))),
-                     "distance": pe.distance, "A_h_minus_qf": pe.mean,
-                     "quadratic_minus_qf": p2.mean, "cubic_minus_qf": p3.mean})
-    if args.plot:
+    profiles = [operator_profile(ang, f, h) for h in hs]
+    rows = [prof.summary() for prof in profiles]
+    if plot:
         import matplotlib.pyplot as plt
 
-        from ..plots.scaling import plot_formal_operator
+        from ..plots.scaling import draw_operator_profile
         fig, axs = plt.subplots(1, len(hs), figsize=(5.2 * len(hs), 4.2), layout="constrained", squeeze=False)
-        for h, ax in zip(hs, axs[0]):
-            plot_formal_operator(ang, h=h, f=f, ax=ax)
-        fig.savefig(args.plot, dpi=120)
+        for prof, ax in zip(profiles, axs[0]):
+            draw_operator_profile(prof, ax=ax)
+        fig.savefig(plot, dpi=120)
+        plt.close(fig)
     out = {"p": lat.p, "q": lat.q, "rings": lat.rings, "function": f.name, "results": rows}
     if args.json:
         print_json(out)
@@ -148,6 +160,8 @@ def _convergence(args) -> int:
         raise ValueError("need 0 < --h-min < --h-max.")
     if args.points < 3:
         raise ValueError("need at least 3 --points for a fit.")
+    if args.points > MAX_H_VALUES:  # 1e8 points ran for hours
+        raise ValueError(f"--points must be at most {MAX_H_VALUES} (a fit needs about ten), got {args.points}.")
     lat = ring_lattice(args.p, args.q, args.rings)
     f = SmoothFunction.preset(args.function)
     st = convergence_study(lat, f, np.geomspace(args.h_min, args.h_max, args.points))
@@ -162,11 +176,14 @@ def _convergence(args) -> int:
 
 
 def _counting(args) -> int:
+    plot = _plot_path(args)
+    if args.slope is not None:
+        _validate.real("--slope", args.slope, minimum=-MAX_SLOPE, maximum=MAX_SLOPE)
     lat = ring_lattice(args.p, args.q, args.rings)
     fit = fit_counting(lat, slope=args.slope, window=args.window)
-    if args.plot:
+    if plot:
         from ..plots.scaling import plot_counting
-        _save(plot_counting(lat), args.plot)
+        _save(plot_counting(lat), plot)
     if args.json:
         print_json(fit.summary())
         return 0
@@ -177,6 +194,8 @@ def _counting(args) -> int:
 
 
 def _sums(args) -> int:
+    _count("--rings", args.rings, MAX_LIST)
+    _count("--function", args.function, MAX_LIST)
     funcs = [SmoothFunction.preset(name) for name in args.function]
     rows = []
     for rings in args.rings:
