@@ -14,7 +14,6 @@ distance alone). Conformal (automorphism) invariance emerges as :math:`S\to 0` f
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -24,7 +23,7 @@ from ..geometry import d0, distance
 from ..graph.lattice import Lattice
 from ..results import Result
 
-__all__ = ["correlation_pairs", "bin_by_distance", "BinnedCorrelation", "collapse_measure"]
+__all__ = ["correlation_pairs", "sorted_pairs", "bin_by_distance", "BinnedCorrelation", "collapse_measure"]
 
 
 # ----------------------------------------------------------------------------
@@ -38,21 +37,61 @@ def correlation_pairs(lattice: Lattice, source: int, values) -> tuple[np.ndarray
     v = np.asarray(values)
     if v.shape != (lattice.sites,):
         raise ValueError(f"values must have one entry per site ({lattice.sites}), got shape {v.shape}.")
-    d = distance(lattice.z, lattice.z[source])
-    keep = np.arange(lattice.sites) != source
+    return sorted_pairs(distance(lattice.z, lattice.z[source]), v, source)
+
+
+def sorted_pairs(dist, values, exclude: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+    r"""Pairs :math:`(d_j, F_j)` sorted by distance (stable), leaving out the site ``exclude``.
+
+    The distances to a source are given (e.g. :attr:`GreenComparison.distance
+    <hyperlattice.compare.green.GreenComparison>`), so no lattice is needed.
+    """
+    d = _validate.real_array("distances", dist, ndim=1)
+    v = np.asarray(values)
+    if v.shape != d.shape:
+        raise ValueError(f"distances and values must have the same length, got {d.shape} and {v.shape}.")
+    keep = np.ones(d.size, bool)
+    if exclude is not None:
+        keep[_validate.site_index("exclude", exclude, d.size)] = False
     order = np.argsort(d[keep], kind="stable")
     return d[keep][order], v[keep][order]
 
 
-@dataclass(frozen=True)
-class BinnedCorrelation:
-    """Means and standard deviations of F in distance bins (empty bins dropped)."""
+@dataclass(frozen=True, eq=False, kw_only=True)
+class BinnedCorrelation(Result):
+    r"""Means and standard deviations of F in distance bins (empty bins dropped).
+
+    Attributes
+    ----------
+    edges : ndarray, shape (B+1,)
+        All bin edges (including those of empty bins).
+    centre : ndarray
+        Centres of the non-empty bins.
+    mean : ndarray (real or complex)
+        Mean of F in each non-empty bin.
+    std : ndarray
+        Population standard deviation :math:`\sqrt{\langle|F-\mu|^2\rangle}` in each bin.
+    count : ndarray of int
+        Number of values in each bin.
+    """
 
     edges: np.ndarray
     centre: np.ndarray
     mean: np.ndarray
     std: np.ndarray
     count: np.ndarray
+
+    def plot(self, ax=None, **kwargs):
+        """Mean ± standard deviation (real part) against the bin centre; returns the axes."""
+        from ..plots.green import plot_binned
+
+        return plot_binned(self, ax=ax, **kwargs)
+
+
+def _values(name: str, values, shape) -> np.ndarray:
+    if np.iscomplexobj(values):
+        return _validate.complex_array(name, values, shape=shape)
+    return _validate.real_array(name, values, shape=shape)
 
 
 def bin_by_distance(dist, values, width: float | None = None, edges=None) -> BinnedCorrelation:
@@ -61,22 +100,33 @@ def bin_by_distance(dist, values, width: float | None = None, edges=None) -> Bin
     Default bins have width :math:`d_0/2` of {7,3} (0.141), fine enough to resolve the
     distance dependence and coarse enough to hold several sites each. Complex values: the
     std is :math:`\sqrt{\langle|F-\mu|^2\rangle}`.
+
+    Parameters
+    ----------
+    dist : array, shape (K,)
+        Distances (finite, non-negative).
+    values : array, shape (K,)
+        Real or complex values F, finite.
+    width : float, optional
+        Bin width (default :math:`d_0/2` of {7,3}); ignored when ``edges`` is given.
+    edges : array, optional
+        Strictly increasing bin edges; distances outside fall into the first or last bin.
     """
-    d = np.asarray(dist, float)
-    v = np.asarray(values)
-    if d.shape != v.shape or d.ndim != 1:
-        raise ValueError("distances and values must be one-dimensional arrays of equal length.")
-    if d.size == 0 or not np.all(np.isfinite(d)) or not np.all(np.isfinite(v)):
-        raise ValueError("distances and values must be finite and non-empty.")
+    d = _validate.real_array("distances", dist, ndim=1)
+    if d.size == 0:
+        raise ValueError("distances and values must not be empty.")
+    v = _values("values", values, d.shape)
+    if np.any(d < 0):
+        raise ValueError("distances must be non-negative.")
     if edges is None:
-        if width is None:
-            width = 0.5 * d0(7, 3)
-        if not (width > 0 and math.isfinite(width)):
-            raise ValueError("the bin width must be a positive number.")
+        width = 0.5 * d0(7, 3) if width is None else _validate.positive_real("the bin width", width)
         edges = np.arange(0.0, d.max() + width, width)
         if edges[-1] <= d.max():
             edges = np.append(edges, edges[-1] + width)
-    edges = np.asarray(edges, float)
+    else:
+        edges = _validate.real_array("edges", edges, ndim=1)
+        if edges.size < 2 or np.any(np.diff(edges) <= 0):
+            raise ValueError("edges must be at least two strictly increasing numbers.")
     idx = np.clip(np.searchsorted(edges, d, side="right") - 1, 0, len(edges) - 2)
     nb = len(edges) - 1
     count = np.bincount(idx, minlength=nb)

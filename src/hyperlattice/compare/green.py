@@ -26,6 +26,7 @@ with :math:`L` from ``eq12``. For {7,3}, :math:`\mathcal A = \pi/28` gives :math
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -35,6 +36,9 @@ from ..geometry import distance
 from ..graph.green import GraphResolvent
 from ..graph.lattice import Lattice
 from ..results import Result
+
+if TYPE_CHECKING:
+    from ..continuum.green import GreenInfo
 
 __all__ = [
     "continuum_column",
@@ -48,7 +52,7 @@ __all__ = [
 # graph vs continuum, eq21
 # ----------------------------------------------------------------------------
 
-def continuum_column(lattice: Lattice, omega, source: int, *, tol: float = 1e-12):
+def continuum_column(lattice: Lattice, omega, source: int, *, tol: float = 1e-12) -> tuple[np.ndarray, GreenInfo]:
     r"""Right-hand side of ``eq21`` at every site i for source j: :math:`\frac{4\mathcal A}{qh^2}G(z_i,z_j,\lambda,L)`.
 
     Uses :math:`L` of ``eq12`` (``lattice.radius``); sites beyond :math:`L` get the analytic
@@ -59,6 +63,7 @@ def continuum_column(lattice: Lattice, omega, source: int, *, tol: float = 1e-12
 
     _validate.lattice(lattice, kind="sites")
     source = _validate.site_index("source", source, lattice.sites)
+    omega = _validate.complex_number("omega", omega)
     lam, pref = dictionary_parameters(omega, lattice.p, lattice.q)
     vals, info = continuum_green(lattice.z, lattice.z[source], lam, lattice.radius, tol=tol,
                                  extend=True, return_info=True)
@@ -69,19 +74,71 @@ def continuum_column(lattice: Lattice, omega, source: int, *, tol: float = 1e-12
     return out, info
 
 
-def relative_l2(graph: np.ndarray, continuum: np.ndarray, exclude: int | None = None) -> float:
-    r""":math:`\|G^{\rm graph} - G^{\rm cont}\|_2 / \|G^{\rm graph}\|_2` over all sites but ``exclude``."""
-    g = np.asarray(graph, complex)
-    c = np.asarray(continuum, complex)
+def relative_l2(graph, continuum, exclude: int | None = None) -> float:
+    r""":math:`\|G^{\rm graph} - G^{\rm cont}\|_2 / \|G^{\rm graph}\|_2` over all sites but ``exclude``.
+
+    Parameters
+    ----------
+    graph, continuum : array of complex, shape (N,)
+        The two columns; ``continuum`` may be infinite at ``exclude`` (the source, where the
+        continuum Green function diverges) and must be finite elsewhere.
+    exclude : int, optional
+        A site left out of both norms.
+
+    Raises
+    ------
+    ValueError
+        For arrays of different shapes, non-finite entries outside ``exclude``, or a graph
+        column that vanishes (the relative distance is undefined).
+    """
+    g = _validate.complex_array("graph", graph, ndim=1)
     keep = np.ones(g.shape, bool)
     if exclude is not None:
-        keep[exclude] = False
-    return float(np.linalg.norm(g[keep] - c[keep]) / np.linalg.norm(g[keep]))
+        keep[_validate.site_index("exclude", exclude, g.size)] = False
+    try:
+        c = np.asarray(continuum, dtype=complex)
+    except (TypeError, ValueError):
+        raise ValueError("continuum must be an array of (complex) numbers.") from None
+    if c.shape != g.shape:
+        raise ValueError(f"graph and continuum must have the same shape, got {g.shape} and {c.shape}.")
+    _validate.complex_array("continuum (outside the excluded site)", c[keep])
+    den = np.linalg.norm(g[keep])
+    if den == 0:
+        raise ValueError("the graph column vanishes on the compared sites; the relative distance is undefined.")
+    return float(np.linalg.norm(g[keep] - c[keep]) / den)
 
 
-@dataclass(frozen=True)
-class GreenComparison:
-    """Graph column and continuum prediction (``eq21``) for one source and one omega."""
+@dataclass(frozen=True, eq=False, kw_only=True)
+class GreenComparison(Result):
+    r"""Graph column and continuum prediction (``eq21``) for one source and one omega.
+
+    Attributes
+    ----------
+    p, q, rings : int
+        The lattice.
+    source : int
+        Source site j (0-based).
+    omega : complex
+        Lattice frequency.
+    lam : complex
+        :math:`\lambda = 4(\omega+q)/(qh^2)` (``eq21``).
+    radius : float
+        Disk radius L (``eq12``).
+    prefactor : float
+        :math:`4\mathcal A/(qh^2)` (``eq21``).
+    graph : ndarray of complex, shape (N,)
+        :math:`G_{ij}(\omega)` for all i (``eq20``).
+    continuum : ndarray of complex, shape (N,)
+        Right-hand side of ``eq21`` for all i; infinite at the source.
+    distance : ndarray, shape (N,)
+        Hyperbolic distance :math:`d(z_i, z_j)` (``eq4``).
+    rel_l2 : float
+        :func:`relative_l2` over all sites but the source.
+    terms : int
+        Number of m terms of the ``green36`` sum.
+    tail_estimate : float
+        Estimate of the truncated tail of that sum.
+    """
 
     p: int
     q: int
@@ -99,10 +156,26 @@ class GreenComparison:
     tail_estimate: float
 
     def summary(self) -> dict:
-        """The JSON summary of the ``green`` command."""
+        """The JSON summary of the ``green`` command: p, q, rings, site, omega, lambda, radius, rel_l2."""
         return {"p": self.p, "q": self.q, "rings": self.rings, "site": self.source,
                 "omega": self.omega, "lambda": self.lam, "radius": self.radius,
                 "rel_l2": self.rel_l2}
+
+    def collapse(self, width: float | None = None) -> tuple[float, float]:
+        """Collapse numbers (:func:`hyperlattice.compare.correlation.collapse_measure`) of the real
+        parts of the graph and the continuum column, source excluded: ``(graph, continuum)``."""
+        from .correlation import collapse_measure
+
+        keep = np.arange(self.graph.shape[0]) != self.source
+        return (collapse_measure(self.distance[keep], self.graph[keep].real, width=width),
+                collapse_measure(self.distance[keep], self.continuum[keep].real, width=width))
+
+    def plot(self, ax=None, *, width: float | None = None):
+        """Binned mean ± std of Re G against hyperbolic distance, graph and continuum (``Fig3``, right);
+        returns the axes (:func:`hyperlattice.plots.green.plot_distance_profile`)."""
+        from ..plots.green import plot_distance_profile
+
+        return plot_distance_profile(self, width=width, ax=ax)
 
 
 def compare_green(lattice: Lattice, omega, source: int, *, tol: float = 1e-12,

@@ -8,7 +8,8 @@ from __future__ import annotations
 import numpy as np
 
 from . import new_axes
-from ..compare.correlation import bin_by_distance, correlation_pairs
+from .. import _validate
+from ..compare.correlation import BinnedCorrelation, bin_by_distance, sorted_pairs
 from ..compare.green import GreenComparison
 from ..graph.lattice import Lattice
 
@@ -52,14 +53,21 @@ def plot_disk_map(lattice: Lattice, values, source: int | None = None, *, scale:
     return ax
 
 
-def plot_distance_profile(comparison: GreenComparison, lattice: Lattice, *, width: float | None = None,
-                          ax=None):
+def plot_distance_profile(comparison: GreenComparison, lattice: Lattice | None = None, *,
+                          width: float | None = None, ax=None):
     r"""Fig3 (right): binned mean :math:`\pm` standard deviation of :math:`\mathrm{Re}\,F_j` against
-    :math:`d_{ij}`, graph (red) and continuum (black), source excluded."""
+    :math:`d_{ij}`, graph (red) and continuum (black), source excluded.
+
+    The distances come from ``comparison.distance``; ``lattice`` is not needed (accepted so that
+    older calls ``plot_distance_profile(comparison, lattice)`` keep working) and, when given,
+    must have one site per entry of the comparison.
+    """
+    if lattice is not None and _validate.lattice(lattice).sites != comparison.distance.shape[0]:
+        raise ValueError(f"the lattice has {lattice.sites} sites, the comparison {comparison.distance.shape[0]}.")
     ax = _axes(ax, size=(5.2, 3.8))
     for vals, colour, label, shift in ((comparison.graph, "tab:red", "graph $G_{ij}$", -0.01),
                                        (comparison.continuum, "black", "continuum (eq21)", 0.01)):
-        d, f = correlation_pairs(lattice, comparison.source, np.real(vals))
+        d, f = sorted_pairs(comparison.distance, np.real(vals), comparison.source)
         b = bin_by_distance(d, f, width=width)
         ax.errorbar(b.centre + shift, b.mean, yerr=b.std, fmt="o", ms=3.5, color=colour, capsize=2,
                     lw=0.9, label=label)
@@ -72,8 +80,22 @@ def plot_distance_profile(comparison: GreenComparison, lattice: Lattice, *, widt
     return ax
 
 
-def plot_fig3_row(lattice: Lattice, omega, source: int = 10, *, axes=None):
-    """One row of Fig3: graph map, continuum map, distance profile. Returns the three axes."""
+def plot_binned(binned: BinnedCorrelation, ax=None, **kwargs):
+    """Mean ± standard deviation (real part of the mean) of a :class:`BinnedCorrelation` against the bin centre."""
+    ax = _axes(ax, size=(5.2, 3.8))
+    opts = {"fmt": "o", "ms": 3.5, "capsize": 2, "lw": 0.9} | kwargs
+    ax.errorbar(binned.centre, np.real(binned.mean), yerr=binned.std, **opts)
+    ax.set_xlabel(r"hyperbolic distance $d$")
+    ax.set_ylabel("binned mean")
+    return ax
+
+
+def plot_fig3_row(lattice: Lattice, omega, source: int = 10, *, axes=None, comparison: GreenComparison | None = None):
+    """One row of Fig3: graph map, continuum map, distance profile. Returns the three axes.
+
+    ``comparison`` is the :func:`~hyperlattice.compare.green.compare_green` result for these
+    inputs if already computed (it is computed here otherwise).
+    """
     from ..compare.green import compare_green
 
     if axes is None:
@@ -81,9 +103,9 @@ def plot_fig3_row(lattice: Lattice, omega, source: int = 10, *, axes=None):
 
         _, axes = plt.subplots(1, 3, figsize=(12.5, 4.0), layout="constrained",
                                gridspec_kw={"width_ratios": [1, 1, 1.4]})
-    cmp = compare_green(lattice, omega, source)
+    cmp = comparison if comparison is not None else compare_green(lattice, omega, source)
     plot_disk_map(lattice, cmp.graph, source, ax=axes[0], title=r"graph $G_{ij}$")
     plot_disk_map(lattice, cmp.continuum, source, radius=lattice.radius, ax=axes[1],
                   title=r"continuum $\frac{4\mathcal{A}}{qh^2}G(z_i,z_j)$")
-    plot_distance_profile(cmp, lattice, ax=axes[2])
+    plot_distance_profile(cmp, ax=axes[2])
     return axes
