@@ -4,11 +4,15 @@ import csv
 import json
 from html.parser import HTMLParser
 
+import numpy as np
 import pytest
 
 from hyperlattice.cache import Cache
 from hyperlattice.cli import main
-from hyperlattice.report import compare, reproduce
+from hyperlattice.compare.levels import relative_error_trend
+from hyperlattice.paper_values import paper_value
+from hyperlattice.report import reproduce
+from hyperlattice.report.sections import open_question_text
 
 
 class _Checker(HTMLParser):
@@ -36,11 +40,25 @@ class _Checker(HTMLParser):
             self.stack.pop()
 
 
+#: compare_green calls of the first (cold-cache) run, by (rings, omega)
+GREEN_CALLS: list = []
+
+
 @pytest.fixture(scope="module")
 def repro(tmp_path_factory):
+    import hyperlattice.compare.green as green
+
     out = tmp_path_factory.mktemp("repro")
     cache = Cache(out / "cache")
-    summary = reproduce(out / "report", max_rings=4, cache=cache)
+    original = green.compare_green
+
+    def counted(lattice, omega, source, **kwargs):
+        GREEN_CALLS.append((lattice.rings, complex(omega)))
+        return original(lattice, omega, source, **kwargs)
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(green, "compare_green", counted)
+        summary = reproduce(out / "report", max_rings=4, cache=cache)
     return out, summary
 
 
@@ -127,11 +145,99 @@ def test_rerun_uses_cache_and_is_deterministic(repro, tmp_path):
 
 
 def test_compare_flags():
-    assert compare("-2.636", -2.6364049, "E0_graph", 2) == ("", "")
-    flag, note = compare("-1.274", -1.2469796, "E1_graph", 1)
+    assert paper_value("E0_graph", 2).check(-2.6364049) == ("", "")
+    flag, note = paper_value("E1_graph", 1).check(-1.2469796)
     assert flag == "≠" and "heptagon" in note
-    assert compare("-2.91", -2.9127, "E0_graph", 8)[0] == ""
-    assert compare("-2.92", -2.9127, "E0_graph", 8)[0] == "≠"
+    assert paper_value("E0_graph", 8).check(-2.9127)[0] == ""
+    assert paper_value("E0_graph", 9).check(-2.9127)[0] == "≠"  # printed -2.92: the sparse estimate
+
+
+def test_side_table_uses_the_paper_values(repro):
+    out, summary = repro
+    with open(out / "report" / "table_s1_vs_paper.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    for row, rec in zip(rows, summary["records"]):
+        for key in ("E0_graph", "E0_continuum", "E0_asymptotic", "E1_graph", "E1_continuum", "E1_asymptotic"):
+            pv = paper_value(key, rec["rings"])
+            assert row[f"{key}_paper"] == pv.printed
+            assert row[f"{key}_flag"] == pv.check(rec[key])[0]
+
+
+def _trends(records):
+    rings = [r["rings"] for r in records]
+    return [relative_error_trend(rings, [r[f"{k}_graph"] for r in records], [r[f"{k}_continuum"] for r in records],
+                                 level=k) for k in ("E0", "E1")]
+
+
+def test_open_question_sentences_come_from_the_result(repro):
+    out, summary = repro
+    md = (out / "report" / "report.md").read_text()
+    trends = _trends(summary["records"])
+    sentences = open_question_text(trends)
+    assert len(sentences) == 2
+    for s in sentences:
+        assert s in md
+    # l = 1..4: the graph levels stay below the continuum ones and approach them
+    assert trends[0].sign_change is None and trends[0].magnitude_decreasing
+    assert sentences[0].endswith("for l = 1..4. Its magnitude decreases monotonically over the computed range.")
+    with open(out / "report" / "table_graph_vs_continuum.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    assert [r["rel_err_E0"] for r in rows] == [f"{v:.3e}" for v in trends[0].relative_error]
+
+
+def test_open_question_sentences_pinned():
+    """The sentences of the default run (l = 1..10) from a RelativeErrorTrend, word for word."""
+    rel = [-2.50e-01, -2.51e-02, -5.86e-03, -1.71e-03, -3.85e-04, +1.45e-04, +3.89e-04, +5.11e-04, +5.77e-04,
+           +6.13e-04]
+    g = np.full(10, -2.9)
+    t = relative_error_trend(range(1, 11), g, g - np.array(rel) * 2.9, level="E0")
+    assert t.sign_change.tolist() == [5, 6] and t.rising and t.saturates
+    d1, d2 = t.increments
+    assert (f"{d1:.1e}", f"{d2:.1e}") == ("6.6e-05", "3.6e-05")
+    assert t.aitken_limit == pytest.approx(6.13e-4 + 3.6e-5 ** 2 / 3.0e-5, rel=1e-6)
+    text = open_question_text([t], worst_residual=1.8e-14)
+    assert text == [
+        "The paper's open question (App. AppSpec): does the relative error between graph and continuum keep "
+        "decreasing as l -> infinity? The computed levels (largest residual ||H psi - E psi|| = 1.8e-14) say:",
+        "E0: (E_graph - E_cont)/|E_graph| = -2.50e-01, -2.51e-02, -5.86e-03, -1.71e-03, -3.85e-04, +1.45e-04, "
+        "+3.89e-04, +5.11e-04, +5.77e-04, +6.13e-04 for l = 1..10. It changes sign between l = 5 and 6 (the graph "
+        "level moves from below to above the continuum level), then grows monotonically with shrinking increments "
+        f"(6.6e-05, 3.6e-05 over the last rings): it saturates (Aitken estimate of the limit {t.aitken_limit:.2e}) "
+        "instead of decreasing to zero."]
+    assert f"{t.aitken_limit:.2e}" == "6.56e-04"
+
+
+def test_open_question_sentences_other_branches():
+    g = np.full(5, -2.9)
+    # graph level crossing from above to below, growing increments: no saturation claimed
+    t = relative_error_trend(range(1, 6), g, g - np.array([1e-2, -1e-4, -2e-4, -4e-4, -8e-4]) * 2.9, level="E1")
+    (s,) = open_question_text([t])
+    assert "moves from above to below" in s and "grows monotonically in magnitude without shrinking" in s
+    assert "Aitken" not in s
+    t = relative_error_trend(range(1, 6), g, g - np.array([-1e-2, 1e-4, 3e-4, 2e-4, 4e-4]) * 2.9, level="E1")
+    assert open_question_text([t])[0].endswith("does not settle into a monotone trend within the computed range.")
+
+
+def test_fig2_partition_table_matches_api(repro):
+    """Z and Z' of the Fig2 inset are the compare.levels results; every +-m pair counts twice."""
+    from hyperlattice.compare.levels import continuum_levels_below, graph_levels_below, partition_functions
+    from hyperlattice.graph.lattice import ring_lattice
+
+    out, _ = repro
+    with open(out / "report" / "table_fig2_partition_l4.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    z = partition_functions(graph_levels_below(ring_lattice(7, 3, 4)), continuum_levels_below(7, 3, rings=4),
+                            np.linspace(0.05, 6.0, 120))
+    assert [r["Z_graph"] for r in rows] == [f"{v:.8f}" for v in z.z_graph[::10]]
+    assert [r["Z_continuum"] for r in rows] == [f"{v:.8f}" for v in z.z_continuum[::10]]
+    md = (out / "report" / "report.md").read_text()
+    assert "over 146 negative graph levels and 108 negative continuum states" in md
+
+
+def test_fig3_green_columns_computed_once(repro):
+    """The l = 3 and l = 6 columns drawn in Fig3 are reused by its table (no second computation)."""
+    calls = sorted(GREEN_CALLS, key=lambda c: (c[0], c[1].real, c[1].imag))
+    assert len(calls) == len(set(calls)) == 12  # l = 3..8 at two omega
 
 
 @pytest.mark.parametrize("argv", [["reproduce", "--max-rings", "1"], ["reproduce", "--max-rings", "15"],
