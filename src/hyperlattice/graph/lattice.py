@@ -27,8 +27,10 @@ rotation maps ring k onto itself as a cyclic shift by :math:`N_{\rm ring}(k)/p`.
 
 from __future__ import annotations
 
+import json
 import math
 import os
+import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -36,18 +38,33 @@ import numpy as np
 
 from .. import _validate
 from .. import geometry
+from ..results import Result
+
 __all__ = [
     "Lattice",
     "ring_lattice",
     "line_graph",
     "ring_sizes",
     "site_count",
+    "edge_count",
     "load_lattice",
 ]
 
 #: Bytes of peak memory per site while building a lattice and its adjacency (measured,
 #: with margin): used to refuse sizes that cannot fit before allocating anything.
 _BYTES_PER_SITE = 400
+#: Peak bytes of :func:`line_graph` per line-graph site (= parent edge) and per line-graph
+#: edge, with an interior site's q - 1 edges per site assumed. Measured: about 270 + 43 per
+#: edge with tracemalloc ({7,3}, {3,7}, {3,12}, {4,5}), 362 B per site of peak RSS for the
+#: {7,3} line graph of 13 rings (2.4 M sites); ~30 % margin on top.
+_BYTES_PER_LINE_SITE = 350
+_BYTES_PER_LINE_EDGE = 60
+#: Site ids, edges and per-ring counters are 32-bit: no lattice beyond this many sites.
+_MAX_SITES = 2**31 - 1
+_INT64_MAX = 2**63 - 1
+#: The explicit layer construction cross-checks the counting recursion only while a boundary
+#: has at most this many spokes (well under a megabyte of temporaries).
+_CALIBRATION_SPOKES = 2**16
 
 
 def _available_memory() -> int:
@@ -68,15 +85,15 @@ def _available_memory() -> int:
 # the immutable result
 # ----------------------------------------------------------------------------
 
-def _frozen(a: np.ndarray) -> np.ndarray:
-    a = np.ascontiguousarray(a)
-    a.setflags(write=False)
-    return a
+#: dtype of each array field: kept whatever the source (a JSON list, an old .npz file)
+_DTYPES = {"z": np.complex128, "ring": np.int16, "edges": np.int32, "rotation": np.int32,
+           "parent_edges": np.int32}
+_KINDS = ("sites", "line_graph")
 
 
-@dataclass(frozen=True, eq=False)
-class Lattice:
-    r"""A finite hyperbolic lattice: an immutable bundle of numpy arrays.
+@dataclass(frozen=True, eq=False, kw_only=True)
+class Lattice(Result):
+    r"""A finite hyperbolic lattice: an immutable bundle of numpy arrays (a :class:`Result`).
 
     Attributes
     ----------
@@ -98,6 +115,13 @@ class Lattice:
     kind : str
         ``"sites"`` for the {p,q} lattice itself, ``"line_graph"`` for its line graph
         (then ``z`` are edge midpoints, and ``parent_edges`` holds the original edges).
+
+    Notes
+    -----
+    As a :class:`~hyperlattice.results.Result` it round-trips through :meth:`as_dict` /
+    :meth:`from_dict` and :meth:`save` / :meth:`load`; :meth:`save` keeps the ``.npz`` layout
+    of earlier versions (``z, ring, edges, rotation, p, q, rings, kind[, parent_edges]``), so
+    :func:`load_lattice` reads old and new files alike.
     """
 
     p: int
@@ -110,11 +134,20 @@ class Lattice:
     kind: str = "sites"
     parent_edges: np.ndarray | None = field(default=None, repr=False)
 
-    def __post_init__(self):
-        for name in ("z", "ring", "edges", "rotation", "parent_edges"):
+    def __post_init__(self) -> None:
+        # scalars may arrive as 0-d arrays (an .npz file) and arrays as lists (JSON): normalise
+        # them, so that every lattice has the same dtypes however it was made
+        for name in ("p", "q", "rings"):
+            object.__setattr__(self, name, int(getattr(self, name)))
+        object.__setattr__(self, "kind", str(self.kind))
+        for name, dtype in _DTYPES.items():
             a = getattr(self, name)
             if a is not None:
-                object.__setattr__(self, name, _frozen(a))
+                a = np.ascontiguousarray(a, dtype=dtype)
+                if name in ("edges", "parent_edges") and a.size == 0:
+                    a = a.reshape(0, 2)
+                object.__setattr__(self, name, a)
+        super().__post_init__()  # read-only arrays
 
     def __repr__(self) -> str:
         what = "line graph of " if self.kind == "line_graph" else ""
@@ -155,7 +188,7 @@ class Lattice:
 
     @property
     def radius(self) -> float:
-        """Effective disk radius :math:`L = \\sqrt{N/(N+c_{pq})}` (Eq. eq12, generalised)."""
+        """Effective disk radius :math:`L = \\sqrt{N/(N+c_{pq})}` (``eq12``, generalised)."""
         return geometry.effective_radius(self.sites, self.p, self.q)
 
     @property
@@ -174,6 +207,72 @@ class Lattice:
         dst = np.concatenate([e[:, 1], e[:, 0]])
         return _csr_sorted(src, dst, self.sites)
 
+    # -- result protocol -------------------------------------------------------
+    def summary(self) -> dict:
+        """The CLI's JSON view: p, q, rings, kind, sites, edges, sites_per_ring, d0, h, radius."""
+        return {
+            "p": self.p,
+            "q": self.q,
+            "rings": self.rings,
+            "kind": self.kind,
+            "sites": self.sites,
+            "edges": int(self.edges.shape[0]),
+            "sites_per_ring": self.sites_per_ring.tolist(),
+            "d0": self.d0,
+            "h": self.h,
+            "radius": self.radius,
+        }
+
+    @classmethod
+    def from_dict(cls, data: dict) -> "Lattice":
+        """Rebuild a lattice from :meth:`as_dict` output, checking that its arrays fit together."""
+        return _checked(super().from_dict(data), "the stored lattice")
+
+    def plot(self, ax=None, *, geodesic: bool = True, samples: int = 9, color: str = "0.25",
+             linewidth: float | None = None, sites: bool = True, circle: bool = True):
+        """Draw the graph in the Poincaré disk and return the axes.
+
+        Parameters
+        ----------
+        ax : matplotlib axes, optional
+            Where to draw (a new square figure if None).
+        geodesic : bool
+            Draw edges as hyperbolic geodesics (arcs sampled at ``samples`` points) instead of
+            straight chords; both coincide for edges through the centre.
+        color, linewidth : matplotlib style of the edges (line width shrinks with the size).
+        sites : bool
+            Mark the sites, coloured by ring (small lattices only: at most 20,000 sites).
+        circle : bool
+            Draw the unit circle, the boundary of the disk.
+        """
+        from matplotlib.collections import LineCollection
+
+        from ..plots import new_axes
+
+        samples = _validate.integer("samples", samples, minimum=2, maximum=1000)
+        ax = new_axes(ax, size=(5.0, 5.0))
+        t = np.linspace(0.0, 1.0, samples if _validate.flag("geodesic", geodesic) else 2)
+        a = self.z[self.edges[:, 0]][:, None]
+        b = self.z[self.edges[:, 1]][:, None]
+        pts = geometry._geodesic_point(a, b, t[None, :])
+        if linewidth is None:  # thinner lines for bigger graphs, so that they stay legible
+            linewidth = float(np.clip(3.0 / math.sqrt(max(self.sites, 1) / 7.0), 0.1, 1.5))
+        ax.add_collection(LineCollection(np.stack([pts.real, pts.imag], axis=-1), colors=color,
+                                         linewidths=linewidth))
+        if _validate.flag("sites", sites) and self.sites <= 20_000:
+            ax.scatter(self.z.real, self.z.imag, c=self.ring, s=max(4.0, 8 * linewidth), cmap="viridis",
+                       zorder=3, linewidths=0)
+        if _validate.flag("circle", circle):
+            w = np.exp(2j * math.pi * np.linspace(0.0, 1.0, 361))
+            ax.plot(w.real, w.imag, color="0.6", lw=0.8)
+        ax.set_xlim(-1.02, 1.02)
+        ax.set_ylim(-1.02, 1.02)
+        ax.set_aspect("equal")
+        ax.set_axis_off()
+        what = "line graph of " if self.kind == "line_graph" else ""
+        ax.set_title(f"{what}{{{self.p},{self.q}}}, {self.rings} rings, {self.sites} sites")
+        return ax
+
     # -- export --------------------------------------------------------------
     def to_networkx(self):
         """The lattice as a :class:`networkx.Graph` with node attributes ``z`` and ``ring``."""
@@ -189,19 +288,70 @@ class Lattice:
         return g
 
     def save(self, path) -> Path:
-        """Write ``.dat`` (the paper's coordinates.dat: Re z and Im z, one site per line)
-        or ``.npz`` (z, ring, edges, p, q, rings, kind), chosen by the file extension."""
-        path = Path(path)
+        """Write the lattice to ``path``, the format chosen by the file extension.
+
+        ``.dat``: the paper's coordinates.dat (Re z and Im z, one site per line, ``%.17g`` so
+        that the numbers round-trip exactly); ``.npz``: the arrays and p, q, rings, kind (the
+        layout :func:`load_lattice` and :func:`hyperlattice.results.load_result` read);
+        ``.json``: :meth:`as_dict`.
+        """
+        suffixes = (".dat", ".npz", ".json")
+        path = _validate.output_path("path", path)
         suffix = path.suffix.lower()
-        if suffix == ".dat":
-            np.savetxt(path, np.column_stack([self.z.real, self.z.imag]), fmt="%.17g")
-        elif suffix == ".npz":
-            extra = {} if self.parent_edges is None else {"parent_edges": self.parent_edges}
-            np.savez_compressed(path, z=self.z, ring=self.ring, edges=self.edges, p=self.p, q=self.q,
-                                rings=self.rings, kind=self.kind, rotation=self.rotation, **extra)
-        else:
-            raise ValueError(f"unknown output format {path.suffix!r}: use .dat or .npz.")
+        if suffix not in suffixes:
+            raise ValueError(f"unknown output format {path.suffix!r}: use .dat, .npz or .json.")
+        try:
+            if suffix == ".dat":
+                np.savetxt(path, np.column_stack([self.z.real, self.z.imag]), fmt="%.17g")
+            elif suffix == ".npz":
+                extra = {} if self.parent_edges is None else {"parent_edges": self.parent_edges}
+                # the layout of earlier versions, plus the protocol's type tag
+                np.savez_compressed(path, z=self.z, ring=self.ring, edges=self.edges, p=self.p, q=self.q,
+                                    rings=self.rings, kind=self.kind, rotation=self.rotation,
+                                    __meta__=np.array(json.dumps({"type": self.TYPE})), **extra)
+            else:
+                path.write_text(self.to_json())
+        except OSError as exc:
+            raise ValueError(f"cannot write {str(path)!r}: {exc.strerror or exc}.") from None
         return path
+
+    @classmethod
+    def load(cls, path) -> "Lattice":
+        """Read a lattice written by :meth:`save` (``.npz`` or ``.json``); see :func:`load_lattice`."""
+        return load_lattice(path)
+
+
+def _checked(lat: Lattice, source: str) -> Lattice:
+    """``lat`` if its arrays describe a lattice (shapes, index ranges, permutation), else ValueError.
+
+    Used for lattices read from files, never on the builder's hot path.
+    """
+    def bad(why: str):
+        return ValueError(f"{source} is not a valid lattice: {why}.")
+
+    try:
+        _validate.pq(lat.p, lat.q)
+    except ValueError as exc:
+        raise bad(str(exc).rstrip(".")) from None
+    if lat.kind not in _KINDS:
+        raise bad(f"kind must be 'sites' or 'line_graph', got {lat.kind!r}")
+    n = lat.sites
+    if lat.z.ndim != 1 or n == 0:
+        raise bad("z must be a non-empty 1-d array")
+    if not (np.all(np.isfinite(lat.z)) and np.all(np.abs(lat.z) < 1.0)):
+        raise bad("some sites lie outside the open unit disk")
+    if lat.ring.shape != (n,) or lat.rotation.shape != (n,):
+        raise bad("ring and rotation must have one entry per site")
+    if lat.rings < 1 or np.any(lat.ring < 1) or np.any(lat.ring > lat.rings) or np.any(np.diff(lat.ring) < 0):
+        raise bad("ring indices must be sorted and lie in 1..rings")
+    if lat.edges.ndim != 2 or lat.edges.shape[1] != 2 or (lat.edges.size and (lat.edges.min() < 0
+                                                                            or lat.edges.max() >= n)):
+        raise bad("edges must be pairs of site indices")
+    if np.any(lat.rotation < 0) or np.any(lat.rotation >= n) or np.any(np.bincount(lat.rotation, minlength=n) != 1):
+        raise bad("rotation must be a permutation of the sites")
+    if lat.kind == "line_graph" and (lat.parent_edges is None or lat.parent_edges.shape != (n, 2)):
+        raise bad("a line graph needs parent_edges, one pair per site")
+    return lat
 
 
 def _csr_sorted(rows: np.ndarray, cols: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -214,11 +364,40 @@ def _csr_sorted(rows: np.ndarray, cols: np.ndarray, n: int) -> tuple[np.ndarray,
 
 
 def load_lattice(path) -> Lattice:
-    """Read a lattice written by :meth:`Lattice.save` in ``.npz`` format."""
-    with np.load(path, allow_pickle=False) as f:
-        parent = f["parent_edges"] if "parent_edges" in f.files else None
-        return Lattice(p=int(f["p"]), q=int(f["q"]), rings=int(f["rings"]), z=f["z"], ring=f["ring"],
-                       edges=f["edges"], rotation=f["rotation"], kind=str(f["kind"]), parent_edges=parent)
+    """Read a lattice written by :meth:`Lattice.save` (``.npz``, also from earlier versions, or ``.json``).
+
+    Raises
+    ------
+    ValueError
+        If the file does not exist, cannot be read, or does not hold a consistent lattice.
+    """
+    path = _validate.input_path("path", path)
+    try:
+        if path.suffix.lower() == ".json":
+            return Lattice.from_dict(json.loads(path.read_text()))
+        if not zipfile.is_zipfile(path):
+            raise ValueError(f"{str(path)!r} is not a saved lattice (not an .npz archive).")
+        with np.load(path, allow_pickle=False) as f:
+            missing = [k for k in ("z", "ring", "edges", "rotation", "p", "q", "rings", "kind") if k not in f.files]
+            if missing:
+                raise ValueError(f"{str(path)!r} is not a saved lattice (it lacks {', '.join(missing)}).")
+            scalars = {}
+            for name in ("p", "q", "rings"):
+                v = f[name]
+                try:
+                    scalars[name] = _validate.integer(name, v.item() if v.ndim == 0 else v)
+                except ValueError as exc:
+                    raise ValueError(f"{str(path)!r} is not a valid lattice: {str(exc).rstrip('.')}.") from None
+            parent = f["parent_edges"] if "parent_edges" in f.files else None
+            lat = Lattice(**scalars, z=f["z"], ring=f["ring"], edges=f["edges"], rotation=f["rotation"],
+                          kind=f["kind"], parent_edges=parent)
+    except (OSError, EOFError, zipfile.BadZipFile, json.JSONDecodeError, UnicodeDecodeError, TypeError) as exc:
+        raise ValueError(f"cannot read a lattice from {str(path)!r}: {exc}.") from None
+    except ValueError as exc:
+        if str(exc).startswith(f"{str(path)!r} is not"):
+            raise
+        raise ValueError(f"cannot read a lattice from {str(path)!r}: {str(exc).rstrip('.')}.") from None
+    return _checked(lat, repr(str(path)))
 
 
 # ----------------------------------------------------------------------------
@@ -273,123 +452,217 @@ def _layer_topology(spokes: np.ndarray, p: int, q: int):
     # polygons per new vertex (spoke ends shared by neighbouring polygons; p = 3 merges them)
     nxt_slot = np.roll(spoke_slot, -1)
     distinct = nxt_slot != spoke_slot
-    poly_count = np.bincount(spoke_slot, minlength=n_new).astype(np.int8)
-    poly_count += np.bincount(nxt_slot[distinct], minlength=n_new).astype(np.int8)
-    poly_count += np.bincount(mid_slot, minlength=n_new).astype(np.int8)
+    # int32, not int8: q - poly_count - 1 must not overflow for large q (q > 127 did)
+    poly_count = np.bincount(spoke_slot, minlength=n_new).astype(np.int32)
+    poly_count += np.bincount(nxt_slot[distinct], minlength=n_new).astype(np.int32)
+    poly_count += np.bincount(mid_slot, minlength=n_new).astype(np.int32)
     return owner, k, n_new, spoke_slot, mid_poly, mid_t, mid_slot, poly_count
 
 
-def _ring_counts(p: int, q: int, rings: int, stop_above: int | None = None) -> list[int]:
-    """Exact sites per ring from the combinatorics alone (no coordinates)."""
+# ----------------------------------------------------------------------------
+# counting (exact, cheap, bounded): used to refuse sizes before allocating
+# ----------------------------------------------------------------------------
+
+def _ring_counts(p: int, q: int, rings: int, max_spokes: int) -> list[int]:
+    """Exact sites per ring from the explicit layer combinatorics (arrays, no coordinates).
+
+    Used only to cross-check :func:`_type_counts`; stops (returning fewer rings) before a
+    boundary with more than ``max_spokes`` outward spokes, so it never allocates much.
+    """
+    if p > max_spokes:
+        return []
     counts = [p]
     spokes = np.full(p, q - 2, dtype=np.int64)
-    total = p
     for _ in range(rings - 1):
+        if int(spokes.sum()) > max_spokes:
+            break
         topology = _layer_topology(spokes, p, q)
         n_new, poly_count = topology[2], topology[7]
         counts.append(n_new)
-        total += n_new
-        spokes = q - poly_count - 1
-        if stop_above is not None and total > stop_above:
-            break
+        spokes = q - 1 - poly_count.astype(np.int64)
     return counts
+
+
+def _type_counts(p: int, q: int, rings: int, stop_above: int | None = None) -> tuple[list[int], list[int]]:
+    """Sites per ring and outward spokes of each ring, exact, via a recursion on vertex types.
+
+    Returns ``(counts, spokes)``: ``counts[k]`` sites on ring k+1, ``spokes[k]`` outward
+    spokes of ring k+1 (= spoke edges and new polygons of ring k+2). Python integers, so
+    nothing overflows; O(rings) additions. With ``stop_above`` the count stops as soon as
+    the running total exceeds it (the lists are then shorter than ``rings``): ring sizes
+    grow exponentially, so a refusal costs a few dozen steps whatever ``rings`` is.
+
+    Every new-ring vertex is one of two types (below); the explicit layer construction of
+    the first rings (as far as it is cheap) guards the derivation.
+    """
+    if p == 3:
+        # triangles, q >= 7: a vertex with s spokes gets s - 1 new polygons between its own
+        # spokes and one shared with the next vertex; the last spoke end of a vertex is the
+        # first of the next (merged). New vertices: s - 2 inner spoke ends (in 2 new
+        # triangles, q - 3 spokes: type a) and one merged end (in 3, q - 4 spokes: type b).
+        # Ring 1 has s = q - 2; all later vertices have s >= q - 4 >= 3.
+        def spokes_of(a, b):
+            return a * (q - 3) + b * (q - 4)
+
+        def step(a, b):
+            return a * (q - 5) + b * (q - 6), a + b
+
+        first_spokes = p * (q - 2)
+        a, b = p * (q - 4), p  # ring 2
+    elif q >= 4:
+        # every boundary vertex has >= 1 spoke; polygons have n_old in {1, 2}.
+        # type a: vertex in 1 polygon (s = q-2 spokes), type b: in 2 polygons (s = q-3).
+        # Each vertex with s spokes yields (s-1) polygons touching it alone (p-1 new-ring
+        # entries each: 1 spoke end + p-2 middles) and one polygon spanning it and the next
+        # vertex (p-3 entries: 1 spoke end + p-4 middles; for p = 4 just the spoke end).
+        def spokes_of(a, b):
+            return a * (q - 2) + b * (q - 3)
+
+        def step(a, b):
+            # spoke ends (type b): one per spoke; middles (type a): per polygon
+            new_a = a * ((q - 3) * (p - 3) + (p - 4)) + b * ((q - 4) * (p - 3) + (p - 4))
+            return new_a, spokes_of(a, b)
+
+        first_spokes = p * (q - 2)
+        a, b = step(p, 0)
+    else:
+        # q = 3, p >= 7: type a (1 polygon, 1 spoke), type b (2 polygons, no spoke);
+        # b vertices are isolated, so a polygon spans 2 (a,a) or 3 (a,b,a) old vertices.
+        # Polygons = number of a vertices; those spanning a b vertex: one per b vertex.
+        def spokes_of(a, b):
+            return a
+
+        def step(a, b):
+            return (a - b) * (p - 4) + b * (p - 5), a  # middles, one spoke end per polygon
+
+        first_spokes = p
+        a, b = step(p, 0)
+    counts, spokes = [p], [first_spokes]
+    total = p
+    while len(counts) < rings and (stop_above is None or total <= stop_above):
+        if len(counts) > 1:
+            a, b = step(a, b)
+        counts.append(a + b)
+        spokes.append(spokes_of(a, b))
+        total += a + b
+    explicit = _ring_counts(p, q, min(len(counts), 6), _CALIBRATION_SPOKES)
+    if counts[: len(explicit)] != explicit:  # pragma: no cover - guards the derivation
+        raise AssertionError(f"ring-size recursion disagrees with the construction for {{{p},{q}}}")
+    return counts, spokes
+
+
+def _check_pq(p, q) -> tuple[int, int]:
+    """A hyperbolic {p,q} small enough for the builder's 32-bit counters."""
+    p, q = _validate.pq(p, q)
+    for name, v in (("p", p), ("q", q)):
+        if v > _MAX_SITES:
+            raise ValueError(f"{name} must be at most {_MAX_SITES:,} (the lattice builder counts in "
+                             f"32-bit integers), got {v:,}.")
+    return p, q
 
 
 def ring_sizes(p: int, q: int, rings: int) -> np.ndarray:
     """Number of sites on each ring 1..rings (e.g. 7, 28, 77, 203, ... for {7,3}).
 
-    Exact and O(rings) for p >= 4: the new ring's vertices are of two types (in one or in
-    two new polygons) whose counts obey a linear recursion, validated against the explicit
-    layer construction for the first six rings. For p = 3 (merging spoke ends) the rings are
-    counted explicitly, extrapolated by the growth ratio beyond 1e9 sites (a size only ever
-    used to refuse the request).
+    Exact and O(rings): the vertices of a new ring are of two types whose counts obey a
+    linear recursion (derived for each family p = 3, q = 3 and p, q >= 4, and cross-checked
+    against the explicit layer construction of the first rings).
+
+    Raises
+    ------
+    ValueError
+        If the total exceeds 2**63 - 1 sites (about 43 rings of {7,3}), which no int64 holds.
     """
-    p, q = _validate.pq(p, q)
-    rings = _check_rings(rings)
-    return np.array(_type_recursion(p, q, rings), dtype=np.int64)
-
-
-def _type_recursion(p: int, q: int, rings: int) -> list[int]:
-    """Sites per ring via a recursion on vertex types (exact, O(rings)).
-
-    A new-ring vertex lies in 1 or 2 new polygons (spoke ends in 2, middles in 1) except
-    for p = 3, where spoke ends merge; the explicit construction handles the general case
-    and is used whenever the recursion's assumptions fail.
-    """
-    # Explicit construction for the first rings calibrates/validates the linear model.
-    explicit = _ring_counts(p, q, min(rings, 6))
-    if rings <= 6:
-        return explicit
-    if p == 3:
-        # spoke ends merge for triangles: count explicitly while that is cheap, then
-        # extrapolate with the (converged) growth ratio; only used to refuse huge sizes.
-        counts = _ring_counts(p, q, rings, stop_above=10**9)
-        while len(counts) < rings:
-            counts.append(int(counts[-1] * counts[-1] / counts[-2]))
-        return counts
-    if q >= 4:
-        # every boundary vertex has >= 1 spoke; polygons have n_old in {1, 2}.
-        # type a: vertex in 1 polygon (s = q-2 spokes), type b: in 2 polygons (s = q-3).
-        # Each vertex with s spokes yields (s-1) polygons touching it alone (p-1 new-ring
-        # entries each: 1 spoke end + p-2 middles) and one polygon spanning it and the next
-        # vertex (p-3 entries: 1 spoke end + p-4 middles ... for p = 4: just the spoke end).
-        def step(a, b):
-            new_a = new_b = 0
-            for count, s in ((a, q - 2), (b, q - 3)):
-                # spoke ends (type b) : one per spoke; middles (type a): per polygon
-                new_b += count * s
-                new_a += count * ((s - 1) * (p - 3) + (p - 4))
-            return new_a, new_b
-    else:
-        # q = 3, p >= 7: type a (1 polygon, 1 spoke), type b (2 polygons, no spoke);
-        # b vertices are isolated, so a polygon spans 2 (a,a) or 3 (a,b,a) old vertices.
-        # Polygons = number of a vertices; those spanning a b vertex: one per b vertex.
-        def step(a, b):
-            n_poly = a
-            n3 = b
-            n2 = n_poly - n3
-            new_b = n_poly                       # one spoke end per polygon
-            new_a = n2 * (p - 4) + n3 * (p - 5)  # middles
-            return new_a, new_b
-    # initial types after ring 1: all p vertices in one polygon
-    a, b = p, 0
-    counts = [p]
-    for _ in range(rings - 1):
-        a, b = step(a, b)
-        counts.append(a + b)
-    if counts[: len(explicit)] != explicit:  # pragma: no cover - guards the derivation
-        return _ring_counts(p, q, rings)
-    return counts
+    p, q = _check_pq(p, q)
+    rings = _validate.positive_int("rings", rings)
+    counts, _ = _type_counts(p, q, rings, stop_above=_INT64_MAX)
+    if len(counts) < rings or sum(counts) > _INT64_MAX:
+        raise ValueError(f"the {{{p},{q}}} lattice with {rings:,} rings has more than 2**63 sites, "
+                         f"too many to count in 64-bit integers (at most {len(counts) - 1} rings fit).")
+    return np.array(counts, dtype=np.int64)
 
 
 def site_count(p: int, q: int, rings: int) -> int:
-    """Total number of sites N of the ``rings``-ring {p,q} lattice (exact)."""
+    """Total number of sites N of the ``rings``-ring {p,q} lattice (exact; see :func:`ring_sizes`)."""
     return int(ring_sizes(p, q, rings).sum())
 
 
-def _check_rings(rings) -> int:
-    if isinstance(rings, bool) or not isinstance(rings, (int, np.integer)):
-        if isinstance(rings, float) and rings.is_integer():
-            rings = int(rings)
-        else:
-            raise ValueError(f"rings must be a positive integer, got {rings!r}.")
-    rings = int(rings)
-    if rings < 1:
-        raise ValueError(f"rings must be at least 1, got {rings}.")
-    return rings
+def edge_count(p: int, q: int, rings: int) -> int:
+    """Number of edges of the ``rings``-ring {p,q} lattice (= sites of its line graph), exact.
 
-
-def _check_size(p: int, q: int, rings: int, max_sites: int | None) -> int:
-    n = site_count(p, q, rings)
-    if max_sites is None:
-        max_sites = _available_memory() // _BYTES_PER_SITE
-    if n > max_sites:
-        need = n * _BYTES_PER_SITE / 1024**3
-        raise ValueError(
-            f"the {{{p},{q}}} lattice with {rings} rings has {n:,} sites and needs about "
-            f"{need:.1f} GB, more than this machine can hold (limit {max_sites:,} sites)."
-        )
+    Each ring adds its own cycle and one spoke edge per outward spoke of the previous ring.
+    """
+    p, q = _check_pq(p, q)
+    rings = _validate.positive_int("rings", rings)
+    counts, spokes = _type_counts(p, q, rings, stop_above=_INT64_MAX)
+    n = sum(counts) + sum(spokes[: rings - 1])
+    if len(counts) < rings or n > _INT64_MAX:
+        raise ValueError(f"the {{{p},{q}}} lattice with {rings:,} rings has more than 2**63 edges, "
+                         f"too many to count in 64-bit integers.")
     return n
+
+
+def _refusal(what: str, n: int, exact: bool, limit: int, by_memory: bool, bytes_per_site: float) -> str:
+    """The one-sentence message for a lattice that will not fit."""
+    need = n * bytes_per_site / 1024**3
+    if exact:
+        size = f"has {n:,} sites and needs about {need:.1f} GB"
+    else:  # the count stopped at the limit
+        size = f"has more than {n:,} sites and needs more than {need:.1f} GB"
+    if limit >= _MAX_SITES:
+        why = "the 32-bit site ids allow"
+    elif by_memory:
+        why = "this machine can hold"
+    else:
+        why = "max_sites allows"
+    return f"the {what} {size}, more than {why} (limit {max(limit, 0):,} sites)."
+
+
+def _check_size(p: int, q: int, rings: int, max_sites) -> int:
+    """Exact site count, or ValueError as soon as the count passes the limit (before any allocation)."""
+    if max_sites is None:
+        limit = min(_available_memory() // _BYTES_PER_SITE, _MAX_SITES)
+    else:
+        limit = min(_validate.positive_int("max_sites", max_sites), _MAX_SITES)
+    counts, _ = _type_counts(p, q, rings, stop_above=limit)
+    n = sum(counts)
+    if len(counts) < rings or n > limit:
+        raise ValueError(_refusal(f"{{{p},{q}}} lattice with {rings:,} rings", n, len(counts) == rings,
+                                  limit, max_sites is None, _BYTES_PER_SITE))
+    return n
+
+
+def _line_graph_bytes_per_site(q: int) -> float:
+    """Peak bytes per line-graph site: its own arrays plus its q - 1 edges per site (interior)."""
+    return _BYTES_PER_LINE_SITE + _BYTES_PER_LINE_EDGE * (q - 1)
+
+
+def _check_line_graph_size(p: int, q: int, rings: int, n_edges: int, max_sites, resident: int = 0) -> None:
+    """Refuse a line graph with ``n_edges`` sites that will not fit (``resident``: bytes still to be held)."""
+    per_site = _line_graph_bytes_per_site(q)
+    if max_sites is None:
+        limit = min(int((_available_memory() - resident) // per_site), _MAX_SITES)
+    else:
+        limit = min(_validate.positive_int("max_sites", max_sites), _MAX_SITES)
+    if n_edges > limit:
+        raise ValueError(_refusal(f"line graph of the {{{p},{q}}} lattice with {rings:,} rings", n_edges, True,
+                                  limit, max_sites is None, per_site))
+
+
+def _check_line_graph_fits(p, q, rings, *, max_sites=None) -> int:
+    """Refuse (``ValueError``) a line graph that will not fit, before even its parent is built.
+
+    Counts the parent's sites and edges exactly (and cheaply) and compares the memory of the
+    parent lattice plus its line graph with what is available. Returns the line-graph size.
+    """
+    p, q = _check_pq(p, q)
+    rings = _validate.positive_int("rings", rings)
+    n_sites = _check_size(p, q, rings, None)
+    n_edges = edge_count(p, q, rings)
+    # the parent stays resident while its line graph is built: z, ring, rotation and edges
+    resident = n_sites * (16 + 2 + 4) + n_edges * 8
+    _check_line_graph_size(p, q, rings, n_edges, max_sites, resident=resident)
+    return n_edges
 
 
 # ----------------------------------------------------------------------------
@@ -416,7 +689,7 @@ def _grow_ring(z: np.ndarray, ring: np.ndarray, layer: _Layer, base: int, level:
     js = np.arange(n_sub + 1)         # one extra spoke: the second end of the last polygon
     own = owner[js]
     # spoke ends: boundary predecessor rotated ccw about the owner by k * 2pi/q
-    ends = geometry.rotate_about(zb[own - 1], zb[own], k[js] * theta)
+    ends = geometry._rotate_about(zb[own - 1], zb[own], k[js] * theta)
     sub_z = np.empty(m_sub, dtype=np.complex128)
     first = spoke_slot[:n_sub] < m_sub  # p = 3 may merge the sector's last end into the next sector
     sub_z[spoke_slot[:n_sub][first]] = ends[:n_sub][first]
@@ -430,9 +703,9 @@ def _grow_ring(z: np.ndarray, ring: np.ndarray, layer: _Layer, base: int, level:
         mp, mt = mid_poly[sel], mid_t[sel]
         second_end = ends[mp + 1]
         b_pt = zb[owner[mp + 1]]              # boundary vertex b, owner of the next spoke
-        toward_b = geometry.geodesic_point(second_end, b_pt, centre_fraction)
-        centre = geometry.rotate_about(toward_b, second_end, 0.5 * theta)
-        sub_z[mid_slot[sel]] = geometry.rotate_about(second_end, centre, -2.0 * math.pi * mt / p)
+        toward_b = geometry._geodesic_point(second_end, b_pt, centre_fraction)
+        centre = geometry._rotate_about(toward_b, second_end, 0.5 * theta)
+        sub_z[mid_slot[sel]] = geometry._rotate_about(second_end, centre, -2.0 * math.pi * mt / p)
     phases = np.exp(2j * math.pi * np.arange(p) / p)
     z[base:base + n_new].reshape(p, m_sub)[:] = phases[:, None] * sub_z[None, :]
     ring[base:base + n_new] = level
@@ -452,7 +725,8 @@ def ring_lattice(p: int = 7, q: int = 3, rings: int = 3, *, max_sites: int | Non
     rings : int
         Number of rings :math:`\ell \ge 1` (ring 1 is the central p-gon).
     max_sites : int, optional
-        Refuse (``ValueError``) lattices with more sites; default: what fits in memory.
+        Refuse (``ValueError``) lattices with more sites; default: what fits in memory. The
+        size is counted exactly but stops at the limit, so a huge request is refused at once.
 
     Returns
     -------
@@ -467,8 +741,8 @@ def ring_lattice(p: int = 7, q: int = 3, rings: int = 3, *, max_sites: int | Non
     >>> lat.sites, lat.sites_per_ring.tolist()
     (112, [7, 28, 77])
     """
-    p, q = _validate.pq(p, q)
-    rings = _check_rings(rings)
+    p, q = _check_pq(p, q)
+    rings = _validate.positive_int("rings", rings)
     n_total = _check_size(p, q, rings, max_sites)
 
     d0 = geometry.d0(p, q)
@@ -523,7 +797,7 @@ def _ring_rotation(ring_starts, p: int) -> np.ndarray:
 # line graph
 # ----------------------------------------------------------------------------
 
-def line_graph(lattice: Lattice) -> Lattice:
+def line_graph(lattice: Lattice, *, max_sites: int | None = None) -> Lattice:
     r"""The line graph of a lattice: the layout of circuit-QED resonator arrays.
 
     Each edge of ``lattice`` becomes a site placed at the hyperbolic midpoint of the edge;
@@ -534,9 +808,24 @@ def line_graph(lattice: Lattice) -> Lattice:
     then counterclockwise: by the position of the outer endpoint within its ring, spokes
     (edges from the previous ring) before ring edges, and ring edges keyed by their first
     endpoint in counterclockwise order. ``rotation`` is the induced permutation.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        A site lattice (``kind == "sites"``), e.g. from :func:`ring_lattice`.
+    max_sites : int, optional
+        Refuse (``ValueError``) line graphs with more sites (= parent edges); default: what
+        fits in the memory still available. Checked before anything is allocated.
+
+    Returns
+    -------
+    Lattice
+        ``kind == "line_graph"``, with ``parent_edges[k]`` the parent edge of site k.
     """
+    _validate.lattice(lattice)
     if lattice.kind != "sites":
         raise ValueError("line_graph() takes a site lattice, not a line graph.")
+    _check_line_graph_size(lattice.p, lattice.q, lattice.rings, int(lattice.edges.shape[0]), max_sites)
     e = lattice.edges.astype(np.int64)
     i, j = e[:, 0], e[:, 1]
     ri, rj = lattice.ring[i], lattice.ring[j]
@@ -552,7 +841,7 @@ def line_graph(lattice: Lattice) -> Lattice:
     other = np.where(is_spoke, np.where(ri > rj, j, i), 0)
     order = np.lexsort((other, (~is_spoke).astype(np.int64), pos[key_site], grp))
     e_sorted = e[order]
-    z_mid = geometry.midpoint(lattice.z[e_sorted[:, 0]], lattice.z[e_sorted[:, 1]])
+    z_mid = geometry._midpoint(lattice.z[e_sorted[:, 0]], lattice.z[e_sorted[:, 1]])
     ring_lg = grp[order].astype(np.int16)
     n_e = e_sorted.shape[0]
     # incidence: line-graph sites sharing an endpoint
@@ -576,11 +865,17 @@ def line_graph(lattice: Lattice) -> Lattice:
     lg_edges = np.sort(lg_edges, axis=1)
     lg_edges = lg_edges[np.lexsort((lg_edges[:, 1], lg_edges[:, 0]))].astype(np.int32)
     # rotation: map both endpoints, find the edge id of the image
-    key = e_sorted[:, 0] * lattice.sites + e_sorted[:, 1]
-    rot = lattice.rotation
+    # edge keys i*N + j reach N**2: int64 throughout (the int32 rotation made them wrap
+    # around from 46,341 sites on, i.e. {7,3} with 10 rings, giving a wrong permutation)
+    n_sites = np.int64(lattice.sites)
+    key = e_sorted[:, 0] * n_sites + e_sorted[:, 1]
+    rot = lattice.rotation.astype(np.int64)
     a, b = rot[e_sorted[:, 0]], rot[e_sorted[:, 1]]
-    img = np.minimum(a, b) * lattice.sites + np.maximum(a, b)
+    img = np.minimum(a, b) * n_sites + np.maximum(a, b)
     srt = np.argsort(key)
-    rotation = srt[np.searchsorted(key[srt], img)]
+    found = np.minimum(np.searchsorted(key[srt], img), n_e - 1)
+    if not np.array_equal(key[srt][found], img):  # pragma: no cover - the rotation maps edges to edges
+        raise AssertionError("the rotation of the parent lattice does not map its edges onto edges")
+    rotation = srt[found]
     return Lattice(p=lattice.p, q=lattice.q, rings=lattice.rings, z=z_mid, ring=ring_lg,
                    edges=lg_edges, rotation=rotation, kind="line_graph", parent_edges=e_sorted.astype(np.int32))
