@@ -168,12 +168,12 @@ def test_lattice_is_immutable():
 
 
 @pytest.mark.parametrize("rings", [3, 5, 7])
-def test_same_sites_and_bonds_as_hypertiling(rings):
-    """hypertiling's {3,7} SRS tiling centred on a vertex has our {7,3} sites as cells."""
-    from hypertiling import HyperbolicTiling
+def test_same_sites_and_bonds_as_hypertiling(rings, hypertiling_73):
+    """hypertiling's {3,7} SRS tiling centred on a vertex has our {7,3} sites as cells.
 
-    tiling = HyperbolicTiling(3, 7, rings, kernel="SRS", center="vertex")
-    zh = np.array([complex(tiling.get_center(i)) for i in range(len(tiling))])
+    The tilings come from a session fixture (conftest.py) that runs hypertiling once, without
+    paying numba's cold compilation inside a test."""
+    zh, pairs = hypertiling_73[rings]
     lat = ring_lattice(7, 3, rings)
     assert zh.shape[0] == lat.sites
     # global rotation: align hypertiling's central-heptagon site with the smallest angle
@@ -183,8 +183,7 @@ def test_same_sites_and_bonds_as_hypertiling(rings):
     dist, idx = cKDTree(np.column_stack([lat.z.real, lat.z.imag])).query(np.column_stack([zh_rot.real, zh_rot.imag]))
     assert dist.max() < 1e-9
     assert np.array_equal(np.sort(idx), np.arange(lat.sites))
-    nbrs = tiling.get_nbrs_list()
-    theirs = {tuple(sorted((int(idx[i]), int(idx[j])))) for i, ns in enumerate(nbrs) for j in ns}
+    theirs = {tuple(sorted((int(idx[i]), int(idx[j])))) for i, j in pairs.tolist()}
     ours = {tuple(e) for e in lat.edges.tolist()}
     assert theirs == ours
 
@@ -212,6 +211,27 @@ def test_line_graph_structure():
     edges = {tuple(e) for e in lg.edges.tolist()}
     assert all(tuple(e) in edges for e in np.sort(lg.rotation[lg.edges], axis=1).tolist())
     assert np.all(np.diff(lg.ring) >= 0)
+
+
+def _assert_rotation_of_line_graph(lg, p):
+    rot = lg.rotation
+    assert np.array_equal(np.sort(rot), np.arange(lg.sites))  # a permutation
+    assert np.abs(lg.z[rot] - lg.z * np.exp(2j * np.pi / p)).max() < 1e-12
+
+
+@pytest.mark.parametrize("rings", range(1, 11))
+def test_line_graph_rotation_up_to_ten_rings(rings):
+    # regression: from 10 rings of {7,3} on (parent N > 46,341, so i*N + j > 2**31) the int32
+    # edge key of the rotated edges wrapped around and rotation was not a permutation
+    # (max |z[rot] - e^{2 pi i/7} z| was 2.0)
+    _assert_rotation_of_line_graph(line_graph(ring_lattice(7, 3, rings)), 7)
+
+
+@pytest.mark.parametrize("p, q, rings", [(8, 3, 8), (9, 3, 7), (3, 7, 11), (4, 5, 8), (5, 4, 8)])
+def test_line_graph_rotation_beyond_the_int32_key(p, q, rings):
+    lat = ring_lattice(p, q, rings)
+    assert lat.sites**2 > 2**31  # the size at which the old key overflowed
+    _assert_rotation_of_line_graph(line_graph(lat), p)
 
 
 def test_line_graph_q4_degree():
@@ -252,7 +272,7 @@ def test_to_networkx():
     assert nx.is_connected(g)
 
 
-@pytest.mark.parametrize("bad", [0, -1, 2.5, "3", None, True])
+@pytest.mark.parametrize("bad", [0, -1, 2.5, "3", None, True, float("nan"), float("inf"), 3 + 0j])
 def test_bad_rings(bad):
     with pytest.raises(ValueError):
         ring_lattice(7, 3, bad)
