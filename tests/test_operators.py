@@ -64,3 +64,32 @@ def test_incidence():
     # B B^T = D + A
     lhs = (b @ b.T).toarray()
     assert np.array_equal(lhs, np.diag(lat.degree) + adjacency(lat).toarray())
+
+
+@pytest.mark.parametrize("bad", [None, "lattice", 3])
+def test_non_lattices_refused(bad):
+    from hyperlattice.graph.operators import onsite_values
+
+    for fn in (adjacency, hamiltonian, incidence):
+        with pytest.raises(ValueError, match="Lattice"):
+            fn(bad)
+    with pytest.raises(ValueError, match="Lattice"):
+        onsite_values(bad, 1.0)  # used to raise AttributeError
+
+
+@pytest.mark.parametrize("onsite", [[1.0, [2.0, 3.0]], lambda z, ring: None, lambda z, ring: "x", {"a": 1}])
+def test_bad_onsite_is_a_sentence(onsite):
+    with pytest.raises(ValueError, match="on-site"):
+        hamiltonian(ring_lattice(7, 3, 2), onsite=onsite)
+
+
+@pytest.mark.parametrize("dtype", ["nonsense", object, str])
+def test_adjacency_bad_dtype(dtype):
+    with pytest.raises(ValueError, match="dtype"):
+        adjacency(ring_lattice(7, 3, 2), dtype=dtype)
+
+
+def test_adjacency_dtypes():
+    lat = ring_lattice(7, 3, 2)
+    assert adjacency(lat, dtype=np.int8).dtype == np.int8
+    assert adjacency(lat, dtype="complex128").dtype == np.complex128

@@ -23,9 +23,20 @@ __all__ = ["adjacency", "hamiltonian", "incidence", "onsite_values"]
 OnSite = Union[None, float, np.ndarray, Callable[[np.ndarray, np.ndarray], np.ndarray]]
 
 
+def _numeric_dtype(dtype) -> np.dtype:
+    try:
+        dt = np.dtype(dtype)
+    except TypeError:
+        raise ValueError(f"dtype must be a numpy number type such as float64, got {dtype!r}.") from None
+    if dt.kind not in "iufc":
+        raise ValueError(f"dtype must be a numpy number type such as float64, got {dt}.")
+    return dt
+
+
 def adjacency(lattice: Lattice, dtype=np.float64) -> sp.csr_matrix:
     """Adjacency matrix A (N x N, symmetric, entries 1) in CSR format with sorted indices."""
     _validate.lattice(lattice)
+    dtype = _numeric_dtype(dtype)
     indptr, indices = lattice.neighbours()
     n = lattice.sites
     data = np.ones(indices.shape[0], dtype=dtype)
@@ -36,13 +47,18 @@ def adjacency(lattice: Lattice, dtype=np.float64) -> sp.csr_matrix:
 
 def onsite_values(lattice: Lattice, onsite: OnSite) -> np.ndarray | None:
     """Evaluate an on-site term: a scalar, an array of length N, or an array-first
-    callable ``onsite(z, ring) -> array`` (as in pybinding's modifiers)."""
+    callable ``onsite(z, ring) -> array`` (as in pybinding's modifiers).
+
+    Returns None for ``onsite=None``, else one finite value per site.
+    """
+    _validate.lattice(lattice)
     if onsite is None:
         return None
-    if callable(onsite):
-        v = np.asarray(onsite(lattice.z, lattice.ring))
-    else:
-        v = np.asarray(onsite)
+    value = onsite(lattice.z, lattice.ring) if callable(onsite) else onsite
+    try:
+        v = np.asarray(value)
+    except (TypeError, ValueError):  # ragged or mixed lists: numpy's own text is not a sentence
+        raise ValueError("the on-site term must be a number or one number per site.") from None
     if v.dtype.kind not in "biufc":
         raise ValueError(f"the on-site term must be numeric, got values of type {v.dtype}.")
     if v.ndim == 0:
