@@ -134,13 +134,13 @@ def _rings_rows(where: str, key: str, printed: list[str], notes: dict | None = N
 _SPARSE = {ell: SPARSE_NOTE for ell in (8, 9, 10)}
 
 _ROWS: list[PaperValue] = []
-# Tab1 (N and L for l = 1..10); AppTab1 repeats N for l = 1..8 and adds the ring sizes
+# ``Tab1`` (N and L for l = 1..10); ``AppTab1`` repeats N for l = 1..8 and adds the ring sizes
 _ROWS += _rings_rows("Tab1", "N", ["7", "35", "112", "315", "847", "2240", "5887", "15435", "40432", "105875"])
 _ROWS += _rings_rows("AppTab1", "N_ring", ["7", "28", "77", "203", "532", "1393", "3647", "9548"])
 _ROWS += _rings_rows("Tab1", "L", ["0.447", "0.745", "0.894", "0.958", "0.984", "0.994", "0.998", "0.9990",
                                    "0.9997", "0.9999"],
                      {8: "rounding slip: sqrt(15435/15463) = 0.999094 rounds to 0.9991."})
-# SuppTab1 (its E0 rows are also printed in Tab1)
+# ``SuppTab1`` (its E0 rows are also printed in ``Tab1``)
 _ROWS += _rings_rows("SuppTab1", "E0_graph", ["-2", "-2.636", "-2.787", "-2.847", "-2.877", "-2.894", "-2.905",
                                               "-2.91", "-2.92", "-2.92"], _SPARSE)
 _ROWS += _rings_rows("SuppTab1", "E0_continuum", ["-1.500", "-2.570", "-2.770", "-2.842", "-2.876", "-2.895",
@@ -155,7 +155,7 @@ _ROWS += _rings_rows("SuppTab1", "E1_continuum", ["0.620", "-2.085", "-2.578", "
                                                   "-2.884", "-2.899", "-2.908", "-2.915"])
 _ROWS += _rings_rows("SuppTab1", "E1_asymptotic", ["15.58", "-1.633", "-2.507", "-2.728", "-2.815", "-2.858",
                                                    "-2.883", "-2.898", "-2.908", "-2.915"])
-# the table of App. AppFS: d0 and h of {p,3}; the p = inf entries "1" and "1/2" are compared at
+# the table of App. ``AppFS``: d0 and h of {p,3}; the p = inf entries "1" and "1/2" are compared at
 # the 6 decimals of the other columns (an integer "1" would otherwise accept anything in [0.5, 1.5])
 _GEOMETRY = {7: ("0.283128", "0.275798"), 8: ("0.36352", "0.348311"), 9: ("0.409595", "0.388129"),
              10: ("0.439590", "0.413304")}
@@ -174,7 +174,7 @@ _ROWS.append(_row("FigS1 b_counting l=4", "b_counting", 4, "-9.096",
                   "least-squares fit through the distinct radii gives -9.0954; the last digit depends on "
                   "fit details (e.g. rounding of the radii moves b by ~4e-4), see docs/scaling.md."))
 
-#: Every printed value, in the order above (Tab1, AppTab1, SuppTab1, AppFS, single values).
+#: Every printed value, in the order above (``Tab1``, ``AppTab1``, ``SuppTab1``, ``AppFS``, single values).
 PAPER_VALUES: tuple[PaperValue, ...] = tuple(_ROWS)
 _BY_KEY: dict[tuple, PaperValue] = {(v.key, v.index): v for v in PAPER_VALUES}
 del _ROWS, _p, _d0, _h

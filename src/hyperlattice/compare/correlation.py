@@ -15,6 +15,7 @@ distance alone). Conformal (automorphism) invariance emerges as :math:`S\to 0` f
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -22,6 +23,9 @@ from .. import _validate
 from ..geometry import d0, distance
 from ..graph.lattice import Lattice
 from ..results import Result
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
 
 __all__ = ["correlation_pairs", "sorted_pairs", "bin_by_distance", "BinnedCorrelation", "collapse_measure"]
 
@@ -81,7 +85,7 @@ class BinnedCorrelation(Result):
     std: np.ndarray
     count: np.ndarray
 
-    def plot(self, ax=None, **kwargs):
+    def plot(self, ax=None, **kwargs) -> Axes:
         """Mean ± standard deviation (real part) against the bin centre; returns the axes."""
         from ..plots.green import plot_binned
 

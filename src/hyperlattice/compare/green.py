@@ -38,6 +38,7 @@ from ..graph.lattice import Lattice
 from ..results import Result
 
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
     from ..continuum.green import GreenInfo
 
 __all__ = [
@@ -49,7 +50,7 @@ __all__ = [
 
 
 # ----------------------------------------------------------------------------
-# graph vs continuum, eq21
+# graph vs continuum, ``eq21``
 # ----------------------------------------------------------------------------
 
 def continuum_column(lattice: Lattice, omega, source: int, *, tol: float = 1e-12) -> tuple[np.ndarray, GreenInfo]:
@@ -170,7 +171,7 @@ class GreenComparison(Result):
         return (collapse_measure(self.distance[keep], self.graph[keep].real, width=width),
                 collapse_measure(self.distance[keep], self.continuum[keep].real, width=width))
 
-    def plot(self, ax=None, *, width: float | None = None):
+    def plot(self, ax=None, *, width: float | None = None) -> Axes:
         """Binned mean ± std of Re G against hyperbolic distance, graph and continuum (``Fig3``, right);
         returns the axes (:func:`hyperlattice.plots.green.plot_distance_profile`)."""
         from ..plots.green import plot_distance_profile

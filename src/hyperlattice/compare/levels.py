@@ -16,11 +16,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .. import _validate
 from ..results import Levels, Result, compare_levels
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
 
 __all__ = [
     "LevelComparison",
@@ -78,7 +82,7 @@ class LevelComparison(Result):
                 "continuum_method": self.continuum.method, "graph_error_kind": self.graph.error_kind,
                 "continuum_error_kind": self.continuum.error_kind, "levels": self.table()}
 
-    def plot(self, ax=None):
+    def plot(self, ax=None) -> Axes:
         """Both level lists against the level index (graph filled, continuum open); returns the axes."""
         from ..plots.paper import plot_level_comparison
 
@@ -177,7 +181,7 @@ class RelativeErrorTrend(Result):
         """All fields (the short view is the full one here)."""
         return self.as_dict()
 
-    def plot(self, ax=None):
+    def plot(self, ax=None) -> Axes:
         """The relative error against l, the sign change and the Aitken limit marked; returns the axes."""
         from ..plots.paper import plot_relative_error
 
@@ -239,7 +243,7 @@ def relative_error_trend(rings, graph, continuum, *, level: str = "E0") -> Relat
 
 
 # ----------------------------------------------------------------------------
-# levels below a cutoff, partition functions (Fig2 inset)
+# levels below a cutoff, partition functions (``Fig2`` inset)
 # ----------------------------------------------------------------------------
 
 @dataclass(frozen=True, eq=False, kw_only=True)
@@ -319,7 +323,7 @@ class LevelCount(Result):
         return -b * e0 + np.log((self.degeneracy[None, :] *
                                  np.exp(-b[:, None] * (self.energies[None, :] - e0))).sum(axis=1))
 
-    def plot(self, ax=None, **kwargs):
+    def plot(self, ax=None, **kwargs) -> Axes:
         r"""The counting function :math:`\mathcal N(E)` as a staircase; returns the axes."""
         from ..plots.paper import plot_level_counting
 
@@ -419,7 +423,7 @@ class PartitionComparison(Result):
     graph_states: int
     continuum_states: int
 
-    def plot(self, ax=None):
+    def plot(self, ax=None) -> Axes:
         r""":math:`\ln Z` against :math:`\beta`, graph and disk, with the asymptote :math:`-\beta E_0`."""
         from ..plots.paper import plot_partition
 

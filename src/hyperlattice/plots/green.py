@@ -1,9 +1,12 @@
-r"""Fig3-style panels: correlation maps on the disk and mean/std versus hyperbolic distance.
+r"""``Fig3``-style panels: correlation maps on the disk and mean/std versus hyperbolic distance.
 
 Each function takes an optional matplotlib ``ax`` and returns the axes it drew on.
 """
 
 from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -13,14 +16,17 @@ from ..compare.correlation import BinnedCorrelation, bin_by_distance, sorted_pai
 from ..compare.green import GreenComparison
 from ..graph.lattice import Lattice
 
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
 
 def _axes(ax, size=(4.6, 4.4)):
     return new_axes(ax, size)
 
 
 def plot_disk_map(lattice: Lattice, values, source: int | None = None, *, scale: float = 60.0,
-                  radius: float | None = None, title: str | None = None, ax=None):
-    r"""Fig3 (left): dot at each site, area :math:`\propto |F_j|^{1/2}`, blue for :math:`F_j>0`,
+                  radius: float | None = None, title: str | None = None, ax=None) -> Axes:
+    r"""``Fig3`` (left): dot at each site, area :math:`\propto |F_j|^{1/2}`, blue for :math:`F_j>0`,
     red for :math:`F_j<0` (real part of complex values). The source (if given) is marked by a
     black cross and left out of the size normalisation (the continuum value there is infinite);
     ``radius`` draws the Dirichlet circle :math:`|z| = L`.
@@ -54,8 +60,8 @@ def plot_disk_map(lattice: Lattice, values, source: int | None = None, *, scale:
 
 
 def plot_distance_profile(comparison: GreenComparison, lattice: Lattice | None = None, *,
-                          width: float | None = None, ax=None):
-    r"""Fig3 (right): binned mean :math:`\pm` standard deviation of :math:`\mathrm{Re}\,F_j` against
+                          width: float | None = None, ax=None) -> Axes:
+    r"""``Fig3`` (right): binned mean :math:`\pm` standard deviation of :math:`\mathrm{Re}\,F_j` against
     :math:`d_{ij}`, graph (red) and continuum (black), source excluded.
 
     The distances come from ``comparison.distance``; ``lattice`` is not needed (accepted so that
@@ -80,7 +86,7 @@ def plot_distance_profile(comparison: GreenComparison, lattice: Lattice | None =
     return ax
 
 
-def plot_binned(binned: BinnedCorrelation, ax=None, **kwargs):
+def plot_binned(binned: BinnedCorrelation, ax=None, **kwargs) -> Axes:
     """Mean ± standard deviation (real part of the mean) of a :class:`BinnedCorrelation` against the bin centre."""
     ax = _axes(ax, size=(5.2, 3.8))
     opts = {"fmt": "o", "ms": 3.5, "capsize": 2, "lw": 0.9} | kwargs
@@ -90,8 +96,9 @@ def plot_binned(binned: BinnedCorrelation, ax=None, **kwargs):
     return ax
 
 
-def plot_fig3_row(lattice: Lattice, omega, source: int = 10, *, axes=None, comparison: GreenComparison | None = None):
-    """One row of Fig3: graph map, continuum map, distance profile. Returns the three axes.
+def plot_fig3_row(lattice: Lattice, omega, source: int = 10, *, axes=None,
+                  comparison: GreenComparison | None = None) -> Sequence[Axes]:
+    """One row of ``Fig3``: graph map, continuum map, distance profile. Returns the three axes.
 
     ``comparison`` is the :func:`~hyperlattice.compare.green.compare_green` result for these
     inputs if already computed (it is computed here otherwise).

@@ -1,15 +1,21 @@
-"""Figures Fig1 (tessellation and ring graph) and Fig2 (lowest levels vs rings, Z(beta)), and the
+"""Figures ``Fig1`` (tessellation and ring graph) and ``Fig2`` (lowest levels vs rings, Z(beta)), and the
 plots of the graph-vs-continuum level results of :mod:`hyperlattice.compare.levels`."""
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 import matplotlib.pyplot as plt
+from matplotlib.axes import Axes
 from matplotlib.collections import LineCollection
 
 from . import new_axes
 from .. import geometry
 from ..graph.lattice import Lattice, ring_lattice
+
+if TYPE_CHECKING:
+    from ..compare.levels import LevelComparison, LevelCount, RelativeErrorTrend
 
 
 def _axes(ax, size=(5.0, 5.0)):
@@ -25,8 +31,8 @@ def _geodesic_segments(lattice: Lattice, samples: int = 12) -> np.ndarray:
     return np.stack([pts.real, pts.imag], axis=-1)
 
 
-def plot_tessellation(rings: int = 3, background_rings: int = 7, p: int = 7, q: int = 3, ax=None):
-    """Fig1: the {p,q} tessellation in the Poincaré disk (grey) with the ``rings``-ring graph
+def plot_tessellation(rings: int = 3, background_rings: int = 7, p: int = 7, q: int = 3, ax=None) -> Axes:
+    """``Fig1``: the {p,q} tessellation in the Poincaré disk (grey) with the ``rings``-ring graph
     highlighted, sites coloured by ring."""
     ax = _axes(ax)
     bg = ring_lattice(p, q, background_rings)
@@ -47,9 +53,9 @@ def plot_tessellation(rings: int = 3, background_rings: int = 7, p: int = 7, q: 
     return ax
 
 
-def plot_levels(table: list[dict], ax=None, *, lnphi_form: bool = True):
-    """Fig2 main panel: E0 and E1 against the number of rings, graph (filled) and continuum
-    (open), with the asymptotic formulas of Eq. (eq19) as lines.
+def plot_levels(table: list[dict], ax=None, *, lnphi_form: bool = True) -> Axes:
+    """``Fig2`` main panel: E0 and E1 against the number of rings, graph (filled) and continuum
+    (open), with the asymptotic formulas of ``eq19`` as lines.
 
     ``table`` rows need keys rings, E0_graph, E1_graph, E0_continuum, E1_continuum and the
     asymptotes are recomputed for a continuous l from ``hyperlattice.continuum.spectrum``.
@@ -75,8 +81,8 @@ def plot_levels(table: list[dict], ax=None, *, lnphi_form: bool = True):
     return ax
 
 
-def plot_partition(beta: np.ndarray, z_graph: np.ndarray, z_cont: np.ndarray, e0: float, ax=None):
-    """Fig2 inset: ln Z(beta) over negative energies, graph vs disk, and the asymptote -beta E0."""
+def plot_partition(beta: np.ndarray, z_graph: np.ndarray, z_cont: np.ndarray, e0: float, ax=None) -> Axes:
+    """``Fig2`` inset: ln Z(beta) over negative energies, graph vs disk, and the asymptote -beta E0."""
     ax = _axes(ax, (3.2, 2.4))
     ax.plot(beta, np.log(z_graph), "-", color="C0", lw=1.6, label="graph")
     ax.plot(beta, np.log(z_cont), "--", color="C3", lw=1.6, label="disk")
@@ -88,7 +94,7 @@ def plot_partition(beta: np.ndarray, z_graph: np.ndarray, z_cont: np.ndarray, e0
     return ax
 
 
-def plot_relative_error(trend, ax=None):
+def plot_relative_error(trend: RelativeErrorTrend, ax=None) -> Axes:
     r"""Signed relative error :math:`(E_{\rm graph}-E_{\rm cont})/|E_{\rm graph}|` against l
     (a :class:`~hyperlattice.compare.levels.RelativeErrorTrend`), with its last sign change and,
     when it saturates, the Aitken limit as a dotted line."""
@@ -106,7 +112,7 @@ def plot_relative_error(trend, ax=None):
     return ax
 
 
-def plot_level_counting(count, ax=None, *, label: str | None = None, **kwargs):
+def plot_level_counting(count: LevelCount, ax=None, *, label: str | None = None, **kwargs) -> Axes:
     r"""Counting function :math:`\mathcal N(E)` (states up to E) of a
     :class:`~hyperlattice.compare.levels.LevelCount` as a staircase."""
     ax = _axes(ax, (5.2, 3.8))
@@ -120,7 +126,7 @@ def plot_level_counting(count, ax=None, *, label: str | None = None, **kwargs):
     return ax
 
 
-def plot_level_comparison(comparison, ax=None):
+def plot_level_comparison(comparison: LevelComparison, ax=None) -> Axes:
     """Graph (filled) and continuum (open) levels of a
     :class:`~hyperlattice.compare.levels.LevelComparison` against the level index."""
     ax = _axes(ax, (5.2, 3.8))

@@ -21,7 +21,7 @@ __all__ = ["graph_levels", "continuum_levels", "green_row"]
 
 def graph_levels(cache: Cache, rings: int, timings: dict) -> dict:
     """E0, E1, method, m labels and residuals of the ``rings``-ring {7,3} graph (cached)."""
-    def compute():
+    def compute() -> dict:
         from ..graph.spectrum import lowest_levels
 
         t0 = time.perf_counter()
@@ -52,7 +52,7 @@ def green_row(cache: Cache, rings: int, omega, source: int, comparison: GreenCom
     ``comparison``, when given, is the already computed comparison for these inputs (the
     figure's); it is used instead of computing it again on a cache miss.
     """
-    def compute():
+    def compute() -> dict:
         from ..compare.green import compare_green
 
         cmp = comparison if comparison is not None else compare_green(ring_lattice(7, 3, rings), omega, source)

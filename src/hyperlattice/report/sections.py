@@ -23,7 +23,7 @@ from .writers import Section, Table, fmt as _fmt, save_figure as _save_figure
 __all__ = ["geometry_section", "counts_section", "fig1_section", "spectrum_section", "open_question_text",
            "fig2_section", "green_section", "scaling_section"]
 
-#: The columns of SuppTab1, in the paper's order.
+#: The columns of ``SuppTab1``, in the paper's order.
 _LEVEL_KEYS = ("E0_graph", "E0_continuum", "E0_asymptotic", "E1_graph", "E1_continuum", "E1_asymptotic")
 
 
@@ -284,7 +284,7 @@ def green_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[s
     from ..compare.green import compare_green
     from ..plots.green import plot_fig3_row
 
-    source = 10  # a site on ring 2, as in the paper's Fig3
+    source = 10  # a site on ring 2, as in the paper's ``Fig3``
     omegas = (-2.95, complex(-2.5, 0.1))
     figs = []
     shown = {}  # (rings, omega) -> GreenComparison drawn in the figure
