@@ -78,11 +78,31 @@ def _factories():
     """Real constructions of this package's results, by type tag (cheap: small lattices)."""
     from hyperlattice.compare import scaling, sums
     from hyperlattice.dictionary import continuum_parameters
-    from hyperlattice.graph.lattice import ring_lattice
+    from hyperlattice.graph.lattice import line_graph, ring_lattice
+
+    def spectrum():
+        from hyperlattice.graph.spectrum import lowest_levels
+
+        return lowest_levels(ring_lattice(7, 3, 2), levels=3)
+
+    def green():
+        from hyperlattice.compare.green import compare_green
+
+        return compare_green(ring_lattice(7, 3, 2), complex(-2.5, 0.1), 3)
+
+    def tiling():
+        from hyperlattice.geometry import tiling_constants
+
+        return tiling_constants(7, 3)
 
     return {
         Everything.TYPE: _everything,
         "Levels": _levels,
+        "Lattice": lambda: ring_lattice(7, 3, 2),
+        "tests.LineGraph": lambda: line_graph(ring_lattice(7, 3, 2)),
+        "Spectrum": spectrum,
+        "GreenComparison": green,
+        "TilingConstants": tiling,
         "ContinuumParameters": lambda: continuum_parameters(1.0, 0.5, 2.0),
         "FrameAngles": lambda: scaling.frame_angles(ring_lattice(7, 3, 2)),
         "RadialProfile": lambda: scaling.angle_profile(ring_lattice(7, 3, 2)),
@@ -134,6 +154,16 @@ def _build(tag: str):
             except (LookupError, ValueError, TypeError) as exc:  # fields that need real data
                 pytest.skip(f"{tag} cannot be built from its annotations ({exc}); add a factory")
     return _BUILT[tag]
+
+
+def _reading(tag: str, read):
+    """``read()``; a type built from annotations may refuse that made-up data when it is read back."""
+    try:
+        return read()
+    except ValueError as exc:
+        if tag in _factories():
+            raise
+        pytest.skip(f"{tag} checks its data when read and the annotation sample fails ({exc}); add a factory")
 
 
 def _norm(x):
@@ -196,7 +226,7 @@ def _arrays(value):
             yield from _arrays(v)
 
 
-TAGS = sorted(result_types())
+TAGS = sorted(result_types()) + ["tests.LineGraph"]  # a Lattice of the other kind
 
 
 @pytest.mark.parametrize("tag", TAGS)
@@ -204,7 +234,7 @@ def test_dict_round_trip_is_exact(tag):
     res = _build(tag)
     d = res.as_dict()
     text = json.dumps(d, allow_nan=False)  # strict JSON
-    back = type(res).from_dict(json.loads(text))
+    back = _reading(tag, lambda: type(res).from_dict(json.loads(text)))
     same(res, back, tag)
     assert json.dumps(back.as_dict(), allow_nan=False) == text
     same(Result.from_dict(json.loads(text)), res, tag)  # dispatch on "type" from the base
@@ -215,7 +245,7 @@ def test_dict_round_trip_is_exact(tag):
 def test_file_round_trip_is_exact(tag, suffix, tmp_path):
     res = _build(tag)
     path = res.save(tmp_path / f"r{suffix}")
-    same(res, load_result(path), tag)
+    same(res, _reading(tag, lambda: load_result(path)), tag)
     same(res, type(res).load(path), tag)
 
 
@@ -227,7 +257,7 @@ def test_arrays_read_only_and_eq_by_identity(tag):
         if a.size:
             with pytest.raises(ValueError):
                 a.flat[0] = a.flat[0]
-    other = type(res).from_dict(res.as_dict())
+    other = _reading(tag, lambda: type(res).from_dict(res.as_dict()))
     assert (res == res) is True and (res == other) is False and (res != other) is True
     json.dumps(to_jsonable(res.summary()), allow_nan=False)  # the CLI's view, as print_json writes it
     with pytest.raises(dataclasses.FrozenInstanceError):

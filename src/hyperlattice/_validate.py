@@ -45,8 +45,15 @@ __all__ = [
 
 
 def _shown(value) -> str:
-    text = repr(value)
+    text = f"{value:,}" if isinstance(value, int) and not isinstance(value, bool) else repr(value)
     return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _zero_d(value):
+    """A 0-d numeric numpy array as its Python scalar (``np.array(3)`` is a number too)."""
+    if isinstance(value, np.ndarray) and value.ndim == 0 and value.dtype.kind in "biufc":
+        return value.item()
+    return value
 
 
 # ----------------------------------------------------------------------------
@@ -54,21 +61,29 @@ def _shown(value) -> str:
 # ----------------------------------------------------------------------------
 
 def integer(name: str, value, *, minimum: int | None = None, maximum: int | None = None) -> int:
-    """``value`` as a Python int in ``[minimum, maximum]`` (bounds optional)."""
+    """``value`` as a Python int in ``[minimum, maximum]`` (bounds optional).
+
+    Accepts Python and numpy integers, floats with an integral value (``3.0``) and 0-d arrays of
+    either; refuses ``bool``, None, NaN, inf, strings, complex numbers and fractions.
+    """
+    value = _zero_d(value)
     if isinstance(value, (bool, np.bool_)) or value is None:
         raise ValueError(f"{name} must be an integer, got {_shown(value)}.")
     if isinstance(value, (int, np.integer)):
         v = int(value)
     elif isinstance(value, (float, np.floating)) and math.isfinite(value) and float(value).is_integer():
-        if maximum is not None and value > maximum:  # refuse before building a huge int
+        # refuse before building a huge int (1e308 has 309 digits)
+        if maximum is not None and value > maximum:
             raise ValueError(f"{name} must be at most {maximum:,}, got {_shown(value)}.")
+        if minimum is not None and value < minimum:
+            raise ValueError(f"{name} must be at least {minimum:,}, got {_shown(value)}.")
         v = int(value)
     else:
         raise ValueError(f"{name} must be an integer, got {_shown(value)}.")
     if minimum is not None and v < minimum:
-        raise ValueError(f"{name} must be at least {minimum:,}, got {v:,}.")
+        raise ValueError(f"{name} must be at least {minimum:,}, got {_shown(v)}.")
     if maximum is not None and v > maximum:
-        raise ValueError(f"{name} must be at most {maximum:,}, got {v:,}.")
+        raise ValueError(f"{name} must be at most {maximum:,}, got {_shown(v)}.")
     return v
 
 
@@ -88,7 +103,9 @@ def real(name: str, value, *, minimum: float | None = None, maximum: float | Non
             raise ValueError(f"{name} must be a real number, got {_shown(value)}.")
     try:
         v = float(value)
-    except (TypeError, ValueError, OverflowError):
+    except OverflowError:  # an int beyond 1.8e308
+        raise ValueError(f"{name} must be finite, got {_shown(value)}.") from None
+    except (TypeError, ValueError):
         raise ValueError(f"{name} must be a real number, got {_shown(value)}.") from None
     if not math.isfinite(v):
         raise ValueError(f"{name} must be finite, got {_shown(value)}.")
@@ -232,12 +249,14 @@ def lattice(value, *, kind: str | None = None):
 
 
 def site_index(name: str, value, n: int) -> int:
-    """A site index in ``range(n)`` (0-based, the paper's order)."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
-        raise ValueError(f"{name} must be an integer site index, got {_shown(value)}.")
-    if not 0 <= int(value) < n:
-        raise ValueError(f"{name} = {value} is not a site of this lattice (valid: 0..{n - 1}).")
-    return int(value)
+    """A site index in ``range(n)`` (0-based, the paper's order); integral floats as in :func:`integer`."""
+    try:
+        v = integer(name, value)
+    except ValueError:
+        raise ValueError(f"{name} must be an integer site index, got {_shown(value)}.") from None
+    if not 0 <= v < n:
+        raise ValueError(f"{name} = {_shown(v)} is not a site of this lattice (valid: 0..{n - 1}).")
+    return v
 
 
 def site_indices(name: str, value, n: int) -> np.ndarray:
@@ -250,10 +269,10 @@ def site_indices(name: str, value, n: int) -> np.ndarray:
     if a.dtype.kind == "f":
         if not np.all(np.isfinite(a)) or np.any(a != np.round(a)):
             raise ValueError(f"{name} must be integer site indices.")
-    a = a.astype(np.int64)
+    # range check before the cast: 1e308 or 2**64 would wrap around in int64
     if a.size and (a.min() < 0 or a.max() >= n):
         raise ValueError(f"{name} contains indices outside 0..{n - 1} (the sites of this lattice).")
-    return a
+    return a.astype(np.int64)
 
 
 # ----------------------------------------------------------------------------
@@ -261,9 +280,17 @@ def site_indices(name: str, value, n: int) -> np.ndarray:
 # ----------------------------------------------------------------------------
 
 def _as_path(name: str, value) -> Path:
-    if isinstance(value, bool) or not isinstance(value, (str, os.PathLike)) or str(value) == "":
+    if isinstance(value, bool) or not isinstance(value, (str, os.PathLike)):
         raise ValueError(f"{name} must be a path, got {_shown(value)}.")
-    return Path(value)
+    text = os.fspath(value)
+    if not isinstance(text, str) or text == "" or "\0" in text:
+        raise ValueError(f"{name} must be a path, got {_shown(value)}.")
+    return Path(text)
+
+
+def _os_error(name: str, path: Path, exc: OSError) -> ValueError:
+    # e.g. a name too long for the file system: the question "is it a directory?" itself fails
+    return ValueError(f"{name} {str(path)!r} cannot be used: {exc.strerror or exc}.")
 
 
 def output_path(name: str, value, *, suffixes: tuple[str, ...] | None = None) -> Path:
@@ -274,13 +301,17 @@ def output_path(name: str, value, *, suffixes: tuple[str, ...] | None = None) ->
     path = _as_path(name, value)
     if suffixes is not None and path.suffix not in suffixes:
         raise ValueError(f"{name} must end in {' or '.join(suffixes)}, got {str(path)!r}.")
-    if path.is_dir():
-        raise ValueError(f"{name} {str(path)!r} is a directory; give a file name.")
     parent = path.parent if str(path.parent) else Path(".")
-    if not parent.is_dir():
-        raise ValueError(f"cannot write {str(path)!r}: the folder {str(parent)!r} does not exist.")
-    if not os.access(parent, os.W_OK) or (path.exists() and not os.access(path, os.W_OK)):
-        raise ValueError(f"cannot write {str(path)!r}: permission denied.")
+    try:
+        if path.is_dir():
+            raise ValueError(f"{name} {str(path)!r} is a directory; give a file name.")
+        if not parent.is_dir():
+            what = "is not a folder" if parent.exists() else "does not exist"
+            raise ValueError(f"cannot write {str(path)!r}: the folder {str(parent)!r} {what}.")
+        if not os.access(parent, os.W_OK) or (path.exists() and not os.access(path, os.W_OK)):
+            raise ValueError(f"cannot write {str(path)!r}: permission denied.")
+    except OSError as exc:
+        raise _os_error(name, path, exc) from None
     return path
 
 
@@ -289,25 +320,31 @@ def input_path(name: str, value, *, suffixes: tuple[str, ...] | None = None) -> 
     path = _as_path(name, value)
     if suffixes is not None and path.suffix not in suffixes:
         raise ValueError(f"{name} must end in {' or '.join(suffixes)}, got {str(path)!r}.")
-    if not path.is_file():
-        raise ValueError(f"{name} {str(path)!r} does not exist or is not a file.")
-    if not os.access(path, os.R_OK):
-        raise ValueError(f"cannot read {str(path)!r}: permission denied.")
+    try:
+        if not path.is_file():
+            raise ValueError(f"{name} {str(path)!r} does not exist or is not a file.")
+        if not os.access(path, os.R_OK):
+            raise ValueError(f"cannot read {str(path)!r}: permission denied.")
+    except OSError as exc:
+        raise _os_error(name, path, exc) from None
     return path
 
 
 def directory(name: str, value, *, create: bool = True) -> Path:
     """A directory we may write into (created with its parents when ``create``)."""
     path = _as_path(name, value)
-    if path.exists() and not path.is_dir():
-        raise ValueError(f"{name} {str(path)!r} exists and is not a directory.")
-    if not path.exists():
-        if not create:
-            raise ValueError(f"{name} {str(path)!r} does not exist.")
-        try:
-            path.mkdir(parents=True, exist_ok=True)
-        except OSError as exc:
-            raise ValueError(f"{name} {str(path)!r} cannot be created: {exc.strerror or exc}.") from None
-    if not os.access(path, os.W_OK | os.X_OK):
-        raise ValueError(f"{name} {str(path)!r} is not writable (permission denied).")
+    try:
+        if path.exists() and not path.is_dir():
+            raise ValueError(f"{name} {str(path)!r} exists and is not a directory.")
+        if not path.exists():
+            if not create:
+                raise ValueError(f"{name} {str(path)!r} does not exist.")
+            try:
+                path.mkdir(parents=True, exist_ok=True)
+            except OSError as exc:
+                raise ValueError(f"{name} {str(path)!r} cannot be created: {exc.strerror or exc}.") from None
+        if not os.access(path, os.W_OK | os.X_OK):
+            raise ValueError(f"{name} {str(path)!r} is not writable (permission denied).")
+    except OSError as exc:
+        raise _os_error(name, path, exc) from None
     return path
