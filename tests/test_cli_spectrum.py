@@ -76,3 +76,11 @@ def test_argparse_errors_exit_2(capsys):
 def test_all_states_by_levels_equal_to_n(capsys):
     out = run_json(capsys, "--rings", "2", "--levels", "35")
     assert len(out["energies"]) == 35 and out["sites"] == 35
+
+
+@pytest.mark.slow
+def test_line_graph_at_ten_rings(capsys):
+    # used to fail (wrong line-graph rotation from ten rings on)
+    out = run_json(capsys, "--rings", "10", "--levels", "2", "--line-graph")
+    assert out["sites"] == 135_135 and out["m"] == [0, 1] and out["method"] == "sector-sparse"
+    assert max(out["residuals"]) < 1e-10

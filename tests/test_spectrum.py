@@ -360,3 +360,20 @@ def test_bad_beta(bad):
 def test_bad_energies_for_partition_function(bad):
     with pytest.raises(ValueError, match="energies"):
         partition_function(bad, 1.0)
+
+
+@pytest.mark.slow
+def test_line_graph_at_ten_rings():
+    # `spectrum --rings 10 --line-graph` used to fail: from ten rings on, line_graph's rotation
+    # was not a permutation (an int32 overflow in its edge key), so the sectors were wrong
+    lg = line_graph(ring_lattice(7, 3, 10))
+    spec = lowest_levels(lg, 2, eigenvectors=True)
+    assert spec.method == "sector-sparse" and spec.kind == "line_graph" and spec.sites == 135_135
+    assert spec.m.tolist() == [0, 1]
+    # the full matrix, no symmetry used: the same two levels
+    full = lowest_levels(lg, 2, method="sparse")
+    assert np.allclose(spec.energies, full.energies, atol=1e-12, rtol=0)
+    # the lifted sector states are eigenstates of the full H (they would not be with a wrong rotation)
+    psi = spec.eigenvectors
+    res = np.linalg.norm(hamiltonian(lg) @ psi - psi * spec.energies, axis=0)
+    assert np.all(res < 1e-10)
