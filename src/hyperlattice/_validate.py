@@ -18,8 +18,12 @@ import math
 import numbers
 import os
 from pathlib import Path
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from .graph.lattice import Lattice
 
 __all__ = [
     "integer",
@@ -163,7 +167,7 @@ def flag(name: str, value) -> bool:
     return bool(value)
 
 
-def function(name: str, value):
+def function(name: str, value) -> Callable:
     """A callable."""
     if not callable(value):
         raise ValueError(f"{name} must be a function, got {_shown(value)}.")
@@ -235,7 +239,7 @@ def pq(p, q, *, allow_infinite_p: bool = False) -> tuple:
     return p, q
 
 
-def lattice(value, *, kind: str | None = None):
+def lattice(value, *, kind: str | None = None) -> Lattice:
     """A :class:`~hyperlattice.graph.lattice.Lattice` (``kind`` "sites" or "line_graph" if given)."""
     from .graph.lattice import Lattice
 

@@ -94,7 +94,7 @@ class Cache:
         Entries read, and values computed (including recomputed bad entries).
     """
 
-    def __init__(self, directory: str | Path | None = None, *, enabled: bool = True):
+    def __init__(self, directory: str | Path | None = None, *, enabled: bool = True) -> None:
         self.enabled = _validate.flag("enabled", enabled)
         if directory is None:
             directory = default_cache_dir()

@@ -65,7 +65,7 @@ def _value(name: str, value):
     return _validate.real(name, value)
 
 
-def laplacian_coefficient(q: int, h) -> float:
+def laplacian_coefficient(q: int, h) -> float | np.ndarray:
     r"""The coefficient :math:`\frac q4 h^2` of :math:`\Delta_g` in :math:`A \approx q + \frac q4 h^2\Delta_g`
     for a q-fold star of neighbours at Euclidean distance h (after a Möbius map to the origin).
 
@@ -85,7 +85,7 @@ def hopping_scale(p=7, q=3) -> float:
     return laplacian_coefficient(q, geometry.lattice_h(p, q))
 
 
-def lambda_from_energy(omega, p=7, q=3):
+def lambda_from_energy(omega, p=7, q=3) -> float | complex | np.ndarray:
     r""":math:`\lambda = 4(\omega + q)/(q h^2)`: the eigenvalue of :math:`-\Delta_g` that matches the
     lattice energy (or frequency) :math:`\omega` (``eq21``). Real or complex, scalar or array."""
     omega = _value("omega", omega)
@@ -94,7 +94,7 @@ def lambda_from_energy(omega, p=7, q=3):
     return (np.asarray(omega) + q) / scale if np.ndim(omega) else (omega + q) / scale
 
 
-def energy_from_lambda(lam, p=7, q=3):
+def energy_from_lambda(lam, p=7, q=3) -> float | complex | np.ndarray:
     r""":math:`E = -q + \frac q4 h^2 \lambda`, the inverse of :func:`lambda_from_energy` (``spec2``)."""
     lam = _value("lam", lam)
     scale = hopping_scale(p, q)
@@ -102,7 +102,7 @@ def energy_from_lambda(lam, p=7, q=3):
     return -q + scale * (np.asarray(lam) if np.ndim(lam) else lam)
 
 
-def energy_from_k(k, p=7, q=3):
+def energy_from_k(k, p=7, q=3) -> float | complex | np.ndarray:
     r"""Lattice energy of a continuum level with :math:`-\Delta_g\psi = (1 + k^2)\psi` (``spec2``):
     :math:`E = -q + \frac q4 h^2 (1 + k^2)`. Real k for Dirichlet levels, complex k allowed."""
     k = np.asarray(_value("k", k))

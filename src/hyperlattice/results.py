@@ -45,9 +45,12 @@ import math
 import typing
 import zipfile
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
 
 __all__ = ["Result", "Levels", "load_result", "to_jsonable", "from_jsonable", "result_types"]
 
@@ -72,7 +75,7 @@ def _float(x: float):
     return x
 
 
-def to_jsonable(obj):
+def to_jsonable(obj) -> Any:
     """Plain JSON types for numbers, arrays, tuples, dicts and results (a display view).
 
     Complex numbers become ``{"re": x, "im": y}``, non-finite floats the strings
@@ -110,7 +113,7 @@ def _number(x):
     return x
 
 
-def from_jsonable(obj):
+def from_jsonable(obj) -> Any:
     """Inverse of :func:`to_jsonable` for scalars: ``"inf"`` and ``{"re", "im"}`` back to numbers."""
     if isinstance(obj, dict):
         if set(obj) == {"re", "im"} and not isinstance(obj["re"], list):
@@ -399,7 +402,7 @@ class Result:
         return res
 
     # -- figures -----------------------------------------------------------------------
-    def plot(self, ax=None):
+    def plot(self, ax=None) -> Axes:
         """Draw the result on ``ax`` (a new figure if None) and return the axes."""
         raise NotImplementedError(f"{type(self).__name__} has no standard plot.")
 
@@ -526,7 +529,7 @@ class Levels(Result):
         return [{"energy": float(e), "n": int(n), "m": mm, "degeneracy": int(g), "error": float(r)}
                 for e, n, mm, g, r in zip(self.energies, self.n, m, self.degeneracy, self.errors)]
 
-    def plot(self, ax=None, *, label: str | None = None, marker: str = "_", **kwargs):
+    def plot(self, ax=None, *, label: str | None = None, marker: str = "_", **kwargs) -> Axes:
         """Levels against m (the angular momentum), one marker per state; returns the axes."""
         from .plots import new_axes
 

@@ -72,7 +72,7 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     prefix = f"hyperlattice {args.command}"
 
-    def show_warning(message, category, filename, lineno, file=None, line=None):
+    def show_warning(message, category, filename, lineno, file=None, line=None) -> None:
         # one line per warning, like the errors; the source line of the warn() call means nothing here
         sys.stderr.write(f"{prefix}: warning: {_one_line(message)} ({category.__name__})\n")
 

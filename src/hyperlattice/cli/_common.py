@@ -14,7 +14,7 @@ import numpy as np
 from .. import _validate
 
 
-def p_value(text: str):
+def p_value(text: str) -> int | float:
     """A polygon size p: an integer, or 'inf' (only where a limit makes sense)."""
     t = text.strip().lower()
     if t in ("inf", "infinity", "oo"):
@@ -100,7 +100,7 @@ def add_pq(parser: argparse.ArgumentParser, *, default_p: int = 7) -> None:
     parser.add_argument("-q", type=int, default=3, help="coordination number q (default 3)")
 
 
-def to_jsonable(obj):
+def to_jsonable(obj) -> object:
     """Convert numpy scalars/arrays (and inf) to plain JSON values."""
     if isinstance(obj, dict):
         return {str(k): to_jsonable(v) for k, v in obj.items()}
@@ -135,7 +135,7 @@ class Progress:
     while long interactive runs still show what they are doing.
     """
 
-    def __init__(self, label: str, *, delay: float = 2.0, force: bool | None = None):
+    def __init__(self, label: str, *, delay: float = 2.0, force: bool | None = None) -> None:
         self.label = label
         self.delay = delay
         self.t0 = time.perf_counter()
@@ -157,9 +157,9 @@ class Progress:
             sys.stderr.write("\n")
             sys.stderr.flush()
 
-    def __enter__(self):
+    def __enter__(self) -> "Progress":
         return self
 
-    def __exit__(self, *exc):
+    def __exit__(self, *exc) -> bool:
         self.close()
         return False

@@ -51,6 +51,7 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -60,6 +61,9 @@ from ..dictionary import laplacian_coefficient
 from ..errors import ConvergenceWarning
 from ..graph.lattice import Lattice
 from ..results import Result
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
 
 __all__ = [
     "FrameAngles",
@@ -143,7 +147,7 @@ class FrameAngles(Result):
         """Largest star residual over the fully coordinated sites."""
         return float(np.max(self.residual[self.full])) if np.any(self.full) else 0.0
 
-    def plot(self, ax=None):
+    def plot(self, ax=None) -> Axes:
         """Fig. ``FigScos3delta`` for these angles (:func:`hyperlattice.plots.scaling.plot_frame_angles`)."""
         from ..plots.scaling import plot_frame_angles
 
@@ -244,7 +248,7 @@ class RadialProfile(Result):
         """Hyperbolic distance :math:`d(r, 0) = \\mathrm{artanh}\\, r` of each radius."""
         return np.arctanh(self.r)
 
-    def plot(self, ax=None, *, label: str = r"mean over sites at equal $r$"):
+    def plot(self, ax=None, *, label: str = r"mean over sites at equal $r$") -> Axes:
         """Mean against radius; red bars span min..max where the sites of one radius disagree."""
         from ..plots.scaling import draw_radial_profile
 
@@ -314,7 +318,7 @@ class SmoothFunction:
         Label for plots and output.
     """
 
-    def __init__(self, expr, name: str | None = None):
+    def __init__(self, expr, name: str | None = None) -> None:
         import sympy as sp
 
         z, zb = self.symbols()
@@ -327,7 +331,7 @@ class SmoothFunction:
         self._cache: dict = {}
 
     @staticmethod
-    def symbols():
+    def symbols() -> tuple:
         """The sympy symbols ``(z, zb)`` test functions are written in."""
         import sympy as sp
 
@@ -614,7 +618,7 @@ class OperatorProfile(Result):
                 "A_h_minus_qf": self.exact.mean, "quadratic_minus_qf": self.quadratic.mean,
                 "cubic_minus_qf": self.cubic.mean}
 
-    def plot(self, ax=None):
+    def plot(self, ax=None) -> Axes:
         """Fig. ``FigSh`` for this h (:func:`hyperlattice.plots.scaling.draw_operator_profile`)."""
         from ..plots.scaling import draw_operator_profile
 
@@ -706,7 +710,7 @@ class ConvergenceStudy(Result):
                                     "expected": self.expected[k], "fit_rms": self.fit_rms[k]}
                            for k in self.errors}}
 
-    def plot(self, ax=None):
+    def plot(self, ax=None) -> Axes:
         """Errors against h in log-log, one line per order, with the expected powers dashed."""
         from ..plots.scaling import plot_convergence
 

@@ -24,7 +24,7 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 from scipy import integrate
@@ -34,6 +34,9 @@ from .. import geometry
 from ..errors import ConvergenceWarning
 from ..graph.lattice import Lattice
 from ..results import Result
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
 
 __all__ = [
     "counting_function",
@@ -99,7 +102,7 @@ class CountingFit(Result):
                 "intercept": self.intercept, "expected_slope": self.expected_slope,
                 "slope_fixed": self.slope_fixed, "window": self.window, "points": int(self.radii.size), "rms": self.rms}
 
-    def plot(self, ax=None):
+    def plot(self, ax=None) -> Axes:
         """Fig. ``FigS1`` from the fitted points (:func:`hyperlattice.plots.scaling.plot_counting`)."""
         from ..plots.scaling import plot_counting
 

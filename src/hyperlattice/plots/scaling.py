@@ -5,6 +5,8 @@ Each function takes an optional matplotlib ``ax`` and returns the axes it drew o
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from . import new_axes
@@ -14,12 +16,15 @@ from ..compare.scaling import (ConvergenceStudy, FrameAngles, OperatorProfile, R
 from ..compare.sums import CountingFit, fit_counting
 from ..graph.lattice import Lattice, ring_lattice
 
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
 
-def _axes(ax, size=(6.0, 4.2)):
+
+def _axes(ax, size=(6.0, 4.2)) -> Axes:
     return new_axes(ax, size)
 
 
-def draw_radial_profile(profile: RadialProfile, ax=None, *, label: str = r"mean over sites at equal $r$"):
+def draw_radial_profile(profile: RadialProfile, ax=None, *, label: str = r"mean over sites at equal $r$") -> Axes:
     """Mean of a :class:`RadialProfile` against r; red bars span min..max where it is not unique."""
     ax = _axes(ax)
     ax.plot(profile.r, profile.mean, "o", ms=3.5, color="C0", label=label)
@@ -30,7 +35,7 @@ def draw_radial_profile(profile: RadialProfile, ax=None, *, label: str = r"mean 
     return ax
 
 
-def plot_frame_angles(lattice: Lattice | FrameAngles | None = None, ax=None):
+def plot_frame_angles(lattice: Lattice | FrameAngles | None = None, ax=None) -> Axes:
     r"""Fig. FigScos3delta: :math:`\cos(q\delta_i)` against :math:`r_i`, averaged at equal radius.
 
     :math:`\delta_i` is defined modulo :math:`2\pi/q`, so :math:`\cos(q\delta_i)` (the quantity
@@ -52,7 +57,7 @@ def plot_frame_angles(lattice: Lattice | FrameAngles | None = None, ax=None):
     return ax
 
 
-def draw_operator_profile(profile: OperatorProfile, ax=None):
+def draw_operator_profile(profile: OperatorProfile, ax=None) -> Axes:
     r"""Fig. FigSh for one :class:`OperatorProfile`: :math:`\hat A_h f - qf` against :math:`d(r,0)`.
 
     Circles: Eq. (adj34); squares: cubic approximation (adj36); line: quadratic (adj35),
@@ -77,7 +82,7 @@ def draw_operator_profile(profile: OperatorProfile, ax=None):
 
 
 def plot_formal_operator(lattice: Lattice | FrameAngles | None = None, h: float | None = None,
-                         f: SmoothFunction | None = None, ax=None):
+                         f: SmoothFunction | None = None, ax=None) -> Axes:
     r"""Fig. FigSh: :math:`\hat A_h f - qf` against :math:`d(r,0)` with the approximations.
 
     Default {7,3}, 5 rings, :math:`f = \cos[\pi d(r,0)]`, h the lattice value. The numbers are
@@ -88,7 +93,7 @@ def plot_formal_operator(lattice: Lattice | FrameAngles | None = None, h: float 
     return draw_operator_profile(operator_profile(angles, f, h), ax)
 
 
-def plot_convergence(study: ConvergenceStudy, ax=None):
+def plot_convergence(study: ConvergenceStudy, ax=None) -> Axes:
     r"""Errors of the order-k approximations of :math:`\hat A_h` against h (log-log), one line
     per order, each with a dashed line of its expected power through its last point."""
     ax = _axes(ax)
@@ -106,7 +111,7 @@ def plot_convergence(study: ConvergenceStudy, ax=None):
     return ax
 
 
-def plot_counting(lattice: Lattice | CountingFit | None = None, ax=None):
+def plot_counting(lattice: Lattice | CountingFit | None = None, ax=None) -> Axes:
     r"""Fig. FigS1: the counting function :math:`\mathcal{N}(r)` (Eq. (sum2)) against
     :math:`\rho` with the fitted line :math:`s\rho + b` (Eq. (sum4)). Default {7,3}, 4 rings.
 
