@@ -229,3 +229,10 @@ def test_tiling_constants_is_a_result(tmp_path):
     assert tc != g.tiling_constants(7, 3)  # eq=False: compared by identity, never element-wise
     with pytest.raises(AttributeError):
         tc.p = 8
+
+
+def test_effective_radius_needs_a_finite_lattice_symbol():
+    with pytest.raises(ValueError):
+        g.effective_radius(112, math.inf, 3)
+    with pytest.raises(ValueError):
+        g.effective_radius(112, 6, 3)

@@ -274,8 +274,9 @@ def effective_radius(sites, p=7, q=3) -> float | np.ndarray:
     r"""Effective disk radius of ``eq12``, :math:`L = \sqrt{N/(N + c_{pq})}`.
 
     ``sites`` (N) may be a positive number or an array of them; :math:`c_{pq}` is
-    :func:`radius_constant`.
+    :func:`radius_constant`. {p,q} is a lattice's symbol, so p is finite here.
     """
+    p, q = _validate.pq(p, q)
     n = _validate.real_array("the number of sites", sites)
     if np.any(n <= 0):
         raise ValueError("the number of sites must be positive.")
