@@ -93,3 +93,21 @@ def test_adjacency_dtypes():
     lat = ring_lattice(7, 3, 2)
     assert adjacency(lat, dtype=np.int8).dtype == np.int8
     assert adjacency(lat, dtype="complex128").dtype == np.complex128
+
+
+@pytest.mark.parametrize("onsite", [1 + 2j, np.full(19, 0.5j), True, np.ones(19, dtype=bool)])
+def test_onsite_must_be_real(onsite):
+    # H = -tA + diag(V) is Hermitian: complex and boolean "potentials" are refused
+    with pytest.raises(ValueError, match="on-site"):
+        hamiltonian(_lat19(), onsite=onsite)
+
+
+def _lat19():
+    return ring_lattice(19, 3, 1)  # a single 19-gon: 19 sites
+
+
+def test_onsite_complex_with_zero_imaginary_part_is_real():
+    lat = _lat19()
+    h = hamiltonian(lat, onsite=np.full(19, 0.5 + 0j))
+    assert h.dtype == np.float64
+    assert np.allclose(h.diagonal(), 0.5)

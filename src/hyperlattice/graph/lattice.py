@@ -33,12 +33,17 @@ import os
 import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .. import _validate
 from .. import geometry
 from ..results import Result
+
+if TYPE_CHECKING:  # only for annotations: matplotlib and networkx are imported where used
+    import networkx
+    from matplotlib.axes import Axes
 
 __all__ = [
     "Lattice",
@@ -229,7 +234,7 @@ class Lattice(Result):
         return _checked(super().from_dict(data), "the stored lattice")
 
     def plot(self, ax=None, *, geodesic: bool = True, samples: int = 9, color: str = "0.25",
-             linewidth: float | None = None, sites: bool = True, circle: bool = True):
+             linewidth: float | None = None, sites: bool = True, circle: bool = True) -> Axes:
         """Draw the graph in the Poincaré disk and return the axes.
 
         Parameters
@@ -274,7 +279,7 @@ class Lattice(Result):
         return ax
 
     # -- export --------------------------------------------------------------
-    def to_networkx(self):
+    def to_networkx(self) -> networkx.Graph:
         """The lattice as a :class:`networkx.Graph` with node attributes ``z`` and ``ring``."""
         try:
             import networkx as nx
@@ -734,6 +739,13 @@ def ring_lattice(p: int = 7, q: int = 3, rings: int = 3, *, max_sites: int | Non
         Sites ordered ring by ring, each ring counterclockwise starting from the site with
         the smallest polar angle :math:`\ge 0`; site 0 is :math:`z = r_0` on the positive
         real axis. Every edge has hyperbolic length :math:`d_0`.
+
+    Raises
+    ------
+    ValueError
+        For a non-hyperbolic or non-integer {p,q}, p or q above 2**31 - 1, ``rings < 1``, or
+        a lattice that will not fit (more than ``max_sites`` or 2**31 - 1 sites, or more
+        memory than is available at about 400 bytes per site).
 
     Examples
     --------

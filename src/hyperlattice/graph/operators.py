@@ -49,7 +49,9 @@ def onsite_values(lattice: Lattice, onsite: OnSite) -> np.ndarray | None:
     """Evaluate an on-site term: a scalar, an array of length N, or an array-first
     callable ``onsite(z, ring) -> array`` (as in pybinding's modifiers).
 
-    Returns None for ``onsite=None``, else one finite value per site.
+    Returns None for ``onsite=None``, else one finite real value per site (float64). The
+    term must be real, since :math:`H` is Hermitian (complex values with zero imaginary part
+    are accepted); ``True``/``False`` are not potentials and are refused.
     """
     _validate.lattice(lattice)
     if onsite is None:
@@ -59,15 +61,19 @@ def onsite_values(lattice: Lattice, onsite: OnSite) -> np.ndarray | None:
         v = np.asarray(value)
     except (TypeError, ValueError):  # ragged or mixed lists: numpy's own text is not a sentence
         raise ValueError("the on-site term must be a number or one number per site.") from None
-    if v.dtype.kind not in "biufc":
+    if v.dtype.kind not in "iufc":
         raise ValueError(f"the on-site term must be numeric, got values of type {v.dtype}.")
+    if v.dtype.kind == "c":
+        if np.any(v.imag != 0):
+            raise ValueError("the on-site term must be real (H = -tA + diag(V) is Hermitian), got complex values.")
+        v = v.real
     if v.ndim == 0:
         v = np.full(lattice.sites, v.item())
     if v.shape != (lattice.sites,):
         raise ValueError(f"the on-site term must have one value per site ({lattice.sites}), got shape {v.shape}.")
     if not np.all(np.isfinite(v)):
         raise ValueError("the on-site term contains NaN or infinite values.")
-    return v
+    return v.astype(np.float64)
 
 
 def hamiltonian(lattice: Lattice, t: float = 1.0, onsite: OnSite = None) -> sp.csr_matrix:
@@ -80,7 +86,7 @@ def hamiltonian(lattice: Lattice, t: float = 1.0, onsite: OnSite = None) -> sp.c
     t : float
         Hopping amplitude (energy unit); the paper's choice is t = 1.
     onsite : scalar, array of length N, or callable ``(z, ring) -> array``, optional
-        On-site potential :math:`V_i` (e.g. ``-mu`` or disorder).
+        Real on-site potential :math:`V_i` (e.g. ``-mu`` or disorder).
     """
     t = _validate.real("the hopping t", t)
     a = adjacency(lattice)
