@@ -33,6 +33,8 @@ _EXPORTS = {
     "ring_lattice": "graph.lattice",
     "line_graph": "graph.lattice",
     "ring_sizes": "graph.lattice",
+    "site_count": "graph.lattice",
+    "edge_count": "graph.lattice",
     "load_lattice": "graph.lattice",
     "adjacency": "graph.operators",
     "hamiltonian": "graph.operators",
@@ -42,6 +44,7 @@ _EXPORTS = {
     "lowest_levels": "graph.spectrum",
     "full_spectrum": "graph.spectrum",
     "partition_function": "graph.spectrum",
+    "log_partition_function": "graph.spectrum",
     "graph_green": "graph.green",
     # continuum side
     "legendre_p": "continuum.special",

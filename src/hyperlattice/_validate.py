@@ -267,7 +267,12 @@ def site_indices(name: str, value, n: int) -> np.ndarray:
     """A 1-d int64 array of site indices in ``range(n)``."""
     if value is None or isinstance(value, (str, bytes, bool)):
         raise ValueError(f"{name} must be site indices, got {_shown(value)}.")
-    a = np.atleast_1d(np.asarray(value))
+    if isinstance(value, (list, tuple)) and any(isinstance(v, (bool, np.bool_)) for v in value):
+        raise ValueError(f"{name} must be site indices, not True/False values.")
+    try:
+        a = np.atleast_1d(np.asarray(value))
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a flat list of site indices (a ragged or mixed list is not).") from None
     if a.dtype.kind == "b" or a.dtype.kind not in "iuf" or a.ndim != 1:
         raise ValueError(f"{name} must be a 1-d list of site indices, got {_shown(value)}.")
     if a.dtype.kind == "f":

@@ -178,8 +178,8 @@ class RelativeErrorTrend(Result):
         return bool(self.monotone and math.isfinite(self.aitken_limit))
 
     def summary(self) -> dict:
-        """All fields (the short view is the full one here)."""
-        return self.as_dict()
+        """All fields as plain JSON (lists, no type tags)."""
+        return super().summary()
 
     def plot(self, ax=None) -> Axes:
         """The relative error against l, the sign change and the Aitken limit marked; returns the axes."""
