@@ -57,3 +57,33 @@ def test_rings_and_radius_are_exclusive(capsys):
     with pytest.raises(SystemExit) as exc:
         main(["continuum", "--rings", "3", "--radius", "0.5"])
     assert exc.value.code == 2
+
+
+def test_small_radius_is_cheap(capsys):
+    """`continuum --radius 1e-5 --levels 2` took 2.9 GB and 50 s (issue 10)."""
+    import tracemalloc
+
+    tracemalloc.start()
+    try:
+        code, out, _ = run_cli(capsys, "continuum", "--radius", "1e-5", "--levels", "2", "--json")
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert code == 0 and peak < 16e6
+    d = json.loads(out)
+    assert d["m"] == [0, 1] and d["k"][0] == pytest.approx(2.404825557695773 / 1e-5, rel=1e-5)
+
+
+@pytest.mark.parametrize("argv", [
+    ["continuum", "--radius", "1e-8"],
+    ["continuum", "--levels", "1000000000"],
+    ["continuum", "--rings", "100000"],
+    ["continuum", "--radius", "nan"],
+])
+def test_refusals_are_one_line_exit_2(capsys, argv):
+    try:
+        code = main(argv)
+    except SystemExit as exc:          # argparse's own refusals
+        code = exc.code
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "Traceback" not in err

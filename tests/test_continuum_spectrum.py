@@ -1,13 +1,16 @@
 """Continuum Dirichlet spectrum (spec2), energies, asymptotics and eigenfunctions."""
 
 import math
+import tracemalloc
 
 import mpmath as mp
 import numpy as np
 import pytest
 from scipy.special import jv
 
-from hyperlattice.continuum.spectrum import (asymptotic_k0, asymptotic_k1,
+from hyperlattice.dictionary import hopping_scale
+
+from hyperlattice.continuum.spectrum import (asymptotic_energies, asymptotic_k0, asymptotic_k1,
                                              continuum_levels, dirichlet_levels, dirichlet_roots,
                                              disk_argument, energy_infinity, level_energy, psi_K,
                                              radial_g)
@@ -135,6 +138,54 @@ def test_bad_input():
         dirichlet_roots(-1.5, 0.5, 2)
 
 
+BAD_VALUES = {"none": None, "nan": float("nan"), "inf": float("inf"), "bool": True, "str": "seven",
+              "ragged": [[1, 2], [3]], "complex": 1 + 2j, "object": object()}
+
+# (id, call with the spoiled value, tags the argument legitimately accepts)
+ENTRY_POINTS = [
+    ("levels", lambda v: continuum_levels(7, 3, radius=0.9, levels=v), set()),
+    ("rings", lambda v: continuum_levels(7, 3, rings=v, levels=2), set()),
+    ("radius", lambda v: continuum_levels(7, 3, radius=v, levels=2), set()),
+    ("check_nodes", lambda v: continuum_levels(7, 3, radius=0.9, levels=2, check_nodes=v), {"bool"}),
+    ("m", lambda v: dirichlet_roots(v, 0.5, 2), set()),
+    ("n_roots", lambda v: dirichlet_roots(1, 0.5, v), set()),
+    ("x", lambda v: dirichlet_roots(1, x=v, n_roots=2), set()),
+    ("n_max", lambda v: dirichlet_levels(7, 3, radius=0.5, n_max=v, m_max=2), set()),
+    ("m_max", lambda v: dirichlet_levels(7, 3, radius=0.5, n_max=2, m_max=v), set()),
+    ("k", lambda v: level_energy(v), set()),
+    ("k0 x", lambda v: asymptotic_k0(v), set()),
+    ("k1 x", lambda v: asymptotic_k1(v), set()),
+    ("psi z", lambda v: psi_K(v, 1.0), {"complex"}),
+    ("psi k", lambda v: psi_K(0.1, v), set()),
+    ("g k", lambda v: radial_g(v, 1, 0.5), set()),
+    ("g m", lambda v: radial_g(1.0, v, 0.5), set()),
+    ("g r", lambda v: radial_g(1.0, 1, v), set()),
+    ("g method", lambda v: radial_g(1.0, 1, 0.5, method=v), set()),
+    ("disk radius", lambda v: disk_argument(v), set()),
+    ("asymptotic form", lambda v: asymptotic_energies(7, 3, radius=0.9, form=v), set()),
+]
+
+
+@pytest.mark.parametrize("name,call,ok", ENTRY_POINTS, ids=[e[0] for e in ENTRY_POINTS])
+def test_every_entry_point_refuses_bad_values_with_valueerror(name, call, ok):
+    """None/NaN/inf/bool/str/ragged/complex/object give ValueError with a plain sentence (issue 10,
+    item 2: continuum_levels(levels=None) leaked TypeError, rings=nan a numpy conversion error)."""
+    for tag, bad in BAD_VALUES.items():
+        if tag in ok:
+            continue
+        with pytest.raises(ValueError) as exc:
+            call(bad)
+        msg = str(exc.value)
+        assert msg.endswith(".") and len(msg) < 300, (tag, msg)
+
+
+def test_levels_none_is_a_valueerror_not_typeerror():
+    with pytest.raises(ValueError, match="levels"):
+        continuum_levels(levels=None, radius=0.5)
+    with pytest.raises(ValueError, match="rings"):
+        continuum_levels(rings=float("nan"))
+
+
 @pytest.mark.parametrize("m", [0, 1, 2, -1, -3, 5])
 def test_radial_g_closed_form_equals_integral(m):
     r = np.array([0.05, 0.3, 0.6, 0.9])
@@ -162,3 +213,77 @@ def test_psi_K_is_eigenfunction():
     lap = (f(z0 + h) + f(z0 - h) + f(z0 + 1j * h) + f(z0 - 1j * h) - 4 * f(z0)) / h**2
     dg = (1 - abs(z0) ** 2) ** 2 * lap
     assert dg == pytest.approx(-(1 + k * k) * f(z0), rel=1e-5)
+
+
+# ----------------------------------------------------------------------------
+# issue 10: small disks are cheap, large requests are refused before the work
+# ----------------------------------------------------------------------------
+
+def _peak_mb(func, *args, **kwargs):
+    tracemalloc.start()
+    try:
+        out = func(*args, **kwargs)
+        return out, tracemalloc.get_traced_memory()[1] / 1e6
+    finally:
+        tracemalloc.stop()
+
+
+def test_small_disk_levels_fit_in_a_few_megabytes():
+    """continuum_levels(7, 3, radius=0.001, levels=50) grew to 23 GB (the k grid had a fixed step
+    while the roots scale like 1/L); the grid step now follows the root spacing."""
+    spec, peak = _peak_mb(continuum_levels, 7, 3, radius=0.001, levels=50)
+    assert peak < 32 and len(spec) == 50
+    spec2, peak2 = _peak_mb(continuum_levels, 7, 3, radius=1e-5, levels=2)     # the CLI case: was 2.9 GB
+    assert peak2 < 8
+    # flat-disk limit: k artanh(L) -> Bessel zeros j_{m,n} (curvature corrections O(L^2))
+    from scipy.special import jn_zeros
+    s = math.atanh(1e-5)
+    dk = spec2.errors / (2 * hopping_scale(7, 3) * spec2.k)        # the bound, converted to k
+    for (k, m, d) in zip(spec2.k, spec2.m, dk):
+        j = jn_zeros(abs(int(m)), 1)[0]
+        assert abs(k * s - j) <= d * s + 1e-8 * j
+
+
+def test_grid_resolves_roots_on_tiny_and_huge_disks():
+    for radius in (1e-4, 1e-3, 1 - 1e-12):
+        k = dirichlet_roots(np.arange(6), radius, n_roots=4, check_nodes=True)
+        assert np.all(np.diff(k, axis=1) > 0) and np.all(np.diff(k[:, 0]) > 0)
+
+
+def test_requests_beyond_the_limits_are_refused_before_allocating():
+    from hyperlattice.continuum.spectrum import MAX_LEVELS, MAX_ORDER
+    for call in (lambda: dirichlet_roots(0, 0.5, n_roots=10**6),
+                 lambda: dirichlet_roots(MAX_ORDER + 1, 0.5, 2),
+                 lambda: dirichlet_levels(7, 3, radius=0.5, n_max=3, m_max=MAX_ORDER + 1),
+                 lambda: continuum_levels(7, 3, radius=0.5, levels=MAX_LEVELS + 1),
+                 lambda: continuum_levels(7, 3, radius=1e-8, levels=2)):
+        tracemalloc.start()
+        try:
+            with pytest.raises(ValueError):
+                call()
+            assert tracemalloc.get_traced_memory()[1] < 2e6
+        finally:
+            tracemalloc.stop()
+
+
+# ----------------------------------------------------------------------------
+# the error bounds are true bounds
+# ----------------------------------------------------------------------------
+
+def _mp_root(radius, m, k0):
+    mp.mp.dps = 40
+    x = (1 + mp.mpf(radius) ** 2) / (1 - mp.mpf(radius) ** 2)      # exact x of the float radius
+    return mp.findroot(lambda kk: mp.re(mp.legenp(mp.mpc(-0.5, kk / 2), m, x, type=3)), mp.mpf(k0))
+
+
+@pytest.mark.parametrize("radius,levels", [(0.5, 1), (0.95, 1), (0.999999, 1), (0.01, 2), (1e-4, 1)])
+def test_error_bound_holds_against_a_40_digit_root(radius, levels):
+    spec = continuum_levels(7, 3, radius=radius, levels=levels)
+    assert spec.error_kind == "energy error bound" and spec.method == "dirichlet-roots"
+    s = mp.mpf(hopping_scale(7, 3))
+    for k, m, e, err in zip(spec.k, spec.m, spec.energies, spec.errors):
+        k_ref = _mp_root(radius, abs(int(m)), k)
+        actual = abs(float(s * (mp.mpf(k) ** 2 - k_ref ** 2)))      # E(k) - E(k_exact) with the same h
+        assert actual <= err
+        # and the bound is not vacuous: below 1e-5 of the level's distance to E_inf
+        assert err < 1e-5 * (e - energy_infinity(7, 3))

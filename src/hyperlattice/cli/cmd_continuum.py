@@ -9,7 +9,7 @@ ORDER = 40
 HELP = "lowest continuum levels E = -q + (q/4) h^2 (1 + k^2) on the Dirichlet disk (spec2)"
 
 
-def add_arguments(parser):
+def add_arguments(parser) -> None:
     add_pq(parser)
     size = parser.add_mutually_exclusive_group()
     size.add_argument("--rings", type=positive_int, default=None,
@@ -22,6 +22,7 @@ def add_arguments(parser):
 
 
 def run(args) -> int:
+    """Compute the levels (``spec1``/``spec2``) and print them; bad input raises ValueError (exit 2)."""
     from ..continuum.spectrum import continuum_levels
 
     rings = args.rings

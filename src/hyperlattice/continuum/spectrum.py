@@ -11,11 +11,36 @@ with :math:`k_{nm}` the :math:`n`-th positive root of the Dirichlet condition ``
 
 .. math:: P^{m}_{\frac12(-1+\mathrm{i}k)}\Bigl(\frac{1+L^2}{1-L^2}\Bigr) = 0 .
 
-Roots are bracketed on a grid fine enough to separate neighbouring roots (a sign-change count
-from :math:`k=0`, so the :math:`n`-th bracket holds the :math:`n`-th root), refined by a vectorized
-Chandrupatla iteration (:func:`scipy.optimize.elementwise.find_root`) and verified (residual at
-the root relative to the bracket values, strict ordering in :math:`n` and :math:`|m|`, and on
-request the number :math:`n-1` of radial nodes of the eigenfunction).
+Root search
+-----------
+Write :math:`x = (1+L^2)/(1-L^2) = \cosh t` (:math:`t/2` is the hyperbolic radius of the disk).
+Consecutive roots in :math:`k` are about :math:`2\pi/(t+\ln 8)` apart for large disks (``spec9``)
+and about :math:`2\pi/t` for small ones (:math:`k_{nm} \approx 2 j_{m,n}/t`, Bessel zeros
+:math:`j_{m,n}`, spaced by about :math:`\pi`); the grid step :math:`2\pi/(t + t\ln 8/(1+t))/6` is
+below a sixth of both, so no grid cell holds two roots, and the number of grid points per root
+stays bounded for every radius (a grid of fixed step, as before, needed :math:`\sim 1/L` points
+for small disks). Roots are bracketed by sign changes counted from :math:`k=0` (so the
+:math:`n`-th bracket holds the :math:`n`-th root), refined by a vectorized Chandrupatla iteration
+(:func:`scipy.optimize.elementwise.find_root`) and verified (residual at the root relative to the
+bracket values, strict ordering in :math:`n` and :math:`|m|`, and on request the number
+:math:`n-1` of radial nodes of the eigenfunction).
+
+Error bound of each level
+-------------------------
+For each root :math:`k` the module finds the smallest :math:`\delta` of a ladder (starting at the
+final Chandrupatla bracket, times 4 per step) such that :math:`P^m_\nu(x')` has opposite signs at
+:math:`k-\delta` and :math:`k+\delta`, both values larger than ten times the Legendre module's
+error estimate, for :math:`x' = x(1\pm 4\varepsilon)` (:math:`\varepsilon` the machine epsilon: the
+rounding of :math:`x` computed from :math:`L` or from the ring count). The exact root for the given
+disk therefore lies in :math:`[k-\delta, k+\delta]`, and since
+:math:`|E(k\pm\delta) - E(k)| \le \frac q4 h^2(2k\delta + \delta^2)`, that is the bound stored in
+``errors`` (``error_kind = "energy error bound"``).
+
+Cost and size limits
+--------------------
+All evaluations of the Legendre module run in chunks of :data:`_CHUNK` values (bounded memory).
+The number of evaluations a request needs is predicted before each scan and refused beyond
+:data:`MAX_EVALUATIONS` with a ValueError; orders beyond :data:`MAX_ORDER` are refused outright.
 
 Also here: the asymptotic formulas ``spec10``/``spec16`` and ``eq19``/``spec11``/``spec17``,
 :math:`E_\infty = -q + \frac{q}{4}h^2`, the eigenfunctions ``eig12`` and the radial functions
@@ -25,16 +50,18 @@ Also here: the asymptotic formulas ``spec10``/``spec16`` and ``eq19``/``spec11``
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
+from scipy import special as sc
 from scipy.optimize import elementwise as _elementwise
 
 from .. import _validate
-from ..dictionary import energy_from_k, hopping_scale
+from ..dictionary import disk_radius, energy_from_k, hopping_scale
 from ..errors import ConvergenceError
 from ..geometry import lattice_h, one_minus_abs2, radius_constant
-from .special import _check_m, _log_p_parts, _guarded, legendre_p
+from ..results import Levels, Result
+from .special import check_order, evaluate_checked, legendre_p, legendre_p_log_parts
 
 __all__ = [
     "disk_argument",
@@ -50,45 +77,65 @@ __all__ = [
     "asymptotic_energies",
     "psi_K",
     "radial_g",
+    "MAX_EVALUATIONS",
+    "MAX_ORDER",
 ]
 
 GOLDEN = (1.0 + math.sqrt(5.0)) / 2.0
+
+#: values per call of the Legendre module: its temporaries stay below a few tens of MB
+_CHUNK = 1 << 13
+#: evaluations of P^m_nu one request may spend (about 30 s on one core); more is refused
+MAX_EVALUATIONS = 4_000_000
+#: largest order |m| accepted (the Legendre module is validated to m = 30 and works well beyond)
+MAX_ORDER = 1000
+#: relative rounding of x = (1+L^2)/(1-L^2) as computed from L or from a ring count
+_X_ROUNDING = 4.0 * np.finfo(float).eps
+#: Chandrupatla tolerances: the bracket shrinks to a few ulps of k
+_TOLERANCES = {"xatol": 1e-15, "xrtol": 4.0 * np.finfo(float).eps, "fatol": 0.0, "frtol": 0.0}
+#: largest node count of the eig17 quadrature in radial_g (16 MB of complex values)
+_MAX_NODES = 1 << 20
+#: largest ring count accepted for a disk (the site count of {7,3} passes 1e308 at 733 rings)
+_MAX_RINGS = 1000
 
 
 # ----------------------------------------------------------------------------
 # the disk
 # ----------------------------------------------------------------------------
 
-def _check_radius(radius) -> float:
+def _sites_for_rings(p: int, q: int, rings: int) -> float:
+    """N of the ``rings``-ring {p,q} lattice as a float (ValueError beyond the float range).
+
+    The one place the continuum side asks the graph side for anything; it goes away once
+    :mod:`hyperlattice.dictionary` offers the ring count -> disk map itself.
+    """
+    from ..graph.lattice import site_count  # lazy: the continuum package does not import graph code
+
+    n_sites = site_count(p, q, rings)
     try:
-        r = float(radius)
-    except (TypeError, ValueError):
-        raise ValueError(f"the disk radius must be a number in (0, 1), got {radius!r}.") from None
-    if not math.isfinite(r) or not 0.0 < r < 1.0:
-        raise ValueError(f"the disk radius L must lie strictly between 0 and 1, got {radius!r}.")
-    return r
+        return float(n_sites)
+    except OverflowError:
+        raise ValueError(f"the {{{p},{q}}} lattice with {rings:,} rings has more than 1e308 sites; "
+                         "its disk radius is 1 to double precision.") from None
 
 
 def disk_argument(radius=None, *, p=7, q=3, rings=None) -> tuple[float, float]:
     r"""Return ``(L, x_L)`` with :math:`x_L = (1+L^2)/(1-L^2)` (the argument in ``spec2``).
 
-    Either ``radius`` (:math:`0<L<1`) or ``rings`` (the {p,q} ring lattice with
-    :math:`N` = :func:`hyperlattice.lattice.site_count` sites, :math:`L=\sqrt{N/(N+c_{pq})}`,
-    ``eq12``). For rings, :math:`x_L = (2N + c_{pq})/c_{pq}` exactly, which keeps full relative
-    precision even when :math:`1-L \sim 10^{-9}` would lose digits in :math:`L` itself.
+    Either ``radius`` (:math:`0<L<1`) or ``rings`` (the {p,q} ring lattice with N sites,
+    :math:`L=\sqrt{N/(N+c_{pq})}` by :func:`hyperlattice.dictionary.disk_radius`, ``eq12``). For
+    rings, :math:`x_L = (2N + c_{pq})/c_{pq}` exactly, which keeps full relative precision even
+    when :math:`1-L \sim 10^{-9}` would lose digits in :math:`L` itself.
     """
     if (radius is None) == (rings is None):
         raise ValueError("give exactly one of radius or rings.")
     if rings is not None:
-        from ..graph.lattice import site_count
-
-        if isinstance(rings, bool) or int(rings) != rings or rings < 1:
-            raise ValueError(f"rings must be a positive integer, got {rings!r}.")
+        rings = _validate.positive_int("rings", rings, maximum=_MAX_RINGS)
         p, q = _validate.pq(p, q)
-        n_sites = site_count(p, q, int(rings))
+        n_sites = _sites_for_rings(p, q, rings)
         c = radius_constant(p, q)
-        return math.sqrt(n_sites / (n_sites + c)), (2.0 * n_sites + c) / c
-    r = _check_radius(radius)
+        return float(disk_radius(n_sites, p, q)), (2.0 * n_sites + c) / c
+    r = _validate.radius("the disk radius L", radius)
     return r, (1.0 + r * r) / ((1.0 - r) * (1.0 + r))
 
 
@@ -96,8 +143,8 @@ def disk_argument(radius=None, *, p=7, q=3, rings=None) -> tuple[float, float]:
 # energies and asymptotics
 # ----------------------------------------------------------------------------
 
-def level_energy(k, p=7, q=3):
-    r"""Continuum energy :math:`E = -q + \frac{q}{4}h^2(1+k^2)` of a Dirichlet level.
+def level_energy(k, p=7, q=3) -> float | np.ndarray:
+    r"""Continuum energy :math:`E = -q + \frac{q}{4}h^2(1+k^2)` of a Dirichlet level (``spec1``).
 
     Derivation of the :math:`q`-dependence (generalising ``eq10``/``adj15``–``adj26``): move
     site :math:`i` to the origin by a Möbius map; its :math:`q` neighbours sit at
@@ -110,10 +157,11 @@ def level_energy(k, p=7, q=3):
     = q f + \frac{q}{4}h^2\Delta_g f + O(h^3)` (using :math:`\Delta_g = 4(1-|z|^2)^2
     \partial\bar\partial`). Hence :math:`H=-A \approx -q - \frac{q}{4}h^2\Delta_g` and an
     eigenvalue :math:`-(1+k^2)` of :math:`\Delta_g` gives the energy above; for :math:`q=3` this
-    is ``spec1``, :math:`-3 + \frac34 h^2(1+k^2)`.
+    is ``spec1``, :math:`-3 + \frac34 h^2(1+k^2)`. The map itself is
+    :func:`hyperlattice.dictionary.energy_from_k`.
     """
-    _validate.pq(p, q)
-    out = energy_from_k(np.asarray(k, dtype=float), p, q)
+    p, q = _validate.pq(p, q)
+    out = energy_from_k(_validate.real_array("k", k), p, q)
     return float(out) if np.ndim(out) == 0 else out
 
 
@@ -123,14 +171,23 @@ def energy_infinity(p=7, q=3) -> float:
     return level_energy(0.0, p, q)
 
 
-def asymptotic_k0(x):
+def _x_array(x) -> np.ndarray:
+    x = _validate.real_array("x = (1+L^2)/(1-L^2)", x)
+    if np.any(x <= 1.0):
+        raise ValueError("x = (1+L^2)/(1-L^2) must be greater than 1.")
+    return x
+
+
+def asymptotic_k0(x) -> float | np.ndarray:
     r"""``spec10``: :math:`k_0 \sim 2\pi/\ln(8x)` for :math:`x = (1+L^2)/(1-L^2)\to\infty`."""
-    return 2.0 * np.pi / np.log(8.0 * np.asarray(x, dtype=float))
+    out = 2.0 * np.pi / np.log(8.0 * _x_array(x))
+    return float(out) if out.ndim == 0 else out
 
 
-def asymptotic_k1(x):
+def asymptotic_k1(x) -> float | np.ndarray:
     r"""``spec16``: :math:`k_1 \sim 2\pi/\ln(8x/e^2)` for :math:`x\to\infty`."""
-    return 2.0 * np.pi / (np.log(8.0 * np.asarray(x, dtype=float)) - 2.0)
+    out = 2.0 * np.pi / (np.log(8.0 * _x_array(x)) - 2.0)
+    return float(out) if out.ndim == 0 else out
 
 
 def asymptotic_energies(p=7, q=3, *, radius=None, rings=None, form="auto") -> dict:
@@ -149,124 +206,233 @@ def asymptotic_energies(p=7, q=3, *, radius=None, rings=None, form="auto") -> di
         ``{"E0", "E1", "E_inf"}`` (floats).
     """
     p, q = _validate.pq(p, q)
+    form = _validate.choice("form", form, ("auto", "rings", "radius"))
     e_inf = energy_infinity(p, q)
     if form == "auto":
         form = "rings" if (rings is not None and (p, q) == (7, 3)) else "radius"
     if form == "rings":
         if rings is None or (p, q) != (7, 3):
             raise ValueError("the ring form of eq19 is defined for {7,3} with a number of rings.")
+        rings = _validate.positive_int("rings", rings, maximum=_MAX_RINGS)
         lnphi = math.log(GOLDEN)
         pref = math.pi**2 * hopping_scale(p, q)
         e0 = e_inf + pref / (lnphi * rings + math.log(2.0)) ** 2
         e1 = e_inf + pref / (lnphi * rings + math.log(2.0) - 1.0) ** 2
         return {"E0": e0, "E1": e1, "E_inf": e_inf}
-    if form != "radius":
-        raise ValueError(f"form must be 'auto', 'rings' or 'radius', got {form!r}.")
     _, x = disk_argument(radius, p=p, q=q, rings=rings)
-    return {"E0": level_energy(float(asymptotic_k0(x)), p, q),
-            "E1": level_energy(float(asymptotic_k1(x)), p, q), "E_inf": e_inf}
+    return {"E0": level_energy(asymptotic_k0(x), p, q), "E1": level_energy(asymptotic_k1(x), p, q),
+            "E_inf": e_inf}
 
 
 # ----------------------------------------------------------------------------
-# Dirichlet roots
+# the Dirichlet function and its roots
 # ----------------------------------------------------------------------------
 
-def _prod_abs_log(nu, m):
-    """log prod_{n<m} |nu - n|: the eig19 normalisation, which makes P^m/prod ~ J_m of size 1."""
+def _evaluate(k, m, x) -> tuple[np.ndarray, np.ndarray]:
+    r"""``(f, err)``: :math:`f = P^m_\nu(x)/|\prod_{n<m}(\nu-n)|`, :math:`\nu = (-1+\mathrm ik)/2`, and
+    the Legendre module's estimate of its evaluation error, broadcast over ``k, m, x``.
+
+    The normalisation is that of ``eig19`` (it makes f of the size of :math:`J_m`, so that
+    neither large orders nor large k overflow); it does not change the sign, which carries the
+    roots. Evaluated in chunks of :data:`_CHUNK` values so that memory stays bounded.
+    """
+    k, m, x = np.broadcast_arrays(np.asarray(k, dtype=float), np.asarray(m, dtype=np.int64),
+                                  np.asarray(x, dtype=float))
+    shape = k.shape
+    kf, mf, xf = k.ravel(), m.ravel(), x.ravel()
+    f = np.empty(kf.size)
+    err = np.empty(kf.size)
+    for a in range(0, kf.size, _CHUNK):
+        sl = slice(a, a + _CHUNK)
+        nu = -0.5 + 0.5j * kf[sl]
+        mm = np.ascontiguousarray(mf[sl])
+        s, mant, e = evaluate_checked(legendre_p_log_parts, nu, mm, np.ascontiguousarray(xf[sl]), warn=False)
+        lp = _log_abs_product(nu, mm)
+        with np.errstate(over="ignore", under="ignore"):
+            scale = np.exp(s - lp)
+            f[sl] = mant.real * scale
+            err[sl] = e * scale
+    return f.reshape(shape), err.reshape(shape)
+
+
+def _log_abs_product(nu: np.ndarray, m: np.ndarray) -> np.ndarray:
+    r""":math:`\ln\prod_{n<m}|\nu - n|`, the ``eig19`` normalisation of the Dirichlet function.
+
+    A plain sum for small orders; :math:`\operatorname{Re}[\ln\Gamma(\nu+1) - \ln\Gamma(\nu+1-m)]`
+    beyond (no pole: :math:`\operatorname{Re}\nu = -1/2`), which costs O(1) instead of O(m).
+    """
+    mmax = int(m.max()) if m.size else 0
+    if mmax > 64:
+        return (sc.loggamma(nu + 1.0) - sc.loggamma(nu + 1.0 - m)).real
     out = np.zeros(nu.shape)
-    for j in range(int(m.max()) if m.size else 0):
+    for j in range(mmax):
         out = np.where(j < m, out + np.log(np.abs(nu - j)), out)
     return out
 
 
-def _dirichlet_function(k, m, x):
-    """Real f(k) = P^m_nu(x)/|prod_{n<m}(nu-n)|, nu = (-1+ik)/2 (sign carries the roots)."""
-    k = np.asarray(k, dtype=float)
-    k, m, x = np.broadcast_arrays(k, m, x)
-    nu = (-0.5 + 0.5j * k).ravel()
-    mm = m.ravel().astype(np.int64)
-    s, mt, _ = _guarded(_log_p_parts, nu, mm, x.ravel().astype(float), warn=False)
-    with np.errstate(over="ignore", under="ignore"):
-        val = mt.real * np.exp(s - _prod_abs_log(nu, mm))
-    return val.reshape(k.shape)
+def _dirichlet_function(k, m, x) -> np.ndarray:
+    """The real function whose roots in k are the Dirichlet roots (see :func:`_evaluate`)."""
+    return _evaluate(k, m, x)[0]
 
 
-def _roots_at_x(ms, x, n_roots: int, *, check_nodes: bool = False, radius=None):
-    """k_{n,m} for n = 1..n_roots and each m in ``ms`` at argument x; array (len(ms), n_roots)."""
-    ms = np.asarray(ms, dtype=np.int64)
-    t = math.acosh(x) if x < 1e8 else math.log(2.0 * x)
-    # spacing of consecutive roots in k is about 2 pi / ln(8x) (spec9) <= 2 pi / t; take 6
-    # grid points per spacing so that no bracket can hold two roots
-    dk = 2.0 * math.pi / (t + math.log(8.0)) / 6.0
-    # upper end: Bessel/WKB estimate k ~ 2 (n + m/2 + 1) pi / t, enlarged until enough roots
-    kmax = 2.0 * math.pi * (n_roots + 0.5 * ms.max() + 1.0) / t + 4.0 * ms.max() / t + 1.0
-    for _attempt in range(8):
-        grid = np.arange(0.0, kmax + dk, dk)
-        vals = _dirichlet_function(grid[None, :], ms[:, None], x)
+def _grid_step(t: float) -> float:
+    r"""Grid step in k: a sixth of a lower estimate of the root spacing (module docstring).
+
+    :math:`2\pi/(t+\ln 8)/6` (the spacing of ``spec9``) for :math:`t \ge t_* = \ln 8/(1+\ln 8)`,
+    and that times :math:`t_*/t` below, so that the step follows the spacing :math:`\sim 2\pi/t`
+    of small disks (at :math:`t\to0` it is :math:`2\pi/((1+\ln 8)t)/6`, a sixth of a third of
+    the Bessel spacing).
+    """
+    t_star = math.log(8.0) / (1.0 + math.log(8.0))
+    return 2.0 * math.pi / (t + math.log(8.0)) / 6.0 * max(1.0, t_star / t)
+
+
+def _refuse_cost(evaluations: float, what: str) -> None:
+    if evaluations > MAX_EVALUATIONS:
+        raise ValueError(f"{what} needs about {evaluations:.3g} evaluations of P^m_nu, more than the "
+                         f"limit of {MAX_EVALUATIONS:,} (about half a minute); ask for fewer levels or orders.")
+
+
+def _scan(ms: np.ndarray, x: float, grid: np.ndarray) -> list:
+    """Sign changes of f on ``grid`` for each order: a list of (lo, hi) index arrays."""
+    nb = max(1, _CHUNK // grid.size)
+    out = []
+    for a in range(0, ms.size, nb):
+        block = ms[a:a + nb]
+        vals = _dirichlet_function(grid[None, :], block[:, None], x)
         sgn = np.sign(vals)
-        change = sgn[:, :-1] * sgn[:, 1:] < 0
-        exact = sgn[:, :-1] == 0
-        counts = (change | exact).sum(axis=1)
-        if np.all(counts >= n_roots):
-            break
-        kmax *= 2.0
-    else:
-        raise ConvergenceError(f"could not bracket {n_roots} Dirichlet roots below k = {kmax:.3g}.")
-    lo = np.empty((ms.size, n_roots))
-    hi = np.empty((ms.size, n_roots))
-    flo = np.empty((ms.size, n_roots))
-    fhi = np.empty((ms.size, n_roots))
-    for a in range(ms.size):
-        idx = np.nonzero(change[a] | exact[a])[0][:n_roots]
-        lo[a], hi[a] = grid[idx], grid[idx + 1]
-        flo[a], fhi[a] = vals[a, idx], vals[a, idx + 1]
-    mgrid = np.broadcast_to(ms[:, None], lo.shape)
-    res = _elementwise.find_root(
-        lambda kk, mm: _dirichlet_function(kk, mm, x), (lo, hi), args=(mgrid,),
-        tolerances={"xatol": 1e-15, "xrtol": 4.0 * np.finfo(float).eps, "fatol": 0.0, "frtol": 0.0},
-    )
+        # a root strictly inside a cell, or exactly on its left end
+        hit = (sgn[:, :-1] * sgn[:, 1:] < 0) | (sgn[:, :-1] == 0)
+        out.extend(np.flatnonzero(row) for row in hit)
+    return out
+
+
+def _refine(lo: np.ndarray, hi: np.ndarray, m: np.ndarray, x: float) -> tuple[np.ndarray, np.ndarray]:
+    """Chandrupatla refinement of brackets (any shape); returns the roots and final bracket widths."""
+    flo = _dirichlet_function(lo, m, x)
+    fhi = _dirichlet_function(hi, m, x)
+    res = _elementwise.find_root(lambda kk, mm: _dirichlet_function(kk, mm, x), (lo, hi), args=(m,),
+                                 tolerances=_TOLERANCES)
     if not np.all(res.success):
         raise ConvergenceError("the Dirichlet root refinement did not converge "
                                f"(status {np.unique(res.status)}).")
     k = np.asarray(res.x, dtype=float)
-    # verification 1: residual at the root is at rounding level relative to the bracket values
-    fk = _dirichlet_function(k, mgrid, x)
-    scale = np.maximum(np.abs(flo), np.abs(fhi))
-    if np.any(np.abs(fk) > 1e-8 * scale):
+    # verification 1: the residual at the root is at rounding level relative to the bracket values
+    fk = _dirichlet_function(k, m, x)
+    if np.any(np.abs(fk) > 1e-8 * np.maximum(np.abs(flo), np.abs(fhi))):
         raise ConvergenceError("a Dirichlet root failed its residual check.")
-    # verification 2: strict ordering in n (simple roots) and in |m| (Dirichlet monotonicity)
-    if np.any(np.diff(k, axis=1) <= 0):
-        raise ConvergenceError("Dirichlet roots are not strictly increasing in n.")
-    order = np.argsort(ms)
-    if ms.size > 1 and np.any(np.diff(k[order, 0]) <= 0):
-        raise ConvergenceError("lowest Dirichlet roots are not increasing with |m|.")
+    width = np.abs(np.asarray(res.bracket[1]) - np.asarray(res.bracket[0]))
+    return k, width
+
+
+def _enclosure(k: np.ndarray, m: np.ndarray, x: float, width: np.ndarray, x_rounding: float) -> np.ndarray:
+    r"""Half-width :math:`\delta` of a verified enclosure :math:`[k-\delta, k+\delta]` of each root.
+
+    Verified means: f changes sign between :math:`k\pm\delta`, with :math:`|f|` above ten times its
+    evaluation-error estimate at both ends, for both :math:`x(1\pm` ``x_rounding``:math:`)`. The
+    exact root for any x in that interval (k decreases monotonically with x) lies inside.
+    """
+    shape = k.shape
+    k, m, width = k.ravel(), np.broadcast_to(m, shape).ravel(), width.ravel()
+    xs = [x] if x_rounding == 0 else [x * (1.0 - x_rounding), x * (1.0 + x_rounding)]
+    delta = np.maximum(width, 4.0 * np.spacing(k))
+    out = np.full(k.size, np.nan)
+    todo = np.arange(k.size)
+    for _ in range(20):           # delta grows by 4^20 ~ 1e12 at most: a failure is a real problem
+        ok = np.ones(todo.size, bool)
+        for xv in xs:
+            fl, el = _evaluate(k[todo] - delta[todo], m[todo], xv)
+            fr, er = _evaluate(k[todo] + delta[todo], m[todo], xv)
+            ok &= (np.sign(fl) * np.sign(fr) < 0) & (np.abs(fl) > 10.0 * el) & (np.abs(fr) > 10.0 * er)
+        out[todo[ok]] = delta[todo[ok]]
+        todo = todo[~ok]
+        if todo.size == 0:
+            return out.reshape(shape)
+        delta[todo] *= 4.0
+    raise ConvergenceError("could not verify an enclosure of a Dirichlet root (the Legendre function is "
+                           "not accurate enough there).")
+
+
+def _check_order_values(m) -> tuple[np.ndarray, bool]:
+    """``(|m| as a 1-d int64 array, whether m was a scalar)``; orders at most MAX_ORDER."""
+    msg = "the order m must be an integer or a 1-d list of integers"
+    try:
+        m_arr = np.asarray(m)
+    except (TypeError, ValueError):
+        raise ValueError(f"{msg}.") from None
+    if m_arr.dtype.kind not in "iuf" or m_arr.ndim > 1:
+        raise ValueError(f"{msg}, got {m!r}."[:200])
+    if m_arr.dtype.kind == "f" and not np.all(np.isfinite(m_arr)):
+        raise ValueError(f"{msg}, got a NaN or infinite value.")
+    scalar = m_arr.ndim == 0
+    try:
+        ms = check_order(np.abs(np.atleast_1d(m_arr)))
+    except (TypeError, ValueError):
+        raise ValueError(f"{msg}, got {m!r}."[:200]) from None
+    if ms.size and int(ms.max()) > MAX_ORDER:
+        raise ValueError(f"orders |m| up to {MAX_ORDER} are supported, got {int(ms.max())}.")
+    return ms, scalar
+
+
+def _roots_at_x(ms: np.ndarray, x: float, n_roots: int, *, check_nodes: bool = False,
+                x_rounding: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """k_{n,m} for n = 1..n_roots and each m in ``ms``, with enclosure half-widths; arrays (len(ms), n_roots)."""
+    t = math.acosh(x)
+    dk = _grid_step(t)
+    # upper end: Bessel/WKB estimate k ~ 2 (n + m/2 + 1) pi / t, enlarged until enough roots
+    mmax = float(ms.max())
+    kmax = 2.0 * math.pi * (n_roots + 0.5 * mmax + 1.0) / t + 4.0 * mmax / t + 1.0
+    spent = 0.0
+    for _attempt in range(8):
+        npts = math.ceil(kmax / dk) + 1
+        spent += npts * ms.size
+        _refuse_cost(spent + 30.0 * n_roots * ms.size * (1 + check_nodes * 20),
+                     f"{n_roots} roots for {ms.size} order(s)")
+        grid = np.arange(npts) * dk
+        cells = _scan(ms, x, grid)
+        if all(c.size >= n_roots for c in cells):
+            break
+        kmax *= 2.0
+    else:
+        raise ConvergenceError(f"could not bracket {n_roots} Dirichlet roots below k = {kmax:.3g}.")
+    idx = np.array([c[:n_roots] for c in cells])
+    mgrid = np.broadcast_to(ms[:, None], idx.shape)
+    k, width = _refine(grid[idx], grid[idx + 1], mgrid, x)
+    _check_order_of_roots(k, ms)
     if check_nodes:
         _check_radial_nodes(k, ms, x)
-    return k
+    return k, _enclosure(k, mgrid, x, width, x_rounding)
 
 
-def _check_radial_nodes(k, ms, x, npts: int = 600):
+def _check_order_of_roots(k: np.ndarray, ms: np.ndarray) -> None:
+    """Verification 2: strict ordering in n (simple roots) and of the lowest roots in |m|."""
+    if np.any(np.diff(k, axis=1) <= 0):
+        raise ConvergenceError("Dirichlet roots are not strictly increasing in n.")
+    first = np.array([k[ms == v, 0][0] for v in np.unique(ms)])      # ascending |m|
+    if first.size > 1 and np.any(np.diff(first) <= 0):
+        raise ConvergenceError("lowest Dirichlet roots are not increasing with |m|.")
+
+
+def _check_radial_nodes(k, ms, x, npts: int = 600) -> None:
     """The n-th root's radial function P^m_nu(rho(r)) has n-1 sign changes on 0 < r < L."""
     t_l = math.acosh(x)
-    tt = np.linspace(0.0, t_l, npts + 2)[1:-1]
-    rho = np.cosh(tt)
-    kk = k[:, :, None]
-    mm = np.broadcast_to(ms[:, None, None], k.shape + (1,))
-    vals = _dirichlet_function(kk, mm, rho[None, None, :])
-    sgn = np.sign(vals)
-    nodes = (sgn[..., :-1] * sgn[..., 1:] < 0).sum(axis=-1)
-    expected = np.arange(k.shape[1])[None, :]
-    if np.any(nodes != expected):
-        raise ConvergenceError("a Dirichlet eigenfunction has the wrong number of radial nodes.")
+    rho = np.cosh(np.linspace(0.0, t_l, npts + 2)[1:-1])
+    for a in range(k.shape[0]):
+        vals = _dirichlet_function(k[a][:, None], ms[a], rho[None, :])
+        sgn = np.sign(vals)
+        nodes = (sgn[:, :-1] * sgn[:, 1:] < 0).sum(axis=-1)
+        if np.any(nodes != np.arange(k.shape[1])):
+            raise ConvergenceError("a Dirichlet eigenfunction has the wrong number of radial nodes.")
 
 
-def dirichlet_roots(m, radius=None, n_roots: int = 5, *, x=None, check_nodes: bool = False):
+def dirichlet_roots(m, radius=None, n_roots: int = 5, *, x=None, check_nodes: bool = False) -> np.ndarray:
     r"""The first ``n_roots`` positive roots :math:`k_{nm}` of ``spec2`` for one or more orders.
 
     Parameters
     ----------
     m : int or sequence of int
-        Azimuthal quantum number(s); the roots depend on :math:`|m|` only.
+        Azimuthal quantum number(s); the roots depend on :math:`|m|` only (:math:`|m| \le`
+        :data:`MAX_ORDER`).
     radius : float
         Disk radius :math:`L \in (0,1)`. Alternatively pass ``x`` :math:`=(1+L^2)/(1-L^2)`.
     n_roots : int
@@ -283,72 +449,140 @@ def dirichlet_roots(m, radius=None, n_roots: int = 5, *, x=None, check_nodes: bo
     Raises
     ------
     ValueError
-        Radius outside (0, 1), negative ``n_roots``.
+        Radius outside (0, 1), bad ``m`` or ``n_roots``, or a request beyond
+        :data:`MAX_EVALUATIONS` evaluations.
     ConvergenceError
         If bracketing, refinement or verification fails.
     """
     if x is None:
-        _, x = disk_argument(radius)
+        if radius is None:
+            raise ValueError("give the disk radius L (or x = (1+L^2)/(1-L^2)).")
+        radius, x = disk_argument(radius)
+        _check_disk_x(x, radius)
     else:
-        x = float(x)
-        if not math.isfinite(x) or x <= 1.0:
-            raise ValueError("x = (1+L^2)/(1-L^2) must be a finite number > 1.")
-    if isinstance(n_roots, bool) or int(n_roots) != n_roots or n_roots < 1:
-        raise ValueError(f"n_roots must be a positive integer, got {n_roots!r}.")
-    m_arr = np.abs(np.asarray(m))
-    scalar = m_arr.ndim == 0
-    ms = _check_m(np.atleast_1d(m_arr))
-    k = _roots_at_x(ms, x, int(n_roots), check_nodes=check_nodes)
+        if radius is not None:
+            raise ValueError("give either radius or x, not both.")
+        x = _validate.real("x = (1+L^2)/(1-L^2)", x, minimum=1.0, open_min=True)
+    n_roots = _validate.positive_int("n_roots", n_roots, maximum=MAX_EVALUATIONS)
+    check_nodes = _validate.flag("check_nodes", check_nodes)
+    ms, scalar = _check_order_values(m)
+    if ms.size == 0:
+        return np.empty((0, n_roots))
+    k, _ = _roots_at_x(ms, x, n_roots, check_nodes=check_nodes)
     return k[0] if scalar else k
 
 
-@dataclass(frozen=True)
-class DirichletTable:
-    """Roots :math:`k_{nm}` and energies :math:`E_{nm}` on a grid n = 1..n_max, m = 0..m_max."""
+# ----------------------------------------------------------------------------
+# result types
+# ----------------------------------------------------------------------------
+
+def _energy_bound(k: np.ndarray, delta: np.ndarray, p: int, q: int) -> np.ndarray:
+    r"""Bound on the energy error of a level whose root is enclosed in :math:`[k-\delta, k+\delta]`.
+
+    :math:`\max_{|k'-k|\le\delta}|E(k') - E(k)| = \frac q4 h^2(2k\delta + \delta^2)` (``spec1``),
+    plus the rounding of :math:`E = -q + \frac q4 h^2(1+k^2)` itself (a few units in the last
+    place of its terms).
+    """
+    s = hopping_scale(p, q)
+    k = np.abs(k)
+    rounding = 4.0 * np.finfo(float).eps * (q + s * (1.0 + k * k))
+    return s * (2.0 * k * delta + delta * delta) + rounding
+
+
+def _check_disk_x(x: float, radius: float) -> None:
+    """Refuse disks so small that x_L = (1+L^2)/(1-L^2) has no correct digits beyond the 1."""
+    if x - 1.0 < 1e2 * _X_ROUNDING:
+        raise ValueError(f"the disk radius L = {radius:g} is too small: x_L - 1 = 2L^2/(1-L^2) is lost to "
+                         "rounding in double precision (the spectrum needs L >= 2e-7).")
+
+
+@dataclass(frozen=True, eq=False, kw_only=True)
+class DirichletTable(Result):
+    r"""Roots :math:`k_{nm}` and energies :math:`E_{nm}` on a grid n = 1..n_max, m = 0..m_max.
+
+    Attributes
+    ----------
+    p, q : int
+        Schläfli symbol.
+    radius, x : float
+        Disk radius L and :math:`x_L = (1+L^2)/(1-L^2)`.
+    h : float
+        :math:`\tanh d_0` of the lattice.
+    k, energies, errors : ndarray, shape (n_max, m_max + 1)
+        ``k[n - 1, m]``, the energies ``spec1`` and a bound on each energy's error (see the
+        module docstring).
+    """
 
     p: int
     q: int
     radius: float
     x: float
     h: float
-    k: np.ndarray = field(repr=False)        # shape (n_max, m_max+1): k[n-1, m]
-    energies: np.ndarray = field(repr=False)
+    k: np.ndarray
+    energies: np.ndarray
+    errors: np.ndarray
+
+    def plot(self, ax=None, **kwargs):
+        """Energies against m, one line per radial index n; returns the axes."""
+        from ..plots import new_axes
+
+        ax = new_axes(ax)
+        m = np.arange(self.energies.shape[1])
+        for n, row in enumerate(self.energies, start=1):
+            ax.plot(m, row, marker="o", label=f"n = {n}", **kwargs)
+        ax.set_xlabel("angular momentum |m|")
+        ax.set_ylabel("energy E / t")
+        ax.legend(fontsize="small")
+        return ax
 
 
 def dirichlet_levels(p=7, q=3, radius=None, rings=None, n_max: int = 5, m_max: int = 10,
                      *, check_nodes: bool = False) -> DirichletTable:
     r"""Table of Dirichlet roots :math:`k_{nm}` (``spec2``) and energies
-    :math:`E_{nm} = -q + \frac{q}{4}h^2(1+k_{nm}^2)` for n = 1..n_max, m = 0..m_max."""
+    :math:`E_{nm} = -q + \frac{q}{4}h^2(1+k_{nm}^2)` (``spec1``) for n = 1..n_max, m = 0..m_max."""
     p, q = _validate.pq(p, q)
     radius, x = disk_argument(radius, p=p, q=q, rings=rings)
-    if isinstance(m_max, bool) or int(m_max) != m_max or m_max < 0:
-        raise ValueError(f"m_max must be a non-negative integer, got {m_max!r}.")
-    k = dirichlet_roots(np.arange(int(m_max) + 1), x=x, n_roots=n_max, check_nodes=check_nodes).T
+    n_max = _validate.positive_int("n_max", n_max, maximum=MAX_EVALUATIONS)
+    m_max = _validate.integer("m_max", m_max, minimum=0, maximum=MAX_ORDER)
+    check_nodes = _validate.flag("check_nodes", check_nodes)
+    _check_disk_x(x, radius)
+    k, delta = _roots_at_x(np.arange(m_max + 1), x, n_max, check_nodes=check_nodes, x_rounding=_X_ROUNDING)
+    k, delta = k.T, delta.T
     return DirichletTable(p=p, q=q, radius=radius, x=x, h=lattice_h(p, q), k=k,
-                          energies=level_energy(k, p, q))
+                          energies=level_energy(k, p, q), errors=_energy_bound(k, delta, p, q))
 
 
-@dataclass(frozen=True)
-class ContinuumSpectrum:
-    r"""The lowest continuum levels, one row per state, ascending in energy.
+@dataclass(frozen=True, eq=False, kw_only=True)
+class ContinuumSpectrum(Levels):
+    r"""The lowest continuum levels, one row per state, ascending in energy (a :class:`Levels`).
 
     Labels follow the graph ``spectrum`` command: ``n`` is the radial index within
     :math:`|m|`, ``m`` is signed and a level with :math:`m\ne0` appears twice, first as
-    :math:`+m`, then as :math:`-m`.
+    :math:`+m`, then as :math:`-m`. ``errors`` bounds each energy's error (module docstring).
+
+    Attributes (besides those of :class:`Levels`)
+    ---------------------------------------------
+    rings : int or None
+        Ring count the disk was derived from (``eq12``), or None for a given radius.
+    radius, x : float
+        L and :math:`x_L = (1+L^2)/(1-L^2)`.
+    h : float
+        :math:`\tanh d_0`.
+    k : ndarray
+        The Dirichlet roots of the levels.
+    asymptotic : dict
+        ``{"E0", "E1", "E_inf"}`` from :func:`asymptotic_energies`.
     """
 
-    p: int
-    q: int
+    error_kind: str = "energy error bound"
+    method: str = "dirichlet-roots"
+    description: str = "spec2 roots: grid bracketing + Chandrupatla (scipy.optimize.elementwise)"
     rings: int | None
     radius: float
     x: float
     h: float
-    energies: np.ndarray
-    n: np.ndarray
-    m: np.ndarray
     k: np.ndarray
     asymptotic: dict
-    method: str = "spec2 roots: grid bracketing + Chandrupatla (scipy.optimize.elementwise)"
 
     def summary(self) -> dict:
         """The CLI contract: keys p, q, rings, radius, h, energies, n, m, k, asymptotic."""
@@ -357,9 +591,81 @@ class ContinuumSpectrum:
                 "m": self.m.tolist(), "k": self.k.tolist(), "asymptotic": dict(self.asymptotic)}
 
 
+def _lowest_states(x: float, K: int, *, check_nodes: bool, x_rounding: float):
+    r"""Roots of the K lowest states: ``(k, n, m, delta)`` per state, ascending.
+
+    Because :math:`k_{nm}` increases with :math:`n` and with :math:`|m|`, the state
+    :math:`(n, m)` has at least :math:`n-1 + 2(|m|-1) + 1` states below it, so the K lowest
+    states have :math:`|m| \le \lfloor K/2\rfloor` and :math:`n \le K` (m = 0) or
+    :math:`n \le \lceil K/2 \rceil` (m != 0). Among those, every state with :math:`k` below a
+    cutoff :math:`\kappa` is found (orders m = 0, 1, ... until one has no root below
+    :math:`\kappa`, since the lowest root grows with :math:`|m|`); :math:`\kappa` grows until
+    there are at least K such states, which then contain the K lowest. Small disks need few
+    orders and roots, large ones few grid points per order: the work stays about linear in K.
+    """
+    t = math.acosh(x)
+    dk = _grid_step(t)
+    m_cap = K // 2
+    n_cap = {0: K}
+    kappa = 12.0 * dk                   # about two root spacings
+    spent = 0.0
+    what = f"the {K:,} lowest continuum levels on this disk"
+    while True:
+        npts = math.ceil(kappa / dk) + 1
+        grid = np.arange(npts) * dk
+        found, count, m0, done, nb = [], 0, 0, False, 2
+        while not done and m0 <= m_cap:
+            block = np.arange(m0, min(m0 + nb, m_cap + 1))
+            spent += npts * block.size
+            _refuse_cost(spent, what)
+            for mm, cells in zip(block, _scan(block, x, grid)):
+                cells = cells[: n_cap.get(int(mm), (K + 1) // 2)]
+                if cells.size == 0:
+                    done = True
+                    break
+                found.append((int(mm), cells))
+                count += cells.size * (1 if mm == 0 else 2)
+            m0 += block.size
+            nb = min(2 * nb, max(1, _CHUNK // npts))
+        if count >= K:
+            break
+        # the count grows about like kappa^2 (Weyl) for small disks, faster for large ones
+        kappa *= 2.0 if count == 0 else min(3.0, max(1.25, 1.1 * math.sqrt(K / count)))
+    ms = np.concatenate([np.full(c.size, mm) for mm, c in found])
+    ns = np.concatenate([np.arange(1, c.size + 1) for _, c in found])
+    idx = np.concatenate([c for _, c in found])
+    k, width = _refine(grid[idx], grid[idx + 1], ms, x)
+    # verification 2 (ordering in n and |m|), on the ragged per-order lists
+    for mm, _ in found:
+        if np.any(np.diff(k[ms == mm]) <= 0):
+            raise ConvergenceError("Dirichlet roots are not strictly increasing in n.")
+    first = k[ns == 1]
+    if np.any(np.diff(first) <= 0):
+        raise ConvergenceError("lowest Dirichlet roots are not increasing with |m|.")
+    # the states: m = 0 once, m != 0 as +m then -m
+    ks = np.concatenate([k, k[ms > 0]])
+    nn = np.concatenate([ns, ns[ms > 0]])
+    mm_ = np.concatenate([ms, -ms[ms > 0]])
+    wd = np.concatenate([width, width[ms > 0]])
+    # ascending k; ties (the +-m pairs) keep +m first; lexsort's last key is primary
+    order = np.lexsort((mm_ < 0, np.abs(mm_), ks))[:K]
+    ks, nn, mm_, wd = ks[order], nn[order], mm_[order], wd[order]
+    if check_nodes:
+        for v in np.unique(np.abs(mm_)):
+            sel = k[ms == v]
+            _check_radial_nodes(sel[None, : int(nn[np.abs(mm_) == v].max())], np.array([v]), x)
+    delta = _enclosure(ks, np.abs(mm_), x, wd, x_rounding)
+    return ks, nn, mm_, delta
+
+
+#: largest number of levels accepted by continuum_levels (the cost limit usually stops earlier)
+MAX_LEVELS = 100_000
+
+
 def continuum_levels(p=7, q=3, radius=None, rings=None, levels: int = 4,
                      *, check_nodes: bool = False) -> ContinuumSpectrum:
-    r"""The ``levels`` lowest states of :math:`H^{(\rm cont)} = -q - \frac q4 h^2\Delta_g` on a disk.
+    r"""The ``levels`` lowest states of :math:`H^{(\rm cont)} = -q - \frac q4 h^2\Delta_g` on a disk
+    (``spec1``/``spec2``).
 
     Parameters
     ----------
@@ -371,50 +677,44 @@ def continuum_levels(p=7, q=3, radius=None, rings=None, levels: int = 4,
         Number of rings of the {p,q} lattice; :math:`L` from ``eq12`` with its exact site count.
     levels : int
         Number of states (degenerate :math:`\pm m` levels count twice).
+    check_nodes : bool
+        Also verify the number of radial nodes of each eigenfunction.
+
+    Returns
+    -------
+    ContinuumSpectrum
+        A :class:`~hyperlattice.results.Levels` with ``errors`` bounding each energy's error.
+
+    Raises
+    ------
+    ValueError
+        Bad input, or a request beyond :data:`MAX_EVALUATIONS` evaluations (refused before the
+        work is done; memory use is bounded by chunking).
 
     Notes
     -----
-    Because :math:`k_{nm}` increases with :math:`n` and with :math:`|m|`, the state
-    :math:`(n, m)` has at least :math:`n-1 + 2\cdot\#\{0<|m'|<|m|\} + \dots` states below it;
-    so the ``levels`` lowest states have :math:`|m| \le \lfloor K/2\rfloor` and
-    :math:`n \le K` (m = 0) or :math:`n \le \lceil K/2 \rceil` (m != 0), which are the
-    roots computed.
+    Every state with :math:`k` below a cutoff is found, the cutoff growing until there are at
+    least ``levels`` of them; :math:`k_{nm}` increases with :math:`n` and :math:`|m|`, so the
+    scan over orders stops at the first one without a root below the cutoff.
     """
     p, q = _validate.pq(p, q)
-    if isinstance(levels, bool) or int(levels) != levels or levels < 1:
-        raise ValueError(f"levels must be a positive integer, got {levels!r}.")
-    K = int(levels)
+    K = _validate.positive_int("levels", levels, maximum=MAX_LEVELS)
+    check_nodes = _validate.flag("check_nodes", check_nodes)
     radius, x = disk_argument(radius, p=p, q=q, rings=rings)
-    m_max = K // 2
-    n0 = K
-    n1 = (K + 1) // 2
-    k0 = dirichlet_roots(0, x=x, n_roots=n0, check_nodes=check_nodes)
-    ks, ns, ms_ = list(k0), list(range(1, n0 + 1)), [0] * n0
-    if m_max >= 1:
-        k1 = dirichlet_roots(np.arange(1, m_max + 1), x=x, n_roots=n1, check_nodes=check_nodes)
-        for a, mval in enumerate(range(1, m_max + 1)):
-            for b in range(n1):
-                for sgn in (1, -1):
-                    ks.append(k1[a, b])
-                    ns.append(b + 1)
-                    ms_.append(sgn * mval)
-    ks = np.array(ks)
-    ns = np.array(ns)
-    ms_ = np.array(ms_)
-    # ascending k; ties (the +-m pairs) keep +m first; lexsort's last key is primary
-    order = np.lexsort((ms_ < 0, np.abs(ms_), ks))[:K]
-    ks, ns, ms_ = ks[order], ns[order], ms_[order]
+    _check_disk_x(x, radius)
+    ks, ns, ms_, delta = _lowest_states(x, K, check_nodes=check_nodes, x_rounding=_X_ROUNDING)
     return ContinuumSpectrum(p=p, q=q, rings=None if rings is None else int(rings), radius=radius,
                              x=x, h=lattice_h(p, q), energies=level_energy(ks, p, q), n=ns, m=ms_,
-                             k=ks, asymptotic=asymptotic_energies(p, q, radius=None if rings is not None else radius,
-                                                                  rings=rings))
+                             errors=_energy_bound(ks, delta, p, q), k=ks,
+                             asymptotic=asymptotic_energies(p, q, radius=None if rings is not None else radius,
+                                                            rings=rings))
 
 
 # ----------------------------------------------------------------------------
 # eigenfunctions
 # ----------------------------------------------------------------------------
 
-def psi_K(z, k, beta=0.0):
+def psi_K(z, k, beta=0.0) -> np.ndarray:
     r"""Eigenfunction ``eig12`` (= ``eq16a``) of :math:`\Delta_g` with eigenvalue :math:`-(1+k^2)`.
 
     .. math:: \psi_K(z) = \Bigl(\frac{1-|z|^2}{|1-z e^{-\mathrm{i}\beta}|^2}\Bigr)^{\frac12(1+\mathrm{i}k)},
@@ -422,14 +722,14 @@ def psi_K(z, k, beta=0.0):
 
     ``z`` is an array of points with :math:`|z|<1` (ValueError otherwise).
     """
-    z = np.asarray(z, dtype=complex)
-    if np.any(~np.isfinite(z)) or np.any(np.abs(z) >= 1.0):
-        raise ValueError("psi_K needs finite points inside the unit disk, |z| < 1.")
+    z = _validate.disk_points("z", z)
+    k = _validate.real("k", k)
+    beta = _validate.real("beta", beta)
     base = one_minus_abs2(z) / np.abs(1.0 - z * np.exp(-1j * beta)) ** 2
     return np.exp(0.5 * (1.0 + 1j * k) * np.log(base))
 
 
-def radial_g(k, m, r, method: str = "closed"):
+def radial_g(k, m, r, method: str = "closed") -> complex | np.ndarray:
     r"""Radial function :math:`g_{km}(r)` of the partial-wave expansion ``eig15``.
 
     ``method="integral"``: the Fourier integral ``eig17``,
@@ -448,12 +748,11 @@ def radial_g(k, m, r, method: str = "closed"):
     included, both methods agree and :math:`g_{km}(r)\to J_m(kr)` in the Euclidean limit, as the
     paper states. The tests check this numerically.
     """
-    k = float(k)
-    if not math.isfinite(k):
-        raise ValueError("k must be a finite real number.")
-    m = int(m)
-    r = np.asarray(r, dtype=float)
-    if np.any(~np.isfinite(r)) or np.any(r < 0) or np.any(r >= 1):
+    k = _validate.real("k", k)
+    m = _validate.integer("m", m, minimum=-MAX_ORDER, maximum=MAX_ORDER)
+    r = _validate.real_array("the radius r", r)
+    method = _validate.choice("method", method, ("closed", "integral"))
+    if np.any(r < 0) or np.any(r >= 1):
         raise ValueError("the radius r must satisfy 0 <= r < 1.")
     phase = (1j) ** (-m % 4)
     if method == "closed":
@@ -462,15 +761,15 @@ def radial_g(k, m, r, method: str = "closed"):
         rho = (1.0 + r * r) / ((1.0 - r) * (1.0 + r))
         prod = np.prod([nu - n for n in range(am)]) if am else 1.0
         return phase * legendre_p(nu, am, rho) / prod
-    if method != "integral":
-        raise ValueError(f"method must be 'closed' or 'integral', got {method!r}.")
     rr = np.atleast_1d(r)
     out = np.empty(rr.shape, complex)
     for i, rv in enumerate(rr.ravel()):
-        n = 64
-        n = max(n, int(2 ** math.ceil(math.log2(8 * abs(m) + 4 * abs(k) + 40.0 / max(1e-12, 1 - rv)))))
+        n = max(64, int(2 ** math.ceil(math.log2(8 * abs(m) + 4 * abs(k) + 40.0 / max(1e-12, 1 - rv)))))
+        if n > _MAX_NODES:     # the rule needs about |k| + |m| + 1/(1-r) nodes
+            raise ValueError(f"the eig17 quadrature would need {n:,} nodes (k = {k:g}, m = {m}, r = {rv:g}); "
+                             "use method='closed'.")
         prev = None
-        for _ in range(12):
+        while n <= _MAX_NODES:
             phi = 2.0 * np.pi * np.arange(n) / n
             vals = psi_K(rv * np.exp(1j * phi), k)
             cur = np.mean(vals * np.exp(-1j * m * phi))
@@ -479,7 +778,7 @@ def radial_g(k, m, r, method: str = "closed"):
             prev = cur
             n *= 2
         else:
-            raise ConvergenceError("the eig17 quadrature did not converge.")
+            raise ConvergenceError(f"the eig17 quadrature did not converge with {_MAX_NODES:,} nodes.")
         out.ravel()[i] = phase * cur
     out = out.reshape(rr.shape)
     return out.reshape(r.shape)[()] if r.ndim == 0 else out
