@@ -10,6 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from hyperlattice.cli import main
+from hyperlattice.paper_values import paper_value
 
 
 def run_cli(capsys, *argv):
@@ -25,7 +26,7 @@ def test_geometry_json_keys_and_values(capsys):
     assert [r["p"] for r in rows] == [7, 8, 9, 10, "inf"]
     for r in rows:
         assert set(r) == {"p", "q", "r0", "d0", "h", "site_area"}
-    assert round(rows[0]["h"], 6) == 0.275798
+    assert round(rows[0]["h"], 6) == paper_value("geometry_h", 7).value
     assert rows[-1]["h"] == pytest.approx(0.5)
 
 

@@ -14,20 +14,12 @@ from hyperlattice.continuum.spectrum import (asymptotic_energies, asymptotic_k0,
                                              continuum_levels, dirichlet_levels, dirichlet_roots,
                                              disk_argument, energy_infinity, level_energy, psi_K,
                                              radial_g)
+from hyperlattice.paper_values import paper_value
 
 # SuppTab1 (= Tab1 continuum row), printed to 3 decimals: (ell, E0 exact, E0 asym, E1 exact, E1 asym)
-SUPP_TAB1 = [
-    (1, -1.500, -2.535, 0.620, 15.58),
-    (2, -2.570, -2.738, -2.085, -1.633),
-    (3, -2.770, -2.820, -2.578, -2.507),
-    (4, -2.842, -2.861, -2.746, -2.728),
-    (5, -2.876, -2.884, -2.821, -2.815),
-    (6, -2.895, -2.899, -2.861, -2.858),
-    (7, -2.906, -2.909, -2.884, -2.883),
-    (8, -2.914, -2.916, -2.899, -2.898),
-    (9, -2.920, -2.921, -2.908, -2.908),
-    (10, -2.924, -2.924, -2.915, -2.915),
-]
+SUPP_TAB1 = [(ell, *(paper_value(key, ell).value for key in ("E0_continuum", "E0_asymptotic", "E1_continuum",
+                                                             "E1_asymptotic")))
+             for ell in range(1, 11)]
 
 
 def _n73(ell):
@@ -90,9 +82,9 @@ def test_asymptotic_k0_k1_approached():
 
 
 def test_energy_q_dependence_and_e_inf():
-    h = 0.275798
+    h = paper_value("geometry_h", 7).value
     assert energy_infinity(7, 3) == pytest.approx(-3 + 0.75 * h * h, abs=1e-6)
-    assert round(energy_infinity(7, 3), 5) == -2.94295
+    assert round(energy_infinity(7, 3), 5) == paper_value("E_inf").value
     assert level_energy(1.3, 7, 3) == pytest.approx(-3 + 0.75 * 0.2757977789799760**2 * (1 + 1.69))
     from hyperlattice.geometry import lattice_h
     hh = lattice_h(5, 4)

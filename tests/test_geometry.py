@@ -10,16 +10,16 @@ from hypothesis import strategies as st
 
 from hyperlattice import _validate
 from hyperlattice import geometry as g
+from hyperlattice.paper_values import paper_value, paper_values
 
 # The paper's table in App. AppFS (p, d0, h); source: graphs-to-geometry.tex, table after Eq. (adj36).
 # The p = inf column prints d0 = 1, which is a misprint: the limit is (1/2) ln 3 = 0.549306,
 # consistent with the printed h = tanh(d0) = 1/2 (tanh(1) would be 0.7616).
 PAPER_TABLE = [
-    # p, d0, h, printed decimals of d0, of h
-    (7, 0.283128, 0.275798, 6, 6),
-    (8, 0.36352, 0.348311, 5, 6),
-    (9, 0.409595, 0.388129, 6, 6),
-    (10, 0.439590, 0.413304, 6, 6),
+    # p, d0, h, printed decimals of d0, of h (hyperlattice.paper_values)
+    (p, paper_value("geometry_d0", p).value, paper_value("geometry_h", p).value,
+     paper_value("geometry_d0", p).decimals, paper_value("geometry_h", p).decimals)
+    for p in (7, 8, 9, 10)
 ]
 
 
@@ -47,7 +47,7 @@ def test_d0_closed_form_equals_distance_of_central_polygon(p, q):
 
 
 def test_r0_paper_value():
-    assert round(g.r0(7, 3), 6) == 0.300743
+    assert round(g.r0(7, 3), 6) == paper_value("r0", 7).value
 
 
 def test_site_area_and_radius_constant():
@@ -62,9 +62,10 @@ def test_site_area_and_radius_constant():
 
 def test_effective_radius_matches_table():
     # Tab1 "effective disk radius L" row, to its printed digits
-    sites = [7, 35, 112, 315, 847, 2240, 5887, 15435, 40432, 105875]
-    printed = [0.447, 0.745, 0.894, 0.958, 0.984, 0.994, 0.998, 0.9990, 0.9997, 0.9999]
-    decimals = [3] * 7 + [4] * 3
+    sites = [int(v.printed) for v in paper_values("N")]
+    printed = [v.value for v in paper_values("L")]
+    decimals = [v.decimals for v in paper_values("L")]
+    assert decimals == [3] * 7 + [4] * 3
     for n, L, dec in zip(sites, printed, decimals):
         if n == 15435:
             # Tab1 prints 0.9990 for l = 8, but sqrt(15435/15463) = 0.9990942... rounds to

@@ -8,6 +8,7 @@ from scipy.spatial import cKDTree
 
 from hyperlattice import geometry
 from hyperlattice.graph.lattice import Lattice, line_graph, load_lattice, ring_lattice, ring_sizes, site_count
+from hyperlattice.paper_values import paper_values
 
 GOLD2 = (3 + math.sqrt(5)) / 2
 
@@ -18,8 +19,8 @@ def closed_form_73(rings: int) -> int:
 
 
 # Tab1 and AppTab1 of the paper (total sites and sites per ring for {7,3}).
-PAPER_N = [7, 35, 112, 315, 847, 2240, 5887, 15435, 40432, 105875]
-PAPER_RING = [7, 28, 77, 203, 532, 1393, 3647, 9548]
+PAPER_N = [int(v.printed) for v in paper_values("N")]
+PAPER_RING = [int(v.printed) for v in paper_values("N_ring")]
 
 
 def test_counts_match_paper_tables():

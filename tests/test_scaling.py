@@ -15,6 +15,7 @@ from hyperlattice.graph.operators import adjacency
 from hyperlattice.compare.scaling import (SmoothFunction, convergence_study, expansion,
                                   expected_error_order, formal_operator, frame_angles,
                                   radial_profile)
+from hyperlattice.paper_values import paper_value
 
 
 @pytest.fixture(scope="module")
@@ -78,7 +79,7 @@ def test_formal_operator_is_adjacency_at_lattice_h(lat5, ang5):
     af = adjacency(lat5) @ f(lat5.z)
     np.testing.assert_allclose(formal_operator(ang5, f), af[ang5.full], rtol=0, atol=1e-12)
     # the paper's printed h is accepted as the lattice value
-    formal_operator(ang5, f, 0.275798)
+    formal_operator(ang5, f, paper_value("geometry_h", 7).value)
 
 
 def test_D_operator_closed_form():

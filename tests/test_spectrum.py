@@ -10,6 +10,7 @@ from hyperlattice.errors import ConvergenceError, ConvergenceWarning
 from hyperlattice.graph.lattice import line_graph, ring_lattice
 from hyperlattice.graph.operators import hamiltonian
 from hyperlattice.graph.spectrum import full_spectrum, lowest_levels, partition_function
+from hyperlattice.paper_values import paper_value
 
 
 @pytest.fixture
@@ -51,19 +52,15 @@ def test_heptagon_is_exact():
     assert spec.degeneracy.tolist() == [1, 2, 2, 2, 2, 2, 2]
 
 
-# Paper, table Tab1 / SuppTab1 (exact diagonalisation for l <= 7), printed to 3 decimals.
-# Tolerance: half a unit in the last printed digit. One entry disagrees with this: the paper
+# Paper, table Tab1 / SuppTab1 (exact diagonalisation for l <= 7), printed to 3 decimals
+# (hyperlattice.paper_values). Tolerance: half a unit in the last printed digit, 5e-4 (also for
+# l = 1, where E0 is printed as "-2" and is exactly -2). One entry disagrees with this: the paper
 # prints E1 = -1.274 for l = 1, while the single heptagon has E1 = -2 cos(2 pi/7) = -1.24698
 # exactly (the heptagon's m = 1 Bloch state); -1.274 is a transposition of the digits of
 # -1.247, so the test checks -1.247 there.
 PAPER = [  # (rings, E0, E1, half-unit tolerance)
-    (1, -2.0, -1.247, 5e-4),
-    (2, -2.636, -2.283, 5e-4),
-    (3, -2.787, -2.627, 5e-4),
-    (4, -2.847, -2.762, 5e-4),
-    (5, -2.877, -2.827, 5e-4),
-    (6, -2.894, -2.863, 5e-4),
-    (7, -2.905, -2.884, 5e-4),
+    (ell, paper_value("E0_graph", ell).value, -1.247 if ell == 1 else paper_value("E1_graph", ell).value, 5e-4)
+    for ell in range(1, 8)
 ]
 
 
@@ -79,7 +76,8 @@ def test_paper_table(rings, e0, e1, tol):
 
 # SuppTab1, l = 8..10: the paper's "less precise sparse matrix methods", printed to 2 decimals
 # (about three significant digits); every entry is consistent with our 1e-13 values.
-@pytest.mark.parametrize("rings,e0,e1", [(8, -2.91, -2.90), (9, -2.92, -2.91), (10, -2.92, -2.91)])
+@pytest.mark.parametrize("rings,e0,e1", [(ell, paper_value("E0_graph", ell).value, paper_value("E1_graph", ell).value)
+                                         for ell in (8, 9, 10)])
 def test_paper_sparse_estimates(rings, e0, e1):
     spec = lowest_levels(ring_lattice(7, 3, rings), 2)
     assert abs(spec.energies[0] - e0) <= 5e-3 and abs(spec.energies[1] - e1) <= 5e-3
@@ -88,7 +86,7 @@ def test_paper_sparse_estimates(rings, e0, e1):
 
 def test_paper_misprint_is_really_a_misprint():
     spec = lowest_levels(ring_lattice(7, 3, 1), 2)
-    assert abs(spec.energies[1] - (-1.274)) > 0.02
+    assert abs(spec.energies[1] - paper_value("E1_graph", 1).value) > 0.02
 
 
 def test_ground_state_m0_first_excited_pair_m1():
