@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from hyperlattice.continuum.green import (boundary_constant, coefficient_cm, continuum_green,
-                                          fundamental_solution, green_laplace, green_nu)
+                                          fundamental_solution, green_infinite_disk, green_laplace, green_nu)
 from hyperlattice.continuum.spectrum import dirichlet_roots, radial_g
 from hyperlattice.errors import ConvergenceWarning
 from hyperlattice.continuum.special import legendre_cm, legendre_p, legendre_q, legendre_wronskian
@@ -202,3 +202,254 @@ def test_extend_beyond_L_is_continuous():
     g = continuum_green(r * np.exp(0.3j), 0.2, 0.8, L, extend=True)
     assert abs(g[1]) < 1e-12
     assert np.sign(g[0].real) == -np.sign(g[2].real)
+
+
+# ----------------------------------------------------------------------------
+# issue 10: defects found with unusual input, each with its regression test
+# ----------------------------------------------------------------------------
+
+def _mp_green(z, zp, lam, L, M, dps=30):
+    """Reference green33 = green34 - green36 in mpmath (30 digits), summed over m = 0..M.
+
+    P~^m = P^m Gamma(nu-m+1)/Gamma(nu+m+1) = w^(m/2)/m! ((1+x)/2)^nu F(-nu, m-nu; m+1; w) (DLMF 14.3.1
+    with 15.8.1, w = r^2 exactly: entire in nu, so integer nu needs no care); Q^m(x_L) from
+    mpmath.legenq(type=3) at m = 0, 1 and the upward recurrence DLMF 14.10.6 (stable for Q); C_m with
+    the (-1)^m of type-3 Q. Checked against a sum with mpmath.legenp for P^m (same 16 digits, 300x
+    slower). Returns (G, |last term|).
+    """
+    mp.mp.dps = dps
+    z, zp, L = mp.mpc(z), mp.mpc(zp), mp.mpf(L)
+    lam = mp.mpf(complex(lam).real) if complex(lam).imag == 0 else mp.mpc(lam)
+    nu = -mp.mpf(1) / 2 + mp.sqrt(1 - lam) / 2
+    r, rp = abs(z), abs(zp)
+
+    def x(s):
+        return (1 + s**2) / (1 - s**2)
+
+    def ptilde(m, s):
+        return (s**m / mp.factorial(m) * ((1 + x(s)) / 2) ** nu
+                * mp.hyp2f1(-nu, m - nu, m + 1, s**2))
+
+    y = 1 + 2 * abs(z - zp) ** 2 / ((1 - r**2) * (1 - rp**2))
+    total = mp.legenq(nu, 0, y, type=3) / (2 * mp.pi)
+    xl = x(L)
+    c = xl / mp.sqrt(xl**2 - 1)
+    q = [mp.legenq(nu, 0, xl, type=3), mp.legenq(nu, 1, xl, type=3)]
+    for j in range(M - 1):
+        q.append(-2 * (j + 1) * c * q[-1] + (nu - j) * (nu + j + 1) * q[-2])
+    dphi = mp.arg(z) - mp.arg(zp)
+    term = 0
+    for m in range(M + 1):
+        term = (q[m] * ptilde(m, r) * ptilde(m, rp) / ptilde(m, L) * (1 if m == 0 else 2) * (-1) ** m
+                * mp.cos(m * dphi) / (2 * mp.pi))
+        total -= term
+    return complex(total), abs(complex(term))
+
+
+# (z, z', lambda, L, orders M of the reference sum): the defects of issue 10 and the integer-nu path
+MP_CASES = [
+    (0.1, 0.2, 1e-13, 0.3, 40),                              # tiny lambda (was 6.4 % off at 1e-16)
+    (0.1, 0.2, 3e-16, 0.3, 40),
+    (0.3 * np.exp(0.4j), 0.5, -8.0, 0.8, 80),                # nu = 1: Miller throughout
+    (0.2 + 0.1j, -0.35j, -24.0, 0.7, 80),                    # nu = 2 (principal root)
+    (0.2 + 0.1j, -0.35j, -24.0 + 1e-7, 0.7, 80),             # just off nu = 2
+    (0.75 * 0.8, 0.6 * np.exp(2.0j), -8.0 + 0j, 0.8, 200),   # nu = 1, near the circle
+    (0.99 * 0.3, 0.99 * 0.3 * np.exp(0.3j), 0.5, 0.3, 2600),          # small disk, both near the circle
+    (0.99 * 0.1, 0.99 * 0.1 * np.exp(0.3j), 3.0, 0.1, 2600),          # (raised ConvergenceError)
+    (0.99 * 0.01, 0.99 * 0.01 * np.exp(0.3j), 100.0, 0.01, 2600),
+    (0.99 * 0.2, 0.99 * 0.2 * np.exp(0.3j), 2.0 + 0.5j, 0.2, 2600),
+]
+
+
+@pytest.mark.parametrize("z,zp,lam,L,M", MP_CASES)
+def test_against_mpmath_series(z, zp, lam, L, M):
+    """|G - G_ref| within 1e-13 of the scale |G_0| + |delta G| of the cancelling terms (near the circle
+    G itself is 1000x smaller than G_0, and tol is relative to that scale by design), and within ten
+    times the reported truncation estimate."""
+    ref, last = _mp_green(z, zp, lam, L, M)
+    g, info = continuum_green(z, zp, lam, L, return_info=True)
+    g0 = fundamental_solution(z, zp, lam)
+    scale = abs(g0) + abs(g0 - g)                        # |G_0| + |delta G|, the scale of tol
+    assert last < 1e-20 * scale                          # the reference sum has converged
+    # rounding: the terms of green36 may exceed delta G itself (they alternate), hence 1e-13
+    assert abs(g - ref) <= max(10 * info.tail_estimate, 1e-13) * scale
+
+
+@pytest.mark.slow
+def test_against_mpmath_series_at_0999():
+    """Both points at 0.999 L: 4000 orders (accelerated) against a 26000-order reference."""
+    z, zp, lam, L = 0.999 * 0.3, 0.999 * 0.3 * np.exp(0.3j), 0.5, 0.3
+    ref, _ = _mp_green(z, zp, lam, L, 26000)
+    g, info = continuum_green(z, zp, lam, L, return_info=True)
+    assert info.converged and abs(g - ref) <= 1e-14 * abs(fundamental_solution(z, zp, lam))
+
+
+@pytest.mark.parametrize("zp", [0.2, 0.15 - 0.1j])
+def test_tiny_lambda_is_continuous_with_eq23(zp):
+    """lambda between 1e-16 and 1e-11 was up to 6.4 % off without a warning: G(lambda) must be
+    G(0) (eq23, closed form) + lambda dG/dlambda to rounding."""
+    L, z = 0.3, 0.1
+    g0 = green_laplace(z, zp, L)
+    slope = (continuum_green(z, zp, 1e-5, L) - continuum_green(z, zp, -1e-5, L)) / 2e-5
+    for lam in (1e-18, 1e-17, 1e-16, 3e-16, 1e-15, 1e-14, 1e-13, 1e-12, 1e-11, -1e-16, 1e-16j):
+        g = continuum_green(z, zp, lam, L)
+        assert abs(g - (g0 + lam * slope)) <= 1e-14 * abs(g0), lam
+
+
+@pytest.mark.parametrize("L", [0.3, 0.2, 0.1, 0.01])
+@pytest.mark.parametrize("f", [0.9, 0.99])
+def test_small_disk_with_both_points_near_the_circle(L, f):
+    """L <= 0.3 with both points near |z| = L raised ConvergenceError (Q^m at m >= 73 failed in the
+    Legendre module); Q^m(rho_L) now comes from its stable upward recurrence and the slow series
+    is accelerated by subtracting its lambda = 0 part."""
+    z, zp = f * L, f * L * np.exp(0.3j)
+    g, info = continuum_green(z, zp, 0.5, L, return_info=True)
+    assert info.converged and np.isfinite(g)
+    assert continuum_green(zp, z, 0.5, L) == pytest.approx(g, rel=1e-11, abs=1e-15)
+    # the lambda -> 0 limit is eq23 exactly: G(1e-9) - G_laplace = O(lambda L^2)
+    g_small = continuum_green(z, zp, 1e-9, L)
+    assert abs(g_small - green_laplace(z, zp, L)) <= 1e-9 * L * L + 1e-14
+
+
+def test_near_circle_satisfies_the_helmholtz_equation():
+    """(lambda + Delta_g) G = 0 away from the source, by a Richardson-extrapolated five-point
+    Laplacian (Delta_g = (1-|z|^2)^2 (d_x^2 + d_y^2)); together with the boundary values and the
+    symmetry this fixes G (uniqueness of the Dirichlet problem)."""
+    for L, lam in ((0.3, 0.5), (0.1, 3.0)):
+        zp = 0.99 * L * np.exp(0.3j)
+        z0 = 0.99 * L * 0.998
+        h = 1e-3 * L
+
+        def g(z):
+            return continuum_green(z, zp, lam, L)
+
+        def lap(hh):
+            return (g(z0 + hh) + g(z0 - hh) + g(z0 + 1j * hh) + g(z0 - 1j * hh) - 4 * g(z0)) / hh**2
+
+        dg = (1 - abs(z0) ** 2) ** 2 * (4 * lap(h) - lap(2 * h)) / 3
+        assert abs(dg + lam * g(z0)) <= 1e-3 * (abs(dg) + abs(lam * g(z0)))
+
+
+def test_points_on_the_circle_give_zero():
+    L = 0.6
+    zb = L * np.exp(1j * np.array([0.0, 1.0, 2.5]))
+    zb = zb * (L / np.abs(zb))
+    assert np.all(continuum_green(zb, 0.3j, 2.0, L) == 0)
+    # both points on the circle (distinct): 0, not "the series diverges"
+    assert continuum_green(L, L * np.exp(0.5j), 2.0, L) == 0
+
+
+def test_tiny_disk_radius():
+    """continuum_green(0, 1e-301, lam=.5, radius=1e-300) raised ZeroDivisionError."""
+    g, info = continuum_green(0, 1e-301, lam=0.5, radius=1e-300, return_info=True)
+    assert info.method == "laplace" and g == pytest.approx(-np.log(0.1) / (2 * np.pi), rel=1e-15)
+    # eq23 is scale invariant in z/L: the same value for every tiny disk
+    assert green_laplace(0.3e-200, -0.2e-200j, 1e-200) == pytest.approx(green_laplace(0.3, -0.2j, 1.0), rel=1e-14)
+    # small disk, lambda L^2 not negligible: the series while x_L - 1 = 2L^2 keeps 16 ulps
+    with pytest.raises(ValueError, match="too small"):
+        continuum_green(0.3e-8, 0.1e-8, 1e18, 1e-8)
+
+
+@pytest.mark.parametrize("L", [0.01, 1e-3, 1e-5, 1e-7])
+def test_small_disks_keep_full_accuracy(L):
+    """The Legendre module takes x = (1+r^2)/(1-r^2), whose x - 1 is only eps/r^2 accurate: a disk
+    of radius 1e-4 was accurate to 1e-8 (1e-11 at 1e-3). Measured against eq23 at |lambda| L^2 =
+    1e-14, where G and eq23 agree to 1e-14 relative."""
+    lam = 1e-14 / L**2
+    for f in (1e-9, 0.1, 0.5, 0.99):
+        z, zp = f * L, 0.5 * L * np.exp(0.3j)
+        g = continuum_green(z, zp, lam, L)
+        scale = abs(fundamental_solution(z, zp, lam)) + abs(fundamental_solution(z, zp, lam) - g)
+        assert abs(g - green_laplace(z, zp, L)) <= 2e-14 * scale
+
+
+def test_integer_nu_slow_path():
+    """nu = 1 (lambda = -8) and nu = 2 (lambda = -24, principal root): Miller's recurrence is used
+    for every radius, since the upward recurrence of P^m cancels there. Boundary, symmetry and
+    continuity in lambda across the integer."""
+    for lam, L in ((-8.0, 0.8), (-24.0, 0.7)):
+        assert green_nu(lam) == pytest.approx(-0.5 + 0.5 * np.sqrt(1 - lam))
+        phi = np.linspace(0.0, 2 * np.pi, 9)
+        for src in (0.0, 0.3 * L * np.exp(0.4j), 0.93 * L * np.exp(2.0j)):
+            assert np.max(np.abs(continuum_green(L * np.exp(1j * phi), src, lam, L))) < 1e-12
+        rng = np.random.default_rng(3)
+        z = 0.95 * L * np.sqrt(rng.random(12)) * np.exp(2j * np.pi * rng.random(12))
+        zp = 0.95 * L * np.sqrt(rng.random(12)) * np.exp(2j * np.pi * rng.random(12))
+        a = continuum_green(z, zp, lam, L)
+        assert np.allclose(a, continuum_green(zp, z, lam, L), rtol=1e-11, atol=1e-14)
+        # analytic in lambda: the values at lam +- eps bracket the one at lam to O(eps^2)
+        eps = 1e-6
+        up, down = continuum_green(z, zp, lam + eps, L), continuum_green(z, zp, lam - eps, L)
+        assert np.max(np.abs(a - (up + down) / 2)) < 1e-9 * np.max(np.abs(a))
+        assert np.max(np.abs(up - down)) > 0
+
+
+@pytest.mark.parametrize("name,call,ok", [
+    ("z", lambda v: continuum_green(v, 0.1, 0.5, 0.9), {"complex"}),
+    ("zp", lambda v: continuum_green(0.1, v, 0.5, 0.9), {"complex"}),
+    ("lam", lambda v: continuum_green(0.1, 0.2, v, 0.9), {"complex"}),
+    ("radius", lambda v: continuum_green(0.1, 0.2, 0.5, v), set()),
+    ("tol", lambda v: continuum_green(0.1, 0.2, 0.5, 0.9, tol=v), set()),
+    ("extend", lambda v: continuum_green(0.1, 0.2, 0.5, 0.9, extend=v), {"bool"}),
+    ("max_terms", lambda v: continuum_green(0.1, 0.2, 0.5, 0.9, max_terms=v), set()),
+    ("return_info", lambda v: continuum_green(0.1, 0.2, 0.5, 0.9, return_info=v), {"bool"}),
+    ("laplace z", lambda v: green_laplace(v, 0.2, 0.9), {"complex"}),
+    ("laplace radius", lambda v: green_laplace(0.1, 0.2, v), set()),
+    ("fundamental", lambda v: fundamental_solution(0.1, 0.2, v), {"complex"}),
+    ("infinite disk", lambda v: green_infinite_disk(v, 0.2, 0.5), {"complex"}),
+    ("green_nu", lambda v: green_nu(v), {"complex"}),
+    ("cm nu", lambda v: coefficient_cm(v, 2), {"complex"}),
+    ("cm m", lambda v: coefficient_cm(0.5, v), set()),
+    ("boundary_constant", lambda v: boundary_constant(v), {"complex"}),
+])
+def test_bad_values_give_valueerror(name, call, ok):
+    """None/NaN/inf/bool/str/ragged/complex/object: ValueError everywhere (max_terms=None leaked
+    TypeError)."""
+    bad = {"none": None, "nan": float("nan"), "inf": float("inf"), "bool": True, "str": "seven",
+           "ragged": [[1, 2], [3]], "complex": 1 + 2j, "object": object()}
+    for tag, v in bad.items():
+        if tag in ok:
+            continue
+        with pytest.raises(ValueError):
+            call(v)
+
+
+def test_too_many_pairs_refused_before_allocating():
+    import tracemalloc
+
+    z = np.zeros(2**13, complex) + 0.1
+    zp = np.zeros((2**13, 1), complex) + 0.2j
+    tracemalloc.start()
+    try:
+        with pytest.raises(ValueError, match="pairs"):
+            continuum_green(z, zp, 0.5, 0.9)
+        assert tracemalloc.get_traced_memory()[1] < 5e6
+    finally:
+        tracemalloc.stop()
+
+
+def test_chunked_tables_give_the_same_values(monkeypatch):
+    """Pairs are split whenever the (M+1) x radii tables would exceed _TABLE_BYTES."""
+    import hyperlattice.continuum.green as kg
+
+    rng = np.random.default_rng(5)
+    z = 0.9 * 0.95 * np.sqrt(rng.random(40)) * np.exp(2j * np.pi * rng.random(40))
+    full, info = continuum_green(z, 0.6j, 2.0 + 0.3j, 0.95, return_info=True)
+    monkeypatch.setattr(kg, "_TABLE_BYTES", 20_000)
+    split, info2 = continuum_green(z, 0.6j, 2.0 + 0.3j, 0.95, return_info=True)
+    assert np.allclose(split, full, rtol=1e-13, atol=1e-16) and info2.converged
+
+
+def test_accelerated_series_agrees_with_the_plain_one(monkeypatch):
+    """Near the circle the lambda = 0 series is subtracted; with the switch moved beyond reach the
+    plain sum (many more orders) gives the same value."""
+    import hyperlattice.continuum.green as kg
+
+    L = 0.5
+    z, zp = 0.985 * L, 0.985 * L * np.exp(0.2j)
+    acc, info = continuum_green(z, zp, 3.0 + 1.0j, L, return_info=True)
+    assert info.method == "series-accelerated" and info.converged
+    monkeypatch.setattr(kg, "_PLAIN_TERMS", 10**6)
+    plain, info2 = continuum_green(z, zp, 3.0 + 1.0j, L, return_info=True)
+    assert info2.method == "series" and info2.terms > info.terms
+    assert abs(acc - plain) <= 1e-12 * abs(fundamental_solution(z, zp, 3.0 + 1.0j))
