@@ -1,6 +1,8 @@
 """Continuum Green function G(z, z', lambda, L): boundary values, symmetry, closed forms, C_m
 convention, the spectral representation green2f, and input validation."""
 
+import warnings
+
 import mpmath as mp
 import numpy as np
 import pytest
@@ -347,7 +349,7 @@ def test_tiny_disk_radius():
     assert green_laplace(0.3e-200, -0.2e-200j, 1e-200) == pytest.approx(green_laplace(0.3, -0.2j, 1.0), rel=1e-14)
     # small disk, lambda L^2 not negligible: the series while x_L - 1 = 2L^2 keeps 16 ulps
     with pytest.raises(ValueError, match="too small"):
-        continuum_green(0.3e-8, 0.1e-8, 1e18, 1e-8)
+        continuum_green(0.3e-8, 0.1e-8, 1e9, 1e-8)
 
 
 @pytest.mark.parametrize("L", [0.01, 1e-3, 1e-5, 1e-7])
@@ -453,3 +455,31 @@ def test_accelerated_series_agrees_with_the_plain_one(monkeypatch):
     plain, info2 = continuum_green(z, zp, 3.0 + 1.0j, L, return_info=True)
     assert info2.method == "series" and info2.terms > info.terms
     assert abs(acc - plain) <= 1e-12 * abs(fundamental_solution(z, zp, 3.0 + 1.0j))
+
+
+@pytest.mark.parametrize("lam", [1000.0, 3000.0, 1e4, pytest.param(1e5 + 0j, marks=pytest.mark.slow)])
+def test_large_lambda_is_right_or_says_how_wrong(lam):
+    """Real lambda >~ 1000 was silently wrong (1e-8 at 1000, 5e-6 at 3000, O(1) at 1e4, all with
+    tail estimates ~1e-18): Miller's start depth ignored the oscillatory range m < |nu| sinh t of the
+    recurrence. The start now follows the recurrence's own decay factors, and where P~^m(rho_L) sits
+    near a zero (lambda close to a Dirichlet eigenvalue of order m, ubiquitous at large lambda) the
+    amplified rounding is estimated and warned about."""
+    z, zp, L = 0.5, 0.3j, 0.8
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        g, info = continuum_green(z, zp, lam, L, return_info=True)
+    ref, last = _mp_green(z, zp, lam, L, 500 if abs(lam) < 5e4 else 1500, dps=40)
+    g0 = fundamental_solution(z, zp, lam)
+    scale = abs(g0) + abs(g0 - g)
+    assert abs(g - ref) <= max(10 * (info.tail_estimate + info.rounding_estimate), 1e-12) * scale
+    assert abs(g.imag) <= 1e-12 * scale or not info.converged          # real lambda > 1, L < 1: G real
+
+
+def test_lambda_beyond_the_legendre_range_is_refused():
+    from hyperlattice.continuum.green import MAX_LAMBDA
+
+    for call in (lambda: continuum_green(0.1, 0.2, 2 * MAX_LAMBDA, 0.9),
+                 lambda: fundamental_solution(0.1, 0.2, -2 * MAX_LAMBDA),
+                 lambda: green_infinite_disk(0.1, 0.2, 2j * MAX_LAMBDA)):
+        with pytest.raises(ValueError, match="beyond the range"):
+            call()

@@ -153,8 +153,10 @@ __all__ = [
     "green_laplace",
     "green_infinite_disk",
     "MAX_TERMS",
+    "MAX_LAMBDA",
 ]
 
+MAX_LAMBDA = 1e10       # |lambda| beyond this is refused (|nu| > 5e4: the Legendre module's quadratures grow ~|nu|)
 _MAX_TERMS = 4000       # default cap on the m-sum; (rr'/L^2)^4000 < 1e-12 needs rr'/L^2 < 0.9931
 MAX_TERMS = 100_000     # largest max_terms accepted (the tables are chunked, the time is ~ M x pairs)
 _RESCALE = 1e30         # renormalize recurrence values beyond this magnitude (per point)
@@ -169,25 +171,27 @@ _EPS = np.finfo(float).eps
 
 @dataclass(frozen=True, eq=False, kw_only=True)
 class GreenInfo(Result):
-    """How a continuum Green function was evaluated.
+    r"""How a continuum Green function was evaluated.
 
     Attributes
     ----------
     method : str
         ``"laplace"`` (``eq23``), ``"infinite_disk"`` (:math:`L = 1`), ``"series"``
-        (``green34`` - ``green36``) or ``"series-accelerated"`` (with the :math:`\\lambda = 0`
+        (``green34`` - ``green36``) or ``"series-accelerated"`` (with the :math:`\lambda = 0`
         series subtracted, see the module docstring).
     nu : complex
-        The degree used (branch :math:`\\operatorname{Re}\\nu \\ge -1/2`).
+        The degree used (branch :math:`\operatorname{Re}\nu \ge -1/2`).
     terms : int
         Number of Fourier orders :math:`m = 0..M` summed (0 for closed forms).
     tail_estimate : float
-        Largest estimated truncation error relative to :math:`|\\mathcal G_0|+|\\delta\\mathcal G|`.
+        Largest estimated truncation error relative to :math:`|\mathcal G_0|+|\delta\mathcal G|`.
     tol : float
         Requested tolerance.
     rounding_estimate : float
-        Largest estimated rounding error amplified by the upward recurrence of :math:`P^m`
-        (beyond a factor 100), on the same relative scale; more terms do not reduce it.
+        Largest estimated rounding error that more terms cannot reduce, on the same relative
+        scale: amplified by the upward recurrence of :math:`P^m` (beyond a factor 100), or by a
+        :math:`\tilde P^m(\rho_L)` close to zero (:math:`\lambda` near a Dirichlet eigenvalue,
+        ubiquitous for large :math:`\lambda`, where the spectrum is dense).
     """
 
     method: str
@@ -266,8 +270,14 @@ def boundary_constant(lam) -> complex:
 # input handling
 # ----------------------------------------------------------------------------
 
-def _check_lambda(lam) -> complex:
-    return _validate.complex_number("lambda", lam)
+def _check_lambda(lam, *, evaluated: bool = False) -> complex:
+    """lambda as a finite complex number; ``evaluated``: also within the range where the Legendre
+    functions of degree nu ~ sqrt(-lambda)/2 are evaluated (|lambda| <= MAX_LAMBDA)."""
+    lam = _validate.complex_number("lambda", lam)
+    if evaluated and abs(lam) > MAX_LAMBDA:
+        raise ValueError(f"|lambda| = {abs(lam):.3g} is beyond the range |lambda| <= {MAX_LAMBDA:g} of the Legendre "
+                         "functions of degree nu = (-1 + sqrt(1 - lambda))/2 used here.")
+    return lam
 
 
 def _check_radius(radius) -> float:
@@ -343,7 +353,7 @@ def fundamental_solution(z, zp, lam) -> complex | np.ndarray:
 
     ``inf`` where :math:`z = z'`. Branch of :math:`\nu` as in :func:`green_nu` (decaying).
     """
-    lam = _check_lambda(lam)
+    lam = _check_lambda(lam, evaluated=True)
     z = _check_points("z", z, 1.0, False)
     zp = _check_points("z'", zp, 1.0, False)
     z, zp = _pairs(z, zp)
@@ -381,7 +391,7 @@ def green_infinite_disk(z, zp, lam) -> complex | np.ndarray:
     Equal to the paper's :math:`\frac1{2\pi}[Q_{\nu_p}(y)-\mathcal C P_{\nu_p}(y)]`; requires
     :math:`\lambda\notin[1,\infty)` (there the infinite disk has continuous spectrum).
     """
-    lam = _check_lambda(lam)
+    lam = _check_lambda(lam, evaluated=True)
     if lam.imag == 0 and lam.real >= 1.0:
         raise ValueError(f"lambda = {lam.real:g} lies on the continuous spectrum [1, inf) of -Delta_g "
                          "on the infinite disk (L = 1); give it an imaginary part or use L < 1.")
@@ -430,6 +440,39 @@ def _log_eta(r: np.ndarray, rho: np.ndarray) -> np.ndarray:
         return np.where((rho > 1.0) & (r > 0), np.log(r * r) - np.log((rho - 1.0) / (rho + 1.0)), 0.0)
 
 
+def _miller_start(nu: complex, c: float, M: int, Ms_min: int, target: float = 1e-17,
+                  max_extra: int = 20000) -> tuple[int, float]:
+    r"""Start :math:`M_s` of Miller's recurrence and the contamination it leaves at order ``M``.
+
+    Going down, :math:`f_m = A_m f_{m+1} + B_m f_{m+2}` (:math:`A_m = 2(m+1)c`,
+    :math:`B_m = (\nu-m-1)(\nu+m+2)`, :math:`c = (1+r^2)/2r`) has local ratios :math:`u =
+    f_{m+1}/f_m` solving :math:`B_m u^2 + A_m u - 1 = 0`; the unwanted solution shrinks by
+    :math:`|u_<|/|u_>|` per step (:math:`\to r^2` for :math:`m \gg |\nu|\sinh t`, but 1 in the
+    oscillatory range :math:`m \lesssim |\nu|\sinh t` of large :math:`|\nu|`, where a start
+    depth fixed by :math:`r` alone left errors up to :math:`10^{-3}` at :math:`\lambda = 3000`).
+    The start is the first order beyond ``Ms_min`` where the product of these factors from ``M``
+    reaches ``target``, at most ``max_extra`` orders above that.
+    """
+    if not math.isfinite(c):
+        return Ms_min, 0.0
+    log_target = math.log(target)
+    acc = 0.0
+    m = M
+    top = max(Ms_min, M) + max_extra
+    while m < top and (acc > log_target or m < Ms_min):
+        A = 2.0 * (m + 1) * c
+        B = (nu - m - 1) * (nu + m + 2)
+        if B == 0:
+            acc = -math.inf
+        else:
+            disc = complex(np.sqrt(complex(A * A + 4.0 * B)))
+            u1, u2 = abs((-A + disc) / (2.0 * B)), abs((-A - disc) / (2.0 * B))
+            small, big = min(u1, u2), max(u1, u2)
+            acc += math.log(small / big) if small > 0 else -math.inf
+        m += 1
+    return m, math.exp(acc)
+
+
 def _ptilde_table(nu: complex, rho: np.ndarray, M: int, r_split: float, r: np.ndarray | None = None):
     r"""Table of :math:`\tilde P^m_\nu(\rho_k)`, m = 0..M, as (mantissa, log-scale), each (M+1, n).
 
@@ -465,8 +508,14 @@ def _ptilde_table(nu: complex, rho: np.ndarray, M: int, r_split: float, r: np.nd
         rmax = float(r[idx].max())
         extra = 0 if rmax < 1e-3 else int(math.ceil(math.log(1e-17) / (2.0 * math.log(rmax))))
         extra = min(max(extra, 8), 6000)
-        contamination = rmax ** (2 * extra)
-        Ms = M + extra
+        # turning point of the recurrence at the outermost radius: below it the two solutions
+        # oscillate with equal size and Miller's start must lie well beyond it
+        m_turn = abs(nu) * 2.0 * rmax / ((1.0 - rmax) * (1.0 + rmax))
+        if 3.0 * m_turn <= M + extra:
+            # small |nu|: the unwanted solution shrinks like r^2 per step (measured: 1e-14 at r = 0.9)
+            Ms, contamination = M + extra, rmax ** (2 * extra)
+        else:
+            Ms, contamination = _miller_start(nu, (1.0 + rmax * rmax) / (2.0 * rmax), M, M + extra)
         cc = c[idx]
         a_hi = np.zeros(idx.size, complex)        # f_{Ms+1}
         a = np.ones(idx.size, complex)            # f_{Ms}
@@ -592,8 +641,11 @@ def _series(nu, rho_u, r_u, iu, ju, dphi, x_L, L, M, r_split, *, accel, rpair):
             env = (np.abs(2.0 * (m + 1) * c_L * pL[1:-1]) * np.exp(sL[1:-1] - sL[:-2])
                    + np.abs((nu - m - 1) * (nu + m + 2) * pL[2:]) * np.exp(sL[2:] - sL[:-2]))
         small = np.abs(pL[:-2]) <= _EIGEN_REL * env
+        with np.errstate(divide="ignore", invalid="ignore"):
+            cond = np.concatenate([env / np.abs(pL[:-2]), [1.0, 1.0]])
     else:
         small = np.abs(pL) == 0
+        cond = np.ones(M + 1)
     if np.any(small) or not np.all(np.isfinite(pL)):
         m_bad = int(np.argmax(small)) if np.any(small) else -1
         raise ValueError(f"lambda is (within rounding of) a Dirichlet eigenvalue of the disk of radius L "
@@ -629,6 +681,10 @@ def _series(nu, rho_u, r_u, iu, ju, dphi, x_L, L, M, r_split, *, accel, rpair):
             # only an amplification beyond 100x counts: plain rounding (a few eps of the largest
             # term) is below every tolerance accepted and is not part of the estimate
             rounding += 4.0 * _EPS * np.abs(mag) * np.maximum(g - 100.0, 0.0)
+        if cond[m] > 100.0:
+            # P~^m(rho_L) near one of its zeros (lambda near a Dirichlet eigenvalue of order m):
+            # its relative error, ~1e-13 of the recurrence envelope (measured), grows like env/|P~^m|
+            rounding += 3e-13 * cond[m] * np.abs(mag)
         if accel:
             # t_m at lambda = 0 (module docstring), the terms of the eq23 correction
             if m == 0:
@@ -672,6 +728,11 @@ def _boundary_correction(nu, z, zp, L, tol, max_terms, g0_abs):
         # the differences t_m - t_m^(0) fall like qmax^m / m^2: solve qmax^M / M^2 = tol
         for _ in range(4):
             M = int(math.ceil(math.log(tol * M * M) / math.log(qmax))) + 3
+    # large |nu|: the terms oscillate without decaying up to the turning point m ~ |nu| sinh t of
+    # the inner point of each pair (sinh t = 2r/(1-r^2)), whatever q says; never stop before it
+    r_in = np.minimum(r, rp)
+    floor = np.ceil(abs(nu) * 2.0 * r_in / ((1.0 - r_in) * (1.0 + r_in)))
+    M = max(M, int(floor.max()) if floor.size else 0)
     M = max(4, min(M, max_terms))
     # Miller below r_split, upward recurrence above (see _ptilde_table): the upward error
     # (r'/(r L^2))^m stays O(1) for r >= r'/L^2, so r_split follows the outermost source.
@@ -679,10 +740,10 @@ def _boundary_correction(nu, z, zp, L, tol, max_terms, g0_abs):
     if abs(nu.imag) < 1e-3 and nu.real > 0.5 and abs(nu.real - round(nu.real)) < 1e-3:
         # near nu = n >= 1 the upward recurrence of P^m cancels to O(nu - n): Miller only
         r_split = 1.0
-    return _correction_pairs(nu, z, zp, r, rp, ratio, L, tol, max_terms, g0_abs, M, r_split, accel)
+    return _correction_pairs(nu, z, zp, r, rp, ratio, L, tol, max_terms, g0_abs, M, r_split, accel, floor)
 
 
-def _correction_pairs(nu, z, zp, r, rp, ratio, L, tol, max_terms, g0_abs, M, r_split, accel):
+def _correction_pairs(nu, z, zp, r, rp, ratio, L, tol, max_terms, g0_abs, M, r_split, accel, floor):
     """The doubling loop of :func:`_boundary_correction` on one set of pairs, split in halves
     whenever its (M+1) x radii tables would exceed :data:`_TABLE_BYTES`."""
     x_L = (1.0 + L * L) / ((1.0 - L) * (1.0 + L))
@@ -698,7 +759,7 @@ def _correction_pairs(nu, z, zp, r, rp, ratio, L, tol, max_terms, g0_abs, M, r_s
         if (M + 1) * rho_u.size * 48 > _TABLE_BYTES and z.size > 1:
             h = z.size // 2
             parts = [_correction_pairs(nu, z[s], zp[s], r[s], rp[s], ratio[s], L, tol, max_terms, g0_abs[s],
-                                       M, r_split, accel) for s in (slice(0, h), slice(h, None))]
+                                       M, r_split, accel, floor[s]) for s in (slice(0, h), slice(h, None))]
             return (np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts]),
                     np.concatenate([p[2] for p in parts]), max(p[3] for p in parts), any(p[4] for p in parts))
         dG, env_M, env_M1, contamination, rounding = _series(nu, rho_u, r_u, iu, ju, dphi, x_L, L, M, r_split,
@@ -709,6 +770,8 @@ def _correction_pairs(nu, z, zp, r, rp, ratio, L, tol, max_terms, g0_abs, M, r_s
             measured = np.where(env_M1 > 0, env_M / env_M1, 0.0)
         rate = np.minimum(np.maximum(ratio, measured), 0.999)
         tail = env_M * rate / (1.0 - rate) + contamination * np.abs(dG)
+        # before the turning point the envelope says nothing: no accuracy is claimed there
+        tail = np.where(M >= floor, tail, np.maximum(tail, g0_abs + np.abs(dG)))
         if np.all(tail <= tol * (g0_abs + np.abs(dG))) or M >= max_terms:
             # the amplified rounding is reported separately: more terms would not reduce it
             return dG, tail, rounding, M, accel
@@ -759,15 +822,16 @@ def continuum_green(z, zp, lam, radius=1.0, *, tol: float = 1e-12, extend: bool 
     ------
     ValueError
         NaN input, :math:`L\notin(0,1]`, points outside the disk, :math:`\lambda` on
-        :math:`[1,\infty)` for :math:`L=1`, :math:`\lambda` a Dirichlet eigenvalue, more than
-        ``2**25`` pairs, or a disk too small for double precision (module docstring).
+        :math:`[1,\infty)` for :math:`L=1`, :math:`\lambda` a Dirichlet eigenvalue,
+        :math:`|\lambda|` > :data:`MAX_LAMBDA`, more than ``2**25`` pairs, or a disk too small for
+        double precision (module docstring).
 
     Warns
     -----
     ConvergenceWarning
         If the estimated truncation error exceeds ``tol`` after ``max_terms`` orders.
     """
-    lam = _check_lambda(lam)
+    lam = _check_lambda(lam, evaluated=True)
     L = _check_radius(radius)
     tol = _validate.real("tol", tol, minimum=1e-15, maximum=1.0, open_max=True)
     extend = _validate.flag("extend", extend)
@@ -827,9 +891,9 @@ def continuum_green(z, zp, lam, radius=1.0, *, tol: float = 1e-12, extend: bool 
                       "(points too close to the boundary for the Fourier series); raise max_terms.",
                       ConvergenceWarning, stacklevel=2)
     if worst_round > tol:
-        warnings.warn(f"green36: the upward recurrence of P^m amplified rounding to an estimated relative error "
-                      f"{worst_round:.1e} > tol = {tol:.1e} (points near the circle with m up to {M}).",
-                      ConvergenceWarning, stacklevel=2)
+        warnings.warn(f"green36: rounding errors amplified to an estimated relative error {worst_round:.1e} > "
+                      f"tol = {tol:.1e} (lambda close to a Dirichlet eigenvalue, or the upward recurrence of "
+                      f"P^m near the circle with m up to {M}).", ConvergenceWarning, stacklevel=2)
     method = "series-accelerated" if accel else "series"
     return finish(val, GreenInfo(method=method, nu=nu, terms=M + 1 if inner.size else 0, tail_estimate=worst,
                                  tol=tol, rounding_estimate=worst_round))
