@@ -225,7 +225,7 @@ def coefficient_cm(nu, m) -> complex | np.ndarray:
     r""":math:`C_m` of ``green23`` for the type-3 :math:`Q_\nu^m` of :mod:`hyperlattice.continuum.special`.
 
     :math:`C_m = 1/[(1-x^2)W\{P^m_\nu,Q^m_\nu\}] = (-1)^m\Gamma(\nu-m+1)/\Gamma(\nu+m+1)`
-    (DLMF 14.2.4 for the Wronskian); the paper's ``green38`` without :math:`(-1)^m` matches a
+    (the Wronskian of A&S 8.1.9, :func:`hyperlattice.continuum.special.legendre_wronskian`); the paper's ``green38`` without :math:`(-1)^m` matches a
     phase-free :math:`Q_\nu^m`.
     """
     nu = _validate.complex_array("nu", nu)
@@ -785,7 +785,8 @@ def _correction_pairs(nu, z, zp, r, rp, ratio, L, tol, max_terms, g0_abs, M, r_s
 
 
 def continuum_green(z, zp, lam, radius=1.0, *, tol: float = 1e-12, extend: bool = False,
-                    max_terms: int = _MAX_TERMS, return_info: bool = False):
+                    max_terms: int = _MAX_TERMS,
+                    return_info: bool = False) -> complex | np.ndarray | tuple[complex | np.ndarray, GreenInfo]:
     r"""Dirichlet Green function :math:`G(z, z', \lambda, L)` of :math:`\lambda + \Delta_g` (``green1``).
 
     Vectorized over ``z`` and ``zp`` (broadcast against each other). Forms (see module

@@ -16,10 +16,11 @@ Root search
 Write :math:`x = (1+L^2)/(1-L^2) = \cosh t` (:math:`t/2` is the hyperbolic radius of the disk).
 Consecutive roots in :math:`k` are about :math:`2\pi/(t+\ln 8)` apart for large disks (``spec9``)
 and about :math:`2\pi/t` for small ones (:math:`k_{nm} \approx 2 j_{m,n}/t`, Bessel zeros
-:math:`j_{m,n}`, spaced by about :math:`\pi`); the grid step :math:`2\pi/(t + t\ln 8/(1+t))/6` is
-below a sixth of both, so no grid cell holds two roots, and the number of grid points per root
-stays bounded for every radius (a grid of fixed step, as before, needed :math:`\sim 1/L` points
-for small disks). Roots are bracketed by sign changes counted from :math:`k=0` (so the
+:math:`j_{m,n}`, spaced by about :math:`\pi`); the grid step (:func:`_grid_step`) is a sixth of
+:math:`2\pi/(t+\ln 8)` for :math:`t \ge t_* = \ln 8/(1+\ln 8)` and grows like :math:`t_*/t` below,
+staying under a sixth of the spacing in both regimes, so no grid cell holds two roots and the
+number of grid points per root is bounded for every radius (the fixed step used before needed
+:math:`\sim 1/L` points for small disks: 23 GB for ``radius=0.001, levels=50``). Roots are bracketed by sign changes counted from :math:`k=0` (so the
 :math:`n`-th bracket holds the :math:`n`-th root), refined by a vectorized Chandrupatla iteration
 (:func:`scipy.optimize.elementwise.find_root`) and verified (residual at the root relative to the
 bracket values, strict ordering in :math:`n` and :math:`|m|`, and on request the number
@@ -51,6 +52,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy import special as sc
@@ -62,6 +64,9 @@ from ..errors import ConvergenceError
 from ..geometry import lattice_h, one_minus_abs2, radius_constant
 from ..results import Levels, Result
 from .special import check_order, evaluate_checked, legendre_p, legendre_p_log_parts
+
+if TYPE_CHECKING:  # matplotlib is imported only inside plot()
+    from matplotlib.axes import Axes
 
 __all__ = [
     "disk_argument",
@@ -127,11 +132,11 @@ def disk_argument(radius=None, *, p=7, q=3, rings=None) -> tuple[float, float]:
     rings, :math:`x_L = (2N + c_{pq})/c_{pq}` exactly, which keeps full relative precision even
     when :math:`1-L \sim 10^{-9}` would lose digits in :math:`L` itself.
     """
+    p, q = _validate.pq(p, q)
     if (radius is None) == (rings is None):
         raise ValueError("give exactly one of radius or rings.")
     if rings is not None:
         rings = _validate.positive_int("rings", rings, maximum=_MAX_RINGS)
-        p, q = _validate.pq(p, q)
         n_sites = _sites_for_rings(p, q, rings)
         c = radius_constant(p, q)
         return float(disk_radius(n_sites, p, q)), (2.0 * n_sites + c) / c
@@ -522,7 +527,7 @@ class DirichletTable(Result):
     energies: np.ndarray
     errors: np.ndarray
 
-    def plot(self, ax=None, **kwargs):
+    def plot(self, ax=None, **kwargs) -> Axes:
         """Energies against m, one line per radial index n; returns the axes."""
         from ..plots import new_axes
 
