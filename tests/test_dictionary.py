@@ -185,3 +185,18 @@ def test_disk_integral_bad_arguments(kwargs):
     call = {"f": lambda z: np.ones(np.shape(z)), "radius": 0.5, **kwargs}
     with pytest.raises(ValueError):
         disk_integral(**call)
+
+
+def test_disk_radius_for_rings_matches_eq12_and_reaches_huge_disks():
+    from hyperlattice.dictionary import disk_radius, disk_radius_for_rings
+    from hyperlattice.graph.lattice import site_count
+
+    for rings in (1, 4, 10, 43):
+        L, x = disk_radius_for_rings(rings, 7, 3)
+        n = site_count(7, 3, rings)
+        assert L == pytest.approx(disk_radius(n, 7, 3), rel=1e-15)
+        assert x == pytest.approx((2 * n + 28) / 28, rel=1e-15)
+    L, x = disk_radius_for_rings(300, 7, 3)          # far beyond int64 sites: still a finite x
+    assert L == 1.0 and 1e120 < x < 1e130
+    with pytest.raises(ValueError, match="1e308"):
+        disk_radius_for_rings(800, 7, 3)

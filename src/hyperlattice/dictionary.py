@@ -45,6 +45,7 @@ __all__ = [
     "green_prefactor",
     "dictionary_parameters",
     "disk_radius",
+    "disk_radius_for_rings",
     "ContinuumParameters",
     "continuum_parameters",
     "lattice_parameters",
@@ -129,6 +130,23 @@ def disk_radius(sites, p=7, q=3) -> float:
     """
     p, q = _validate.pq(p, q)
     return geometry.effective_radius(_validate.positive_int("sites", sites), p, q)
+
+
+def disk_radius_for_rings(rings, p=7, q=3) -> tuple[float, float]:
+    r"""``(L, x_L)`` of the disk that stands for the ``rings``-ring {p,q} lattice (``eq12``).
+
+    :math:`L = \sqrt{N/(N + c)}` with the exact site count N and :math:`c = \pi/\mathcal A`, and
+    :math:`x_L = (1 + L^2)/(1 - L^2) = (2N + c)/c` computed from N directly, which keeps full
+    relative precision when :math:`1 - L \sim 10^{-9}` would lose digits in L itself. The site
+    count is the graph side's combinatorics (counted, never built), so this is the one map from
+    the graph to the continuum that needs it; it works up to :math:`N \approx 10^{308}`.
+    """
+    from .graph.lattice import site_count_float  # lazy: the continuum side imports this module
+
+    p, q = _validate.pq(p, q)
+    n_sites = site_count_float(p, q, rings)
+    c = geometry.radius_constant(p, q)
+    return math.sqrt(n_sites / (n_sites + c)), (2.0 * n_sites + c) / c
 
 
 # ----------------------------------------------------------------------------

@@ -59,9 +59,9 @@ from scipy import special as sc
 from scipy.optimize import elementwise as _elementwise
 
 from .. import _validate
-from ..dictionary import disk_radius, energy_from_k, hopping_scale
+from ..dictionary import disk_radius_for_rings, energy_from_k, hopping_scale
 from ..errors import ConvergenceError
-from ..geometry import lattice_h, one_minus_abs2, radius_constant
+from ..geometry import lattice_h, one_minus_abs2
 from ..results import Levels, Result
 from .special import check_order, evaluate_checked, legendre_p, legendre_p_log_parts
 
@@ -108,27 +108,11 @@ _MAX_RINGS = 1000
 # the disk
 # ----------------------------------------------------------------------------
 
-def _sites_for_rings(p: int, q: int, rings: int) -> float:
-    """N of the ``rings``-ring {p,q} lattice as a float (ValueError beyond the float range).
-
-    The one place the continuum side asks the graph side for anything; it goes away once
-    :mod:`hyperlattice.dictionary` offers the ring count -> disk map itself.
-    """
-    from ..graph.lattice import site_count  # lazy: the continuum package does not import graph code
-
-    n_sites = site_count(p, q, rings)
-    try:
-        return float(n_sites)
-    except OverflowError:
-        raise ValueError(f"the {{{p},{q}}} lattice with {rings:,} rings has more than 1e308 sites; "
-                         "its disk radius is 1 to double precision.") from None
-
-
 def disk_argument(radius=None, *, p=7, q=3, rings=None) -> tuple[float, float]:
     r"""Return ``(L, x_L)`` with :math:`x_L = (1+L^2)/(1-L^2)` (the argument in ``spec2``).
 
     Either ``radius`` (:math:`0<L<1`) or ``rings`` (the {p,q} ring lattice with N sites,
-    :math:`L=\sqrt{N/(N+c_{pq})}` by :func:`hyperlattice.dictionary.disk_radius`, ``eq12``). For
+    :math:`L=\sqrt{N/(N+c_{pq})}` by :func:`hyperlattice.dictionary.disk_radius_for_rings`, ``eq12``). For
     rings, :math:`x_L = (2N + c_{pq})/c_{pq}` exactly, which keeps full relative precision even
     when :math:`1-L \sim 10^{-9}` would lose digits in :math:`L` itself.
     """
@@ -137,9 +121,7 @@ def disk_argument(radius=None, *, p=7, q=3, rings=None) -> tuple[float, float]:
         raise ValueError("give exactly one of radius or rings.")
     if rings is not None:
         rings = _validate.positive_int("rings", rings, maximum=_MAX_RINGS)
-        n_sites = _sites_for_rings(p, q, rings)
-        c = radius_constant(p, q)
-        return float(disk_radius(n_sites, p, q)), (2.0 * n_sites + c) / c
+        return disk_radius_for_rings(rings, p, q)
     r = _validate.radius("the disk radius L", radius)
     return r, (1.0 + r * r) / ((1.0 - r) * (1.0 + r))
 

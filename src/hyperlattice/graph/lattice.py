@@ -52,6 +52,7 @@ __all__ = [
     "ring_sizes",
     "site_count",
     "edge_count",
+    "site_count_float",
     "load_lattice",
 ]
 
@@ -590,6 +591,28 @@ def ring_sizes(p: int, q: int, rings: int) -> np.ndarray:
 def site_count(p: int, q: int, rings: int) -> int:
     """Total number of sites N of the ``rings``-ring {p,q} lattice (exact; see :func:`ring_sizes`)."""
     return int(ring_sizes(p, q, rings).sum())
+
+
+def site_count_float(p: int, q: int, rings: int) -> float:
+    """N of the ``rings``-ring {p,q} lattice as a float, for rings beyond what int64 holds.
+
+    The count is exact in Python integers and rounded once; what uses it is the disk radius of
+    ``eq12`` for huge disks (:func:`hyperlattice.dictionary.disk_radius_for_rings`).
+
+    Raises
+    ------
+    ValueError
+        Beyond 1e308 sites (about 737 rings of {7,3}), where a float overflows.
+    """
+    p, q = _check_pq(p, q)
+    rings = _validate.positive_int("rings", rings)
+    limit = int(1e308)
+    counts, _ = _type_counts(p, q, rings, stop_above=limit)
+    total = sum(counts)
+    if len(counts) < rings or total > limit:
+        raise ValueError(f"the {{{p},{q}}} lattice with {rings:,} rings has more than 1e308 sites; "
+                         "its disk radius is 1 to double precision.")
+    return float(total)
 
 
 def edge_count(p: int, q: int, rings: int) -> int:
