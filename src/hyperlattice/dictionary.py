@@ -150,12 +150,12 @@ def disk_radius_for_rings(rings, p=7, q=3) -> tuple[float, float]:
 
 
 # ----------------------------------------------------------------------------
-# many-body dictionary, Eqs. (eq13)-(eq14)
+# many-body dictionary, ``eq13``–``eq14``
 # ----------------------------------------------------------------------------
 
 @dataclass(frozen=True, eq=False, kw_only=True)
 class ContinuumParameters(Result):
-    r"""Parameters of Eq. (eq14) for a lattice model of Eq. (eq13) on {p,q}.
+    r"""Parameters of ``eq14`` for a lattice model of ``eq13`` on {p,q}.
 
     ``field_scale`` is :math:`1/\sqrt{\mathcal A}`: :math:`\hat\alpha(z_i) = \hat a_i/\sqrt{\mathcal A}`
     (:math:`\sqrt{28/\pi}\,\hat a_i` for {7,3}).
@@ -183,10 +183,10 @@ class ContinuumParameters(Result):
 
 
 def continuum_parameters(t: float, mu: float, U: float, p: int = 7, q: int = 3) -> ContinuumParameters:
-    r"""Map the lattice Bose-Hubbard parameters of Eq. (eq13) to those of Eq. (eq14).
+    r"""Map the lattice Bose-Hubbard parameters of ``eq13`` to those of ``eq14``.
 
-    From :math:`A \approx q + \frac q4 h^2\Delta_g` (Eq. (eq10) generalised),
-    :math:`\sum_i \to \frac1{\mathcal A}\int dV_g` (Eq. (eq11)) and
+    From :math:`A \approx q + \frac q4 h^2\Delta_g` (``eq10`` generalised),
+    :math:`\sum_i \to \frac1{\mathcal A}\int dV_g` (``eq11``) and
     :math:`\hat a_i = \sqrt{\mathcal A}\,\hat\alpha(z_i)`:
 
     .. math:: t' = \frac q4 h^2 t,\qquad \mu' = \mu + q t,\qquad U' = \mathcal A\, U,

@@ -1,6 +1,6 @@
 r"""Geometry of the Poincaré disk and the constants of regular {p,q} tessellations.
 
-Conventions (Boettcher et al., PRA 102, 032208, Eq. (3)): the metric is
+Conventions (Boettcher et al., PRA 102, 032208, ``eq3``): the metric is
 
 .. math:: ds^2 = \frac{dx^2 + dy^2}{(1-|z|^2)^2},
 
@@ -92,7 +92,7 @@ def _one_minus_abs2(z: np.ndarray) -> np.ndarray:
 
 
 def distance(z1, z2, *, check: bool = True) -> np.ndarray | float:
-    r"""Hyperbolic distance of Eq. (4),
+    r"""Hyperbolic distance of ``eq4``,
 
     .. math:: d(z,z') = \tfrac12\,\mathrm{arcosh}\Bigl(1 + \frac{2|z-z'|^2}{(1-|z|^2)(1-|z'|^2)}\Bigr).
 
@@ -116,7 +116,7 @@ def distance(z1, z2, *, check: bool = True) -> np.ndarray | float:
 
 
 def mobius(z, a, eta: float = 0.0) -> np.ndarray | complex:
-    r"""The disk automorphism of Eq. (5), :math:`w(z) = e^{i\eta}(a - z)/(1 - z\bar a)`.
+    r"""The disk automorphism of ``eq5``, :math:`w(z) = e^{i\eta}(a - z)/(1 - z\bar a)`.
 
     It exchanges ``a`` and the origin (for ``eta = 0`` it is an involution). ``z`` and ``a``
     lie in the open unit disk; ``eta`` is a real angle.
@@ -202,7 +202,7 @@ def rho(r) -> np.ndarray | float:
 # ----------------------------------------------------------------------------
 
 def r0(p, q=3) -> float:
-    r"""Euclidean radius of the central p-gon's vertices, Eq. (Eqr0):
+    r"""Euclidean radius of the central p-gon's vertices, ``Eqr0``:
     :math:`r_0 = \sqrt{\cos(\pi/q+\pi/p)/\cos(\pi/p-\pi/q)}` (1 for p = inf)."""
     p, q = _validate.pq(p, q, allow_infinite_p=True)
     if math.isinf(p):
@@ -227,7 +227,7 @@ def d0(p, q=3) -> float:
 
 
 def lattice_h(p, q=3) -> float:
-    r""":math:`h = \tanh d_0 = \sqrt{1 - \sin^2(\pi/q)/\cos^2(\pi/p)}`, Eq. (adj6).
+    r""":math:`h = \tanh d_0 = \sqrt{1 - \sin^2(\pi/q)/\cos^2(\pi/p)}`, ``adj6``.
 
     It is also the Euclidean distance from the origin of a neighbour of a site
     mapped to the origin. Limit p -> inf: :math:`\cos(\pi/q)` (1/2 for q = 3).
@@ -243,7 +243,7 @@ def site_area(p, q=3) -> float:
 
     Each site of {p,q} is the centre of a face of the dual tessellation {q,p}: a
     regular q-gon with interior angles :math:`2\pi/p`, whose area in curvature -4 is
-    :math:`[(q-2)\pi - 2\pi q/p]/4`. For q = 3 this is Eq. (sum1c),
+    :math:`[(q-2)\pi - 2\pi q/p]/4`. For q = 3 this is ``sum1c``,
     :math:`\frac{\pi}{4}(1-6/p)` (:math:`\pi/28` for {7,3}). Limit p -> inf:
     :math:`\pi(q-2)/4`.
     """
@@ -256,14 +256,14 @@ def site_area(p, q=3) -> float:
 def radius_constant(p, q=3) -> float:
     r"""The constant :math:`c = \pi/\mathcal A = 4p/(pq-2p-2q)` in :math:`L = \sqrt{N/(N+c)}`.
 
-    Derivation (Eq. (eq11) with f = 1): :math:`N = \frac{1}{\mathcal A}\frac{\pi L^2}{1-L^2}`,
+    Derivation (``eq11`` with f = 1): :math:`N = \frac{1}{\mathcal A}\frac{\pi L^2}{1-L^2}`,
     hence :math:`L^2 = N/(N+\pi/\mathcal A)`. For {p,3}: :math:`4p/(p-6)`, i.e. 28 for {7,3}.
     """
     return math.pi / site_area(p, q)
 
 
 def counting_slope(p, q=3) -> float:
-    r"""Slope of the counting function :math:`\mathcal N(r) \approx s\rho + b`, Eq. (sum4).
+    r"""Slope of the counting function :math:`\mathcal N(r) \approx s\rho + b`, ``sum4``.
 
     From :math:`\mathcal N(r) = \frac{\pi}{\mathcal A}\frac{r^2}{1-r^2} = \frac{c}{2}(\rho-1)`:
     :math:`s = c/2 = 2p/(pq-2p-2q)` (14 for {7,3})."""

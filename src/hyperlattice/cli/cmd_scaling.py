@@ -2,11 +2,11 @@
 
 Tasks (paper, App. AppAdj, AppFS, AppSum):
 
-* ``angles``      chi_i and delta_i of every site (Eqs. (adj7)-(adj9)), star check, Fig. FigScos3delta
+* ``angles``      chi_i and delta_i of every site (``adj7``–``adj9``), star check, Fig. FigScos3delta
 * ``operator``    A_h f - q f with the quadratic / cubic approximations per radius (Fig. FigSh)
 * ``convergence`` powers of h in the errors of the order-2/3/4 approximations
-* ``counting``    fit of the counting function N(r) ~ s rho + b (Eq. (sum4), Fig. FigS1)
-* ``sums``        lattice sums against (1/A) * disk integrals, Eq. (eq11), for several rings
+* ``counting``    fit of the counting function N(r) ~ s rho + b (``sum4``, Fig. FigS1)
+* ``sums``        lattice sums against (1/A) * disk integrals, ``eq11``, for several rings
 """
 
 from __future__ import annotations

@@ -1,19 +1,19 @@
 r"""From adjacency to Laplacian: local frame angles, the formal operator :math:`\hat A_h`
 and its small-h expansion (paper, App. ``AppAdj`` and ``AppFS``).
 
-For a site :math:`z_i` with full coordination q the automorphism of Eq. (adj2),
+For a site :math:`z_i` with full coordination q the automorphism of ``adj2``,
 :math:`w(z) = (z_i - z)/(1 - z\bar z_i)`, maps :math:`z_i` to the origin and its neighbours
 onto a regular star :math:`w_a = h e^{i\chi_i}\omega^a`, :math:`\omega = e^{2\pi i/q}`,
-:math:`h = \tanh d_0` (Eqs. (adj7)-(adj9) for q = 3). The angle :math:`\chi_i` is defined
+:math:`h = \tanh d_0` (``adj7``–``adj9`` for q = 3). The angle :math:`\chi_i` is defined
 modulo :math:`2\pi/q` (the neighbours carry no labels); only :math:`e^{iq\chi_i}` enters
-the expansion. The formal operator of Eq. (adj34), generalised to q,
+the expansion. The formal operator of ``adj34``, generalised to q,
 
 .. math:: (\hat A_h f)_i = \sum_{a=0}^{q-1} f\Bigl(\frac{z_i - w_a}{1 - w_a\bar z_i}\Bigr),
           \qquad w_a = h e^{i\chi_i} e^{2\pi i a/q},
 
 can be evaluated for any :math:`0 < h \le \tanh d_0`.
 
-Expansion for general q (derived here, it reduces to Eqs. (adj26), (adj28), (adj32) for q=3).
+Expansion for general q (derived here, it reduces to ``adj26``, ``adj28``, (adj32) for q=3).
 Write :math:`F(w) = f(z(w))` with the inverse map (adj3); its Taylor coefficients
 :math:`c_{mn}` of :math:`w^m\bar w^n` are summed against
 :math:`\sum_a w_a^m \bar w_a^n = q h^{m+n} e^{i(m-n)\chi_i}` if :math:`q \mid (m-n)`, else 0.
@@ -27,7 +27,7 @@ survive:
 
 With the identity :math:`\frac{d^n}{dw^n} f(z(w))|_{w=0} = (-1)^n \mathcal D_n f(z_i)`,
 :math:`\mathcal D_n = \partial_z^{n-1}(1-|z|^2)^n\partial_z` (:math:`\mathcal D_3 = \mathcal D`
-of Eq. (adj33)), and :math:`\partial_w^2\bar\partial_w^2 F(0) = \Delta_g^2 f/16 + \Delta_g f/2`
+of ``adj33``), and :math:`\partial_w^2\bar\partial_w^2 F(0) = \Delta_g^2 f/16 + \Delta_g f/2`
 (the metric is flat to first order at the origin; :math:`\Delta_g` is invariant), the
 expansion through :math:`h^4` is complete for every q >= 3:
 
@@ -37,7 +37,7 @@ expansion through :math:`h^4` is complete for every q >= 3:
    + q h^4\Bigl(\frac{\Delta_g^2 f}{64} + \frac{\Delta_g f}{8}\Bigr) + O(h^5).
 
 For q = 3 the anisotropic term is :math:`-\tfrac{h^3}{2}[e^{3i\chi}\mathcal Df + \mathrm{c.c.}]`,
-Eq. (adj32). For q >= 4 there is **no** :math:`h^3` term: the quadratic approximation
+``adj32``. For q >= 4 there is **no** :math:`h^3` term: the quadratic approximation
 (adj35) is already correct to :math:`O(h^4)`, and the "cubic" approximation (adj36)
 coincides with it. For q = 4 the anisotropic :math:`e^{\pm 4i\chi}` term joins the isotropic
 :math:`h^4` term; for q >= 5 the :math:`h^4` term is purely isotropic. The error of the
@@ -82,7 +82,7 @@ __all__ = [
     "MAX_H_VALUES",
 ]
 
-#: Tolerance for the ideal-star check of Eqs. (adj7)-(adj9); the lattice coordinates are
+#: Tolerance for the ideal-star check of ``adj7``–``adj9``; the lattice coordinates are
 #: accurate to a few ulp, so anything above this means a wrong lattice, not round-off.
 STAR_TOL = 1e-10
 
@@ -97,7 +97,7 @@ MAX_H_VALUES = 1000
 
 @dataclass(frozen=True, eq=False, kw_only=True)
 class FrameAngles(Result):
-    r"""The local frame of every site: Eqs. (adj7)-(adj9), generalised to {p,q}.
+    r"""The local frame of every site: ``adj7``–``adj9``, generalised to {p,q}.
 
     Attributes
     ----------
@@ -112,7 +112,7 @@ class FrameAngles(Result):
     delta : ndarray of float, shape (N,)
         :math:`\delta_i = \chi_i - \phi_i` reduced to :math:`[0, 2\pi/q)`.
     full : ndarray of bool, shape (N,)
-        Sites with full coordination q (the ones Eq. (adj34) applies to as an identity).
+        Sites with full coordination q (the ones ``adj34`` applies to as an identity).
     residual : ndarray of float, shape (N,)
         Largest distance of a mapped neighbour :math:`w(z_j)` from the ideal star point
         :math:`h e^{i\chi_i}\omega^a` (covers radius and mutual angles at once).
@@ -139,7 +139,7 @@ class FrameAngles(Result):
 
     @property
     def phase(self) -> np.ndarray:
-        r""":math:`e^{iq\chi_i}`, the only combination of :math:`\chi_i` that enters Eq. (adj36)."""
+        r""":math:`e^{iq\chi_i}`, the only combination of :math:`\chi_i` that enters ``adj36``."""
         return np.exp(1j * self.q * self.chi)
 
     @property
@@ -155,7 +155,7 @@ class FrameAngles(Result):
 
 
 def _mapped_neighbours(lattice: Lattice) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """For every directed edge (i, j): owner i and w = w_i(z_j) of Eq. (adj2)."""
+    """For every directed edge (i, j): owner i and w = w_i(z_j) of ``adj2``."""
     indptr, nbr = lattice.neighbours()
     owner = np.repeat(np.arange(lattice.sites), np.diff(indptr))
     zi = lattice.z[owner]
@@ -171,7 +171,7 @@ def _mapped_neighbours(lattice: Lattice) -> tuple[np.ndarray, np.ndarray, np.nda
 def frame_angles(lattice: Lattice, *, tol: float = STAR_TOL) -> FrameAngles:
     r"""Local frame angles :math:`\chi_i` and :math:`\delta_i = \chi_i - \phi_i`.
 
-    Implements Eqs. (adj2), (adj7)-(adj9): map :math:`z_i` to the origin with
+    Implements ``adj2``, ``adj7``-(adj9): map :math:`z_i` to the origin with
     :math:`w(z) = (z_i - z)/(1 - z\bar z_i)`; the q neighbours land on
     :math:`h e^{i\chi_i} e^{2\pi i a/q}`. Since :math:`\sum_a w_a^q = q h^q e^{iq\chi_i}` for an
     ideal star, :math:`\chi_i = \arg(\sum_j w_j^q)/q \bmod 2\pi/q`; this uses every neighbour
@@ -303,7 +303,7 @@ class SmoothFunction:
     r"""A test function :math:`f(z,\bar z)` with exact (symbolic) derivatives.
 
     The expression is a sympy expression in the independent symbols ``z`` and ``zb``
-    (:math:`\bar z`); derivatives are Wirtinger derivatives (Eqs. (adj18), (adj18b)) taken by
+    (:math:`\bar z`); derivatives are Wirtinger derivatives (``adj18``, ``adj18b``) taken by
     sympy, then compiled with ``lambdify``. No finite differences are involved, so the
     :math:`h^3` and :math:`h^4` terms are not swamped by differencing error.
 
@@ -361,7 +361,7 @@ class SmoothFunction:
 
     @classmethod
     def inverse_rho_squared(cls) -> "SmoothFunction":
-        r""":math:`f = \rho^{-2} = [(1-|z|^2)/(1+|z|^2)]^2` (Eq. (sum3)); integrable over the disk."""
+        r""":math:`f = \rho^{-2} = [(1-|z|^2)/(1+|z|^2)]^2` (``sum3``); integrable over the disk."""
         z, zb = cls.symbols()
         return cls(((1 - z * zb) / (1 + z * zb)) ** 2, name="rho^-2")
 
@@ -429,7 +429,7 @@ class SmoothFunction:
         return self._eval(("f", 0), z)
 
     def laplacian(self, z) -> np.ndarray:
-        r""":math:`\Delta_g f = 4(1-|z|^2)^2\partial_z\bar\partial_z f`, Eq. (eq7)."""
+        r""":math:`\Delta_g f = 4(1-|z|^2)^2\partial_z\bar\partial_z f`, ``eq7``."""
         return self._eval(("lap", 0), z)
 
     def bilaplacian(self, z) -> np.ndarray:
@@ -437,7 +437,7 @@ class SmoothFunction:
         return self._eval(("bilap", 0), z)
 
     def D(self, z, n: int = 3) -> np.ndarray:
-        r""":math:`\mathcal D_n f = \partial_z^{n-1}(1-|z|^2)^n\partial_z f`; n = 3 is Eq. (adj33)."""
+        r""":math:`\mathcal D_n f = \partial_z^{n-1}(1-|z|^2)^n\partial_z f`; n = 3 is ``adj33``."""
         return self._eval(("D", _order(n)), z)
 
     def Dbar(self, z, n: int = 3) -> np.ndarray:
@@ -510,12 +510,12 @@ def _selection(angles: FrameAngles, sites) -> np.ndarray:
 
 def formal_operator(lattice: Lattice | FrameAngles, f: SmoothFunction, h: float | None = None,
                     *, sites="full") -> np.ndarray:
-    r"""The formal operator :math:`(\hat A_h f)_i` of Eq. (adj34), generalised to q neighbours.
+    r"""The formal operator :math:`(\hat A_h f)_i` of ``adj34``, generalised to q neighbours.
 
     .. math:: (\hat A_h f)_i = \sum_{a=0}^{q-1}
               f\Bigl(\frac{z_i - h e^{i\chi_i}\omega^a}{1 - h e^{i\chi_i}\omega^a\bar z_i}\Bigr)
 
-    At :math:`h = \tanh d_0` it equals :math:`(Af)_i` on fully coordinated sites (Eq. (adj14)).
+    At :math:`h = \tanh d_0` it equals :math:`(Af)_i` on fully coordinated sites (``adj14``).
 
     Parameters
     ----------
@@ -548,8 +548,8 @@ def expansion(lattice: Lattice | FrameAngles, f: SmoothFunction, h: float | None
               order: int = 2, *, sites="full") -> np.ndarray:
     r"""Small-h approximation of :math:`\hat A_h f` truncated after :math:`h^{\rm order}`.
 
-    * order 2: Eq. (adj35), :math:`q f + \frac q4 h^2 \Delta_g f`;
-    * order 3: Eq. (adj36); adds :math:`-\frac{h^3}{2}[e^{3i\chi}\mathcal Df + e^{-3i\chi}\bar{\mathcal D}f]`
+    * order 2: ``adj35``, :math:`q f + \frac q4 h^2 \Delta_g f`;
+    * order 3: ``adj36``; adds :math:`-\frac{h^3}{2}[e^{3i\chi}\mathcal Df + e^{-3i\chi}\bar{\mathcal D}f]`
       for q = 3 and nothing for q >= 4 (all odd orders below q vanish);
     * order 4: adds :math:`q h^4(\Delta_g^2 f/64 + \Delta_g f/8)` and, for q = 4 only,
       :math:`\frac{h^4}{6}[e^{4i\chi}\mathcal D_4 f + e^{-4i\chi}\bar{\mathcal D}_4 f]`.

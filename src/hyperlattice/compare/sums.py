@@ -1,12 +1,12 @@
 r"""Sums as integrals: lattice sums against continuum integrals, and the counting function.
 
-Paper, Eqs. (eq11)-(eq14) and App. ``AppSum``:
+Paper, ``eq11``–``eq14`` and App. ``AppSum``:
 
 * :math:`\sum_{i\in G} f(z_i) \approx \frac{1}{\mathcal A}\int_{|z|\le L} dV_g\, f`, with
   :math:`dV_g = d^2z/(1-|z|^2)^2`, :math:`\mathcal A = \pi(pq-2p-2q)/(4p)` the area per site
-  (:math:`\pi/28` for {7,3}) and :math:`L = \sqrt{N/(N + \pi/\mathcal A)}` (Eq. (eq12));
-* the counting function :math:`\mathcal N(r) = \sum_i\Theta(r - r_i)` (Eq. (sum2)) grows
-  like :math:`s\rho + b` (Eq. (sum4)) with :math:`\rho = (1+r^2)/(1-r^2)` and
+  (:math:`\pi/28` for {7,3}) and :math:`L = \sqrt{N/(N + \pi/\mathcal A)}` (``eq12``);
+* the counting function :math:`\mathcal N(r) = \sum_i\Theta(r - r_i)` (``sum2``) grows
+  like :math:`s\rho + b` (``sum4``) with :math:`\rho = (1+r^2)/(1-r^2)` and
   :math:`s = \pi/(2\mathcal A) = 2p/(pq-2p-2q)` (14 for {7,3});
 
 How the paper's :math:`b = -9.096` (Fig. FigS1, :math:`\ell = 4`) arises: an ordinary
@@ -54,11 +54,11 @@ MAX_SLOPE = 1e6
 
 
 # ----------------------------------------------------------------------------
-# counting function, Eqs. (sum2)-(sum4)
+# counting function, ``sum2``–``sum4``
 # ----------------------------------------------------------------------------
 
 def counting_function(lattice: Lattice, *, rtol: float = 1e-9) -> tuple[np.ndarray, np.ndarray]:
-    r"""Distinct site radii :math:`r_k` and :math:`\mathcal N(r_k) = \#\{i: r_i \le r_k\}`, Eq. (sum2).
+    r"""Distinct site radii :math:`r_k` and :math:`\mathcal N(r_k) = \#\{i: r_i \le r_k\}`, ``sum2``.
 
     Radii closer than ``rtol`` (relative) count as equal: symmetry-related sites agree to
     a few ulp, while distinct shells of the lattices built here differ by more than 1e-4.
@@ -73,7 +73,7 @@ def counting_function(lattice: Lattice, *, rtol: float = 1e-9) -> tuple[np.ndarr
 
 @dataclass(frozen=True, eq=False, kw_only=True)
 class CountingFit(Result):
-    r"""Least-squares fit :math:`\mathcal N(r) \approx s\rho + b` of Eq. (sum4).
+    r"""Least-squares fit :math:`\mathcal N(r) \approx s\rho + b` of ``sum4``.
 
     ``radii`` and ``counts`` are the fitted points :math:`(r_k, \mathcal N(r_k))`, one per
     distinct radius of the window; ``rms`` is the rms residual of the fit.
@@ -111,7 +111,7 @@ class CountingFit(Result):
 
 def fit_counting(lattice: Lattice, *, slope: float | None = None, window: str = "all",
                  slope_rtol: float = 0.1) -> CountingFit:
-    r"""Fit :math:`\mathcal N(r) \approx s\rho + b` (Eq. (sum4), Fig. FigS1).
+    r"""Fit :math:`\mathcal N(r) \approx s\rho + b` (``sum4``, Fig. FigS1).
 
     Procedure (the one that reproduces the paper's b = -9.096 for {7,3}, :math:`\ell=4`):
     ordinary least squares through one point :math:`(\rho(r_k), \mathcal N(r_k))` per
@@ -175,7 +175,7 @@ def fit_counting(lattice: Lattice, *, slope: float | None = None, window: str = 
 
 
 # ----------------------------------------------------------------------------
-# sums as integrals, Eq. (eq11)
+# sums as integrals, ``eq11``
 # ----------------------------------------------------------------------------
 
 def disk_integral(f: Callable, radius: float, *, angular_points: int = 64,
@@ -238,7 +238,7 @@ def disk_integral(f: Callable, radius: float, *, angular_points: int = 64,
 
 @dataclass(frozen=True, eq=False, kw_only=True)
 class SumCheck(Result):
-    r"""One check of Eq. (eq11): lattice sum against :math:`(1/\mathcal A)\int_{|z|\le L} f\,dV_g`."""
+    r"""One check of ``eq11``: lattice sum against :math:`(1/\mathcal A)\int_{|z|\le L} f\,dV_g`."""
 
     p: int
     q: int
@@ -265,10 +265,10 @@ class SumCheck(Result):
 
 
 def sum_check(lattice: Lattice, f: Callable, *, name: str | None = None) -> SumCheck:
-    r"""Compare :math:`\sum_i f(z_i)` with :math:`\frac{1}{\mathcal A}\int_{|z|\le L}dV_g f`, Eq. (eq11).
+    r"""Compare :math:`\sum_i f(z_i)` with :math:`\frac{1}{\mathcal A}\int_{|z|\le L}dV_g f`, ``eq11``.
 
     ``f`` maps complex arrays to arrays (e.g. a :class:`hyperlattice.scaling.SmoothFunction`).
-    L is the effective radius of Eq. (eq12) generalised to {p,q}, which makes f = 1 exact.
+    L is the effective radius of ``eq12`` generalised to {p,q}, which makes f = 1 exact.
     """
     _validate.lattice(lattice)
     f = _validate.function("f", f)

@@ -1,6 +1,6 @@
 r"""Operators on a lattice as ``scipy.sparse`` CSR matrices.
 
-The hopping Hamiltonian of Eq. (1) with an optional on-site term is
+The hopping Hamiltonian of ``eq1`` with an optional on-site term is
 
 .. math:: H = -t A + \mathrm{diag}(V), \qquad A_{ij} = 1 \text{ if } i \sim j,
 

@@ -39,7 +39,7 @@ def plot_frame_angles(lattice: Lattice | FrameAngles | None = None, ax=None) -> 
     r"""Fig. FigScos3delta: :math:`\cos(q\delta_i)` against :math:`r_i`, averaged at equal radius.
 
     :math:`\delta_i` is defined modulo :math:`2\pi/q`, so :math:`\cos(q\delta_i)` (the quantity
-    entering Eq. (adj36)) is plotted; red bars span min..max where sites of one radius
+    entering ``adj36``) is plotted; red bars span min..max where sites of one radius
     disagree (the map :math:`r \mapsto \delta` is not unique). Default lattice: {7,3}, 5 rings.
     The profile is :func:`hyperlattice.compare.scaling.angle_profile`.
     """
@@ -60,7 +60,7 @@ def plot_frame_angles(lattice: Lattice | FrameAngles | None = None, ax=None) -> 
 def draw_operator_profile(profile: OperatorProfile, ax=None) -> Axes:
     r"""Fig. FigSh for one :class:`OperatorProfile`: :math:`\hat A_h f - qf` against :math:`d(r,0)`.
 
-    Circles: Eq. (adj34); squares: cubic approximation (adj36); line: quadratic (adj35),
+    Circles: ``adj34``; squares: cubic approximation (adj36); line: quadratic (adj35),
     all averaged over fully coordinated sites of equal radius (the quadratic one as a curve in r
     when f is radial).
     """
@@ -112,8 +112,8 @@ def plot_convergence(study: ConvergenceStudy, ax=None) -> Axes:
 
 
 def plot_counting(lattice: Lattice | CountingFit | None = None, ax=None) -> Axes:
-    r"""Fig. FigS1: the counting function :math:`\mathcal{N}(r)` (Eq. (sum2)) against
-    :math:`\rho` with the fitted line :math:`s\rho + b` (Eq. (sum4)). Default {7,3}, 4 rings.
+    r"""Fig. FigS1: the counting function :math:`\mathcal{N}(r)` (``sum2``) against
+    :math:`\rho` with the fitted line :math:`s\rho + b` (``sum4``). Default {7,3}, 4 rings.
 
     Given a :class:`~hyperlattice.compare.sums.CountingFit`, draws its own points (one per
     distinct radius of its window) instead of the staircase of every site.
