@@ -103,9 +103,11 @@ import warnings
 import numpy as np
 from scipy import special as sc
 
+from .. import _validate
 from ..errors import ConvergenceError, ConvergenceWarning
 
 __all__ = [
+    "MAX_ORDER",
     "legendre_p",
     "legendre_q",
     "legendre_log_p",
@@ -115,46 +117,98 @@ __all__ = [
     "legendre_cm",
     "conical_p",
     "nu_from_lambda",
+    "check_order",
+    "legendre_p_log_parts",
+    "evaluate_checked",
 ]
+
+MAX_ORDER = 1000         # largest order m accepted (validated against mpmath up to here)
+_MAX_POINTS = 2**24      # largest broadcast size accepted (refused before allocating)
+_CHUNK = 2**14           # points evaluated at once (bounds the working memory of every method)
+_QUAD_CELLS = 2**21      # points x nodes of the Laplace quadrature held in memory at once
 
 _EPS = 2.0**-54          # target relative size of the neglected tail of every series
 _NMAX = 20000            # hard cap on series terms (never reached in the documented domain)
 _X_NEAR_P = 3.0          # P: w-series for x <= 3 (w <= 1/2), q-series beyond (q < 0.03)
+_X_FAR_FALLBACK = 300.0  # P, m >= 6: the w-series backs up the q-series up to here (<= 7000 terms)
+_X_CF_MAX = 300.0        # P, m > 30: the Casoratian method is the last resort up to here
 _Z_NEAR_Q = 0.5          # Q: log-case series in z = 1-q for z <= _Z_NEAR_Q (x <= 1.0607) ...
 _Z_NEAR_Q_LARGE_M = 0.75  # ... and up to z = 0.75 (x <= 1.25) for m >= 4, where the q-series is slow
+_Q_CONNECT = 0.0625      # Q: |nu - (-n-3/2)| below this uses Q_nu = Q_{-nu-1} + pi cot(nu pi) P_nu
+_M_DIRECT_Q = 30         # Q: direct series for m <= 30, upward recurrence in m beyond
 _CAUCHY_M = 32           # nodes on the Cauchy circle around half-integer degrees
 _SERIES_LOSS = 1e2       # if sum|terms|/|sum| exceeds this, try the Laplace quadrature too
+_WARN_REL = 1e-8         # Q warns when its estimated relative error exceeds this
+_ROUND = 4e-16           # rounding error of one operation, with a safety factor of about 4
 
 
 # ----------------------------------------------------------------------------
 # input handling
 # ----------------------------------------------------------------------------
 
-def _check_m(m) -> np.ndarray:
-    m_arr = np.asarray(m)
-    if m_arr.dtype.kind == "f":
-        if not np.all(np.isfinite(m_arr)) or np.any(m_arr != np.round(m_arr)):
-            raise ValueError("the order m must be a non-negative integer.")
-        m_arr = m_arr.astype(np.int64)
-    elif m_arr.dtype.kind not in "iu":
-        raise ValueError("the order m must be a non-negative integer.")
-    if np.any(m_arr < 0):
-        raise ValueError("the order m must be non-negative; use P^m = P^{|m|} up to the "
+def _order_array(value) -> np.ndarray:
+    """``value`` as an int64 array of orders 0 <= m <= MAX_ORDER.
+
+    A local helper because :mod:`hyperlattice._validate` has scalar integers but no integer
+    arrays; it follows the same rules (no bool, no strings, no None, integral floats accepted).
+    """
+    name = "the order m"
+    if value is None or isinstance(value, (str, bytes)):
+        raise ValueError(f"{name} must be a non-negative integer, got {value!r}.")
+    try:
+        a = np.asarray(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a non-negative integer or an array of them "
+                         "(a ragged or mixed list is not).") from None
+    if a.dtype.kind == "O":
+        # Python ints beyond int64 (or mixed objects): check each through the scalar door
+        flat = [_validate.integer(name, v, minimum=0, maximum=MAX_ORDER) for v in a.ravel()]
+        return np.array(flat, dtype=np.int64).reshape(a.shape)
+    if a.dtype.kind not in "iuf":
+        raise ValueError(f"{name} must be a non-negative integer, got values of type {a.dtype}.")
+    if a.dtype.kind == "f":
+        if not np.all(np.isfinite(a)) or np.any(a != np.round(a)):
+            raise ValueError(f"{name} must be a non-negative integer.")
+    if np.any(a < 0):
+        raise ValueError(f"{name} must be non-negative; use P^m = P^{{|m|}} up to the "
                          "documented factors for negative m.")
-    return m_arr.astype(np.int64)
+    if np.any(a > MAX_ORDER):
+        raise ValueError(f"{name} must be at most {MAX_ORDER} (the validated range of these "
+                         f"functions), got {int(np.max(a)) if a.dtype.kind != 'f' else float(np.max(a)):g}.")
+    return a.astype(np.int64)
+
+
+def check_order(m) -> np.ndarray:
+    r"""Validate Legendre orders: ``m`` as an int64 array with :math:`0 \le m \le` :data:`MAX_ORDER`.
+
+    Parameters
+    ----------
+    m : int or array_like of int
+        Integral floats (``3.0``) are accepted; bool, strings, None, NaN, negative or
+        non-integral values are not.
+
+    Returns
+    -------
+    ndarray of int64
+        Same shape as ``m``.
+
+    Raises
+    ------
+    ValueError
+        With a plain sentence, for anything that is not a valid order.
+    """
+    return _order_array(m)
 
 
 def _check_x(x, *, allow_one: bool = True) -> np.ndarray:
-    x_arr = np.asarray(x)
-    if np.iscomplexobj(x_arr):
-        if np.any(x_arr.imag != 0):
+    name = "the argument x"
+    if x is not None and not isinstance(x, (str, bytes)) and np.iscomplexobj(x):
+        x_c = _validate.complex_array(name, x)
+        if np.any(x_c.imag != 0):
             raise ValueError("the argument x must be real (x >= 1); complex x is not supported.")
-        x_arr = x_arr.real
-    x_arr = x_arr.astype(float)
-    if np.any(np.isnan(x_arr)):
-        raise ValueError("the argument x contains NaN.")
-    if np.any(~np.isfinite(x_arr)):
-        raise ValueError("the argument x must be finite.")
+        x_arr = np.ascontiguousarray(x_c.real)
+    else:
+        x_arr = _validate.real_array(name, x)
     if np.any(x_arr < 1.0):
         raise ValueError("the argument x must satisfy x >= 1 (the functions are of type 3, x > 1).")
     if not allow_one and np.any(x_arr == 1.0):
@@ -163,19 +217,24 @@ def _check_x(x, *, allow_one: bool = True) -> np.ndarray:
 
 
 def _check_nu(nu) -> np.ndarray:
-    nu_arr = np.asarray(nu).astype(complex)
-    if np.any(~np.isfinite(nu_arr)):
-        raise ValueError("the degree nu must be finite (no NaN or inf).")
-    return nu_arr
+    return _validate.complex_array("the degree nu", nu)
 
 
 def _broadcast(nu, m, x, *, allow_one=True):
     nu_a = _check_nu(nu)
-    m_a = _check_m(m)
+    m_a = check_order(m)
     x_a = _check_x(x, allow_one=allow_one)
+    try:
+        shape = np.broadcast_shapes(nu_a.shape, m_a.shape, x_a.shape)
+    except ValueError:
+        raise ValueError(f"nu, m and x must broadcast to one shape; got shapes {nu_a.shape}, "
+                         f"{m_a.shape} and {x_a.shape}.") from None
+    size = math.prod(shape)
+    if size > _MAX_POINTS:
+        raise ValueError(f"nu, m and x broadcast to {size:,} points; at most {_MAX_POINTS:,} are "
+                         "evaluated in one call (split the request).")
     nu_b, m_b, x_b = np.broadcast_arrays(nu_a, m_a, x_a)
-    shape = nu_b.shape
-    return (nu_b.ravel().copy(), m_b.ravel().astype(np.int64), x_b.ravel().copy(), shape)
+    return (nu_b.ravel().copy(), m_b.ravel().astype(np.int64), x_b.ravel().astype(float), shape)
 
 
 def _geom(x):
@@ -188,31 +247,86 @@ def _geom(x):
     return d, t, q, z
 
 
+def _pow2_renorm(k, mant):
+    """Divide ``mant`` by the power of two nearest |mant| (exact), adding the exponent to the
+    integer array ``k`` (in place); zeros and non-finite values stay. Integer exponents keep
+    the log-scale free of the rounding a running sum of logarithms would accumulate."""
+    a = np.abs(mant)
+    ok = (a > 0) & np.isfinite(a)
+    e = np.frexp(np.where(ok, a, 1.0))[1]
+    k += e
+    mant *= np.ldexp(1.0, -e)
+
+
+_LN2 = math.log(2.0)
+
+
+def _log_product(factor, n, shape):
+    """(log_scale, mantissa) of prod_{j<n} factor(j) elementwise, renormalized every 8 steps so
+    that products of up to ``MAX_ORDER`` factors of any size neither overflow nor underflow."""
+    k = np.zeros(shape, dtype=np.int64)
+    mant = np.ones(shape, complex)
+    nmax = int(np.max(n)) if np.size(n) else 0
+    for j in range(nmax):
+        mant = np.where(j < n, mant * factor(j), mant)
+        if j % 8 == 7:
+            _pow2_renorm(k, mant)
+    _pow2_renorm(k, mant)
+    return k * _LN2, mant
+
+
 def _pochhammer_sym(nu, m):
-    """Gamma(nu+m+1)/Gamma(nu-m+1) = prod_{j=1-m}^{m} (nu+j), as a polynomial (no poles)."""
-    out = np.ones(nu.shape, complex)
-    mmax = int(m.max()) if m.size else 0
-    for j in range(1, mmax + 1):
-        use = j <= m
-        out = np.where(use, out * (nu + j) * (nu - j + 1), out)
-    return out
+    """Gamma(nu+m+1)/Gamma(nu-m+1) = prod_{j=1-m}^{m} (nu+j) as (log_scale, mantissa); a
+    polynomial (no poles), exactly 0 for integers 0 <= nu < m."""
+    return _log_product(lambda j: (nu + (j + 1)) * (nu - j), m, nu.shape)
 
 
 def _rising(a, n):
-    """(a)_n for an array a and an integer array n >= 0 (elementwise)."""
-    out = np.ones(np.broadcast(a, n).shape, complex)
-    nmax = int(np.max(n)) if np.size(n) else 0
-    for j in range(nmax):
-        out = np.where(j < n, out * (a + j), out)
-    return out
+    """(a)_n for an array a and an integer array n >= 0, as (log_scale, mantissa)."""
+    return _log_product(lambda j: a + j, n, np.broadcast(a, n).shape)
+
+
+def _log_rgamma(z):
+    """1/Gamma(z) as (log_scale, mantissa): scipy's rgamma where it cannot overflow, the
+    log-gamma function beyond; exactly 0 at the poles z = 0, -1, -2, ..."""
+    small = np.abs(z) <= 100.0
+    scale = np.zeros(z.shape)
+    mant = np.zeros(z.shape, complex)
+    mant[small] = sc.rgamma(z[small])
+    big = ~small
+    if big.any():
+        lg = -sc.loggamma(z[big])
+        pole = (z[big].imag == 0) & (z[big].real <= 0) & (z[big].real == np.round(z[big].real))
+        scale[big] = np.where(pole, 0.0, lg.real)
+        mant[big] = np.where(pole, 0.0, np.exp(1j * np.where(pole, 0.0, lg.imag)))
+    return scale, mant
+
+
+def _combine(parts, coeffs):
+    """sum_i coeff_i * (s_i, m_i, e_i) on a common scale; coefficients are (log_scale, mantissa)."""
+    logs = [s + cs for (s, _, _), (cs, _) in zip(parts, coeffs)]
+    top = np.max(np.stack(logs), axis=0)
+    top = np.where(np.isfinite(top), top, 0.0)
+    mant = np.zeros(top.shape, complex)
+    err = np.zeros(top.shape)
+    for (s, mt, er), (cs, cm), lg in zip(parts, coeffs, logs):
+        with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+            f = np.exp(lg - top)
+        f = np.where(cm == 0, 0.0, f)
+        mant += cm * mt * f
+        err += np.abs(cm) * (er + _ROUND * np.abs(mt)) * f
+    return top, mant, err
 
 
 # ----------------------------------------------------------------------------
 # a vectorized Gauss hypergeometric series with its own convergence check
 # ----------------------------------------------------------------------------
 
-def _hyp_series(a, b, c, z, *, what: str):
+def _hyp_series(a, b, c, z, *, what: str, strict: bool = True):
     """Sum F(a, b; c; z) = sum_n (a)_n (b)_n / ((c)_n n!) z^n elementwise.
+
+    With ``strict=False`` elements that have not converged after ``_NMAX`` terms come back
+    as NaN (for a caller that has another method) instead of raising.
 
     Returns ``(sum, sum of |terms|)``; the second measures the cancellation, hence the
     rounding error ``~ eps * sum|terms|``. Stops an element when the term ratio is below 1 and
@@ -251,11 +365,15 @@ def _hyp_series(a, b, c, z, *, what: str):
             term, S, SA, ratio = term[keep], S[keep], SA[keep], ratio[keep]
             if act.size == 0:
                 return total, absum
+    if not strict:
+        total[act] = np.nan
+        absum[act] = np.inf
+        return total, absum
     raise ConvergenceError(f"hypergeometric series for {what} did not converge in {_NMAX} terms.")
 
 
 # ----------------------------------------------------------------------------
-# P_nu^m: near region (w-series, Laplace quadrature) and far region (q-series)
+# P_nu^m: near region (w-series, Laplace quadrature)
 # ----------------------------------------------------------------------------
 
 def _reflect(nu):
@@ -264,16 +382,20 @@ def _reflect(nu):
 
 
 def _p_near_series(nu, m, x):
-    """(log_scale, mantissa, abs_err_mantissa) of P by the w-series; Re nu >= -1/2, 1 < x <= 3."""
+    """(log_scale, mantissa, abs_err_mantissa) of P by the w-series; Re nu >= -1/2, x > 1."""
     d = x - 1.0
     w = d / (d + 2.0)
-    F, FA = _hyp_series(-nu, m - nu, (m + 1.0).astype(complex), w, what="P_nu^m (w-series)")
-    poly = _pochhammer_sym(nu, m)
+    F, FA = _hyp_series(-nu, m - nu, (m + 1.0).astype(complex), w, what="P_nu^m (w-series)",
+                        strict=False)
+    ps, poly = _pochhammer_sym(nu, m)
     # log of w^{m/2} ((1+x)/2)^nu / m!
-    logs = 0.5 * m * np.log(w) + nu * np.log1p(0.5 * d) - sc.gammaln(m + 1.0)
+    logs = 0.5 * m * np.log(w) + nu * np.log1p(0.5 * d) - sc.gammaln(m + 1.0) + ps
     scale = logs.real
     mant = np.exp(1j * logs.imag) * poly * F
-    err = np.abs(poly) * FA * 4e-16
+    # rounding of the sum and of the exponent: its terms (each rounded) reach 1e4 for large m
+    # and cancel in part, so count eps times the sum of their sizes
+    big = np.abs(0.5 * m * np.log(w)) + sc.gammaln(m + 1.0) + np.abs(ps) + np.abs(nu * np.log1p(0.5 * d))
+    err = _ROUND * np.abs(poly) * (FA + big * np.abs(F))
     return scale, mant, err
 
 
@@ -286,32 +408,45 @@ def _p_near_quad(nu, m, x):
     out_scale = np.empty(x.shape)
     out_mant = np.empty(x.shape, complex)
     out_err = np.empty(x.shape)
-    # group by node count (rounded up to a multiple of 16) so that each group is one 2-D array op
+    # group by node count (rounded up to 2^(k/4)) so that each group is one 2-D array op,
+    # in row blocks of at most _QUAD_CELLS points x nodes (bounded memory)
     nn = (2.0 ** (np.ceil(np.log2(nnodes) * 4.0) / 4.0)).astype(int)
     nn += nn % 2
+    rs, rm = _rising(nu + 1.0, m)
     for n_here in np.unique(nn):
-        sel = np.nonzero(nn == n_here)[0]
         phi = np.linspace(0.0, np.pi, n_here + 1)
         wts = np.full(n_here + 1, np.pi / n_here)
         wts[0] *= 0.5
         wts[-1] *= 0.5
-        base = x[sel, None] + s[sel, None] * np.cos(phi)[None, :]
-        lg = np.log(base)
-        expo = nu[sel, None] * lg
-        # factor out the largest modulus: (x+s)^{Re nu} at phi = 0 for Re nu >= 0, else phi = pi
-        sc_row = np.max(expo.real, axis=1)
-        f = np.exp(expo - sc_row[:, None]) * np.cos(m[sel, None] * phi[None, :])
-        val = f @ wts
-        half = f[:, ::2] @ (2.0 * wts[::2]) if n_here % 2 == 0 else val
-        absint = np.abs(f) @ wts
-        pref = _rising(nu[sel] + 1.0, m[sel]) / np.pi
-        out_scale[sel] = sc_row
-        out_mant[sel] = pref * val
-        # rounding ~ eps * integral of |f|; discretisation judged by the half-step rule
-        disc = np.abs(val - half)
-        out_err[sel] = np.abs(pref) * (4e-16 * absint * np.sqrt(n_here) + 1e-3 * disc)
+        rows = max(1, _QUAD_CELLS // (n_here + 1))
+        group = np.nonzero(nn == n_here)[0]
+        for b0 in range(0, group.size, rows):
+            sel = group[b0:b0 + rows]
+            base = x[sel, None] + s[sel, None] * np.cos(phi)[None, :]
+            expo = nu[sel, None] * np.log(base)
+            # factor out the largest modulus: (x+s)^{Re nu} at phi = 0 for Re nu >= 0, else phi = pi
+            sc_row = np.max(expo.real, axis=1)
+            f = np.exp(expo - sc_row[:, None]) * np.cos(m[sel, None] * phi[None, :])
+            val = f @ wts
+            half = f[:, ::2] @ (2.0 * wts[::2])
+            absint = np.abs(f) @ wts
+            pref = rm[sel] / np.pi
+            out_scale[sel] = sc_row + rs[sel]
+            out_mant[sel] = pref * val
+            # rounding ~ eps * integral of |f|. The trapezoidal rule on a periodic analytic
+            # integrand converges geometrically, E(n) ~ C r^n with C >= the integral of |f|,
+            # so E(n) ~ E(n/2)^2 / C <= |val - half|^2 / absint (the half-step estimate squared)
+            disc = np.abs(val - half)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                trunc = np.where(absint > 0, disc * disc / absint, 0.0)
+            big = np.max(np.abs(expo.imag), axis=1)      # rounding of the phase of base^nu
+            out_err[sel] = np.abs(pref) * (_ROUND * absint * (np.sqrt(n_here) + big) + trunc)
     return out_scale, out_mant, out_err
 
+
+# ----------------------------------------------------------------------------
+# P_nu^m: far region (q-series, connection formula)
+# ----------------------------------------------------------------------------
 
 def _p_far_terms(nu, m, t, q):
     """P by the connection formula (valid for any nu that is not a half-integer).
@@ -330,14 +465,26 @@ def _p_far_terms(nu, m, t, q):
     # tan has period pi: reduce by the (exactly representable) nearest integer first, so that
     # tan(nu pi) is exactly 0 at integer nu (where P_n^m = 0 for n < m must come out as 0)
     tanv = np.tan(np.pi * (nu - np.round(nu.real)))
-    l1 = sc.loggamma(nu + mf + 1.0) - sc.loggamma(nu + 1.5) - (nu + 1.0) * t + mf * np.log1p(-q)
-    a2 = np.where(m == 0, -sc.rgamma(nu + 1.0), _rising(1.0 - nu, np.maximum(m - 1, 0)) * sc.rgamma(nu))
-    l2 = sc.loggamma(nu + 0.5) + nu * t + mf * np.log1p(-q)
+    g1, g2, g3 = sc.loggamma(nu + mf + 1.0), sc.loggamma(nu + 1.5), sc.loggamma(nu + 0.5)
+    lq = mf * np.log1p(-q)
+    l1 = g1 - g2 - (nu + 1.0) * t + lq
+    # A2 as (log_scale, mantissa): (1-nu)_{m-1} reaches (m-1)! and 1/Gamma(nu) e^{pi |Im nu|/2}
+    rs, rm = _rising(1.0 - nu, np.maximum(m - 1, 0))
+    gs0, gm0 = _log_rgamma(nu + 1.0)
+    gs1, gm1 = _log_rgamma(nu)
+    a2s = np.where(m == 0, gs0, rs + gs1)
+    a2m = np.where(m == 0, -gm0, rm * gm1)
+    l2 = g3 + nu * t + lq + a2s
+    # rounding of the exponents, each a sum of logarithms of size up to ~ m ln m: an absolute
+    # error eps * (sum of their sizes) in l1, l2 is amplified by the cancellation T1 + T2
+    # (measured: 6e-10 at m = 400, x = 100 from 4e-13 in l1)
+    big1 = np.abs(g1) + np.abs(g2) + np.abs((nu + 1.0) * t) + np.abs(lq)
+    big2 = np.abs(g3) + np.abs(nu * t) + np.abs(lq) + np.abs(a2s)
     scale = np.maximum(l1.real, l2.real)
     c1 = sign * tanv / math.sqrt(math.pi) * np.exp(l1 - scale)
-    c2 = -sign * a2 / math.sqrt(math.pi) * np.exp(l2 - scale)
+    c2 = -sign * a2m / math.sqrt(math.pi) * np.exp(l2 - scale)
     mant = c1 * F1 + c2 * F2
-    err = 4e-16 * (np.abs(c1) * F1A + np.abs(c2) * F2A)
+    err = _ROUND * (np.abs(c1) * (F1A + big1 * np.abs(F1)) + np.abs(c2) * (F2A + big2 * np.abs(F2)))
     return scale, mant, err
 
 
@@ -361,7 +508,12 @@ def _cauchy(func, nu, centre, radius, *args):
     fac = np.exp(s - smax[:, None])
     kern = (radius[:, None] * e[None, :]) / (radius[:, None] * e[None, :] - (nu - centre)[:, None]) / M
     mant = np.sum(mnt * fac * kern, axis=1)
-    err = np.sum(er * fac * np.abs(kern), axis=1)
+    # errors of the node values, rounding of the sum (the values on the circle may exceed the
+    # result by far), and the aliasing error of the trapezoidal rule, ~ max|f| (d/R)^M
+    size = np.abs(mnt) * fac
+    ratio = np.abs(nu - centre) / radius
+    alias = np.max(size, axis=1) * ratio**M / (1.0 - ratio**M)
+    err = np.sum((er * fac + _ROUND * size) * np.abs(kern), axis=1) + alias
     return smax, mant, err
 
 
@@ -392,9 +544,69 @@ def _pick(base, alt, idx):
     s1, m1, e1 = alt
     with np.errstate(over="ignore", under="ignore", invalid="ignore"):
         e0_on_1 = e0[idx] * np.exp(s0[idx] - s1)
-    better = e1 < e0_on_1
+    better = (e1 < e0_on_1) | ~np.isfinite(e0_on_1) | ~np.isfinite(m0[idx])
+    better &= np.isfinite(m1) & np.isfinite(e1)
     j = idx[better]
     s0[j], m0[j], e0[j] = s1[better], m1[better], e1[better]
+
+
+def _p_casoratian(nu, m, x):
+    """P for large m from Q and the ratio P^{m+1}/P^m (Re nu >= -1/2, 1 < x <= _X_CF_MAX).
+
+    The ratio r_j = P^{j+1}/P^j solves r_j = b_j/(a_j + r_{j+1}) with a_j = 2(j+1) coth t,
+    b_j = (nu-j)(nu+j+1) (the recurrence DLMF 14.10.6 read downwards); P is the minimal
+    solution in increasing j beyond |nu| sinh t (ratio tending to tanh^2(t/2) per step
+    against Q), so the continued fraction started at M = max(m, 2 |nu| sinh t) + N with
+    N = 40/(-2 ln tanh(t/2)) has converged at j = m (Gautschi; Miller's algorithm). The
+    Casoratian P^m Q^{m+1} - Q^m P^{m+1} = -(-1)^m Gamma(nu+m+1)/Gamma(nu-m+1) / sqrt(x^2-1)
+    (the Wronskian DLMF 14.2.4 through the derivative relation DLMF 14.10.6) then gives
+    P^m = Casoratian / (Q^{m+1} - r_m Q^m) with both Q accurate (upward recurrence).
+    This covers large m together with large |nu| at moderate x, where the w-series
+    (|nu| sqrt(w) large), the quadrature (cos(m phi) cancels) and the q-series connection
+    formula (F ~ e^{m/x}) all cancel. The truncation of the fraction is estimated by a
+    second start N steps further out, its rounding by a running error bound.
+    """
+    n = x.size
+    d, t, _, _ = _geom(x)
+    sx = np.sqrt(d * (d + 2.0))
+    c = x / sx                                              # coth t
+    th = np.tanh(0.5 * t)
+    nsteps = np.ceil(40.0 / (-2.0 * np.log(th))).astype(np.int64)
+    # below j ~ |nu| sinh t the characteristic roots of the recurrence can have equal size
+    # (conical nu); from j = 2 |nu| sinh t on their ratio is below (x - 0.87)/(x + 0.87)
+    start = np.maximum(m, np.ceil(2.0 * np.abs(nu) * sx).astype(np.int64)) + nsteps + 2
+    usable = start - m <= _NMAX
+    start = np.where(usable, start, m)
+    far_start = np.where(usable, start + nsteps, m)
+    r1 = np.zeros(n, complex)                               # fraction started at `start`
+    e1 = np.zeros(n)                                        # running rounding-error bound of r1
+    r2 = np.zeros(n, complex)                               # ... and at `far_start`
+    for j in range(int(far_start.max()) - 1, int(m.min()) - 1, -1):
+        a = 2.0 * (j + 1) * c
+        b = (nu - j) * (nu + (j + 1.0))
+        act2 = (j < far_start) & (j >= m)
+        act1 = (j < start) & (j >= m)
+        with np.errstate(all="ignore"):
+            r2 = np.where(act2, b / (a + r2), r2)
+            new = b / (a + r1)
+            # d r_j / d r_{j+1} = -r_j / (a + r_{j+1}); three roundings per step
+            e1 = np.where(act1, np.abs(new / (a + r1)) * e1 + 3.0 * _ROUND * np.abs(new), e1)
+            r1 = np.where(act1, new, r1)
+    sq0, q0, eq0 = _log_q_parts(nu, m, x)
+    sq1, q1, eq1 = _log_q_parts(nu, m + 1, x)
+    top = np.maximum(sq0, sq1)
+    f0, f1 = np.exp(sq0 - top), np.exp(sq1 - top)
+    q0, eq0, q1, eq1 = q0 * f0, eq0 * f0, q1 * f1, eq1 * f1
+    den = q1 - r1 * q0
+    ps, pm = _pochhammer_sym(nu, m)
+    sign = np.where(m % 2 == 0, -1.0, 1.0)
+    scale = ps - np.log(sx) - top
+    with np.errstate(all="ignore"):
+        mant = sign * pm / den
+        cond = (np.abs(q1) + np.abs(r1 * q0)) / np.abs(den)
+        rel = ((eq1 + np.abs(r1) * eq0 + (np.abs(r1 - r2) + e1) * np.abs(q0)) / np.abs(den)
+               + 4.0 * _ROUND * cond)
+    return scale, mant, np.where(usable, rel * np.abs(mant), np.inf)
 
 
 def _log_p_parts(nu, m, x):
@@ -411,57 +623,79 @@ def _log_p_parts(nu, m, x):
         i = np.nonzero(near)[0]
         scale[i], mant[i], err[i] = _p_near_series(nu[i], m[i], x[i])
         # sum|terms| / |sum| above _SERIES_LOSS: the series cancels (large |nu| sqrt(w))
-        j = i[err[i] > _SERIES_LOSS * 4e-16 * np.abs(mant[i])]
+        j = i[~(err[i] <= _SERIES_LOSS * _ROUND * np.abs(mant[i]))]
         if j.size:
             _pick(out, _p_near_quad(nu[j], m[j], x[j]), j)
     if far.any():
         i = np.nonzero(far)[0]
         scale[i], mant[i], err[i] = _p_far(nu[i], m[i], x[i])
-        # for large m the two terms of the connection formula cancel for moderate x (measured:
-        # 1e-5 at m = 30, x = 3; 3e-12 at m = 10): the w-series still converges there (slowly)
-        # and is the fallback up to x = 100. For m < 6 a large error estimate relative to the
-        # value only means that P is near one of its zeros (conical oscillation), where the
-        # error relative to the envelope is fine, so no fallback is attempted.
-        j = i[(err[i] > _SERIES_LOSS * 4e-16 * np.abs(mant[i])) & (x[i] <= 100.0) & (m[i] >= 6)]
+        # for large m the two terms of the connection formula cancel for x up to about m/3
+        # (F1, F2 ~ e^{m/x}; measured: 1e-5 at m = 30, x = 3; 3e-12 at m = 10): the w-series
+        # still converges there (slowly) and is the fallback up to x = _X_FAR_FALLBACK. For
+        # m < 6 a large error estimate relative to the value only means that P is near one of
+        # its zeros (conical oscillation), where the error relative to the envelope is fine,
+        # so no fallback is attempted.
+        j = i[~(err[i] <= _SERIES_LOSS * _ROUND * np.abs(mant[i]))
+              & (x[i] <= _X_FAR_FALLBACK) & (m[i] >= 6)]
         if j.size:
             _pick(out, _p_near_series(nu[j], m[j], x[j]), j)
+    # large m with large |nu|: all of the above may cancel; the Casoratian method does not.
+    # Only for m > _M_DIRECT_Q: below, a large estimate means a zero of P (measured: the
+    # other methods reach 1e-12 there for m <= 30), and root searches evaluate P at its
+    # zeros many times (the fallback would cost a Q evaluation each time)
+    i = np.nonzero((~at_one) & (m > _M_DIRECT_Q) & (x <= _X_CF_MAX))[0]
+    j = i[~(err[i] <= _SERIES_LOSS * _ROUND * np.abs(mant[i]))]
+    if j.size:
+        _pick(out, _p_casoratian(nu[j], m[j], x[j]), j)
     return out
 
 
 # ----------------------------------------------------------------------------
-# Q_nu^m: near region (log-case series in 1-q) and far region (q-series)
+# Q_nu^m: near region (log-case series in 1-q), far region (q-series), large m (recurrence)
 # ----------------------------------------------------------------------------
 
-def _q_far_terms(nu, m, t, q):
+def _q_far_terms(nu, m, t, q, strict=True):
     """Q_nu^m = (-1)^m sqrt(pi) Gamma(nu+m+1)/Gamma(nu+3/2) (1-q)^m e^{-(nu+1)t} F(...; q)."""
     mf = m.astype(float)
     F, FA = _hyp_series(nu + mf + 1.0, (mf + 0.5).astype(complex), nu + 1.5, q,
-                        what="Q_nu^m (q-series)")
+                        what="Q_nu^m (q-series)", strict=strict)
     sign = np.where(m % 2 == 0, 1.0, -1.0)
     logs = (sc.loggamma(nu + mf + 1.0) - sc.loggamma(nu + 1.5) - (nu + 1.0) * t
             + mf * np.log1p(-q) + 0.5 * math.log(math.pi))
     scale = logs.real
     pref = sign * np.exp(1j * logs.imag)
-    return scale, pref * F, 4e-16 * FA
+    return scale, pref * F, _ROUND * (FA + np.abs(logs.imag) * np.abs(F))
 
 
-def _q_far(nu, m, x):
+def _q_far(nu, m, x, strict=True):
+    """Q by the q-series; ``strict=False``: NaN where it does not converge (a fallback)."""
     _, t, q, _ = _geom(x)
     scale = np.empty(x.shape)
     mant = np.empty(x.shape, complex)
     err = np.empty(x.shape)
-    # nu + 3/2 near a non-positive integer: Gamma(nu+3/2) and F have cancelling poles
+    # nu + 3/2 near a non-positive integer -n: Gamma(nu+3/2) and F have cancelling poles, and
+    # at nu = -n-3/2 exactly the leading x^{-nu-1} behaviour drops out, leaving Q ~ x^{nu}
+    # smaller than each term by x^{-2n-1}. The reflection (A&S 8.2.2 with integer mu = m)
+    #     Q_nu^m = Q_{-nu-1}^m + pi cot(nu pi) P_nu^m,   cot(nu pi) = -tan(delta pi),
+    # delta = nu + n + 3/2 (exact in floating point), splits Q into a decaying part and a
+    # growing part of size ~ delta without cancellation. (A Cauchy circle around the
+    # half-integer was used here before: it cancels by that same factor x^{2n+1} and was
+    # 100x off at nu = -3.5, m = 3, x = 50.)
     cpar = nu + 1.5
     centre = np.round(cpar.real)
-    radius = np.full(x.shape, 0.25)
-    bad = (centre <= 0) & (np.abs(cpar - centre) < 0.25 * radius)
+    bad = (centre <= 0) & (np.abs(cpar - centre) < _Q_CONNECT)
     ok = ~bad
     if ok.any():
-        scale[ok], mant[ok], err[ok] = _q_far_terms(nu[ok], m[ok], t[ok], q[ok])
+        scale[ok], mant[ok], err[ok] = _q_far_terms(nu[ok], m[ok], t[ok], q[ok], strict)
     if bad.any():
-        i = bad
-        scale[i], mant[i], err[i] = _cauchy(_q_far_terms, nu[i], (centre[i] - 1.5).astype(complex),
-                                            radius[i], m[i], t[i], q[i])
+        i = np.nonzero(bad)[0]
+        delta = nu[i] - (centre[i] - 1.5)
+        nu_r = -nu[i] - 1.0                                  # Re nu_r >= n + 1/2 - 1/16
+        qr = _log_q_direct(nu_r, m[i], x[i])
+        pr = _log_p_parts(nu_r, m[i], x[i])
+        cot = -np.tan(np.pi * delta) * np.pi
+        one = (np.zeros(i.size), np.ones(i.size, complex))
+        scale[i], mant[i], err[i] = _combine([qr, pr], [one, (np.zeros(i.size), cot)])
     return scale, mant, err
 
 
@@ -534,7 +768,8 @@ def _q_near(nu, m, x):
         term = term * ratio
     else:
         raise ConvergenceError("log-case series for Q_nu^m near x = 1 did not converge.")
-    poly = _pochhammer_sym(nu, m)
+    ps, pm = _pochhammer_sym(nu, m)
+    poly = pm * np.exp(ps)                          # m <= _M_DIRECT_Q here: no overflow
     rg = sc.rgamma(0.5 - mf)
     c2 = poly * rg
     # assemble with common scale z^{-m} e^{-(Re nu + 1) t}
@@ -544,11 +779,13 @@ def _q_near(nu, m, x):
     ph = sign * np.exp(1j * logs.imag)
     zm = np.exp(2.0 * mf * np.log(z))                # z^{2m}: S2 and the scale differ by it
     mant = ph * (pref1 * s1 - c2 * zm * total)
-    err = 4e-16 * np.abs(ph) * (np.abs(pref1) * s1a + np.abs(c2) * zm * absum)
+    err = _ROUND * np.abs(ph) * (np.abs(pref1) * s1a + np.abs(c2) * zm * absum
+                                 + np.abs(logs.imag) * np.abs(mant))
     return scale, mant, err
 
 
-def _log_q_parts(nu, m, x):
+def _log_q_direct(nu, m, x):
+    """Q for m <= _M_DIRECT_Q by the series in z = 1-q (near 1) or in q (elsewhere)."""
     scale = np.zeros(x.shape)
     mant = np.zeros(x.shape, complex)
     err = np.zeros(x.shape)
@@ -561,47 +798,194 @@ def _log_q_parts(nu, m, x):
         scale[i], mant[i], err[i] = _q_near(nu[i], m[i], x[i])
         # the log-case series cancels for large |nu| z or large m: the q-series, slow but
         # free of cancellation there, is the fallback (measured: 1e-14 where this gives 1e-6)
-        j = i[err[i] > 25.0 * 4e-16 * np.abs(mant[i])]
+        j = i[~(err[i] <= 25.0 * _ROUND * np.abs(mant[i]))]
         if j.size:
-            _pick(out, _q_far(nu[j], m[j], x[j]), j)
+            _pick(out, _q_far(nu[j], m[j], x[j], strict=False), j)
     if far.any():
         i = np.nonzero(far)[0]
         scale[i], mant[i], err[i] = _q_far(nu[i], m[i], x[i])
     return out
 
 
+def _q_recurrence(nu, m, x):
+    """Q for m > _M_DIRECT_Q by the upward recurrence in m (DLMF 14.10.6 for x > 1),
+
+        Q^{mu+2} = -2(mu+1) x (x^2-1)^{-1/2} Q^{mu+1} + (nu-mu)(nu+mu+1) Q^mu,
+
+    started from the direct values at mu = _M_DIRECT_Q - 1 and _M_DIRECT_Q. For mu > |nu| the
+    characteristic roots are -mu coth(t/2) (Q, dominant) and -mu tanh(t/2) (P), so upward
+    recurrence is stable for Q; below |nu| the roots have equal size.
+
+    Error estimate: the recurrence is linear, so y_m = U_m + V_m where U, V are the solutions
+    started from (y_0, 0) and (0, y_1). |U_m|/|y_m| and |V_m|/|y_m| are the amplification
+    factors of relative errors in the two start values; a rounding error made on the way is
+    amplified about as much (at most 3 eps |y| per step, since |a y1| + |b y0| <= 3 |y2| for
+    the dominant solution). A worst-case bound |a| e1 + |b| e0 instead grows like 3^steps.
+    The values are rescaled by exact powers of two; a running sum of logarithms would lose
+    about 1e-11 relative after 1000 steps (measured at m = 1000, x = 1.25).
+    """
+    n = x.size
+    m0 = _M_DIRECT_Q - 1
+    s0, y0, e0 = _log_q_direct(nu, np.full(n, m0), x)
+    s1, y1, e1 = _log_q_direct(nu, np.full(n, m0 + 1), x)
+    scale = np.maximum(s0, s1)
+    f0, f1 = np.exp(s0 - scale), np.exp(s1 - scale)
+    y0, e0, y1, e1 = y0 * f0, e0 * f0, y1 * f1, e1 * f1
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r0 = np.where(y0 != 0, e0 / np.abs(y0), 0.0) + _ROUND     # relative start errors
+        r1 = np.where(y1 != 0, e1 / np.abs(y1), 0.0) + _ROUND
+    u0, u1 = y0.copy(), np.zeros(n, complex)                     # U: started from (y0, 0)
+    k = np.zeros(n, dtype=np.int64)
+    steps = np.maximum(m - (m0 + 1), 0)
+    d = x - 1.0
+    c = x / np.sqrt(d * (d + 2.0))                 # coth t, accurate near x = 1
+    for mu in range(m0, int(m.max()) - 1):
+        act = mu + 2 <= m
+        a = -2.0 * (mu + 1) * c
+        b = (nu - mu) * (nu + mu + 1.0)
+        y2 = a * y1 + b * y0
+        u2 = a * u1 + b * u0
+        y0, y1 = np.where(act, y1, y0), np.where(act, y2, y1)
+        u0, u1 = np.where(act, u1, u0), np.where(act, u2, u1)
+        # keep |y1| near 1 (it grows like mu coth(t/2) per step), by exact powers of two
+        a1 = np.abs(y1)
+        e = np.frexp(np.where((a1 > 0) & np.isfinite(a1), a1, 1.0))[1]
+        f = np.ldexp(1.0, -e)
+        y0, y1, u0, u1 = y0 * f, y1 * f, u0 * f, u1 * f
+        k += e
+    au, av = np.abs(u1), np.abs(y1 - u1)
+    err = r0 * au + r1 * av + 3.0 * _ROUND * steps * np.maximum(np.maximum(au, av), np.abs(y1))
+    return scale + k * _LN2, y1, err
+
+
+def _log_q_parts(nu, m, x):
+    if m.size == 0 or int(m.max()) <= _M_DIRECT_Q:
+        return _log_q_direct(nu, m, x)
+    scale = np.zeros(x.shape)
+    mant = np.zeros(x.shape, complex)
+    err = np.zeros(x.shape)
+    low = m <= _M_DIRECT_Q
+    if low.any():
+        scale[low], mant[low], err[low] = _log_q_direct(nu[low], m[low], x[low])
+    high = ~low
+    scale[high], mant[high], err[high] = _q_recurrence(nu[high], m[high], x[high])
+    return scale, mant, err
+
+
 # ----------------------------------------------------------------------------
 # public API
 # ----------------------------------------------------------------------------
 
-def _guarded(func, nu, m, x, *, warn=True):
-    """Run an evaluator with floating-point warnings silenced (intermediate overflow in tail
-    bounds of diverging early terms is harmless) and check the result and its error estimate.
+def legendre_p_log_parts(nu, m, x) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    r"""Low-level evaluator of :math:`P_\nu^m(x)` on flat, already validated arrays.
+
+    For callers that evaluate many points and check them with :func:`evaluate_checked`
+    (``evaluate_checked(legendre_p_log_parts, nu, m, x, warn=False)``); end users call
+    :func:`legendre_p` or :func:`legendre_log_p`, which validate their input.
+
+    Parameters
+    ----------
+    nu : ndarray of complex, shape (n,)
+    m : ndarray of int64, shape (n,)
+        Orders from :func:`check_order`.
+    x : ndarray of float, shape (n,)
+        Arguments :math:`x \ge 1`.
+
+    Returns
+    -------
+    log_scale, mantissa, abs_err : ndarray, shape (n,)
+        :math:`P = \text{mantissa}\cdot e^{\text{log\_scale}}`, with ``abs_err`` the estimated
+        absolute error of the mantissa (same scale).
+    """
+    return _log_p_parts(nu, m, x)
+
+
+def _nice(v) -> str:
+    v = complex(v)
+    return f"{v.real:g}" if v.imag == 0 else f"{v.real:g}{v.imag:+g}j"
+
+
+def evaluate_checked(func, nu, m, x, *, warn: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Run a low-level evaluator such as :func:`legendre_p_log_parts` and check its result.
+
+    Evaluates in blocks of a few thousand points (bounded working memory), with floating-point
+    warnings silenced (intermediate overflow in tail bounds of diverging early terms is
+    harmless), then checks that every value is finite and that the estimated relative error
+    is below 1e-8; above that it warns with the estimate (which is a true upper estimate, see
+    the module docstring).
 
     The accuracy warning compares the error estimate with the value itself. That is meaningful
     for Q (no zeros on x > 1 in the supported domain) but not for P, which oscillates: near a
     zero of P every method loses relative (not envelope-relative) accuracy, and for P both
-    candidate methods are already tried wherever one of them is suspect, so ``warn=False``.
+    candidate methods are already tried wherever one of them is suspect, so pass
+    ``warn=False`` for P.
+
+    Parameters
+    ----------
+    func : callable
+        ``func(nu, m, x) -> (log_scale, mantissa, abs_err)`` on flat arrays.
+    nu, m, x : ndarray, shape (n,)
+        Complex degrees, int64 orders (validated by :func:`check_order`), float arguments.
+    warn : bool
+        Issue :class:`~hyperlattice.errors.ConvergenceWarning` for estimated relative errors
+        above 1e-8.
+
+    Returns
+    -------
+    log_scale, mantissa, abs_err : ndarray, shape (n,)
+
+    Raises
+    ------
+    ValueError
+        If an order exceeds :data:`MAX_ORDER`.
+    ConvergenceError
+        If a value is not finite (outside the supported domain).
     """
+    n = x.size
+    if n and int(np.max(m)) > MAX_ORDER:
+        raise ValueError(f"the order m must be at most {MAX_ORDER}, got {int(np.max(m))}.")
+    s = np.empty(n)
+    mt = np.empty(n, complex)
+    er = np.empty(n)
     with np.errstate(all="ignore"):
-        s, mt, er = func(nu, m, x)
+        for b0 in range(0, n, _CHUNK):
+            sl = slice(b0, b0 + _CHUNK)
+            s[sl], mt[sl], er[sl] = func(nu[sl], m[sl], x[sl])
+    # the log-scale itself is rounded (and is a sum of a few logarithms): relative error of
+    # the value at least about eps |log_scale|, which the evaluators do not count
+    er = er + _ROUND * np.abs(s) * np.abs(mt)
     bad = ~(np.isfinite(s) & np.isfinite(mt))
     bad &= ~((mt == 0) & ~np.isnan(s))
     if bad.any():
         k = int(np.argmax(bad))
         raise ConvergenceError(
-            f"Legendre function evaluation failed (non-finite result) at nu={nu[k]!r}, m={m[k]}, "
-            f"x={x[k]!r}; this is at a pole in nu or outside the supported domain.")
+            f"Legendre function evaluation failed (non-finite result) at nu = {_nice(nu[k])}, "
+            f"m = {m[k]}, x = {float(x[k]):g}; this lies outside the supported domain.")
     with np.errstate(all="ignore"):
         rel = er / np.abs(mt)
-    poor = (rel > 1e-8) & warn
+    poor = (rel > _WARN_REL) & warn
     if poor.any():
         k = int(np.argmax(np.where(poor, rel, 0)))
         warnings.warn(
             f"Legendre function lost accuracy (estimated relative error {rel[k]:.1e}) at "
-            f"nu={nu[k]!r}, m={m[k]}, x={x[k]!r}, outside the validated domain.",
+            f"nu = {_nice(nu[k])}, m = {m[k]}, x = {float(x[k]):g}, outside the validated domain.",
             ConvergenceWarning, stacklevel=3)
     return s, mt, er
+
+
+# Underscore names kept as aliases while continuum/spectrum.py moves to the public names.
+_check_m = check_order
+_guarded = evaluate_checked
+
+
+def _check_q_poles(nu, m):
+    """Q_nu^m has genuine poles where nu + m + 1 is 0, -1, -2, ... (Gamma(nu+m+1))."""
+    a = nu + m + 1.0
+    pole = (a.imag == 0) & (a.real <= 0) & (a.real == np.round(a.real))
+    if pole.any():
+        k = int(np.argmax(pole))
+        raise ValueError(f"Q_nu^m has a pole at nu = {_nice(nu[k])}, m = {m[k]} (nu + m + 1 is a "
+                         "non-positive integer); it is not defined there.")
 
 
 def _finish(scale, mant, shape):
@@ -611,7 +995,8 @@ def _finish(scale, mant, shape):
     return val[()] if val.ndim == 0 else val
 
 
-def legendre_p(nu, m, x):
+
+def legendre_p(nu, m, x) -> complex | np.ndarray:
     r"""Associated Legendre function of the first kind :math:`P_\nu^m(x)`, :math:`x \ge 1`.
 
     DLMF §14.3 (type 3): :math:`P_\nu^m(x) = (x^2-1)^{m/2}\, d^m P_\nu/dx^m`, no
@@ -621,31 +1006,33 @@ def legendre_p(nu, m, x):
     Parameters
     ----------
     nu : complex or array_like
-        Degree (any complex value; :math:`P_\nu = P_{-\nu-1}` is used internally).
+        Degree (any finite complex value; :math:`P_\nu = P_{-\nu-1}` is used internally).
+        Validated: conical :math:`k \le 600`, other complex :math:`|\nu| \lesssim 50`.
     m : int or array_like of int
-        Order, :math:`m \ge 0`.
+        Order, :math:`0 \le m \le` :data:`MAX_ORDER` (= 1000); larger orders are refused.
     x : float or array_like
         Argument, :math:`1 \le x \le 10^{12}` is the validated range (larger works).
 
     Returns
     -------
     complex or ndarray of complex
-        Broadcast over ``nu``, ``m`` and ``x``. May overflow to ``inf`` for huge real degrees;
-        use :func:`legendre_log_p` then.
+        Broadcast over ``nu``, ``m`` and ``x`` (at most 2**24 points per call). May overflow
+        to ``inf`` for huge real degrees or large orders; use :func:`legendre_log_p` then.
 
     Raises
     ------
     ValueError
-        For ``m < 0``, non-integer ``m``, ``x < 1`` or NaN input.
+        For ``m < 0``, non-integer ``m``, ``m > MAX_ORDER``, ``x < 1``, NaN, None, bool,
+        strings, or shapes that do not broadcast.
     ConvergenceError
         If a series fails to converge (outside the documented domain).
     """
     nu_f, m_f, x_f, shape = _broadcast(nu, m, x)
-    s, mt, _ = _guarded(_log_p_parts, nu_f, m_f, x_f, warn=False)
+    s, mt, _ = evaluate_checked(_log_p_parts, nu_f, m_f, x_f, warn=False)
     return _finish(s, mt, shape)
 
 
-def legendre_q(nu, m, x):
+def legendre_q(nu, m, x) -> complex | np.ndarray:
     r"""Associated Legendre function of the second kind :math:`Q_\nu^m(x)`, :math:`x > 1`.
 
     DLMF §14.3 (type 3) including the phase :math:`e^{\mathrm{i}m\pi} = (-1)^m`:
@@ -653,64 +1040,83 @@ def legendre_q(nu, m, x):
     mpmath's ``legenq(nu, m, x, type=3)``. It is the solution of ``green16`` that decays at
     large :math:`x` for :math:`\operatorname{Re}\nu > -\tfrac12` and is singular at
     :math:`x = 1` (``green17``). Poles at :math:`\nu + m + 1 \in \{0, -1, \dots\}` are
-    genuine.
+    genuine (ValueError).
 
     Parameters
     ----------
     nu : complex or array_like
-    m : int or array_like of int, ``m >= 0``
-    x : float or array_like, ``x > 1``
+        Degree; validated: conical :math:`k \le 600`, real :math:`\nu \in [-6, 5]` (including
+        the half-integers :math:`-\tfrac32, -\tfrac52, \dots`), complex :math:`|\nu| \lesssim 50`.
+    m : int or array_like of int
+        Order, :math:`0 \le m \le` :data:`MAX_ORDER` (= 1000).
+    x : float or array_like
+        Argument, :math:`x > 1`; validated up to :math:`10^{12}`.
 
     Returns
     -------
     complex or ndarray of complex
+        Broadcast over ``nu``, ``m`` and ``x``. A
+        :class:`~hyperlattice.errors.ConvergenceWarning` states the estimated relative
+        error where it exceeds 1e-8.
 
     Raises
     ------
     ValueError
-        For ``m < 0``, ``x <= 1`` or NaN input.
+        For invalid ``m`` (see :func:`legendre_p`), ``x <= 1``, NaN, None, bool, strings,
+        shapes that do not broadcast, or at a pole.
     ConvergenceError
         If a series fails to converge.
     """
     nu_f, m_f, x_f, shape = _broadcast(nu, m, x, allow_one=False)
-    s, mt, _ = _guarded(_log_q_parts, nu_f, m_f, x_f)
+    _check_q_poles(nu_f, m_f)
+    s, mt, _ = evaluate_checked(_log_q_parts, nu_f, m_f, x_f)
     return _finish(s, mt, shape)
 
 
-def legendre_log_p(nu, m, x):
+def legendre_log_p(nu, m, x) -> tuple[np.ndarray, np.ndarray]:
     r"""Scaled :math:`P_\nu^m(x)`: returns ``(log_scale, mantissa)`` with
     :math:`P = \text{mantissa}\cdot e^{\text{log\_scale}}` (real ``log_scale``), avoiding
-    overflow and underflow for large :math:`m`, large real :math:`\nu` or :math:`x \to 1`."""
+    overflow and underflow for large :math:`m`, large real :math:`\nu` or :math:`x \to 1`.
+
+    Arguments and errors as for :func:`legendre_p`; both outputs have the broadcast shape
+    (0-d arrays for scalar input).
+    """
     nu_f, m_f, x_f, shape = _broadcast(nu, m, x)
-    s, mt, _ = _guarded(_log_p_parts, nu_f, m_f, x_f, warn=False)
+    s, mt, _ = evaluate_checked(_log_p_parts, nu_f, m_f, x_f, warn=False)
     return s.reshape(shape), mt.reshape(shape)
 
 
-def legendre_log_q(nu, m, x):
-    r"""Scaled :math:`Q_\nu^m(x)` as ``(log_scale, mantissa)``; see :func:`legendre_log_p`."""
+def legendre_log_q(nu, m, x) -> tuple[np.ndarray, np.ndarray]:
+    r"""Scaled :math:`Q_\nu^m(x)` as ``(log_scale, mantissa)``; see :func:`legendre_log_p`.
+
+    Arguments, warnings and errors as for :func:`legendre_q`.
+    """
     nu_f, m_f, x_f, shape = _broadcast(nu, m, x, allow_one=False)
-    s, mt, _ = _guarded(_log_q_parts, nu_f, m_f, x_f)
+    _check_q_poles(nu_f, m_f)
+    s, mt, _ = evaluate_checked(_log_q_parts, nu_f, m_f, x_f)
     return s.reshape(shape), mt.reshape(shape)
 
 
-def legendre_q_over_p(nu, m, x):
+def legendre_q_over_p(nu, m, x) -> complex | np.ndarray:
     r"""The ratio :math:`Q_\nu^m(x)/P_\nu^m(x)` evaluated without forming either factor.
 
     This is the boundary factor :math:`u_m(\rho_L)/v_m(\rho_L)` of ``green31`` (Dirichlet
     correction of the Green function) at :math:`\rho_L = (1+L^2)/(1-L^2)`, which reaches
     :math:`10^{7}` and beyond; both functions are carried as log-scaled pairs so that the
     ratio stays accurate where the factors would overflow. Infinite where :math:`P = 0`.
+    Arguments and errors as for :func:`legendre_q`.
     """
     nu_f, m_f, x_f, shape = _broadcast(nu, m, x, allow_one=False)
-    sp, mp_, _ = _guarded(_log_p_parts, nu_f, m_f, x_f, warn=False)
-    sq, mq, _ = _guarded(_log_q_parts, nu_f, m_f, x_f)
+    _check_q_poles(nu_f, m_f)
+    sp, mp_, _ = evaluate_checked(_log_p_parts, nu_f, m_f, x_f, warn=False)
+    sq, mq, _ = evaluate_checked(_log_q_parts, nu_f, m_f, x_f)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         val = (mq / mp_) * np.exp(sq - sp)
     val = val.reshape(shape)
     return val[()] if val.ndim == 0 else val
 
 
-def legendre_wronskian(nu, m, x):
+def legendre_wronskian(nu, m, x) -> complex | np.ndarray:
     r"""Exact Wronskian :math:`W\{P_\nu^m, Q_\nu^m\}(x) = P Q' - Q P'` in this convention.
 
     .. math:: W = \frac{(-1)^m}{1-x^2}\frac{\Gamma(\nu+m+1)}{\Gamma(\nu-m+1)}
@@ -720,12 +1126,14 @@ def legendre_wronskian(nu, m, x):
     """
     nu_f, m_f, x_f, shape = _broadcast(nu, m, x, allow_one=False)
     sign = np.where(m_f % 2 == 0, 1.0, -1.0)
-    val = sign * _pochhammer_sym(nu_f, m_f) / ((1.0 - x_f) * (1.0 + x_f))
+    ps, pm = _pochhammer_sym(nu_f, m_f)
+    with np.errstate(over="ignore"):
+        val = sign * pm * np.exp(ps) / ((1.0 - x_f) * (1.0 + x_f))
     val = val.reshape(shape)
     return val[()] if val.ndim == 0 else val
 
 
-def legendre_cm(nu, m):
+def legendre_cm(nu, m) -> complex | np.ndarray:
     r"""The constant :math:`C_m` of ``green25b`` / ``green26b``.
 
     .. math:: C_m = \frac{\Gamma(\frac{\nu-m+2}{2})\Gamma(\frac{\nu-m+1}{2})}
@@ -734,17 +1142,27 @@ def legendre_cm(nu, m):
                   = \frac{(-1)^m}{\prod_{n=0}^{m-1}[(n+\frac12)^2 + \frac14(\lambda-1)]},
 
     with :math:`\lambda = -4\nu(\nu+1)`; :math:`C_0 = 1`. Computed as the reciprocal of the
-    polynomial :math:`\prod_{j=1-m}^{m}(\nu+j)` (no Gamma functions, no poles).
+    polynomial :math:`\prod_{j=1-m}^{m}(\nu+j)` (no Gamma functions, no poles); infinite
+    where that polynomial vanishes (integer :math:`0 \le \nu < m`).
     """
     nu_a = _check_nu(nu)
-    m_a = _check_m(m)
-    nu_b, m_b = np.broadcast_arrays(nu_a, m_a)
-    val = 1.0 / _pochhammer_sym(nu_b.ravel(), m_b.ravel().astype(np.int64))
+    m_a = check_order(m)
+    try:
+        nu_b, m_b = np.broadcast_arrays(nu_a, m_a)
+    except ValueError:
+        raise ValueError(f"nu and m must broadcast to one shape; got shapes {nu_a.shape} and "
+                         f"{m_a.shape}.") from None
+    if nu_b.size > _MAX_POINTS:
+        raise ValueError(f"nu and m broadcast to {nu_b.size:,} points; at most {_MAX_POINTS:,} "
+                         "are evaluated in one call.")
+    ps, pm = _pochhammer_sym(nu_b.ravel(), m_b.ravel().astype(np.int64))
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+        val = np.where(pm == 0, np.inf + 0j, np.exp(-ps) / np.where(pm == 0, 1.0, pm))
     val = val.reshape(nu_b.shape)
     return val[()] if val.ndim == 0 else val
 
 
-def nu_from_lambda(lam):
+def nu_from_lambda(lam) -> complex | np.ndarray:
     r"""Degree :math:`\nu` for the Helmholtz parameter :math:`\lambda` of ``green16``.
 
     :math:`\lambda/4 = -\nu(\nu+1)`. The branch :math:`\nu = -\tfrac12 + \tfrac12\sqrt{1-\lambda}`
@@ -753,21 +1171,18 @@ def nu_from_lambda(lam):
     :math:`\lambda = 0`, makes :math:`Q_\nu^m` the solution decaying as :math:`x\to\infty`, and for
     real :math:`\lambda = 1 + k^2 > 1` gives the paper's :math:`\nu = \tfrac12(-1+\mathrm{i}k)`.
     """
-    lam_a = np.asarray(lam, dtype=complex)
-    if np.any(~np.isfinite(lam_a)):
-        raise ValueError("lambda must be finite.")
+    lam_a = _validate.complex_array("lambda", lam)
     val = -0.5 + 0.5 * np.sqrt(1.0 - lam_a + 0j)
     return val[()] if val.ndim == 0 else val
 
 
-def conical_p(k, m, x):
+def conical_p(k, m, x) -> float | np.ndarray:
     r"""Conical function :math:`P^m_{(-1+\mathrm{i}k)/2}(x)` for real :math:`k`, as a real array.
 
     For :math:`\nu = -\tfrac12 + \mathrm{i}k/2` the function is real for real :math:`x > 1`
     (:math:`P_\nu = P_{-\nu-1} = P_{\bar\nu}`), which is what the Dirichlet condition ``spec2``
     needs. The imaginary part of the complex evaluation (rounding only) is discarded.
+    Arguments and errors as for :func:`legendre_p`, with real ``k``.
     """
-    k_a = np.asarray(k, dtype=float)
-    if np.any(~np.isfinite(k_a)):
-        raise ValueError("the momentum k must be finite real numbers.")
+    k_a = _validate.real_array("the momentum k", k)
     return np.real(legendre_p(-0.5 + 0.5j * k_a, m, x))
