@@ -279,3 +279,12 @@ def test_error_bound_holds_against_a_40_digit_root(radius, levels):
         assert actual <= err
         # and the bound is not vacuous: below 1e-5 of the level's distance to E_inf
         assert err < 1e-5 * (e - energy_infinity(7, 3))
+
+
+def test_ring_form_of_eq19_is_a_curve_in_real_l():
+    # Fig2 draws eq19 against a continuous l; integer l gives the SuppTab1 rows
+    a = asymptotic_energies(7, 3, rings=4.5, form="rings")
+    lo, hi = asymptotic_energies(7, 3, rings=4, form="rings"), asymptotic_energies(7, 3, rings=5, form="rings")
+    assert hi["E0"] < a["E0"] < lo["E0"]
+    with pytest.raises(ValueError):
+        asymptotic_energies(7, 3, rings=0.5, form="rings")

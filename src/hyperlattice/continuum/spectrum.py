@@ -183,7 +183,8 @@ def asymptotic_energies(p=7, q=3, *, radius=None, rings=None, form="auto") -> di
     ``form="rings"`` (only {7,3} with ``rings``): ``eq19`` with ``spec11``/``spec17``,
     :math:`E_{0,1} \sim E_\infty + \frac{3\pi^2h^2}{4}[\ln\varphi\,\ell + c_{0,1}]^{-2}`,
     :math:`c_0=\ln 2`, :math:`c_1 = \ln 2 - 1` — the paper's "asymptotic" rows of ``SuppTab1``
-    (they use :math:`N\sim 7\varphi^{2\ell}`). ``form="radius"`` (any {p,q}): ``spec10`` and
+    (they use :math:`N\sim 7\varphi^{2\ell}`; ``rings`` may be any real :math:`\ell \ge 1` here, to
+    draw the formula as a curve). ``form="radius"`` (any {p,q}): ``spec10`` and
     ``spec16`` inserted in :func:`level_energy`, i.e. with the exact :math:`x_L`;
     ``"auto"`` picks ``"rings"`` for {7,3} with rings and ``"radius"`` otherwise.
 
@@ -200,7 +201,8 @@ def asymptotic_energies(p=7, q=3, *, radius=None, rings=None, form="auto") -> di
     if form == "rings":
         if rings is None or (p, q) != (7, 3):
             raise ValueError("the ring form of eq19 is defined for {7,3} with a number of rings.")
-        rings = _validate.positive_int("rings", rings, maximum=_MAX_RINGS)
+        # eq19 is a smooth function of l: a real l >= 1 draws it as a curve (Fig2)
+        rings = _validate.real("rings", rings, minimum=1.0, maximum=_MAX_RINGS)
         lnphi = math.log(GOLDEN)
         pref = math.pi**2 * hopping_scale(p, q)
         e0 = e_inf + pref / (lnphi * rings + math.log(2.0)) ** 2
