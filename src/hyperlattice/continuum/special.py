@@ -173,8 +173,10 @@ def _order_array(value) -> np.ndarray:
         raise ValueError(f"{name} must be non-negative; use P^m = P^{{|m|}} up to the "
                          "documented factors for negative m.")
     if np.any(a > MAX_ORDER):
-        raise ValueError(f"{name} must be at most {MAX_ORDER} (the validated range of these "
-                         f"functions), got {int(np.max(a)) if a.dtype.kind != 'f' else float(np.max(a)):g}.")
+        top = np.max(a)
+        shown = f"{int(top):,}" if a.dtype.kind != "f" else f"{float(top):g}"
+        raise ValueError(f"{name} must be at most {MAX_ORDER:,} (the validated range of these "
+                         f"functions), got {shown}.")
     return a.astype(np.int64)
 
 
@@ -943,7 +945,7 @@ def evaluate_checked(func, nu, m, x, *, warn: bool = True) -> tuple[np.ndarray, 
     """
     n = x.size
     if n and int(np.max(m)) > MAX_ORDER:
-        raise ValueError(f"the order m must be at most {MAX_ORDER}, got {int(np.max(m))}.")
+        raise ValueError(f"the order m must be at most {MAX_ORDER:,}, got {int(np.max(m)):,}.")
     s = np.empty(n)
     mt = np.empty(n, complex)
     er = np.empty(n)
