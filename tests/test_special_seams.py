@@ -19,8 +19,6 @@ relative to max(|P|, envelope) with the envelope |tan(nu pi)|/pi (|Q_nu^m| + |Q_
 from __future__ import annotations
 
 import math
-import time
-import warnings
 from typing import NamedTuple
 
 import mpmath as mp
@@ -28,9 +26,7 @@ import numpy as np
 import pytest
 
 from hyperlattice.continuum import special as sp
-from hyperlattice.continuum.special import (MAX_ORDER, check_order, evaluate_checked, legendre_log_p,
-                                            legendre_log_q, legendre_p, legendre_p_log_parts, legendre_q)
-from hyperlattice.errors import ConvergenceWarning
+from hyperlattice.continuum.special import check_order, evaluate_checked, legendre_p_log_parts
 
 mp.mp.dps = 30
 

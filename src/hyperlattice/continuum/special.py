@@ -75,24 +75,67 @@ Write :math:`x = \cosh t`, :math:`q = e^{-2t}` and :math:`w = (x-1)/(x+1) = \tan
   :math:`k = 0`) the two terms have poles that cancel (the logarithmic case); there the value
   is obtained from Cauchy's integral formula in :math:`\nu` on a circle of radius
   :math:`R = \min(1/4, 1/t)` around the half-integer, where the formula is well conditioned
-  (the trapezoidal rule on the circle converges like :math:`(|\nu-\nu_0|/R)^{M}`).
+  (values on the circle exceed the centre value by at most :math:`e^{Rt} \le e`; the
+  trapezoidal rule on the circle converges like :math:`(|\nu-\nu_0|/R)^{M}`). For
+  :math:`m \ge 6` and large :math:`m/x` the two terms cancel (the series grow like
+  :math:`e^{m/x}`); up to :math:`x = 300` the :math:`w`-series above is tried as well.
+* :math:`P`, :math:`m > 30` where all of the above cancel (large :math:`m` together with
+  large :math:`|\nu|`, moderate :math:`x \le 300`): the ratio :math:`P^{m+1}/P^m` from the
+  continued fraction of the order recurrence DLMF 14.10.6 (:math:`P` is its minimal solution
+  beyond :math:`j \approx |\nu|\sinh t`; Gautschi's/Miller's method), combined with the
+  Wronskian (A&S 8.1.9) into :math:`P^m = -(-1)^m\,\Gamma(\nu+m+1)/\Gamma(\nu-m+1)\,
+  (x^2-1)^{-1/2} / (Q^{m+1} - (P^{m+1}/P^m)\,Q^m)`.
 * :math:`Q`, :math:`x` near 1 (:math:`1-q \le z_*`): the same :math:`q`-series continued to
   :math:`q\to 1` by the logarithmic-case formula DLMF 15.8.10 (here
   :math:`c-a-b = -2m`), which is a convergent series in :math:`1-q` containing
   :math:`\ln(1-q)` and digamma functions and is free of degenerate cases; elsewhere the
-  :math:`q`-series above. Near :math:`-\tfrac32, -\tfrac52, \dots` (where :math:`\nu+\tfrac32`
-  is a pole of :math:`\Gamma`) the Cauchy formula is used as for :math:`P`.
+  :math:`q`-series above.
+* :math:`Q` within :math:`1/16` of :math:`\nu = -\tfrac32, -\tfrac52, \dots` (where
+  :math:`\nu+\tfrac32` is a pole of :math:`\Gamma` and the leading :math:`x^{-\nu-1}`
+  behaviour drops out, leaving a value smaller than each term by :math:`x^{2n+1}`): the
+  reflection :math:`Q_\nu^m = Q_{-\nu-1}^m + \pi\cot(\nu\pi)\,P_\nu^m` (A&S 8.2.2 with
+  integer order), which splits :math:`Q` into its decaying and growing parts without
+  cancellation.
+* :math:`Q`, :math:`m > 30`: upward recurrence in the order (DLMF 14.10.6) from the direct
+  values at :math:`m = 29, 30`; :math:`Q` is its dominant solution, so it is stable.
 
 Every series checks its own truncation (tail bound from the term ratio) and raises
 :class:`~hyperlattice.errors.ConvergenceError` if it does not converge. Values are carried as
-``(log_scale, mantissa)`` pairs internally so that large orders (:math:`m \le 30`) and
-arguments up to :math:`10^{12}` neither overflow nor underflow; :func:`legendre_q_over_p` and
-:func:`legendre_log_p` / :func:`legendre_log_q` expose that.
+``(log_scale, mantissa)`` pairs internally (rescaled by exact powers of two) so that orders up
+to :data:`MAX_ORDER` and arguments up to :math:`10^{12}` neither overflow nor underflow;
+:func:`legendre_q_over_p` and :func:`legendre_log_p` / :func:`legendre_log_q` expose that.
 
-Accuracy (measured against mpmath at 30 digits, see ``docs/continuum.md`` and
-``tests/test_special.py``): relative error below :math:`10^{-13}` away from zeros for
-:math:`x \in [1, 10^{12}]`, :math:`m \le 30`, conical :math:`k \le 600` and complex
-:math:`|\nu| \lesssim 50`; near zeros the error is at that level relative to the local envelope.
+Error estimates
+---------------
+Each method returns an estimate of its absolute error: rounding of its sums
+(:math:`\varepsilon\sum|\text{terms}|`), of its exponents and phases
+(:math:`\varepsilon` times the size of the logarithms that make them), the truncation of
+quadratures (squared half-step difference) and continued fractions (a second start), and
+the propagation of start errors through recurrences (tangent solution). Where two methods
+apply, the smaller estimate wins. :func:`legendre_q` warns
+(:class:`~hyperlattice.errors.ConvergenceWarning`) when its estimate exceeds :math:`10^{-8}`
+relative; the tests check that estimates are upper estimates up to a factor 3 (or
+:math:`10^{-12}`). :func:`legendre_p` does not warn, because near its zeros every method
+loses relative accuracy while staying accurate relative to the local envelope.
+
+Supported domain
+----------------
+Orders :math:`0 \le m \le` ``MAX_ORDER`` = 1000 (larger orders are refused with a
+``ValueError`` before any work), :math:`1 \le x` (validated to :math:`10^{12}`), complex
+:math:`\nu` validated for conical :math:`k \le 600`, real :math:`\nu \in [-6, 5]` and complex
+:math:`|\nu| \lesssim 50`; up to :math:`|\nu| \approx 10^3` spot checks agree to
+:math:`10^{-10}`. At most :math:`2^{24}` points per call.
+
+Accuracy (measured against mpmath at 30 digits; ``tests/test_special.py`` over regions,
+``tests/test_special_seams.py`` at every method switch, ``tests/test_special_defects.py``):
+relative error below :math:`10^{-13}` away from zeros for :math:`x \in [1, 10^{12}]`,
+:math:`m \le 30`, conical :math:`k \le 600` and complex :math:`|\nu| \lesssim 50` (near zeros
+at that level relative to the local envelope), including exactly at and next to every
+switch (worst measured there 5e-14); for :math:`30 < m \le 1000` below
+:math:`3\cdot10^{-12}` for :math:`P` with :math:`x \le 300` and below :math:`4\cdot10^{-11}`
+for :math:`Q` (the log-scale of size :math:`\sim 7000` alone has an ulp of :math:`10^{-12}`).
+Known weak spot: :math:`P` with :math:`m` near 1000 just beyond :math:`x = 300`
+(:math:`1.5\cdot10^{-10}`, marked ``xfail`` in the seam tests).
 """
 
 from __future__ import annotations
@@ -556,12 +599,13 @@ def _p_casoratian(nu, m, x):
     """P for large m from Q and the ratio P^{m+1}/P^m (Re nu >= -1/2, 1 < x <= _X_CF_MAX).
 
     The ratio r_j = P^{j+1}/P^j solves r_j = b_j/(a_j + r_{j+1}) with a_j = 2(j+1) coth t,
-    b_j = (nu-j)(nu+j+1) (the recurrence DLMF 14.10.6 read downwards); P is the minimal
+    b_j = (nu-j)(nu+j+1) (the order recurrence DLMF 14.10.6 read downwards); P is the minimal
     solution in increasing j beyond |nu| sinh t (ratio tending to tanh^2(t/2) per step
     against Q), so the continued fraction started at M = max(m, 2 |nu| sinh t) + N with
     N = 40/(-2 ln tanh(t/2)) has converged at j = m (Gautschi; Miller's algorithm). The
     Casoratian P^m Q^{m+1} - Q^m P^{m+1} = -(-1)^m Gamma(nu+m+1)/Gamma(nu-m+1) / sqrt(x^2-1)
-    (the Wronskian DLMF 14.2.4 through the derivative relation DLMF 14.10.6) then gives
+    (the Wronskian A&S 8.1.9 of :func:`legendre_wronskian` through the derivative relation
+    sqrt(x^2-1) f' = f^{m+1} + m x f^m / sqrt(x^2-1), DLMF 14.10.6) then gives
     P^m = Casoratian / (Q^{m+1} - r_m Q^m) with both Q accurate (upward recurrence).
     This covers large m together with large |nu| at moderate x, where the w-series
     (|nu| sqrt(w) large), the quadrature (cos(m phi) cancels) and the q-series connection
@@ -810,7 +854,7 @@ def _log_q_direct(nu, m, x):
 
 
 def _q_recurrence(nu, m, x):
-    """Q for m > _M_DIRECT_Q by the upward recurrence in m (DLMF 14.10.6 for x > 1),
+    """Q for m > _M_DIRECT_Q by the upward recurrence in the order (DLMF 14.10.6, x > 1),
 
         Q^{mu+2} = -2(mu+1) x (x^2-1)^{-1/2} Q^{mu+1} + (nu-mu)(nu+mu+1) Q^mu,
 
