@@ -315,7 +315,8 @@ def test_p_series_quadrature_switch(m, x, k_range):
 # ----------------------------------------------------------------------------
 
 @pytest.mark.parametrize("kind,nus,ms,xs", [
-    ("p", [11.3765j, -0.5 + 40j, 0.5], [5, 31, 400], [1.05, 2.9, 3.0, 3.1, 100.0]),
+    pytest.param("p", [11.3765j, -0.5 + 40j, 0.5], [5, 31, 400], [1.05, 2.9, 3.0, 3.1, 100.0],
+                 marks=pytest.mark.slow),  # about 30 s of mpmath at m = 400
     ("q", [-3.5, -3.5 + 0.01j, -0.5 + 300j, 10.0], [3, 31, 400], [1.05, 1.25, 50.0, 1e8]),
 ])
 def test_error_estimates_are_upper_estimates(kind, nus, ms, xs):

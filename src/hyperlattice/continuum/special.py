@@ -1019,11 +1019,6 @@ def evaluate_checked(func, nu, m, x, *, warn: bool = True) -> tuple[np.ndarray, 
     return s, mt, er
 
 
-# Underscore names kept as aliases while continuum/spectrum.py moves to the public names.
-_check_m = check_order
-_guarded = evaluate_checked
-
-
 def _check_q_poles(nu, m):
     """Q_nu^m has genuine poles where nu + m + 1 is 0, -1, -2, ... (Gamma(nu+m+1))."""
     a = nu + m + 1.0
