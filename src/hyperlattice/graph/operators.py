@@ -16,6 +16,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .. import _validate
+from .flux import edge_phases
 from .lattice import Lattice
 
 __all__ = ["adjacency", "hamiltonian", "incidence", "onsite_values"]
@@ -76,8 +77,8 @@ def onsite_values(lattice: Lattice, onsite: OnSite) -> np.ndarray | None:
     return v.astype(np.float64)
 
 
-def hamiltonian(lattice: Lattice, t: float = 1.0, onsite: OnSite = None) -> sp.csr_matrix:
-    r"""Hopping Hamiltonian :math:`H = -tA + \mathrm{diag}(V)` as CSR.
+def hamiltonian(lattice: Lattice, t: float = 1.0, onsite: OnSite = None, flux: float = 0.0) -> sp.csr_matrix:
+    r"""Hopping Hamiltonian :math:`H = -tA + \mathrm{diag}(V)` as CSR, optionally with a uniform field.
 
     Parameters
     ----------
@@ -87,15 +88,40 @@ def hamiltonian(lattice: Lattice, t: float = 1.0, onsite: OnSite = None) -> sp.c
         Hopping amplitude (energy unit); the paper's choice is t = 1.
     onsite : scalar, array of length N, or callable ``(z, ring) -> array``, optional
         Real on-site potential :math:`V_i` (e.g. ``-mu`` or disorder).
+    flux : float
+        Flux quanta f through each p-gon face of a uniform field (see
+        :mod:`hyperlattice.graph.flux` for the gauge and the sign convention): the hops get
+        Peierls phases, :math:`H_{ij} = -t e^{i\theta_{ij}}`, and H is complex Hermitian.
+        At f = 0 (default) H is real as without the argument.
+
+    Returns
+    -------
+    scipy.sparse.csr_matrix
+        Sorted indices; float64 at zero flux, complex128 otherwise.
     """
     t = _validate.real("the hopping t", t)
-    a = adjacency(lattice)
-    h = a * (-t)
+    flux = _validate.real("the flux f", flux)
+    if flux != 0.0:
+        h = _peierls(lattice, t, flux)
+    else:
+        h = adjacency(lattice) * (-t)
     v = onsite_values(lattice, onsite)
     if v is not None:
         dtype = np.result_type(h.dtype, v.dtype)
         h = (h.astype(dtype) + sp.diags(v.astype(dtype), format="csr")).tocsr()
         h.sort_indices()
+    return h
+
+
+def _peierls(lattice: Lattice, t: float, flux: float) -> sp.csr_matrix:
+    """-t e^{i theta_ij} on every hop j -> i, as a sorted CSR matrix."""
+    e = lattice.edges.astype(np.int64)
+    n = lattice.sites
+    hop = -t * np.exp(1j * edge_phases(lattice, flux))
+    rows = np.concatenate([e[:, 0], e[:, 1]])
+    cols = np.concatenate([e[:, 1], e[:, 0]])
+    h = sp.csr_matrix((np.concatenate([hop, hop.conj()]), (rows, cols)), shape=(n, n))
+    h.sort_indices()
     return h
 
 

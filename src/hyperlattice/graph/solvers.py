@@ -49,6 +49,7 @@ import scipy.sparse.linalg as spla
 
 from .. import _validate
 from ..errors import ConvergenceError, ConvergenceWarning
+from .flux import edge_phases
 from .lattice import Lattice
 from .operators import OnSite, onsite_values
 
@@ -136,15 +137,23 @@ def _real_onsite(lattice: Lattice, onsite: OnSite) -> np.ndarray | None:
     return v.astype(np.float64)
 
 
-def full_table(lattice: Lattice, t: float = 1.0, onsite: OnSite = None) -> SectorTable:
-    """The whole Hamiltonian :math:`H = -tA + V` as a fixed-width table (``m`` is None)."""
+def full_table(lattice: Lattice, t: float = 1.0, onsite: OnSite = None, flux: float = 0.0) -> SectorTable:
+    """The whole Hamiltonian :math:`H = -tA + V` as a fixed-width table (``m`` is None).
+
+    With a nonzero ``flux`` the hops carry the Peierls phases of :mod:`hyperlattice.graph.flux`.
+    """
     _validate.lattice(lattice)
     t = _validate.real("the hopping t", t)
+    flux = _validate.real("the flux f", flux)
     e = lattice.edges.astype(np.int64)
     n = lattice.sites
     rows = np.concatenate([e[:, 0], e[:, 1]])
     cols = np.concatenate([e[:, 1], e[:, 0]])
-    vals = np.full(rows.shape[0], -t)
+    if flux != 0.0:
+        hop = -t * np.exp(1j * edge_phases(lattice, flux))
+        vals = np.concatenate([hop, hop.conj()])
+    else:
+        vals = np.full(rows.shape[0], -t)
     tc, tv = _fixed_width(n, rows, cols, vals)
     v = _real_onsite(lattice, onsite)
     diag = np.zeros(n) if v is None else v

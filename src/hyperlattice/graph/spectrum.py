@@ -14,6 +14,10 @@ Methods (``lowest_levels(..., method=...)``):
     The full N x N matrix (needed when V breaks the rotation); levels are still labelled by m
     by diagonalising the rotation inside each degenerate cluster of eigenvectors.
 
+With a uniform magnetic field (``flux=f`` flux quanta per p-gon, gauge and sign convention in
+:mod:`hyperlattice.graph.flux`) the gauge keeps the rotation symmetry, so the same methods
+apply; but H is complex, :math:`H_{-m} \ne \overline{H_m}`, and all p sectors are solved.
+
 The solvers themselves (the fixed-width neighbour tables, the Chebyshev-accelerated Lanczos
 with its numba kernel, the dense fallback, the residual checks) live in
 :mod:`hyperlattice.graph.solvers`; this module chooses among them and labels the levels.
@@ -95,7 +99,10 @@ class Spectrum(Levels):
     timings : dict
         Wall-clock seconds of the stages (``"setup"``, ``"solve"``, ``"total"``, per sector).
     eigenvectors : ndarray, shape (N, K), or None
-        Normalised states (complex for m not in {0, p/2}), column k belonging to ``energies[k]``.
+        Normalised states (complex for m not in {0, p/2} or nonzero flux), column k belonging
+        to ``energies[k]``.
+    flux : float
+        Flux quanta per p-gon face of a uniform field (0 without field).
     """
 
     error_kind: str = "residual"
@@ -105,6 +112,7 @@ class Spectrum(Levels):
     kind: str = "sites"
     timings: dict = field(default_factory=dict)
     eigenvectors: np.ndarray | None = None
+    flux: float = 0.0
 
     @property
     def residuals(self) -> np.ndarray:
@@ -112,14 +120,17 @@ class Spectrum(Levels):
         return self.errors
 
     def summary(self) -> dict:
-        """The CLI's JSON contract: p, q, rings, sites, method, energies, n, m, residuals."""
-        return {
+        """The CLI's JSON contract: p, q, rings, sites, method, energies, n, m, residuals (+ flux if nonzero)."""
+        out = {
             "p": self.p, "q": self.q, "rings": self.rings, "sites": self.sites, "method": self.method,
             "energies": [float(e) for e in self.energies],
             "n": [int(v) for v in self.n],
             "m": None if self.m is None else [int(v) for v in self.m],
             "residuals": [float(r) for r in self.errors],
         }
+        if self.flux != 0.0:
+            out["flux"] = float(self.flux)
+        return out
 
 
 # ----------------------------------------------------------------------------
@@ -127,7 +138,7 @@ class Spectrum(Levels):
 # ----------------------------------------------------------------------------
 
 def _rotation_labels(lattice: Lattice, h, energies: np.ndarray, vecs: np.ndarray,
-                     keep: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                     keep: int, real: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Label full-matrix eigenvectors by m: diagonalise the rotation in each degenerate cluster.
 
     Returns (energies, vecs, m) for the first ``keep`` states. A cluster cut by the end of the
@@ -172,7 +183,7 @@ def _rotation_labels(lattice: Lattice, h, energies: np.ndarray, vecs: np.ndarray
     energies = np.concatenate(out_e)[:keep]
     vecs = np.concatenate(out_v, axis=1)[:, :keep]
     m = np.concatenate(out_m)[:keep]
-    if np.all((2 * m) % p == 0):
+    if real and np.all((2 * m) % p == 0):  # with flux even m = 0 states are complex
         vecs = _realify(vecs)
     return energies, vecs, m
 
@@ -205,7 +216,7 @@ def _radial_index(m: np.ndarray) -> np.ndarray:
 
 def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: OnSite = None,
                   method: str = "auto", sector: int | None = None, eigenvectors: bool = False,
-                  tol: float = 1e-10, progress: ProgressFn | None = None) -> Spectrum:
+                  tol: float = 1e-10, progress: ProgressFn | None = None, flux: float = 0.0) -> Spectrum:
     r"""The ``levels`` lowest states of :math:`H = -tA + \mathrm{diag}(V)`, labelled by (n, m).
 
     .. math:: H = -t \sum_{\langle ij \rangle} (|i\rangle\langle j| + |j\rangle\langle i|) + \sum_i V_i |i\rangle\langle i|
@@ -236,6 +247,10 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
         eigenvalue error is at most the residual (and typically its square over the gap).
     progress : callable, optional
         Called with short status strings during long runs.
+    flux : float
+        Flux quanta f per p-gon face of a uniform magnetic field (Peierls phases in the
+        rotation-symmetric gauge of :mod:`hyperlattice.graph.flux`; positive = counterclockwise).
+        With f != 0 all p sectors are solved and +-m are no longer degenerate.
 
     Returns
     -------
@@ -266,6 +281,7 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
     tol = _validate.positive_real("tol", tol)
     t = _validate.real("the hopping t", t)
     eigenvectors = _validate.flag("eigenvectors", eigenvectors)
+    flux = _validate.real("the flux f", flux)
     if progress is not None:
         _validate.function("progress", progress)
     if levels > lattice.sites:
@@ -284,16 +300,20 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
                          "angular-momentum sectors; use method='dense' or 'sparse'.")
     with _single_threaded_blas():
         if method == "sector":
-            return _sector_levels(lattice, levels, t, onsite, sector, eigenvectors, tol, progress, t_start)
-        return _full_levels(lattice, levels, t, onsite, method, symmetric, eigenvectors, tol, progress, t_start)
+            return _sector_levels(lattice, levels, t, onsite, sector, eigenvectors, tol, progress, t_start, flux)
+        return _full_levels(lattice, levels, t, onsite, method, symmetric, eigenvectors, tol, progress, t_start,
+                            flux)
 
 
-def _sector_levels(lattice, levels, t, onsite, sector, want_vecs, tol, progress, t_start) -> Spectrum:
+def _sector_levels(lattice, levels, t, onsite, sector, want_vecs, tol, progress, t_start, flux=0.0) -> Spectrum:
     p = lattice.p
     orbits = rotation_orbits(lattice)
     size = orbits.size
     timings = {"setup": time.perf_counter() - t_start}
-    if sector is None:
+    if sector is None and flux != 0.0:
+        # with flux H is complex: H_{-m} is not the conjugate of H_m, every sector is its own
+        wanted = {signed_sector(m, p): levels for m in range(p)}
+    elif sector is None:
         # m and -m are conjugate blocks: solve m = 0..floor(p/2). The K lowest states contain at
         # most K levels of a non-degenerate sector and ceil(K/2) of a paired one.
         wanted = {m: (levels if (2 * m) % p == 0 else (levels + 1) // 2) for m in range(p // 2 + 1)}
@@ -306,7 +326,7 @@ def _sector_levels(lattice, levels, t, onsite, sector, want_vecs, tol, progress,
     for m, k_m in wanted.items():
         t0 = time.perf_counter()
         k_m = min(k_m, size)
-        table = sector_table(lattice, m, t, onsite, orbits=orbits)
+        table = sector_table(lattice, m, t, onsite, orbits=orbits, flux=flux)
         if size <= DENSE_MAX or size < 2 * k_m + 3:  # ARPACK needs a basis larger than k + 1
             e, v = _dense_lowest(table, k_m)
             per_method.add("dense")
@@ -319,7 +339,7 @@ def _sector_levels(lattice, levels, t, onsite, sector, want_vecs, tol, progress,
         for idx in range(e.shape[0]):
             vec = v[:, idx] if want_vecs else None
             found.append((float(e[idx]), m, idx + 1, float(res[idx]), vec))
-            if (2 * m) % p and sector is None:
+            if (2 * m) % p and sector is None and flux == 0.0:
                 found.append((float(e[idx]), -m, idx + 1, float(res[idx]), None if vec is None else vec.conj()))
     # ascending energy; degenerate partners share the energy exactly: keep +m before -m
     found.sort(key=lambda r: (r[0], abs(r[1]), -r[1]))
@@ -341,18 +361,20 @@ def _sector_levels(lattice, levels, t, onsite, sector, want_vecs, tol, progress,
     how = ("ARPACK on a Chebyshev polynomial of" if method == "sector-sparse" else "dense LAPACK eigh of")
     description = (f"{how[0].upper()}{how[1:]} the {size:,} x {size:,} angular-momentum block"
                    f"{'s' if len(wanted) > 1 else ''} H_m for m = {solved}"
-                   + (" (sector -m is the complex conjugate of m)." if sector is None else "."))
+                   + (f" with flux f = {flux:g} per p-gon" if flux != 0.0 else "")
+                   + (" (sector -m is the complex conjugate of m)" if sector is None and flux == 0.0 else "") + ".")
     return Spectrum(energies=energies, n=ns, m=ms, errors=res, method=method, description=description, p=p,
                     q=lattice.q, rings=lattice.rings, sites=lattice.sites, kind=lattice.kind, timings=timings,
-                    eigenvectors=vecs)
+                    eigenvectors=vecs, flux=flux)
 
 
-def _full_levels(lattice, levels, t, onsite, method, symmetric, want_vecs, tol, progress, t_start) -> Spectrum:
+def _full_levels(lattice, levels, t, onsite, method, symmetric, want_vecs, tol, progress, t_start,
+                 flux=0.0) -> Spectrum:
     n_sites = lattice.sites
-    h = hamiltonian(lattice, t=t, onsite=onsite)
-    if np.iscomplexobj(h.data):
+    h = hamiltonian(lattice, t=t, onsite=onsite, flux=flux)
+    if flux == 0.0 and np.iscomplexobj(h.data):
         raise ValueError("the on-site term must be real so that H is Hermitian.")
-    table = full_table(lattice, t, onsite) if method == "sparse" else None
+    table = full_table(lattice, t, onsite, flux) if method == "sparse" else None
     timings = {"setup": time.perf_counter() - t_start}
     t0 = time.perf_counter()
     if method == "dense":
@@ -362,13 +384,13 @@ def _full_levels(lattice, levels, t, onsite, method, symmetric, want_vecs, tol, 
             raise ValueError(f"method='sparse' needs at most (N - 3)/2 = {(n_sites - 3) // 2} levels; use 'dense'.")
         e, v, _ = _chebyshev_lowest(table, levels, tol, progress, "full lattice", partial=symmetric)
     if symmetric:
-        e, v, m = _rotation_labels(lattice, h, e, v, levels)
+        e, v, m = _rotation_labels(lattice, h, e, v, levels, real=flux == 0.0)
         ask = levels
         while method == "sparse" and e.shape[0] < levels and n_sites >= 2 * (ask + 2) + 3:
             # ask for more states so that the unresolved pair falls inside the converged ones
             ask += 2
             e, v, _ = _chebyshev_lowest(table, ask, tol, progress, "full lattice", partial=True)
-            e, v, m = _rotation_labels(lattice, h, e, v, levels)
+            e, v, m = _rotation_labels(lattice, h, e, v, levels, real=flux == 0.0)
         if e.shape[0] < levels:
             raise ConvergenceError(f"the sparse eigensolver resolved only {e.shape[0]} of {levels} levels; "
                                    "use method='sector' or 'dense'.")
@@ -382,14 +404,15 @@ def _full_levels(lattice, levels, t, onsite, method, symmetric, want_vecs, tol, 
     how = "Dense LAPACK eigh of" if method == "dense" else "ARPACK on a Chebyshev polynomial of"
     labels = ("levels labelled by m by diagonalising the rotation in each degenerate cluster" if symmetric
               else "no m labels, the on-site term breaks the rotation")
-    description = f"{how} the full {n_sites:,} x {n_sites:,} Hamiltonian; {labels}."
+    description = (f"{how} the full {n_sites:,} x {n_sites:,} Hamiltonian"
+                   + (f" with flux f = {flux:g} per p-gon" if flux != 0.0 else "") + f"; {labels}.")
     return Spectrum(energies=np.asarray(e, dtype=float), n=ns, m=m, errors=res, method=method,
                     description=description, p=lattice.p, q=lattice.q, rings=lattice.rings, sites=n_sites,
-                    kind=lattice.kind, timings=timings, eigenvectors=v if want_vecs else None)
+                    kind=lattice.kind, timings=timings, eigenvectors=v if want_vecs else None, flux=flux)
 
 
 def full_spectrum(lattice: Lattice, *, t: float = 1.0, onsite: OnSite = None,
-                  max_sites: int = 50_000) -> np.ndarray:
+                  max_sites: int = 50_000, flux: float = 0.0) -> np.ndarray:
     """All N eigenvalues of :math:`H = -tA + V`, ascending.
 
     Uses the p sector blocks (each diagonalised densely, p times less memory and about
@@ -404,6 +427,9 @@ def full_spectrum(lattice: Lattice, *, t: float = 1.0, onsite: OnSite = None,
         On-site term V.
     max_sites : int
         Largest N accepted (the full spectrum is a dense computation).
+    flux : float
+        Flux quanta per p-gon of a uniform field (:mod:`hyperlattice.graph.flux`); all p
+        sectors are solved in either case.
 
     Returns
     -------
@@ -417,6 +443,7 @@ def full_spectrum(lattice: Lattice, *, t: float = 1.0, onsite: OnSite = None,
     _validate.lattice(lattice)
     t = _validate.real("the hopping t", t)
     max_sites = _validate.positive_int("max_sites", max_sites)
+    flux = _validate.real("the flux f", flux)
     if lattice.sites > max_sites:
         raise ValueError(f"the full spectrum of {lattice.sites:,} sites is a dense computation; "
                          f"raise max_sites (now {max_sites:,}) if that is intended.")
@@ -424,10 +451,10 @@ def full_spectrum(lattice: Lattice, *, t: float = 1.0, onsite: OnSite = None,
         orbits = rotation_orbits(lattice)
         parts = []
         for m in range(lattice.p):
-            block = sector_table(lattice, m, t, onsite, orbits=orbits).to_csr().toarray()
+            block = sector_table(lattice, m, t, onsite, orbits=orbits, flux=flux).to_csr().toarray()
             parts.append(sla.eigvalsh(block))
         return np.sort(np.concatenate(parts))
-    return sla.eigvalsh(hamiltonian(lattice, t=t, onsite=onsite).toarray())
+    return sla.eigvalsh(hamiltonian(lattice, t=t, onsite=onsite, flux=flux).toarray())
 
 
 def _negative_levels(system, beta, t: float, onsite: OnSite) -> tuple[np.ndarray, np.ndarray]:

@@ -17,6 +17,12 @@ built here directly from the edge list (never from a dense projector). :math:`H_
 symmetric for m = 0 and m = p/2 and complex Hermitian otherwise, with
 :math:`H_{-m} = \overline{H_m}` because H is real: sectors m and p - m (= -m) are degenerate.
 Sector labels are signed, :math:`m \in (-p/2, p/2]`.
+
+With a uniform magnetic field (``flux=f``, :mod:`hyperlattice.graph.flux`) the Peierls phases
+are in a rotation-invariant gauge, :math:`\theta_{R i, R j} = \theta_{ij}`, so the same blocks
+exist with every hop weighted by :math:`e^{i\theta_{ij}}` on top of its Bloch phase. H is then
+complex: every block is complex Hermitian, :math:`H_{-m} \ne \overline{H_m}`, and all p
+sectors are distinct (no +-m degeneracy).
 """
 
 from __future__ import annotations
@@ -27,6 +33,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .. import _validate
+from .flux import edge_phases
 from .lattice import Lattice
 from .operators import OnSite
 from .solvers import SectorTable, _fixed_width, _real_onsite
@@ -142,7 +149,7 @@ def rotation_invariant(lattice: Lattice, onsite: OnSite = None) -> bool:
 
 
 def sector_table(lattice: Lattice, m: int, t: float = 1.0, onsite: OnSite = None, *,
-                 orbits: RotationOrbits | None = None) -> SectorTable:
+                 orbits: RotationOrbits | None = None, flux: float = 0.0) -> SectorTable:
     """The Bloch block :math:`H_m` as a fixed-width table over the orbit representatives.
 
     Parameters
@@ -156,11 +163,15 @@ def sector_table(lattice: Lattice, m: int, t: float = 1.0, onsite: OnSite = None
         Rotation-invariant on-site term (checked).
     orbits : RotationOrbits, optional
         Precomputed orbits (saves O(pN) when several sectors are built).
+    flux : float
+        Flux quanta per p-gon of a uniform field (:mod:`hyperlattice.graph.flux`); the block
+        is complex for any nonzero flux.
     """
     _validate.lattice(lattice)
     p = int(lattice.p)
     m = signed_sector(m, p)
     t = _validate.real("the hopping t", t)
+    flux = _validate.real("the flux f", flux)
     if orbits is None:
         orbits = rotation_orbits(lattice)
     else:
@@ -179,7 +190,14 @@ def sector_table(lattice: Lattice, m: int, t: float = 1.0, onsite: OnSite = None
     rows = np.concatenate([orbit[i[a]], orbit[j[b]]])
     cols = np.concatenate([orbit[j[a]], orbit[i[b]]])
     s = np.concatenate([shift[j[a]], shift[i[b]]])
-    if 2 * m % p == 0:
+    if flux != 0.0:
+        # row i (a representative) hops from j with theta_ij; the rows of the reversed edges
+        # (j a representative) get theta_ji = -theta_ij. The gauge is rotation invariant, so
+        # the phase of the representative's copy of the edge is that of every copy.
+        theta = edge_phases(lattice, flux)
+        phase = np.concatenate([theta[a], -theta[b]])
+        vals = -t * np.exp(1j * (2 * np.pi * ((m * s) % p) / p + phase))
+    elif 2 * m % p == 0:
         # m = 0 or p/2: the phases are +-1, keep the block real (half the work of complex)
         vals = -t * np.where(s % 2 == 0, 1.0, -1.0) if m else np.full(s.shape[0], -t)
     else:
@@ -189,7 +207,8 @@ def sector_table(lattice: Lattice, m: int, t: float = 1.0, onsite: OnSite = None
     return SectorTable(m=m, cols=tc, weights=tv, diag=diag)
 
 
-def sector_hamiltonian(lattice: Lattice, m: int, t: float = 1.0, onsite: OnSite = None) -> sp.csr_matrix:
+def sector_hamiltonian(lattice: Lattice, m: int, t: float = 1.0, onsite: OnSite = None,
+                       flux: float = 0.0) -> sp.csr_matrix:
     r"""The angular-momentum block :math:`H_m` of :math:`H = -tA + V` as CSR.
 
     Parameters
@@ -202,6 +221,8 @@ def sector_hamiltonian(lattice: Lattice, m: int, t: float = 1.0, onsite: OnSite 
         Hopping amplitude (t = 1 in the paper).
     onsite : scalar, array or callable, optional
         On-site term; must be invariant under the rotation.
+    flux : float
+        Flux quanta per p-gon of a uniform field (complex block for any nonzero flux).
 
     Returns
     -------
@@ -217,7 +238,7 @@ def sector_hamiltonian(lattice: Lattice, m: int, t: float = 1.0, onsite: OnSite 
     >>> h0.toarray()
     array([[-2.]])
     """
-    return sector_table(lattice, m, t, onsite).to_csr()
+    return sector_table(lattice, m, t, onsite, flux=flux).to_csr()
 
 
 def lift(orbits: RotationOrbits, m: int, phi: np.ndarray) -> np.ndarray:

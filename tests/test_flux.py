@@ -1,0 +1,281 @@
+"""Uniform magnetic flux on the graph (issue 11, items 1-2): Peierls phases, faces, spectra."""
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+import scipy.linalg as sla
+import scipy.sparse as sp
+
+from hyperlattice import geometry, ring_lattice
+from hyperlattice.graph import flux as F
+from hyperlattice.graph.lattice import line_graph
+from hyperlattice.graph.operators import hamiltonian
+from hyperlattice.graph.solvers import full_table
+from hyperlattice.graph.spectrum import Spectrum, full_spectrum, lowest_levels
+from hyperlattice.graph.symmetry import sector_hamiltonian, sector_table, signed_sector
+from hyperlattice.results import Result
+
+LATTICES = {
+    "7,3,l1": lambda: ring_lattice(7, 3, 1),
+    "7,3,l2": lambda: ring_lattice(7, 3, 2),
+    "7,3,l3": lambda: ring_lattice(7, 3, 3),
+    "7,3,l4": lambda: ring_lattice(7, 3, 4),
+    "8,3,l3": lambda: ring_lattice(8, 3, 3),
+    "4,5,l3": lambda: ring_lattice(4, 5, 3),
+    "line 7,3,l1": lambda: line_graph(ring_lattice(7, 3, 1)),
+    "line 7,3,l2": lambda: line_graph(ring_lattice(7, 3, 2)),
+    "line 7,3,l3": lambda: line_graph(ring_lattice(7, 3, 3)),
+    "line 8,3,l2": lambda: line_graph(ring_lattice(8, 3, 2)),
+}
+
+
+def _pgon_area(p, q):
+    # written out here (not taken from flux.py): Gauss-Bonnet in curvature -4
+    return ((p - 2) * np.pi - 2 * np.pi * p / q) / 4
+
+
+def _matrix_from_phases(lat, theta, t=1.0):
+    e = lat.edges.astype(np.int64)
+    hop = -t * np.exp(1j * theta)
+    rows = np.concatenate([e[:, 0], e[:, 1]])
+    cols = np.concatenate([e[:, 1], e[:, 0]])
+    return sp.csr_matrix((np.concatenate([hop, hop.conj()]), (rows, cols)),
+                         shape=(lat.sites, lat.sites)).toarray()
+
+
+# ----------------------------------------------------------------------------
+# the gauge
+# ----------------------------------------------------------------------------
+
+def test_triangle_area_is_the_line_integral_of_a():
+    """0.5 arg(1 - a conj b) against quadrature of A = B Im(conj z dz)/(2(1-|z|^2)) along the geodesic."""
+    rng = np.random.default_rng(3)
+    for _ in range(5):
+        a, b = (complex(*rng.uniform(-0.65, 0.65, 2)) for _ in range(2))
+        # Gauss-Legendre in the geodesic parameter: the integrand is smooth
+        x, w = np.polynomial.legendre.leggauss(60)
+        s = 0.5 * (x + 1)
+        zs = geometry.geodesic_point(a, b, s)
+        h = 1e-6
+        dz = (geometry.geodesic_point(a, b, np.clip(s + h, 0, 1)) - geometry.geodesic_point(a, b, np.clip(s - h, 0, 1)))
+        dz /= (np.clip(s + h, 0, 1) - np.clip(s - h, 0, 1))
+        integral = 0.5 * np.sum(w * np.imag(np.conj(zs) * dz) / (2 * (1 - np.abs(zs) ** 2)))
+        assert abs(integral - F.triangle_area(a, b)) < 1e-8
+
+
+def test_triangle_area_is_the_angle_defect():
+    rng = np.random.default_rng(4)
+    for _ in range(20):
+        a, b = (complex(*rng.uniform(-0.7, 0.7, 2)) for _ in range(2))
+        signed = F.triangle_area(a, b)
+        ccw = np.array([0, 1, 2] if signed > 0 else [0, 2, 1])
+        pts = SimpleNamespace(z=np.array([0, a, b]))  # face_areas only reads the positions
+        assert abs(abs(signed) - F.face_areas(pts, [ccw])[0]) < 1e-13
+
+
+def test_pgon_area_and_field():
+    assert F.pgon_area(7, 3) == pytest.approx(np.pi / 12, rel=1e-15)
+    for p, q in ((7, 3), (8, 3), (4, 5)):
+        # q faces meet at a site and a face has p sites: area per site = A_p q / p
+        assert F.pgon_area(p, q) * q / p == pytest.approx(geometry.site_area(p, q), rel=1e-14)
+    assert F.field_strength(1.0, 7, 3) == pytest.approx(24.0, rel=1e-15)
+    assert F.field_strength(0.0, 7, 3) == 0.0
+
+
+@pytest.mark.parametrize("name", list(LATTICES))
+def test_face_fluxes(name):
+    """Every bounded face carries 2 pi f x (its angle-defect area / p-gon area) to 1e-12."""
+    lat = LATTICES[name]()
+    cycles = F.faces(lat)
+    # a disk-like planar graph: the bounded faces are a basis of the cycle space (Euler)
+    assert len(cycles) == lat.edges.shape[0] - lat.sites + 1
+    areas = F.face_areas(lat, cycles)
+    assert np.all(areas > 0)
+    if lat.kind == "sites":
+        # every bounded face of a {p,q} flake is a p-gon
+        assert np.all([len(c) == lat.p for c in cycles])
+        assert np.max(np.abs(areas - _pgon_area(lat.p, lat.q))) < 1e-13
+    for f in (0.37, -1.3, 5.0):
+        got = F.face_fluxes(lat, f, cycles)
+        want = 2 * np.pi * f * areas / _pgon_area(lat.p, lat.q)
+        assert np.max(np.abs(got - want)) <= 1e-12 * max(1.0, 2 * np.pi * abs(f))
+        assert F.check_face_fluxes(lat, f) <= 1e-12 * max(1.0, 2 * np.pi * abs(f))
+
+
+def test_phases_are_rotation_invariant():
+    for lat in (ring_lattice(7, 3, 3), line_graph(ring_lattice(7, 3, 2)), ring_lattice(4, 5, 3)):
+        h = hamiltonian(lat, flux=0.41)
+        perm = sp.csr_matrix((np.ones(lat.sites), (lat.rotation, np.arange(lat.sites))),
+                             shape=(lat.sites, lat.sites))
+        assert abs(perm @ h @ perm.T - h).max() < 1e-14
+
+
+# ----------------------------------------------------------------------------
+# the Hamiltonian and its sectors
+# ----------------------------------------------------------------------------
+
+def test_zero_flux_is_todays_hamiltonian_and_levels():
+    lat = ring_lattice(7, 3, 4)
+    h0, h = hamiltonian(lat), hamiltonian(lat, flux=0.0)
+    assert h.dtype == np.float64 and (h0 != h).nnz == 0
+    a, b = lowest_levels(lat, 8), lowest_levels(lat, 8, flux=0.0)
+    assert np.array_equal(a.energies, b.energies) and np.array_equal(a.m, b.m)
+    assert np.array_equal(a.n, b.n) and np.array_equal(a.errors, b.errors)
+    assert np.array_equal(full_spectrum(lat), full_spectrum(lat, flux=0.0))
+    assert "flux" not in b.summary() and b.flux == 0.0
+
+
+def test_hamiltonian_with_flux_is_complex_hermitian():
+    lat = ring_lattice(7, 3, 3)
+    h = hamiltonian(lat, t=0.7, onsite=0.2, flux=0.25)
+    assert h.dtype == np.complex128 and h.has_sorted_indices
+    assert abs(h - h.conj().T).max() == 0
+    assert np.allclose(h.diagonal(), 0.2)
+    assert np.allclose(np.abs(h.data[h.data != 0.2]), 0.7)
+    assert np.array_equal(full_table(lat, 0.7, 0.2, 0.25).to_csr().toarray(), h.toarray())
+
+
+@pytest.mark.parametrize("name", ["7,3,l3", "7,3,l4", "8,3,l3", "4,5,l3", "line 7,3,l3"])
+def test_sector_spectra_union_is_the_dense_spectrum(name):
+    lat = LATTICES[name]()
+    for f in (0.13, 0.5, -0.77):
+        dense = sla.eigvalsh(hamiltonian(lat, flux=f).toarray())
+        blocks = np.sort(np.concatenate([sla.eigvalsh(sector_hamiltonian(lat, m, flux=f).toarray())
+                                         for m in range(lat.p)]))
+        assert np.max(np.abs(blocks - dense)) < 1e-12
+        assert np.max(np.abs(full_spectrum(lat, flux=f) - dense)) < 1e-12
+
+
+def test_sectors_with_flux_are_not_conjugate_pairs():
+    lat = ring_lattice(7, 3, 3)
+    h1 = sector_table(lat, 1, flux=0.3).to_csr().toarray()
+    hm1 = sector_table(lat, -1, flux=0.3).to_csr().toarray()
+    assert np.max(np.abs(hm1 - h1.conj())) > 1e-3
+    e1, em1 = sla.eigvalsh(h1), sla.eigvalsh(hm1)
+    assert np.max(np.abs(e1 - em1)) > 1e-3
+    # f -> -f maps sector m to -m (complex conjugation)
+    assert np.max(np.abs(sla.eigvalsh(sector_table(lat, -1, flux=-0.3).to_csr().toarray()) - e1)) < 1e-12
+
+
+def test_random_gauge_transformation_and_sign_of_f():
+    rng = np.random.default_rng(7)
+    for lat in (ring_lattice(7, 3, 3), line_graph(ring_lattice(7, 3, 2)), ring_lattice(4, 5, 3)):
+        for f in (0.21, 0.8):
+            ref = full_spectrum(lat, flux=f)
+            chi = rng.uniform(0, 2 * np.pi, lat.sites)
+            e = lat.edges.astype(np.int64)
+            theta = F.edge_phases(lat, f) + chi[e[:, 0]] - chi[e[:, 1]]
+            assert np.max(np.abs(sla.eigvalsh(_matrix_from_phases(lat, theta)) - ref)) < 1e-12
+            assert np.max(np.abs(full_spectrum(lat, flux=-f) - ref)) < 1e-12
+
+
+@pytest.mark.parametrize("pq", [(7, 3), (8, 3), (4, 5)])
+def test_one_flux_quantum_per_pgon_is_a_gauge(pq):
+    """All bounded faces of a site flake are p-gons, so f -> f + 1 changes no face flux mod 2 pi."""
+    lat = ring_lattice(*pq, 3)
+    for f in (0.0, 0.3, -0.45):
+        assert np.max(np.abs(full_spectrum(lat, flux=f + 1) - full_spectrum(lat, flux=f))) < 1e-11
+    # the line graph has triangles as well: there it is not a gauge
+    lg = line_graph(ring_lattice(*pq, 2))
+    assert np.max(np.abs(full_spectrum(lg, flux=1.3) - full_spectrum(lg, flux=0.3))) > 1e-3
+
+
+def _least_norm_phases(lat, f):
+    """Phases from the face-flux equations alone (least-norm solve): no vector potential used."""
+    cycles = F.faces(lat)
+    e = lat.edges.astype(np.int64)
+    index = {}
+    for k, (i, j) in enumerate(e.tolist()):
+        index[(i, j)] = (k, 1.0)   # theta_k is the phase of the hop j -> i
+        index[(j, i)] = (k, -1.0)
+    rows, cols, vals = [], [], []
+    for c, cyc in enumerate(cycles):
+        for u, v in zip(cyc.tolist(), np.roll(cyc, -1).tolist()):
+            k, sgn = index[(v, u)]  # going u -> v is the hop u -> v
+            rows.append(c)
+            cols.append(k)
+            vals.append(sgn)
+    mat = sp.csr_matrix((vals, (rows, cols)), shape=(len(cycles), e.shape[0])).toarray()
+    phi = 2 * np.pi * f * F.face_areas(lat, cycles) / _pgon_area(lat.p, lat.q)
+    theta, *_ = np.linalg.lstsq(mat, phi, rcond=None)
+    assert np.max(np.abs(mat @ theta - phi)) < 1e-11
+    return theta
+
+
+@pytest.mark.parametrize("name", ["7,3,l2", "7,3,l4", "8,3,l3", "4,5,l3", "line 7,3,l3"])
+def test_independent_gauge_gives_the_same_spectrum(name):
+    lat = LATTICES[name]()
+    for f in (0.17, 0.6):
+        theta = _least_norm_phases(lat, f)
+        other = sla.eigvalsh(_matrix_from_phases(lat, theta))
+        assert np.max(np.abs(other - full_spectrum(lat, flux=f))) < 1e-10
+
+
+def test_independent_gauge_l5():
+    lat = ring_lattice(7, 3, 5)
+    theta = _least_norm_phases(lat, 0.23)
+    other = sla.eigvalsh(_matrix_from_phases(lat, theta))
+    assert np.max(np.abs(other - full_spectrum(lat, flux=0.23))) < 1e-10
+
+
+# ----------------------------------------------------------------------------
+# lowest_levels with flux
+# ----------------------------------------------------------------------------
+
+@pytest.mark.parametrize("name", ["7,3,l3", "4,5,l3", "line 7,3,l2"])
+def test_lowest_levels_with_flux(name):
+    lat = LATTICES[name]()
+    f = 0.3
+    h = hamiltonian(lat, flux=f)
+    dense = sla.eigvalsh(h.toarray())
+    spec = lowest_levels(lat, 8, flux=f, eigenvectors=True)
+    assert isinstance(spec, Spectrum) and spec.flux == f and spec.method == "sector-dense"
+    assert np.max(np.abs(spec.energies - dense[:8])) < 1e-12
+    # the lifted sector states are eigenstates of the full Peierls matrix with their m
+    v = spec.eigenvectors
+    res = np.linalg.norm(h @ v - v * spec.energies[None, :], axis=0)
+    assert np.max(res) < 1e-12 and np.max(spec.errors) < 1e-12
+    omega = np.exp(2j * np.pi * spec.m / lat.p)
+    assert np.max(np.abs(v[lat.rotation, :] - v * omega[None, :])) < 1e-12
+    # the dense path labels the same levels with the same m
+    full = lowest_levels(lat, 8, flux=f, method="dense")
+    assert np.max(np.abs(full.energies - spec.energies)) < 1e-12
+    assert np.array_equal(full.m, spec.m) and full.flux == f
+    # f -> -f: same energies, m -> -m
+    neg = lowest_levels(lat, 8, flux=-f)
+    assert np.max(np.abs(neg.energies - spec.energies)) < 1e-12
+    assert sorted(neg.m.tolist()) == sorted(signed_sector((-m) % lat.p, lat.p) for m in spec.m.tolist())
+
+
+def test_lowest_levels_with_flux_sparse_paths():
+    lat = ring_lattice(7, 3, 6)  # sector blocks of 320 sites: dense; the full matrix via ARPACK
+    f = 0.1
+    spec = lowest_levels(lat, 6, flux=f)
+    sparse = lowest_levels(lat, 6, flux=f, method="sparse")
+    assert sparse.method == "sparse"
+    assert np.max(np.abs(sparse.energies - spec.energies)) < 1e-10
+    assert np.array_equal(sparse.m, spec.m)
+    one = lowest_levels(lat, 3, flux=f, sector=2)
+    assert np.all(one.m == 2)
+    assert np.max(np.abs(one.energies[0] - spec.energies[spec.m == 2][0])) < 1e-12
+
+
+def test_spectrum_records_flux():
+    spec = lowest_levels(ring_lattice(7, 3, 2), 3, flux=-0.25)
+    out = spec.summary()
+    assert out["flux"] == -0.25
+    back = Result.from_dict(spec.as_dict())
+    assert back.flux == -0.25 and np.array_equal(back.energies, spec.energies)
+    assert "flux f = -0.25" in spec.description
+
+
+@pytest.mark.parametrize("bad", ["0.1", float("nan"), float("inf"), True, None, 1j, [0.1]])
+def test_bad_flux(bad):
+    lat = ring_lattice(7, 3, 2)
+    for call in (lambda: hamiltonian(lat, flux=bad), lambda: lowest_levels(lat, 2, flux=bad),
+                 lambda: full_spectrum(lat, flux=bad), lambda: sector_table(lat, 1, flux=bad),
+                 lambda: full_table(lat, flux=bad), lambda: F.edge_phases(lat, bad),
+                 lambda: F.check_face_fluxes(lat, bad)):
+        with pytest.raises(ValueError, match="flux"):
+            call()
