@@ -49,6 +49,8 @@ __all__ = [
     "ContinuumParameters",
     "continuum_parameters",
     "lattice_parameters",
+    "field_from_flux",
+    "flux_from_field",
 ]
 
 
@@ -147,6 +149,36 @@ def disk_radius_for_rings(rings, p=7, q=3) -> tuple[float, float]:
     n_sites = site_count_float(p, q, rings)
     c = geometry.radius_constant(p, q)
     return math.sqrt(n_sites / (n_sites + c)), (2.0 * n_sites + c) / c
+
+
+# ----------------------------------------------------------------------------
+# magnetic flux f (quanta per p-gon face) <-> field B (issue 11)
+# ----------------------------------------------------------------------------
+
+def _face_area(p=7, q=3) -> float:
+    r"""Hyperbolic area of one p-gon face in the paper's metric (curvature :math:`-4`):
+    :math:`\frac14[(p-2)\pi - 2\pi p/q]` (Gauss-Bonnet: the curvature :math:`-1` area
+    :math:`(p-2)\pi - p\cdot 2\pi/q` divided by 4); :math:`\pi/12` for {7,3}."""
+    p, q = _validate.pq(p, q)
+    return 0.25 * ((p - 2) * math.pi - 2.0 * math.pi * p / q)
+
+
+def field_from_flux(f, p=7, q=3) -> float | np.ndarray:
+    r"""Uniform field :math:`B = 2\pi f/\mathcal A_p` that puts ``f`` flux quanta through each
+    p-gon face (:math:`\mathcal A_p` = :func:`_face_area`; :math:`\hbar = e = 1`, one quantum is
+    :math:`2\pi`; positive f and B point out of the disk, counterclockwise). Scalar or array."""
+    f = _value("f", f)
+    if np.iscomplexobj(f):
+        raise ValueError("the flux f must be real.")
+    return 2.0 * math.pi * f / _face_area(p, q)
+
+
+def flux_from_field(B, p=7, q=3) -> float | np.ndarray:
+    r"""Inverse of :func:`field_from_flux`: :math:`f = B\mathcal A_p/(2\pi)`."""
+    B = _value("B", B)
+    if np.iscomplexobj(B):
+        raise ValueError("the field B must be real.")
+    return B * _face_area(p, q) / (2.0 * math.pi)
 
 
 # ----------------------------------------------------------------------------

@@ -1,0 +1,492 @@
+r"""Dirichlet levels of the magnetic Laplacian on a hyperbolic disk (issue 11, continuum side).
+
+Conventions
+-----------
+Metric ``ds^2 = |dz|^2/(1-|z|^2)^2`` on the Poincaré disk (curvature :math:`-4`, the paper's), area
+element :math:`dV = r\,dr\,d\phi/(1-r^2)^2`; the disk :math:`|z|<r` has area
+:math:`\int_0^r 2\pi s\,ds/(1-s^2)^2 = \pi r^2/(1-r^2)`. A uniform field B (flux B per unit
+hyperbolic area, :math:`\hbar = e = 1`, one flux quantum is :math:`2\pi`) in the symmetric gauge
+
+.. math:: A = \frac{B r^2}{2(1-r^2)}\,d\phi,\qquad
+          dA = \frac{B r}{(1-r^2)^2}\,dr\wedge d\phi = B\,dV,
+
+so the flux through :math:`|z|<r` is :math:`2\pi A_\phi(r) = B\cdot\pi r^2/(1-r^2)`. Positive B
+points out of the disk (counterclockwise circulation of A); :math:`\psi = e^{\mathrm im\phi}R`
+with :math:`m>0` circulates counterclockwise. The magnetic Laplacian is
+:math:`\Delta_B = (1-|z|^2)^2(\nabla - \mathrm iA)^2` (the 2-d conformal factor cancels in
+:math:`\sqrt g\,g^{ij}`). The lattice flux f (quanta per p-gon face) maps to B by
+:func:`hyperlattice.dictionary.field_from_flux`.
+
+Radial equation
+---------------
+With :math:`\psi = e^{\mathrm im\phi}R(r)` and :math:`(\partial_\phi - \mathrm iA_\phi)^2 \to
+-(m - A_\phi)^2`, :math:`-\Delta_B\psi = \kappa\psi` reads
+
+.. math:: (1-r^2)^2\Bigl[R'' + \frac{R'}{r} - \frac{(m - A_\phi)^2}{r^2}R\Bigr] + \kappa R = 0 .
+
+In :math:`u = r^2` (:math:`s = 1-u`, :math:`b = B/2`):
+:math:`4u s^2 R_{uu} + 4 s^2 R_u + [\kappa - (m s - b u)^2/u]R = 0`, a Fuchsian equation with
+singular points :math:`0, 1, \infty` and exponents :math:`\pm|m|/2` (at 0),
+:math:`\beta_\pm = \frac12(1\pm\delta)`, :math:`\delta = \sqrt{1 - \kappa + B^2/4}` (at 1),
+:math:`\pm(m+b)/2` (at :math:`\infty`); they sum to 1 (Fuchs). Hence (Riemann P-symbol,
+DLMF 15.11) the solution regular at :math:`r=0`, normalised to :math:`R\sim r^{|m|}`, is
+
+.. math:: R(r) = u^{|m|/2}(1-u)^{\beta_-}\,F(a, b'; c; u),\qquad
+          a = \beta_- + \tfrac12(|m| + m + b),\quad b' = \beta_- + \tfrac12(|m| - m - b),\quad
+          c = 1 + |m|,
+
+with :math:`F` the Gauss function (DLMF 15.2.1) solving DLMF 15.10.1; :math:`c - a - b' = \delta`.
+R is real (a real equation, real exponent at 0). For :math:`\kappa > 1 + B^2/4`, :math:`\delta`
+is imaginary and a, b' are complex; at B = 0, :math:`\delta = \mathrm ik` and R is the conical
+function of ``spec2`` (checked in the tests: the levels agree with
+:func:`hyperlattice.continuum.spectrum.continuum_levels`).
+
+Evaluation of F for :math:`0\le u<1`
+------------------------------------
+scipy's ``hyp2f1`` refuses complex a, b, c, so F is evaluated here, vectorised over the
+parameters: the Maclaurin series (DLMF 15.2.1) up to :math:`u_a \le \min(1/2, 1/|ab'|)`, then
+analytic continuation by Taylor re-expansion of DLMF 15.10.1 about successive points
+:math:`u_0` (the Taylor-series method of DLMF §3.7(ii)): with :math:`g_n = f_n t^n`,
+
+.. math:: g_{n+2} = -\frac{[(1-2u_0)n + c - (a+b'+1)u_0](n+1)\,t\,g_{n+1}
+                    - (n+a)(n+b')\,t^2 g_n}{u_0(1-u_0)(n+2)(n+1)} .
+
+Each step has :math:`t \le \frac12\min(u_0, 1-u_0)` (geometric convergence, ratio 1/2) and
+:math:`t\,k_u \le 1` with the local WKB wavenumber :math:`k_u` (no cancellation between terms);
+near :math:`u=1` the steps shrink with :math:`1-u`, so a disk with :math:`1-L^2 = 10^{-9}` needs a
+few dozen steps. Unlike the :math:`1-z` connection formula (DLMF 15.8.4) this has no trouble when
+:math:`c-a-b'` is (near) an integer, which happens at every Landau level. A series stops when two
+consecutive terms are below :math:`10^{-17}` of the largest term (after the hump); more than
+:data:`_MAX_TERMS` terms raise :class:`~hyperlattice.errors.ConvergenceError`. The evaluation
+error is estimated by a second, independent continuation path (other step sizes).
+
+Dirichlet levels and error bounds
+---------------------------------
+:math:`\kappa(n, m; B, L)` is the n-th root in :math:`\kappa` of :math:`R(L) = 0` at fixed m.
+Since :math:`\kappa > 1` (diamagnetic inequality and the bottom 1 of the spectrum of
+:math:`-\Delta_g`), roots are searched in :math:`k=\sqrt{\kappa-1}` on the zero-field grid of
+:mod:`hyperlattice.continuum.spectrum`; the grid is halved until a grid and its half agree on the
+number of sign changes, then roots are refined by Chandrupatla
+(:func:`scipy.optimize.elementwise.find_root`). Each root gets a verified enclosure
+:math:`[\kappa-\delta,\kappa+\delta]` (sign change with both values above ten times the estimated
+evaluation error); :math:`E = -q + \frac q4 h^2\kappa` is linear in :math:`\kappa`, so
+:math:`\frac q4 h^2\delta` (plus rounding) is the energy error bound.
+The rounding of L itself is not included (the zero-field module includes it).
+
+L -> 1: hyperbolic Landau levels
+--------------------------------
+Comtet (Ann. Phys. 173, 185 (1987)) gives, for curvature :math:`-1` and field :math:`b_1`, the
+discrete eigenvalues :math:`(2N+1)b_1 - N(N+1)` of :math:`-\Delta_{B}`, :math:`N < b_1 - \frac12`,
+and the continuum above :math:`\frac14 + b_1^2`. The paper's metric is :math:`g = g_{-1}/4`
+(distances are half), so :math:`\Delta_{g} = 4\Delta_{-1}`, :math:`dV = dV_{-1}/4` and
+:math:`b_1 = B/4`:
+
+.. math:: \kappa_N = (2N+1)B - 4N(N+1),\quad 0 \le N < \frac B4 - \frac12,\qquad
+          \kappa_{\rm th} = 1 + \frac{B^2}4 .
+
+Derived here directly as well: F is a polynomial of degree N when
+:math:`\beta_+ + \frac12(|m| - m - b) = -N'` (for :math:`B>0`), normalisable iff
+:math:`\delta > 0`, i.e. :math:`\delta = B/2 - 2N - 1` with :math:`N = N' + \max(0,-m)`; the
+Dirichlet level (n, m) tends to :math:`\kappa_N` with :math:`N = n - 1 + \max(0, -m)` for
+:math:`B>0` (mirror for :math:`B<0`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import elementwise as _elementwise
+
+from .. import _validate
+from ..dictionary import energy_from_lambda, field_from_flux, hopping_scale
+from ..errors import ConvergenceError
+from ..geometry import lattice_h
+from ..results import Levels
+from .spectrum import MAX_ORDER, _check_disk_x, _grid_step, asymptotic_energies, disk_argument
+
+__all__ = [
+    "hypergeometric_parameters",
+    "hyp2f1_real_interval",
+    "radial_function",
+    "dirichlet_function",
+    "magnetic_roots",
+    "landau_levels",
+    "magnetic_levels",
+    "MagneticSpectrum",
+]
+
+#: largest number of terms of one series before ConvergenceError
+_MAX_TERMS = 4000
+#: largest number of continuation steps
+_MAX_STEPS = 100_000
+_TOL = 1e-17
+_TOLERANCES = {"xatol": 1e-15, "xrtol": 4.0 * np.finfo(float).eps, "fatol": 0.0, "frtol": 0.0}
+#: largest |field| accepted (the series and step counts grow like |B|)
+MAX_FIELD = 1e4
+MAX_LEVELS = 10_000
+
+
+def hypergeometric_parameters(m, B, kappa) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    r"""``(a, b', c, delta)`` of the regular radial solution (module docstring), broadcast.
+
+    :math:`\delta = \sqrt{1-\kappa+B^2/4}` (principal root; imaginary above the threshold).
+    """
+    m = np.asarray(m, dtype=float)
+    B = np.asarray(B, dtype=float)
+    kappa = np.asarray(kappa, dtype=float)
+    delta = np.sqrt((1.0 - kappa + 0.25 * B * B).astype(complex))
+    beta = 0.5 * (1.0 - delta)
+    am = np.abs(m)
+    a = beta + 0.5 * (am + m + 0.5 * B)
+    b = beta + 0.5 * (am - m - 0.5 * B)
+    c = 1.0 + am + 0.0j
+    return np.broadcast_arrays(a, b, c, delta)
+
+
+def _series_at_zero(a, b, c, u: float):
+    """Maclaurin series DLMF 15.2.1 of F and F' at u (arrays a, b, c)."""
+    term = np.ones(a.shape, complex)
+    f = term.copy()
+    df = np.zeros(a.shape, complex)
+    big = np.ones(a.shape)
+    if u == 0.0:
+        return f, a * b / c
+    quiet = 0
+    for n in range(_MAX_TERMS):
+        term = term * (a + n) * (b + n) / ((c + n) * (n + 1)) * u
+        f = f + term
+        df = df + (n + 1) * term / u
+        at = np.abs(term)
+        big = np.maximum(big, at)
+        # past the hump: |(a+n)(b+n)u/((c+n)(n+1))| < 1 everywhere, and two small terms
+        if np.all(at <= _TOL * big) and np.all(np.abs((a + n) * (b + n) * u) < np.abs((c + n) * (n + 1))):
+            quiet += 1
+            if quiet >= 2:
+                return f, df
+        else:
+            quiet = 0
+    raise ConvergenceError(f"the 2F1 Maclaurin series did not converge in {_MAX_TERMS} terms.")
+
+
+def _taylor_step(a, b, c, f0, d0, u0: float, s0: float, t: float):
+    """F and F' at u0 + t from F, F' at u0 (Taylor re-expansion of DLMF 15.10.1)."""
+    g0, g1 = f0, d0 * t
+    f = g0 + g1
+    df = d0.copy()
+    big = np.maximum(np.abs(g0), np.abs(g1))
+    apb1 = a + b + 1.0
+    lin = c - apb1 * u0
+    den0 = u0 * s0
+    quiet = 0
+    for n in range(_MAX_TERMS):
+        g2 = -(((2.0 * s0 - 1.0) * n + lin) * (n + 1) * t * g1 - (n + a) * (n + b) * t * t * g0) \
+            / (den0 * (n + 2) * (n + 1))
+        f = f + g2
+        df = df + (n + 2) * g2 / t
+        ag = np.abs(g2)
+        big = np.maximum(big, ag)
+        if n > 2 and np.all(ag <= _TOL * big) and np.all(np.abs(g1) <= 1e-8 * big):
+            quiet += 1
+            if quiet >= 2:
+                return f, df
+        else:
+            quiet = 0
+        g0, g1 = g1, g2
+    raise ConvergenceError(f"a 2F1 Taylor continuation step did not converge in {_MAX_TERMS} terms.")
+
+
+def _wavenumber(a, b, c, u0: float, s0: float) -> float:
+    """Largest local wavenumber in u of the hypergeometric equation over the batch (WKB)."""
+    # F'' ~ -[ab/(u s)] F and the first-derivative term, in units of 1/u
+    q = np.abs(a * b) / (u0 * s0) + (np.abs(c) / u0 + np.abs(a + b + 1.0) / s0) ** 2 / 4.0
+    return float(np.sqrt(np.max(q))) if q.size else 1.0
+
+
+def _hyp2f1(a, b, c, s_target: float, *, safety: float = 1.0):
+    r"""F(a, b; c; 1 - s_target) for arrays of parameters (module docstring): the Maclaurin
+    series, then Taylor steps of at most ``safety``/(local wavenumber)."""
+    u_target = 1.0 - s_target
+    if a.size == 0:
+        return np.empty(a.shape, complex)
+    ab = float(np.max(np.abs(a * b) / np.abs(c)))
+    ua = min(u_target, 0.5 * safety, safety / max(ab, 1e-300))
+    if ua >= u_target:
+        return _series_at_zero(a, b, c, u_target)[0]
+    f, d = _series_at_zero(a, b, c, ua)
+    u0, s0 = ua, 1.0 - ua
+    for _ in range(_MAX_STEPS):
+        t = min(0.5 * s0, 0.5 * u0, safety / _wavenumber(a, b, c, u0, s0))
+        last = s0 - t <= s_target * (1.0 + 1e-12)
+        if last:
+            t = s0 - s_target
+        f, d = _taylor_step(a, b, c, f, d, u0, s0, t)
+        if last:
+            return f
+        s0 = s0 - t
+        u0 = 1.0 - s0
+    raise ConvergenceError("the 2F1 continuation needed too many steps.")
+
+
+def hyp2f1_real_interval(a, b, c, u) -> np.ndarray:
+    r"""Gauss :math:`F(a, b; c; u)` (DLMF 15.2.1) for complex a, b, c and real :math:`0\le u<1`.
+
+    Vectorised over a, b, c (broadcast; c not a non-positive integer); u a scalar or an array
+    (one continuation per distinct u). See the module docstring for the method.
+    """
+    a, b, c = (np.asarray(_validate.complex_array(name, v)) for name, v in (("a", a), ("b", b), ("c", c)))
+    a, b, c = np.broadcast_arrays(a, b, c)
+    if np.any((c.imag == 0) & (c.real <= 0) & (c.real == np.round(c.real))):
+        raise ValueError("c must not be a non-positive integer.")
+    u = _validate.real_array("u", u)
+    if np.any(u < 0) or np.any(u >= 1):
+        raise ValueError("u must satisfy 0 <= u < 1.")
+    out = np.empty(u.shape + a.shape, complex)
+    for idx, uv in np.ndenumerate(u):
+        out[idx] = _hyp2f1(a.ravel(), b.ravel(), c.ravel(), 1.0 - float(uv)).reshape(a.shape)
+    return out
+
+
+def _field(B) -> float:
+    return _validate.real("the field B", B, minimum=-MAX_FIELD, maximum=MAX_FIELD)
+
+
+def radial_function(r, m, B, kappa) -> np.ndarray:
+    r"""Regular radial solution :math:`R(r) = r^{|m|}(1-r^2)^{\beta_-}F(a,b';c;r^2)` (real, module
+    docstring) of :math:`-\Delta_B(e^{\mathrm im\phi}R) = \kappa e^{\mathrm im\phi}R`, at radii
+    :math:`0\le r<1`."""
+    r = _validate.real_array("the radius r", r)
+    if np.any(r < 0) or np.any(r >= 1):
+        raise ValueError("the radius r must satisfy 0 <= r < 1.")
+    m = _validate.integer("m", m, minimum=-MAX_ORDER, maximum=MAX_ORDER)
+    B = _field(B)
+    kappa = _validate.real("kappa", kappa)
+    a, b, c, delta = (np.atleast_1d(v) for v in hypergeometric_parameters(m, B, kappa))
+    out = np.empty(r.shape)
+    for idx, rv in np.ndenumerate(r):
+        s = (1.0 - rv) * (1.0 + rv)
+        F = _hyp2f1(a, b, c, s)[0]
+        out[idx] = (rv ** abs(m) * np.exp(0.5 * (1.0 - delta[0]) * math.log(s)) * F).real
+    return out[()] if r.ndim == 0 else out
+
+
+def _dfunc(kappa, m, B: float, s: float, *, safety: float = 1.0) -> np.ndarray:
+    r"""Sign-carrying Dirichlet function: R(L) divided by the positive factor
+    :math:`L^{|m|}s^{(1-\operatorname{Re}\delta)/2}` (keeps it finite for every field)."""
+    kappa, m = np.broadcast_arrays(np.asarray(kappa, float), np.asarray(m, float))
+    shape = kappa.shape
+    a, b, c, delta = hypergeometric_parameters(m.ravel(), B, kappa.ravel())
+    F = _hyp2f1(a, b, c, s, safety=safety)
+    return (np.exp(-0.5j * delta.imag * math.log(s)) * F).real.reshape(shape)
+
+
+def dirichlet_function(kappa, m, B, radius) -> np.ndarray:
+    r"""The function whose roots in :math:`\kappa` are the Dirichlet levels (:math:`R(L)` up to a
+    positive factor), broadcast over ``kappa`` and ``m``."""
+    kappa = _validate.real_array("kappa", kappa)
+    m = np.asarray(_validate.real_array("m", m))
+    if np.any(m != np.round(m)) or np.any(np.abs(m) > MAX_ORDER):
+        raise ValueError(f"m must be integers with |m| <= {MAX_ORDER}.")
+    L = _validate.radius("the disk radius L", radius)
+    return _dfunc(kappa, m, _field(B), (1.0 - L) * (1.0 + L))
+
+
+def _refine(lo, hi, m, B, s):
+    res = _elementwise.find_root(lambda kk, mm: _dfunc(kk, mm, B, s), (lo, hi), args=(m,),
+                                 tolerances=_TOLERANCES)
+    if not np.all(res.success):
+        raise ConvergenceError("the magnetic Dirichlet root refinement did not converge.")
+    width = np.abs(np.asarray(res.bracket[1]) - np.asarray(res.bracket[0]))
+    return np.asarray(res.x, float), width
+
+
+def _enclosure(kappa, m, B, s, width):
+    """Half-width of a verified sign-change enclosure of each root (module docstring)."""
+    delta = np.maximum(width, 4.0 * np.spacing(kappa))
+    out = np.full(kappa.size, np.nan)
+    todo = np.arange(kappa.size)
+    for _ in range(25):
+        kk = np.concatenate([kappa[todo] - delta[todo], kappa[todo] + delta[todo]])
+        mm = np.concatenate([m[todo], m[todo]])
+        f1 = _dfunc(kk, mm, B, s)
+        f2 = _dfunc(kk, mm, B, s, safety=0.6)
+        err = np.abs(f1 - f2) + 1e-15 * np.maximum(np.abs(f1), np.abs(f2))
+        ok = np.abs(f1) > 10.0 * err
+        nt = todo.size
+        good = ok[:nt] & ok[nt:] & (np.sign(f1[:nt]) * np.sign(f1[nt:]) < 0)
+        out[todo[good]] = delta[todo[good]]
+        todo = todo[~good]
+        if todo.size == 0:
+            return out
+        delta[todo] *= 4.0
+    raise ConvergenceError("no verified enclosure for a magnetic Dirichlet root.")
+
+
+def _roots_below(ms: np.ndarray, B: float, s: float, t: float, kcut: float):
+    """Sign-change cells of every order below k = kcut (k = sqrt(kappa - 1)), grid halved until
+    a grid and its half agree on the number of sign changes. Returns (list of k-grid cell
+    arrays per order, grid)."""
+    dk = _grid_step(t)
+    for _ in range(8):
+        npts = math.ceil(kcut / dk) + 1
+        fine = np.arange(2 * npts - 1) * (dk / 2.0)
+        vals = _dfunc(1.0 + fine[None, :] ** 2, ms[:, None], B, s)
+        sg = np.sign(vals)
+        coarse = sg[:, ::2]
+        nf = np.sum((sg[:, :-1] * sg[:, 1:] < 0) | (sg[:, :-1] == 0), axis=1)
+        nc = np.sum((coarse[:, :-1] * coarse[:, 1:] < 0) | (coarse[:, :-1] == 0), axis=1)
+        if np.array_equal(nf, nc):
+            hit = (sg[:, :-1] * sg[:, 1:] < 0) | (sg[:, :-1] == 0)
+            return [np.flatnonzero(row) for row in hit], fine
+        dk /= 2.0
+    raise ConvergenceError("the magnetic root scan did not stabilise under grid refinement.")
+
+
+def magnetic_roots(m, B, radius, n_roots: int = 1) -> np.ndarray:
+    r"""The ``n_roots`` lowest Dirichlet eigenvalues :math:`\kappa(n, m; B, L)`, n = 1.., of
+    :math:`-\Delta_B` on the disk of radius L for one order m."""
+    m = _validate.integer("m", m, minimum=-MAX_ORDER, maximum=MAX_ORDER)
+    B = _field(B)
+    L = _validate.radius("the disk radius L", radius)
+    n_roots = _validate.positive_int("n_roots", n_roots, maximum=MAX_LEVELS)
+    x = (1.0 + L * L) / ((1.0 - L) * (1.0 + L))
+    _check_disk_x(x, L)
+    s = (1.0 - L) * (1.0 + L)
+    t = math.acosh(x)
+    kcut = 4.0 * _grid_step(t) * 6
+    ms = np.array([float(m)])
+    while True:
+        cells, grid = _roots_below(ms, B, s, t, kcut)
+        if cells[0].size >= n_roots:
+            break
+        kcut *= 1.6
+    idx = cells[0][:n_roots]
+    k, _ = _refine(1.0 + grid[idx] ** 2, 1.0 + grid[idx + 1] ** 2, np.full(idx.size, float(m)), B, s)
+    return k
+
+
+# ----------------------------------------------------------------------------
+# L -> 1
+# ----------------------------------------------------------------------------
+
+def landau_levels(B) -> dict:
+    r"""Discrete hyperbolic Landau levels of :math:`-\Delta_B` on the whole disk (paper's metric)
+    and the threshold of the continuous spectrum (module docstring, from Comtet's curvature
+    :math:`-1` formulas with :math:`b_1 = B/4`, :math:`\Delta_g = 4\Delta_{-1}`).
+
+    Returns
+    -------
+    dict
+        ``{"kappa": ndarray of kappa_N = (2N+1)|B| - 4N(N+1) for 0 <= N < |B|/4 - 1/2,
+        "threshold": 1 + B^2/4}``.
+    """
+    B = abs(_field(B))
+    nmax = math.ceil(B / 4.0 - 0.5)  # N < B/4 - 1/2
+    N = np.arange(max(0, nmax))
+    return {"kappa": (2 * N + 1) * B - 4.0 * N * (N + 1), "threshold": 1.0 + 0.25 * B * B}
+
+
+# ----------------------------------------------------------------------------
+# levels
+# ----------------------------------------------------------------------------
+
+@dataclass(frozen=True, eq=False, kw_only=True)
+class MagneticSpectrum(Levels):
+    r"""The lowest levels of :math:`-q - \frac q4 h^2\Delta_B` on a Dirichlet disk (a :class:`Levels`).
+
+    Like :class:`~hyperlattice.continuum.spectrum.ContinuumSpectrum`, with ``kappa`` (the
+    eigenvalues of :math:`-\Delta_B`) instead of k, plus ``flux`` (quanta per p-gon face) and
+    ``field`` (B). With flux, +m and -m are separate levels (degeneracy 1).
+    """
+
+    error_kind: str = "energy error bound"
+    method: str = "magnetic-dirichlet-roots"
+    description: str = ("roots of r^|m| (1-r^2)^beta 2F1(a,b;c;r^2) at r = L: grid bracketing + "
+                        "Chandrupatla, 2F1 by series and Taylor continuation")
+    rings: int | None
+    radius: float
+    x: float
+    h: float
+    kappa: np.ndarray
+    flux: float
+    field: float
+    asymptotic: dict
+
+    @property
+    def degeneracy(self) -> np.ndarray:
+        """1 per state with flux; the +-m pairs count 2 at zero flux, as without field."""
+        if self.field == 0.0:
+            return np.where(self.m == 0, 1, 2)
+        return np.ones(len(self), dtype=int)
+
+    def summary(self) -> dict:
+        """Keys of ContinuumSpectrum.summary() (k = sqrt(kappa - 1)) plus flux and field."""
+        return {"p": self.p, "q": self.q, "rings": self.rings, "radius": self.radius,
+                "h": self.h, "energies": self.energies.tolist(), "n": self.n.tolist(),
+                "m": self.m.tolist(), "k": np.sqrt(np.maximum(self.kappa - 1.0, 0.0)).tolist(),
+                "asymptotic": dict(self.asymptotic), "flux": self.flux, "field": self.field}
+
+
+def magnetic_levels(p=7, q=3, radius=None, rings=None, levels: int = 4, flux=0.0) -> MagneticSpectrum:
+    r"""The ``levels`` lowest states of :math:`H = -q - \frac q4 h^2\Delta_B` on a Dirichlet disk,
+    with :math:`B` = :func:`~hyperlattice.dictionary.field_from_flux` (``flux`` quanta per p-gon).
+
+    Every order m with a root below a cutoff is scanned (for :math:`B>0`, the lowest root grows
+    with m beyond :math:`m_* = A_\phi(L)` and with :math:`|m|` for m < 0; mirrored for B < 0),
+    the cutoff growing until there are at least ``levels`` states. Orders beyond
+    :data:`~hyperlattice.continuum.spectrum.MAX_ORDER` are refused (ValueError).
+    """
+    p, q = _validate.pq(p, q)
+    K = _validate.positive_int("levels", levels, maximum=MAX_LEVELS)
+    flux = _validate.real("flux", flux, minimum=-1e6, maximum=1e6)
+    B = float(field_from_flux(flux, p, q))
+    if abs(B) > MAX_FIELD:
+        raise ValueError(f"the flux {flux:g} gives a field |B| = {abs(B):g} beyond {MAX_FIELD:g}.")
+    L, x = disk_argument(radius, p=p, q=q, rings=rings)
+    _check_disk_x(x, L)
+    s = 2.0 / (x + 1.0)               # 1 - L^2, exact from x for ring disks
+    t = math.acosh(x)
+    a_edge = abs(B) * (1.0 - s) / (2.0 * s)   # A_phi(L): beyond this order the roots grow with |m|
+    if a_edge > MAX_ORDER:
+        raise ValueError(f"the disk holds {a_edge:.3g} flux quanta; orders up to {MAX_ORDER} only.")
+    sign = 1 if B >= 0 else -1
+    kcut = 12.0 * _grid_step(t)
+    while True:
+        found = []
+        count = 0
+        for direction in ((1,) if B == 0 else (1, -1)):
+            mm = 0 if direction == 1 else -1
+            while abs(mm) <= MAX_ORDER:
+                cells, grid = _roots_below(np.array([float(mm)]), B, s, t, kcut)
+                c0 = cells[0]
+                if c0.size:
+                    found.append((mm, c0, grid))
+                    count += c0.size * (2 if (B == 0 and mm != 0) else 1)
+                beyond = (sign * mm > a_edge) if direction * sign > 0 else True
+                if c0.size == 0 and beyond:
+                    break
+                mm += direction
+        if count >= K:
+            break
+        kcut *= 1.5
+    ms = np.concatenate([np.full(c.size, float(mm)) for mm, c, _ in found])
+    ns = np.concatenate([np.arange(1, c.size + 1) for _, c, _ in found])
+    lo = np.concatenate([1.0 + g[c] ** 2 for _, c, g in found])
+    hi = np.concatenate([1.0 + g[c + 1] ** 2 for _, c, g in found])
+    kap, width = _refine(lo, hi, ms, B, s)
+    delta = _enclosure(kap, ms, B, s, width)
+    if B == 0:  # +-m degenerate: list +m then -m as the zero-field levels do
+        pos = ms > 0
+        kap, ns, delta = (np.concatenate([v, v[pos]]) for v in (kap, ns, delta))
+        ms = np.concatenate([ms, -ms[pos]])
+    order = np.lexsort((ms < 0, np.abs(ms), kap))[:K]
+    kap, ns, ms, delta = kap[order], ns[order], ms[order].astype(int), delta[order]
+    scale = hopping_scale(p, q)
+    energies = np.asarray(energy_from_lambda(kap, p, q), float)
+    errors = scale * delta + 4.0 * np.finfo(float).eps * (q + scale * kap)
+    return MagneticSpectrum(p=p, q=q, rings=None if rings is None else int(rings), radius=L, x=x,
+                            h=lattice_h(p, q), energies=energies, n=ns, m=ms, errors=errors, kappa=kap,
+                            flux=flux, field=B,
+                            asymptotic=asymptotic_energies(p, q, radius=None if rings is not None else radius,
+                                                           rings=rings))
