@@ -270,7 +270,7 @@ def test_spectrum_records_flux():
     assert "flux f = -0.25" in spec.description
 
 
-@pytest.mark.parametrize("bad", ["0.1", float("nan"), float("inf"), True, None, 1j, [0.1]])
+@pytest.mark.parametrize("bad", ["0.1", float("nan"), float("inf"), True, None, 1j, [0.1], 1e300, -2e6])
 def test_bad_flux(bad):
     lat = ring_lattice(7, 3, 2)
     for call in (lambda: hamiltonian(lat, flux=bad), lambda: lowest_levels(lat, 2, flux=bad),
@@ -279,3 +279,10 @@ def test_bad_flux(bad):
                  lambda: F.check_face_fluxes(lat, bad)):
         with pytest.raises(ValueError, match="flux"):
             call()
+
+
+def test_largest_flux_accepted():
+    lat = ring_lattice(7, 3, 2)
+    big = F.MAX_FLUX
+    # an integer flux on a site flake is a gauge: the spectrum is that of f = 0 up to the phase rounding
+    assert np.max(np.abs(full_spectrum(lat, flux=big) - full_spectrum(lat))) < 1e-8

@@ -47,6 +47,20 @@ __all__ = ["pgon_area", "field_strength", "triangle_area", "edge_phases", "faces
            "face_fluxes", "check_face_fluxes"]
 
 
+#: Largest |f| accepted: the phases are B x area with B = 2 pi f / A_p, so beyond about 1e6
+#: flux quanta per p-gon their absolute rounding error (|theta| x 1e-16) exceeds 1e-9.
+MAX_FLUX = 1e6
+
+
+def _flux(value) -> float:
+    """The flux f as a checked float (the one door for every function taking ``flux``)."""
+    f = _validate.real("the flux f", value)
+    if abs(f) > MAX_FLUX:
+        raise ValueError(f"the flux f must be at most {MAX_FLUX:g} flux quanta per p-gon in magnitude "
+                         f"(beyond it the Peierls phases lose their precision), got {f:g}.")
+    return f
+
+
 def pgon_area(p: int, q: int) -> float:
     r"""Hyperbolic area of one p-gon face of the {p,q} tiling, :math:`((p-2)\pi - 2\pi p/q)/4`.
 
@@ -61,8 +75,7 @@ def field_strength(flux, p: int, q: int) -> float:
 
     (Local to the graph side until the dictionary carries the f <-> B map.)
     """
-    f = _validate.real("the flux f", flux)
-    return 2 * np.pi * f / pgon_area(p, q)
+    return 2 * np.pi * _flux(flux) / pgon_area(p, q)
 
 
 def triangle_area(a, b) -> np.ndarray:
@@ -176,7 +189,7 @@ def check_face_fluxes(lattice: Lattice, flux, tol: float = 1e-12) -> float:
 
     Raises ValueError if it exceeds ``tol`` (relative to :math:`\max(1, 2\pi|f|)`).
     """
-    f = _validate.real("the flux f", flux)
+    f = _flux(flux)
     tol = _validate.positive_real("tol", tol)
     cycles = faces(lattice)
     want = 2 * np.pi * f * face_areas(lattice, cycles) / pgon_area(lattice.p, lattice.q)

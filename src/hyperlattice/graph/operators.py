@@ -16,7 +16,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .. import _validate
-from .flux import edge_phases
+from .flux import _flux, edge_phases
 from .lattice import Lattice
 
 __all__ = ["adjacency", "hamiltonian", "incidence", "onsite_values"]
@@ -100,7 +100,7 @@ def hamiltonian(lattice: Lattice, t: float = 1.0, onsite: OnSite = None, flux: f
         Sorted indices; float64 at zero flux, complex128 otherwise.
     """
     t = _validate.real("the hopping t", t)
-    flux = _validate.real("the flux f", flux)
+    flux = _flux(flux)
     if flux != 0.0:
         h = _peierls(lattice, t, flux)
     else:

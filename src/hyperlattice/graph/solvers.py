@@ -49,7 +49,7 @@ import scipy.sparse.linalg as spla
 
 from .. import _validate
 from ..errors import ConvergenceError, ConvergenceWarning
-from .flux import edge_phases
+from .flux import _flux, edge_phases
 from .lattice import Lattice
 from .operators import OnSite, onsite_values
 
@@ -144,7 +144,7 @@ def full_table(lattice: Lattice, t: float = 1.0, onsite: OnSite = None, flux: fl
     """
     _validate.lattice(lattice)
     t = _validate.real("the hopping t", t)
-    flux = _validate.real("the flux f", flux)
+    flux = _flux(flux)
     e = lattice.edges.astype(np.int64)
     n = lattice.sites
     rows = np.concatenate([e[:, 0], e[:, 1]])

@@ -39,6 +39,7 @@ import scipy.linalg as sla
 from .. import _validate
 from ..errors import ConvergenceError
 from ..results import Levels
+from .flux import _flux
 from .lattice import Lattice
 from .operators import OnSite, hamiltonian
 from .solvers import (
@@ -281,7 +282,7 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
     tol = _validate.positive_real("tol", tol)
     t = _validate.real("the hopping t", t)
     eigenvectors = _validate.flag("eigenvectors", eigenvectors)
-    flux = _validate.real("the flux f", flux)
+    flux = _flux(flux)
     if progress is not None:
         _validate.function("progress", progress)
     if levels > lattice.sites:
@@ -443,7 +444,7 @@ def full_spectrum(lattice: Lattice, *, t: float = 1.0, onsite: OnSite = None,
     _validate.lattice(lattice)
     t = _validate.real("the hopping t", t)
     max_sites = _validate.positive_int("max_sites", max_sites)
-    flux = _validate.real("the flux f", flux)
+    flux = _flux(flux)
     if lattice.sites > max_sites:
         raise ValueError(f"the full spectrum of {lattice.sites:,} sites is a dense computation; "
                          f"raise max_sites (now {max_sites:,}) if that is intended.")

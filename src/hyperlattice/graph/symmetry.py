@@ -33,7 +33,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .. import _validate
-from .flux import edge_phases
+from .flux import _flux, edge_phases
 from .lattice import Lattice
 from .operators import OnSite
 from .solvers import SectorTable, _fixed_width, _real_onsite
@@ -171,7 +171,7 @@ def sector_table(lattice: Lattice, m: int, t: float = 1.0, onsite: OnSite = None
     p = int(lattice.p)
     m = signed_sector(m, p)
     t = _validate.real("the hopping t", t)
-    flux = _validate.real("the flux f", flux)
+    flux = _flux(flux)
     if orbits is None:
         orbits = rotation_orbits(lattice)
     else:
