@@ -286,3 +286,58 @@ def test_largest_flux_accepted():
     big = F.MAX_FLUX
     # an integer flux on a site flake is a gauge: the spectrum is that of f = 0 up to the phase rounding
     assert np.max(np.abs(full_spectrum(lat, flux=big) - full_spectrum(lat))) < 1e-8
+
+
+# ----------------------------------------------------------------------------
+# the butterfly
+# ----------------------------------------------------------------------------
+
+def test_butterfly_matches_the_dense_spectrum():
+    lat = ring_lattice(7, 3, 3)
+    fluxes = np.array([0.0, 0.1, 0.35, 1.0, -0.2])
+    bf = F.butterfly(lat, fluxes)
+    assert bf.energies.shape == (5, lat.sites) and bf.m.shape == (5, lat.sites)
+    for k, f in enumerate(fluxes):
+        dense = sla.eigvalsh(hamiltonian(lat, flux=f).toarray())
+        assert np.max(np.abs(bf.energies[k] - dense)) < 1e-12
+        # every sector holds N/p levels
+        assert np.all(np.bincount(bf.m[k] % lat.p) == lat.sites // lat.p)
+    # the lowest level and its sector agree with lowest_levels
+    spec = lowest_levels(lat, 1, flux=0.35)
+    assert abs(bf.energies[2, 0] - spec.energies[0]) < 1e-12 and bf.m[2, 0] == spec.m[0]
+    # f = 1 is a gauge on a site flake
+    assert np.max(np.abs(bf.energies[3] - bf.energies[0])) < 1e-11
+    cols = bf.columns()
+    assert cols["flux"].shape == cols["energy"].shape == cols["m"].shape == (5 * lat.sites,)
+    out = bf.summary()
+    assert out["fluxes"] == 5 and out["flux_max"] == 1.0 and out["sites"] == lat.sites
+    back = Result.from_dict(bf.as_dict())
+    assert np.array_equal(back.energies, bf.energies) and np.array_equal(back.m, bf.m)
+
+
+def test_butterfly_line_graph_and_plot():
+    import matplotlib.pyplot as plt
+
+    lg = line_graph(ring_lattice(7, 3, 2))
+    bf = F.butterfly(lg, np.linspace(0, 1, 4))
+    assert bf.kind == "line_graph"
+    assert np.max(np.abs(bf.energies[2] - sla.eigvalsh(hamiltonian(lg, flux=2 / 3).toarray()))) < 1e-12
+    ax = bf.plot()
+    assert ax.get_xlabel() == "flux f per p-gon"
+    plt.close(ax.figure)
+
+
+@pytest.mark.parametrize("bad", [[], [[0.1]], ["a"], [np.nan], [0.1, 2e6]])
+def test_butterfly_bad_fluxes(bad):
+    with pytest.raises(ValueError):
+        F.butterfly(ring_lattice(7, 3, 2), bad)
+
+
+def test_butterfly_refuses_large_before_allocating():
+    lat = ring_lattice(7, 3, 4)
+    with pytest.raises(ValueError, match="max_sites"):
+        F.butterfly(lat, [0.1], max_sites=100)
+    with pytest.raises(ValueError, match="too large"):
+        F.butterfly(lat, np.zeros(700_000))
+    with pytest.raises(ValueError, match="rotation"):
+        F.butterfly(lat, [0.1], onsite=np.arange(lat.sites, dtype=float))

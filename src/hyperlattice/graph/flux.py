@@ -34,17 +34,33 @@ reduces to this argument (checked in the tests against the angle defect and agai
 quadrature of A). It needs no cancellation: :math:`\mathrm{Re}(1 - a\bar b) > 0` for points
 in the disk. The field strength follows from :math:`B \cdot A_p = 2\pi f` with the p-gon
 area :math:`A_p = ((p-2)\pi - 2\pi p/q)/4` in curvature -4.
+
+Faces and checks
+----------------
+:func:`faces` enumerates the bounded faces of the embedded graph (rotation system), :func:`face_areas`
+measures them by their angles (Gauss-Bonnet, independent of the phases) and
+:func:`check_face_fluxes` verifies that each carries :math:`2\pi f \times` area / :math:`A_p`.
+:func:`butterfly` gives all levels against f sector by sector (the hyperbolic Hofstadter butterfly).
 """
 
 from __future__ import annotations
 
+import time
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
 import numpy as np
+import scipy.linalg as sla
 
 from .. import _validate
+from ..results import Result
 from .lattice import Lattice
 
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
 __all__ = ["pgon_area", "field_strength", "triangle_area", "edge_phases", "faces", "face_areas",
-           "face_fluxes", "check_face_fluxes"]
+           "face_fluxes", "check_face_fluxes", "Butterfly", "butterfly", "MAX_FLUX"]
 
 
 #: Largest |f| accepted: the phases are B x area with B = 2 pi f / A_p, so beyond about 1e6
@@ -198,3 +214,143 @@ def check_face_fluxes(lattice: Lattice, flux, tol: float = 1e-12) -> float:
     if dev > tol * max(1.0, 2 * np.pi * abs(f)):
         raise ValueError(f"face fluxes deviate from 2 pi f x area ratio by {dev:.2e}.")
     return dev
+
+
+# ----------------------------------------------------------------------------
+# the hyperbolic Hofstadter butterfly
+# ----------------------------------------------------------------------------
+
+@dataclass(frozen=True, eq=False, kw_only=True)
+class Butterfly(Result):
+    """All levels of a flake against the flux: the hyperbolic Hofstadter butterfly.
+
+    Attributes
+    ----------
+    fluxes : ndarray, shape (F,)
+        Flux quanta per p-gon, in the order given.
+    energies : ndarray, shape (F, N)
+        All N levels at each flux, ascending along each row.
+    m : ndarray of int, shape (F, N)
+        Signed angular momentum (rotation sector) of each level.
+    p, q, rings, sites : int
+    kind : str
+        ``"sites"`` or ``"line_graph"``.
+    t : float
+        Hopping amplitude.
+    method : str
+        ``"sector-dense"``: LAPACK eigvalsh of each of the p blocks at each flux.
+    description : str
+    timings : dict
+        Wall-clock seconds (``"total"``).
+    """
+
+    fluxes: np.ndarray
+    energies: np.ndarray
+    m: np.ndarray
+    p: int
+    q: int
+    rings: int
+    sites: int
+    kind: str = "sites"
+    t: float = 1.0
+    method: str = "sector-dense"
+    description: str = ""
+    timings: dict = field(default_factory=dict)
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """Long-format columns ``flux``, ``m``, ``energy`` (one row per level and flux), for a table."""
+        n = self.energies.shape[1]
+        return {"flux": np.repeat(self.fluxes, n), "m": self.m.ravel().copy(),
+                "energy": self.energies.ravel().copy()}
+
+    def summary(self) -> dict:
+        """Short view: sizes, flux range and energy range (the levels themselves are in ``columns``)."""
+        return {"p": self.p, "q": self.q, "rings": self.rings, "sites": self.sites, "kind": self.kind,
+                "method": self.method, "fluxes": int(self.fluxes.shape[0]),
+                "flux_min": float(np.min(self.fluxes)), "flux_max": float(np.max(self.fluxes)),
+                "energy_min": float(np.min(self.energies)), "energy_max": float(np.max(self.energies))}
+
+    def plot(self, ax=None, *, color: str = "k", size: float = 0.3, **kwargs) -> Axes:
+        """Every level as a dot against the flux; returns the axes."""
+        from ..plots import new_axes
+
+        ax = new_axes(ax)
+        n = self.energies.shape[1]
+        ax.scatter(np.repeat(self.fluxes, n), self.energies.ravel(), s=size, c=color, linewidths=0,
+                   rasterized=True, **kwargs)
+        ax.set_xlabel("flux f per p-gon")
+        ax.set_ylabel("energy E / t")
+        ax.set_title(f"{{{self.p},{self.q}}} flake, {self.rings} rings, {self.sites:,} sites")
+        return ax
+
+
+def butterfly(lattice: Lattice, fluxes, *, t: float = 1.0, onsite=None, max_sites: int = 50_000) -> Butterfly:
+    r"""All levels of a flake at each flux, sector by sector (the hyperbolic Hofstadter butterfly).
+
+    At each flux f the p angular-momentum blocks :math:`H_m` (size N/p; the gauge of this
+    module keeps the rotation symmetry) are diagonalised densely: about :math:`p^2` less work
+    than the full N x N Peierls matrix.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        Site lattice or line graph.
+    fluxes : array of float
+        Flux quanta per p-gon (positive = counterclockwise, see the module docstring).
+    t : float
+        Hopping amplitude.
+    onsite : optional
+        Rotation-invariant on-site term.
+    max_sites : int
+        Largest N accepted (a dense computation per sector).
+
+    Returns
+    -------
+    Butterfly
+
+    Raises
+    ------
+    ValueError
+        Bad input, N above ``max_sites``, a rotation-breaking on-site term, or a result
+        (flux values x N levels) above 2e8 numbers.
+    """
+    # symmetry.py imports this module (for edge_phases): import it here, not at the top
+    from .symmetry import rotation_invariant, rotation_orbits, sector_table
+
+    t0 = time.perf_counter()
+    _validate.lattice(lattice)
+    f = _validate.real_array("fluxes", fluxes, ndim=1)
+    if f.shape[0] == 0:
+        raise ValueError("fluxes must hold at least one value.")
+    for value in (float(np.min(f)), float(np.max(f))):
+        _flux(value)
+    t = _validate.real("the hopping t", t)
+    max_sites = _validate.positive_int("max_sites", max_sites)
+    n = lattice.sites
+    if n > max_sites:
+        raise ValueError(f"the butterfly of {n:,} sites is a dense computation per sector; "
+                         f"raise max_sites (now {max_sites:,}) if that is intended.")
+    if f.shape[0] * n > 2e8:
+        raise ValueError(f"{f.shape[0]:,} flux values x {n:,} levels is too large a result; use fewer fluxes.")
+    if not rotation_invariant(lattice, onsite):
+        raise ValueError("the on-site term is not invariant under the p-fold rotation, so H has no "
+                         "angular-momentum sectors.")
+    p = lattice.p
+    orbits = rotation_orbits(lattice)
+    energies = np.empty((f.shape[0], n))
+    labels = np.empty((f.shape[0], n), dtype=np.int64)
+    sectors = [int(m - p) if m > p / 2 else int(m) for m in range(p)]
+    for k, fk in enumerate(f.tolist()):
+        parts, ms = [], []
+        for m in sectors:
+            block = sector_table(lattice, m, t, onsite, orbits=orbits, flux=fk).to_csr().toarray()
+            parts.append(sla.eigvalsh(block))
+            ms.append(np.full(orbits.size, m, dtype=np.int64))
+        e, mm = np.concatenate(parts), np.concatenate(ms)
+        order = np.argsort(e, kind="stable")
+        energies[k], labels[k] = e[order], mm[order]
+    total = time.perf_counter() - t0
+    description = (f"LAPACK eigvalsh of the {p} angular-momentum blocks ({orbits.size:,} x {orbits.size:,}) "
+                   f"at each of {f.shape[0]:,} flux values.")
+    return Butterfly(fluxes=f, energies=energies, m=labels, p=p, q=lattice.q, rings=lattice.rings, sites=n,
+                     kind=lattice.kind, t=t, description=description, timings={"total": total})
