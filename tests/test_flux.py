@@ -103,6 +103,18 @@ def test_face_fluxes(name):
         assert F.check_face_fluxes(lat, f) <= 1e-12 * max(1.0, 2 * np.pi * abs(f))
 
 
+def test_faces_need_a_plane_graph():
+    """The line graph for q = 5 has crossing edges (K5 around each vertex): no faces, a plain error."""
+    lg = line_graph(ring_lattice(4, 5, 2))
+    with pytest.raises(ValueError, match="not a plane graph"):
+        F.faces(lg)
+    with pytest.raises(ValueError, match="not a plane graph"):
+        F.check_face_fluxes(lg, 0.3)
+    # the Peierls Hamiltonian itself is still fine and rotation symmetric
+    dense = sla.eigvalsh(hamiltonian(lg, flux=0.3).toarray())
+    assert np.max(np.abs(full_spectrum(lg, flux=0.3) - dense)) < 1e-12
+
+
 def test_phases_are_rotation_invariant():
     for lat in (ring_lattice(7, 3, 3), line_graph(ring_lattice(7, 3, 2)), ring_lattice(4, 5, 3)):
         h = hamiltonian(lat, flux=0.41)

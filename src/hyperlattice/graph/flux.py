@@ -130,6 +130,12 @@ def faces(lattice: Lattice) -> list[np.ndarray]:
     the geodesic edge at the site; following each directed edge u -> v with the next
     neighbour of v clockwise after u traces the face on its left. The one clockwise cycle
     (the outer face) is dropped.
+
+    Raises
+    ------
+    ValueError
+        If the drawing is not a plane graph (Euler's formula fails), as for the line graph of
+        a {p,q} flake with q > 3, where the q edges at a vertex form a complete graph.
     """
     _validate.lattice(lattice)
     z = np.asarray(lattice.z, dtype=np.complex128)
@@ -145,6 +151,7 @@ def faces(lattice: Lattice) -> list[np.ndarray]:
         pos[(int(src[k]), int(nb[k]))] = k
     used = np.zeros(nb.shape[0], dtype=bool)
     out = []
+    traced = 0
     for k0 in range(nb.shape[0]):
         if used[k0]:
             continue
@@ -157,10 +164,17 @@ def faces(lattice: Lattice) -> list[np.ndarray]:
             kv = pos[(v, u)]                       # u in v's ccw list
             lo, hi = indptr[v], indptr[v + 1]
             k = lo + (kv - lo - 1) % (hi - lo)     # the previous one ccw = next clockwise
+        traced += 1
         cyc = np.array(cycle, dtype=np.int64)
         zc = z[cyc]
         if np.sum(triangle_area(zc, np.roll(zc, -1))) > 0:
             out.append(cyc)
+    # Euler: a connected plane graph has E - V + 2 faces, all but the outer one ccw. Edges
+    # that cross (the line graph for q > 3 joins all q edges at a vertex) break this.
+    expected = int(lattice.edges.shape[0]) - n + 2
+    if traced != expected or len(out) != expected - 1:
+        raise ValueError(f"the embedded graph is not a plane graph (its edges cross: {traced} faces traced, "
+                         f"Euler needs {expected}), so its faces are not defined; the phases still are.")
     return out
 
 
