@@ -365,3 +365,15 @@ def test_sector_sparse_with_flux():
         e = sla.eigvalsh(sector_table(lat, m, flux=0.05).to_csr().toarray(), subset_by_index=[0, 1])
         sel = spec.energies[spec.m == m]
         assert sel.size >= 1 and np.max(np.abs(e[:sel.size] - sel)) < 1e-12
+
+
+def test_sign_convention_lowest_levels_have_positive_m():
+    """f > 0 is counterclockwise: the -B L_z term of (grad - iA)^2 puts m = 0, 1, 2, ... lowest."""
+    lat = ring_lattice(7, 3, 6)
+    spec = lowest_levels(lat, 6, flux=0.1)
+    assert (spec.m % 7).tolist() == [0, 1, 2, 3, 4, 5]
+    spec = lowest_levels(lat, 6, flux=-0.1)
+    assert ((-spec.m) % 7).tolist() == [0, 1, 2, 3, 4, 5]
+    # and the phases of a ccw face sum to +2 pi f
+    cycles = F.faces(ring_lattice(7, 3, 1))
+    assert F.face_fluxes(ring_lattice(7, 3, 1), 0.1, cycles)[0] == pytest.approx(0.2 * np.pi, abs=1e-14)

@@ -11,7 +11,10 @@ A lattice gets a uniform field of ``flux = f`` flux quanta through each p-gon fa
 (a particle of unit charge, :math:`\hbar = 1`, flux quantum :math:`2\pi`), the integral taken
 along the geodesic edge from site j to site i. Positive f is a counterclockwise flux: the
 phases summed counterclockwise around a face add up to :math:`+2\pi f \times` (area of the
-face / area of one p-gon).
+face / area of one p-gon). In the continuum limit the hops become the covariant derivative
+:math:`\nabla - iA`, i.e. :math:`-\Delta_B` with :math:`(\nabla - iA)^2`; for f > 0 the term
+:math:`-B L_z` favours positive angular momentum, and the lowest levels of a flake carry
+m = 0, 1, 2, ... (mod p) in the labels of :mod:`hyperlattice.graph.symmetry`.
 
 The gauge
 ---------

@@ -227,7 +227,8 @@ def sector_hamiltonian(lattice: Lattice, m: int, t: float = 1.0, onsite: OnSite 
     Returns
     -------
     scipy.sparse.csr_matrix, shape (N/p, N/p)
-        Real symmetric for m = 0 and m = p/2, complex Hermitian otherwise. Row and column o
+        Without flux real symmetric for m = 0 and m = p/2, complex Hermitian otherwise
+        (always complex Hermitian with flux). Row and column o
         belong to the orbit of ``rotation_orbits(lattice).representatives[o]``; the union of
         the spectra over the p sectors is the spectrum of H.
 
