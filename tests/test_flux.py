@@ -377,3 +377,15 @@ def test_sign_convention_lowest_levels_have_positive_m():
     # and the phases of a ccw face sum to +2 pi f
     cycles = F.faces(ring_lattice(7, 3, 1))
     assert F.face_fluxes(ring_lattice(7, 3, 1), 0.1, cycles)[0] == pytest.approx(0.2 * np.pi, abs=1e-14)
+
+
+@pytest.mark.parametrize("pq", [(7, 3), (8, 3), (4, 5)])
+def test_one_flux_quantum_shifts_the_sector_by_one(pq):
+    """f -> f + 1 is a gauge whose gauge function winds once around the central p-gon, so the
+    sector blocks are relabelled m -> m + 1: spectrum of H_{m+1}(f+1) = spectrum of H_m(f)."""
+    lat = ring_lattice(*pq, 3)
+    p = pq[0]
+    for m in range(p):
+        a = sla.eigvalsh(sector_table(lat, (m + 1) % p, flux=1.3).to_csr().toarray())
+        b = sla.eigvalsh(sector_table(lat, m, flux=0.3).to_csr().toarray())
+        assert np.max(np.abs(a - b)) < 1e-12
