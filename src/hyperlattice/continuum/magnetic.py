@@ -51,7 +51,9 @@ analytic continuation by Taylor re-expansion of DLMF 15.10.1 about successive po
 .. math:: g_{n+2} = -\frac{[(1-2u_0)n + c - (a+b'+1)u_0](n+1)\,t\,g_{n+1}
                     - (n+a)(n+b')\,t^2 g_n}{u_0(1-u_0)(n+2)(n+1)} .
 
-Each step has :math:`t \le \frac12\min(u_0, 1-u_0)` (geometric convergence, ratio 1/2) and
+Each step has :math:`t \le \frac12\min(u_0, 1-u_0)` (geometric convergence, ratio 1/2),
+:math:`t \le u_0/|c|` (the recurrence also carries the solution :math:`u^{1-c}`, whose Taylor
+terms sum to :math:`(1-t/u_0)^{1-c}`: this bounds their amplification of rounding by e) and
 :math:`t\,k_u \le 1` with the local WKB wavenumber :math:`k_u` (no cancellation between terms);
 near :math:`u=1` the steps shrink with :math:`1-u`, so a disk with :math:`1-L^2 = 10^{-9}` needs a
 few dozen steps. Unlike the :math:`1-z` connection formula (DLMF 15.8.4) this has no trouble when
@@ -197,27 +199,40 @@ def _taylor_step(a, b, c, f0, d0, u0: float, s0: float, t: float):
     raise ConvergenceError(f"a 2F1 Taylor continuation step did not converge in {_MAX_TERMS} terms.")
 
 
-def _wavenumber(a, b, c, u0: float, s0: float) -> float:
-    """Largest local wavenumber in u of the hypergeometric equation over the batch (WKB)."""
-    # F'' ~ -[ab/(u s)] F and the first-derivative term, in units of 1/u
-    q = np.abs(a * b) / (u0 * s0) + (np.abs(c) / u0 + np.abs(a + b + 1.0) / s0) ** 2 / 4.0
-    return float(np.sqrt(np.max(q))) if q.size else 1.0
+def _wavenumber(kappa, m, b, delta, u0: float, s0: float) -> float:
+    r"""Largest local wavenumber in u over the batch: the WKB wavenumber
+    :math:`\sqrt{\max(0, \kappa u - (m s - b u)^2)}/(2us)` of R plus :math:`|\delta|/(2s)` from the
+    factor :math:`s^{-\beta_-}` that turns R into F (F oscillates in :math:`\ln s` above the
+    threshold). Steps of at most one radian keep the Taylor terms free of cancellation."""
+    w = kappa * u0 - (m * s0 - b * u0) ** 2
+    k = np.sqrt(np.maximum(w, 0.0)) / (2.0 * u0 * s0) + np.abs(delta) / (2.0 * s0)
+    return float(np.max(k)) if k.size else 1.0
 
 
-def _hyp2f1(a, b, c, s_target: float, *, safety: float = 1.0):
+def _hyp2f1(a, b, c, s_target: float, *, safety: float = 1.0, wave=None):
     r"""F(a, b; c; 1 - s_target) for arrays of parameters (module docstring): the Maclaurin
-    series, then Taylor steps of at most ``safety``/(local wavenumber)."""
+    series, then Taylor steps of at most ``safety`` times min(u, 1-u)/2 and 1/(local wavenumber).
+
+    ``wave = (kappa, m, b, delta)`` of the radial problem gives that wavenumber; without it
+    (general parameters) a bound from :math:`|ab|` and :math:`|c-a-b|` is used.
+    """
     u_target = 1.0 - s_target
     if a.size == 0:
         return np.empty(a.shape, complex)
+    if wave is None:  # F'' ~ -ab/(us) F and the s^(c-a-b) behaviour at u = 1
+        q = np.abs(a * b)
+        wave = (4.0 * q, 0.0, 0.0, np.abs(c - a - b))
     ab = float(np.max(np.abs(a * b) / np.abs(c)))
+    cmax = max(1.0, float(np.max(np.abs(c))))
     ua = min(u_target, 0.5 * safety, safety / max(ab, 1e-300))
     if ua >= u_target:
         return _series_at_zero(a, b, c, u_target)[0]
     f, d = _series_at_zero(a, b, c, ua)
     u0, s0 = ua, 1.0 - ua
     for _ in range(_MAX_STEPS):
-        t = min(0.5 * s0, 0.5 * u0, safety / _wavenumber(a, b, c, u0, s0))
+        # t <= u0/|c|: the recurrence also carries the u^(1-c) solution, whose Taylor terms
+        # sum to (1 - t/u0)^(1-c); this keeps their amplification of rounding below e
+        t = safety * min(0.5 * s0, 0.5 * u0, u0 / cmax, 1.0 / _wavenumber(*wave, u0, s0))
         last = s0 - t <= s_target * (1.0 + 1e-12)
         if last:
             t = s0 - s_target
@@ -266,7 +281,7 @@ def radial_function(r, m, B, kappa) -> np.ndarray:
     out = np.empty(r.shape)
     for idx, rv in np.ndenumerate(r):
         s = (1.0 - rv) * (1.0 + rv)
-        F = _hyp2f1(a, b, c, s)[0]
+        F = _hyp2f1(a, b, c, s, wave=(kappa, m, 0.5 * B, delta))[0]
         out[idx] = (rv ** abs(m) * np.exp(0.5 * (1.0 - delta[0]) * math.log(s)) * F).real
     return out[()] if r.ndim == 0 else out
 
@@ -277,7 +292,7 @@ def _dfunc(kappa, m, B: float, s: float, *, safety: float = 1.0) -> np.ndarray:
     kappa, m = np.broadcast_arrays(np.asarray(kappa, float), np.asarray(m, float))
     shape = kappa.shape
     a, b, c, delta = hypergeometric_parameters(m.ravel(), B, kappa.ravel())
-    F = _hyp2f1(a, b, c, s, safety=safety)
+    F = _hyp2f1(a, b, c, s, safety=safety, wave=(kappa.ravel(), m.ravel(), 0.5 * B, delta))
     return (np.exp(-0.5j * delta.imag * math.log(s)) * F).real.reshape(shape)
 
 
@@ -451,22 +466,41 @@ def magnetic_levels(p=7, q=3, radius=None, rings=None, levels: int = 4, flux=0.0
     if a_edge > MAX_ORDER:
         raise ValueError(f"the disk holds {a_edge:.3g} flux quanta; orders up to {MAX_ORDER} only.")
     sign = 1 if B >= 0 else -1
+    # orders that can hold one of the K lowest states: on the field's side beyond m0 = A_phi(L)
+    # the lowest root grows with m, so (1, m0 + j) has j states below it; on the other side
+    # (1, -j) has j below it; at B = 0 the +-m pairs make |m| <= K/2 (as without field)
+    if B == 0:
+        caps = {True: K // 2, False: K // 2}
+    else:
+        caps = {True: math.floor(a_edge) + K, False: K - 1}
+    if max(caps.values()) > MAX_ORDER and a_edge + 1 > MAX_ORDER:
+        raise ValueError(f"the disk holds {a_edge:.3g} flux quanta; orders up to {MAX_ORDER} only.")
+    caps = {key: min(v, MAX_ORDER) for key, v in caps.items()}
     kcut = 12.0 * _grid_step(t)
     while True:
         found = []
         count = 0
         for direction in ((1,) if B == 0 else (1, -1)):
-            mm = 0 if direction == 1 else -1
-            while abs(mm) <= MAX_ORDER:
-                cells, grid = _roots_below(np.array([float(mm)]), B, s, t, kcut)
-                c0 = cells[0]
-                if c0.size:
-                    found.append((mm, c0, grid))
-                    count += c0.size * (2 if (B == 0 and mm != 0) else 1)
-                beyond = (sign * mm > a_edge) if direction * sign > 0 else True
-                if c0.size == 0 and beyond:
+            m0, nb, done = (0 if direction == 1 else -1), 2, False
+            cap = caps[direction * sign > 0]
+            while not done:
+                block = m0 + direction * np.arange(nb)
+                block = block[np.abs(block) <= cap]
+                if block.size == 0:
                     break
-                mm += direction
+                cells, grid = _roots_below(block.astype(float), B, s, t, kcut)
+                for mm, c0 in zip(block.tolist(), cells):
+                    if c0.size:
+                        found.append((mm, c0, grid))
+                        count += c0.size * (2 if (B == 0 and mm != 0) else 1)
+                    # beyond A_phi(L) on the field's side (and on the other side at once) the
+                    # lowest root grows with |m|: the first order without roots ends the scan
+                    beyond = (sign * mm > a_edge) if direction * sign > 0 else True
+                    if c0.size == 0 and beyond:
+                        done = True
+                        break
+                m0 += direction * block.size
+                nb = min(2 * nb, 64)
         if count >= K:
             break
         kcut *= 1.5
