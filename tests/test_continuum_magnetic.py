@@ -157,3 +157,18 @@ def test_result_round_trip():
 def test_bad_input(call):
     with pytest.raises(ValueError):
         call()
+
+
+# regression: before the step rule t <= u0/|c|, orders m ~ 100 on large disks gave random signs
+@pytest.mark.parametrize("m,B,kappa,r", [(120, 0.0, 1.25, math.sqrt(1 - 3.9e-5)), (80, 0.3, 1.5, 0.9999),
+                                         (-3, 40.0, 150.0, 0.999), (60, -20.0, 90.0, 0.99)])
+def test_radial_function_large_orders_and_fields(m, B, kappa, r):
+    ref, scale = _mp_radial(m, B, kappa, r)
+    got = radial_function(r, m, B, kappa)
+    assert abs(got - ref.real) <= 1e-11 * max(abs(ref.real), scale)
+
+
+def test_zero_flux_equals_continuum_levels_large_disk():
+    a = magnetic_levels(rings=12, levels=4, flux=0.0)
+    b = continuum_levels(rings=12, levels=4)
+    assert np.max(np.abs(a.energies - b.energies)) < 1e-12 and list(a.m) == list(b.m)
