@@ -172,3 +172,14 @@ def test_zero_flux_equals_continuum_levels_large_disk():
     a = magnetic_levels(rings=12, levels=4, flux=0.0)
     b = continuum_levels(rings=12, levels=4)
     assert np.max(np.abs(a.energies - b.energies)) < 1e-12 and list(a.m) == list(b.m)
+
+
+def test_landau_approach_rate_is_s_to_the_delta():
+    # kappa(L) - kappa_N ~ C (1 - L^2)^delta with delta = B/2 - 2N - 1 (the decaying exponent
+    # beta_+ - beta_- of the Landau state): one decade of 1 - L gives a factor ~ 10^delta
+    B = 10.0
+    d3 = magnetic_roots(0, B, 0.999, 2) - landau_levels(B)["kappa"]
+    d4 = magnetic_roots(0, B, 0.9999, 2) - landau_levels(B)["kappa"]
+    assert np.all(d3 > 0) and np.all(d4 > 0)                      # Dirichlet levels lie above
+    for ratio, delta in zip(d3 / d4, (4.0, 2.0)):
+        assert 10 ** (delta - 0.1) < ratio < 10 ** (delta + 0.1)
