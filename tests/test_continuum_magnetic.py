@@ -183,3 +183,22 @@ def test_landau_approach_rate_is_s_to_the_delta():
     assert np.all(d3 > 0) and np.all(d4 > 0)                      # Dirichlet levels lie above
     for ratio, delta in zip(d3 / d4, (4.0, 2.0)):
         assert 10 ** (delta - 0.1) < ratio < 10 ** (delta + 0.1)
+
+
+def test_error_bounds_hold_against_mpmath_roots():
+    from hyperlattice.dictionary import hopping_scale
+
+    spec = magnetic_levels(radius=0.8, levels=4, flux=0.2)
+    B = spec.field
+    with mp.workdps(30):
+        u = mp.mpf(spec.radius) ** 2
+        for kap, m, err in zip(spec.kappa, spec.m, spec.errors):
+            def R(k, m=int(m)):
+                d = mp.sqrt(1 - k + mp.mpf(B) ** 2 / 4)
+                beta = (1 - d) / 2
+                a = beta + (abs(m) + m + mp.mpf(B) / 2) / 2
+                b = beta + (abs(m) - m - mp.mpf(B) / 2) / 2
+                return mp.re((1 - u) ** beta * mp.hyp2f1(a, b, 1 + abs(m), u))
+            ref = mp.findroot(R, mp.mpf(kap))
+            assert abs(float(ref) - kap) * hopping_scale(7, 3) <= err
+            assert err < 1e-13
