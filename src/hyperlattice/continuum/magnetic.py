@@ -452,11 +452,12 @@ class MagneticSpectrum(Levels):
         return np.ones(len(self), dtype=int)
 
     def summary(self) -> dict:
-        """Keys of ContinuumSpectrum.summary() (k = sqrt(kappa - 1)) plus flux and field."""
+        """The CLI contract: the keys of ContinuumSpectrum.summary() (k = sqrt(kappa - 1)) plus flux
+        (the field B stays on the result as ``field``)."""
         return {"p": self.p, "q": self.q, "rings": self.rings, "radius": self.radius,
                 "h": self.h, "energies": self.energies.tolist(), "n": self.n.tolist(),
                 "m": self.m.tolist(), "k": np.sqrt(np.maximum(self.kappa - 1.0, 0.0)).tolist(),
-                "asymptotic": dict(self.asymptotic), "flux": self.flux, "field": self.field}
+                "asymptotic": dict(self.asymptotic), "flux": self.flux}
 
 
 def magnetic_levels(p=7, q=3, radius=None, rings=None, levels: int = 4, flux=0.0) -> MagneticSpectrum:
