@@ -20,7 +20,7 @@ from hyperlattice.cli import main
 from hyperlattice.compare import correlation, scaling, sums
 from hyperlattice.compare import green as cgreen
 from hyperlattice.continuum import green as kgreen
-from hyperlattice.continuum import special, spectrum as kspec
+from hyperlattice.continuum import magnetic, special, spectrum as kspec
 from hyperlattice.graph import green as ggreen
 from hyperlattice.graph import lattice as glat
 from hyperlattice.graph import operators, symmetry
@@ -107,7 +107,13 @@ CASES = [
      {"z": {"complex"}, "zp": {"complex"}, "lam": {"complex"}}),
     ("coefficient_cm", kgreen.coefficient_cm, dict(nu=0.5, m=1), {"nu": {"complex"}}),
     ("boundary_constant", kgreen.boundary_constant, dict(lam=0.5), {"lam": {"complex"}}),
+    ("magnetic_levels", magnetic.magnetic_levels, dict(p=7, q=3, radius=0.9, levels=2, flux=0.1), {}),
+    ("magnetic_roots", magnetic.magnetic_roots, dict(m=1, B=10.0, radius=0.9, n_roots=1), {}),
+    ("landau_levels", magnetic.landau_levels, dict(B=10.0), {}),
+    ("radial_function", magnetic.radial_function, dict(r=0.5, m=1, B=10.0, kappa=5.0), {}),
     # the dictionary
+    ("field_from_flux", dictionary.field_from_flux, dict(f=0.1, p=7, q=3), {}),
+    ("flux_from_field", dictionary.flux_from_field, dict(B=1.0, p=7, q=3), {}),
     ("hopping_scale", dictionary.hopping_scale, dict(p=7, q=3), {"p": {"inf"}}),
     ("lambda_from_energy", dictionary.lambda_from_energy, dict(omega=-2.9, p=7, q=3), {"omega": {"complex"}, "p": {"inf"}}),
     ("energy_from_lambda", dictionary.energy_from_lambda, dict(lam=0.5, p=7, q=3), {"lam": {"complex"}, "p": {"inf"}}),

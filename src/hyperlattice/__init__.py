@@ -53,11 +53,16 @@ _EXPORTS = {
     "continuum_levels": "continuum.spectrum",
     "ContinuumSpectrum": "continuum.spectrum",
     "continuum_green": "continuum.green",
+    "magnetic_levels": "continuum.magnetic",
+    "MagneticSpectrum": "continuum.magnetic",
+    "landau_levels": "continuum.magnetic",
     # the dictionary (the bridge)
     "lambda_from_energy": "dictionary",
     "energy_from_lambda": "dictionary",
     "continuum_parameters": "dictionary",
     "lattice_parameters": "dictionary",
+    "field_from_flux": "dictionary",
+    "flux_from_field": "dictionary",
     # comparisons
     "compare_green": "compare.green",
     "frame_angles": "compare.scaling",
