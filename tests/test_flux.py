@@ -81,6 +81,9 @@ def test_pgon_area_and_field():
         assert F.pgon_area(p, q) * q / p == pytest.approx(geometry.site_area(p, q), rel=1e-14)
     assert F.field_strength(1.0, 7, 3) == pytest.approx(24.0, rel=1e-15)
     assert F.field_strength(0.0, 7, 3) == 0.0
+    # the graph and the dictionary agree on B x A_p = 2 pi f
+    for p, q in ((7, 3), (8, 3), (4, 5)):
+        assert F.field_strength(0.3, p, q) * F.pgon_area(p, q) == pytest.approx(0.6 * np.pi, rel=1e-14)
 
 
 @pytest.mark.parametrize("name", list(LATTICES))

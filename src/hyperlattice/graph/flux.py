@@ -56,6 +56,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from .. import _validate
+from ..dictionary import field_from_flux
 from ..results import Result
 from .lattice import Lattice
 
@@ -92,9 +93,10 @@ def pgon_area(p: int, q: int) -> float:
 def field_strength(flux, p: int, q: int) -> float:
     r"""The uniform field B with ``flux`` quanta through one p-gon: :math:`B = 2\pi f / A_p`.
 
-    (Local to the graph side until the dictionary carries the f <-> B map.)
+    The map itself is the dictionary's (:func:`hyperlattice.dictionary.field_from_flux`); this
+    adds the flux range check of this module.
     """
-    return 2 * np.pi * _flux(flux) / pgon_area(p, q)
+    return float(field_from_flux(_flux(flux), p, q))
 
 
 def triangle_area(a, b) -> np.ndarray:
