@@ -46,6 +46,9 @@ _EXPORTS = {
     "partition_function": "graph.spectrum",
     "log_partition_function": "graph.spectrum",
     "graph_green": "graph.green",
+    "butterfly": "graph.flux",
+    "Butterfly": "graph.flux",
+    "check_face_fluxes": "graph.flux",
     # continuum side
     "legendre_p": "continuum.special",
     "legendre_q": "continuum.special",
