@@ -5,7 +5,7 @@ from __future__ import annotations
 from ..graph.lattice import line_graph, ring_lattice
 from ..graph.spectrum import lowest_levels
 from ..graph.symmetry import signed_sector
-from ._common import Progress, add_pq, positive_int, print_json
+from ._common import Progress, add_pq, finite_float, positive_int, print_json
 
 NAME = "spectrum"
 ORDER = 30
@@ -33,6 +33,8 @@ def add_arguments(parser) -> None:
     parser.add_argument("--line-graph", action="store_true", help="use the line graph (resonator layout)")
     parser.add_argument("--method", choices=("auto", "sector", "dense", "sparse"), default="auto",
                         help="eigensolver (default auto: angular-momentum sectors)")
+    parser.add_argument("--flux", type=finite_float, default=None, metavar="F",
+                        help="uniform field: F flux quanta per p-gon, F > 0 counterclockwise (default 0)")
     parser.add_argument("--tol", type=float, default=1e-10, help="largest acceptable residual (default 1e-10)")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
 
@@ -47,16 +49,23 @@ def run(args) -> int:
         if args.line_graph:
             lattice = line_graph(lattice)
         progress.update("solving")
+        flux = 0.0 if args.flux is None else args.flux
         spec = lowest_levels(lattice, args.levels, method=args.method, sector=sector, tol=args.tol,
-                             progress=progress.update)
+                             progress=progress.update, flux=flux)
     if args.json:
-        print_json(spec.summary())
+        out = spec.summary()
+        if args.flux is not None:
+            # the contract: with --flux the key is always there, also for --flux 0
+            out["flux"] = float(args.flux)
+        print_json(out)
         return 0
     what = "line graph of " if args.line_graph else ""
     print(f"{what}{{{args.p},{args.q}}} rings={args.rings} sites={spec.sites} method={spec.method} "
-          f"time={spec.timings.get('total', 0.0):.2f} s")
+          f"time={spec.timings.get('total', 0.0):.2f} s"
+          + (f" flux={args.flux:g}" if args.flux is not None else ""))
     print(f"{'E':>20} {'n':>3} {'m':>4} {'deg':>3} {'residual':>10}")
     for e, n, m, d, r in zip(spec.energies, spec.n, spec.m, spec.degeneracy, spec.errors):
         print(f"{e:20.14f} {n:3d} {m:4d} {d:3d} {r:10.1e}")
-    print("deg = 2: sectors m and -m (= p - m) are degenerate.")
+    if not args.flux:
+        print("deg = 2: sectors m and -m (= p - m) are degenerate.")
     return 0
