@@ -254,3 +254,25 @@ def test_cli_bad_max_rings(argv, capsys):
 def test_bad_max_rings_api(tmp_path):
     with pytest.raises(ValueError):
         reproduce(tmp_path, max_rings=20)
+
+
+def test_magnetic_section(repro):
+    """Issue 11: the "beyond the paper: magnetic flux" section, its figure and a table equal to the API's."""
+    from hyperlattice import ring_lattice
+    from hyperlattice.continuum.magnetic import magnetic_levels
+    from hyperlattice.graph.spectrum import lowest_levels
+
+    out, summary = repro
+    rep = out / "report"
+    assert summary["sections"][-1] == "Beyond the paper: magnetic flux"
+    assert (rep / "fig_butterfly.png").stat().st_size > 0 and (rep / "fig_butterfly.svg").stat().st_size > 0
+    with open(rep / "table_magnetic_levels.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == 3 * 4 * 2
+    r = next(r for r in rows if r["rings"] == "4" and r["flux"] == "0.10")
+    g = lowest_levels(ring_lattice(7, 3, 4), 2, flux=0.1)
+    c = magnetic_levels(7, 3, rings=4, levels=2, flux=0.1)
+    assert r["(n,m)"] == f"({g.n[0]},{g.m[0]})"
+    assert float(r["E_graph"]) == pytest.approx(g.energies[0], abs=1e-8)
+    assert float(r["E_continuum"]) == pytest.approx(c.energies[0], abs=1e-8)
+    assert "magnetic flux" in (rep / "report.md").read_text()

@@ -75,6 +75,7 @@ def reproduce(out_dir: str | Path = "reproduction", max_rings: int = 10, *, cach
     sections += [spec_section, sec.fig2_section(records, out, progress)]
     sections.append(sec.green_section(cache, max_rings, out, progress))
     sections.append(sec.scaling_section(out, progress))
+    sections.append(sec.magnetic_section(out, progress))
 
     header = ["# Reproduction of Boettcher, Bienias, Belyansky, Kollár, Gorshkov, PRA 102, 032208 (2020)", "",
               f"Computed by hyperlattice {__version__} with max_rings = {max_rings}. Every number below is computed "

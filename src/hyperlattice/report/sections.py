@@ -21,7 +21,7 @@ from . import data
 from .writers import Section, Table, fmt as _fmt, save_figure as _save_figure
 
 __all__ = ["geometry_section", "counts_section", "fig1_section", "spectrum_section", "open_question_text",
-           "fig2_section", "green_section", "scaling_section"]
+           "fig2_section", "green_section", "scaling_section", "magnetic_section"]
 
 #: The columns of ``SuppTab1``, in the paper's order.
 _LEVEL_KEYS = ("E0_graph", "E0_continuum", "E0_asymptotic", "E1_graph", "E1_continuum", "E1_asymptotic")
@@ -321,3 +321,38 @@ def green_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[s
             "(emergent conformal symmetry for large l)."]
     return Section("Green functions: graph vs continuum and emergent conformal symmetry",
                    "Fig3, eq20–eq23, green33–green38, path8", text, [table], figs)
+
+
+def magnetic_section(out: Path, progress: Callable[[str], None]) -> Section:
+    """Beyond the paper (issue 11): the l = 4 hyperbolic Hofstadter butterfly with the continuum
+    Dirichlet levels overlaid, and a short graph-vs-continuum table with flux (small and fast)."""
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    from ..compare.magnetic import magnetic_comparison
+    from ..graph.flux import butterfly
+    from ..plots.magnetic import butterfly_figure
+
+    progress("beyond the paper: magnetic flux")
+    bf = butterfly(ring_lattice(7, 3, 4), np.linspace(0.0, 1.0, 51))
+    fig, ax = plt.subplots(figsize=(7.0, 5.0), layout="constrained")
+    butterfly_figure(bf, continuum=True, max_flux=0.3, points=7, levels=4, ax=ax)
+    figs = [_save_figure(fig, out, "butterfly", "Hyperbolic Hofstadter butterfly of the l = 4 {7,3} flake "
+                         "(315 sites): all levels at 51 flux values f in [0, 1] (flux quanta per heptagon, "
+                         "sector by sector), with the 4 lowest continuum Dirichlet levels of the same disk "
+                         "(magnetic_levels, spec2 with B = 2 pi f / A_7) in red for f <= 0.3.")]
+    cmp = magnetic_comparison(7, 3, rings=(3, 4, 5), fluxes=[0.0, 0.1, 0.2, 0.3], levels=2)
+    cols = cmp.columns()
+    rows = [[int(cols["rings"][i]), _fmt(float(cols["flux"][i]), 2), f"({cols['n'][i]},{cols['m'][i]})",
+             _fmt(float(cols["E_graph"][i]), 8), _fmt(float(cols["E_continuum"][i]), 8),
+             f"{cols['rel_error'][i]:.2e}", f"{cols['lB_over_d0'][i]:.3g}", f"{cols['lB_over_R'][i]:.3g}"]
+            for i in range(len(cols["flux"]))]
+    table = Table("magnetic_levels", ["rings", "flux", "(n,m)", "E_graph", "E_continuum", "rel_error",
+                                      "lB_over_d0", "lB_over_R"], rows,
+                  "Two lowest levels of the Peierls Hamiltonian (flux f per heptagon, symmetric gauge) and the "
+                  "continuum Dirichlet levels of the same (n, m) on the disk of eq12; l_B = 1/sqrt(B), d0 the "
+                  "edge length, R = artanh(L) the disk radius (paper's metric).")
+    text = ["Not in the paper (its conclusion names artificial gauge fields as the next step): a uniform field "
+            "of f flux quanta per p-gon, f > 0 counterclockwise. " + cmp.statement()]
+    return Section("Beyond the paper: magnetic flux", "issue 11 (Hofstadter butterfly, hyperbolic Landau levels)",
+                   text, [table], figs)
