@@ -265,7 +265,8 @@ def test_magnetic_section(repro):
     out, summary = repro
     rep = out / "report"
     assert summary["sections"][-1] == "Beyond the paper: magnetic flux"
-    assert (rep / "fig_butterfly.png").stat().st_size > 0 and (rep / "fig_butterfly.svg").stat().st_size > 0
+    for name in ("fig_butterfly.png", "fig_butterfly.svg", "fig_magnetic_error.png"):
+        assert (rep / name).stat().st_size > 0, name
     with open(rep / "table_magnetic_levels.csv") as fh:
         rows = list(csv.DictReader(fh))
     assert len(rows) == 3 * 4 * 2

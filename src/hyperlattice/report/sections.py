@@ -342,6 +342,11 @@ def magnetic_section(out: Path, progress: Callable[[str], None]) -> Section:
                          "sector by sector), with the 4 lowest continuum Dirichlet levels of the same disk "
                          "(magnetic_levels, spec2 with B = 2 pi f / A_7) in red for f <= 0.3.")]
     cmp = magnetic_comparison(7, 3, rings=(3, 4, 5), fluxes=[0.0, 0.1, 0.2, 0.3], levels=2)
+    fig, ax = plt.subplots(figsize=(6.0, 4.2), layout="constrained")
+    cmp.plot(ax=ax)
+    figs.append(_save_figure(fig, out, "magnetic_error", "log10 of the worst relative error of the two lowest "
+                             "levels, graph vs continuum, over the (f, l) plane (l = 3..5, f = 0..0.3); the white "
+                             "line is 1e-3 where it is reached. The full l = 3..7 grid is in docs/magnetic.md."))
     cols = cmp.columns()
     rows = [[int(cols["rings"][i]), _fmt(float(cols["flux"][i]), 2), f"({cols['n'][i]},{cols['m'][i]})",
              _fmt(float(cols["E_graph"][i]), 8), _fmt(float(cols["E_continuum"][i]), 8),
