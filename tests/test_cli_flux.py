@@ -61,6 +61,8 @@ def test_continuum_flux_zero_keeps_numbers(capsys):
 def test_text_output_with_flux(capsys):
     code, out, _ = run_cli(capsys, "spectrum", "--rings", "3", "--flux", "0.2")
     assert code == 0 and "flux=0.2" in out and "degenerate" not in out
+    # regression: the zero-field "deg" column (2 for m != 0) was printed with flux, where m and -m split
+    assert "deg" not in out.splitlines()[1]
     code, out, _ = run_cli(capsys, "continuum", "--rings", "3", "--flux", "0.2")
     assert code == 0 and "flux=0.2" in out
 

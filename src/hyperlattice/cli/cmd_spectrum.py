@@ -63,9 +63,14 @@ def run(args) -> int:
     print(f"{what}{{{args.p},{args.q}}} rings={args.rings} sites={spec.sites} method={spec.method} "
           f"time={spec.timings.get('total', 0.0):.2f} s"
           + (f" flux={args.flux:g}" if args.flux is not None else ""))
+    if args.flux:
+        # a field splits m from -m: the degeneracy column of the zero-field table would be wrong
+        print(f"{'E':>20} {'n':>3} {'m':>4} {'residual':>10}")
+        for e, n, m, r in zip(spec.energies, spec.n, spec.m, spec.errors):
+            print(f"{e:20.14f} {n:3d} {m:4d} {r:10.1e}")
+        return 0
     print(f"{'E':>20} {'n':>3} {'m':>4} {'deg':>3} {'residual':>10}")
     for e, n, m, d, r in zip(spec.energies, spec.n, spec.m, spec.degeneracy, spec.errors):
         print(f"{e:20.14f} {n:3d} {m:4d} {d:3d} {r:10.1e}")
-    if not args.flux:
-        print("deg = 2: sectors m and -m (= p - m) are degenerate.")
+    print("deg = 2: sectors m and -m (= p - m) are degenerate.")
     return 0
