@@ -392,3 +392,16 @@ def test_one_flux_quantum_shifts_the_sector_by_one(pq):
         a = sla.eigvalsh(sector_table(lat, (m + 1) % p, flux=1.3).to_csr().toarray())
         b = sla.eigvalsh(sector_table(lat, m, flux=0.3).to_csr().toarray())
         assert np.max(np.abs(a - b)) < 1e-12
+
+
+def test_degeneracy_is_one_in_a_field():
+    # m and -m split in a field: no level is a symmetry pair any more (graph and continuum)
+    from hyperlattice.continuum.magnetic import magnetic_levels
+    from hyperlattice.graph.lattice import ring_lattice
+    from hyperlattice.graph.spectrum import lowest_levels
+
+    spec = lowest_levels(ring_lattice(7, 3, 3), 4, flux=0.1)
+    assert spec.degeneracy.tolist() == [1, 1, 1, 1]
+    cont = magnetic_levels(7, 3, rings=3, levels=4, flux=0.1)
+    assert cont.degeneracy.tolist() == [1, 1, 1, 1]
+    assert lowest_levels(ring_lattice(7, 3, 3), 3).degeneracy.tolist() == [1, 2, 2]

@@ -517,7 +517,7 @@ class Levels(Result):
     @property
     def degeneracy(self) -> np.ndarray:
         """Symmetry degeneracy of each level: 2 for a :math:`\\pm m` pair, else 1."""
-        if self.m is None:
+        if self.m is None or getattr(self, "flux", 0.0):  # a field splits m from -m
             return np.ones(len(self), dtype=int)
         if self.error_kind == "residual":  # lattice: m and -m = p - m coincide for m = p/2
             return np.where((2 * self.m) % self.p == 0, 1, 2)
