@@ -109,9 +109,16 @@ def _factories():
         "OperatorProfile": lambda: scaling.operator_profile(ring_lattice(7, 3, 3), h=0.1),
         "ConvergenceStudy": lambda: scaling.convergence_study(ring_lattice(7, 3, 3), scaling.SmoothFunction.exp_x()),
         "CountingFit": lambda: sums.fit_counting(ring_lattice(7, 3, 4)),
+        "MagneticComparison": _magnetic_comparison,
         "SumCheck": lambda: sums.SumCheck(p=7, q=3, rings=2, sites=77, radius=0.9, function="f",
                                           lattice_sum=1.5 + 1e-3j, integral=complex(1.49, 0.0)),
     }
+
+
+def _magnetic_comparison():
+    from hyperlattice.compare.magnetic import magnetic_comparison
+
+    return magnetic_comparison(7, 3, rings=[3], fluxes=[0.0, 0.1], levels=2)
 
 
 _SAMPLES = {"int": 3, "float": 0.25, "str": "x", "bool": True, "complex": 1 - 2j, "dict": {2: np.arange(3.0)},
