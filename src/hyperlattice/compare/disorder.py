@@ -1,0 +1,571 @@
+r"""Disorder ensembles on the graph, and the graph average against the SCBA in the continuum.
+
+Observables (per realization :func:`realization_observables`, pooled by :func:`disorder_ensemble`):
+
+* the level-spacing ratio :math:`r_n = \min(s_n, s_{n+1})/\max(s_n, s_{n+1})`,
+  :math:`s_n = E_{n+1} - E_n` (Oganesyan & Huse, PRB 75, 155111 (2007)), which needs no unfolding
+  of the density of states; its mean is :data:`GOE_R` = 0.5307 for extended, level-repelling states
+  (large-N GOE, Atas et al., PRL 110, 084101 (2013)) and :data:`POISSON_R` = :math:`2\ln2-1` =
+  0.3863 for localized ones. Ratios are binned by the energy of the middle level into windows;
+* the density of states per site (histogram, averaged over realizations);
+* the inverse participation ratio :math:`\sum_i|\psi_i|^4` of the eigenstates, in the same windows
+  (:math:`\sim 1/N` extended, :math:`O(1)` localized);
+* the averaged Green function :math:`\langle G_{ij}(\omega)\rangle` against the hyperbolic distance
+  :math:`d(z_i, z_j)` (:func:`green_ensemble`), compared with the SCBA (:func:`compare_scba`):
+  on the graph (the exact diagonal self-energy :math:`\Sigma_i = w^2[(H_0-\omega-\Sigma)^{-1}]_{ii}`,
+  :func:`graph_scba`) and in the continuum (:mod:`hyperlattice.continuum.scba` through ``eq21``).
+
+Without the rotation symmetry each realization is one dense diagonalisation of the whole
+:math:`N\times N` matrix (see :mod:`hyperlattice.graph.disorder`), run on one BLAS thread so that
+a realization gives the same bits in any process (the sweep engine relies on this).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+import scipy.linalg as sla
+
+from .. import _validate
+from ..dictionary import dictionary_parameters
+from ..geometry import distance
+from ..graph.disorder import MODELS, disorder, disordered_hamiltonian, onsite_variance
+from ..graph.lattice import Lattice
+from ..results import Result
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
+__all__ = ["GOE_R", "POISSON_R", "spacing_ratios", "inverse_participation", "default_windows",
+           "realization_observables", "DisorderEnsemble", "disorder_ensemble", "RScan", "r_scan",
+           "DisorderGreen", "green_ensemble", "graph_scba", "SCBAComparison", "compare_scba"]
+
+#: mean spacing ratio of the large-N Gaussian orthogonal ensemble (Atas et al., PRL 110, 084101 (2013))
+GOE_R = 0.5307
+#: mean spacing ratio of uncorrelated (Poisson) levels, 2 ln 2 - 1
+POISSON_R = 2.0 * math.log(2.0) - 1.0
+#: dense diagonalisation only up to this many sites (8 N^2 bytes for the matrix and as much for vectors)
+DENSE_MAX = 12_000
+MAX_REALIZATIONS = 1_000_000
+#: spacings below this fraction of the mean spacing count as exact degeneracies (r undefined)
+_DEGENERATE = 1e-9
+
+
+def _single_thread():
+    from ..graph.solvers import _single_threaded_blas
+
+    return _single_threaded_blas()
+
+
+def spacing_ratios(energies, *, window=None) -> tuple[np.ndarray, np.ndarray]:
+    r"""Spacing ratios :math:`r_n` of a spectrum and the energy of each middle level.
+
+    Parameters
+    ----------
+    energies : array_like of float
+        Eigenvalues (any order; sorted here).
+    window : (float, float), optional
+        Keep only ratios whose middle level lies in ``[lo, hi)``.
+
+    Returns
+    -------
+    r, e_mid : ndarray
+        Ratios in [0, 1] and the middle energies. Triples with both spacings below
+        ``1e-9`` times the mean spacing (exact degeneracies, e.g. the clean flake's m, p - m pairs
+        and the line graph's flat band) are left out: their ratio is 0/0.
+    """
+    e = np.sort(_validate.real_array("energies", energies, ndim=1))
+    if e.size < 3:
+        return np.zeros(0), np.zeros(0)
+    s = np.diff(e)
+    mean = (e[-1] - e[0]) / (e.size - 1)
+    lo, hi = s[:-1], s[1:]
+    big = np.maximum(lo, hi)
+    keep = big > _DEGENERATE * max(mean, np.finfo(float).tiny)
+    r = np.where(keep, np.minimum(lo, hi) / np.where(keep, big, 1.0), 0.0)
+    mid = e[1:-1]
+    if window is not None:
+        w = _validate.real_array("window", window, shape=(2,))
+        keep &= (mid >= w[0]) & (mid < w[1])
+    return r[keep], mid[keep]
+
+
+def inverse_participation(vectors) -> np.ndarray:
+    r""":math:`\sum_i |\psi_i|^4` of each column of ``vectors`` (normalised eigenvectors)."""
+    v = np.asarray(vectors)
+    if v.ndim != 2:
+        raise ValueError(f"vectors must be a 2-d array (one eigenvector per column), got shape {v.shape}.")
+    a = np.abs(v) ** 2
+    return np.einsum("ij,ij->j", a, a)
+
+
+def default_windows(q: int) -> np.ndarray:
+    """Energy window edges ``[-inf, -2q/3, -q/3, 0, q/3, 2q/3, inf]`` (six windows, all levels counted)."""
+    inner = np.linspace(-q, q, 7)[1:-1]
+    return np.concatenate([[-np.inf], inner, [np.inf]])
+
+
+def _dos_edges(q: int, strength: float, bins: int) -> np.ndarray:
+    half = q + 0.5 * strength + 0.5
+    return np.linspace(-half, half, bins + 1)
+
+
+def _edges(name: str, edges) -> np.ndarray:
+    e = np.asarray(edges, dtype=float) if not isinstance(edges, np.ndarray) else edges.astype(float)
+    if e.ndim != 1 or e.size < 2 or np.any(np.isnan(e)) or np.any(np.diff(e) <= 0):
+        raise ValueError(f"{name} must be at least two increasing numbers.")
+    return e
+
+
+def _check_size(lattice: Lattice) -> None:
+    if lattice.sites > DENSE_MAX:
+        raise ValueError(f"a disorder realization is a dense diagonalisation of all {lattice.sites:,} sites "
+                         f"(the rotation symmetry is gone); the limit is {DENSE_MAX:,}.")
+
+
+def realization_observables(lattice: Lattice, model: str = "box", strength: float = 1.0, *, seed: int = 0,
+                            realization: int = 0, omega0: float | None = None, windows=None,
+                            dos_bins: int = 60, ipr: bool = True) -> dict:
+    r"""All spectral observables of one disorder realization (the unit of work of a sweep).
+
+    Returns
+    -------
+    dict
+        ``r_sum, r_count`` (all ratios), ``r_mean`` (nan if none), ``r_window_sum``,
+        ``r_window_count`` (per window of ``windows``), ``ipr_window_sum``, ``ipr_window_count``
+        (per window, eigenstates counted by energy; zeros if ``ipr`` is False), ``dos_counts``
+        (histogram over :func:`_dos_edges`), ``e_min``, ``e_max``. Sums and counts, so that
+        realizations pool exactly.
+    """
+    _validate.lattice(lattice)
+    _check_size(lattice)
+    win = default_windows(lattice.q) if windows is None else _edges("windows", windows)
+    dos_bins = _validate.positive_int("dos_bins", dos_bins, maximum=100_000)
+    ipr = _validate.flag("ipr", ipr)
+    dis = disorder(lattice, model, strength, seed=seed, realization=realization, omega0=omega0)
+    h = disordered_hamiltonian(lattice, dis).toarray()
+    with _single_thread():
+        if ipr:
+            e, v = sla.eigh(h, driver="evd")
+        else:
+            e = sla.eigh(h, eigvals_only=True, driver="evd")
+    r, mid = spacing_ratios(e)
+    k = win.size - 1
+    idx = np.searchsorted(win, mid, side="right") - 1
+    ok = (idx >= 0) & (idx < k)
+    r_wsum = np.bincount(idx[ok], weights=r[ok], minlength=k)[:k]
+    r_wcnt = np.bincount(idx[ok], minlength=k)[:k]
+    if ipr:
+        p = inverse_participation(v)
+        ie = np.searchsorted(win, e, side="right") - 1
+        ok = (ie >= 0) & (ie < k)
+        i_wsum = np.bincount(ie[ok], weights=p[ok], minlength=k)[:k]
+        i_wcnt = np.bincount(ie[ok], minlength=k)[:k]
+    else:
+        i_wsum, i_wcnt = np.zeros(k), np.zeros(k, dtype=np.int64)
+    dos, _ = np.histogram(e, bins=_dos_edges(lattice.q, dis.strength if model != "resonator"
+                                             else 2.0 * dis.strength * (omega0 or 0.0), dos_bins))
+    return {"r_sum": float(r.sum()), "r_count": int(r.size), "r_mean": float(r.mean()) if r.size else math.nan,
+            "r_window_sum": r_wsum.astype(float), "r_window_count": r_wcnt.astype(np.int64),
+            "ipr_window_sum": i_wsum.astype(float), "ipr_window_count": i_wcnt.astype(np.int64),
+            "dos_counts": dos.astype(np.int64), "e_min": float(e[0]), "e_max": float(e[-1])}
+
+
+@dataclass(frozen=True, eq=False, kw_only=True)
+class DisorderEnsemble(Result):
+    r"""Disorder-averaged spectral observables of one lattice at one strength.
+
+    ``r_mean`` pools every ratio of every realization; ``r_err`` is the standard error from the
+    scatter of the per-realization means (with one realization: the scatter of the ratios over
+    :math:`\sqrt n`, which ignores their weak correlation). Window arrays follow ``windows``
+    (edges); ``dos`` is the density of states per site and unit energy on ``dos_edges``.
+    """
+
+    p: int
+    q: int
+    rings: int
+    kind: str
+    sites: int
+    model: str
+    W: float
+    seed: int
+    realizations: int
+    omega0: float | None
+    r_mean: float
+    r_err: float
+    r_count: int
+    windows: np.ndarray = field(repr=False)
+    r_window: np.ndarray = field(repr=False)
+    r_window_count: np.ndarray = field(repr=False)
+    ipr_window: np.ndarray = field(repr=False)
+    dos_edges: np.ndarray = field(repr=False)
+    dos: np.ndarray = field(repr=False)
+    r_realization: np.ndarray = field(repr=False)
+
+    def summary(self) -> dict:
+        """The ``disorder`` command's JSON: W, realizations, seed, r_mean, r_err (the contract) and more."""
+        return {"W": self.W, "realizations": self.realizations, "seed": self.seed, "r_mean": self.r_mean,
+                "r_err": self.r_err, "r_count": self.r_count, "model": self.model, "p": self.p, "q": self.q,
+                "rings": self.rings, "kind": self.kind, "sites": self.sites, "goe": GOE_R, "poisson": POISSON_R,
+                "windows": self.windows.tolist(), "r_window": self.r_window.tolist(),
+                "ipr_window": self.ipr_window.tolist()}
+
+    def plot(self, ax=None) -> Axes:
+        """The averaged density of states (:func:`hyperlattice.plots.disorder.plot_dos`)."""
+        from ..plots.disorder import plot_dos
+
+        return plot_dos(self, ax=ax)
+
+
+def _pool(p, q, rings, kind, sites, model, strength, seed, realizations, omega0, rows, windows, dos_edges):
+    r_sum = np.array([row["r_sum"] for row in rows])
+    r_cnt = np.array([row["r_count"] for row in rows])
+    total = int(r_cnt.sum())
+    r_mean = float(r_sum.sum() / total) if total else math.nan
+    per = np.array([row["r_mean"] for row in rows])
+    if len(rows) >= 2:
+        good = per[np.isfinite(per)]
+        r_err = float(np.std(good, ddof=1) / math.sqrt(good.size)) if good.size >= 2 else math.nan
+    else:
+        r_err = math.nan
+    wsum = np.sum([row["r_window_sum"] for row in rows], axis=0)
+    wcnt = np.sum([row["r_window_count"] for row in rows], axis=0)
+    isum = np.sum([row["ipr_window_sum"] for row in rows], axis=0)
+    icnt = np.sum([row["ipr_window_count"] for row in rows], axis=0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        r_win = np.where(wcnt > 0, wsum / np.maximum(wcnt, 1), np.nan)
+        ipr_win = np.where(icnt > 0, isum / np.maximum(icnt, 1), np.nan)
+    counts = np.sum([row["dos_counts"] for row in rows], axis=0)
+    dos = counts / (len(rows) * sites * np.diff(dos_edges))
+    return DisorderEnsemble(p=p, q=q, rings=rings, kind=kind, sites=sites, model=model, W=strength, seed=seed,
+                            realizations=realizations, omega0=omega0, r_mean=r_mean, r_err=r_err, r_count=total,
+                            windows=windows, r_window=r_win, r_window_count=wcnt, ipr_window=ipr_win,
+                            dos_edges=dos_edges, dos=dos, r_realization=per)
+
+
+def disorder_ensemble(lattice: Lattice, strength: float = 1.0, realizations: int = 10, *, seed: int = 0,
+                      model: str = "box", omega0: float | None = None, windows=None, dos_bins: int = 60,
+                      ipr: bool = True, rows: list[dict] | None = None) -> DisorderEnsemble:
+    r"""Average :func:`realization_observables` over realizations ``0 .. realizations-1`` of ``seed``.
+
+    Parameters
+    ----------
+    lattice : Lattice
+    strength : float
+        W (or sigma for the resonator model), see :func:`hyperlattice.graph.disorder.disorder`.
+    realizations : int
+    seed : int
+    model, omega0 : see :func:`hyperlattice.graph.disorder.disorder`
+    windows : array_like, optional
+        Energy window edges (default :func:`default_windows`).
+    dos_bins : int
+    ipr : bool
+        Compute eigenvectors for the inverse participation ratios (about 2x the time).
+    rows : list of dict, optional
+        Precomputed per-realization results (e.g. read from a sweep table) instead of computing.
+
+    Returns
+    -------
+    DisorderEnsemble
+    """
+    _validate.lattice(lattice)
+    _check_size(lattice)
+    model = _validate.choice("model", model, MODELS)
+    realizations = _validate.positive_int("realizations", realizations, maximum=MAX_REALIZATIONS)
+    win = default_windows(lattice.q) if windows is None else _edges("windows", windows)
+    dos_bins = _validate.positive_int("dos_bins", dos_bins, maximum=100_000)
+    dis0 = disorder(lattice, model, strength, seed=seed, realization=0, omega0=omega0)  # validates all
+    if rows is None:
+        rows = [realization_observables(lattice, model, strength, seed=seed, realization=k, omega0=omega0,
+                                        windows=win, dos_bins=dos_bins, ipr=ipr) for k in range(realizations)]
+    elif len(rows) != realizations:
+        raise ValueError(f"got {len(rows)} rows for {realizations} realizations.")
+    spread = dis0.strength if model != "resonator" else 2.0 * dis0.strength * dis0.omega0
+    return _pool(lattice.p, lattice.q, lattice.rings, lattice.kind, lattice.sites, model, dis0.strength,
+                 dis0.seed, realizations, dis0.omega0, rows, win, _dos_edges(lattice.q, spread, dos_bins))
+
+
+@dataclass(frozen=True, eq=False, kw_only=True)
+class RScan(Result):
+    """Mean spacing ratio against the disorder strength (one ensemble per strength)."""
+
+    p: int
+    q: int
+    rings: int
+    sites: int
+    model: str
+    seed: int
+    realizations: int
+    window: np.ndarray
+    W: np.ndarray
+    r_mean: np.ndarray
+    r_err: np.ndarray
+
+    def plot(self, ax=None) -> Axes:
+        """<r> against W with the GOE and Poisson lines (:func:`hyperlattice.plots.disorder.plot_r_scan`)."""
+        from ..plots.disorder import plot_r_scan
+
+        return plot_r_scan(self, ax=ax)
+
+
+def r_scan(lattice: Lattice, strengths, realizations: int = 10, *, seed: int = 0, model: str = "box",
+           window=(-1.0, 1.0)) -> RScan:
+    r""":math:`\langle r\rangle` against W, ratios whose middle level lies in ``window`` (default
+    :math:`|E| < 1`, the band centre, away from the band edges and the boundary-state tails)."""
+    _validate.lattice(lattice)
+    _check_size(lattice)
+    realizations = _validate.positive_int("realizations", realizations, maximum=MAX_REALIZATIONS)
+    model = _validate.choice("model", model, MODELS)
+    ws = _validate.real_array("strengths", strengths, ndim=1)
+    if ws.size == 0 or np.any(ws < 0):
+        raise ValueError("strengths must be a non-empty list of numbers >= 0.")
+    win = _validate.real_array("window", window, shape=(2,))
+    if not win[0] < win[1]:
+        raise ValueError("window must be (lo, hi) with lo < hi.")
+    edges = np.array([win[0], win[1]])
+    means, errs = [], []
+    for w in ws:
+        rows = [realization_observables(lattice, model, float(w), seed=seed, realization=k, windows=edges, ipr=False)
+                for k in range(realizations)]
+        s = np.array([row["r_window_sum"][0] for row in rows])
+        c = np.array([row["r_window_count"][0] for row in rows])
+        means.append(float(s.sum() / c.sum()) if c.sum() else math.nan)
+        per = s[c > 0] / c[c > 0]
+        errs.append(float(np.std(per, ddof=1) / math.sqrt(per.size)) if per.size >= 2 else math.nan)
+    return RScan(p=lattice.p, q=lattice.q, rings=lattice.rings, sites=lattice.sites, model=model, seed=seed,
+                 realizations=realizations, window=edges, W=ws, r_mean=np.array(means), r_err=np.array(errs))
+
+
+# ----------------------------------------------------------------------------
+# Green functions: the ensemble average and the SCBA
+# ----------------------------------------------------------------------------
+
+@dataclass(frozen=True, eq=False, kw_only=True)
+class DisorderGreen(Result):
+    r"""Disorder-averaged column :math:`\langle G_{ij}(\omega)\rangle` for source j.
+
+    ``mean`` averages the realizations and their mirror images :math:`V \to -V` (antithetic
+    pairs: unbiased for symmetric distributions, and the odd orders of the Born series cancel
+    exactly in every pair, which leaves the :math:`W^2` term without first-order noise);
+    ``err`` is the standard error of the mean over pairs. ``clean`` is the W = 0 column.
+    """
+
+    p: int
+    q: int
+    rings: int
+    model: str
+    W: float
+    variance: float
+    seed: int
+    realizations: int
+    omega: complex
+    source: int
+    distance: np.ndarray = field(repr=False)
+    clean: np.ndarray = field(repr=False)
+    mean: np.ndarray = field(repr=False)
+    err: np.ndarray = field(repr=False)
+
+
+def _omega_upper(omega) -> complex:
+    om = _validate.complex_number("omega", omega)
+    if om.imag <= 0:
+        raise ValueError(f"omega must have a positive imaginary part (retarded, off the spectrum), got {om:g}.")
+    return om
+
+
+def _dense_green(h: np.ndarray, omega: complex, source: int) -> np.ndarray:
+    a = h.astype(complex)
+    a[np.diag_indices_from(a)] -= omega
+    rhs = np.zeros(h.shape[0], complex)
+    rhs[source] = 1.0
+    return sla.solve(a, rhs, assume_a="sym")
+
+
+def green_ensemble(lattice: Lattice, omega, strength: float, realizations: int = 20, *, seed: int = 0,
+                   source: int = 0, model: str = "box") -> DisorderGreen:
+    r"""Average the column :math:`G_{\cdot j}(\omega)` over antithetic pairs of realizations.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        A flake (sites kind: the distances are those of the Poincaré disk).
+    omega : complex
+        Frequency with Im omega > 0.
+    strength : float
+        W of the on-site model (box or gaussian).
+    realizations : int
+        Number of pairs (2 x realizations solves).
+    seed, source, model
+    """
+    _validate.lattice(lattice, kind="sites")
+    _check_size(lattice)
+    om = _omega_upper(omega)
+    model = _validate.choice("model", model, ("box", "gaussian"))
+    realizations = _validate.positive_int("realizations", realizations, maximum=MAX_REALIZATIONS)
+    source = _validate.site_index("source", source, lattice.sites)
+    clean_dis = disorder(lattice, model, 0.0, seed=seed)
+    h0 = disordered_hamiltonian(lattice, clean_dis).toarray()
+    with _single_thread():
+        g0 = _dense_green(h0, om, source)
+        cols = []
+        for k in range(realizations):
+            dis = disorder(lattice, model, strength, seed=seed, realization=k)
+            v = np.diag(dis.onsite)
+            pair = 0.5 * (_dense_green(h0 + v, om, source) + _dense_green(h0 - v, om, source))
+            cols.append(pair)
+    cols = np.array(cols)
+    mean = cols.mean(axis=0)
+    err = cols.std(axis=0, ddof=1) / math.sqrt(realizations) if realizations > 1 else np.full(mean.shape, np.nan)
+    return DisorderGreen(p=lattice.p, q=lattice.q, rings=lattice.rings, model=model, W=float(strength),
+                         variance=onsite_variance(model, strength), seed=int(seed), realizations=realizations,
+                         omega=om, source=source, distance=distance(lattice.z, lattice.z[source]), clean=g0,
+                         mean=mean, err=err)
+
+
+def graph_scba(lattice: Lattice, omega, variance: float, *, tol: float = 1e-12, max_iter: int = 2000,
+               damping: float = 0.5) -> tuple[np.ndarray, int]:
+    r"""The SCBA on the graph: :math:`\Sigma_i = w^2[(H_0 - \omega - \Sigma)^{-1}]_{ii}`, per site.
+
+    Returns ``(sigma, iterations)``. Its first order, :math:`\Sigma_i = w^2 G^{(0)}_{ii}(\omega)`,
+    is exact second-order perturbation theory; :math:`(H_0-\omega-\Sigma)^{-1}` then predicts
+    :math:`\langle G\rangle`.
+
+    Raises
+    ------
+    ConvergenceError
+        If the damped fixed-point iteration does not reach ``tol`` (the residual is stated).
+    """
+    from ..errors import ConvergenceError
+
+    _validate.lattice(lattice)
+    _check_size(lattice)
+    om = _omega_upper(omega)
+    w2 = _validate.real("variance", variance, minimum=0.0, maximum=1e12)
+    h0 = disordered_hamiltonian(lattice, disorder(lattice, "box", 0.0)).toarray().astype(complex)
+    n = lattice.sites
+    sigma = np.zeros(n, complex)
+    with _single_thread():
+        for it in range(1, max_iter + 1):
+            a = h0.copy()
+            a[np.diag_indices(n)] -= om + sigma
+            target = w2 * np.diag(sla.inv(a))
+            res = float(np.max(np.abs(target - sigma))) if n else 0.0
+            if res <= tol * max(1.0, float(np.max(np.abs(sigma))) if n else 1.0):
+                return target, it
+            sigma = (1.0 - damping) * sigma + damping * target
+    raise ConvergenceError(f"the graph SCBA did not converge in {max_iter} iterations (residual {res:.1e}).")
+
+
+@dataclass(frozen=True, eq=False, kw_only=True)
+class SCBAComparison(Result):
+    r"""Graph ensemble average against the SCBA, one row per W.
+
+    Columns (arrays over W): ``variance`` :math:`W^2/12`; ``rel_clean``, ``rel_graph_scba``,
+    ``rel_continuum_scba``: relative L2 distance (source excluded) of the ensemble average from the
+    clean column, from the graph SCBA prediction and from the continuum SCBA prediction (``eq21`` at
+    :math:`\tilde\omega`); ``rel_noise``: the statistical error of the average on the same scale;
+    ``sigma_graph`` (site average of the graph SCBA self-energy over the interior, rings < l),
+    ``sigma_continuum``; ``born_ratio``: :math:`\|\langle G\rangle - G_0\|/\|w^2 G_0 \mathrm{diag}(G_0) G_0\|`
+    projected on the latter (1 in the weak-disorder limit).
+    """
+
+    p: int
+    q: int
+    rings: int
+    omega: complex
+    source: int
+    seed: int
+    realizations: int
+    W: np.ndarray
+    variance: np.ndarray
+    rel_clean: np.ndarray
+    rel_graph_scba: np.ndarray
+    rel_continuum_scba: np.ndarray
+    rel_noise: np.ndarray
+    born_ratio: np.ndarray
+    sigma_graph: np.ndarray
+    sigma_continuum: np.ndarray
+    continuum_floor: float
+
+    def rows(self) -> list[dict]:
+        """One dict per W (for tables)."""
+        return [{"W": float(self.W[i]), "variance": float(self.variance[i]), "rel_clean": float(self.rel_clean[i]),
+                 "rel_graph_scba": float(self.rel_graph_scba[i]),
+                 "rel_continuum_scba": float(self.rel_continuum_scba[i]), "rel_noise": float(self.rel_noise[i]),
+                 "born_ratio": float(self.born_ratio[i]), "sigma_graph": complex(self.sigma_graph[i]),
+                 "sigma_continuum": complex(self.sigma_continuum[i])} for i in range(self.W.size)]
+
+    def plot(self, ax=None) -> Axes:
+        """Relative distances against W (:func:`hyperlattice.plots.disorder.plot_scba_comparison`)."""
+        from ..plots.disorder import plot_scba_comparison
+
+        return plot_scba_comparison(self, ax=ax)
+
+
+def _rel(a: np.ndarray, b: np.ndarray, keep: np.ndarray) -> float:
+    return float(np.linalg.norm(a[keep] - b[keep]) / np.linalg.norm(a[keep]))
+
+
+def compare_scba(lattice: Lattice, omega, strengths, realizations: int = 20, *, seed: int = 0,
+                 source: int = 0) -> SCBAComparison:
+    r"""Box-disorder ensemble average of :math:`G_{\cdot j}(\omega)` against the graph and continuum SCBA.
+
+    The continuum prediction is :math:`\frac{4\mathcal A}{qh^2}G(z_i, z_j, \lambda(\tilde\omega), L)`
+    with :math:`\tilde\omega` from :func:`hyperlattice.continuum.scba.scba`; ``continuum_floor``
+    is the same distance at W = 0 (clean graph against ``eq21``), the part of the disagreement
+    that is the clean dictionary's and not the SCBA's.
+    """
+    from ..continuum.green import continuum_green
+    from ..continuum.scba import scba
+
+    _validate.lattice(lattice, kind="sites")
+    om = _omega_upper(omega)
+    ws = _validate.real_array("strengths", strengths, ndim=1)
+    if ws.size == 0 or np.any(ws <= 0):
+        raise ValueError("strengths must be a non-empty list of numbers > 0.")
+    source = _validate.site_index("source", source, lattice.sites)
+    keep = np.arange(lattice.sites) != source
+    h0 = disordered_hamiltonian(lattice, disorder(lattice, "box", 0.0)).toarray()
+    with _single_thread():
+        g0_full = sla.inv(h0.astype(complex) - om * np.eye(lattice.sites))
+    g0 = g0_full[:, source]
+    born_dir = g0_full @ (np.diag(g0_full) * g0)      # G0 diag(G0) G0 e_j: the W^2 coefficient / w^2
+    interior = lattice.ring < lattice.rings
+
+    def continuum_column(w: complex) -> np.ndarray:
+        lam, pref = dictionary_parameters(w, lattice.p, lattice.q)
+        vals = np.asarray(continuum_green(lattice.z, lattice.z[source], lam, lattice.radius, extend=True), complex)
+        out = np.empty_like(vals)
+        out.real = pref * vals.real        # part-wise: keeps inf + 0j at the source (excluded anyway)
+        out.imag = pref * vals.imag
+        return out
+
+    floor = _rel(g0, continuum_column(om), keep)
+    out = {k: [] for k in ("variance", "rel_clean", "rel_graph_scba", "rel_continuum_scba", "rel_noise",
+                           "born_ratio", "sigma_graph", "sigma_continuum")}
+    for w in ws:
+        ens = green_ensemble(lattice, om, float(w), realizations, seed=seed, source=source)
+        w2 = ens.variance
+        sig, _ = graph_scba(lattice, om, w2)
+        a = h0.astype(complex)
+        a[np.diag_indices_from(a)] -= om + sig
+        rhs = np.zeros(lattice.sites, complex)
+        rhs[source] = 1.0
+        pred = sla.solve(a, rhs)
+        cs = scba(om, w2, lattice.p, lattice.q)
+        delta = ens.mean - g0
+        out["variance"].append(w2)
+        out["rel_clean"].append(_rel(ens.mean, g0, keep))
+        out["rel_graph_scba"].append(_rel(ens.mean, pred, keep))
+        out["rel_continuum_scba"].append(_rel(ens.mean, continuum_column(cs.omega_shifted), keep))
+        out["rel_noise"].append(float(np.linalg.norm(ens.err[keep]) / np.linalg.norm(ens.mean[keep])))
+        bd = w2 * born_dir
+        out["born_ratio"].append(float((np.vdot(bd[keep], delta[keep]) / np.vdot(bd[keep], bd[keep])).real))
+        out["sigma_graph"].append(complex(np.mean(sig[interior])))
+        out["sigma_continuum"].append(cs.self_energy)
+    return SCBAComparison(p=lattice.p, q=lattice.q, rings=lattice.rings, omega=om, source=source, seed=int(seed),
+                          realizations=int(realizations), W=ws, continuum_floor=floor,
+                          **{k: np.array(v) for k, v in out.items()})
