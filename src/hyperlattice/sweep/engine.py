@@ -1,0 +1,334 @@
+"""The sweep engine: a grid of independent tasks on dask.distributed, streamed into a resumable table.
+
+* **Where it runs.** ``scheduler=None`` (or ``"local"``) starts a ``distributed.LocalCluster`` on
+  this machine (one single-threaded worker process per core, no set-up, shut down at the end);
+  ``"threads"`` the same with worker threads in this process; an address such as
+  ``"tcp://10.0.0.5:8786"`` connects to a running scheduler (a cluster started by hand or by
+  dask-jobqueue on SLURM/PBS, see docs/sweeps.md); a ``distributed.Client`` is used as given;
+  ``"serial"`` runs in this process without Dask (also the fallback when dask is not installed),
+  writing the same table.
+* **Idempotent keys.** A task's key is its task name and a hash of its parameters
+  (:func:`task_key`): the same task always has the same key, so a rerun skips every key whose row
+  is on disk (resumable), a grid that lists a point twice runs it once, and a task that a dying
+  worker leaves half-done is recomputed by the scheduler under the same key and written once.
+* **Streaming.** Rows are written as futures complete (``distributed.as_completed``), each as one
+  atomically renamed part file; the table is consolidated at the end, also after an interruption.
+* **Failures.** A task that raises is retried ``retries`` times (``Client.submit(retries=...)``); a
+  task whose worker dies is rescheduled by the scheduler (up to ``distributed.scheduler.allowed-
+  failures`` deaths). What still fails is reported in :class:`SweepReport` ``failed`` and in
+  ``_failures.json`` with its error, and is retried by the next run; nothing is dropped silently.
+* **Progress.** A tqdm bar on stderr (``progress=True``).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import itertools
+import json
+import math
+import os
+import time
+from dataclasses import dataclass, field
+from typing import Callable
+
+from .. import __version__, _validate
+from ..results import Result
+from .store import SweepStore
+from .tasks import TASKS, execute, get_task
+
+__all__ = ["run_sweep", "SweepReport", "expand_grid", "task_key", "have_dask"]
+
+MAX_TASKS = 10_000_000
+_SCALAR = (int, float, str, bool, type(None))
+
+
+def have_dask() -> bool:
+    """True if dask.distributed can be imported."""
+    try:
+        import distributed  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def _canonical(value):
+    """Parameter values as JSON scalars; floats that are integers stay floats (1.0 != 1 in a key)."""
+    if isinstance(value, bool) or value is None or isinstance(value, str):
+        return value
+    if isinstance(value, int):
+        return int(value)
+    if isinstance(value, float):
+        if not math.isfinite(value):
+            raise ValueError(f"parameter values must be finite, got {value!r}.")
+        return float(value)
+    try:
+        import numpy as np
+
+        if isinstance(value, np.integer):
+            return int(value)
+        if isinstance(value, np.floating):
+            return _canonical(float(value))
+        if isinstance(value, np.bool_):
+            return bool(value)
+    except ImportError:  # pragma: no cover
+        pass
+    raise ValueError(f"parameter values must be numbers, strings, booleans or null, got {value!r}.")
+
+
+def task_key(task: str, params: dict) -> str:
+    """``<task>-<sha256 of the sorted parameters, 24 hex digits>``: equal tasks, equal keys."""
+    text = json.dumps({"task": task, "params": params}, sort_keys=True, separators=(",", ":"))
+    return f"{task}-{hashlib.sha256(text.encode()).hexdigest()[:24]}"
+
+
+def expand_grid(task: str, grid: dict) -> list[dict]:
+    """The Cartesian product of ``grid`` (name -> list of values, or one value), over the task's defaults.
+
+    Order: the first parameter varies slowest, as in nested loops in the grid's order. Every
+    combination is checked (:class:`~hyperlattice.sweep.tasks.Task` ``check``) before anything runs.
+    """
+    spec = get_task(task)
+    if not isinstance(grid, dict):
+        raise ValueError(f"the grid must be a mapping of parameter names to lists of values, got {type(grid).__name__}.")
+    defaults = spec.defaults
+    names, values = [], []
+    for name, vals in grid.items():
+        if name not in defaults:
+            raise ValueError(f"task {task!r} has no parameter {name!r} (it has {', '.join(defaults)}).")
+        if not isinstance(vals, (list, tuple)):
+            vals = [vals]
+        if len(vals) == 0:
+            raise ValueError(f"the grid gives no values for {name!r}.")
+        names.append(name)
+        values.append([_canonical(v) for v in vals])
+    total = math.prod(len(v) for v in values)
+    if total > MAX_TASKS:
+        raise ValueError(f"the grid has {total:,} tasks; at most {MAX_TASKS:,} per sweep.")
+    out, seen = [], set()
+    for combo in itertools.product(*values):
+        params = dict(defaults)
+        params.update(zip(names, combo))
+        params = {k: _canonical(v) for k, v in params.items()}
+        spec.check(params)
+        key = task_key(task, params)
+        if key not in seen:         # a point listed twice is one task
+            seen.add(key)
+            out.append(params)
+    return out
+
+
+@dataclass(frozen=True, eq=False, kw_only=True)
+class SweepReport(Result):
+    """What a sweep run did: counts, failures (key, parameters, error), where the table is.
+
+    ``completed`` counts rows written by this run, ``skipped`` rows already on disk.
+    """
+
+    path: str
+    table: str
+    task: str
+    scheduler: str
+    total: int
+    skipped: int
+    completed: int
+    failed: list = field(default_factory=list)
+    seconds: float = 0.0
+    version: str = __version__
+
+    @property
+    def ok(self) -> bool:
+        """True when every task of the grid has its row."""
+        return not self.failed and self.skipped + self.completed == self.total
+
+    def summary(self) -> dict:
+        """The ``sweep`` command's JSON: path, table, task, scheduler, total, skipped, completed, failed, seconds."""
+        return {"path": self.path, "table": self.table, "task": self.task, "scheduler": self.scheduler,
+                "total": self.total, "skipped": self.skipped, "completed": self.completed,
+                "failed": len(self.failed), "failures": list(self.failed), "seconds": self.seconds,
+                "version": self.version}
+
+
+def _bar(total: int, enabled: bool, desc: str):
+    if not enabled:
+        return None
+    try:
+        from tqdm import tqdm
+    except ImportError:  # tqdm is a core dependency; a stripped install just has no bar
+        return None
+    return tqdm(total=total, desc=desc, unit="task", dynamic_ncols=True, leave=True)
+
+
+def _error_text(exc: BaseException) -> str:
+    return " ".join(f"{type(exc).__name__}: {exc}".split())[:500]
+
+
+def _run_serial(task, todo, keys, write, retries, failures, bar, on_row, deadline):
+    for params, key in zip(todo, keys):
+        if deadline is not None and time.monotonic() > deadline:
+            failures.append({"key": key, "params": params, "error": "TimeoutError: the sweep's time limit passed"})
+            continue
+        err = None
+        for _attempt in range(retries + 1):
+            try:
+                row = execute(task, params)
+                err = None
+                break
+            except (ValueError, ArithmeticError, RuntimeError, MemoryError) as exc:   # a task's own failure
+                err = exc
+        if err is not None:
+            failures.append({"key": key, "params": params, "error": _error_text(err), "attempts": retries + 1})
+        else:
+            write(key, params, row)
+            if on_row is not None:
+                on_row(key)
+        if bar is not None:
+            bar.update(1)
+
+
+def _client_for(scheduler, workers: int | None):
+    """(client, cluster or None, label) for the scheduler argument; the caller closes what it got."""
+    from distributed import Client, LocalCluster
+
+    if isinstance(scheduler, Client):
+        return scheduler, None, f"client {scheduler.scheduler.address}", False
+    if scheduler in (None, "local", "threads"):
+        n = workers or max(1, os.cpu_count() or 1)
+        processes = scheduler != "threads"
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=processes, dashboard_address=None)
+        client = Client(cluster)
+        return client, cluster, f"local ({n} {'processes' if processes else 'threads'})", True
+    client = Client(scheduler, timeout=30)
+    return client, None, str(scheduler), True
+
+
+def _run_dask(task, todo, keys, write, retries, failures, bar, on_row, scheduler, workers, timeout):
+    from distributed import as_completed
+
+    client, cluster, label, own = _client_for(scheduler, workers)
+    futures = {}
+    try:
+        for params, key in zip(todo, keys):
+            fut = client.submit(execute, task, params, key=key, retries=retries, pure=False)
+            futures[fut] = (params, key)
+        pending = set(futures)
+        try:
+            for fut in as_completed(list(futures), timeout=timeout):
+                params, key = futures[fut]
+                pending.discard(fut)
+                if fut.status == "finished":
+                    write(key, params, fut.result())
+                    if on_row is not None:
+                        on_row(key)
+                else:
+                    exc = fut.exception()
+                    failures.append({"key": key, "params": params, "error": _error_text(exc),
+                                     "attempts": retries + 1})
+                if bar is not None:
+                    bar.update(1)
+        except TimeoutError:
+            for fut in pending:
+                params, key = futures[fut]
+                failures.append({"key": key, "params": params,
+                                 "error": f"TimeoutError: not finished within the sweep's {timeout:g} s"})
+    finally:
+        if futures:
+            client.cancel(list(futures), force=True)
+        if own:
+            client.close()
+        if cluster is not None:
+            cluster.close()
+    return label
+
+
+def run_sweep(task: str, grid: dict, path, *, scheduler=None, workers: int | None = None, retries: int = 2,
+              progress: bool = True, timeout: float | None = None,
+              on_row: Callable[[str], None] | None = None) -> SweepReport:
+    """Run every point of ``grid`` for ``task``, skipping points already in the table at ``path``.
+
+    Parameters
+    ----------
+    task : str
+        A registered task (:data:`hyperlattice.sweep.tasks.TASKS`: ``disorder``, ``levels``, ``probe``).
+    grid : dict
+        Parameter name -> list of values (or one value); missing parameters take the task's defaults.
+    path : path
+        The sweep directory (created; resumed if it exists).
+    scheduler : None, "local", "threads", "serial", address or distributed.Client
+        See the module docstring. Without dask installed only ``"serial"`` (and None, which then
+        means serial) is available.
+    workers : int, optional
+        Workers of the local cluster (default: one per core).
+    retries : int
+        Extra attempts of a task that raises.
+    progress : bool
+        tqdm progress bar on stderr.
+    timeout : float, optional
+        Seconds after which unfinished tasks are cancelled and reported as failed.
+    on_row : callable, optional
+        Called with each key after its row is on disk (e.g. to log, or to stop the run).
+
+    Returns
+    -------
+    SweepReport
+    """
+    spec = get_task(task)
+    retries = _validate.integer("retries", retries, minimum=0, maximum=100)
+    progress = _validate.flag("progress", progress)
+    if workers is not None:
+        workers = _validate.positive_int("workers", workers, maximum=4096)
+    if timeout is not None:
+        timeout = _validate.positive_real("timeout", timeout)
+    if on_row is not None:
+        on_row = _validate.function("on_row", on_row)
+    serial = scheduler == "serial" or (scheduler is None and not have_dask())
+    if not serial and not have_dask():
+        raise ValueError("this scheduler needs dask.distributed (pip install 'hyperlattice[sweep]'); "
+                         "use scheduler='serial' to run in this process.")
+    if not serial and not (scheduler in (None, "local", "threads") or isinstance(scheduler, str)):
+        from distributed import Client
+
+        if not isinstance(scheduler, Client):
+            raise ValueError(f"scheduler must be None, 'local', 'threads', 'serial', an address or a "
+                             f"distributed.Client, got {scheduler!r}.")
+    if isinstance(scheduler, str) and scheduler == "":
+        raise ValueError("scheduler must not be empty.")
+    points = expand_grid(spec.name, grid)
+    store = SweepStore(path)
+    meta = store.open(spec.name, {k: (v if isinstance(v, (list, tuple)) else [v]) for k, v in grid.items()})
+    keys_all = [task_key(spec.name, p) for p in points]
+    index = {k: i for i, k in enumerate(keys_all)}
+    done = store.done()
+    todo = [(p, k) for p, k in zip(points, keys_all) if k not in done]
+    part_meta = {"version": __version__, "task": spec.name}
+
+    def write(key, params, outputs):
+        row = {"key": key, "index": index[key], **params}
+        for name, value in outputs.items():
+            row[name if name not in row else f"out_{name}"] = value
+        store.write_row(key, row, {**part_meta, "params": params})
+
+    failures: list[dict] = []
+    t0 = time.perf_counter()
+    bar = _bar(len(todo), progress, f"sweep {spec.name}")
+    label = "serial"
+    try:
+        if todo:
+            ps, ks = [p for p, _ in todo], [k for _, k in todo]
+            if serial:
+                deadline = None if timeout is None else time.monotonic() + timeout
+                _run_serial(spec.name, ps, ks, write, retries, failures, bar, on_row, deadline)
+            else:
+                label = _run_dask(spec.name, ps, ks, write, retries, failures, bar, on_row, scheduler, workers,
+                                  timeout)
+        elif not serial:
+            label = "nothing to do"
+    finally:
+        if bar is not None:
+            bar.close()
+        store.write_failures(failures)
+        table = store.consolidate()
+    completed = len(store.done() & set(keys_all)) - (len(keys_all) - len(todo))
+    del meta
+    return SweepReport(path=str(store.path), table=str(table), task=spec.name, scheduler=label,
+                       total=len(points), skipped=len(keys_all) - len(todo), completed=completed,
+                       failed=failures, seconds=time.perf_counter() - t0)

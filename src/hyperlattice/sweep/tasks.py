@@ -1,0 +1,167 @@
+"""The tasks a sweep can run, by name: each is a pure function of its parameters returning one row.
+
+A task maps keyword parameters (int, float, str, bool or None) to a dict of outputs (numbers,
+strings or 1-d numeric arrays). Tasks must be deterministic: the same parameters give the same bits
+on any worker, which is what makes the task keys idempotent and resumed tables identical. Dense
+linear algebra therefore runs on one BLAS thread (:func:`blas_one_thread`).
+
+Registered tasks:
+
+``disorder``
+    One disorder realization (:func:`hyperlattice.compare.disorder.realization_observables`):
+    parameters ``p, q, rings, line_graph, model, W, seed, realization, omega0, ipr``.
+``levels``
+    The lowest levels of a flake with flux (:func:`hyperlattice.graph.spectrum.lowest_levels`):
+    ``p, q, rings, line_graph, flux, levels``; outputs ``E`` (array) and ``E0``, ``E1``.
+``probe``
+    ``x -> x**2`` after sleeping ``sleep`` seconds: measures the engine's own overhead and
+    exercises its fault handling; no physics.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import functools
+import inspect
+import math
+import threading
+import time
+from dataclasses import dataclass
+from typing import Callable, Iterator
+
+import numpy as np
+
+from .. import _validate
+
+__all__ = ["Task", "TASKS", "get_task", "blas_one_thread"]
+
+_LOCK = threading.Lock()
+_DEPTH = 0
+_GUARD = None
+
+
+@contextlib.contextmanager
+def blas_one_thread() -> Iterator[None]:
+    """One BLAS thread while any sweep task runs in this process (thread-safe, nestable).
+
+    The solvers' own guard saves and restores the thread count per call, which races when two
+    worker threads of one process interleave; a process-wide count held by every running task
+    sets it once and restores it when the last task ends.
+    """
+    global _DEPTH, _GUARD
+    from ..graph.solvers import _single_threaded_blas
+
+    with _LOCK:
+        if _DEPTH == 0:
+            _GUARD = _single_threaded_blas()
+            _GUARD.__enter__()
+        _DEPTH += 1
+    try:
+        yield
+    finally:
+        with _LOCK:
+            _DEPTH -= 1
+            if _DEPTH == 0:
+                _GUARD.__exit__(None, None, None)
+                _GUARD = None
+
+
+@functools.lru_cache(maxsize=8)
+def _lattice(p: int, q: int, rings: int, line: bool):
+    from ..graph.lattice import line_graph, ring_lattice
+
+    lat = ring_lattice(p, q, rings)
+    return line_graph(lat) if line else lat
+
+
+def _sites(p, q, rings, line) -> int:
+    from ..graph.lattice import edge_count, site_count
+
+    return edge_count(p, q, rings) if line else site_count(p, q, rings)
+
+
+def _check_geometry(params: dict, dense_max: int) -> None:
+    p, q = _validate.pq(params["p"], params["q"])
+    rings = _validate.positive_int("rings", params["rings"], maximum=40)
+    line = _validate.flag("line_graph", params["line_graph"])
+    n = _sites(p, q, rings, line)
+    if n > dense_max:
+        raise ValueError(f"the {{{p},{q}}} {'line graph' if line else 'flake'} of {rings} rings has {n:,} sites; "
+                         f"this task is a dense computation limited to {dense_max:,}.")
+
+
+def _disorder(p: int = 7, q: int = 3, rings: int = 4, line_graph: bool = False, model: str = "box", W: float = 1.0,
+              seed: int = 0, realization: int = 0, omega0: float | None = None, ipr: bool = False) -> dict:
+    from ..compare.disorder import realization_observables
+
+    lat = _lattice(p, q, rings, line_graph)
+    return realization_observables(lat, model, W, seed=seed, realization=realization, omega0=omega0, ipr=ipr)
+
+
+def _check_disorder(params: dict) -> None:
+    from ..compare.disorder import DENSE_MAX
+    from ..graph.disorder import MODELS, _realization, _seed, _strength
+
+    _check_geometry(params, DENSE_MAX)
+    model = _validate.choice("model", params["model"], MODELS)
+    _strength(model, params["W"])
+    _seed(params["seed"])
+    _realization(params["realization"])
+    if params["omega0"] is not None:
+        _validate.positive_real("omega0", params["omega0"])
+    _validate.flag("ipr", params["ipr"])
+
+
+def _levels(p: int = 7, q: int = 3, rings: int = 4, line_graph: bool = False, flux: float = 0.0,
+            levels: int = 2) -> dict:
+    from ..graph.spectrum import lowest_levels
+
+    spec = lowest_levels(_lattice(p, q, rings, line_graph), levels, flux=flux)
+    e = np.asarray(spec.energies, float)
+    return {"E": e, "E0": float(e[0]), "E1": float(e[1]) if e.size > 1 else math.nan, "method": spec.method}
+
+
+def _check_levels(params: dict) -> None:
+    _check_geometry(params, 5_000_000)
+    _validate.real("flux", params["flux"])
+    _validate.positive_int("levels", params["levels"], maximum=1000)
+
+
+def _probe(x: float = 0.0, sleep: float = 0.0) -> dict:
+    if sleep:
+        time.sleep(sleep)
+    return {"y": x * x}
+
+
+def _check_probe(params: dict) -> None:
+    _validate.real("x", params["x"])
+    _validate.real("sleep", params["sleep"], minimum=0.0, maximum=3600.0)
+
+
+@dataclass(frozen=True)
+class Task:
+    """A named sweep task: ``run(**params) -> dict`` and ``check(params)`` (raises ValueError)."""
+
+    name: str
+    run: Callable[..., dict]
+    check: Callable[[dict], None]
+
+    @property
+    def defaults(self) -> dict:
+        """Every parameter with its default value (a grid overrides some of them)."""
+        return {k: v.default for k, v in inspect.signature(self.run).parameters.items()}
+
+
+TASKS = {t.name: t for t in (Task("disorder", _disorder, _check_disorder), Task("levels", _levels, _check_levels),
+                             Task("probe", _probe, _check_probe))}
+
+
+def get_task(name) -> Task:
+    """The registered task called ``name`` (ValueError listing the names otherwise)."""
+    return TASKS[_validate.choice("task", name, tuple(TASKS))]
+
+
+def execute(name: str, params: dict) -> dict:
+    """Run task ``name`` on ``params`` on one BLAS thread (this is what a worker calls)."""
+    with blas_one_thread():
+        return TASKS[name].run(**params)
