@@ -1,0 +1,286 @@
+r"""The massive scalar in the paper's AdS₂: frequency ω ↔ λ ↔ mass² ↔ conformal dimension Δ.
+
+Below the band, the graph propagator :math:`G = (H-\omega)^{-1}` is the lattice Klein–Gordon
+propagator; through the dictionary (``eq21``, :func:`hyperlattice.dictionary.lambda_from_energy`)
+
+.. math:: -\Delta_g - \lambda = -\Delta_g + m^2, \qquad m^2 = -\lambda = -\frac{4(\omega+q)}{qh^2},
+
+i.e. a scalar of mass² :math:`m^2 = -\lambda` in the paper's metric
+:math:`ds^2 = (dx^2+dy^2)/(1-|z|^2)^2`, which is Euclidean AdS₂ of radius :math:`R = \tfrac12`
+(curvature :math:`-1/R^2 = -4`: the standard Poincaré disk :math:`4|dz|^2/(1-|z|^2)^2` has
+curvature :math:`-1`, and ours is a quarter of it).
+
+Derivation of :math:`\Delta(\Delta-1) = m^2R^2`
+-----------------------------------------------
+The radial part of :math:`\Delta_g = (1-r^2)^2(\partial_r^2 + r^{-1}\partial_r + r^{-2}\partial_\phi^2)`
+near the boundary :math:`r \to 1` acts on :math:`\phi \sim (1-r)^a` as
+
+.. math:: (1-r^2)^2\partial_r^2 (1-r)^a = (1+r)^2 (1-r)^2\, a(a-1)(1-r)^{a-2}
+          = 4a(a-1)(1-r)^a\,[1 + O(1-r)],
+
+while the first-derivative and angular terms carry an extra factor :math:`(1-r)`. So
+:math:`(-\Delta_g + m^2)\phi = 0` forces :math:`4a(a-1) = m^2`, i.e.
+
+.. math:: \Delta(\Delta - 1) = \frac{m^2}{4} = m^2R^2, \qquad
+          \Delta_\pm = \frac12 \pm \frac12\sqrt{1 + m^2} = \frac12 \pm \frac12\sqrt{1-\lambda},
+
+the AdS\ :sub:`d+1` relation :math:`\Delta(\Delta-d) = m^2R^2` at :math:`d = 1`. The proper distance
+from the centre is :math:`\rho = \operatorname{artanh} r`, so :math:`1-r \approx 2e^{-2\rho} =
+2e^{-\rho/R}`: the falloff :math:`(1-r)^\Delta \propto e^{-\Delta\rho/R}` is the usual one. The
+Legendre degree of the continuum Green function (:func:`hyperlattice.continuum.green.green_nu`,
+:math:`\lambda/4 = -\nu(\nu+1)`) is :math:`\nu = \Delta_+ - 1`: :math:`\nu(\nu+1) = \Delta(\Delta-1)`.
+
+Breitenlohner–Freedman bound
+----------------------------
+:math:`\Delta` is real iff :math:`m^2R^2 \ge -\tfrac14`, i.e. :math:`m^2 \ge -1`, :math:`\lambda \le 1`:
+the BF bound is the bottom :math:`\kappa = 1` of the continuous spectrum of :math:`-\Delta_g` on the
+infinite disk, where :math:`\Delta = \tfrac12`. In lattice units it sits at
+:math:`E_\infty = -q + \frac q4 h^2` (:func:`bf_bound`; ``spec2``, :math:`-2.94295` for {7,3}).
+Above it (:math:`\omega > E_\infty`, :math:`m^2 < -1`) :math:`\Delta = \tfrac12 \pm \tfrac{\mathrm i}2
+\sqrt{\lambda - 1}` is complex and the infinite-disk propagator oscillates in the radial direction:
+the field is unstable. A finite lattice's propagator exists up to the bottom :math:`E_0(\ell)` of its
+own spectrum (the lattice BF bound; :func:`hyperlattice.compare.boundary.lattice_bf_bound`). For
+{7,3} the finite flakes have :math:`E_0(\ell) > E_\infty` (e.g. :math:`-2.8942` at :math:`\ell = 6`,
+:math:`-2.9127` at :math:`\ell = 8`), so in the window :math:`E_\infty < \omega < E_0(\ell)` the
+lattice propagator is positive and decays along the boundary while the continuum one on the
+infinite disk has complex Δ; a continuum Dirichlet disk of radius :math:`L < 1` still has a
+propagator there, up to its own lowest level.
+
+Boundary two-point function
+---------------------------
+For :math:`L = 1` the continuum Green function is :math:`\frac1{2\pi}Q_\nu(y)`,
+:math:`y = \cosh 2d = 1 + 2|z-z'|^2/(\epsilon\epsilon')`, :math:`\epsilon = 1-|z|^2`. The large-
+:math:`y` form of :math:`Q_\nu` (DLMF 14.8.15 with :math:`\mu = 0`,
+:math:`Q_\nu(y) \sim \pi^{1/2}\Gamma(\nu+1)/[\Gamma(\nu+\tfrac32)(2y)^{\nu+1}]`) gives, with both points
+near the boundary,
+
+.. math:: G \approx C_\Delta \Bigl[\frac{\epsilon\epsilon'}{4|z-z'|^2}\Bigr]^{\Delta}
+          = C_\Delta \Bigl(\frac{\epsilon\epsilon'}{16 r r'}\Bigr)^{\Delta}
+            \bigl[\sin\tfrac{\theta}{2}\bigr]^{-2\Delta}\ (r = r'),
+          \qquad C_\Delta = \frac{\Gamma(\Delta)}{2\sqrt\pi\,\Gamma(\Delta + \frac12)},
+
+the conformal two-point function of a boundary operator of dimension Δ (:func:`conformal_two_point`,
+:func:`boundary_two_point`). Its relative difference from the exact form is
+:math:`O(\epsilon\epsilon'/|z-z'|^2)` (tested to 1e-8 against
+:func:`hyperlattice.continuum.green.continuum_green` at :math:`1-|z| = 10^{-10}`). Letting only
+:math:`z'` approach the boundary gives the bulk-to-boundary propagator
+:math:`C_\Delta(\epsilon'/4)^\Delta K_\Delta(z, \theta')` with
+:math:`K_\Delta(z,\theta') = [(1-|z|^2)/|z - e^{\mathrm i\theta'}|^2]^\Delta`
+(:func:`bulk_to_boundary_kernel`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import special as sc
+
+from .. import _validate
+from ..dictionary import energy_from_lambda, lambda_from_energy
+from ..geometry import one_minus_abs2
+from ..results import Result
+
+__all__ = [
+    "ADS_RADIUS",
+    "BF_MASS2",
+    "mass2_from_lambda",
+    "lambda_from_mass2",
+    "delta_from_mass2",
+    "mass2_from_delta",
+    "mass2_from_omega",
+    "omega_from_mass2",
+    "delta_from_omega",
+    "omega_from_delta",
+    "BFBound",
+    "bf_bound",
+    "conformal_prefactor",
+    "conformal_two_point",
+    "boundary_two_point",
+    "bulk_to_boundary_kernel",
+]
+
+#: AdS radius of the paper's metric |dz|^2/(1-|z|^2)^2 (curvature -1/R^2 = -4)
+ADS_RADIUS = 0.5
+#: Breitenlohner-Freedman bound m^2 R^2 = -1/4 in the paper's units: m^2 = -1 (lambda = 1)
+BF_MASS2 = -1.0 / (4.0 * ADS_RADIUS**2)
+
+
+def _scalar_or_array(name: str, value) -> float | np.ndarray:
+    """A finite real number or a real array (float64); complex input refused."""
+    if isinstance(value, (np.ndarray, list, tuple)):
+        return _validate.real_array(name, value)
+    return _validate.real(name, value)
+
+
+def _out(x):
+    return float(x) if np.ndim(x) == 0 else np.asarray(x, dtype=float)
+
+
+def mass2_from_lambda(lam) -> float | np.ndarray:
+    r""":math:`m^2 = -\lambda`: the mass² whose Klein–Gordon operator :math:`-\Delta_g + m^2` is
+    :math:`-\Delta_g - \lambda` (paper's metric, :math:`R = 1/2`). Real scalar or array."""
+    return _out(-np.asarray(_scalar_or_array("lambda", lam)))
+
+
+def lambda_from_mass2(m2) -> float | np.ndarray:
+    r""":math:`\lambda = -m^2` (inverse of :func:`mass2_from_lambda`)."""
+    return _out(-np.asarray(_scalar_or_array("mass2", m2)))
+
+
+def delta_from_mass2(m2, *, branch: str = "plus") -> float | np.ndarray:
+    r"""Conformal dimension :math:`\Delta_\pm = \frac12 \pm \frac12\sqrt{1 + m^2}` (:math:`\Delta(\Delta-1) = m^2R^2`, R = 1/2).
+
+    Parameters
+    ----------
+    m2 : float or array_like
+        Mass² in the paper's metric (:math:`m^2 = -\lambda`), at or above the BF bound
+        :math:`m^2 = -1`.
+    branch : {"plus", "minus"}
+        :math:`\Delta_+` (standard quantization, the falloff of the Dirichlet/normalizable
+        propagator) or :math:`\Delta_- = 1 - \Delta_+` (alternate quantization, unitary only for
+        :math:`-1 \le m^2 < 3`).
+
+    Raises
+    ------
+    ValueError
+        Below the BF bound (:math:`m^2 < -1`, Δ complex) or on bad input.
+    """
+    branch = _validate.choice("branch", branch, ("plus", "minus"))
+    m2 = np.asarray(_scalar_or_array("mass2", m2))
+    if np.any(m2 < BF_MASS2):
+        worst = float(np.min(m2))
+        raise ValueError(f"mass2 = {worst:g} lies below the Breitenlohner-Freedman bound m^2 = -1 (m^2 R^2 = -1/4 "
+                         "with R = 1/2): the conformal dimension is complex there.")
+    # 1 + m^2 = 4(m^2 R^2 + 1/4) >= 0 above the bound; clip the rounding of m^2 = -1 exactly
+    root = 0.5 * np.sqrt(np.maximum(1.0 + m2, 0.0))
+    return _out(0.5 + root if branch == "plus" else 0.5 - root)
+
+
+def mass2_from_delta(delta) -> float | np.ndarray:
+    r""":math:`m^2 = \Delta(\Delta-1)/R^2 = 4\Delta(\Delta-1)` (either branch maps back)."""
+    d = np.asarray(_scalar_or_array("delta", delta))
+    return _out(d * (d - 1.0) / ADS_RADIUS**2)
+
+
+def mass2_from_omega(omega, p: int = 7, q: int = 3) -> float | np.ndarray:
+    r""":math:`m^2 = -\lambda(\omega) = -4(\omega+q)/(qh^2)` (``eq21``). Real ω only (a mass is real)."""
+    omega = _scalar_or_array("omega", omega)
+    return _out(-np.asarray(lambda_from_energy(omega, p, q)))
+
+
+def omega_from_mass2(m2, p: int = 7, q: int = 3) -> float | np.ndarray:
+    r""":math:`\omega = -q - \frac q4 h^2 m^2` (inverse of :func:`mass2_from_omega`)."""
+    m2 = _scalar_or_array("mass2", m2)
+    return _out(energy_from_lambda(-np.asarray(m2) if np.ndim(m2) else -m2, p, q))
+
+
+def delta_from_omega(omega, p: int = 7, q: int = 3, *, branch: str = "plus") -> float | np.ndarray:
+    r"""Continuum Δ of the lattice frequency ω: :math:`\frac12 \pm \frac12\sqrt{1-\lambda(\omega)}`.
+
+    Raises ValueError for :math:`\omega > E_\infty` (beyond the continuum BF bound)."""
+    return delta_from_mass2(mass2_from_omega(omega, p, q), branch=branch)
+
+
+def omega_from_delta(delta, p: int = 7, q: int = 3) -> float | np.ndarray:
+    r"""The lattice frequency whose continuum dimension is Δ (either branch)."""
+    return omega_from_mass2(mass2_from_delta(delta), p, q)
+
+
+@dataclass(frozen=True, eq=False, kw_only=True)
+class BFBound(Result):
+    r"""The continuum Breitenlohner–Freedman bound in every unit of the dictionary.
+
+    Attributes
+    ----------
+    p, q : int
+    mass2 : float
+        :math:`m^2 = -1` (:math:`m^2R^2 = -1/4`, :math:`R = 1/2`).
+    lam : float
+        :math:`\lambda = 1`, the bottom of the continuous spectrum of :math:`-\Delta_g` (``spec2``).
+    omega : float
+        :math:`E_\infty = -q + \frac q4 h^2` (:math:`-2.94295` for {7,3}).
+    delta : float
+        :math:`\Delta = 1/2`.
+    """
+
+    p: int
+    q: int
+    mass2: float
+    lam: float
+    omega: float
+    delta: float
+
+
+def bf_bound(p: int = 7, q: int = 3) -> BFBound:
+    r"""The continuum BF bound: :math:`m^2 = -1`, :math:`\lambda = 1`, :math:`\omega = E_\infty`, :math:`\Delta = 1/2`."""
+    p, q = _validate.pq(p, q)
+    return BFBound(p=p, q=q, mass2=BF_MASS2, lam=-BF_MASS2, omega=float(energy_from_lambda(-BF_MASS2, p, q)),
+                   delta=0.5)
+
+
+def _delta(delta) -> float:
+    return _validate.real("delta", delta, minimum=0.0, open_min=True)
+
+
+def conformal_prefactor(delta) -> float:
+    r""":math:`C_\Delta = \Gamma(\Delta)/[2\sqrt\pi\,\Gamma(\Delta+\frac12)]`, the coefficient of the
+    boundary two-point function of :math:`\frac1{2\pi}Q_{\Delta-1}(y)` (module docstring)."""
+    d = _delta(delta)
+    # log-gamma: Gamma(Delta) alone overflows beyond Delta ~ 171
+    return float(np.exp(sc.gammaln(d) - sc.gammaln(d + 0.5)) / (2.0 * math.sqrt(math.pi)))
+
+
+def conformal_two_point(z, zp, delta) -> float | np.ndarray:
+    r"""Leading near-boundary form :math:`C_\Delta[\epsilon\epsilon'/(4|z-z'|^2)]^\Delta` of the
+    :math:`L = 1` propagator :math:`\frac1{2\pi}Q_{\Delta-1}(y)`, :math:`\epsilon = 1-|z|^2`.
+
+    Vectorized over ``z``, ``zp`` (broadcast); points inside the unit disk, not coincident.
+    Relative accuracy against the exact propagator: :math:`O(\epsilon\epsilon'/|z-z'|^2)`.
+    """
+    d = _delta(delta)
+    z = _validate.disk_points("z", z)
+    zp = _validate.disk_points("z'", zp)
+    try:
+        z, zp = np.broadcast_arrays(z, zp)
+    except ValueError:
+        raise ValueError(f"z and z' must broadcast to one shape; got shapes {np.shape(z)} and {np.shape(zp)}.") \
+            from None
+    sep = np.abs(z - zp)
+    if np.any(sep == 0):
+        raise ValueError("z and z' coincide at some pair; the two-point function diverges there.")
+    ratio = one_minus_abs2(z) * one_minus_abs2(zp) / (4.0 * sep * sep)
+    out = conformal_prefactor(d) * np.exp(d * np.log(ratio))
+    return _out(out)
+
+
+def boundary_two_point(theta, delta, eps=1.0, eps_prime=None) -> float | np.ndarray:
+    r"""The conformal form :math:`C_\Delta(\epsilon\epsilon'/16)^\Delta[\sin(\theta/2)]^{-2\Delta}`.
+
+    ``eps = 1 - r^2`` (and ``eps_prime``, default ``eps``) are the cut-offs of the two points; with
+    the default ``eps = 1`` the function is the bare :math:`C_\Delta 16^{-\Delta}|\sin\theta/2|^{-2\Delta}`.
+    Equals :func:`conformal_two_point` for points on one circle up to the factor :math:`(rr')^{-\Delta}`.
+    """
+    d = _delta(delta)
+    th = np.asarray(_scalar_or_array("theta", theta))
+    e1 = _validate.positive_real("eps", eps)
+    e2 = e1 if eps_prime is None else _validate.positive_real("eps_prime", eps_prime)
+    s = np.abs(np.sin(0.5 * th))
+    if np.any(s == 0):
+        raise ValueError("theta is a multiple of 2 pi at some point; the two-point function diverges there.")
+    return _out(conformal_prefactor(d) * np.exp(d * (math.log(e1 * e2 / 16.0) - 2.0 * np.log(s))))
+
+
+def bulk_to_boundary_kernel(z, theta, delta) -> float | np.ndarray:
+    r""":math:`K_\Delta(z, \theta) = [(1-|z|^2)/|z - e^{\mathrm i\theta}|^2]^\Delta`, the bulk-to-boundary
+    propagator (up to the normalization :math:`C_\Delta(\epsilon'/4)^\Delta` of a source at cut-off
+    :math:`\epsilon'`). Vectorized over ``z`` and ``theta`` (broadcast)."""
+    d = _delta(delta)
+    z = _validate.disk_points("z", z)
+    th = np.asarray(_scalar_or_array("theta", theta))
+    try:
+        z, th = np.broadcast_arrays(z, th)
+    except ValueError:
+        raise ValueError(f"z and theta must broadcast to one shape; got {np.shape(z)} and {np.shape(th)}.") from None
+    return _out(np.exp(d * (np.log(one_minus_abs2(z)) - 2.0 * np.log(np.abs(z - np.exp(1j * th))))))
