@@ -24,10 +24,40 @@ site :math:`\mathcal A`, :func:`hyperlattice.geometry.site_area`):
   (:func:`disk_radius`);
 * many-body parameters (``eq13`` -> ``eq14``): :math:`t' = \frac q4 h^2 t`, :math:`\mu' = \mu + qt`,
   :math:`U' = \mathcal A U` (:func:`continuum_parameters`).
+
+The improved dictionary (``dictionary="improved"``, issue 13; the paper's map stays the default)
+------------------------------------------------------------------------------------------------
+The paper's map keeps the first two terms of the small-h expansion. For an eigenfunction
+:math:`\Delta_g f = -\lambda f` the *isotropic* part of the star is summed exactly: expand f
+about a site in geodesic polar coordinates, :math:`f = \sum_m c_m\,\Phi_{\lambda,m}(d)e^{\mathrm i m\theta}`.
+The q neighbours at distance :math:`d_0` and angles :math:`\chi + 2\pi a/q` keep only the orders
+:math:`m \equiv 0 \pmod q`, so
+
+.. math:: (Af)(z_i) = q\,\varphi_\lambda(d_0)\,f(z_i) + [\text{orders } m = \pm q, \pm 2q, \dots],
+          \qquad \varphi_\lambda(d) = P_\nu(\cosh 2d),\ \nu = \tfrac12(-1 + \mathrm i k),\ \lambda = 1 + k^2,
+
+where :math:`\varphi_\lambda` is the spherical function (the radial eigenfunction with
+:math:`\varphi(0) = 1`; the mean-value property: the average of f over the geodesic circle of
+radius d about z is :math:`\varphi_\lambda(d) f(z)`; :math:`\cosh 2d` because the metric has
+curvature -4). The orders :math:`\pm q` are the paper's anisotropic :math:`h^3 Q_3` term
+(``adj32``, :math:`\mathcal D` of ``adj33``, for q = 3): they average to zero over the
+orientations :math:`\chi_i` and move the levels only at second order. Hence
+
+.. math:: E = -q\,P_{\frac12(-1+\mathrm i k)}\Bigl(\frac{1+h^2}{1-h^2}\Bigr)
+          = -q + \frac q4 h^2\lambda + q\Bigl(\frac\lambda8 - \frac{\lambda^2}{64}\Bigr)h^4 + O(h^6),
+
+which is the paper's map at order :math:`h^2` (:func:`improved_energy_from_lambda`). Second, the
+Dirichlet condition: a flake's eigenvector vanishes on the missing neighbours outside it, while
+``eq12`` gives the disk of the flake's *area* (each site's cell reaches half way to the next ring).
+As for a chain of N sites (area length Na, Dirichlet walls at the two missing sites, length
+(N + 1)a), the wall sits half a bond further out: the Dirichlet radius is the area radius plus
+half the mean radial length of the bonds that leave the flake (:func:`dirichlet_radius_shift`,
+0.13537 for {7,3}; :func:`improved_disk_for_rings`).
 """
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -51,6 +81,16 @@ __all__ = [
     "lattice_parameters",
     "field_from_flux",
     "flux_from_field",
+    "DICTIONARIES",
+    "spherical_function",
+    "spherical_mean_energy",
+    "improved_energy_from_lambda",
+    "improved_energy_from_k",
+    "improved_lambda_from_energy",
+    "improved_band_bottom",
+    "dirichlet_radius_shift",
+    "improved_disk_for_rings",
+    "map_energy_from_k",
 ]
 
 
@@ -251,3 +291,177 @@ def lattice_parameters(t_prime: float, mu_prime: float, U_prime: float, p: int =
         if not math.isfinite(v):
             raise ValueError(f"the lattice {name} = {v} overflows: the continuum parameters are too large.")
     return continuum_parameters(values["t"], values["mu"], values["U"], p, q)
+
+
+# ----------------------------------------------------------------------------
+# the improved dictionary (issue 13): the exact circle average of the star
+# ----------------------------------------------------------------------------
+
+#: The names accepted by every ``dictionary=`` keyword.
+DICTIONARIES = ("paper", "improved")
+
+#: Gauss-Legendre nodes on [0, 1] for the Mehler integral (more are used for large k)
+_GL_BASE = 48
+
+
+@functools.lru_cache(maxsize=32)
+def _gauss_legendre(n: int) -> tuple[np.ndarray, np.ndarray]:
+    x, w = np.polynomial.legendre.leggauss(n)
+    return 0.5 * (x + 1.0), 0.5 * w
+
+
+def _check_dictionary(dictionary) -> str:
+    return _validate.choice("dictionary", dictionary, DICTIONARIES)
+
+
+def spherical_function(lam, d) -> float | np.ndarray:
+    r"""The spherical function :math:`\varphi_\lambda(d) = P_\nu(\cosh 2d)` of :math:`-\Delta_g`
+    (eigenvalue :math:`\lambda = 1 + k^2`, :math:`\nu = \frac12(-1 + \mathrm i k)`) at geodesic
+    distance :math:`d \ge 0` in the paper's metric (curvature -4).
+
+    It is the radial eigenfunction with :math:`\varphi(0) = 1`, and the average of any
+    eigenfunction over the geodesic circle of radius d about a point is :math:`\varphi_\lambda(d)`
+    times its value there (mean-value property). Evaluated from Mehler's integral for the conical
+    function (DLMF §14.20, :math:`t = 2d`, :math:`\tau = k/2`),
+
+    .. math:: P_{-\frac12 + \mathrm i\tau}(\cosh t) = \frac{\sqrt2}{\pi}\int_0^t
+              \frac{\cos \tau s}{\sqrt{\cosh t - \cosh s}}\,ds,
+
+    with :math:`s = t(1 - w^2)`, which removes the endpoint singularity, and Gauss-Legendre
+    quadrature in w (the integrand is then analytic; the node count grows with :math:`\tau t`).
+    :math:`\lambda < 1` (imaginary :math:`\tau`) gives :math:`\cosh`; real :math:`\lambda \ge 0`
+    only. Scalar or array ``lam``; scalar ``d`` (at most 20).
+    """
+    lam = _validate.real_array("lam", lam)
+    if np.any(lam < 0):
+        raise ValueError("the eigenvalue lam of -Delta_g must be >= 0.")
+    d = _validate.real("d", d, minimum=0.0, maximum=20.0)
+    t = 2.0 * d
+    if t == 0.0:
+        out = np.ones(lam.shape)
+        return float(out) if out.ndim == 0 else out
+    tau2 = (lam - 1.0) / 4.0                   # tau^2, negative below the continuum edge
+    tau = np.sqrt(np.abs(tau2))
+    n = _GL_BASE + int(2.0 * float(np.max(tau, initial=0.0)) * t)
+    if n > 200_000:
+        raise ValueError(f"lam = {float(np.max(lam)):.3g} is too large for the quadrature of the spherical function.")
+    w, wt = _gauss_legendre(n)
+    s = t * (1.0 - w * w)
+    # cosh t - cosh s = 2 sinh((t+s)/2) sinh((t-s)/2); (t-s)/2 = t w^2/2: no cancellation near w = 0
+    den = np.sqrt(2.0 * np.sinh(0.5 * (t + s)) * np.sinh(0.5 * t * w * w))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        jac = np.where(w > 0, 2.0 * t * w / den, 2.0 * t / np.sqrt(np.sinh(t) * t))
+    ts = np.multiply.outer(tau, s)
+    kern = np.where(np.asarray(tau2)[..., None] >= 0, np.cos(ts), np.cosh(ts))
+    out = math.sqrt(2.0) / math.pi * (kern * (jac * wt)).sum(axis=-1)
+    return float(out) if out.ndim == 0 else out
+
+
+def spherical_mean_energy(lam, q: int, h) -> float | np.ndarray:
+    r"""The improved map at any star radius h (the analogue of :func:`laplacian_coefficient`):
+    :math:`E = -q\,\varphi_\lambda(\operatorname{artanh} h) = -q P_\nu\bigl(\frac{1+h^2}{1-h^2}\bigr)`.
+
+    Its expansion, :math:`-q + \frac q4 h^2\lambda + q(\frac\lambda8 - \frac{\lambda^2}{64})h^4 + O(h^6)`,
+    starts with the paper's map (``spec2``); the tests check both orders.
+    """
+    q = _validate.integer("q", q, minimum=3)
+    h = _validate.real("h", h, minimum=0.0, maximum=0.999)
+    return -q * spherical_function(lam, math.atanh(h))
+
+
+def improved_energy_from_lambda(lam, p=7, q=3) -> float | np.ndarray:
+    r"""Lattice energy of a continuum eigenvalue :math:`\lambda` of :math:`-\Delta_g` with the
+    improved map :math:`E = -q\,\varphi_\lambda(d_0)` (module docstring); real :math:`\lambda \ge 0`.
+    """
+    p, q = _validate.pq(p, q, allow_infinite_p=True)
+    return -q * spherical_function(lam, geometry.d0(p, q))
+
+
+def improved_energy_from_k(k, p=7, q=3) -> float | np.ndarray:
+    r""":func:`improved_energy_from_lambda` at :math:`\lambda = 1 + k^2` (real k)."""
+    k = _validate.real_array("k", k)
+    out = improved_energy_from_lambda(1.0 + k * k, p, q)
+    return float(out) if np.ndim(out) == 0 else out
+
+
+def improved_lambda_from_energy(energy, p=7, q=3) -> float:
+    r"""Inverse of :func:`improved_energy_from_lambda` for one real energy, on the branch
+    :math:`0 \le \lambda \le \lambda_*` where E rises monotonically (:math:`\lambda_*` is the first
+    maximum of :math:`-\varphi_\lambda(d_0)`, beyond the first zero of the conical function).
+    """
+    from scipy.optimize import brentq
+
+    p, q = _validate.pq(p, q, allow_infinite_p=True)
+    e = _validate.real("energy", energy)
+    d0 = geometry.d0(p, q)
+    # the first maximum of -phi: its first zero is near tau t = j_{0,1}; scan a grid beyond it
+    lam_hi = 1.0 + 4.0 * (3.9 / (2.0 * d0)) ** 2
+    grid = np.linspace(0.0, lam_hi, 400)
+    vals = -q * spherical_function(grid, d0)
+    top = int(np.argmax(np.diff(vals) <= 0)) if np.any(np.diff(vals) <= 0) else grid.size - 1
+    lo, hi = float(vals[0]), float(vals[top])
+    if not lo <= e <= hi:
+        raise ValueError(f"the energy {e:g} is outside the range [{lo:.6g}, {hi:.6g}] of the improved map for "
+                         f"{{{p},{q}}}.")
+    if e == lo:
+        return 0.0
+    return float(brentq(lambda x: -q * spherical_function(x, d0) - e, 0.0, float(grid[top]), xtol=1e-14,
+                        rtol=4 * np.finfo(float).eps))
+
+
+def improved_band_bottom(p=7, q=3) -> float:
+    r""":math:`E_\infty` of the improved map: :math:`-q\,\varphi_1(d_0) = -q P_{-1/2}(\cosh 2d_0)`,
+    the :math:`k \to 0` limit (:math:`-2.940961` for {7,3}, against the paper's
+    :math:`-3 + \frac34 h^2 = -2.942952`)."""
+    return float(improved_energy_from_lambda(1.0, p, q))
+
+
+@functools.lru_cache(maxsize=64)
+def _radius_shift(p: int, q: int) -> float:
+    from .graph.lattice import ring_lattice, site_count  # lazy: the continuum side imports this module
+
+    rings = 2
+    while rings < 7 and site_count(p, q, rings + 2) <= 60_000:
+        rings += 1
+    lat = ring_lattice(p, q, rings + 1)
+    a, b = lat.edges[:, 0], lat.edges[:, 1]
+    ra, rb = lat.ring[a], lat.ring[b]
+    inner = np.concatenate([a[(ra == rings) & (rb == rings + 1)], b[(rb == rings) & (ra == rings + 1)]])
+    outer = np.concatenate([b[(ra == rings) & (rb == rings + 1)], a[(rb == rings) & (ra == rings + 1)]])
+    radial = np.arctanh(np.abs(lat.z[outer])) - np.arctanh(np.abs(lat.z[inner]))
+    return 0.5 * float(radial.mean())
+
+
+def dirichlet_radius_shift(p=7, q=3) -> float:
+    r"""How far the Dirichlet wall of a flake lies beyond its area radius (``eq12``), in geodesic
+    distance: half the mean radial length :math:`d(0, z_{\rm out}) - d(0, z_{\rm in})` of the bonds
+    from the outermost ring to the missing next ring (module docstring).
+
+    Measured on the ring lattice (the graph side's geometry; the mean is the same for every outer
+    ring to 1e-8 from ring 6 on, to 1e-4 from ring 3 on): 0.1353749 for {7,3}.
+    """
+    p, q = _validate.pq(p, q)
+    return _radius_shift(p, q)
+
+
+def improved_disk_for_rings(rings, p=7, q=3) -> tuple[float, float]:
+    r"""``(L, x_L)`` of the Dirichlet disk of the improved dictionary for an l-ring flake: the
+    geodesic radius of :func:`disk_radius_for_rings` plus :func:`dirichlet_radius_shift`.
+
+    With :math:`x_A = \cosh 2R_A` from the exact site count and :math:`\delta` the shift,
+    :math:`x = x_A\cosh 2\delta + \sqrt{x_A^2 - 1}\,\sinh 2\delta` (no cancellation) and
+    :math:`L = \tanh(R_A + \delta)`.
+    """
+    _, xa = disk_radius_for_rings(rings, p, q)
+    delta = dirichlet_radius_shift(p, q)
+    x = xa * math.cosh(2.0 * delta) + math.sqrt((xa - 1.0) * (xa + 1.0)) * math.sinh(2.0 * delta)
+    # L from x: L^2 = (x - 1)/(x + 1)
+    return math.sqrt((x - 1.0) / (x + 1.0)), x
+
+
+def map_energy_from_k(k, p=7, q=3, dictionary: str = "paper") -> float | np.ndarray:
+    r"""Lattice energy of the Dirichlet level with :math:`-\Delta_g\psi = (1+k^2)\psi`:
+    :func:`energy_from_k` (``dictionary="paper"``, ``spec2``) or :func:`improved_energy_from_k`."""
+    if _check_dictionary(dictionary) == "paper":
+        return energy_from_k(k, p, q)
+    return improved_energy_from_k(k, p, q)

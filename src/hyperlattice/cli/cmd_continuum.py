@@ -21,6 +21,10 @@ def add_arguments(parser) -> None:
     parser.add_argument("--flux", type=finite_float, default=None, metavar="F",
                         help="uniform field B = 2 pi F / (area of one p-gon): F flux quanta per p-gon, "
                         "F > 0 counterclockwise (default 0)")
+    parser.add_argument("--dictionary", choices=("paper", "improved"), default="paper",
+                        help="map from continuum eigenvalues to lattice energies: the paper's E = -q + (q/4) h^2 "
+                        "lambda (default) or the improved E = -q P_nu(cosh 2 d0) with the Dirichlet wall half a "
+                        "bond beyond the area radius (zero field only)")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
 
 
@@ -31,14 +35,19 @@ def run(args) -> int:
     rings = args.rings
     if rings is None and args.radius is None:
         rings = 10
+    dictionary = getattr(args, "dictionary", "paper")
     if args.flux is not None and args.flux != 0.0:
         from ..continuum.magnetic import magnetic_levels
+
+        if dictionary != "paper":
+            raise ValueError("--dictionary improved is available in zero field only (no --flux).")
 
         spec = magnetic_levels(args.p, args.q, radius=args.radius, rings=rings, levels=args.levels,
                                flux=args.flux)
     else:
         # zero field: the existing zero-field solver, so the numbers are exactly today's
-        spec = continuum_levels(args.p, args.q, radius=args.radius, rings=rings, levels=args.levels)
+        spec = continuum_levels(args.p, args.q, radius=args.radius, rings=rings, levels=args.levels,
+                                dictionary=dictionary)
     out = spec.summary()
     if args.flux is not None:
         out["flux"] = float(args.flux)
@@ -47,6 +56,7 @@ def run(args) -> int:
         return 0
     where = f"rings={spec.rings}, " if spec.rings is not None else ""
     field = "" if args.flux is None else f", flux={args.flux:g} per p-gon"
+    field += "" if dictionary == "paper" else ", improved dictionary"
     print(f"{{{spec.p},{spec.q}}} continuum disk: {where}L={spec.radius:.12g}, h={spec.h:.8f}{field}")
     print(f"{'#':>3} {'n':>3} {'m':>4} {'k':>16} {'E':>16}")
     ks = out["k"]

@@ -43,6 +43,15 @@ All evaluations of the Legendre module run in chunks of :data:`_CHUNK` values (b
 The number of evaluations a request needs is predicted before each scan and refused beyond
 :data:`MAX_EVALUATIONS` with a ValueError; orders beyond :data:`MAX_ORDER` are refused outright.
 
+Dictionary
+----------
+Every function that turns roots into energies takes ``dictionary="paper"`` (the default: the
+paper's map above, the numbers of the paper) or ``"improved"``: the exact circle average of the
+q-fold star, :math:`E = -q P_{\frac12(-1+\mathrm ik)}(\cosh 2d_0)`, and for a disk given by
+``rings`` the Dirichlet wall half a bond beyond the area radius
+(:mod:`hyperlattice.dictionary`, :func:`~hyperlattice.dictionary.improved_disk_for_rings`). The
+roots themselves are those of ``spec2`` in both cases.
+
 Also here: the asymptotic formulas ``spec10``/``spec16`` and ``eq19``/``spec11``/``spec17``,
 :math:`E_\infty = -q + \frac{q}{4}h^2`, the eigenfunctions ``eig12`` and the radial functions
 ``eig17``/``eig19``.
@@ -59,7 +68,14 @@ from scipy import special as sc
 from scipy.optimize import elementwise as _elementwise
 
 from .. import _validate
-from ..dictionary import disk_radius_for_rings, energy_from_k, hopping_scale
+from ..dictionary import (
+    _check_dictionary,
+    disk_radius_for_rings,
+    energy_from_k,
+    hopping_scale,
+    improved_disk_for_rings,
+    map_energy_from_k,
+)
 from ..errors import ConvergenceError
 from ..geometry import lattice_h, one_minus_abs2
 from ..results import Levels, Result
@@ -108,19 +124,24 @@ _MAX_RINGS = 1000
 # the disk
 # ----------------------------------------------------------------------------
 
-def disk_argument(radius=None, *, p=7, q=3, rings=None) -> tuple[float, float]:
+def disk_argument(radius=None, *, p=7, q=3, rings=None, dictionary: str = "paper") -> tuple[float, float]:
     r"""Return ``(L, x_L)`` with :math:`x_L = (1+L^2)/(1-L^2)` (the argument in ``spec2``).
 
     Either ``radius`` (:math:`0<L<1`) or ``rings`` (the {p,q} ring lattice with N sites,
     :math:`L=\sqrt{N/(N+c_{pq})}` by :func:`hyperlattice.dictionary.disk_radius_for_rings`, ``eq12``). For
     rings, :math:`x_L = (2N + c_{pq})/c_{pq}` exactly, which keeps full relative precision even
-    when :math:`1-L \sim 10^{-9}` would lose digits in :math:`L` itself.
+    when :math:`1-L \sim 10^{-9}` would lose digits in :math:`L` itself. With
+    ``dictionary="improved"`` and rings, the Dirichlet disk of
+    :func:`hyperlattice.dictionary.improved_disk_for_rings` (a given radius is used as it is).
     """
     p, q = _validate.pq(p, q)
+    dictionary = _check_dictionary(dictionary)
     if (radius is None) == (rings is None):
         raise ValueError("give exactly one of radius or rings.")
     if rings is not None:
         rings = _validate.positive_int("rings", rings, maximum=_MAX_RINGS)
+        if dictionary == "improved":
+            return improved_disk_for_rings(rings, p, q)
         return disk_radius_for_rings(rings, p, q)
     r = _validate.radius("the disk radius L", radius)
     return r, (1.0 + r * r) / ((1.0 - r) * (1.0 + r))
@@ -130,7 +151,7 @@ def disk_argument(radius=None, *, p=7, q=3, rings=None) -> tuple[float, float]:
 # energies and asymptotics
 # ----------------------------------------------------------------------------
 
-def level_energy(k, p=7, q=3) -> float | np.ndarray:
+def level_energy(k, p=7, q=3, *, dictionary: str = "paper") -> float | np.ndarray:
     r"""Continuum energy :math:`E = -q + \frac{q}{4}h^2(1+k^2)` of a Dirichlet level (``spec1``).
 
     Derivation of the :math:`q`-dependence (generalising ``eq10``/``adj15``–``adj26``): move
@@ -145,17 +166,19 @@ def level_energy(k, p=7, q=3) -> float | np.ndarray:
     \partial\bar\partial`). Hence :math:`H=-A \approx -q - \frac{q}{4}h^2\Delta_g` and an
     eigenvalue :math:`-(1+k^2)` of :math:`\Delta_g` gives the energy above; for :math:`q=3` this
     is ``spec1``, :math:`-3 + \frac34 h^2(1+k^2)`. The map itself is
-    :func:`hyperlattice.dictionary.energy_from_k`.
+    :func:`hyperlattice.dictionary.energy_from_k`; ``dictionary="improved"`` uses
+    :func:`hyperlattice.dictionary.improved_energy_from_k` instead.
     """
     p, q = _validate.pq(p, q)
-    out = energy_from_k(_validate.real_array("k", k), p, q)
+    out = map_energy_from_k(_validate.real_array("k", k), p, q, dictionary)
     return float(out) if np.ndim(out) == 0 else out
 
 
-def energy_infinity(p=7, q=3) -> float:
+def energy_infinity(p=7, q=3, *, dictionary: str = "paper") -> float:
     r""":math:`E_\infty = -q + \frac{q}{4}h^2`, the :math:`k\to 0` limit (main text after ``eq19``;
-    :math:`-2.94295` for {7,3})."""
-    return level_energy(0.0, p, q)
+    :math:`-2.94295` for {7,3}); with ``dictionary="improved"``
+    :math:`-q P_{-1/2}(\cosh 2d_0)` (:math:`-2.940961` for {7,3})."""
+    return level_energy(0.0, p, q, dictionary=dictionary)
 
 
 def _x_array(x) -> np.ndarray:
@@ -177,7 +200,7 @@ def asymptotic_k1(x) -> float | np.ndarray:
     return float(out) if out.ndim == 0 else out
 
 
-def asymptotic_energies(p=7, q=3, *, radius=None, rings=None, form="auto") -> dict:
+def asymptotic_energies(p=7, q=3, *, radius=None, rings=None, form="auto", dictionary: str = "paper") -> dict:
     r"""Large-disk asymptotics of the two lowest continuum levels.
 
     ``form="rings"`` (only {7,3} with ``rings``): ``eq19`` with ``spec11``/``spec17``,
@@ -187,6 +210,8 @@ def asymptotic_energies(p=7, q=3, *, radius=None, rings=None, form="auto") -> di
     draw the formula as a curve). ``form="radius"`` (any {p,q}): ``spec10`` and
     ``spec16`` inserted in :func:`level_energy`, i.e. with the exact :math:`x_L`;
     ``"auto"`` picks ``"rings"`` for {7,3} with rings and ``"radius"`` otherwise.
+    ``dictionary="improved"`` (only with ``form="radius"`` or ``"auto"``, which then means
+    ``"radius"``) uses the improved map and, for rings, its Dirichlet disk.
 
     Returns
     -------
@@ -195,6 +220,14 @@ def asymptotic_energies(p=7, q=3, *, radius=None, rings=None, form="auto") -> di
     """
     p, q = _validate.pq(p, q)
     form = _validate.choice("form", form, ("auto", "rings", "radius"))
+    dictionary = _check_dictionary(dictionary)
+    if dictionary == "improved":
+        if form == "rings":
+            raise ValueError("the ring form of eq19 belongs to the paper's dictionary; use form='radius'.")
+        _, x = disk_argument(radius, p=p, q=q, rings=rings, dictionary=dictionary)
+        return {"E0": level_energy(asymptotic_k0(x), p, q, dictionary=dictionary),
+                "E1": level_energy(asymptotic_k1(x), p, q, dictionary=dictionary),
+                "E_inf": energy_infinity(p, q, dictionary=dictionary)}
     e_inf = energy_infinity(p, q)
     if form == "auto":
         form = "rings" if (rings is not None and (p, q) == (7, 3)) else "radius"
@@ -465,13 +498,20 @@ def dirichlet_roots(m, radius=None, n_roots: int = 5, *, x=None, check_nodes: bo
 # result types
 # ----------------------------------------------------------------------------
 
-def _energy_bound(k: np.ndarray, delta: np.ndarray, p: int, q: int) -> np.ndarray:
+def _energy_bound(k: np.ndarray, delta: np.ndarray, p: int, q: int, dictionary: str = "paper") -> np.ndarray:
     r"""Bound on the energy error of a level whose root is enclosed in :math:`[k-\delta, k+\delta]`.
 
     :math:`\max_{|k'-k|\le\delta}|E(k') - E(k)| = \frac q4 h^2(2k\delta + \delta^2)` (``spec1``),
     plus the rounding of :math:`E = -q + \frac q4 h^2(1+k^2)` itself (a few units in the last
-    place of its terms).
+    place of its terms). For the improved map (monotone in k on the levels' branch) the largest
+    change of E between :math:`k\pm\delta` and k, plus the quadrature's rounding (a few ulps of q).
     """
+    if dictionary == "improved":
+        k = np.asarray(k, dtype=float)
+        e = map_energy_from_k(k, p, q, dictionary)
+        lo = map_energy_from_k(np.maximum(np.abs(k) - delta, 0.0), p, q, dictionary)
+        hi = map_energy_from_k(np.abs(k) + delta, p, q, dictionary)
+        return np.maximum(np.abs(hi - e), np.abs(e - lo)) + 16.0 * np.finfo(float).eps * q
     s = hopping_scale(p, q)
     k = np.abs(k)
     rounding = 4.0 * np.finfo(float).eps * (q + s * (1.0 + k * k))
@@ -526,11 +566,13 @@ class DirichletTable(Result):
 
 
 def dirichlet_levels(p=7, q=3, radius=None, rings=None, n_max: int = 5, m_max: int = 10,
-                     *, check_nodes: bool = False) -> DirichletTable:
+                     *, check_nodes: bool = False, dictionary: str = "paper") -> DirichletTable:
     r"""Table of Dirichlet roots :math:`k_{nm}` (``spec2``) and energies
-    :math:`E_{nm} = -q + \frac{q}{4}h^2(1+k_{nm}^2)` (``spec1``) for n = 1..n_max, m = 0..m_max."""
+    :math:`E_{nm} = -q + \frac{q}{4}h^2(1+k_{nm}^2)` (``spec1``) for n = 1..n_max, m = 0..m_max
+    (``dictionary="improved"``: the improved map and disk, module docstring)."""
     p, q = _validate.pq(p, q)
-    radius, x = disk_argument(radius, p=p, q=q, rings=rings)
+    dictionary = _check_dictionary(dictionary)
+    radius, x = disk_argument(radius, p=p, q=q, rings=rings, dictionary=dictionary)
     n_max = _validate.positive_int("n_max", n_max, maximum=MAX_EVALUATIONS)
     m_max = _validate.integer("m_max", m_max, minimum=0, maximum=MAX_ORDER)
     check_nodes = _validate.flag("check_nodes", check_nodes)
@@ -538,7 +580,8 @@ def dirichlet_levels(p=7, q=3, radius=None, rings=None, n_max: int = 5, m_max: i
     k, delta = _roots_at_x(np.arange(m_max + 1), x, n_max, check_nodes=check_nodes, x_rounding=_X_ROUNDING)
     k, delta = k.T, delta.T
     return DirichletTable(p=p, q=q, radius=radius, x=x, h=lattice_h(p, q), k=k,
-                          energies=level_energy(k, p, q), errors=_energy_bound(k, delta, p, q))
+                          energies=level_energy(k, p, q, dictionary=dictionary),
+                          errors=_energy_bound(k, delta, p, q, dictionary))
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
@@ -561,6 +604,9 @@ class ContinuumSpectrum(Levels):
         The Dirichlet roots of the levels.
     asymptotic : dict
         ``{"E0", "E1", "E_inf"}`` from :func:`asymptotic_energies`.
+    dictionary : str
+        ``"paper"`` or ``"improved"``: the map from roots to energies (and, for rings, the disk).
+        Not part of :meth:`summary` (the CLI's JSON keys are the same for both).
     """
 
     error_kind: str = "energy error bound"
@@ -572,6 +618,7 @@ class ContinuumSpectrum(Levels):
     h: float
     k: np.ndarray
     asymptotic: dict
+    dictionary: str = "paper"
 
     def summary(self) -> dict:
         """The CLI contract: keys p, q, rings, radius, h, energies, n, m, k, asymptotic."""
@@ -652,7 +699,7 @@ MAX_LEVELS = 100_000
 
 
 def continuum_levels(p=7, q=3, radius=None, rings=None, levels: int = 4,
-                     *, check_nodes: bool = False) -> ContinuumSpectrum:
+                     *, check_nodes: bool = False, dictionary: str = "paper") -> ContinuumSpectrum:
     r"""The ``levels`` lowest states of :math:`H^{(\rm cont)} = -q - \frac q4 h^2\Delta_g` on a disk
     (``spec1``/``spec2``).
 
@@ -668,6 +715,9 @@ def continuum_levels(p=7, q=3, radius=None, rings=None, levels: int = 4,
         Number of states (degenerate :math:`\pm m` levels count twice).
     check_nodes : bool
         Also verify the number of radial nodes of each eigenfunction.
+    dictionary : {"paper", "improved"}
+        The map from Dirichlet roots to lattice energies: the paper's (default, ``spec1``) or
+        the improved one (module docstring; for ``rings`` also its Dirichlet disk).
 
     Returns
     -------
@@ -689,14 +739,18 @@ def continuum_levels(p=7, q=3, radius=None, rings=None, levels: int = 4,
     p, q = _validate.pq(p, q)
     K = _validate.positive_int("levels", levels, maximum=MAX_LEVELS)
     check_nodes = _validate.flag("check_nodes", check_nodes)
-    radius, x = disk_argument(radius, p=p, q=q, rings=rings)
+    dictionary = _check_dictionary(dictionary)
+    radius, x = disk_argument(radius, p=p, q=q, rings=rings, dictionary=dictionary)
     _check_disk_x(x, radius)
     ks, ns, ms_, delta = _lowest_states(x, K, check_nodes=check_nodes, x_rounding=_X_ROUNDING)
+    extra = {} if dictionary == "paper" else {
+        "dictionary": dictionary,
+        "description": "spec2 roots (grid bracketing + Chandrupatla), improved map E = -q P_nu(cosh 2 d0)"}
     return ContinuumSpectrum(p=p, q=q, rings=None if rings is None else int(rings), radius=radius,
-                             x=x, h=lattice_h(p, q), energies=level_energy(ks, p, q), n=ns, m=ms_,
-                             errors=_energy_bound(ks, delta, p, q), k=ks,
+                             x=x, h=lattice_h(p, q), energies=level_energy(ks, p, q, dictionary=dictionary),
+                             n=ns, m=ms_, errors=_energy_bound(ks, delta, p, q, dictionary), k=ks,
                              asymptotic=asymptotic_energies(p, q, radius=None if rings is not None else radius,
-                                                            rings=rings))
+                                                            rings=rings, dictionary=dictionary), **extra)
 
 
 # ----------------------------------------------------------------------------
