@@ -1,0 +1,84 @@
+"""``hyperlattice boundary``: boundary two-point function of the massive scalar on the outer ring (holography)."""
+
+from __future__ import annotations
+
+import csv
+import sys
+
+from ._common import add_pq, finite_float, plot_file, positive_int, print_json
+
+NAME = "boundary"
+ORDER = 52
+HELP = "boundary correlators G_ij(omega) on the outer ring below the band, the fitted Delta vs the continuum"
+DESCRIPTION = (
+    "For a real frequency omega below the band (omega < E0 of the flake, checked), the graph propagator "
+    "G_ij = [(H - omega)^-1]_ij with source and probes on the outermost ring is the boundary two-point "
+    "function of a scalar of mass^2 = -lambda, lambda = 4(omega+q)/(q h^2) (eq21), in AdS2 of radius 1/2: "
+    "G ~ [sin(theta/2)]^(-2 Delta). Prints lambda, mass2, the continuum Delta = 1/2 + sqrt(1 - lambda)/2 "
+    "(null beyond the continuum BF bound omega > E_inf) and the fitted lattice Delta with its uncertainty. "
+    "--out writes one CSV row per outer-ring site with columns site,theta,graph,continuum (graph = G_ij "
+    "itself; continuum = eq21 with the whole-disk (L = 1) propagator at the site positions; inf at the source)."
+)
+
+COLUMNS = ["site", "theta", "graph", "continuum"]
+
+
+def add_arguments(parser) -> None:
+    add_pq(parser)
+    parser.add_argument("--rings", type=positive_int, default=6, help="number of rings l (default 6)")
+    parser.add_argument("--omega", type=finite_float, default=-3.2,
+                        help="real frequency below the band, e.g. --omega=-3.2 (default -3.2)")
+    parser.add_argument("--site", type=int, default=None,
+                        help="source site j on the outer ring, 0-based (default: the first site of the outer ring)")
+    parser.add_argument("--depth", type=positive_int, default=2,
+                        help="fit window: geodesics between the pair reach at least this many rings inward "
+                             "(default 2)")
+    parser.add_argument("--out", default=None, metavar="FILE.csv",
+                        help="CSV, one row per outer-ring site (columns: " + ",".join(COLUMNS) + "); '-' for stdout")
+    parser.add_argument("--plot", default=None, metavar="FILE", help="figure file (.png, .svg, ...)")
+    parser.add_argument("--json", action="store_true", help="print the summary as one JSON object")
+
+
+def _write_csv(handle, bc) -> None:
+    w = csv.writer(handle, lineterminator="\n")
+    w.writerow(COLUMNS)
+    for s, th, g, c in zip(bc.sites.tolist(), bc.theta.tolist(), bc.graph.tolist(), bc.continuum.tolist()):
+        w.writerow([s, repr(float(th)), repr(float(g)), repr(float(c))])
+
+
+def run(args) -> int:
+    from .. import _validate
+    from ..compare.boundary import boundary_correlator
+    from ..graph.lattice import ring_lattice
+
+    out = _validate.output_path("--out", args.out, suffixes=(".csv",)) if args.out not in (None, "-") else None
+    fig = plot_file("--plot", args.plot) if args.plot is not None else None
+    lat = ring_lattice(args.p, args.q, args.rings)
+    if args.site is not None and not 0 <= args.site < lat.sites:
+        raise ValueError(f"--site {args.site} is not a site of this lattice (valid: 0..{lat.sites - 1}).")
+    bc = boundary_correlator(lat, args.omega, args.site, depth=args.depth)
+    if args.out == "-":
+        _write_csv(sys.stdout, bc)
+    elif out is not None:
+        with open(out, "w", newline="", encoding="utf-8") as fh:
+            _write_csv(fh, bc)
+    if fig is not None:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        ax = bc.plot()
+        ax.figure.savefig(fig)
+        plt.close(ax.figure)
+    if args.json:
+        print_json(bc.summary())
+    elif args.out != "-":
+        dc = "n/a (beyond the continuum BF bound)" if bc.delta_continuum != bc.delta_continuum \
+            else f"{bc.delta_continuum:.6f}"
+        print(f"{{{lat.p},{lat.q}}} lattice, {lat.rings} rings ({lat.sites} sites, {bc.sites.size} on the outer ring), "
+              f"source {bc.source}")
+        print(f"omega = {bc.omega:g}, lambda = {bc.lam:.6g}, mass^2 = {bc.mass2:.6g}")
+        print(f"Delta continuum = {dc}; Delta lattice = {bc.delta_lattice:.6f} +- {bc.delta_lattice_err:.6f} "
+              f"({bc.pairs} pairs with theta >= {bc.theta_min:.4g}, depth {bc.depth})")
+    return 0

@@ -1,0 +1,115 @@
+"""Figures below the band: boundary correlators, Δ(m²), the lattice BF bound, qubit exchange and sizes.
+
+Each function draws on ``ax`` (a new figure when None) and returns the axes.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Sequence
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
+    from ..compare.boundary import BoundaryCorrelator, DeltaCurve, LatticeBFBound
+    from ..compare.qubits import BoundStateSizes, ExchangeComparison
+
+__all__ = ["plot_boundary_correlator", "plot_delta_curve", "plot_bf_bound", "plot_exchange",
+           "plot_bound_state_sizes"]
+
+
+def _axes(ax, size=(5.2, 3.8)):
+    if ax is None:
+        import matplotlib.pyplot as plt
+
+        _, ax = plt.subplots(figsize=size, layout="constrained")
+    return ax
+
+
+def plot_boundary_correlator(bc: BoundaryCorrelator, ax=None) -> Axes:
+    r""":math:`G_{ij}` on the outer ring against :math:`\sin(\theta/2)` (log-log): graph, continuum
+    (``eq21``, L = 1) and the fitted conformal slope :math:`-2\Delta` over the window."""
+    ax = _axes(ax)
+    keep = np.asarray(bc.sites) != bc.source
+    s = np.abs(np.sin(0.5 * np.asarray(bc.theta)[keep]))
+    g = np.asarray(bc.graph)[keep]
+    ax.loglog(s, g, ".", ms=2, color="tab:red", alpha=0.5, label=r"graph $G_{ij}$")
+    c = np.asarray(bc.continuum)[keep]
+    if np.any(np.isfinite(c)):
+        ax.loglog(s, c, ".", ms=1.5, color="k", alpha=0.4, label="continuum (eq21, L = 1)")
+    s_min = np.sin(0.5 * bc.theta_min)
+    ax.axvline(s_min, color="0.5", ls=":", lw=1, label=r"window edge $\theta_{\min}$")
+    xs = np.geomspace(max(s_min, s.min()), 1.0, 20)
+    sel = s >= s_min
+    if np.any(sel):
+        # the fitted slope drawn through the geometric mean of the windowed data
+        a = np.exp(np.mean(np.log(g[sel]) + 2 * bc.delta_lattice * np.log(s[sel])))
+        ax.loglog(xs, a * xs ** (-2 * bc.delta_lattice), "-", color="tab:blue", lw=1.2,
+                  label=fr"fit $\Delta = {bc.delta_lattice:.3f} \pm {bc.delta_lattice_err:.3f}$")
+    ax.set_xlabel(r"$\sin(\theta_{ij}/2)$")
+    ax.set_ylabel(r"$G_{ij}(\omega)$")
+    ax.set_title(fr"$\ell = {bc.rings}$, $\omega = {bc.omega:g}$, $m^2 = {bc.mass2:.3f}$", fontsize=10)
+    ax.legend(fontsize=8)
+    return ax
+
+
+def plot_delta_curve(curves: Sequence[DeltaCurve], ax=None) -> Axes:
+    """Δ against m² for one or more lattices (error bars) and the continuum Δ(m²), with the BF bound."""
+    from ..continuum.massive import BF_MASS2, delta_from_mass2
+
+    ax = _axes(ax)
+    lo = min(float(np.min(c.mass2)) for c in curves)
+    hi = max(float(np.max(c.mass2)) for c in curves)
+    m2 = np.linspace(max(BF_MASS2, lo), hi, 200)
+    ax.plot(m2, delta_from_mass2(m2), "k-", lw=1.2, label=r"continuum $\frac12 + \frac12\sqrt{1+m^2}$")
+    for c in curves:
+        ax.errorbar(c.mass2, c.delta_lattice, yerr=c.delta_lattice_err, fmt="o", ms=3, capsize=2,
+                    label=fr"lattice $\ell = {c.rings}$")
+    ax.axvline(BF_MASS2, color="0.5", ls="--", lw=1, label="continuum BF bound $m^2 = -1$")
+    ax.set_xlabel(r"$m^2 = -\lambda = -4(\omega+q)/(qh^2)$")
+    ax.set_ylabel(r"$\Delta$")
+    ax.legend(fontsize=8)
+    return ax
+
+
+def plot_bf_bound(bf: LatticeBFBound, ax=None) -> Axes:
+    r"""Lattice BF bound :math:`E_0(\ell)` against ℓ with the continuum bound :math:`E_\infty`."""
+    ax = _axes(ax)
+    ax.plot(bf.rings, bf.e0, "o-", color="tab:red", label=r"lattice $E_0(\ell)$")
+    ax.axhline(bf.omega_continuum, color="k", ls="--", label=r"continuum $E_\infty = -q + \frac{q}{4}h^2$")
+    ax.set_xlabel(r"rings $\ell$")
+    ax.set_ylabel(r"BF bound $\omega$")
+    ax.legend(fontsize=8)
+    return ax
+
+
+def plot_exchange(ex: ExchangeComparison, ax=None) -> Axes:
+    """J against hyperbolic distance: graph points, binned means, and the continuum."""
+    ax = _axes(ax)
+    keep = np.isfinite(np.asarray(ex.continuum))
+    ax.semilogy(np.asarray(ex.distance)[keep], np.asarray(ex.graph)[keep], ".", ms=2, color="tab:red", alpha=0.4,
+                label="graph $g^2 G_{ij}$")
+    ax.semilogy(ex.bins, ex.graph_mean, "o", ms=3, color="tab:red", label="graph (binned mean)")
+    ax.semilogy(ex.bins, ex.continuum_mean, "k-", lw=1.2, label="continuum (eq21, binned mean)")
+    ax.set_xlabel("hyperbolic distance")
+    ax.set_ylabel(r"$J$")
+    ax.set_title(fr"{ex.kind}, $\ell = {ex.rings}$, $\omega_q = {ex.omega_q:g}$", fontsize=10)
+    ax.legend(fontsize=8)
+    return ax
+
+
+def plot_bound_state_sizes(bs: BoundStateSizes, ax=None) -> Axes:
+    """Bound-state size and decay length against detuning from the band bottom."""
+    ax = _axes(ax)
+    ax.plot(bs.detuning, bs.size_graph, "o-", color="tab:red", label=r"$\langle d\rangle$ graph (exact)")
+    if np.any(np.isfinite(bs.size_continuum)):
+        ax.plot(bs.detuning, bs.size_continuum, "s--", color="k", ms=3, label=r"$\langle d\rangle$ continuum")
+    ax.plot(bs.detuning, bs.decay_length_graph, "^-", color="tab:blue", ms=3, label=r"decay length $\xi$ graph")
+    ax.plot(bs.detuning, bs.decay_length_asymptotic, "k:", label=r"$1/(2\Delta)$ continuum")
+    ax.axhline(1.0, color="0.6", lw=0.8, ls="-.", label=r"$2R = 1$ (BF-bound limit of $1/(2\Delta)$)")
+    ax.set_xscale("log")
+    ax.set_xlabel(r"detuning $E_0(\ell) - \omega_q$")
+    ax.set_ylabel("hyperbolic distance")
+    ax.legend(fontsize=7)
+    return ax
