@@ -1,0 +1,634 @@
+r"""Densities of states by the kernel polynomial method (KPM), matrix-free, in numba.
+
+For :math:`H = -tA` (``t = 1``) on a graph, the density of states per site is expanded in
+Chebyshev polynomials of the rescaled operator :math:`\tilde H = H/a`,
+
+.. math:: \rho(E) = \frac{1}{\pi a\sqrt{1-x^2}}\Big[g_0\mu_0 + 2\sum_{n=1}^{M-1} g_n\mu_n T_n(x)\Big],
+          \qquad x = E/a, \qquad \mu_n = \frac1{|S|}\sum_{i\in S}\langle i|T_n(\tilde H)|i\rangle,
+
+with the Jackson kernel :math:`g_n` (Weiße, Wellein, Alvermann, Fehske, Rev. Mod. Phys. 78, 275
+(2006), Eq. 71), which keeps the estimate positive and broadens a delta peak at :math:`x_0` into
+a near-Gaussian of width about :math:`\pi\sqrt{1-x_0^2}/M` (:meth:`KPMDos.kernel_width` measures it).
+
+Spectral bounds without Lanczos
+-------------------------------
+The rescaling needs :math:`\|H\| \le a`. For an adjacency matrix every row sums to the degree, so by
+Gershgorin :math:`|E| \le d_{\max}` *exactly*: :math:`|E| \le q` on a q-regular periodic cluster (where
+:math:`E = -q` is attained by the uniform state) and on a flake (boundary sites have degree < q). For
+a general symmetric matrix the bound is the largest absolute row sum, also exact. We take
+:math:`a = d_{\max}/(1 - \epsilon)` with :math:`\epsilon = 0.01`, so the spectrum sits inside
+:math:`[-0.99, 0.99]`, away from the end points where the Chebyshev weight is singular. No Lanczos
+estimate (and no safety factor on an estimate) is needed.
+
+Traces
+------
+* :func:`kpm_dos`: the stochastic trace :math:`\mathrm{Tr}\,X \approx \frac1R\sum_r \langle r|X|r\rangle`
+  with R random vectors, Rademacher (:math:`\pm1`, real) or random-phase (:math:`e^{i\phi}`, complex:
+  half the variance of Rademacher for a real H, twice the memory traffic). Vector r is drawn from
+  ``numpy.random.default_rng([seed, r])``: a run with more vectors extends a run with fewer. The
+  error bar of every moment (and of the density) is the standard error of the mean over the
+  vectors, ``std / sqrt(R)``; it shrinks like :math:`1/\sqrt{R}` (tested).
+* :func:`local_dos`: exact moments at one site (start vector :math:`|i\rangle`), no noise.
+* :func:`bulk_dos`: the stochastic trace over the *interior* sites of a flake only (see its
+  docstring for which rings are dropped and why).
+
+Moments use the doubling identities :math:`\mu_{2n} = 2\langle t_n|t_n\rangle - \mu_0`,
+:math:`\mu_{2n+1} = 2\langle t_{n+1}|t_n\rangle - \mu_1` (:math:`t_n = T_n(\tilde H)|r\rangle`), so M
+moments cost M/2 products; the recurrence step and both dot products are one fused pass over the
+vectors. Graphs come as a neighbour table (q-regular clusters: a dense ``(N, q)`` int32 table, no
+index pointer to stream) or as CSR (flakes, whose boundary sites have fewer neighbours).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Callable
+
+import numpy as np
+
+from .. import _validate
+from ..results import Result
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
+__all__ = ["KPMDos", "kpm_dos", "local_dos", "bulk_dos", "jackson_kernel", "spectral_bound",
+           "graph_operator", "GraphOperator", "VECTOR_KINDS"]
+
+#: random vectors for the stochastic trace
+VECTOR_KINDS = ("rademacher", "phase")
+#: the spectrum is mapped into [-1 + EPS, 1 - EPS]
+EPS = 0.01
+#: most moments accepted (the density reconstruction holds points x moments numbers)
+MAX_MOMENTS = 1_000_000
+#: most random vectors accepted
+MAX_VECTORS = 100_000
+#: products of at least this many rows use the parallel kernel (numba threads)
+PARALLEL_ROWS = 1 << 18
+
+
+# ----------------------------------------------------------------------------
+# the operator
+# ----------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class GraphOperator:
+    r"""The adjacency A of a graph in the layout the kernels stream; :math:`H = -A`.
+
+    ``table`` (N, w) int32 for a regular graph, else CSR ``indptr`` (int64), ``indices`` (int32)
+    and ``data`` (float64, None for a 0/1 adjacency). ``bound`` is the exact Gershgorin bound
+    :math:`\max_i\sum_j|A_{ij}| \ge \|H\|`; ``ring`` the ring index per site for a flake (else None).
+    """
+
+    sites: int
+    bound: float
+    table: np.ndarray | None = None
+    indptr: np.ndarray | None = None
+    indices: np.ndarray | None = None
+    data: np.ndarray | None = None
+    ring: np.ndarray | None = None
+    rings: int | None = None
+    p: int | None = None
+    q: int | None = None
+    label: str = ""
+
+    @property
+    def nbytes(self) -> int:
+        """Bytes the kernel streams for the operator per product."""
+        return int(sum(a.nbytes for a in (self.table, self.indptr, self.indices, self.data) if a is not None))
+
+
+def _table_operator(table: np.ndarray, label: str, p=None, q=None) -> GraphOperator:
+    t = np.asarray(table)
+    if t.ndim != 2 or t.shape[0] == 0 or t.shape[1] == 0 or t.dtype.kind not in "iu":
+        raise ValueError("a neighbour table must be a non-empty 2-D integer array (sites x q).")
+    n = t.shape[0]
+    if t.min() < 0 or t.max() >= n:
+        raise ValueError(f"the neighbour table has entries outside 0..{n - 1}.")
+    t = np.ascontiguousarray(t, dtype=np.int32)
+    return GraphOperator(sites=n, bound=float(t.shape[1]), table=t, p=p, q=q, label=label)
+
+
+def graph_operator(graph) -> GraphOperator:
+    """The adjacency of ``graph`` for the KPM kernels.
+
+    Parameters
+    ----------
+    graph : Lattice, Cluster, scipy.sparse matrix or ndarray
+        A flake from :func:`~hyperlattice.graph.lattice.ring_lattice` (CSR, degree < q on the
+        boundary), a periodic cluster (anything with a ``neighbours`` array of shape (N, q), such as
+        :class:`hyperlattice.graph.clusters.Cluster`: a neighbour table), a symmetric sparse matrix
+        taken as A (CSR with its weights), or a (N, q) integer neighbour table.
+
+    Returns
+    -------
+    GraphOperator
+    """
+    from .lattice import Lattice
+
+    if isinstance(graph, GraphOperator):
+        return graph
+    if isinstance(graph, Lattice):
+        indptr, indices = graph.neighbours()
+        deg = np.diff(indptr)
+        return GraphOperator(sites=graph.sites, bound=float(deg.max()), indptr=np.asarray(indptr, np.int64),
+                             indices=np.ascontiguousarray(indices, dtype=np.int32),
+                             ring=np.asarray(graph.ring), rings=graph.rings, p=graph.p, q=graph.q,
+                             label=f"{{{graph.p},{graph.q}}} flake, {graph.rings} rings"
+                             + (" (line graph)" if graph.kind != "sites" else ""))
+    nb = getattr(graph, "neighbours", None)
+    if isinstance(nb, np.ndarray):  # a periodic cluster
+        name = getattr(graph, "name", None)
+        p, q = getattr(graph, "p", None), getattr(graph, "q", None)
+        label = f"{{{p},{q}}} cluster" + (f" {name}" if name else "") + f", {nb.shape[0]} sites"
+        return _table_operator(nb, label, p, q)
+    try:
+        import scipy.sparse as sp
+    except ImportError:  # pragma: no cover - scipy is a dependency
+        sp = None
+    if sp is not None and sp.issparse(graph):
+        a = sp.csr_matrix(graph)
+        if a.shape[0] != a.shape[1] or a.shape[0] == 0:
+            raise ValueError(f"the matrix must be square and non-empty, got shape {a.shape}.")
+        if a.dtype.kind not in "biuf":
+            raise ValueError("the matrix must be real (H = -A with A real symmetric).")
+        data = np.asarray(a.data, dtype=np.float64)
+        if not np.all(np.isfinite(data)):
+            raise ValueError("the matrix has non-finite entries.")
+        if abs(a - a.T).max() if a.nnz else 0.0:
+            raise ValueError("the matrix must be symmetric.")
+        a.sort_indices()
+        rowsum = np.zeros(a.shape[0])
+        np.add.at(rowsum, np.repeat(np.arange(a.shape[0]), np.diff(a.indptr)), np.abs(data))
+        bound = float(rowsum.max()) if a.nnz else 0.0
+        return GraphOperator(sites=a.shape[0], bound=bound if bound > 0 else 1.0,
+                             indptr=np.asarray(a.indptr, np.int64),
+                             indices=np.ascontiguousarray(a.indices, dtype=np.int32), data=data,
+                             label=f"matrix, {a.shape[0]} rows")
+    if isinstance(graph, np.ndarray):
+        return _table_operator(graph, f"neighbour table, {graph.shape[0] if graph.ndim else 0} sites")
+    raise ValueError(f"expected a Lattice, a periodic cluster, a sparse matrix or a neighbour table, "
+                     f"got {type(graph).__name__}.")
+
+
+def spectral_bound(graph) -> float:
+    r"""The exact bound :math:`\|H\| \le \max_i\sum_j |A_{ij}|` (Gershgorin): q for a q-regular
+    cluster, the largest degree for a flake. No Lanczos estimate is involved."""
+    return graph_operator(graph).bound
+
+
+# ----------------------------------------------------------------------------
+# kernels (numba, compiled on first use and cached on disk, never at import)
+# ----------------------------------------------------------------------------
+
+_KERNELS: dict = {}
+
+
+def _kernels(parallel: bool) -> tuple[Callable, Callable]:
+    """Fused Chebyshev steps ``out = c * (A y) - yprev`` returning ``(<out,out>, <out,y>)``.
+
+    ``c = -2/a`` turns A into :math:`2\\tilde H`. Real parts of the dots (H is real symmetric).
+    """
+    if parallel in _KERNELS:
+        return _KERNELS[parallel]
+    import numba
+
+    rng = numba.prange if parallel else range
+
+    @numba.njit(cache=True, parallel=parallel, fastmath=False)
+    def step_table(nb, c, y, yprev, out):  # pragma: no cover - jitted
+        n, w = nb.shape
+        s_oo = 0.0
+        s_oy = 0.0
+        for i in rng(n):
+            acc = y[nb[i, 0]]
+            for k in range(1, w):
+                acc += y[nb[i, k]]
+            v = c * acc - yprev[i]
+            out[i] = v
+            s_oo += v.real * v.real + v.imag * v.imag
+            s_oy += v.real * y[i].real + v.imag * y[i].imag
+        return s_oo, s_oy
+
+    @numba.njit(cache=True, parallel=parallel, fastmath=False)
+    def step_csr(indptr, indices, data, weighted, c, y, yprev, out):  # pragma: no cover - jitted
+        n = indptr.shape[0] - 1
+        s_oo = 0.0
+        s_oy = 0.0
+        for i in rng(n):
+            acc = 0.0 * y[0]
+            if weighted:
+                for k in range(indptr[i], indptr[i + 1]):
+                    acc += data[k] * y[indices[k]]
+            else:
+                for k in range(indptr[i], indptr[i + 1]):
+                    acc += y[indices[k]]
+            v = c * acc - yprev[i]
+            out[i] = v
+            s_oo += v.real * v.real + v.imag * v.imag
+            s_oy += v.real * y[i].real + v.imag * y[i].imag
+        return s_oo, s_oy
+
+    _KERNELS[parallel] = (step_table, step_csr)
+    return _KERNELS[parallel]
+
+
+def _step_fn(op: GraphOperator, parallel: bool | None):
+    """``step(c, y, yprev, out) -> (<out,out>, <out,y>)`` for ``op``."""
+    if parallel is None:
+        parallel = op.sites >= PARALLEL_ROWS
+    step_table, step_csr = _kernels(bool(parallel))
+    if op.table is not None:
+        nb = op.table
+        return lambda c, y, yprev, out: step_table(nb, c, y, yprev, out)
+    weighted = op.data is not None
+    data = op.data if weighted else np.zeros(1)
+    indptr, indices = op.indptr, op.indices
+    return lambda c, y, yprev, out: step_csr(indptr, indices, data, weighted, c, y, yprev, out)
+
+
+def _chebyshev_moments(op: GraphOperator, r: np.ndarray, moments: int, scale: float,
+                       parallel: bool | None = None) -> np.ndarray:
+    """Raw moments :math:`\\langle r|T_n(H/a)|r\\rangle`, n < ``moments``, by the doubling identities."""
+    step = _step_fn(op, parallel)
+    c = -2.0 / scale  # 2 H~ = -(2/a) A
+    mu = np.empty(moments)
+    t0 = r
+    t1 = np.empty_like(r)
+    # t1 = H~ r = (c/2) A r: one step with yprev = 0 gives c A r; halve it
+    zero = np.zeros_like(r)
+    step(c, t0, zero, t1)
+    t1 *= 0.5
+    del zero
+    mu0 = float(np.vdot(t0, t0).real)
+    mu1 = float(np.vdot(t0, t1).real)
+    mu[0] = mu0
+    if moments > 1:
+        mu[1] = mu1
+    if moments > 2:
+        mu[2] = 2.0 * float(np.vdot(t1, t1).real) - mu0
+    prev, cur = t0.copy(), t1
+    nxt = np.empty_like(r)
+    n = 1
+    while 2 * n + 1 < moments:
+        s_oo, s_oy = step(c, cur, prev, nxt)  # nxt = t_{n+1}
+        mu[2 * n + 1] = 2.0 * s_oy - mu1
+        if 2 * n + 2 < moments:
+            mu[2 * n + 2] = 2.0 * s_oo - mu0
+        prev, cur, nxt = cur, nxt, prev
+        n += 1
+    return mu
+
+
+# ----------------------------------------------------------------------------
+# the result
+# ----------------------------------------------------------------------------
+
+def jackson_kernel(moments: int) -> np.ndarray:
+    r"""Jackson damping factors :math:`g_n`, n = 0..M-1 (Weiße et al. 2006, Eq. 71)."""
+    m = _validate.positive_int("moments", moments, maximum=MAX_MOMENTS)
+    n = np.arange(m)
+    x = math.pi / (m + 1)
+    return ((m - n + 1) * np.cos(n * x) + np.sin(n * x) / math.tan(x)) / (m + 1)
+
+
+@dataclass(frozen=True, eq=False, kw_only=True)
+class KPMDos(Result):
+    r"""Chebyshev moments of a density of states and what is needed to read them.
+
+    Attributes
+    ----------
+    method : str
+        ``"stochastic"`` (trace over all sites), ``"bulk"`` (trace over interior sites of a flake),
+        ``"local"`` (exact moments at ``site``).
+    mu : ndarray (M,)
+        Moments per traced site, :math:`\mu_n = \frac1{|S|}\mathrm{Tr}_S\,T_n(H/a)` (mean over vectors).
+    mu_err : ndarray (M,)
+        Standard error of each moment (``std / sqrt(R)`` over the R vectors; 0 for exact moments,
+        NaN for one vector).
+    mu_vectors : ndarray (R, M)
+        Moments of each random vector (for error bars of derived quantities).
+    scale : float
+        :math:`a`, with :math:`\|H\| \le (1-\epsilon) a` exactly (Gershgorin).
+    sites, traced_sites : int
+        Sites of the graph, and sites in the trace S.
+    exact_moments : int or None
+        For a flake: moments :math:`\mu_n` with n below this equal those of the infinite lattice
+        (proven depth limit, :func:`hyperlattice.graph.walks.exact_depth`); None otherwise.
+    excluded_rings : int
+        Outer rings left out of the trace (``bulk``).
+    """
+
+    method: str
+    label: str
+    p: int | None = None
+    q: int | None = None
+    sites: int
+    traced_sites: int
+    scale: float
+    bound: float
+    mu: np.ndarray
+    mu_err: np.ndarray
+    mu_vectors: np.ndarray
+    vectors: int
+    vector_kind: str
+    seed: int | None = None
+    site: int | None = None
+    exact_moments: int | None = None
+    excluded_rings: int = 0
+    timings: dict = field(default_factory=dict)
+
+    @property
+    def moments(self) -> int:
+        """Number of moments M."""
+        return int(self.mu.shape[0])
+
+    def energy_grid(self, points: int | None = None) -> np.ndarray:
+        """Uniform energies in :math:`[-b, b]` (b the spectral bound), ``points`` of them (default 2M+1)."""
+        points = 2 * self.moments + 1 if points is None else _validate.integer("points", points, minimum=2,
+                                                                              maximum=10_000_000)
+        return np.linspace(-self.bound, self.bound, points)
+
+    def _energies(self, energies) -> np.ndarray:
+        if energies is None:
+            return self.energy_grid()
+        e = _validate.real_array("energies", energies)
+        return e
+
+    def _basis(self, e: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        x = e / self.scale
+        inside = np.abs(x) < 1.0
+        theta = np.arccos(np.clip(x, -1.0, 1.0))
+        g = jackson_kernel(self.moments)
+        w = np.where(np.arange(self.moments) == 0, 1.0, 2.0) * g
+        return x, inside, theta, w
+
+    def density(self, energies=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        r"""``(E, rho, err)``: the Jackson-smoothed density of states per traced site and its error bar.
+
+        ``err`` is the standard error over the random vectors of the density itself (each vector's
+        density, then ``std / sqrt(R)``); 0 for exact moments. Outside :math:`|E| < a`: 0.
+        """
+        e = self._energies(energies)
+        x, inside, theta, w = self._basis(e)
+        cos = np.cos(np.outer(theta, np.arange(self.moments)))  # T_n(x), (points, M)
+        pref = np.where(inside, 1.0 / (math.pi * self.scale * np.sqrt(np.maximum(1.0 - x * x, 1e-300))), 0.0)
+        rho = pref * (cos @ (w * self.mu))
+        if self.vectors > 1 and self.method != "local":
+            per = pref[None, :] * ((self.mu_vectors * w[None, :]) @ cos.T)
+            err = per.std(axis=0, ddof=1) / math.sqrt(self.vectors)
+        elif self.method == "local" or self.vectors == 0:
+            err = np.zeros_like(rho)
+        else:
+            err = np.full_like(rho, np.nan)
+        return e, rho, err
+
+    def integrated(self, energies=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        r"""``(E, N, err)``: the integrated density of states :math:`\int_{-\infty}^E\rho`, per traced site.
+
+        Closed form from the moments: :math:`\int_{-1}^x T_n/(\pi\sqrt{1-t^2})\,dt = (\pi-\theta)/\pi`
+        for n = 0 and :math:`-\sin(n\theta)/(n\pi)` for n >= 1, :math:`x = \cos\theta`.
+        """
+        e = self._energies(energies)
+        x, inside, theta, w = self._basis(e)
+        n = np.arange(1, self.moments)
+        base = np.empty((e.shape[0], self.moments))
+        base[:, 0] = (math.pi - theta) / math.pi
+        base[:, 1:] = -np.sin(np.outer(theta, n)) / (n[None, :] * math.pi)
+        val = base @ (w * self.mu)
+        if self.vectors > 1 and self.method != "local":
+            err = ((self.mu_vectors * w[None, :]) @ base.T).std(axis=0, ddof=1) / math.sqrt(self.vectors)
+        elif self.method == "local":
+            err = np.zeros_like(val)
+        else:
+            err = np.full_like(val, np.nan)
+        return e, val, err
+
+    def kernel_width(self, energy: float) -> float:
+        r"""Standard deviation (in energy) of the Jackson-broadened delta peak at ``energy``: the
+        resolution of this DOS there. Measured from the kernel itself on a fine grid."""
+        e0 = _validate.real("energy", energy)
+        x0 = e0 / self.scale
+        if not abs(x0) < 1:
+            raise ValueError(f"energy must lie inside (-{self.scale:g}, {self.scale:g}), got {e0!r}.")
+        m = self.moments
+        g = jackson_kernel(m)
+        w = np.where(np.arange(m) == 0, 1.0, 2.0) * g * np.cos(np.arange(m) * math.acos(x0))
+        # the broadened peak as a density in theta (x = cos theta), then moments in x
+        th = np.linspace(0.0, math.pi, 8 * m + 1)
+        dens = np.cos(np.outer(th, np.arange(m))) @ w / math.pi  # density in theta, integrates to 1
+        xs = np.cos(th) * self.scale
+        wt = dens * np.gradient(th)
+        mean = float(np.sum(wt * xs) / np.sum(wt))
+        return float(math.sqrt(max(np.sum(wt * (xs - mean) ** 2) / np.sum(wt), 0.0)))
+
+    def summary(self) -> dict:
+        """The CLI's JSON view (moments and vectors, sizes, the first moments with error bars)."""
+        return {"method": self.method, "label": self.label, "p": self.p, "q": self.q, "sites": self.sites,
+                "traced_sites": self.traced_sites, "moments": self.moments, "vectors": self.vectors,
+                "vector_kind": self.vector_kind, "seed": self.seed, "site": self.site, "scale": self.scale,
+                "bound": self.bound, "exact_moments": self.exact_moments, "excluded_rings": self.excluded_rings,
+                "mu": self.mu[:8].tolist(), "mu_err": [None if math.isnan(v) else v for v in self.mu_err[:8].tolist()],
+                "time": float(self.timings.get("total", 0.0))}
+
+    def plot(self, ax=None, *, label: str | None = None, errors: bool = True, **kwargs) -> Axes:
+        """Draw the density (with a band of +-1 standard error) and return the axes."""
+        from ..plots import new_axes
+
+        ax = new_axes(ax)
+        e, rho, err = self.density()
+        (line,) = ax.plot(e, rho, label=label if label is not None else self.label, **kwargs)
+        if errors and np.any(err > 0):
+            ax.fill_between(e, rho - err, rho + err, color=line.get_color(), alpha=0.25, lw=0)
+        ax.set_xlabel("E / t")
+        ax.set_ylabel("density of states per site")
+        return ax
+
+
+# ----------------------------------------------------------------------------
+# front ends
+# ----------------------------------------------------------------------------
+
+def _available_memory() -> int:
+    from .lattice import _available_memory as avail
+
+    return avail()
+
+
+def _check_memory(n: int, itemsize: int) -> None:
+    need = 5 * n * itemsize  # four work vectors and one random vector
+    have = _available_memory()
+    if need > have:
+        raise ValueError(f"the KPM work vectors need about {need / 1024**3:.1f} GB for {n:,} sites, "
+                         f"more than the {have / 1024**3:.1f} GB available.")
+
+
+def _random_vector(kind: str, n: int, seed: int, r: int, support: np.ndarray | None) -> np.ndarray:
+    rng = np.random.default_rng([seed, r])
+    m = n if support is None else support.shape[0]
+    if kind == "rademacher":
+        v = rng.integers(0, 2, size=m).astype(np.float64) * 2.0 - 1.0
+    else:
+        v = np.exp(2j * math.pi * rng.random(m))
+    if support is None:
+        return v
+    out = np.zeros(n, dtype=v.dtype)
+    out[support] = v
+    return out
+
+
+def _common_args(moments, vectors, seed, kind):
+    moments = _validate.integer("moments", moments, minimum=2, maximum=MAX_MOMENTS)
+    vectors = _validate.positive_int("vectors", vectors, maximum=MAX_VECTORS)
+    seed = _validate.integer("seed", seed, minimum=0, maximum=2**63 - 1)
+    kind = _validate.choice("kind", kind, VECTOR_KINDS)
+    return moments, vectors, seed, kind
+
+
+def _stochastic(op: GraphOperator, moments: int, vectors: int, seed: int, kind: str,
+                support: np.ndarray | None, parallel, progress) -> tuple[np.ndarray, float]:
+    import time
+
+    _check_memory(op.sites, 8 if kind == "rademacher" else 16)
+    scale = op.bound / (1.0 - EPS)
+    ns = op.sites if support is None else support.shape[0]
+    per = np.empty((vectors, moments))
+    t0 = time.perf_counter()
+    for r in range(vectors):
+        if progress is not None:
+            progress(f"random vector {r + 1}/{vectors}")
+        v = _random_vector(kind, op.sites, seed, r, support)
+        per[r] = _chebyshev_moments(op, v, moments, scale, parallel) / ns
+    return per, time.perf_counter() - t0
+
+
+def _finish(op, method, per, elapsed, *, kind, seed, vectors, traced, site=None, exact=None, excluded=0,
+            label=None) -> KPMDos:
+    mu = per.mean(axis=0)
+    if method == "local":
+        err = np.zeros_like(mu)
+    elif vectors > 1:
+        err = per.std(axis=0, ddof=1) / math.sqrt(vectors)
+    else:
+        err = np.full_like(mu, np.nan)
+    return KPMDos(method=method, label=label or op.label, p=op.p, q=op.q, sites=op.sites, traced_sites=traced,
+                  scale=op.bound / (1.0 - EPS), bound=op.bound, mu=mu, mu_err=err, mu_vectors=per,
+                  vectors=vectors, vector_kind=kind, seed=seed, site=site, exact_moments=exact,
+                  excluded_rings=excluded, timings={"total": elapsed})
+
+
+def kpm_dos(graph, moments: int = 512, *, vectors: int = 16, seed: int = 0, kind: str = "rademacher",
+            parallel: bool | None = None, progress: Callable[[str], None] | None = None) -> KPMDos:
+    r"""Density of states per site of :math:`H = -A` by KPM with a stochastic trace over all sites.
+
+    Parameters
+    ----------
+    graph : Lattice, Cluster, sparse matrix or neighbour table
+        See :func:`graph_operator`.
+    moments : int
+        Number of Chebyshev moments M (>= 2); resolution about :math:`\pi a/M`.
+    vectors : int
+        Number R of random vectors; error bars need R >= 2 (R = 1 gives NaN errors).
+    seed : int
+        Seed; vector r comes from ``default_rng([seed, r])``.
+    kind : {"rademacher", "phase"}
+        Real :math:`\pm 1` entries, or complex unit-modulus random phases.
+    parallel : bool, optional
+        Use the numba-parallel kernel (default: for N >= 2**18 sites).
+
+    Returns
+    -------
+    KPMDos
+    """
+    op = graph_operator(graph)
+    moments, vectors, seed, kind = _common_args(moments, vectors, seed, kind)
+    per, elapsed = _stochastic(op, moments, vectors, seed, kind, None, parallel, progress)
+    return _finish(op, "stochastic", per, elapsed, kind=kind, seed=seed, vectors=vectors, traced=op.sites)
+
+
+def local_dos(graph, site: int = 0, moments: int = 512, *, parallel: bool | None = None) -> KPMDos:
+    r"""Exact KPM moments of the local density of states at ``site`` (start vector :math:`|i\rangle`).
+
+    On a flake, :math:`\mu_n` equals the infinite lattice's for :math:`n \le 2d_b + 1`, :math:`d_b` the
+    graph distance from the site to the nearest boundary site of degree < q (at least
+    :math:`2(R - r) + 1` for a site on ring r of R; :mod:`hyperlattice.graph.walks`); recorded as
+    ``exact_moments`` = :math:`2d_b + 2`. On a periodic cluster the moments are the lattice's below
+    its systole.
+    """
+    import time
+
+    op = graph_operator(graph)
+    site = _validate.site_index("site", site, op.sites)
+    moments = _validate.integer("moments", moments, minimum=2, maximum=MAX_MOMENTS)
+    _check_memory(op.sites, 8)
+    v = np.zeros(op.sites)
+    v[site] = 1.0
+    t0 = time.perf_counter()
+    mu = _chebyshev_moments(op, v, moments, op.bound / (1.0 - EPS), parallel)
+    exact = None
+    from .lattice import Lattice
+
+    if isinstance(graph, Lattice) and graph.kind == "sites":
+        from .walks import boundary_distance
+
+        exact = 2 * boundary_distance(graph, site=site) + 2
+    return _finish(op, "local", mu[None, :], time.perf_counter() - t0, kind="site", seed=None, vectors=1,
+                   traced=1, site=site, exact=exact, label=op.label + f", site {site}")
+
+
+def default_exclusion(rings: int) -> int:
+    """Outer rings dropped by :func:`bulk_dos` by default: half of them, ``rings // 2``."""
+    return rings // 2
+
+
+def bulk_dos(lattice, moments: int | None = None, *, exclude: int | None = None, vectors: int = 16,
+             seed: int = 0, kind: str = "rademacher", parallel: bool | None = None,
+             progress: Callable[[str], None] | None = None) -> KPMDos:
+    r"""Bulk density of states of a flake: the stochastic trace over its *interior* sites only.
+
+    Which sites, and why: a flake of R rings is the induced subgraph of the infinite lattice on its
+    rings 1..R, and every edge changes the ring index by at most one. A site on ring r therefore
+    has the infinite lattice's moments :math:`\langle i|A^n|i\rangle` for all
+    :math:`n \le 2(R-r)+1` (a closed walk of length n goes at most :math:`\lfloor n/2\rfloor` rings
+    out; :func:`hyperlattice.graph.walks.exact_depth`), while a boundary site (62 % of a {7,3} flake
+    sit on the outer ring) has the wrong degree already at n = 2. The trace is taken over rings
+    :math:`1..R-K` only (``exclude`` = K outer rings dropped; default ``R // 2``); every traced site
+    then has exact moments up to :math:`n = 2K+1`, in fact up to :math:`2d_b+1` with :math:`d_b` the
+    smallest graph distance from a traced site to a boundary site of degree < q (about 2K for
+    {7,3}; :func:`hyperlattice.graph.walks.boundary_distance`), and ``exact_moments`` =
+    :math:`2d_b + 2` records it. Higher moments feel
+    the boundary, so use ``moments <= exact_moments`` (the default) for the infinite lattice at
+    kernel resolution; more moments resolve the flake's own (boundary-dominated) spectrum.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        A flake from :func:`~hyperlattice.graph.lattice.ring_lattice` (kind ``"sites"``).
+    moments : int, optional
+        Number of moments (default: ``exact_moments``).
+    exclude : int, optional
+        Outer rings to drop, 1 <= K < R (default ``R // 2``, at least 1).
+    vectors, seed, kind, parallel : see :func:`kpm_dos`.
+    """
+    from .lattice import Lattice
+
+    if not isinstance(lattice, Lattice):
+        raise ValueError(f"bulk_dos() takes a flake (a Lattice from ring_lattice), got {type(lattice).__name__}.")
+    _validate.lattice(lattice, kind="sites")
+    if lattice.rings < 2:
+        raise ValueError("bulk_dos() needs a flake of at least 2 rings (one to keep, one to drop).")
+    k = max(1, default_exclusion(lattice.rings)) if exclude is None else _validate.integer(
+        "exclude", exclude, minimum=1, maximum=lattice.rings - 1)
+    from .walks import boundary_distance
+
+    support = np.nonzero(np.asarray(lattice.ring) <= lattice.rings - k)[0]
+    # proven: every traced site has the lattice's moments up to n = 2 d_b + 1 (>= 2K + 1)
+    exact = 2 * int(boundary_distance(lattice)[support].min()) + 2
+    moments = exact if moments is None else moments
+    moments, vectors, seed, kind = _common_args(moments, vectors, seed, kind)
+    op = graph_operator(lattice)
+    per, elapsed = _stochastic(op, moments, vectors, seed, kind, support, parallel, progress)
+    return _finish(op, "bulk", per, elapsed, kind=kind, seed=seed, vectors=vectors, traced=int(support.shape[0]),
+                   exact=exact, excluded=k,
+                   label=f"{{{lattice.p},{lattice.q}}} flake interior (rings 1..{lattice.rings - k} of {lattice.rings})")
