@@ -114,7 +114,8 @@ def run(args) -> int:
     retries = args.retries if args.retries is not None else cfg.get("retries", 2)
     timeout = args.timeout if args.timeout is not None else cfg.get("timeout")
     progress = sys.stderr.isatty() if args.progress is None else args.progress
-    rep = run_sweep(task, grid, out, scheduler=args.scheduler or cfg.get("scheduler"),
+    scheduler = args.scheduler if args.scheduler is not None else cfg.get("scheduler")
+    rep = run_sweep(task, grid, out, scheduler=scheduler,
                     workers=args.workers or cfg.get("workers"), retries=retries, progress=progress,
                     timeout=timeout)
     summary = rep.summary()

@@ -114,7 +114,16 @@ def _dos_edges(q: int, strength: float, bins: int) -> np.ndarray:
 
 
 def _edges(name: str, edges) -> np.ndarray:
-    e = np.asarray(edges, dtype=float) if not isinstance(edges, np.ndarray) else edges.astype(float)
+    # window edges may be +-inf (the default's outer windows), so not _validate.real_array
+    if isinstance(edges, (str, bytes, bool)) or edges is None:
+        raise ValueError(f"{name} must be at least two increasing numbers.")
+    try:
+        e = np.asarray(edges)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be at least two increasing numbers.") from None
+    if e.dtype.kind not in "iuf":
+        raise ValueError(f"{name} must be at least two increasing numbers.")
+    e = e.astype(float)
     if e.ndim != 1 or e.size < 2 or np.any(np.isnan(e)) or np.any(np.diff(e) <= 0):
         raise ValueError(f"{name} must be at least two increasing numbers.")
     return e

@@ -27,6 +27,7 @@ import itertools
 import json
 import math
 import os
+import re
 import time
 from dataclasses import dataclass, field
 from typing import Callable
@@ -240,6 +241,17 @@ def _run_dask(task, todo, keys, write, retries, failures, bar, on_row, scheduler
     return label
 
 
+_ADDRESS = re.compile(r"^(?:(?:tcp|tls|ucx|ws|wss|inproc)://\S+|[A-Za-z0-9_.\-\[\]:]+:\d{1,5})$")
+
+
+def _check_address(text: str) -> str:
+    """A scheduler address like ``tcp://host:8786`` or ``host:8786`` (refused before any connection)."""
+    if not _ADDRESS.match(text):
+        raise ValueError(f"scheduler must be 'local', 'threads', 'serial' or an address such as "
+                         f"tcp://host:8786, got {text!r}.")
+    return text
+
+
 def run_sweep(task: str, grid: dict, path, *, scheduler=None, workers: int | None = None, retries: int = 2,
               progress: bool = True, timeout: float | None = None,
               on_row: Callable[[str], None] | None = None) -> SweepReport:
@@ -290,8 +302,8 @@ def run_sweep(task: str, grid: dict, path, *, scheduler=None, workers: int | Non
         if not isinstance(scheduler, Client):
             raise ValueError(f"scheduler must be None, 'local', 'threads', 'serial', an address or a "
                              f"distributed.Client, got {scheduler!r}.")
-    if isinstance(scheduler, str) and scheduler == "":
-        raise ValueError("scheduler must not be empty.")
+    if isinstance(scheduler, str) and scheduler not in ("local", "threads", "serial"):
+        _check_address(scheduler)
     points = expand_grid(spec.name, grid)
     store = SweepStore(path)
     meta = store.open(spec.name, {k: (v if isinstance(v, (list, tuple)) else [v]) for k, v in grid.items()})
