@@ -55,7 +55,7 @@ def test_serial_table_and_metadata(serial_table):
 
 
 def test_parquet_metadata_and_rerun_skips(tmp_path):
-    import pyarrow.parquet as pq
+    pq = pytest.importorskip("pyarrow.parquet")
 
     rep = run_sweep("probe", {"x": [1.0, 2.0, 3.0]}, tmp_path, scheduler="serial", progress=False)
     meta = json.loads(pq.read_schema(rep.table).metadata[b"hyperlattice"])
@@ -121,6 +121,7 @@ def test_without_dask_the_default_runs_serially(tmp_path, monkeypatch):
 
 @pytest.mark.slow
 def test_local_cluster_is_bit_identical_to_the_default(serial_table, tmp_path):
+    pytest.importorskip("distributed")
     from distributed import Client, LocalCluster
 
     # the default: a local cluster of worker processes started by the engine
@@ -138,6 +139,7 @@ def test_local_cluster_is_bit_identical_to_the_default(serial_table, tmp_path):
 
 @pytest.mark.slow
 def test_killed_worker_still_gives_every_row_once(tmp_path):
+    pytest.importorskip("distributed")
     from distributed import Client, LocalCluster
 
     n = 16
