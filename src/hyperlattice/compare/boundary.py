@@ -441,7 +441,7 @@ def lattice_bf_bound(p: int = 7, q: int = 3, rings=(3, 4, 5, 6, 7, 8)) -> Lattic
     from ..graph.spectrum import lowest_levels
 
     p, q = _validate.pq(p, q)
-    if np.isscalar(rings):
+    if not isinstance(rings, (list, tuple, np.ndarray)):
         rings = [rings]
     rr = [_validate.positive_int("rings", r, maximum=14) for r in rings]
     if not rr:
@@ -468,7 +468,12 @@ class BulkToBoundary(Result):
         standard error.
     rel_l2 : float
         Relative L2 distance between the graph column and the continuum column (``eq21``, L = 1)
-        on the same bulk sites (NaN beyond the BF bound).
+        on the same bulk sites (NaN beyond the BF bound). Large (0.2-0.9, depending on how far the
+        source sits from the ragged edge): the whole-disk propagator does not know the edge next to
+        the source, which sets the amplitude; the shape is ``kernel_rel_l2``.
+    kernel_rel_l2 : float
+        Relative L2 distance between the graph column and :math:`aK_\Delta` (continuum Δ, one fitted
+        amplitude a) on the bulk sites.
     graph, continuum, kernel : ndarray, shape (N,)
         :math:`G_{ij}`, the continuum column, :math:`K_\Delta(z_i, \theta_j)` with the continuum Δ
         scaled by the fitted amplitude (NaN beyond the BF bound).
@@ -485,6 +490,7 @@ class BulkToBoundary(Result):
     delta_fit: float
     delta_fit_err: float
     rel_l2: float
+    kernel_rel_l2: float
     graph: np.ndarray = field(repr=False)
     continuum: np.ndarray = field(repr=False)
     kernel: np.ndarray = field(repr=False)
@@ -521,12 +527,14 @@ def bulk_to_boundary(lattice: Lattice, omega, source: int | None = None, *,
     cont = continuum_boundary_column(lat, omega, source, np.arange(lat.sites))
     if math.isnan(dc):
         kern = np.full(lat.sites, math.nan)
-        rel = math.nan
+        rel = krel = math.nan
     else:
         kd = k1**dc
         amp = math.exp(float(np.mean(y - dc * np.log(k1[bulk]))))
         kern = amp * kd
         rel = float(np.linalg.norm(g[bulk] - cont[bulk]) / np.linalg.norm(g[bulk]))
+        krel = float(np.linalg.norm(g[bulk] - kern[bulk]) / np.linalg.norm(g[bulk]))
     return BulkToBoundary(p=lat.p, q=lat.q, rings=lat.rings, source=source, omega=omega, delta_continuum=dc,
                           delta_fit=float(coef[1]), delta_fit_err=float(math.sqrt(max(cov[1, 1], 0.0))), rel_l2=rel,
+                          kernel_rel_l2=krel,
                           graph=g, continuum=cont, kernel=kern, bulk=bulk)

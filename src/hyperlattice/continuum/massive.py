@@ -107,6 +107,9 @@ ADS_RADIUS = 0.5
 BF_MASS2 = -1.0 / (4.0 * ADS_RADIUS**2)
 
 
+_BF_SLACK = 1e-12
+
+
 def _scalar_or_array(name: str, value) -> float | np.ndarray:
     """A finite real number or a real array (float64); complex input refused."""
     if isinstance(value, (np.ndarray, list, tuple)):
@@ -149,7 +152,8 @@ def delta_from_mass2(m2, *, branch: str = "plus") -> float | np.ndarray:
     """
     branch = _validate.choice("branch", branch, ("plus", "minus"))
     m2 = np.asarray(_scalar_or_array("mass2", m2))
-    if np.any(m2 < BF_MASS2):
+    # m^2 = -1 reached through the dictionary rounds to -1 - 1e-16: within _BF_SLACK it is the bound
+    if np.any(m2 < BF_MASS2 - _BF_SLACK):
         worst = float(np.min(m2))
         raise ValueError(f"mass2 = {worst:g} lies below the Breitenlohner-Freedman bound m^2 = -1 (m^2 R^2 = -1/4 "
                          "with R = 1/2): the conformal dimension is complex there.")

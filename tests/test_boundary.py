@@ -1,0 +1,154 @@
+"""Boundary correlators of the massive scalar on the outer ring, lattice vs continuum (holography)."""
+
+import math
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from hyperlattice.compare import boundary as cb
+from hyperlattice.continuum.green import continuum_green
+from hyperlattice.continuum.massive import bf_bound, conformal_two_point, delta_from_omega
+from hyperlattice.dictionary import green_prefactor, lambda_from_energy
+from hyperlattice.graph.lattice import ring_lattice
+from hyperlattice.graph.operators import hamiltonian
+from hyperlattice.graph.qubits import BelowBandResolvent
+from hyperlattice.graph.spectrum import lowest_levels
+from hyperlattice.results import Result
+
+
+@pytest.fixture(scope="module")
+def lat5():
+    return ring_lattice(7, 3, 5)
+
+
+@pytest.mark.parametrize("omega", [-3.6, -3.0, -2.95])
+def test_correlators_match_direct_sparse_solve(lat5, omega):
+    bc = cb.boundary_correlator(lat5, omega)
+    ring = cb.outer_ring(lat5)
+    assert bc.source == ring[0] and np.array_equal(bc.sites, ring)
+    b = np.zeros(lat5.sites)
+    b[bc.source] = 1.0
+    ref = spla.spsolve((hamiltonian(lat5) - omega * sp.identity(lat5.sites)).tocsc(), b)
+    assert np.allclose(bc.graph, ref[ring], rtol=1e-12, atol=0)
+    assert np.all(bc.graph > 0)            # below the band every entry of G is positive
+
+
+def test_band_bottom_checked_exactly(lat5):
+    e0 = lowest_levels(lat5, 1).energies[0]
+    res = BelowBandResolvent(lat5)
+    assert np.all(res.column(e0 - 1e-6, 0) > 0)
+    with pytest.raises(ValueError, match="1 level"):
+        res.column(e0 + 1e-6, 0)
+    with pytest.raises(ValueError, match="not below the band"):
+        cb.boundary_correlator(lat5, -2.0)
+
+
+def test_fit_recovers_exact_conformal_data():
+    rng = np.random.default_rng(1)
+    theta = rng.uniform(-math.pi, math.pi, 400)
+    r = 1 - rng.uniform(1e-4, 4e-4, 400)        # a ragged "outer ring"
+    z = r * np.exp(1j * theta)
+    vals = conformal_two_point(z, 1 - 2e-4, 1.37)
+    delta, se, n, amp, beta = cb.fit_delta(theta, vals, 1 - r * r, 0.1)
+    # exact up to the O(1 - r) factors (r r')^Delta of the conformal form, which the covariate
+    # ln(1 - r^2) nearly absorbs
+    assert delta == pytest.approx(1.37, rel=1e-5) and beta == pytest.approx(1.37, rel=2e-3)
+    assert se < 1e-5 and n == np.count_nonzero(np.abs(np.sin(theta / 2)) >= math.sin(0.05))
+
+
+def test_window_justification(lat5):
+    # the window edge is where the geodesic between the pair reaches depth rings inside the outer ring
+    th = cb.fit_window(lat5, 2)
+    off = lat5.ring_offsets
+    gap = np.median(1 - np.abs(lat5.z[off[2]:off[3]]))
+    assert 1 - math.tan(math.pi / 4 - th / 4) == pytest.approx(gap, rel=1e-12)
+    assert cb.fit_window(lat5, 3) > th > cb.fit_window(lat5, 1)
+    assert cb.fit_window(ring_lattice(7, 3, 7), 2) < th     # shrinks as the flake grows
+    with pytest.raises(ValueError, match="at least 3 rings"):
+        cb.fit_window(ring_lattice(7, 3, 2), 2)
+
+
+def test_continuum_column_is_eq21_whole_disk(lat5):
+    bc = cb.boundary_correlator(lat5, -3.2)
+    ring = bc.sites
+    lam = lambda_from_energy(-3.2)
+    keep = ring != bc.source
+    ref = green_prefactor() * continuum_green(lat5.z[ring[keep]], lat5.z[bc.source], lam, 1.0).real
+    assert np.allclose(bc.continuum[keep], ref, rtol=1e-14)
+    assert math.isinf(bc.continuum[~keep][0])
+    assert bc.delta_continuum == pytest.approx(delta_from_omega(-3.2))
+
+
+def test_beyond_continuum_bf_bound(lat5):
+    # E_inf < omega < E0(l): the lattice propagator exists, the infinite-disk continuum does not
+    e0 = lowest_levels(lat5, 1).energies[0]
+    omega = 0.5 * (bf_bound().omega + e0)
+    assert bf_bound().omega < omega < e0
+    bc = cb.boundary_correlator(lat5, omega)
+    assert math.isnan(bc.delta_continuum) and np.all(np.isnan(bc.continuum))
+    assert bc.mass2 < -1 and np.all(bc.graph > 0)
+    s = bc.summary()
+    assert list(s) == ["p", "q", "rings", "omega", "lambda", "mass2", "delta_continuum", "delta_lattice",
+                       "delta_lattice_err"]
+
+
+# measured Delta_lattice vs Delta_continuum (docs/below-band.md); ell = 8 for the trend, ~0.1 s per fit
+def test_lattice_delta_vs_continuum():
+    fits = {ell: {w: cb.boundary_correlator(ring_lattice(7, 3, ell), w) for w in (-3.5, -3.0, -2.95)}
+            for ell in (6, 7, 8)}
+    for ell, row in fits.items():
+        for w, bc in row.items():
+            assert bc.delta_lattice_err > 0
+            # heavy masses: within 3 % of the continuum already at l = 6
+            if w <= -3.0:
+                assert bc.delta_lattice == pytest.approx(bc.delta_continuum, rel=0.03)
+    # near the BF bound the lattice Delta approaches the continuum one as l grows
+    gaps = [fits[ell][-2.95].delta_lattice - fits[ell][-2.95].delta_continuum for ell in (6, 7, 8)]
+    assert gaps[0] > gaps[1] > gaps[2] > 0
+    # heavy mass: converged in l (changes below 1 %)
+    assert fits[8][-3.5].delta_lattice == pytest.approx(fits[6][-3.5].delta_lattice, rel=0.01)
+
+
+def test_delta_curve_and_roundtrip():
+    lat = ring_lattice(7, 3, 6)
+    curve = cb.delta_curve(lat, [-3.5, -3.2, -3.0])
+    assert np.all(np.diff(curve.delta_lattice) < 0)        # lighter -> smaller Delta
+    assert np.allclose(curve.delta_continuum, delta_from_omega(curve.omegas))
+    back = Result.from_dict(curve.as_dict())
+    assert np.array_equal(back.delta_lattice, curve.delta_lattice)
+    bc = cb.boundary_correlator(lat, -3.2)
+    back = Result.from_dict(bc.as_dict())
+    assert np.array_equal(back.graph, bc.graph) and back.summary() == bc.summary()
+
+
+def test_lattice_bf_bound_above_continuum():
+    bf = cb.lattice_bf_bound(7, 3, (3, 4, 5, 6))
+    assert np.all(np.diff(bf.e0) < 0)                       # moves down with l
+    assert np.all(bf.e0 > bf.omega_continuum)               # and stays above E_inf here
+    assert np.all(bf.mass2 < -1)
+    assert "window" in bf.statement()
+
+
+def test_bulk_to_boundary():
+    lat = ring_lattice(7, 3, 7)
+    b = cb.bulk_to_boundary(lat, -3.2)
+    # measured: delta_fit 1.5469 vs 1.5613, kernel_rel_l2 0.119 (docs/below-band.md)
+    assert b.delta_fit == pytest.approx(b.delta_continuum, rel=0.02)
+    assert b.kernel_rel_l2 < 0.2 and b.rel_l2 > 0
+    assert np.all(np.isfinite(b.kernel[b.bulk]))
+    with pytest.raises(ValueError, match="outer ring"):
+        cb.bulk_to_boundary(lat, -3.2, source=0)
+
+
+def test_refusals(lat5):
+    with pytest.raises(ValueError, match="outer ring"):
+        cb.boundary_correlator(lat5, -3.2, source=0)
+    with pytest.raises(ValueError, match="must be real"):
+        cb.boundary_correlator(lat5, -3.2 + 0.1j)
+    from hyperlattice.graph.lattice import line_graph
+    with pytest.raises(ValueError, match="line graph"):
+        cb.boundary_correlator(line_graph(ring_lattice(7, 3, 3)), -4.0)
+    with pytest.raises(ValueError, match="at least 10"):
+        cb.fit_delta([0.5, 1.0], [1.0, 0.5], [0.1, 0.1], 0.1)
