@@ -322,8 +322,13 @@ class RScan(Result):
 
 def r_scan(lattice: Lattice, strengths, realizations: int = 10, *, seed: int = 0, model: str = "box",
            window=(-1.0, 1.0)) -> RScan:
-    r""":math:`\langle r\rangle` against W, ratios whose middle level lies in ``window`` (default
-    :math:`|E| < 1`, the band centre, away from the band edges and the boundary-state tails)."""
+    r""":math:`\langle r\rangle` against W, ratios whose middle level lies in ``window``.
+
+    The default :math:`|E| < 1` is the band centre, away from the band edges and the tails of
+    boundary states, for weak disorder; ``window=None`` takes the whole spectrum (needed at strong
+    disorder, where the levels spread over :math:`[-W/2, W/2]`). ``r_err`` is the standard error of
+    the per-realization window means.
+    """
     _validate.lattice(lattice)
     _check_size(lattice)
     realizations = _validate.positive_int("realizations", realizations, maximum=MAX_REALIZATIONS)
@@ -331,10 +336,12 @@ def r_scan(lattice: Lattice, strengths, realizations: int = 10, *, seed: int = 0
     ws = _validate.real_array("strengths", strengths, ndim=1)
     if ws.size == 0 or np.any(ws < 0):
         raise ValueError("strengths must be a non-empty list of numbers >= 0.")
-    win = _validate.real_array("window", window, shape=(2,))
-    if not win[0] < win[1]:
-        raise ValueError("window must be (lo, hi) with lo < hi.")
-    edges = np.array([win[0], win[1]])
+    if window is None:
+        edges = np.array([-np.inf, np.inf])
+    else:
+        edges = _validate.real_array("window", window, shape=(2,))
+        if not edges[0] < edges[1]:
+            raise ValueError("window must be (lo, hi) with lo < hi.")
     means, errs = [], []
     for w in ws:
         rows = [realization_observables(lattice, model, float(w), seed=seed, realization=k, windows=edges, ipr=False)
