@@ -392,12 +392,16 @@ def _omega_upper(omega) -> complex:
     return om
 
 
-def _dense_green(h: np.ndarray, omega: complex, source: int) -> np.ndarray:
-    a = h.astype(complex)
-    a[np.diag_indices_from(a)] -= omega
-    rhs = np.zeros(h.shape[0], complex)
+def _column(h, omega: complex, source: int) -> np.ndarray:
+    """Column ``source`` of :math:`(H-\omega)^{-1}` by sparse LU (H sparse; the fill-in is small)."""
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as spla
+
+    n = h.shape[0]
+    a = (sp.csc_matrix(h, dtype=complex) - omega * sp.identity(n, dtype=complex, format="csc")).tocsc()
+    rhs = np.zeros(n, complex)
     rhs[source] = 1.0
-    return sla.solve(a, rhs, assume_a="sym")
+    return spla.splu(a, permc_spec="COLAMD").solve(rhs)
 
 
 def green_ensemble(lattice: Lattice, omega, strength: float, realizations: int = 20, *, seed: int = 0,
@@ -422,16 +426,15 @@ def green_ensemble(lattice: Lattice, omega, strength: float, realizations: int =
     model = _validate.choice("model", model, ("box", "gaussian"))
     realizations = _validate.positive_int("realizations", realizations, maximum=MAX_REALIZATIONS)
     source = _validate.site_index("source", source, lattice.sites)
-    clean_dis = disorder(lattice, model, 0.0, seed=seed)
-    h0 = disordered_hamiltonian(lattice, clean_dis).toarray()
+    import scipy.sparse as sp
+
+    h0 = disordered_hamiltonian(lattice, disorder(lattice, model, 0.0, seed=seed))
     with _single_thread():
-        g0 = _dense_green(h0, om, source)
+        g0 = _column(h0, om, source)
         cols = []
         for k in range(realizations):
-            dis = disorder(lattice, model, strength, seed=seed, realization=k)
-            v = np.diag(dis.onsite)
-            pair = 0.5 * (_dense_green(h0 + v, om, source) + _dense_green(h0 - v, om, source))
-            cols.append(pair)
+            v = sp.diags(disorder(lattice, model, strength, seed=seed, realization=k).onsite)
+            cols.append(0.5 * (_column(h0 + v, om, source) + _column(h0 - v, om, source)))
     cols = np.array(cols)
     mean = cols.mean(axis=0)
     err = cols.std(axis=0, ddof=1) / math.sqrt(realizations) if realizations > 1 else np.full(mean.shape, np.nan)
@@ -442,10 +445,12 @@ def green_ensemble(lattice: Lattice, omega, strength: float, realizations: int =
 
 
 def graph_scba(lattice: Lattice, omega, variance: float, *, tol: float = 1e-12, max_iter: int = 2000,
-               damping: float = 0.5) -> tuple[np.ndarray, int]:
+               damping: float = 1.0) -> tuple[np.ndarray, int]:
     r"""The SCBA on the graph: :math:`\Sigma_i = w^2[(H_0 - \omega - \Sigma)^{-1}]_{ii}`, per site.
 
-    Returns ``(sigma, iterations)``. Its first order, :math:`\Sigma_i = w^2 G^{(0)}_{ii}(\omega)`,
+    Plain fixed-point iteration (``damping = 1``) converges in 6-40 steps for w^2 <= 1.3 at
+    :math:`\omega = -2.9 + 0.2i` (the map contracts by about :math:`w^2|G|^2`); lower ``damping``
+    for stronger disorder. Returns ``(sigma, iterations)``. Its first order, :math:`\Sigma_i = w^2 G^{(0)}_{ii}(\omega)`,
     is exact second-order perturbation theory; :math:`(H_0-\omega-\Sigma)^{-1}` then predicts
     :math:`\langle G\rangle`.
 
@@ -460,6 +465,9 @@ def graph_scba(lattice: Lattice, omega, variance: float, *, tol: float = 1e-12, 
     _check_size(lattice)
     om = _omega_upper(omega)
     w2 = _validate.real("variance", variance, minimum=0.0, maximum=1e12)
+    tol = _validate.real("tol", tol, minimum=1e-15, maximum=1e-2)
+    max_iter = _validate.positive_int("max_iter", max_iter, maximum=100_000)
+    damping = _validate.real("damping", damping, minimum=0.0, maximum=1.0, open_min=True)
     h0 = disordered_hamiltonian(lattice, disorder(lattice, "box", 0.0)).toarray().astype(complex)
     n = lattice.sites
     sigma = np.zeros(n, complex)
@@ -467,7 +475,7 @@ def graph_scba(lattice: Lattice, omega, variance: float, *, tol: float = 1e-12, 
         for it in range(1, max_iter + 1):
             a = h0.copy()
             a[np.diag_indices(n)] -= om + sigma
-            target = w2 * np.diag(sla.inv(a))
+            target = w2 * np.diag(np.linalg.inv(a))
             res = float(np.max(np.abs(target - sigma))) if n else 0.0
             if res <= tol * max(1.0, float(np.max(np.abs(sigma))) if n else 1.0):
                 return target, it
@@ -570,7 +578,7 @@ def compare_scba(lattice: Lattice, omega, strengths, realizations: int = 20, *, 
         a[np.diag_indices_from(a)] -= om + sig
         rhs = np.zeros(lattice.sites, complex)
         rhs[source] = 1.0
-        pred = sla.solve(a, rhs)
+        pred = np.linalg.solve(a, rhs)
         cs = scba(om, w2, lattice.p, lattice.q)
         delta = ens.mean - g0
         out["variance"].append(w2)
