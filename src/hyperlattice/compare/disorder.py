@@ -393,7 +393,7 @@ def _omega_upper(omega) -> complex:
 
 
 def _column(h, omega: complex, source: int) -> np.ndarray:
-    """Column ``source`` of :math:`(H-\omega)^{-1}` by sparse LU (H sparse; the fill-in is small)."""
+    r"""Column ``source`` of :math:`(H-\omega)^{-1}` by sparse LU (H sparse; the fill-in is small)."""
     import scipy.sparse as sp
     import scipy.sparse.linalg as spla
 
