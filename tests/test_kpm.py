@@ -166,3 +166,16 @@ def test_bad_graphs():
         graph_operator("graph")
     with pytest.raises(ValueError):
         bulk_dos(ring_lattice(7, 3, 1))
+
+
+def test_deflation_removes_the_states_at_plus_minus_q():
+    t = _prism(6)  # bipartite (even cycles): states at -3 and +3
+    ev = np.linalg.eigvalsh(-_table_matrix(t).toarray())
+    res = kpm_dos(t, 48, vectors=200, seed=4, deflate=True)
+    assert res.deflated == 2
+    inner = ev[1:-1]
+    ref = np.cos(np.outer(np.arange(48), np.arccos(inner / res.scale))).sum(axis=1) / ev.size
+    z = (res.mu - ref) / np.where(res.mu_err > 0, res.mu_err, 1.0)
+    assert np.abs(z).max() < 5.0
+    assert kpm_dos(_prism(5), 8, vectors=2, deflate=True).deflated == 1  # odd cycles: only the uniform state
+    assert kpm_dos(ring_lattice(7, 3, 3), 8, vectors=2, deflate=True).deflated == 0  # a flake has none

@@ -318,6 +318,8 @@ class KPMDos(Result):
         (proven depth limit, :func:`hyperlattice.graph.walks.exact_depth`); None otherwise.
     excluded_rings : int
         Outer rings left out of the trace (``bulk``).
+    deflated : int
+        States at :math:`E = \mp q` left out of the trace (``kpm_dos(..., deflate=True)``).
     """
 
     method: str
@@ -337,6 +339,7 @@ class KPMDos(Result):
     site: int | None = None
     exact_moments: int | None = None
     excluded_rings: int = 0
+    deflated: int = 0
     timings: dict = field(default_factory=dict)
 
     @property
@@ -429,6 +432,7 @@ class KPMDos(Result):
                 "traced_sites": self.traced_sites, "moments": self.moments, "vectors": self.vectors,
                 "vector_kind": self.vector_kind, "seed": self.seed, "site": self.site, "scale": self.scale,
                 "bound": self.bound, "exact_moments": self.exact_moments, "excluded_rings": self.excluded_rings,
+                "deflated": self.deflated,
                 "mu": self.mu[:8].tolist(), "mu_err": [None if math.isnan(v) else v for v in self.mu_err[:8].tolist()],
                 "time": float(self.timings.get("total", 0.0))}
 
@@ -486,8 +490,48 @@ def _common_args(moments, vectors, seed, kind):
     return moments, vectors, seed, kind
 
 
+def _row_lists(op: GraphOperator) -> tuple[np.ndarray, np.ndarray]:
+    if op.table is not None:
+        n, w = op.table.shape
+        return np.arange(0, n * w + 1, w, dtype=np.int64), op.table.ravel()
+    return op.indptr, op.indices
+
+
+def _extreme_states(op: GraphOperator) -> list[np.ndarray]:
+    """Unit vectors of the states at E = -d and E = +d of a d-regular connected graph: the uniform
+    state (always) and the staggered one (if the graph is bipartite). Empty for irregular graphs
+    (flakes), whose spectrum stays inside (-d, d)."""
+    indptr, indices = _row_lists(op)
+    deg = np.diff(indptr)
+    if op.data is not None or deg.min() != deg.max():
+        return []
+    n = op.sites
+    out = [np.full(n, 1.0 / math.sqrt(n))]
+    # two-colouring by breadth-first search from site 0 (one component: regular clusters are connected)
+    colour = np.zeros(n, dtype=np.int8)
+    colour[0] = 1
+    frontier = np.array([0])
+    while frontier.shape[0]:
+        starts = indptr[frontier]
+        lens = indptr[frontier + 1] - starts
+        idx = np.repeat(starts - np.concatenate([[0], np.cumsum(lens)[:-1]]), lens) + np.arange(lens.sum())
+        nb = indices[idx]
+        want = -np.repeat(colour[frontier], lens)
+        clash = (colour[nb] != 0) & (colour[nb] != want)
+        if np.any(clash):
+            return out
+        new = colour[nb] == 0
+        colour[nb[new]] = want[new]
+        frontier = np.unique(nb[new])
+    if np.any(colour == 0):  # not connected: the uniform vector is not the only state at -d
+        raise ValueError("deflate=True needs a connected graph.")
+    out.append(colour.astype(np.float64) / math.sqrt(n))
+    return out
+
+
 def _stochastic(op: GraphOperator, moments: int, vectors: int, seed: int, kind: str,
-                support: np.ndarray | None, parallel, progress) -> tuple[np.ndarray, float]:
+                support: np.ndarray | None, parallel, progress,
+                deflate: list[np.ndarray] | None = None) -> tuple[np.ndarray, float]:
     import time
 
     _check_memory(op.sites, 8 if kind == "rademacher" else 16)
@@ -499,12 +543,14 @@ def _stochastic(op: GraphOperator, moments: int, vectors: int, seed: int, kind: 
         if progress is not None:
             progress(f"random vector {r + 1}/{vectors}")
         v = _random_vector(kind, op.sites, seed, r, support)
+        for u in deflate or ():
+            v -= np.dot(u, v) * u  # trace of (1 - P) T_n(H) (1 - P): the state u is left out
         per[r] = _chebyshev_moments(op, v, moments, scale, parallel) / ns
     return per, time.perf_counter() - t0
 
 
 def _finish(op, method, per, elapsed, *, kind, seed, vectors, traced, site=None, exact=None, excluded=0,
-            label=None) -> KPMDos:
+            label=None, deflated=0) -> KPMDos:
     mu = per.mean(axis=0)
     if method == "local":
         err = np.zeros_like(mu)
@@ -515,11 +561,12 @@ def _finish(op, method, per, elapsed, *, kind, seed, vectors, traced, site=None,
     return KPMDos(method=method, label=label or op.label, p=op.p, q=op.q, sites=op.sites, traced_sites=traced,
                   scale=op.bound / (1.0 - EPS), bound=op.bound, mu=mu, mu_err=err, mu_vectors=per,
                   vectors=vectors, vector_kind=kind, seed=seed, site=site, exact_moments=exact,
-                  excluded_rings=excluded, timings={"total": elapsed})
+                  excluded_rings=excluded, deflated=deflated, timings={"total": elapsed})
 
 
 def kpm_dos(graph, moments: int = 512, *, vectors: int = 16, seed: int = 0, kind: str = "rademacher",
-            parallel: bool | None = None, progress: Callable[[str], None] | None = None) -> KPMDos:
+            deflate: bool = False, parallel: bool | None = None,
+            progress: Callable[[str], None] | None = None) -> KPMDos:
     r"""Density of states per site of :math:`H = -A` by KPM with a stochastic trace over all sites.
 
     Parameters
@@ -534,6 +581,12 @@ def kpm_dos(graph, moments: int = 512, *, vectors: int = 16, seed: int = 0, kind
         Seed; vector r comes from ``default_rng([seed, r])``.
     kind : {"rademacher", "phase"}
         Real :math:`\pm 1` entries, or complex unit-modulus random phases.
+    deflate : bool
+        Leave out the states at :math:`E = \mp q` of a q-regular graph (a periodic cluster): the
+        uniform state and, if the graph is bipartite, the staggered one. They are not in the
+        spectrum of the infinite lattice (whose band is :math:`[-\rho, \dots]` with
+        :math:`\rho < q`) and carry weight 1/N each. The density then integrates to
+        (N - deflated)/N; ``deflated`` records how many. No effect on flakes (none exist).
     parallel : bool, optional
         Use the numba-parallel kernel (default: for N >= 2**18 sites).
 
@@ -543,8 +596,10 @@ def kpm_dos(graph, moments: int = 512, *, vectors: int = 16, seed: int = 0, kind
     """
     op = graph_operator(graph)
     moments, vectors, seed, kind = _common_args(moments, vectors, seed, kind)
-    per, elapsed = _stochastic(op, moments, vectors, seed, kind, None, parallel, progress)
-    return _finish(op, "stochastic", per, elapsed, kind=kind, seed=seed, vectors=vectors, traced=op.sites)
+    states = _extreme_states(op) if _validate.flag("deflate", deflate) else []
+    per, elapsed = _stochastic(op, moments, vectors, seed, kind, None, parallel, progress, states)
+    return _finish(op, "stochastic", per, elapsed, kind=kind, seed=seed, vectors=vectors, traced=op.sites,
+                   deflated=len(states))
 
 
 def local_dos(graph, site: int = 0, moments: int = 512, *, parallel: bool | None = None) -> KPMDos:
