@@ -62,7 +62,7 @@ def plot_delta_curve(curves: Sequence[DeltaCurve], ax=None) -> Axes:
     lo = min(float(np.min(c.mass2)) for c in curves)
     hi = max(float(np.max(c.mass2)) for c in curves)
     m2 = np.linspace(max(BF_MASS2, lo), hi, 200)
-    ax.plot(m2, delta_from_mass2(m2), "k-", lw=1.2, label=r"continuum $\frac12 + \frac12\sqrt{1+m^2}$")
+    ax.plot(m2, delta_from_mass2(m2), "k-", lw=1.2, label=r"continuum $\frac{1}{2} + \frac{1}{2}\sqrt{1+m^2}$")
     for c in curves:
         ax.errorbar(c.mass2, c.delta_lattice, yerr=c.delta_lattice_err, fmt="o", ms=3, capsize=2,
                     label=fr"lattice $\ell = {c.rings}$")
