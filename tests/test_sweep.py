@@ -161,4 +161,18 @@ def test_killed_worker_still_gives_every_row_once(tmp_path):
     assert len(t) == n and len(set(t.columns["key"])) == n
     assert list(t.columns["index"]) == list(range(n))
     assert np.array_equal(t.columns["y"], np.arange(n, dtype=float) ** 2)
-    assert len(list((tmp_path / "parts").glob("part-*"))) == n
+    assert len(SweepStore(tmp_path).done()) == n
+
+
+@pytest.mark.parametrize("backend", ["parquet", "json"])
+def test_a_key_written_twice_is_one_row(tmp_path, backend):
+    if backend == "parquet":
+        pytest.importorskip("pyarrow")
+    st = SweepStore(tmp_path, backend=backend)
+    st.open("probe", {})
+    row = {"key": "probe-a", "index": 0, "x": 1.0, "y": 1.0}
+    st.write_rows([row], {})
+    st.write_rows([row, {"key": "probe-b", "index": 1, "x": 2.0, "y": 4.0}], {})   # e.g. two racing runs
+    assert st.done() == {"probe-a", "probe-b"}
+    t = read_table(tmp_path)
+    assert list(t.columns["key"]) == ["probe-a", "probe-b"]

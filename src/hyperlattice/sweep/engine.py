@@ -11,8 +11,9 @@
   (:func:`task_key`): the same task always has the same key, so a rerun skips every key whose row
   is on disk (resumable), a grid that lists a point twice runs it once, and a task that a dying
   worker leaves half-done is recomputed by the scheduler under the same key and written once.
-* **Streaming.** Rows are written as futures complete (``distributed.as_completed``), each as one
-  atomically renamed part file; the table is consolidated at the end, also after an interruption.
+* **Streaming.** Rows are collected as futures complete (``distributed.as_completed``) and written
+  every ``flush_seconds`` as one atomically renamed part file; the table is consolidated at the
+  end, also after an interruption.
 * **Failures.** A task that raises is retried ``retries`` times (``Client.submit(retries=...)``); a
   task whose worker dies is rescheduled by the scheduler (up to ``distributed.scheduler.allowed-
   failures`` deaths). What still fails is reported in :class:`SweepReport` ``failed`` and in
@@ -213,15 +214,17 @@ def _run_dask(task, todo, keys, write, retries, failures, bar, on_row, scheduler
             futures[fut] = (params, key)
         pending = set(futures)
         try:
-            for fut in as_completed(list(futures), timeout=timeout):
+            # with_results: results come in batches with the completion events (no round trip per task);
+            # raise_errors=False: a failed task's exception comes back as its result, to be reported
+            for fut, result in as_completed(list(futures), timeout=timeout, with_results=True, raise_errors=False):
                 params, key = futures[fut]
                 pending.discard(fut)
                 if fut.status == "finished":
-                    write(key, params, fut.result())
+                    write(key, params, result)
                     if on_row is not None:
                         on_row(key)
                 else:
-                    exc = fut.exception()
+                    exc = result if isinstance(result, BaseException) else fut.exception()
                     failures.append({"key": key, "params": params, "error": _error_text(exc),
                                      "attempts": retries + 1})
                 if bar is not None:
@@ -254,7 +257,8 @@ def _check_address(text: str) -> str:
 
 def run_sweep(task: str, grid: dict, path, *, scheduler=None, workers: int | None = None, retries: int = 2,
               progress: bool = True, timeout: float | None = None,
-              on_row: Callable[[str], None] | None = None) -> SweepReport:
+              on_row: Callable[[str], None] | None = None, flush_seconds: float = 2.0,
+              flush_rows: int = 1000) -> SweepReport:
     """Run every point of ``grid`` for ``task``, skipping points already in the table at ``path``.
 
     Parameters
@@ -277,7 +281,12 @@ def run_sweep(task: str, grid: dict, path, *, scheduler=None, workers: int | Non
     timeout : float, optional
         Seconds after which unfinished tasks are cancelled and reported as failed.
     on_row : callable, optional
-        Called with each key after its row is on disk (e.g. to log, or to stop the run).
+        Called with each key as its result arrives (e.g. to log, or to stop the run: rows that
+        arrived are written before the exception leaves).
+    flush_seconds, flush_rows : float, int
+        Finished rows are written as one part when this many seconds passed since the last write
+        or this many rows wait (one file per task would cost a file per row; a driver killed
+        outright loses at most these rows, which the next run recomputes).
 
     Returns
     -------
@@ -292,6 +301,8 @@ def run_sweep(task: str, grid: dict, path, *, scheduler=None, workers: int | Non
         timeout = _validate.positive_real("timeout", timeout)
     if on_row is not None:
         on_row = _validate.function("on_row", on_row)
+    flush_seconds = _validate.real("flush_seconds", flush_seconds, minimum=0.0, maximum=86400.0)
+    flush_rows = _validate.positive_int("flush_rows", flush_rows, maximum=10**7)
     serial = scheduler == "serial" or (scheduler is None and not have_dask())
     if not serial and not have_dask():
         raise ValueError("this scheduler needs dask.distributed (pip install 'hyperlattice[sweep]'); "
@@ -311,13 +322,23 @@ def run_sweep(task: str, grid: dict, path, *, scheduler=None, workers: int | Non
     index = {k: i for i, k in enumerate(keys_all)}
     done = store.done()
     todo = [(p, k) for p, k in zip(points, keys_all) if k not in done]
-    part_meta = {"version": __version__, "task": spec.name}
+    part_meta = {"version": __version__, "task": spec.name, "parameters": meta["parameters"]}
+
+    buffer: list[dict] = []
+    last_flush = [time.monotonic()]
+
+    def flush():
+        store.write_rows(buffer, part_meta)
+        buffer.clear()
+        last_flush[0] = time.monotonic()
 
     def write(key, params, outputs):
         row = {"key": key, "index": index[key], **params}
         for name, value in outputs.items():
             row[name if name not in row else f"out_{name}"] = value
-        store.write_row(key, row, {**part_meta, "params": params})
+        buffer.append(row)
+        if len(buffer) >= flush_rows or time.monotonic() - last_flush[0] >= flush_seconds:
+            flush()
 
     failures: list[dict] = []
     t0 = time.perf_counter()
@@ -335,12 +356,12 @@ def run_sweep(task: str, grid: dict, path, *, scheduler=None, workers: int | Non
         elif not serial:
             label = "nothing to do"
     finally:
+        flush()             # whatever finished is kept, also on KeyboardInterrupt
         if bar is not None:
             bar.close()
         store.write_failures(failures)
         table = store.consolidate()
     completed = len(store.done() & set(keys_all)) - (len(keys_all) - len(todo))
-    del meta
     return SweepReport(path=str(store.path), table=str(table), task=spec.name, scheduler=label,
                        total=len(points), skipped=len(keys_all) - len(todo), completed=completed,
                        failed=failures, seconds=time.perf_counter() - t0)

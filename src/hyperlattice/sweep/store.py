@@ -3,7 +3,7 @@
 Layout of a sweep directory::
 
     _sweep.json            manifest: format, task, package version, the parameter grid, backend
-    parts/part-<key>.*     one row per finished task, written atomically as results arrive
+    parts/part-<hash>.*    finished tasks, a batch per file, written atomically as results arrive
     table.parquet          every row, sorted by grid position (``index``), rebuilt at the end of a run
     _failures.json         the tasks that failed in the last run, with their errors (absent if none)
 
@@ -11,13 +11,15 @@ Why Parquet: a sweep's result is a flat table of numbers with a few list-valued 
 histogram), which is exactly what Parquet stores, column-typed and compressed; pandas
 (``pandas.read_parquet``), polars, DuckDB and xarray (through pandas) read it directly, and its
 schema carries key-value metadata, where the parameters and the package version go (key
-``hyperlattice``). One file per task while running gives durability and resumption for free: a
-part that exists is a finished task (it is renamed into place only when complete), so an
-interrupted or crashed run loses at most the tasks in flight. Zarr/NetCDF would suit dense
+``hyperlattice``). Parts written while running give durability and resumption: a part is renamed
+into place only when complete, so the rows in parts are finished tasks; the engine flushes a
+batch every couple of seconds (and on any interruption), so a driver killed outright loses at
+most the tasks of the last seconds, and they rerun. The table holds one row per key however
+often a part was written. Zarr/NetCDF would suit dense
 N-dimensional arrays on a full grid; a sweep with failures, partial reruns and ragged outputs is a
 table.
 
-Fallback without pyarrow: the same rows as JSON (``part-<key>.json``, ``table.jsonl``, one JSON
+Fallback without pyarrow: the same rows as JSON (``part-<hash>.json``, ``table.jsonl``, one JSON
 object per line, readable by ``pandas.read_json(lines=True)``). Python's ``json`` writes floats
 with ``repr``, which round-trips every float64 exactly, so the fallback table holds the same bits;
 it is larger and slower, which matters little next to the computation of each row.
@@ -25,6 +27,7 @@ it is larger and slower, which matters little next to the computation of each ro
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 from dataclasses import dataclass, field
@@ -85,6 +88,15 @@ class SweepTable:
         df = pd.DataFrame({k: list(v) if not isinstance(v, np.ndarray) else v for k, v in self.columns.items()})
         df.attrs["hyperlattice"] = self.metadata
         return df
+
+
+def _unique(rows: list[dict]) -> list[dict]:
+    seen, out = set(), []
+    for r in rows:
+        if r.get("key") not in seen:
+            seen.add(r.get("key"))
+            out.append(r)
+    return out
 
 
 def _columns(rows: list[dict]) -> dict:
@@ -150,37 +162,67 @@ class SweepStore:
         return meta
 
     # -- parts -----------------------------------------------------------------
-    def done(self) -> set[str]:
-        """Keys of the finished tasks (parts present)."""
-        return {f.name[5:-len(self.suffix)] for f in self.parts.iterdir()
-                if f.name.startswith("part-") and f.name.endswith(self.suffix)}
+    def _part_files(self) -> list[Path]:
+        return sorted(self.parts.glob(f"part-*{self.suffix}"))
 
-    def write_row(self, key: str, row: dict, meta: dict) -> None:
-        """Write one finished task atomically (a temporary file renamed into place)."""
-        row = {k: _plain(v) for k, v in row.items()}
-        final = self.parts / f"part-{key}{self.suffix}"
-        tmp = self.parts / f".tmp-{key}-{os.getpid()}{self.suffix}"
+    def done(self) -> set[str]:
+        """Keys of the finished tasks (rows present in some part)."""
+        keys: set[str] = set()
+        for f in self._part_files():
+            if self.backend == "parquet":
+                import pyarrow.parquet as pq
+
+                keys.update(pq.read_table(f, columns=["key"]).column("key").to_pylist())
+            else:
+                keys.update(r["key"] for r in json.loads(f.read_text()))
+        return keys
+
+    def write_rows(self, rows: list[dict], meta: dict) -> Path | None:
+        """Write finished tasks as one part, atomically (a temporary file renamed into place).
+
+        The part's name is a hash of its keys, so the same batch written twice is one file.
+        """
+        if not rows:
+            return None
+        rows = [{k: _plain(v) for k, v in row.items()} for row in rows]
+        digest = hashlib.sha256("\n".join(r["key"] for r in rows).encode()).hexdigest()[:24]
+        final = self.parts / f"part-{digest}{self.suffix}"
+        tmp = self.parts / f".tmp-{digest}-{os.getpid()}{self.suffix}"
         if self.backend == "parquet":
             import pyarrow as pa
             import pyarrow.parquet as pq
 
-            table = pa.Table.from_pylist([row]).replace_schema_metadata({"hyperlattice": json.dumps(meta)})
+            table = pa.Table.from_pylist(rows).replace_schema_metadata({"hyperlattice": json.dumps(meta)})
             pq.write_table(table, tmp)
         else:
-            tmp.write_text(json.dumps(row))
+            tmp.write_text(json.dumps(rows))
         os.replace(tmp, final)
+        return final
 
     def _read_parts(self) -> list[dict]:
-        rows = []
-        for f in sorted(self.parts.glob(f"part-*{self.suffix}")):
-            if self.backend == "parquet":
-                import pyarrow.parquet as pq
-
-                rows.extend(pq.read_table(f).to_pylist())
-            else:
-                rows.append(json.loads(f.read_text()))
+        if self.backend == "parquet":
+            return self._parquet_parts().to_pylist()
+        rows = [r for f in self._part_files() for r in json.loads(f.read_text())]
         rows.sort(key=lambda r: (r.get("index", 0), r.get("key", "")))
-        return rows
+        return _unique(rows)
+
+    def _parquet_parts(self):
+        """All Parquet parts as one pyarrow table sorted by (index, key), one row per key."""
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        files = self._part_files()
+        if not files:
+            return pa.table({})
+        tables = [pq.read_table(f).replace_schema_metadata(None) for f in files]
+        table = pa.concat_tables(tables, promote_options="permissive")
+        table = table.sort_by([("index", "ascending"), ("key", "ascending")])
+        keys = table.column("key").to_pylist()
+        if len(set(keys)) != len(keys):
+            # two runs raced on one directory: the rows of one key are identical (deterministic tasks)
+            first = [i for i, k in enumerate(keys) if i == 0 or k != keys[i - 1]]
+            table = table.take(first)
+        return table
 
     # -- the table ----------------------------------------------------------------
     @property
@@ -189,21 +231,17 @@ class SweepStore:
 
     def consolidate(self) -> Path:
         """Rebuild the table from all parts, sorted by grid position, metadata in the schema."""
-        rows = self._read_parts()
         meta = self._manifest()
         tmp = self.path / f".table-{os.getpid()}"
         if self.backend == "parquet":
             import pyarrow as pa
             import pyarrow.parquet as pq
 
-            if rows:
-                tables = [pa.Table.from_pylist([r]) for r in rows]
-                table = pa.concat_tables(tables, promote_options="permissive")
-            else:
-                table = pa.table({})
+            table = self._parquet_parts()
             table = table.replace_schema_metadata({"hyperlattice": json.dumps(meta, sort_keys=True)})
             pq.write_table(table, tmp)
         else:
+            rows = self._read_parts()
             with open(tmp, "w") as fh:
                 for r in rows:
                     fh.write(json.dumps(r) + "\n")

@@ -37,24 +37,58 @@ __all__ = ["Task", "TASKS", "get_task", "blas_one_thread"]
 
 _LOCK = threading.Lock()
 _DEPTH = 0
-_GUARD = None
+_SAVED: list = []
+
+
+@functools.lru_cache(maxsize=1)
+def _blas_controls() -> tuple:
+    """(setter, getter) of every OpenBLAS loaded in this process, found once (as the solvers' guard does).
+
+    Scanning ``/proc/self/maps`` and opening the libraries costs about 2 ms, too much per task;
+    the libraries do not change while the process lives.
+    """
+    import ctypes
+
+    import numpy.linalg  # noqa: F401 - load numpy's and scipy's OpenBLAS before looking for them
+    import scipy.linalg  # noqa: F401
+
+    from ..graph.solvers import _BLAS_SYMBOLS
+
+    try:
+        with open("/proc/self/maps") as fh:
+            paths = {line.split()[-1] for line in fh if "openblas" in line.lower() and "/" in line}
+    except OSError:  # pragma: no cover - not Linux
+        paths = set()
+    out = []
+    for path in sorted(paths):
+        try:
+            lib = ctypes.CDLL(path)
+        except OSError:  # pragma: no cover
+            continue
+        for set_name, get_name in _BLAS_SYMBOLS:
+            if hasattr(lib, set_name) and hasattr(lib, get_name):
+                getter = getattr(lib, get_name)
+                getter.restype = ctypes.c_int
+                out.append((getattr(lib, set_name), getter))
+                break
+    return tuple(out)
 
 
 @contextlib.contextmanager
 def blas_one_thread() -> Iterator[None]:
     """One BLAS thread while any sweep task runs in this process (thread-safe, nestable).
 
-    The solvers' own guard saves and restores the thread count per call, which races when two
-    worker threads of one process interleave; a process-wide count held by every running task
-    sets it once and restores it when the last task ends.
+    Dense LAPACK results may depend on the thread count in the last bits; a task must give the
+    same bits on every worker. The solvers' own guard saves and restores the count per call,
+    which races when two worker threads of one process interleave; this process-wide count held
+    by every running task sets it once and restores it when the last task ends.
     """
-    global _DEPTH, _GUARD
-    from ..graph.solvers import _single_threaded_blas
-
+    global _DEPTH
     with _LOCK:
         if _DEPTH == 0:
-            _GUARD = _single_threaded_blas()
-            _GUARD.__enter__()
+            _SAVED[:] = [(setter, int(getter())) for setter, getter in _blas_controls()]
+            for setter, _ in _SAVED:
+                setter(1)
         _DEPTH += 1
     try:
         yield
@@ -62,8 +96,9 @@ def blas_one_thread() -> Iterator[None]:
         with _LOCK:
             _DEPTH -= 1
             if _DEPTH == 0:
-                _GUARD.__exit__(None, None, None)
-                _GUARD = None
+                for setter, old in _SAVED:
+                    setter(old)
+                _SAVED.clear()
 
 
 @functools.lru_cache(maxsize=8)
