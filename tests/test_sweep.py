@@ -176,3 +176,13 @@ def test_a_key_written_twice_is_one_row(tmp_path, backend):
     assert st.done() == {"probe-a", "probe-b"}
     t = read_table(tmp_path)
     assert list(t.columns["key"]) == ["probe-a", "probe-b"]
+
+
+def test_levels_task_matches_the_api(tmp_path):
+    from hyperlattice import lowest_levels, ring_lattice
+
+    run_sweep("levels", {"rings": [3], "flux": [0.0, 0.1]}, tmp_path, scheduler="serial", progress=False)
+    t = read_table(tmp_path)
+    for f, e0 in zip(t.columns["flux"], t.columns["E0"]):
+        assert e0 == lowest_levels(ring_lattice(7, 3, 3), 2, flux=float(f)).energies[0]
+    assert len(t.columns["E"][0]) == 2 and isinstance(t.columns["method"][0], str)
