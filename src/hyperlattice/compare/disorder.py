@@ -384,6 +384,12 @@ class DisorderGreen(Result):
     mean: np.ndarray = field(repr=False)
     err: np.ndarray = field(repr=False)
 
+    def plot(self, ax=None) -> Axes:
+        """|<G_ij>| and |G_ij(W = 0)| against distance (:func:`hyperlattice.plots.disorder.plot_green_distance`)."""
+        from ..plots.disorder import plot_green_distance
+
+        return plot_green_distance(self, ax=ax)
+
 
 def _omega_upper(omega) -> complex:
     om = _validate.complex_number("omega", omega)

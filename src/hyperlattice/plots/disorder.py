@@ -52,15 +52,16 @@ def plot_r_scan(scan: RScan, ax=None, **kwargs) -> Axes:
     return ax
 
 
-def plot_green_distance(ens: DisorderGreen, ax=None, *, bins: int = 12) -> Axes:
-    """|<G_ij>| and |G_ij(W=0)| against the hyperbolic distance (binned means), source excluded."""
+def plot_green_distance(ens: DisorderGreen, ax=None, *, bins: int = 12, clean: bool = True) -> Axes:
+    """|<G_ij>| (and |G_ij(W=0)| if ``clean``) against the hyperbolic distance (binned means), source excluded."""
     ax = _axes(ax)
     keep = np.arange(ens.distance.size) != ens.source
     d = ens.distance[keep]
     edges = np.linspace(0.0, d.max() * (1 + 1e-12), bins + 1)
     idx = np.digitize(d, edges) - 1
     centres = 0.5 * (edges[1:] + edges[:-1])
-    for vals, label, style in ((ens.clean[keep], "W = 0", "--"), (ens.mean[keep], f"W = {ens.W:g}", "-")):
+    curves = [(ens.clean[keep], "W = 0", "--")] if clean else []
+    for vals, label, style in curves + [(ens.mean[keep], f"W = {ens.W:g}", "-")]:
         a = np.abs(vals)
         m = np.array([a[idx == k].mean() if np.any(idx == k) else np.nan for k in range(bins)])
         ax.semilogy(centres, m, style, marker="o", ms=3, label=label)
