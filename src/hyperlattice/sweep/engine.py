@@ -36,7 +36,7 @@ from typing import Callable
 from .. import __version__, _validate
 from ..results import Result
 from .store import SweepStore
-from .tasks import TASKS, execute, get_task
+from .tasks import execute, get_task
 
 __all__ = ["run_sweep", "SweepReport", "expand_grid", "task_key", "have_dask"]
 

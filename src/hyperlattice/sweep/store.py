@@ -234,7 +234,6 @@ class SweepStore:
         meta = self._manifest()
         tmp = self.path / f".table-{os.getpid()}"
         if self.backend == "parquet":
-            import pyarrow as pa
             import pyarrow.parquet as pq
 
             table = self._parquet_parts()
