@@ -139,6 +139,7 @@ REFERENCE_LEVELS: dict = {
         7: (-2.8712164715206665, -2.8562927464078554),
         8: (-2.878317713599115, -2.8679337212857137),
         9: (-2.883362366865475, -2.875853814601205),
+        10: (-2.887080760136356, -2.881479577882121),
     },
     (9, 3): {
         1: (-2.0, -1.5320888862379558),
@@ -149,6 +150,7 @@ REFERENCE_LEVELS: dict = {
         6: (-2.8400020078065293, -2.822106595503541),
         7: (-2.8499161101366934, -2.838141032826838),
         8: (-2.8566151017853283, -2.848468466714953),
+        9: (-2.861362099706776, -2.855498262119947),
     },
     (10, 3): {
         1: (-2.0, -1.618033988749895),
@@ -158,6 +160,7 @@ REFERENCE_LEVELS: dict = {
         5: (-2.8115700343157632, -2.787063127077283),
         6: (-2.8265012525606052, -2.811476520607758),
         7: (-2.8359455121030357, -2.826099510641047),
+        8: (-2.8423124730447773, -2.835522646898814),
     },
     (5, 4): {
         1: (-2.0, -0.6180339887498947),
@@ -169,6 +172,7 @@ REFERENCE_LEVELS: dict = {
         7: (-3.646197526673725, -3.607160000058077),
         8: (-3.665042604079542, -3.6376167543464195),
         9: (-3.678532612074275, -3.658555101941945),
+        10: (-3.6885343990392796, -3.673545482617157),
     },
 }
 
@@ -522,8 +526,8 @@ def schur_bound(p: int = 7, q: int = 3, *, window: int = 8, rings: int | None = 
     window : int
         W >= 0 (module docstring); the bound tightens slowly with W (W = 32: 2.9459 for {7,3}).
     rings : int, optional
-        Flake the patterns are collected from (default: the largest with at most ~120 000 sites,
-        at least 6 rings).
+        Flake the patterns are collected from (default: the largest with at most 400 000 sites,
+        at least 7 rings).
 
     Returns
     -------
@@ -536,8 +540,8 @@ def schur_bound(p: int = 7, q: int = 3, *, window: int = 8, rings: int | None = 
     p, q = _validate.pq(p, q)
     window = _validate.integer("window", window, minimum=0, maximum=256)
     if rings is None:
-        rings = 6
-        while rings < 12 and site_count(p, q, rings + 1) <= 120_000:
+        rings = 7
+        while rings < 12 and site_count(p, q, rings + 1) <= 400_000:
             rings += 1
     rings = _validate.integer("rings", rings, minimum=5, maximum=14)
     if site_count(p, q, rings) > 2_000_000:
@@ -630,7 +634,7 @@ class BandBottom(Result):
     def summary(self) -> dict:
         """Estimate, error, rigorous interval, the two maps' edges and the fit variants."""
         return {"p": self.p, "q": self.q, "rings": self.rings.tolist(), "band_bottom": self.estimate,
-                "error": self.error, "rho": self.rho, "rigorous": [self.lower, self.upper],
+                "error": self.error, "rho": self.rho, "rigorous": [float(self.lower), float(self.upper)],
                 "consistent": self.consistent, "paper_edge": self.paper_edge,
                 "improved_edge": self.improved_edge, "band_mass": self.band_mass,
                 "paper_mass": hopping_scale(self.p, self.q), "schur": self.schur, "variants": self.variants}
@@ -664,8 +668,8 @@ def band_bottom(p: int = 7, q: int = 3, rings=None, E0=None, E1=None, *, schur_w
     ----------
     p, q : int
     rings, E0, E1 : array, optional
-        Flake levels; default :data:`REFERENCE_LEVELS` (from l = 4 on: the smallest flakes are
-        far from the asymptotic regime).
+        Flake levels; default :data:`REFERENCE_LEVELS` from l = 3 on (the fits use the last
+        5 to 7 of them: the smallest flakes are far from the asymptotic regime).
     schur_window : int or None
         W of :func:`schur_bound` (None: no upper bound on rho, ``lower`` is NaN).
     max_rings : int, optional
@@ -680,7 +684,7 @@ def band_bottom(p: int = 7, q: int = 3, rings=None, E0=None, E1=None, *, schur_w
         if E0 is not None or E1 is not None:
             raise ValueError("give rings together with E0 and E1.")
         ell, e0, e1 = reference_levels(p, q)
-        keep = ell >= 4
+        keep = ell >= 3
         ell, e0, e1 = ell[keep], e0[keep], e1[keep]
     else:
         ell = _validate.real_array("rings", rings, ndim=1)
@@ -732,6 +736,9 @@ class PlateauAnalysis(Result):
     peak_rings, peak_value : float
         Where the E0 relative error of the fitted curve is largest and its value: the computed
         values rise to it and then fall back to ``limit`` like :math:`1/\ell^2`.
+    curve_rings, curve : ndarray
+        That curve: the relative error of the fitted E0 (disk model) against the paper's
+        continuum E0, for l from the first flake to 60.
     terms : dict
         :math:`-\rho - E_\infty` split into ``isotropic_h4`` (:math:`\frac{7q}{64}h^4`),
         ``isotropic_rest`` (exact :math:`-qP_{-1/2}(\cosh 2d_0)` minus the first two orders) and
@@ -750,6 +757,8 @@ class PlateauAnalysis(Result):
     fitted_limit_E1: float
     peak_rings: float
     peak_value: float
+    curve_rings: np.ndarray
+    curve: np.ndarray
     terms: dict
 
     def summary(self) -> dict:
@@ -820,7 +829,8 @@ def plateau_analysis(band: BandBottom, rings=None, E0=None, E1=None) -> PlateauA
     return PlateauAnalysis(p=p, q=q, rings=ell.astype(np.int64), relative_E0=(e0 - c0) / np.abs(e0),
                            relative_E1=(e1 - c1) / np.abs(e1), limit=limit, limit_error=limit_error,
                            fitted_limit_E0=lim_fit[0], fitted_limit_E1=lim_fit[1], peak_rings=float(grid[i]),
-                           peak_value=float(rel_curve[i]), terms=terms)
+                           peak_value=float(rel_curve[i]), curve_rings=grid.astype(np.int64), curve=rel_curve,
+                           terms=terms)
 
 
 # ----------------------------------------------------------------------------

@@ -1,0 +1,110 @@
+"""Figures of the infinite-lattice analysis (:mod:`hyperlattice.compare.limits`): the band-bottom
+fit with its residuals, the band bottom against l, the plateau of the paper map's error and the
+two dictionaries' errors."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from . import new_axes
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
+__all__ = ["plot_band_fit", "plot_band_bottom", "plot_plateau", "plot_dictionaries", "limits_figure"]
+
+
+def plot_band_fit(fit, ax=None) -> Axes:
+    """``E(l) - E_b`` of the fitted flakes (points) and of the fit (line) on a log scale, with the
+    residuals (fit - data) on a twin axis; returns the axes."""
+    ax = new_axes(ax)
+    ell = np.asarray(fit.rings, dtype=float)
+    grid = np.linspace(ell[0], ell[-1] + 4.0, 200)
+    ax.semilogy(ell, fit.energies - fit.band_bottom, "o", label=f"E{fit.level} of the flakes")
+    ax.semilogy(grid, fit.predict(grid) - fit.band_bottom, "-", label=f"{fit.model} fit")
+    ax.set_xlabel("rings l")
+    ax.set_ylabel(f"E{fit.level} - E_b  (E_b = {fit.band_bottom:.7f})")
+    twin = ax.twinx()
+    twin.plot(ell, fit.residuals, "x", color="C3", label="residual")
+    twin.axhline(0.0, color="C3", linewidth=0.5)
+    twin.set_ylabel("fit - data", color="C3")
+    ax.legend(fontsize="small", loc="upper right")
+    return ax
+
+
+def plot_band_bottom(band, ax=None) -> Axes:
+    """The band bottom: the extrapolated value with its error bar, the rigorous interval, both maps'
+    edges, and the central fit of E0 continued in l; returns the axes."""
+    ax = new_axes(ax)
+    ell = np.asarray(band.rings, dtype=float)
+    grid = np.arange(ell[0], 3.0 * ell[-1] + 1.0)      # the disk model lives on integer l (site counts)
+    value, err = band.predict(grid)
+    ax.plot(grid, value, "-", color="C0", label="E0 fit (disk model) continued")
+    ax.fill_between(grid, value - err, value + err, color="C0", alpha=0.2)
+    ax.plot(ell, band.predict(ell)[0], "o", color="C0", markersize=3)
+    ax.axhspan(band.estimate - band.error, band.estimate + band.error, color="C2", alpha=0.3,
+               label=f"-rho = {band.estimate:.6f} ± {band.error:.1e}")
+    ax.axhline(band.paper_edge, color="C1", linestyle="--", label=f"paper E_inf = {band.paper_edge:.6f}")
+    ax.axhline(band.improved_edge, color="C4", linestyle=":", label=f"improved E_inf = {band.improved_edge:.6f}")
+    ax.axhline(band.upper, color="0.4", linewidth=0.8, label=f"rigorous: -rho <= {band.upper:.5f}")
+    if np.isfinite(band.lower):
+        ax.axhline(band.lower, color="0.4", linewidth=0.8, linestyle="-.",
+                   label=f"rigorous: -rho >= {band.lower:.5f}")
+    ax.set_xlabel("rings l")
+    ax.set_ylabel("energy E / t")
+    low = band.lower if np.isfinite(band.lower) else band.estimate
+    ax.set_ylim(min(low, band.paper_edge) - 0.002, band.upper + 0.006)
+    ax.legend(fontsize="x-small")
+    return ax
+
+
+def plot_plateau(plateau, ax=None) -> Axes:
+    """The paper map's relative error of E0 and E1 against l with the predicted limit
+    (-rho - E_inf)/rho and its error band; returns the axes."""
+    ax = new_axes(ax)
+    ell = np.asarray(plateau.rings, dtype=float)
+    ax.plot(ell, plateau.relative_E0, "o-", label="E0")
+    ax.plot(ell, plateau.relative_E1, "s-", label="E1")
+    ax.axhspan(plateau.limit - plateau.limit_error, plateau.limit + plateau.limit_error, color="C2", alpha=0.3,
+               label=f"(-rho - E_inf)/rho = {plateau.limit:.2e}")
+    ax.plot(plateau.curve_rings, plateau.curve, "-", color="C0", linewidth=0.8,
+            label=f"E0 fit continued (peak {plateau.peak_value:.2e} at l = {plateau.peak_rings:.0f})")
+    ax.set_ylim(-2e-4, 1e-3)
+    ax.set_xlabel("rings l")
+    ax.set_ylabel("(E_graph - E_cont)/|E_graph|, paper map")
+    ax.legend(fontsize="small")
+    return ax
+
+
+def plot_dictionaries(comparison, ax=None) -> Axes:
+    """|relative error| of E0 and E1 with the paper's and the improved map against l (log scale),
+    and the improved map's l -> infinity limit; returns the axes."""
+    ax = new_axes(ax)
+    ell = np.asarray(comparison.rings, dtype=float)
+    ax.semilogy(ell, np.abs(comparison.paper_E0), "o-", color="C0", label="E0, paper map")
+    ax.semilogy(ell, np.abs(comparison.paper_E1), "s-", color="C1", label="E1, paper map")
+    ax.semilogy(ell, np.abs(comparison.improved_E0), "o--", color="C0", mfc="none", label="E0, improved map")
+    ax.semilogy(ell, np.abs(comparison.improved_E1), "s--", color="C1", mfc="none", label="E1, improved map")
+    if np.isfinite(comparison.improved_limit):
+        ax.axhline(abs(comparison.improved_limit), color="C2", linestyle=":",
+                   label=f"improved, l -> inf: |{comparison.improved_limit:.1e}|")
+    ax.set_xlabel("rings l")
+    ax.set_ylabel("|E_graph - E_cont| / |E_graph|")
+    ax.legend(fontsize="x-small")
+    return ax
+
+
+def limits_figure(band, plateau, comparison, path=None):
+    """The three panels side by side (band bottom, plateau, dictionaries); saved to ``path`` if
+    given. Returns the figure."""
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 3, figsize=(16.0, 4.6), layout="constrained")
+    plot_band_bottom(band, ax=axes[0])
+    plot_plateau(plateau, ax=axes[1])
+    plot_dictionaries(comparison, ax=axes[2])
+    if path is not None:
+        fig.savefig(path)
+    return fig
