@@ -145,7 +145,6 @@ def test_result_round_trip():
     lambda: magnetic_levels(radius=0.5, flux=float("nan")),
     lambda: magnetic_levels(p=4, q=4, radius=0.5),
     lambda: magnetic_levels(radius=0.5, rings=3),
-    lambda: magnetic_levels(rings=8, flux=0.5),          # too many flux quanta through the disk
     lambda: radial_function(1.0, 0, 1.0, 2.0),
     lambda: radial_function(0.5, 0.5, 1.0, 2.0),
     lambda: magnetic_roots(0, 1e9, 0.5),
@@ -202,3 +201,56 @@ def test_error_bounds_hold_against_mpmath_roots():
             ref = mp.findroot(R, mp.mpf(kap))
             assert abs(float(ref) - kap) * hopping_scale(7, 3) <= err
             assert err < 1e-13
+
+
+# ---------------------------------------------------------------------------------------------
+# the scan along the field stops at the first order whose lowest root is not below the K-th level
+# ---------------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("p,q,rings,flux", [
+    (7, 3, 3, 0.05), (7, 3, 4, 0.3), (7, 3, 5, 0.1), (8, 3, 3, 0.6), (8, 3, 4, -0.3),
+    (4, 5, 3, 0.3), (3, 7, 3, 0.1), (5, 4, 4, 0.3), (3, 7, 3, 1.0),
+])
+def test_truncated_scan_equals_exhaustive_scan(p, q, rings, flux):
+    """The K lowest levels equal the K smallest roots of EVERY order up to beyond A_phi(L) (one
+    vectorised bracketing of all orders, as before the scan was truncated), and the lowest root
+    grows with m along the field, the property the truncated scan relies on."""
+    from hyperlattice.continuum.magnetic import _refine, _roots_below
+
+    K = 4
+    got = magnetic_levels(p, q, rings=rings, levels=K, flux=flux)
+    B, x = got.field, got.x
+    s, t = 2.0 / (x + 1.0), math.acosh(x)
+    a_edge = abs(B) * (1.0 - s) / (2.0 * s)
+    sign = 1 if B > 0 else -1
+    along = sign * np.arange(0, math.floor(a_edge) + 3)
+    orders = np.concatenate([along, -sign * np.arange(1, K + 1)]).astype(float)
+    kcut = 1.1 * math.sqrt(got.kappa[-1] - 1.0) + 0.05
+    cells, grid = _roots_below(orders, B, s, t, kcut)
+    lo = np.concatenate([1.0 + grid[c] ** 2 for c in cells])
+    hi = np.concatenate([1.0 + grid[c + 1] ** 2 for c in cells])
+    mm = np.concatenate([np.full(c.size, m) for m, c in zip(orders, cells)])
+    every, _ = _refine(lo, hi, mm, B, s)
+    np.testing.assert_allclose(got.kappa, np.sort(every)[:K], rtol=1e-12)
+    # the lowest root of each order along the field, up to the first order without one below kcut
+    first = [c.size > 0 for c in cells[: along.size]]
+    upto = first.index(False) if False in first else along.size
+    lowest = np.array([every[np.flatnonzero(mm == m)[0]] for m in along[:upto]])
+    assert upto >= 2 and np.all(np.diff(lowest) >= -8 * np.finfo(float).eps * lowest[1:])
+
+
+def test_large_disks_reach_the_landau_levels():
+    """l = 12 holds ~1e5 flux quanta at f = 0.3; the lowest states are Landau-like, kappa_0 = B."""
+    for flux, tol in ((0.3, 1e-9), (0.2, 1e-5)):
+        got = magnetic_levels(7, 3, rings=12, levels=3, flux=flux)
+        kappa0 = landau_levels(got.field)["kappa"][0]
+        assert np.all(got.kappa >= kappa0 * (1 - 1e-14))
+        assert np.all(got.kappa - kappa0 <= tol * kappa0)
+        assert got.m.tolist() == [0, 1, 2] and got.n.tolist() == [1, 1, 1]
+
+
+def test_threshold_kappa_in_a_forbidden_region_is_finite():
+    """Regression: kappa exactly at 1 + B^2/4 with a large order gave a zero local wavenumber and
+    a ZeroDivisionError in the step rule."""
+    value = dirichlet_function(10.0, 100, 6.0, 0.9)
+    assert np.isfinite(value)

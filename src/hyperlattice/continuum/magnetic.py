@@ -75,11 +75,22 @@ evaluation error); :math:`E = -q + \frac q4 h^2\kappa` is linear in :math:`\kapp
 :math:`\frac q4 h^2\delta` (plus rounding) is the energy error bound.
 The rounding of L itself is not included (the zero-field module includes it).
 
-Limits: :math:`|B| \le` :data:`MAX_FIELD`, at most :data:`MAX_LEVELS` levels, and at most
-:data:`~hyperlattice.continuum.spectrum.MAX_ORDER` flux quanta through the disk (ValueError
-before any work). Measured cost: 7-22 ms per level for rings <= 6 and f <= 0.3, 180 ms per
-level when the disk holds ~660 flux quanta (every order up to there is scanned); the zero-field
-module takes 1-3 ms per level.
+Which orders are scanned
+------------------------
+Against the field (:math:`mB < 0`) and beyond :math:`m = A_\phi(L)` along it, the lowest root
+grows with :math:`|m|` (the centrifugal term :math:`(m - A_\phi)^2/r^2` does at every r). Between
+0 and :math:`A_\phi(L)` along the field the state of order m sits near the radius where
+:math:`A_\phi(r) \approx m` and moves out towards the Dirichlet edge as m grows; that its lowest
+root grows with m there too is observed, not proven, and checked against an exhaustive scan of
+every order (``test_truncated_scan_equals_exhaustive_scan``). The scan along the field therefore
+stops at the first order whose lowest root is not below the K-th level found so far. A disk
+holding :math:`10^5` flux quanta (l = 12, f = 0.3) needs the orders 0..K only.
+
+Limits: :math:`|B| \le` :data:`MAX_FIELD`, at most :data:`MAX_LEVELS` levels, and orders up to
+:data:`~hyperlattice.continuum.spectrum.MAX_ORDER` (ValueError if the lowest levels would need
+more). Measured cost: 0.3-0.7 s for the 6 lowest levels at l = 8..12 and f = 0..0.3
+(``magnetic_levels(7, 3, rings=12, levels=6, flux=0.3)``), i.e. 50-120 ms per level; the
+zero-field module takes 1-3 ms per level.
 
 L -> 1: hyperbolic Landau levels
 --------------------------------
@@ -222,7 +233,9 @@ def _wavenumber(kappa, m, b, delta, u0: float, s0: float) -> float:
     threshold). Steps of at most one radian keep the Taylor terms free of cancellation."""
     w = kappa * u0 - (m * s0 - b * u0) ** 2
     k = np.sqrt(np.maximum(w, 0.0)) / (2.0 * u0 * s0) + np.abs(delta) / (2.0 * s0)
-    return float(np.max(k)) if k.size else 1.0
+    # a zero wavenumber (kappa exactly at the threshold 1 + B^2/4 in a classically forbidden
+    # region) means no oscillation: the other step limits apply
+    return max(float(np.max(k)), 1e-300) if k.size else 1.0
 
 
 def _hyp2f1(a, b, c, s_target: float, *, safety: float = 1.0, wave=None):
@@ -460,13 +473,48 @@ class MagneticSpectrum(Levels):
                 "asymptotic": dict(self.asymptotic), "flux": self.flux}
 
 
+def _corotating_done(found: list, lowest: dict, K: int, B: float, s: float) -> bool:
+    r"""Whether the scan along the field (orders m with :math:`mB > 0`) may stop after the order
+    just scanned: its lowest root is not below the K-th lowest root found so far.
+
+    This relies on the lowest root :math:`\kappa(1, m)` growing with m on the field's side. Beyond
+    :math:`m = A_\phi(L)` that is proven (the centrifugal term :math:`(m - A_\phi)^2/r^2` grows with
+    m at every r); inside, where the Landau-like state of order m sits at the radius with
+    :math:`A_\phi(r)\approx m` and moves towards the Dirichlet edge as m grows, it is an observed
+    property, checked against the exhaustive scan over every order up to :math:`A_\phi(L)` for
+    {7,3}, {8,3}, {4,5}, {3,7}, {5,4}, l = 1..5 and f up to 2 (``tests/test_continuum_magnetic.py``).
+    Lowest roots are refined (and cached in ``lowest``); other roots count with the upper end of
+    their grid cell, so the K-th value used is an upper bound of the true K-th level. Ties within
+    rounding (deep Landau levels are degenerate to :math:`10^{-16}`) stop the scan: either state
+    is then a correct K-th level within its error bound.
+    """
+    todo = [mm for mm, c0, _ in found if c0.size and mm not in lowest]
+    if todo:
+        lo = np.array([1.0 + g[c0[0]] ** 2 for mm, c0, g in found if mm in todo])
+        hi = np.array([1.0 + g[c0[0] + 1] ** 2 for mm, c0, g in found if mm in todo])
+        kap, _ = _refine(lo, hi, np.array(todo, float), B, s)
+        lowest.update(zip(todo, kap.tolist()))
+    uppers = []
+    for mm, c0, g in found:
+        ub = 1.0 + g[c0 + 1] ** 2
+        ub[0] = lowest[mm]
+        uppers.extend(ub.tolist())
+    if len(uppers) < K:
+        return False
+    kth = sorted(uppers)[K - 1]
+    last = found[-1][0]
+    return lowest[last] >= kth * (1.0 - 8.0 * np.finfo(float).eps)
+
+
 def magnetic_levels(p=7, q=3, radius=None, rings=None, levels: int = 4, flux=0.0) -> MagneticSpectrum:
     r"""The ``levels`` lowest states of :math:`H = -q - \frac q4 h^2\Delta_B` on a Dirichlet disk,
     with :math:`B` = :func:`~hyperlattice.dictionary.field_from_flux` (``flux`` quanta per p-gon).
 
     Every order m with a root below a cutoff is scanned (for :math:`B>0`, the lowest root grows
     with m beyond :math:`m_* = A_\phi(L)` and with :math:`|m|` for m < 0; mirrored for B < 0),
-    the cutoff growing until there are at least ``levels`` states. Orders beyond
+    the cutoff growing until there are at least ``levels`` states; along the field the scan stops
+    at the first order whose lowest root is not below the K-th level found (module docstring,
+    "Which orders are scanned"). Levels that would need orders beyond
     :data:`~hyperlattice.continuum.spectrum.MAX_ORDER` are refused (ValueError).
     """
     p, q = _validate.pq(p, q)
@@ -480,42 +528,46 @@ def magnetic_levels(p=7, q=3, radius=None, rings=None, levels: int = 4, flux=0.0
     s = 2.0 / (x + 1.0)               # 1 - L^2, exact from x for ring disks
     t = math.acosh(x)
     a_edge = abs(B) * (1.0 - s) / (2.0 * s)   # A_phi(L): beyond this order the roots grow with |m|
-    if a_edge > MAX_ORDER:
-        raise ValueError(f"the disk holds {a_edge:.3g} flux quanta; orders up to {MAX_ORDER} only.")
     sign = 1 if B >= 0 else -1
-    # orders that can hold one of the K lowest states: on the field's side beyond m0 = A_phi(L)
-    # the lowest root grows with m, so (1, m0 + j) has j states below it; on the other side
-    # (1, -j) has j below it; at B = 0 the +-m pairs make |m| <= K/2 (as without field)
+    # orders that can hold one of the K lowest states: on the field's side the scan stops at the
+    # first order whose lowest root is not below the K-th level found so far (the lowest root
+    # grows with m there, see _corotating_done), beyond m0 = A_phi(L) it provably grows, so
+    # (1, m0 + j) has j states below it; on the other side (1, -j) has j below it; at B = 0 the
+    # +-m pairs make |m| <= K/2 (as without field)
     if B == 0:
         caps = {True: K // 2, False: K // 2}
     else:
-        caps = {True: math.floor(a_edge) + K, False: K - 1}
-    if max(caps.values()) > MAX_ORDER and a_edge + 1 > MAX_ORDER:
-        raise ValueError(f"the disk holds {a_edge:.3g} flux quanta; orders up to {MAX_ORDER} only.")
-    caps = {key: min(v, MAX_ORDER) for key, v in caps.items()}
+        caps = {True: min(math.floor(a_edge) + K, MAX_ORDER), False: min(K - 1, MAX_ORDER)}
     kcut = 12.0 * _grid_step(t)
+    lowest: dict[int, float] = {}     # refined lowest root per co-rotating order (cache over kcut)
     while True:
         found = []
         count = 0
         for direction in ((1,) if B == 0 else (1, -1)):
             m0, nb, done = (0 if direction == 1 else -1), 2, False
+            corotating = B != 0 and direction * sign > 0
             cap = caps[direction * sign > 0]
             while not done:
                 block = m0 + direction * np.arange(nb)
                 block = block[np.abs(block) <= cap]
                 if block.size == 0:
+                    if corotating and cap == MAX_ORDER:
+                        raise ValueError(f"the lowest levels need orders beyond |m| = {MAX_ORDER} "
+                                         f"(the disk holds {a_edge:.3g} flux quanta).")
                     break
                 cells, grid = _roots_below(block.astype(float), B, s, t, kcut)
                 for mm, c0 in zip(block.tolist(), cells):
                     if c0.size:
                         found.append((mm, c0, grid))
                         count += c0.size * (2 if (B == 0 and mm != 0) else 1)
-                    # beyond A_phi(L) on the field's side (and on the other side at once) the
-                    # lowest root grows with |m|: the first order without roots ends the scan
-                    beyond = (sign * mm > a_edge) if direction * sign > 0 else True
-                    if c0.size == 0 and beyond:
+                    # the lowest root grows with |m| on both sides (proven against the field
+                    # and beyond A_phi(L) along it, checked inside; see _corotating_done):
+                    # the first order without a root below kcut ends the scan
+                    if c0.size == 0:
                         done = True
                         break
+                if corotating and not done and count >= K:
+                    done = _corotating_done(found, lowest, K, B, s)
                 m0 += direction * block.size
                 nb = min(2 * nb, 64)
         if count >= K:
