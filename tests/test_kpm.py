@@ -179,3 +179,18 @@ def test_deflation_removes_the_states_at_plus_minus_q():
     assert np.abs(z).max() < 5.0
     assert kpm_dos(_prism(5), 8, vectors=2, deflate=True).deflated == 1  # odd cycles: only the uniform state
     assert kpm_dos(ring_lattice(7, 3, 3), 8, vectors=2, deflate=True).deflated == 0  # a flake has none
+
+
+def test_relabelled_table_keeps_site_numbers():
+    # the table is renumbered breadth-first for speed; site indices and results are the user's
+    rng = np.random.default_rng(0)
+    t = _prism(30)
+    shuffle = rng.permutation(t.shape[0])
+    inv = np.argsort(shuffle)
+    ts = inv[t[shuffle]].astype(np.int32)  # the same graph with scrambled labels
+    m = _table_matrix(ts)
+    for site in (0, 17, 44):
+        a = local_dos(ts, site, 30)
+        b = local_dos(m, site, 30)
+        assert np.abs(a.mu - b.mu).max() < 1e-13
+    assert np.abs(kpm_dos(ts, 20, vectors=2).mu - kpm_dos(m, 20, vectors=2).mu).max() < 1e-12
