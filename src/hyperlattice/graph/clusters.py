@@ -515,9 +515,8 @@ def cluster_from_relators(p: int, q: int, relators, *, name: str = "custom", sou
         Bad input, or a quotient that is not torsion-free or not a closed hyperbolic surface.
     """
     p, q = _validate.pq(p, q)
-    if isinstance(relators, str):
-        relators = [relators]
-    words = [groups.parse_word(w) if isinstance(w, str) else tuple(w) for w in relators]
+    relators = groups._sequence("relators", relators)
+    words = [groups._checked_word("relator", w, 4) for w in relators]
     try:
         table = groups.coset_table(2, groups.triangle_relators(p, q) + words, max_cosets=max_cosets)
         nb = _map_from_darts(table[:, 0].astype(np.int32), table[:, 2].astype(np.int32), p, q)

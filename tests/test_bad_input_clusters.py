@@ -1,0 +1,43 @@
+"""Bad input for periodic clusters, groups and band theory (see tests/badinput.py)."""
+
+from __future__ import annotations
+
+import pytest
+
+from badinput import api_cases, check_api, check_cli, cli_cases
+from hyperlattice.graph import clusters, groups
+
+# (id, function, working keyword arguments, {argument: tags it legitimately accepts})
+CASES = [
+    ("pbc_cluster", clusters.pbc_cluster, dict(p=7, q=3, name="klein"), {"name": {"none"}}),
+    ("pbc_cluster_min_sites", clusters.pbc_cluster, dict(p=8, q=3, min_sites=10), {"min_sites": {"none"}}),
+    ("list_clusters", clusters.list_clusters, dict(p=8, q=3, max_sites=100), {}),
+    ("psl2_cluster", clusters.psl2_cluster, dict(p=7, q=3, r=13), {}),
+    ("cluster_from_relators", clusters.cluster_from_relators,
+     dict(p=7, q=3, relators=["(x Y x y)^4"]), {}),
+    ("lattice_ball_counts", clusters.lattice_ball_counts, dict(p=7, q=3, radius=3), {}),
+    ("map_code", clusters.map_code, dict(cluster=clusters.pbc_cluster(8, 3, "bolza"), vertex=0, slot=0), {}),
+    ("coset_table", groups.coset_table, dict(n_generators=2, relators=["x^2", "y^3", "(x y)^3"]),
+     {"relators": {"ragged"}}),
+    ("parse_word", groups.parse_word, dict(text="x y X"), {}),
+]
+
+# (subcommand words, flag, values of BAD_CLI that are legitimate)
+CLI_FLAGS = [
+    (["cluster", "--list"], "-p", set()),
+    (["cluster", "--list"], "-q", set()),
+    (["cluster", "--list"], "--max-sites", set()),
+    (["cluster"], "--min-sites", set()),
+    (["cluster"], "--name", set()),
+    (["cluster", "--name", "klein"], "--out", set()),
+]
+
+
+@pytest.mark.parametrize("func,good,arg,value", list(api_cases(CASES)))
+def test_api(func, good, arg, value):
+    check_api(func, good, arg, value)
+
+
+@pytest.mark.parametrize("words,flag,value", list(cli_cases(CLI_FLAGS)))
+def test_cli(words, flag, value, capsys, tmp_path, monkeypatch):
+    check_cli(words, flag, value, capsys, tmp_path, monkeypatch)
