@@ -198,10 +198,14 @@ def flake_levels(p: int = 7, q: int = 3, rings=(1, 2, 3), *, cache: Cache | None
     from ..graph.lattice import ring_lattice
     from ..graph.spectrum import lowest_levels
 
+    from ..cache import Cache
+
     p, q = _validate.pq(p, q)
     ell = _validate.real_array("rings", rings, ndim=1)
     if ell.size == 0 or np.any(ell != np.round(ell)) or np.any(ell < 1) or np.any(np.diff(ell) <= 0):
         raise ValueError("rings must be strictly increasing positive integers.")
+    if cache is not None and not isinstance(cache, Cache):
+        raise ValueError(f"cache must be a hyperlattice.cache.Cache or None, got {type(cache).__name__}.")
     out = {"rings": [], "E0": [], "E1": [], "residual": []}
     for x in ell.astype(int).tolist():
         def compute(x=x):
@@ -784,6 +788,8 @@ def plateau_analysis(band: BandBottom, rings=None, E0=None, E1=None) -> PlateauA
         raise ValueError("band must be a BandBottom (from band_bottom).")
     p, q = band.p, band.q
     if rings is None:
+        if E0 is not None or E1 is not None:
+            raise ValueError("give rings together with E0 and E1.")
         ell, e0, e1 = reference_levels(p, q)
         keep = ell >= 3
         ell, e0, e1 = ell[keep], e0[keep], e1[keep]
@@ -793,6 +799,8 @@ def plateau_analysis(band: BandBottom, rings=None, E0=None, E1=None) -> PlateauA
         e1 = _validate.real_array("E1", E1, shape=ell.shape)
         if np.any(ell != np.round(ell)) or np.any(ell < 1) or np.any(np.diff(ell) <= 0):
             raise ValueError("rings must be strictly increasing positive integers.")
+    if ell.size < 6:
+        raise ValueError(f"the plateau analysis needs at least 6 flakes, got {ell.size}.")
     cont = [continuum_levels(p, q, rings=int(x), levels=3) for x in ell]
     c0 = np.array([c.energies[0] for c in cont])
     c1 = np.array([c.energies[1] for c in cont])
@@ -904,6 +912,8 @@ def compare_dictionaries(rings=None, E0=None, E1=None, *, p: int = 7, q: int = 3
 
     p, q = _validate.pq(p, q)
     if rings is None:
+        if E0 is not None or E1 is not None:
+            raise ValueError("give rings together with E0 and E1.")
         ell, e0, e1 = reference_levels(p, q)
         keep = ell >= 6
         ell, e0, e1 = ell[keep], e0[keep], e1[keep]
