@@ -386,3 +386,126 @@ def _dense_lowest(table: SectorTable, k: int) -> tuple[np.ndarray, np.ndarray]:
     k = min(k, mat.shape[0])
     w, v = sla.eigh(mat, subset_by_index=[0, k - 1])
     return w, v
+
+
+# ----------------------------------------------------------------------------
+# symmetric factorisations: shift-invert and Sylvester inertia
+# ----------------------------------------------------------------------------
+
+_BACKENDS = ("auto", "cholmod", "splu")
+
+
+def _cholmod():
+    """scikit-sparse's CHOLMOD module, or None (an optional accelerator, never required)."""
+    try:
+        from sksparse import cholmod
+    except ImportError:
+        return None
+    return cholmod
+
+
+def _factor_backend(backend: str) -> str:
+    """Resolve ``backend`` ("auto", "cholmod", "splu") to the one that will run."""
+    backend = _validate.choice("backend", backend, _BACKENDS)
+    if backend == "auto":
+        return "cholmod" if _cholmod() is not None else "splu"
+    if backend == "cholmod" and _cholmod() is None:
+        raise ValueError("backend='cholmod' needs scikit-sparse (pip install 'scikit-sparse<0.5' with "
+                         "SuiteSparse installed); use backend='splu' or 'auto'.")
+    return backend
+
+
+class _SymmetricFactor:
+    r""":math:`P(B - x)P^T = L D L^T` of a real symmetric sparse matrix, for solves and inertia.
+
+    CHOLMOD (simplicial :math:`LDL^T`, AMD ordering; the symbolic analysis is shared by all
+    shifts of the same matrix) when ``backend="cholmod"``, else SuperLU with a symmetric
+    permutation (COLAMD on :math:`B^T B` pattern, ``SymmetricMode``) and no pivoting, whose
+    :math:`U` then has :math:`D` on its diagonal. Neither pivots, which is safe here: the
+    shifted blocks are positive definite or have a handful of negative eigenvalues well
+    separated from zero, and a zero pivot is reported instead of a wrong count.
+
+    ``negatives`` is the number of eigenvalues of B below x (Sylvester's law of inertia), or
+    None when SuperLU did not keep the permutation symmetric (then no count is claimed).
+    """
+
+    def __init__(self, mat: sp.spmatrix, x: float, backend: str, analysis=None):
+        n = mat.shape[0]
+        self.backend = backend
+        self.analysis = analysis
+        if backend == "cholmod":
+            cholmod = _cholmod()
+            csc = sp.csc_matrix(mat)
+            if self.analysis is None:
+                self.analysis = cholmod.analyze(csc, mode="simplicial", ordering_method="amd")
+            factor = self.analysis.cholesky(csc, beta=-x)
+            d = factor.D()
+            self._solve = factor.solve_A
+        else:
+            shifted = sp.csc_matrix(mat - x * sp.identity(n, format="csc"))
+            lu = spla.splu(shifted, permc_spec="COLAMD", diag_pivot_thresh=0.0,
+                           options={"SymmetricMode": True})
+            d = lu.U.diagonal()
+            self._solve = lu.solve
+            if not np.array_equal(lu.perm_r, lu.perm_c):  # pragma: no cover - SuperLU kept the diagonal so far
+                d = None
+        if d is not None and (not np.all(np.isfinite(d)) or np.any(d == 0)):
+            raise ConvergenceError(f"the factorisation of a block shifted by {x:.15g} met a zero pivot.")
+        self.negatives = None if d is None else int(np.count_nonzero(d < 0))
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        """:math:`(B - x)^{-1} b`."""
+        return self._solve(b)
+
+
+def _shift_invert_lowest(mat: sp.spmatrix, k: int, factor: _SymmetricFactor, x: float, tol: float,
+                         label: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+    r"""k lowest eigenpairs of a real symmetric block above the shift x, by Lanczos on :math:`(B - x)^{-1}`.
+
+    The factor must show no eigenvalue below x (then the largest eigenvalues of the inverse are
+    the lowest of B). Energies are Rayleigh quotients with B itself; returns
+    ``(energies, vectors, residuals, solves)``.
+    """
+    n = mat.shape[0]
+    solves = [0]
+
+    def op(v):
+        solves[0] += 1
+        return factor.solve(np.asarray(v, dtype=np.float64).ravel())
+
+    lin = spla.LinearOperator((n, n), matvec=op, dtype=np.float64)
+    v0 = np.random.default_rng(12345).standard_normal(n)
+    ncv = min(n, max(2 * k + 1, 12))
+    try:
+        _, vecs = spla.eigsh(lin, k=k, which="LA", ncv=ncv, tol=1e-14, v0=v0, maxiter=2000)
+    except spla.ArpackNoConvergence as exc:  # pragma: no cover - depends on the matrix
+        raise ConvergenceError(f"{label}: ARPACK did not converge ({exc}).") from exc
+    vecs /= np.linalg.norm(vecs, axis=0)[None, :]
+    bv = mat @ vecs
+    energies = np.einsum("ij,ij->j", vecs, bv)
+    order = np.argsort(energies)
+    energies, vecs, bv = energies[order], vecs[:, order], bv[:, order]
+    res = np.linalg.norm(bv - vecs * energies[None, :], axis=0)
+    return energies, vecs, res, solves[0]
+
+
+def _lanczos_ritz(mat: sp.spmatrix, steps: int) -> np.ndarray:
+    """Ritz values of a short plain Lanczos run on a real symmetric matrix (upper bounds, ascending)."""
+    n = mat.shape[0]
+    v = np.random.default_rng(12345).standard_normal(n)
+    v /= np.linalg.norm(v)
+    v_old = np.zeros(n)
+    alphas, betas = [], []
+    beta = 0.0
+    for _ in range(min(steps, n)):
+        w = mat @ v - beta * v_old
+        a = float(v @ w)
+        w -= a * v
+        alphas.append(a)
+        beta = float(np.linalg.norm(w))
+        if beta < 1e-12:
+            break
+        betas.append(beta)
+        v_old, v = v, w / beta
+    k = len(alphas)
+    return sla.eigh_tridiagonal(np.array(alphas), np.array(betas[: k - 1]), eigvals_only=True)

@@ -1,0 +1,74 @@
+"""Sector-only flakes (graph/sectors.py): the same orbits, blocks and levels as the full lattice."""
+
+import numpy as np
+import pytest
+import scipy.linalg as sla
+
+from hyperlattice.errors import ConvergenceError
+from hyperlattice.graph.lattice import ring_lattice
+from hyperlattice.graph.sectors import flake_memory, lowest_pair, sector_block, sector_lattice
+from hyperlattice.graph.spectrum import lowest_levels
+from hyperlattice.graph.symmetry import rotation_orbits, sector_hamiltonian
+
+CASES = [(7, 3, 4), (7, 3, 5), (8, 3, 4), (3, 7, 4), (4, 5, 4), (5, 4, 4), (3, 8, 4), (6, 4, 3), (4, 6, 3),
+         (12, 3, 3), (7, 3, 1), (5, 4, 1)]
+
+
+@pytest.mark.parametrize("p,q,rings", CASES)
+def test_orbits_coordinates_and_mirror_match_the_full_lattice(p, q, rings):
+    lat = ring_lattice(p, q, rings)
+    slat = sector_lattice(p, q, rings, coordinates=True)
+    orb = rotation_orbits(lat)
+    assert slat.sites == lat.sites and slat.size == orb.size
+    assert np.array_equal(slat.ring_sizes, lat.sites_per_ring)
+    assert np.allclose(slat.z, lat.z[orb.representatives], rtol=0, atol=1e-13)
+    # the mirror maps representative o onto R^t (representative of mu(o)): z -> conj(z)
+    image = np.exp(2j * np.pi * slat.mirror_shift / p) * slat.z[slat.mirror_orbit]
+    assert np.allclose(image, np.conj(slat.z), rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("p,q,rings", CASES)
+def test_blocks_equal_the_full_lattice_blocks_and_mirror_forms_keep_the_spectrum(p, q, rings):
+    lat = ring_lattice(p, q, rings)
+    slat = sector_lattice(p, q, rings)
+    for m in range(-((p - 1) // 2), p // 2 + 1):
+        full = sector_hamiltonian(lat, m)
+        ours = sector_block(slat, m)
+        assert ours.nnz == full.nnz and abs(ours - full).max() < 1e-14
+        ev = sla.eigvalsh(full.toarray())
+        if m == 0:
+            halves = [sla.eigvalsh(sector_block(slat, 0, mirror=h).toarray()) if sector_block(slat, 0, mirror=h).shape[0]
+                      else np.zeros(0) for h in ("even", "odd")]
+            other = np.sort(np.concatenate(halves))
+        else:
+            real = sector_block(slat, m, mirror="real")
+            assert real.dtype == np.float64 and abs(real - real.T).max() < 1e-14
+            other = sla.eigvalsh(real.toarray())
+        assert np.allclose(ev, other, rtol=0, atol=1e-12)
+
+
+def test_real_blocks_share_one_sparsity_pattern():
+    slat = sector_lattice(7, 3, 5)
+    pats = [sector_block(slat, m, mirror="real") for m in (1, 2, 3)]
+    for b in pats[1:]:
+        assert np.array_equal(b.indptr, pats[0].indptr) and np.array_equal(b.indices, pats[0].indices)
+
+
+@pytest.mark.parametrize("p,q,rings", [(7, 3, 6), (7, 3, 9), (8, 3, 6), (4, 5, 5), (3, 7, 6)])
+@pytest.mark.parametrize("backend", ["auto", "splu"])
+def test_lowest_pair_equals_lowest_levels(p, q, rings, backend):
+    ref = lowest_levels(ring_lattice(p, q, rings), 2)
+    got = lowest_pair(p, q, rings, backend=backend)
+    assert np.allclose(got.energies, ref.energies, rtol=0, atol=1e-12)
+    assert got.m.tolist() == ref.m.tolist() and got.n.tolist() == ref.n.tolist()
+    assert np.all(got.residuals <= 1e-10)
+    assert got.method == "sector-shift-invert" and "inertia" in got.description
+    assert got.sites == ref.sites
+
+
+def test_refuses_a_flake_that_does_not_fit_before_allocating():
+    with pytest.raises(ValueError, match="GB"):
+        sector_lattice(7, 3, 30)
+    with pytest.raises(ValueError, match="max_bytes"):
+        lowest_pair(7, 3, 12, max_bytes=10**6)
+    assert flake_memory(7, 3, 16) > flake_memory(7, 3, 15)
