@@ -88,3 +88,28 @@ def test_refusals_are_one_line_exit_2(capsys, argv):
         code = exc.code
     err = capsys.readouterr().err
     assert code == 2 and len(err.strip().splitlines()) == 1 and "Traceback" not in err
+
+
+def test_dictionary_flag_same_keys_default_paper(capsys):
+    """--dictionary improved prints the same JSON keys; the default is the paper's map, unchanged."""
+    code, plain, _ = run_cli(capsys, "continuum", "--rings", "6", "--levels", "3", "--json")
+    code2, paper, _ = run_cli(capsys, "continuum", "--rings", "6", "--levels", "3", "--json", "--dictionary", "paper")
+    code3, impr, _ = run_cli(capsys, "continuum", "--rings", "6", "--levels", "3", "--json", "--dictionary",
+                             "improved")
+    assert code == code2 == code3 == 0
+    assert plain == paper
+    a, b = json.loads(paper), json.loads(impr)
+    assert list(a) == list(b) and list(a["asymptotic"]) == list(b["asymptotic"])
+    assert b["energies"][0] == pytest.approx(-2.8953296, abs=1e-6)      # improved map, l = 6
+    assert b["asymptotic"]["E_inf"] == pytest.approx(-2.9409606137, abs=1e-9)
+    assert b["radius"] > a["radius"]                                    # the Dirichlet wall lies further out
+    code, text, _ = run_cli(capsys, "continuum", "--rings", "6", "--dictionary", "improved")
+    assert code == 0 and "improved dictionary" in text
+
+
+def test_dictionary_flag_refused_with_flux(capsys):
+    code = main(["continuum", "--rings", "3", "--flux", "0.05", "--dictionary", "improved"])
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    # the flux path with the default dictionary still works
+    assert main(["continuum", "--rings", "3", "--flux", "0.05", "--json"]) == 0

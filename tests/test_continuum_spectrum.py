@@ -288,3 +288,49 @@ def test_ring_form_of_eq19_is_a_curve_in_real_l():
     assert hi["E0"] < a["E0"] < lo["E0"]
     with pytest.raises(ValueError):
         asymptotic_energies(7, 3, rings=0.5, form="rings")
+
+
+# ----------------------------------------------------------------------------
+# the dictionary keyword (issue 13)
+# ----------------------------------------------------------------------------
+
+def test_dictionary_default_is_the_paper_map_bit_for_bit():
+    from hyperlattice.continuum.spectrum import continuum_levels, energy_infinity, level_energy
+
+    a = continuum_levels(7, 3, rings=7, levels=4)
+    b = continuum_levels(7, 3, rings=7, levels=4, dictionary="paper")
+    assert np.array_equal(a.energies, b.energies) and np.array_equal(a.errors, b.errors)
+    assert a.radius == b.radius and a.asymptotic == b.asymptotic and a.dictionary == "paper"
+    assert level_energy(0.3, 7, 3) == level_energy(0.3, 7, 3, dictionary="paper")
+    assert energy_infinity(7, 3) == -3 + hopping_scale(7, 3)
+
+
+def test_improved_levels_are_the_improved_map_on_the_shifted_disk():
+    from hyperlattice.continuum.spectrum import continuum_levels, dirichlet_levels, dirichlet_roots
+    from hyperlattice.dictionary import improved_disk_for_rings, improved_energy_from_k
+
+    c = continuum_levels(7, 3, rings=9, levels=3, dictionary="improved")
+    L, x = improved_disk_for_rings(9)
+    assert c.radius == L and c.x == x and c.dictionary == "improved"
+    k0 = dirichlet_roots(0, x=x, n_roots=1)[0]
+    assert c.k[0] == pytest.approx(k0, rel=1e-13)
+    assert c.energies[0] == pytest.approx(improved_energy_from_k(k0), abs=1e-14)
+    assert np.all(c.errors < 1e-12)
+    assert set(c.summary()) == set(continuum_levels(7, 3, rings=9, levels=3).summary())
+    t = dirichlet_levels(7, 3, rings=9, n_max=1, m_max=1, dictionary="improved")
+    assert t.energies[0, 0] == pytest.approx(c.energies[0], abs=1e-13)
+    # a given radius is used as it is: only the energy map changes
+    r = continuum_levels(7, 3, radius=0.9, levels=1, dictionary="improved")
+    assert r.radius == 0.9 and r.energies[0] == pytest.approx(improved_energy_from_k(r.k[0]), abs=1e-14)
+
+
+def test_improved_asymptotics_and_edge():
+    from hyperlattice.continuum.spectrum import asymptotic_energies, energy_infinity
+
+    assert energy_infinity(7, 3, dictionary="improved") == pytest.approx(-2.940960613699, abs=1e-11)
+    a = asymptotic_energies(7, 3, rings=12, dictionary="improved")
+    assert set(a) == {"E0", "E1", "E_inf"} and a["E_inf"] < a["E0"] < a["E1"]
+    with pytest.raises(ValueError, match="ring form"):
+        asymptotic_energies(7, 3, rings=12, form="rings", dictionary="improved")
+    with pytest.raises(ValueError):
+        asymptotic_energies(7, 3, rings=12, dictionary="better")

@@ -200,3 +200,69 @@ def test_disk_radius_for_rings_matches_eq12_and_reaches_huge_disks():
     assert L == 1.0 and 1e120 < x < 1e130
     with pytest.raises(ValueError, match="1e308"):
         disk_radius_for_rings(800, 7, 3)
+
+
+# ----------------------------------------------------------------------------
+# the improved dictionary (issue 13)
+# ----------------------------------------------------------------------------
+
+def _p_nu_mpmath(lam, d):
+    import mpmath as mp
+
+    mp.mp.dps = 30
+    nu = mp.mpf(-0.5) + 0.5j * mp.sqrt(mp.mpf(lam) - 1)
+    return float(mp.re(mp.hyp2f1(-nu, nu + 1, 1, (1 - mp.cosh(2 * mp.mpf(d))) / 2)))
+
+
+@pytest.mark.parametrize("lam, d", [(lam, d) for lam in (0.0, 0.3, 1.0, 1.7, 12.0, 400.0)
+                                    for d in (0.01, 0.2831281533676575, 1.3)] + [(1.0, 4.0), (2.5e4, 0.01)])
+def test_spherical_function_against_mpmath(lam, d):
+    from hyperlattice.dictionary import spherical_function
+
+    assert spherical_function(lam, d) == pytest.approx(_p_nu_mpmath(lam, d), abs=2e-14)
+
+
+def test_spherical_function_is_the_circle_average():
+    """Mean-value property: the average of psi_K (an eigenfunction, eig12) over the geodesic circle
+    of radius d about z equals phi_lambda(d) psi_K(z)."""
+    from hyperlattice.continuum.spectrum import psi_K
+    from hyperlattice.dictionary import spherical_function
+    from hyperlattice.geometry import mobius_inverse
+
+    k, d, z = 0.7, 0.3, 0.35 + 0.2j
+    w = math.tanh(d) * np.exp(2j * np.pi * np.arange(256) / 256)
+    pts = mobius_inverse(w, z)      # the circle of radius d about z
+    avg = np.mean(psi_K(pts, k))
+    assert avg == pytest.approx(spherical_function(1 + k * k, d) * psi_K(np.array([z]), k)[0], rel=1e-12)
+
+
+def test_improved_map_is_the_paper_map_at_order_h2():
+    """E = -q P_nu((1+h^2)/(1-h^2)) = -q + (q/4) h^2 lam + q (lam/8 - lam^2/64) h^4 + O(h^6)."""
+    from hyperlattice.dictionary import laplacian_coefficient, spherical_mean_energy
+
+    for q in (3, 4, 7):
+        for lam in (0.5, 1.0, 3.0):
+            for h in (0.02, 0.01, 0.005):
+                e = spherical_mean_energy(lam, q, h)
+                paper = -q + laplacian_coefficient(q, h) * lam
+                # order h^2 agrees: the difference is O(h^4) with the predicted coefficient
+                c4 = (e - paper) / h ** 4
+                assert c4 == pytest.approx(q * (lam / 8 - lam * lam / 64), rel=5 * h * h * (1 + lam), abs=1e-6)
+
+
+def test_improved_values_for_73():
+    from hyperlattice.dictionary import (dirichlet_radius_shift, disk_radius_for_rings, improved_band_bottom,
+                                         improved_disk_for_rings, improved_energy_from_k,
+                                         improved_lambda_from_energy, map_energy_from_k, energy_from_k)
+
+    assert improved_band_bottom(7, 3) == pytest.approx(-2.940960613698996, abs=1e-13)
+    assert dirichlet_radius_shift(7, 3) == pytest.approx(0.1353749, abs=2e-7)
+    L, x = improved_disk_for_rings(10)
+    La, xa = disk_radius_for_rings(10)
+    assert 0.5 * math.acosh(x) - 0.5 * math.acosh(xa) == pytest.approx(dirichlet_radius_shift(), rel=1e-9)
+    assert math.atanh(L) - math.atanh(La) == pytest.approx(dirichlet_radius_shift(), rel=1e-6)
+    for e in (-2.94, -2.5, 0.0, 1.0):
+        lam = improved_lambda_from_energy(e)
+        assert float(improved_energy_from_k(math.sqrt(max(lam - 1, 0)))) == pytest.approx(e, abs=1e-12) or lam < 1
+    assert map_energy_from_k(0.4) == energy_from_k(0.4)
+    assert map_energy_from_k(0.4, dictionary="improved") == improved_energy_from_k(0.4)
