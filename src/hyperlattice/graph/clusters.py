@@ -176,7 +176,9 @@ class Cluster(Result):
         v = np.repeat(np.arange(self.sites, dtype=np.int32), self.q)
         u = self.neighbours.ravel()
         keep = v < u
-        out = np.stack([v[keep], u[keep]], axis=1)
+        v, u = v[keep], u[keep]
+        order = np.lexsort((u, v))  # rows of the neighbour table are in rotation order, not sorted
+        out = np.stack([v[order], u[order]], axis=1)
         out.setflags(write=False)
         return out
 
