@@ -65,7 +65,7 @@ def test_stored_level_12():
 
 
 def test_root_interpolant_is_the_dirichlet_root():
-    r = np.array([0.5, 0.77, 1.3, 2.9, 6.1, 13.0, 47.0, 180.0, 299.0])
+    r = np.array([0.5, 1.3, 6.1, 47.0, 299.0])
     for m in (0, 1):
         direct = np.array([dirichlet_roots(m, x=math.cosh(2 * v), n_roots=1)[0] for v in r])
         assert np.allclose(limits._disk_k(m, r), direct, rtol=2e-14, atol=0)
@@ -108,8 +108,8 @@ def test_band_bottom_73(band73):
 def test_schur_bound_is_an_upper_bound():
     """W = 0 gives 2.9655 (the paper's 2.966); a wider window is tighter; both lie above every
     flake's lambda_max (rho >= lambda_max(flake)) and the pattern set is closed."""
-    b0 = schur_bound(7, 3, window=0, rings=8)
-    b4 = schur_bound(7, 3, window=4, rings=8)
+    b0 = schur_bound(7, 3, window=0, rings=7)
+    b4 = schur_bound(7, 3, window=4, rings=7)
     assert b0.bound == pytest.approx(2.96545, abs=2e-5)
     assert b0.closed and b4.closed
     assert -REFERENCE_LEVELS[(7, 3)][14][0] < b4.bound < b0.bound < 2.966

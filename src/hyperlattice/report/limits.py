@@ -136,7 +136,7 @@ def limits_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[
          f"{plateau.terms['isotropic_h4'] / plateau.terms['total']:.3f}"],
         ["isotropic h^6 and beyond (exact -q P_-1/2(cosh 2d0))", f"{plateau.terms['isotropic_rest']:.4e}",
          f"{plateau.terms['isotropic_rest'] / plateau.terms['total']:.3f}"],
-        ["anisotropic m = ±q (h^3 D, adj32) at second order",
+        ["anisotropic m = ±q, ±2q, ... (h^3 D of adj32 and beyond): the rest",
          f"{plateau.terms['anisotropic']:.4e} ± {plateau.terms['anisotropic_error']:.1e}",
          f"{plateau.terms['share_anisotropic']:.3f}"]],
         "The gap between the lattice's band bottom and the paper map's E_inf = -3 + (3/4)h^2, split into the "
@@ -184,14 +184,14 @@ def limits_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[
         f"{b73.band_mass:.5f} exceeds the paper's (3/4)h^2 = {b73.paper_edge + 3:.5f}. The gap is the isotropic "
         f"O(h^4) term of the star, (7q/64)h^4 = {plateau.terms['isotropic_h4']:.3e}, plus "
         f"{plateau.terms['isotropic_rest']:.1e} from higher isotropic orders; the anisotropic O(h^3) term D "
-        f"(adj32) averages out and shifts the band only at second order, by {plateau.terms['anisotropic']:.1e}.",
+        f"(adj32) averages to zero over the star orientations; the anisotropic orders leave {plateau.terms['anisotropic']:.1e}.",
         f"Improved dictionary. Summing the isotropic part of the star exactly (mean-value property of "
         f"eigenfunctions: E = -q P_nu(cosh 2d0), nu = (-1 + ik)/2) and putting the Dirichlet wall where the "
         f"lattice puts it (on the missing neighbours, half a bond beyond the area radius of eq12) lowers the "
         f"relative error at l = {last} from {abs(cmp.paper_E0[-1]):.2e} to {abs(cmp.improved_E0[-1]):.2e} (E0, "
         f"{gain['E0']:.0f}x) and from {abs(cmp.paper_E1[-1]):.2e} to {abs(cmp.improved_E1[-1]):.2e} (E1, "
         f"{gain['E1']:.0f}x). The rest does not vanish as l -> infinity: it tends to (-rho - E_inf^impr)/rho = "
-        f"{cmp.improved_limit:.1e} ± {cmp.improved_limit_error:.1e}, the second-order shift of the anisotropic "
+        f"{cmp.improved_limit:.1e} ± {cmp.improved_limit_error:.1e}, the net shift of the anisotropic "
         "m = ±q part of the star; at finite l a positive boundary term (the flake is not a disk) decays like "
         "1/l^2, so the improved error crosses zero near the largest computed flakes and settles at that limit.",
         "Trend in p: -rho against the two maps' edges (and how much of the paper map's miss -rho - E_inf is "
