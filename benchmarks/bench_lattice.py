@@ -1,6 +1,8 @@
-"""Lattice construction: hyperlattice.ring_lattice (+ adjacency) vs hypertiling, same run.
+"""Lattice construction: hyperlattice.ring_lattice (+ adjacency) and the sector-only build
+(``sector_lattice``: one site per rotation orbit, what the E0/E1 solver needs) vs hypertiling, same run.
 
-Prints sites per second of each and the ratio. hypertiling builds the paper's {7,3} ring
+Prints sites per second of each (sites of the full lattice for the sector-only build too) and the
+ratios. hypertiling builds the paper's {7,3} ring
 lattice as cells of {3,7} with ``kernel="SRS", center="vertex"`` (with neighbours), and its
 fastest kernel ``GRC`` (cell-centred tiling, coordinates only) is timed at the same number of
 layers. Usage: ``python benchmarks/bench_lattice.py [--rings 12] [--repeat 3]``.
@@ -44,6 +46,14 @@ def main(argv=None):
     print(f"  hyperlattice ring_lattice + adjacency : {t_ours:8.3f} s  {n / t_ours:12.0f} sites/s  (N = {n})"
           f"  peak RSS so far {peak_rss_mb():.0f} MB")
 
+    from hyperlattice.graph.sectors import sector_lattice
+
+    t_sec, slat = best_of(lambda: sector_lattice(7, 3, args.rings), args.repeat)
+    print(f"  hyperlattice sector_lattice (orbits)   : {t_sec:8.3f} s  {n / t_sec:12.0f} sites/s  (N = {slat.sites},"
+          f" {slat.size} orbits)  peak RSS so far {peak_rss_mb():.0f} MB")
+    t_secz, _ = best_of(lambda: sector_lattice(7, 3, args.rings, coordinates=True), args.repeat)
+    print(f"  ... with orbit coordinates kept        : {t_secz:8.3f} s  {n / t_secz:12.0f} sites/s")
+
     rates = {}
     # GRC counts layers differently: take the smallest n whose tiling has at least N cells
     # (exponential then binary search: each probe builds a tiling)
@@ -73,6 +83,7 @@ def main(argv=None):
         print(f"  {name:38s}: {t:8.3f} s  {cells / t:12.0f} sites/s  (N = {cells})")
     fastest = max(c / t for t, c in rates.values())
     print(f"ratio (hyperlattice sites/s over the fastest hypertiling kernel): {n / t_ours / fastest:.1f}x")
+    print(f"ratio (sector-only build sites/s over the fastest hypertiling kernel): {n / t_sec / fastest:.1f}x")
     print(f"peak RSS: {peak_rss_mb():.0f} MB")
 
 

@@ -54,8 +54,9 @@ def test_real_blocks_share_one_sparsity_pattern():
         assert np.array_equal(b.indptr, pats[0].indptr) and np.array_equal(b.indices, pats[0].indices)
 
 
-@pytest.mark.parametrize("p,q,rings", [(7, 3, 6), (7, 3, 9), (8, 3, 6), (4, 5, 5), (3, 7, 6)])
-@pytest.mark.parametrize("backend", ["auto", "splu"])
+@pytest.mark.parametrize("p,q,rings,backend", [(7, 3, 6, "auto"), (7, 3, 8, "auto"), (8, 3, 5, "auto"),
+                                               (4, 5, 4, "auto"), (3, 7, 5, "auto"), (7, 3, 7, "splu"),
+                                               (5, 4, 4, "splu")])
 def test_lowest_pair_equals_lowest_levels(p, q, rings, backend):
     ref = lowest_levels(ring_lattice(p, q, rings), 2)
     got = lowest_pair(p, q, rings, backend=backend)

@@ -365,22 +365,26 @@ def mirror_basis(slat: SectorLattice, mirror: str) -> tuple[np.ndarray, np.ndarr
     return idx, mag, gamma, int(cum[-1])
 
 
-_ENTRIES = None
+_KERNELS = {}
 
 
-def _entries_kernel():
-    """numba kernel: the (row, col, value) entries of W^H G^H H_m G W (compiled on first use)."""
-    global _ENTRIES
-    if _ENTRIES is None:
+def _kernels():
+    r"""numba kernels of the mirror-reduced blocks (compiled on first use, cached on disk).
+
+    ``pattern`` emits the (row, col) of every term of :math:`W^H G^H H_m G W` (the same for all
+    m); ``values`` accumulates the real part of each term into its CSR slot. The phase of a
+    term is :math:`\pi\kappa/p + d\pi/2` with the integer :math:`\kappa = m(2s + t_a - t_b)` and
+    :math:`d \in \{0, \pm1, \pm2\}` from the basis phases, so two small tables replace cos().
+    """
+    if not _KERNELS:
         import numba
 
         @numba.njit(cache=True)
-        def entries(rows, cols, shifts, tmir, idx, mag, gamma, m, p, t, out_r, out_c, out_v):  # pragma: no cover
+        def pattern(rows, cols, idx, mag, out_r, out_c):  # pragma: no cover - jitted
             k = 0
             for e in range(rows.shape[0]):
                 a = rows[e]
                 b = cols[e]
-                base = np.pi * m * (2.0 * shifts[e] + tmir[a] - tmir[b]) / p
                 for i in range(2):
                     if mag[i, a] == 0.0:
                         continue
@@ -389,12 +393,97 @@ def _entries_kernel():
                             continue
                         out_r[k] = idx[i, a]
                         out_c[k] = idx[j, b]
-                        out_v[k] = -t * mag[i, a] * mag[j, b] * np.cos(base - gamma[i, a] + gamma[j, b])
                         k += 1
             return k
 
-        _ENTRIES = entries
-    return _ENTRIES
+        @numba.njit(cache=True)
+        def slots(out_r, out_c, indptr, indices, slot):  # pragma: no cover - jitted
+            for k in range(out_r.shape[0]):
+                r = out_r[k]
+                c = out_c[k]
+                for x in range(indptr[r], indptr[r + 1]):
+                    if indices[x] == c:
+                        slot[k] = x
+                        break
+
+        @numba.njit(cache=True)
+        def values(rows, cols, shifts, tmir, mag, quarter, m, p, t, costab, sintab, slot, data):  # pragma: no cover
+            k = 0
+            two_p = 2 * p
+            for e in range(rows.shape[0]):
+                a = rows[e]
+                b = cols[e]
+                kappa = (m * (2 * shifts[e] + tmir[a] - tmir[b])) % two_p
+                if kappa < 0:
+                    kappa += two_p
+                cb = costab[kappa]
+                sb = sintab[kappa]
+                for i in range(2):
+                    if mag[i, a] == 0.0:
+                        continue
+                    for j in range(2):
+                        if mag[j, b] == 0.0:
+                            continue
+                        d = quarter[j, b] - quarter[i, a]
+                        if d == 0:
+                            v = cb
+                        elif d == 1:
+                            v = -sb
+                        elif d == -1:
+                            v = sb
+                        else:
+                            v = -cb
+                        data[slot[k]] += -t * mag[i, a] * mag[j, b] * v
+                        k += 1
+
+        _KERNELS.update(pattern=pattern, slots=slots, values=values)
+    return _KERNELS
+
+
+class _BlockFactory:
+    """Mirror-reduced blocks of one SectorLattice: the pattern of each kind is built once."""
+
+    def __init__(self, slat: SectorLattice):
+        self.slat = slat
+        self._patterns = {}
+
+    def _pattern(self, mirror: str):
+        if mirror not in self._patterns:
+            slat = self.slat
+            k = _kernels()
+            idx, mag, gamma, dim = mirror_basis(slat, mirror)
+            nz = np.count_nonzero(mag, axis=0)
+            count = int(np.dot(nz[slat.rows].astype(np.int64), nz[slat.cols]))
+            out_r = np.empty(count, dtype=np.int32)
+            out_c = np.empty(count, dtype=np.int32)
+            k["pattern"](slat.rows, slat.cols, idx.astype(np.int32), mag, out_r, out_c)
+            pat = sp.csr_matrix((np.ones(count, dtype=np.int8), (out_r, out_c)), shape=(dim, dim))
+            pat.sum_duplicates()
+            pat.sort_indices()
+            slot = np.empty(count, dtype=np.int32 if count < 2**31 else np.int64)
+            k["slots"](out_r, out_c, pat.indptr, pat.indices, slot)
+            del out_r, out_c
+            quarter = np.rint(gamma / (0.5 * np.pi)).astype(np.int64)
+            self._patterns[mirror] = (pat.indptr, pat.indices, slot, mag, quarter, dim)
+        return self._patterns[mirror]
+
+    def dim(self, mirror: str) -> int:
+        """Dimension of the blocks of this kind."""
+        return mirror_basis(self.slat, mirror)[3] if mirror not in self._patterns else self._patterns[mirror][5]
+
+    def block(self, m: int, mirror: str, t: float) -> sp.csr_matrix:
+        indptr, indices, slot, mag, quarter, dim = self._pattern(mirror)
+        slat = self.slat
+        p = slat.p
+        kappa = np.arange(2 * p)
+        data = np.zeros(indices.shape[0])
+        _kernels()["values"](slat.rows, slat.cols, slat.shifts.astype(np.int64), slat.mirror_shift.astype(np.int64),
+                             mag, quarter, int(m), int(p), float(t), np.cos(np.pi * kappa / p),
+                             np.sin(np.pi * kappa / p), slot, data)
+        # the imaginary parts cancel between mirror images (B is real), so the real parts are B
+        mat = sp.csr_matrix((data, indices, indptr), shape=(dim, dim))
+        mat.has_sorted_indices = True
+        return mat
 
 
 def sector_block(slat: SectorLattice, m: int, *, mirror: str | None = None, t: float = 1.0,
@@ -442,19 +531,8 @@ def sector_block(slat: SectorLattice, m: int, *, mirror: str | None = None, t: f
         mat = sp.csr_matrix((vals, (slat.rows, slat.cols)), shape=(n, n))
         dim = n
     else:
-        idx, mag, gamma, dim = mirror_basis(slat, mirror)
-        nz = np.count_nonzero(mag, axis=0)
-        count = int(np.dot(nz[slat.rows].astype(np.int64), nz[slat.cols]))
-        out_r = np.empty(count, dtype=np.int32)
-        out_c = np.empty(count, dtype=np.int32)
-        out_v = np.empty(count, dtype=np.float64)
-        k = _entries_kernel()(slat.rows, slat.cols, slat.shifts, slat.mirror_shift.astype(np.int64),
-                              idx.astype(np.int32), mag, gamma, float(m), float(p), float(t), out_r, out_c, out_v)
-        if k != count:  # pragma: no cover - the count above is the kernel's own loop
-            raise AssertionError("sector_block: entry count mismatch")
-        # the imaginary parts cancel between mirror images (B is real), so the real parts are B
-        mat = sp.csr_matrix((out_v, (out_r, out_c)), shape=(dim, dim))
-        del out_r, out_c, out_v
+        mat = _BlockFactory(slat).block(m, mirror, t)
+        dim = mat.shape[0]
     if shift:
         mat = mat - shift * sp.identity(dim, format="csr", dtype=mat.dtype)
     mat.sum_duplicates()
@@ -545,34 +623,50 @@ def lowest_pair(p: int = 7, q: int = 3, rings: int = 3, *, t: float = 1.0, tol: 
         raise ValueError("a flake with one site has no E1.")
     info = {}
     with _single_threaded_blas():
-        blocks = {}
-        for spec in _block_specs(p):
+        factory = _BlockFactory(sectors)
+        held = {}
+
+        def block(spec, keep):
+            """The real block of spec, built on demand; only the blocks holding a level stay in memory."""
+            if spec in held:
+                return held[spec]
             t0 = time.perf_counter()
-            b = sector_block(sectors, spec[0], mirror=spec[1], t=t)
-            if b.shape[0]:
-                blocks[spec] = b
+            mat = factory.block(spec[0], spec[1], t)
             timings[f"block {spec[0]} {spec[1]}"] = time.perf_counter() - t0
+            if keep:
+                held[spec] = mat
+            return mat
+
+        specs = [spec for spec in _block_specs(p) if factory.dim(spec[1]) > 0]
         analyses = {}
 
-        def lowest(spec, k):
+        def key(spec):  # the real forms of m = 1..p/2 share one sparsity pattern, hence one analysis
+            return "real" if spec[1] == "real" else spec
+
+        def lowest(spec, k, below=None):
             """k lowest levels of a block: sigma below them (proved by inertia), then shift-invert."""
+            mat = block(spec, True)
             t0 = time.perf_counter()
-            mat = blocks[spec]
             if mat.shape[0] <= 2 * k + 2 or mat.shape[0] <= 400:
                 w, v = sla.eigh(mat.toarray())
                 e, v = w[:k], v[:, :k]
                 res = np.linalg.norm(mat @ v - v * e[None, :], axis=0)
                 timings[f"solve {spec[0]} {spec[1]}"] = time.perf_counter() - t0
                 return e, res
-            theta = _lanczos_ritz(mat, 40)
-            spread = max(float(theta[-1] - theta[0]), 1e-3 * t)
-            # theta[k-1] >= the k-th level (interlacing); step below it until the inertia
-            # count shows nothing below sigma
-            delta = max(float(theta[min(k, theta.shape[0] - 1)] - theta[k - 1]), 1e-4 * spread)
+            if below is not None:
+                # a known lower bound of the block's levels (E0 for every other block)
+                theta = np.array([below])
+                delta = 1e-3 * t
+            else:
+                theta = _lanczos_ritz(mat, 40)
+                spread = max(float(theta[-1] - theta[0]), 1e-3 * t)
+                # theta[k-1] >= the k-th level (interlacing): step below it until the inertia
+                # count shows nothing below sigma
+                delta = max(float(theta[min(k, theta.shape[0] - 1)] - theta[k - 1]), 1e-4 * spread)
             for _ in range(60):
-                sigma = float(theta[k - 1]) - delta
-                factor = _SymmetricFactor(mat, sigma, backend, analyses.get(spec))
-                analyses[spec] = factor.analysis
+                sigma = float(theta[min(k, theta.shape[0]) - 1]) - delta
+                factor = _SymmetricFactor(mat, sigma, backend, analyses.get(key(spec)))
+                analyses[key(spec)] = factor.analysis
                 if factor.negatives == 0 or factor.negatives is None:
                     break
                 delta *= 2.0
@@ -587,10 +681,11 @@ def lowest_pair(p: int = 7, q: int = 3, rings: int = 3, *, t: float = 1.0, tol: 
         e0, r0 = lowest((0, "even"), 1)
         found = {(0, "even"): (e0, r0)}
         # E1: the (+-1) pair for every {p,q} measured so far; the inertia counts below check it
-        candidates = [(1, "real")] if (1, "real") in blocks else []
+        candidates = [(1, "real")] if (1, "real") in specs else []
         for spec in candidates:
-            found[spec] = lowest(spec, 1)
-        for _ in range(len(blocks) + 1):
+            # every level lies above E0 (minus its error): the shift just below E0 needs no search
+            found[spec] = lowest(spec, 1, below=float(e0[0]) - 2.0 * float(r0[0]))
+        for _ in range(len(specs) + 1):
             levels = sorted((float(e[j]), spec, j, float(r[j])) for spec, (e, r) in found.items()
                             for j in range(e.shape[0]))
             if len(levels) < 2:  # only the ground state so far: take the next level of m = 0 even
@@ -598,18 +693,20 @@ def lowest_pair(p: int = 7, q: int = 3, rings: int = 3, *, t: float = 1.0, tol: 
                 continue
             e1, spec1, _, res1 = levels[1]
             x = e1 - 2.0 * res1 - 1e-13 * max(1.0, abs(e1))
-            t0 = time.perf_counter()
             missing = None
             counts = {}
-            for spec, mat in blocks.items():
+            for spec in specs:
+                mat = block(spec, False)
+                t0 = time.perf_counter()
                 have = sum(1 for lv in levels if lv[1] == spec and lv[0] < x)
-                factor = _SymmetricFactor(mat, x, backend, analyses.get(spec))
-                analyses[spec] = factor.analysis
+                factor = _SymmetricFactor(mat, x, backend, analyses.get(key(spec)))
+                analyses[key(spec)] = factor.analysis
                 counts[spec] = factor.negatives
-                if factor.negatives is not None and factor.negatives > have:
-                    missing = (spec, factor.negatives)
+                del factor, mat
+                timings["inertia"] = timings.get("inertia", 0.0) + time.perf_counter() - t0
+                if counts[spec] is not None and counts[spec] > have:
+                    missing = (spec, counts[spec])
                     break
-            timings["inertia"] = timings.get("inertia", 0.0) + time.perf_counter() - t0
             if missing is None:
                 break
             spec, count = missing
