@@ -114,8 +114,8 @@ REFERENCE_COMMAND = ("python -c \"from hyperlattice import ring_lattice, lowest_
                      "print([lowest_levels(ring_lattice(p, q, l), 2).energies for l in range(1, lmax + 1)])\"")
 
 #: E0, E1 of the l-ring {p,q} flakes (H = -A), by (p, q) and l: lowest_levels, residuals <= 4e-13
-#: (REFERENCE_COMMAND); {7,3} l = 15 (13,023,472 sites) from the sector-only shift-invert solver of
-#: hyperlattice.graph.sectors (residuals 7e-15; ``python benchmarks/table_e0e1.py --flakes 15``).
+#: (REFERENCE_COMMAND); {7,3} l = 15, 16 (13.0M, 34.1M sites) from the sector-only shift-invert solver
+#: of hyperlattice.graph.sectors (residuals <= 7e-15; ``python benchmarks/table_e0e1.py --flakes 15 16``).
 REFERENCE_LEVELS: dict = {
     (7, 3): {
         1: (-2.0, -1.246979603717467),
@@ -133,6 +133,7 @@ REFERENCE_LEVELS: dict = {
         13: (-2.9291984097009798, -2.9252181866492206),
         14: (-2.9307020646806765, -2.9274675618622017),
         15: (-2.931936706435444, -2.9292730872135992),
+        16: (-2.9329633385457172, -2.9307440634818835),
     },
     (8, 3): {
         1: (-2.0, -1.414213562373095),

@@ -130,6 +130,9 @@ def limits_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[
     later = ell[(ell >= 12) & (ell <= 14)]
     pred, perr = test.predict(later)
     actual = e0[np.isin(ell, later)]
+    top = int(ell[-1])
+    prev = band_bottom(7, 3, ell[ell >= 3], e0[ell >= 3], e1[ell >= 3], schur_window=None, max_rings=top - 1)
+    p_top = [prev.predict([top], level=lv) for lv in (0, 1)]
     t_terms = Table("plateau_terms", ["term", "value", "share_of_total"], [
         ["-rho - E_inf (total)", f"{plateau.terms['total']:.4e} ± {plateau.terms['total_error']:.1e}", "1"],
         ["isotropic h^4: (7q/64) h^4", f"{plateau.terms['isotropic_h4']:.4e}",
@@ -174,6 +177,8 @@ def limits_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[
         + " (prediction - computed); "
         + ("every prediction lies inside its error bar." if np.all(np.abs(pred - actual) <= perr)
            else "NOT every prediction lies inside its error bar.")
+        + f" Fitted on l <= {top - 1}, it predicts the largest flake, l = {top}: E0 {p_top[0][0][0] - e0[-1]:+.1e} "
+        f"(bar {p_top[0][1][0]:.1e}), E1 {p_top[1][0][0] - e1[-1]:+.1e} (bar {p_top[1][1][0]:.1e})."
         if later.size else "Extrapolation test: needs l = 12..14.",
         f"Why the plateau. The graph levels go to -rho, the paper map's continuum levels to E_inf = "
         f"{b73.paper_edge:.6f}, so the relative error tends to (-rho - E_inf)/rho = {plateau.limit:.3e} ± "
