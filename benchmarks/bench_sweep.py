@@ -16,7 +16,8 @@ overhead per task against a plain loop. Everything runs in this process, one aft
 The machine is shared: the load average before and after is printed, and the ratio is only as good
 as the second core is free.
 
-Usage: ``python benchmarks/bench_sweep.py [--rings 6] [--realizations 200] [--loop 10] [--probes 400]``.
+Usage: ``python benchmarks/bench_sweep.py [--rings 6] [--realizations 200] [--loop 10] [--probes 400]
+[--order 1 2]``.
 """
 
 from __future__ import annotations
@@ -59,6 +60,8 @@ def main(argv=None) -> int:
     ap.add_argument("--realizations", type=int, default=200)
     ap.add_argument("--loop", type=int, default=10, help="realizations of the plain loop (time per task)")
     ap.add_argument("--probes", type=int, default=400, help="no-op tasks for the overhead")
+    ap.add_argument("--order", type=int, nargs="+", default=[1, 2],
+                    help="worker counts in the order run (e.g. 2 1 2 1 to average out a changing load)")
     args = ap.parse_args(argv)
 
     print(f"machine: {machine()}")
@@ -76,14 +79,18 @@ def main(argv=None) -> int:
     grid = {"rings": [args.rings], "W": [args.W], "realization": list(range(args.realizations))}
     with tempfile.TemporaryDirectory() as tmp:
         root = Path(tmp)
-        rates = {}
-        for workers in (1, 2):
+        rates: dict = {}
+        for workers in args.order:
             start, sweep, rows = _cluster_sweep(grid, "disorder", workers, root)
-            rates[workers] = rows / sweep
-            print(f"{workers} worker(s): {rows} realizations in {sweep:.1f} s = {rates[workers]:.3f} per s "
-                  f"({sweep / rows:.3f} s per realization; cluster start-up {start:.1f} s)")
-        print(f"speed-up 2 workers / 1 worker: {rates[2] / rates[1]:.2f} (ideal 2)")
-        print(f"1 worker against the plain loop: {(1 / rates[1]) / per_task:.3f} x the time per realization")
+            rates.setdefault(workers, []).append(rows / sweep)
+            print(f"{workers} worker(s): {rows} realizations in {sweep:.1f} s = {rows / sweep:.3f} per s "
+                  f"({sweep / rows:.3f} s per realization; cluster start-up {start:.1f} s; "
+                  f"1-min load average at the end {os.getloadavg()[0]:.2f})")
+        rate = {w: sum(r) / len(r) for w, r in rates.items()}
+        if 1 in rate and 2 in rate:
+            print(f"speed-up 2 workers / 1 worker: {rate[2] / rate[1]:.2f} (ideal 2)")
+        if 1 in rate:
+            print(f"1 worker against the plain loop: {(1 / rate[1]) / per_task:.3f} x the time per realization")
 
         # the engine's own cost per task
         n = args.probes

@@ -34,6 +34,7 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 from .. import __version__, _validate
+from ..errors import HyperlatticeError
 from ..results import Result
 from .store import SweepStore
 from .tasks import execute, get_task
@@ -175,7 +176,7 @@ def _run_serial(task, todo, keys, write, retries, failures, bar, on_row, deadlin
                 row = execute(task, params)
                 err = None
                 break
-            except (ValueError, ArithmeticError, RuntimeError, MemoryError) as exc:   # a task's own failure
+            except Exception as exc:    # any failure of the task is reported, as Dask would (Ctrl-C passes)
                 err = exc
         if err is not None:
             failures.append({"key": key, "params": params, "error": _error_text(err), "attempts": retries + 1})
@@ -199,7 +200,10 @@ def _client_for(scheduler, workers: int | None):
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=processes, dashboard_address=None)
         client = Client(cluster)
         return client, cluster, f"local ({n} {'processes' if processes else 'threads'})", True
-    client = Client(scheduler, timeout=30)
+    try:
+        client = Client(scheduler, timeout=30)
+    except (OSError, TimeoutError) as exc:
+        raise HyperlatticeError(f"cannot reach the Dask scheduler at {scheduler}: {_error_text(exc)}") from None
     return client, None, str(scheduler), True
 
 
