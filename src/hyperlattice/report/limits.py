@@ -160,6 +160,13 @@ def limits_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[
                          "error| of E0 and E1 for both maps.")
     gain = cmp.gain()
     last = int(cmp.rings[-1])
+    r0 = plateau.relative_E0
+    if r0[-1] > r0[-2]:
+        trend = f"The computed E0 errors are still rising at l = {last} ({r0[-1]:.4e})."
+    else:
+        i_max = int(np.argmax(r0))
+        trend = (f"The computed E0 errors have turned over: largest {r0[i_max]:.4e} at l = {int(plateau.rings[i_max])}, "
+                 f"{r0[-1]:.4e} at l = {last}.")
     sch = b73.schur or {}
     text = [
         f"Band bottom. The flake levels approach -rho like E_b + M k0(R)^2 with k0 ~ pi/(R + c) the lowest "
@@ -178,13 +185,15 @@ def limits_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[
         + ("every prediction lies inside its error bar." if np.all(np.abs(pred - actual) <= perr)
            else "NOT every prediction lies inside its error bar.")
         + f" Fitted on l <= {top - 1}, it predicts the largest flake, l = {top}: E0 {p_top[0][0][0] - e0[-1]:+.1e} "
-        f"(bar {p_top[0][1][0]:.1e}), E1 {p_top[1][0][0] - e1[-1]:+.1e} (bar {p_top[1][1][0]:.1e})."
+        f"(bar {p_top[0][1][0]:.1e}), E1 {p_top[1][0][0] - e1[-1]:+.1e} (bar {p_top[1][1][0]:.1e})"
+        + (", inside the bars." if abs(p_top[0][0][0] - e0[-1]) <= p_top[0][1][0]
+           and abs(p_top[1][0][0] - e1[-1]) <= p_top[1][1][0] else ", NOT inside the bars.")
         if later.size else "Extrapolation test: needs l = 12..14.",
         f"Why the plateau. The graph levels go to -rho, the paper map's continuum levels to E_inf = "
         f"{b73.paper_edge:.6f}, so the relative error tends to (-rho - E_inf)/rho = {plateau.limit:.3e} ± "
         f"{plateau.limit_error:.1e}; the fitted levels continued to large l give {plateau.fitted_limit_E0:.3e} "
-        f"(E0) and {plateau.fitted_limit_E1:.3e} (E1). The computed errors are still rising at l = {last} "
-        f"({plateau.relative_E0[-1]:.3e}); the fitted curve peaks at {plateau.peak_value:.3e} near l = "
+        f"(E0) and {plateau.fitted_limit_E1:.3e} (E1). " + trend + f" The fitted E0 curve peaks at "
+        f"{plateau.peak_value:.3e} near l = "
         f"{plateau.peak_rings:.0f} and falls back to the limit like 1/l^2, because the lattice's band curvature M = "
         f"{b73.band_mass:.5f} exceeds the paper's (3/4)h^2 = {b73.paper_edge + 3:.5f}. The gap is the isotropic "
         f"O(h^4) term of the star, (7q/64)h^4 = {plateau.terms['isotropic_h4']:.3e}, plus "
