@@ -5,7 +5,9 @@ from __future__ import annotations
 import pytest
 
 from badinput import api_cases, check_api, check_cli, cli_cases
-from hyperlattice.graph import clusters, groups
+from hyperlattice.graph import bands, clusters, groups
+
+BOLZA = clusters.pbc_cluster(8, 3, "bolza")
 
 # (id, function, working keyword arguments, {argument: tags it legitimately accepts})
 CASES = [
@@ -20,6 +22,12 @@ CASES = [
     ("coset_table", groups.coset_table, dict(n_generators=2, relators=["x^2", "y^3", "(x y)^3"]),
      {"relators": {"ragged"}}),
     ("parse_word", groups.parse_word, dict(text="x y X"), {}),
+    ("edge_windings", bands.edge_windings, dict(cluster=BOLZA), {}),
+    ("bloch_hamiltonian", bands.bloch_hamiltonian, dict(cluster=BOLZA, k=[0.1, 0.2, 0.3, 0.4], t=1.0), {}),
+    ("abelian_cover", bands.abelian_cover, dict(cluster=BOLZA, n=2), {}),
+    ("k_path", bands.k_path, dict(genus=2, points=4), {}),
+    ("band_structure", bands.band_structure, dict(cluster=BOLZA, points=3), {}),
+    ("abelian_dos", bands.abelian_dos, dict(cluster=BOLZA, samples=8, bins=10, seed=0, batches=2), {}),
 ]
 
 # (subcommand words, flag, values of BAD_CLI that are legitimate)

@@ -38,6 +38,7 @@ from .. import _validate
 from ..errors import HyperlatticeError
 from ..results import Result
 from .clusters import Cluster, _finish
+from .solvers import _single_threaded_blas
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -379,7 +380,9 @@ def band_structure(cluster: Cluster, k=None, *, labels=None, ticks=None, points:
         ticks = np.array([0, len(k) - 1]) if ticks is None else np.asarray(ticks, dtype=int)
         labels = ["start", "end"] if labels is None else [str(s) for s in labels]
     w = edge_windings(c)
-    energies = np.array([np.linalg.eigvalsh(bloch_hamiltonian(c, kk, windings=w)) for kk in k])
+    # many small dense problems: a multi-threaded BLAS only waits for its threads here
+    with _single_threaded_blas():
+        energies = np.array([np.linalg.eigvalsh(bloch_hamiltonian(c, kk, windings=w)) for kk in k])
     step = np.linalg.norm(np.diff(k, axis=0), axis=1)
     distance = np.concatenate([[0.0], np.cumsum(step)])
     return Bands(k=k, distance=distance, energies=energies, ticks=distance[np.asarray(ticks)],
@@ -462,12 +465,13 @@ def abelian_dos(cluster: Cluster, *, samples: int = 400, bins: int = 200, seed: 
     width = edges[1] - edges[0]
     counts = np.zeros((batches, bins))
     sizes = np.zeros(batches)
-    for s, kk in enumerate(ks):
-        e = np.linalg.eigvalsh(bloch_hamiltonian(c, kk, windings=w))
-        # rounding can put the uniform state a hair below -q: clip into the first/last bin
-        h, _ = np.histogram(np.clip(e, -c.q, c.q), bins=edges)
-        counts[s % batches] += h
-        sizes[s % batches] += 1
+    with _single_threaded_blas():  # many small dense problems (see band_structure)
+        for s, kk in enumerate(ks):
+            e = np.linalg.eigvalsh(bloch_hamiltonian(c, kk, windings=w))
+            # rounding can put the uniform state a hair below -q: clip into the first/last bin
+            h, _ = np.histogram(np.clip(e, -c.q, c.q), bins=edges)
+            counts[s % batches] += h
+            sizes[s % batches] += 1
     per_batch = counts / (sizes[:, None] * c.sites * width)
     density = counts.sum(axis=0) / (samples * c.sites * width)
     errors = per_batch.std(axis=0, ddof=1) / np.sqrt(batches)

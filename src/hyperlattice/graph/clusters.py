@@ -436,7 +436,9 @@ def lattice_ball_counts(p: int, q: int, radius: int) -> tuple[np.ndarray, np.nda
 
     p, q = _validate.pq(p, q)
     radius = _validate.integer("radius", radius, minimum=0)
-    rings = 3
+    # a flake of l rings reaches 2 l - 3 steps or more from site 0 (at least l - 2 for small p):
+    # start near the size needed instead of building every smaller flake first
+    rings = max(3, (radius + 3) // 2 if p >= 7 else 3)
     while True:
         if site_count(p, q, rings) > _REFERENCE_MAX_SITES:
             raise ValueError(f"the {{{p},{q}}} lattice ball of radius {radius} needs a flake above "
@@ -452,20 +454,27 @@ def _systole(nb: np.ndarray, p: int, q: int) -> tuple[int, bool]:
 
     The ball of the cluster is compared radius by radius with the lattice ball; when the
     lattice ball needed no longer fits (:data:`_REFERENCE_MAX_SITES`), the systole is at least
-    2 R + 2 for the last radius R that matched, returned with ``exact = False``.
+    2 R + 2 for the last radius R that matched, returned with ``exact = False``. Both balls are
+    grown by about a third at a time, so the cost is that of the largest ball compared.
     """
+    lv = le = cv = ce = np.zeros(0, dtype=np.int64)
     radius = 0
     while True:
-        try:
-            lv, le = lattice_ball_counts(p, q, radius)
-        except ValueError:
-            return 2 * radius, False  # balls of radius radius - 1 matched
-        nv, ne = _ball_counts(nb, 0, radius)
-        if len(nv) <= radius:
-            raise HyperlatticeError("the cluster has no non-contractible cycle; it is not a closed surface.")
-        if nv[radius] < lv[radius]:
+        if radius >= len(lv):
+            try:
+                lv, le = lattice_ball_counts(p, q, max(radius, 4, (4 * len(lv)) // 3))
+            except ValueError:
+                try:  # the larger step did not fit; one more radius may
+                    lv, le = lattice_ball_counts(p, q, radius)
+                except ValueError:
+                    return 2 * radius, False  # balls of radius - 1 matched
+        if radius >= len(cv):
+            cv, ce = _ball_counts(nb, 0, max(radius, 4, (4 * len(cv)) // 3))
+            if radius >= len(cv):  # the search exhausted the cluster without a mismatch
+                raise HyperlatticeError("the cluster has no non-contractible cycle; it is not a closed surface.")
+        if cv[radius] < lv[radius]:
             return 2 * radius, True
-        if ne[radius] > le[radius]:
+        if ce[radius] > le[radius]:
             return 2 * radius + 1, True
         radius += 1
 
@@ -615,6 +624,22 @@ def _cached(p: int, q: int, name: str) -> Cluster:
     raise ValueError(f"unknown cluster name {name!r}; see list_clusters({p}, {q}).")
 
 
+#: clusters above this many sites are built afresh each time instead of being kept in memory
+_CACHE_MAX_SITES = 1_000_000
+
+
+def _lookup(p: int, q: int, name: str) -> Cluster:
+    m = _PSL_NAME.match(name)
+    if m:
+        digits = m.group(1)
+        if len(digits) > 7:
+            raise ValueError(f"r must be at most {_R_MAX:,}, got {digits[:20]}{'...' if len(digits) > 20 else ''}.")
+        r = int(digits)
+        if r > _R_MAX or groups.psl2_order(r) // q > _CACHE_MAX_SITES:
+            return psl2_cluster(p, q, r)  # refuses r above the limit with a ValueError
+    return _cached(p, q, name)
+
+
 def pbc_cluster(p: int, q: int, name: str | None = None, *, min_sites: int | None = None) -> Cluster:
     """A periodic {p,q} cluster (a {p,q} map on a closed surface).
 
@@ -644,7 +669,7 @@ def pbc_cluster(p: int, q: int, name: str | None = None, *, min_sites: int | Non
     if name is not None:
         if not isinstance(name, str):
             raise ValueError(f"name must be a string such as 'klein' or 'PSL(2,13)', got {name!r}.")
-        return _cached(p, q, name.strip())
+        return _lookup(p, q, name.strip())
     if min_sites is not None:
         min_sites = _validate.positive_int("min_sites", min_sites)
         for r in range(5, _R_MAX + 1):
@@ -652,7 +677,7 @@ def pbc_cluster(p: int, q: int, name: str | None = None, *, min_sites: int | Non
                 continue
             if _psl2_triple(p, q, r) is not None:
                 _check_fits(groups.psl2_order(r), f"a {{{p},{q}}} cluster with at least {min_sites:,} sites")
-                return _cached(p, q, f"PSL(2,{r})")
+                return _lookup(p, q, f"PSL(2,{r})")
         raise ValueError(f"no PSL(2,r) {{{p},{q}}} cluster with at least {min_sites:,} sites and r <= {_R_MAX}.")
     entries = list_clusters(p, q, max_sites=20_000)
     if not entries:
