@@ -73,3 +73,17 @@ def test_refuses_a_flake_that_does_not_fit_before_allocating():
     with pytest.raises(ValueError, match="max_bytes"):
         lowest_pair(7, 3, 12, max_bytes=10**6)
     assert flake_memory(7, 3, 16) > flake_memory(7, 3, 15)
+
+
+def test_unmet_tolerance_raises():
+    # residuals are ~1e-15: a tolerance far below them cannot be met and must not pass silently
+    with pytest.raises(ConvergenceError, match="residual"):
+        lowest_pair(7, 3, 6, tol=1e-20)
+
+
+def test_prebuilt_sector_lattice_is_used_and_labels_are_the_paper_ones():
+    slat = sector_lattice(7, 3, 7)
+    spec = lowest_pair(sectors=slat)
+    assert spec.rings == 7 and spec.sites == slat.sites
+    assert list(zip(spec.n.tolist(), spec.m.tolist())) == [(1, 0), (1, 1)]
+    assert spec.summary()["method"] == "sector-shift-invert"
