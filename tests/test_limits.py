@@ -219,7 +219,7 @@ def test_report_section(tmp_path, monkeypatch):
     assert (tmp_path / "fig_limits.png").exists()
     text = " ".join(sec.text)
     assert "every prediction lies inside its error bar" in text
-    assert "-2.9411" in text and "6.09" in text
+    assert "-rho(7,3) = -2.9411" in text and "(-rho - E_inf)/rho = 6.1" in text
     sources = {r[1] for r in sec.tables[2].rows}
     assert sources == {"computed", "stored"}
 
