@@ -149,3 +149,20 @@ def test_bad_input():
         B.abelian_cover(C.pbc_cluster(7, 3, "klein"), 20)
     with pytest.raises(ValueError):
         B.k_path(2, [("a", np.zeros(4))])
+
+
+def test_figure(tmp_path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from hyperlattice.plots.bands import bands_and_dos
+
+    c = C.pbc_cluster(8, 3, "bolza")
+    fig = bands_and_dos(B.band_structure(c, points=4), B.abelian_dos(c, samples=16, bins=20, batches=2),
+                        path=tmp_path / "b.png")
+    assert (tmp_path / "b.png").stat().st_size > 0 and len(fig.axes) == 2
+    plt.close(fig)
+    with pytest.raises(ValueError):
+        bands_and_dos("bands")

@@ -693,7 +693,8 @@ def list_clusters(p: int, q: int, *, max_sites: int = 100_000) -> list[dict]:
     built once to measure its systole, and kept in memory).
     """
     p, q = _validate.pq(p, q)
-    max_sites = _validate.positive_int("max_sites", max_sites, maximum=10**9)
+    # every listed cluster is built: beyond 10^7 sites use pbc_cluster(min_sites=...) directly
+    max_sites = _validate.positive_int("max_sites", max_sites, maximum=10**7)
     out = []
     names = [n for n, e in _known_table().items() if (e[0], e[1]) == (p, q)]
     for r in range(5, _R_MAX + 1):
