@@ -651,7 +651,7 @@ class BandBottom(Result):
                 "error": self.error, "rho": self.rho, "rigorous": [float(self.lower), float(self.upper)],
                 "consistent": self.consistent, "paper_edge": self.paper_edge,
                 "improved_edge": self.improved_edge, "band_mass": self.band_mass,
-                "paper_mass": hopping_scale(self.p, self.q), "schur": self.schur, "variants": self.variants}
+                "paper_mass": self.paper_edge + self.q, "schur": self.schur, "variants": self.variants}
 
     def plot(self, ax=None) -> Axes:
         """E0 of the flakes, the extrapolated band bottom with its error bar, the rigorous interval
