@@ -36,7 +36,7 @@ from hyperlattice.sweep import run_sweep  # noqa: E402
 from hyperlattice.sweep.tasks import TASKS, _probe, execute  # noqa: E402
 
 
-def _cluster_sweep(grid: dict, task: str, workers: int, root: Path) -> tuple[float, float, int]:
+def _cluster_sweep(grid: dict, task: str, workers: int, root: Path, run: int = 0) -> tuple[float, float, int]:
     """(start-up s, sweep s, rows) on a fresh local cluster of ``workers`` processes."""
     from distributed import Client, LocalCluster
 
@@ -47,7 +47,8 @@ def _cluster_sweep(grid: dict, task: str, workers: int, root: Path) -> tuple[flo
         client.run(lambda: __import__("hyperlattice.compare.disorder"))
         start = time.perf_counter() - t0
         t1 = time.perf_counter()
-        rep = run_sweep(task, grid, root / f"{task}-{workers}", scheduler=client, progress=False)
+        # a fresh directory per run: the same grid in the same directory would be skipped (resumed)
+        rep = run_sweep(task, grid, root / f"{task}-{workers}-{run}", scheduler=client, progress=False)
         sweep = time.perf_counter() - t1
     assert rep.ok, rep.failed
     return start, sweep, rep.completed
@@ -80,8 +81,8 @@ def main(argv=None) -> int:
     with tempfile.TemporaryDirectory() as tmp:
         root = Path(tmp)
         rates: dict = {}
-        for workers in args.order:
-            start, sweep, rows = _cluster_sweep(grid, "disorder", workers, root)
+        for run, workers in enumerate(args.order):
+            start, sweep, rows = _cluster_sweep(grid, "disorder", workers, root, run)
             rates.setdefault(workers, []).append(rows / sweep)
             print(f"{workers} worker(s): {rows} realizations in {sweep:.1f} s = {rows / sweep:.3f} per s "
                   f"({sweep / rows:.3f} s per realization; cluster start-up {start:.1f} s; "
