@@ -50,8 +50,8 @@ if TYPE_CHECKING:
 __all__ = ["Cluster", "pbc_cluster", "list_clusters", "cluster_from_relators", "psl2_cluster",
            "psl2_primes", "lattice_ball_counts", "map_code", "same_map", "KNOWN"]
 
-#: bytes per dart of the PSL construction (mark, rank table, vertex list, neighbour table, edges)
-_BYTES_PER_DART = 1 + 4 + 8 + 4 + 4
+#: bytes per dart of the PSL construction (mark, vertex list, neighbour table, later edges)
+_BYTES_PER_DART = 1 + 3 + 4 + 4
 #: largest prime r searched for the PSL(2, r) family (|G| ~ r^3/2: 10^9 darts at r ~ 1260)
 _R_MAX = 2000
 

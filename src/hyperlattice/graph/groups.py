@@ -488,12 +488,19 @@ def psl2_map(x, y, r: int, q: int) -> np.ndarray:
     T = _mul_tables(r, x, y, _mul(x, y, r))
     vmask = np.empty(n, dtype=np.uint8)
     k["psl2_mask"](np.int64(r), inv, T, q, vmask)
-    rank = np.cumsum(vmask, dtype=np.int32)
-    rank -= 1
     vreps = np.flatnonzero(vmask).astype(np.int64)
+    # the number of a vertex is the rank of its smallest dart among all smallest darts: a bit
+    # array with a running count per 64-bit word (n/8 + n/16 bytes) instead of an int32 table
+    # (4 n bytes), so that the look-ups, scattered all over, mostly hit the cache
+    bits = np.packbits(vmask, bitorder="little")
     del vmask
+    words = np.zeros((len(bits) + 7) // 8, dtype=np.uint64)
+    words.view(np.uint8)[: len(bits)] = bits
+    del bits
+    before = np.zeros(len(words), dtype=np.int64)
+    np.cumsum(np.bitwise_count(words)[:-1], out=before[1:])
     nb = np.empty((len(vreps), q), dtype=np.int32)
-    k["psl2_fill"](np.int64(r), inv, T, q, vreps, rank, nb)
+    k["psl2_fill"](np.int64(r), inv, T, q, vreps, words, before, nb)
     return nb
 
 
@@ -513,7 +520,7 @@ def _kernels() -> dict:
     """
     import numba
 
-    global _k_neg, _k_encode, _k_decode, _k_addmod, _k_mul, _k_vertex_min, _k_is_orbit_min
+    global _k_neg, _k_encode, _k_decode, _k_addmod, _k_mul, _k_vertex_min, _k_is_orbit_min, _k_rank
 
     @numba.njit(cache=True, inline="always")
     def _k_neg(v, r):
@@ -595,15 +602,26 @@ def _kernels() -> dict:
             a, b, c, d = _k_decode(i, r, half, base, inv)
             vmask[i] = _k_is_orbit_min(i, a, b, c, d, T, 1, q, r, half, base)
 
+    @numba.njit(cache=True, inline="always")
+    def _k_rank(m, words, before):
+        w = words[m >> 6]
+        x = w & ((np.uint64(1) << np.uint64(m & 63)) - np.uint64(1))
+        # population count of x (the set bits below m in its word)
+        x = x - ((x >> np.uint64(1)) & np.uint64(0x5555555555555555))
+        x = (x & np.uint64(0x3333333333333333)) + ((x >> np.uint64(2)) & np.uint64(0x3333333333333333))
+        x = (x + (x >> np.uint64(4))) & np.uint64(0x0F0F0F0F0F0F0F0F)
+        x = (x * np.uint64(0x0101010101010101)) >> np.uint64(56)
+        return before[m >> 6] + np.int64(x)
+
     @numba.njit(cache=True, parallel=True)
-    def psl2_fill(r, inv, T, q, vreps, rank, nb):
+    def psl2_fill(r, inv, T, q, vreps, words, before, nb):
         half = (r - 1) // 2
         base = half * r * r
         for v in numba.prange(vreps.shape[0]):
             a, b, c, d = _k_decode(vreps[v], r, half, base, inv)
             for j in range(q):
                 a1, b1, c1, d1 = _k_mul(a, b, c, d, T, 0, r)
-                nb[v, j] = rank[_k_vertex_min(a1, b1, c1, d1, T, q, r, half, base)]
+                nb[v, j] = _k_rank(_k_vertex_min(a1, b1, c1, d1, T, q, r, half, base), words, before)
                 a, b, c, d = _k_mul(a, b, c, d, T, 1, r)
 
     return {"psl2_tables": psl2_tables, "psl2_mask": psl2_mask, "psl2_fill": psl2_fill}
