@@ -382,3 +382,19 @@ def test_duplicate_type_tag_refused():
         @dataclasses.dataclass(frozen=True, eq=False, kw_only=True)
         class Levels(Result):  # noqa: F811 - the point of the test
             x: int
+
+
+def test_a_result_reads_back_in_a_fresh_interpreter(tmp_path):
+    """Regression: load_result in a new process did not know types whose module was not imported
+    yet (a saved MagneticComparison gave 'unknown result type')."""
+    import subprocess
+    import sys
+
+    from hyperlattice.compare.magnetic import magnetic_comparison
+
+    path = tmp_path / "cmp.npz"
+    magnetic_comparison(7, 3, rings=(2,), fluxes=[0.0, 0.1], levels=1).save(path)
+    code = ("import sys, hyperlattice as hl; r = hl.load_result(sys.argv[1]); "
+            "print(type(r).__name__, r.rings.tolist())")
+    out = subprocess.run([sys.executable, "-c", code, str(path)], capture_output=True, text=True, check=True)
+    assert out.stdout.split() == ["MagneticComparison", "[2]"]

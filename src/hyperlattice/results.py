@@ -331,7 +331,7 @@ class Result:
         tag = data.get("type", cls.TYPE)
         if not isinstance(tag, str):
             raise ValueError(f"the type tag of a stored result must be a string, got {tag!r}.")
-        target = _REGISTRY.get(tag) if cls is Result else cls
+        target = _registered(tag) if cls is Result else cls
         if target is None or (cls is not Result and tag != cls.TYPE):
             raise ValueError(f"stored result of type {tag!r} cannot be read as {cls.__name__}.")
         fields = {f.name: f for f in dataclasses.fields(target)}
@@ -427,6 +427,29 @@ def _build(cls, kwargs: dict) -> Result:
         raise ValueError(f"stored {cls.TYPE} is malformed: {exc}.") from None
 
 
+def _registered(tag: str):
+    """The result class of a type tag. Result types register when their module is imported; a tag
+    not yet known (a file read in a fresh interpreter) imports every module of the package once
+    (not ``cli``), so any result saved by hyperlattice can be read back."""
+    cls = _REGISTRY.get(tag)
+    if cls is None and not _ALL_IMPORTED:
+        import importlib
+        import pkgutil
+
+        import hyperlattice
+
+        for info in pkgutil.walk_packages(hyperlattice.__path__, "hyperlattice."):
+            if info.name.startswith("hyperlattice.cli") or info.name.endswith("__main__"):
+                continue
+            importlib.import_module(info.name)
+        _ALL_IMPORTED.append(True)
+        cls = _REGISTRY.get(tag)
+    return cls
+
+
+_ALL_IMPORTED: list = []
+
+
 def load_result(path) -> Result:
     """Read any result written by :meth:`Result.save` (``.json`` or ``.npz``).
 
@@ -451,7 +474,7 @@ def load_result(path) -> Result:
     if not isinstance(meta, dict):
         raise ValueError(f"{path} is not a saved hyperlattice result.")
     tag = meta.get("type")
-    cls = _REGISTRY.get(tag) if isinstance(tag, str) else None
+    cls = _registered(tag) if isinstance(tag, str) else None
     if cls is None:
         raise ValueError(f"{path} holds an unknown result type {tag!r}.")
     names = {f.name for f in dataclasses.fields(cls)}
