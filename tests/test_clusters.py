@@ -20,6 +20,8 @@ TABLE = [
     (3, 7, "klein-dual", 24, 3),
     (3, 8, "dyck-dual", 12, 3),
     (7, 3, "PSL(2,7)", 56, 3),
+    (7, 3, "hurwitz14a", 364, 14),
+    (7, 3, "hurwitz14b", 364, 14),
     (7, 3, "PSL(2,13)", 364, 14),
     (7, 3, "PSL(2,29)", 4060, 146),
     (8, 3, "PSL(2,17)", 816, 52),
@@ -85,7 +87,7 @@ def _lattice_walks(p, q, kmax):
 
 
 @pytest.mark.parametrize("p,q,name", [
-    (7, 3, "klein"), (7, 3, "PSL(2,13)"), (8, 3, "bolza"), (8, 3, "dyck"), (8, 3, "PSL(2,17)"),
+    (7, 3, "klein"), (7, 3, "PSL(2,13)"), (7, 3, "hurwitz14b"), (8, 3, "bolza"), (8, 3, "dyck"), (8, 3, "PSL(2,17)"),
     (3, 7, "PSL(2,13)"), (3, 8, "dyck-dual"), (4, 5, "PSL(2,31)"),
 ], ids=lambda v: str(v))
 def test_locally_the_lattice(p, q, name):
@@ -126,6 +128,9 @@ def test_two_routes_give_the_same_map():
     ea = np.linalg.eigvalsh(a.adjacency().toarray())
     eb = np.linalg.eigvalsh(b.adjacency().toarray())
     assert np.allclose(ea, eb, atol=1e-10)
+    # a second overlap: the Hurwitz surface of genus 14 from (2,3,7;7) is the PSL(2,13) member
+    assert C.same_map(C.pbc_cluster(7, 3, "hurwitz14a"), C.pbc_cluster(7, 3, "PSL(2,13)"))
+    assert not C.same_map(C.pbc_cluster(7, 3, "hurwitz14b"), C.pbc_cluster(7, 3, "PSL(2,13)"))
     # and differently built non-isomorphic maps are told apart
     assert not C.same_map(C.pbc_cluster(8, 3, "bolza"), C.pbc_cluster(8, 3, "dyck"))
 

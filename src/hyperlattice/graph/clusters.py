@@ -66,6 +66,15 @@ KNOWN: dict[str, tuple] = {
               "Klein quartic: F. Klein, Math. Ann. 14, 428 (1878); presentation (2,3,7;4) of "
               "PSL(2,7) (Coxeter & Moser, Generators and Relations for Discrete Groups, ch. 8); "
               "the regular map {7,3} of genus 3 in Conder's census of regular maps"),
+    "hurwitz14a": (7, 3, ("(x Y x y)^7",), "PSL(2,13), order 1092",
+                   "one of the first Hurwitz triplet, the three Hurwitz surfaces of genus 14 with group "
+                   "PSL(2,13) (A. M. Macbeath, Proc. Glasgow Math. Assoc. 5, 90 (1961)); presentation "
+                   "(2,3,7;7), verified here by coset enumeration (order 1092, torsion-free); the same map "
+                   "as the family member PSL(2,13)"),
+    "hurwitz14b": (7, 3, ("(x Y x y)^6",), "PSL(2,13), order 1092",
+                   "another of the first Hurwitz triplet (genus 14, group PSL(2,13); Macbeath 1961); "
+                   "presentation (2,3,7;6), verified here by coset enumeration; systole 12, not "
+                   "isomorphic to hurwitz14a"),
     "bolza": (8, 3, ("(x y x y x Y)^2",), "GL(2,3), order 48",
               "Bolza surface: O. Bolza, Am. J. Math. 20, 1 (1887); the regular map {8,3} of genus 2 "
               "with 16 vertices and rotation group GL(2,3) in Conder's census of regular maps "
