@@ -718,7 +718,8 @@ def list_clusters(p: int, q: int, *, max_sites: int = 100_000) -> list[dict]:
             continue  # a quotient with loops or multiple edges (systole < 3) is no cluster
         if c.sites <= max_sites:
             out.append(c.info())
-    out.sort(key=lambda d: (d["sites"], d["name"]))
+    # smallest first; at equal size the cited table entries before the family members
+    out.sort(key=lambda d: (d["sites"], d["name"].startswith("PSL("), d["name"]))
     return out
 
 
