@@ -346,7 +346,8 @@ def magnetic_section(out: Path, progress: Callable[[str], None]) -> Section:
     cmp.plot(ax=ax)
     figs.append(_save_figure(fig, out, "magnetic_error", "log10 of the worst relative error of the two lowest "
                              "levels, graph vs continuum, over the (f, l) plane (l = 3..5, f = 0..0.3); the white "
-                             "line is 1e-3 where it is reached. The full l = 3..7 grid is in docs/magnetic.md."))
+                             "line is 1e-3 where it is reached. The full l = 3..12 grid is in docs/magnetic.md "
+                             "(hyperlattice fluxmap --rings 3-12 --fluxes 13)."))
     cols = cmp.columns()
     rows = [[int(cols["rings"][i]), _fmt(float(cols["flux"][i]), 2), f"({cols['n'][i]},{cols['m'][i]})",
              _fmt(float(cols["E_graph"][i]), 8), _fmt(float(cols["E_continuum"][i]), 8),
