@@ -215,12 +215,13 @@ def test_report_section(tmp_path, monkeypatch):
     monkeypatch.setattr(rl, "_SCHUR_RINGS", {(7, 3): 8})
     sec = rl.limits_section(Cache(tmp_path / "c"), 6, tmp_path, lambda m: None,
                             extra_levels=None)
-    assert [t.name for t in sec.tables] == ["band_bottom", "plateau_terms", "dictionaries"]
+    assert [t.name for t in sec.tables] == ["band_bottom", "band_fit", "plateau_terms", "dictionaries"]
     assert (tmp_path / "fig_limits.png").exists()
     text = " ".join(sec.text)
     assert "every prediction lies inside its error bar" in text
     assert "-rho(7,3) = -2.9411" in text and "(-rho - E_inf)/rho = 6.1" in text
-    sources = {r[1] for r in sec.tables[2].rows}
+    sources = {r[1] for r in sec.tables[3].rows}
+    assert max(abs(float(r[3])) for r in sec.tables[1].rows) < 1e-6
     assert sources == {"computed", "stored"}
 
 

@@ -590,8 +590,9 @@ class BandBottom(Result):
         of the other fit variants (models, windows, E1) from it, at least the change when the
         largest flake is dropped.
     variants : list of dict
-        ``{"level", "model", "rings", "band_bottom", "max_residual", "params", "central"}`` of
-        every fit (``rings`` = first and last flake fitted).
+        ``{"level", "model", "rings", "band_bottom", "max_residual", "params", "central",
+        "fit_rings", "residuals"}`` of every fit (``rings`` = first and last flake fitted,
+        ``residuals`` = fit minus data at ``fit_rings``).
     lower, upper : float
         Route (b), rigorous: :math:`-c \le -\rho \le E_0(\ell_{\max})` (c from :func:`schur_bound`;
         ``lower`` is NaN when no Schur bound was asked for).
@@ -670,7 +671,8 @@ def _band_from(ell, e0, e1, p, q) -> tuple[float, float, list, float]:
         spread = max(spread, abs(dropped.band_bottom - central.band_bottom))
     table = [{"level": f.level, "model": f.model, "rings": [int(f.rings[0]), int(f.rings[-1])],
               "band_bottom": f.band_bottom, "max_residual": float(np.max(np.abs(f.residuals))),
-              "params": f.params.tolist(), "central": f is central} for f in fits]
+              "params": f.params.tolist(), "central": f is central,
+              "fit_rings": f.rings.tolist(), "residuals": f.residuals.tolist()} for f in fits]
     return central.band_bottom, spread, table, float(central.params[1])
 
 

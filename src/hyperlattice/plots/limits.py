@@ -13,7 +13,8 @@ from . import new_axes
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-__all__ = ["plot_band_fit", "plot_band_bottom", "plot_plateau", "plot_dictionaries", "limits_figure"]
+__all__ = ["plot_band_fit", "plot_band_residuals", "plot_band_bottom", "plot_plateau", "plot_dictionaries",
+           "limits_figure"]
 
 
 def plot_band_fit(fit, ax=None) -> Axes:
@@ -31,6 +32,25 @@ def plot_band_fit(fit, ax=None) -> Axes:
     twin.axhline(0.0, color="C3", linewidth=0.5)
     twin.set_ylabel("fit - data", color="C3")
     ax.legend(fontsize="small", loc="upper right")
+    return ax
+
+
+def plot_band_residuals(band, ax=None) -> Axes:
+    """Residuals (fit - data) of the disk-model fits of E0 and E1 over the last six flakes (the central
+    variant and its E1 partner) and of the rational fits over the same flakes; returns the axes."""
+    ax = new_axes(ax)
+    central = next(v for v in band.variants if v["central"])
+    styles = {("disk", 0): ("o-", "C0"), ("disk", 1): ("s-", "C1"), ("rational", 0): ("o:", "C0"),
+              ("rational", 1): ("s:", "C1")}
+    for v in band.variants:
+        if v["rings"] == central["rings"]:
+            marker, color = styles[(v["model"], v["level"])]
+            ax.plot(v["fit_rings"], v["residuals"], marker, color=color, mfc="none" if v["model"] == "rational" else None,
+                    label=f"E{v['level']}, {v['model']} model")
+    ax.axhline(0.0, color="0.5", linewidth=0.6)
+    ax.set_xlabel("rings l")
+    ax.set_ylabel("fit - flake level")
+    ax.legend(fontsize="x-small")
     return ax
 
 
@@ -97,14 +117,15 @@ def plot_dictionaries(comparison, ax=None) -> Axes:
 
 
 def limits_figure(band, plateau, comparison, path=None):
-    """The three panels side by side (band bottom, plateau, dictionaries); saved to ``path`` if
-    given. Returns the figure."""
+    """The four panels side by side (band bottom, the fits' residuals, plateau, dictionaries); saved to
+    ``path`` if given. Returns the figure."""
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, 3, figsize=(16.0, 4.6), layout="constrained")
+    fig, axes = plt.subplots(1, 4, figsize=(21.0, 4.6), layout="constrained")
     plot_band_bottom(band, ax=axes[0])
-    plot_plateau(plateau, ax=axes[1])
-    plot_dictionaries(comparison, ax=axes[2])
+    plot_band_residuals(band, ax=axes[1])
+    plot_plateau(plateau, ax=axes[2])
+    plot_dictionaries(comparison, ax=axes[3])
     if path is not None:
         fig.savefig(path)
     return fig
