@@ -399,8 +399,7 @@ class KPMDos(Result):
     def _energies(self, energies) -> np.ndarray:
         if energies is None:
             return self.energy_grid()
-        e = _validate.real_array("energies", energies)
-        return e
+        return np.atleast_1d(_validate.real_array("energies", energies, ndim=(0, 1)))
 
     def _basis(self, e: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         x = e / self.scale

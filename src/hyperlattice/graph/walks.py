@@ -39,6 +39,8 @@ The band bottom of :math:`H = -A` on the infinite lattice is :math:`-\rho`.
   is the whole spectrum (vertex-transitivity); A is non-negative, so :math:`\|A\| = \sup\mathrm{spec}A`.
   Hence :math:`W_{2n}^{1/2n} \le \rho` and :math:`W_{2n}/W_{2n-2} \le \rho^2` for every n; the ratios
   increase with n (Cauchy–Schwarz: :math:`W_{2n}^2 \le W_{2n-2}W_{2n+2}`) and tend to :math:`\rho^2`.
+  Also :math:`\rho \ge 2\sqrt{q-1}`: the q-regular tree covers the lattice, every closed walk of the
+  tree projects onto a closed walk of the lattice, so :math:`W_n \ge W_n^{\rm tree}` for all n.
 * Upper (cited, not proved here): Mohar's Cheeger-type inequality for graphs of degree q,
   :math:`\rho \le \sqrt{q^2 - i_E^2}` (B. Mohar, Linear Algebra Appl. 103, 119 (1988)), with the exact
   edge-isoperimetric constant of the {p,q} tiling
@@ -249,6 +251,20 @@ def closed_walks(p: int, q: int, n_max: int, *, max_sites: int | None = None) ->
     return np.array(out, dtype=object)
 
 
+def _walk_list(walks) -> list[int]:
+    """Closed-walk counts as Python ints (a non-empty sequence of non-negative integers)."""
+    if isinstance(walks, (str, bytes)) or not hasattr(walks, "__len__"):
+        raise ValueError("walks must be a sequence of closed-walk counts (non-negative integers).")
+    out = []
+    for x in list(walks):
+        if isinstance(x, (bool, np.bool_)) or not isinstance(x, (int, np.integer)) or x < 0:
+            raise ValueError("walks must be a sequence of closed-walk counts (non-negative integers).")
+        out.append(int(x))
+    if not out:
+        raise ValueError("walks must hold at least W_0.")
+    return out
+
+
 def chebyshev_from_walks(walks, scale: float, *, sign: int = -1) -> np.ndarray:
     r"""Chebyshev moments :math:`\mu_n = \sum_k c_{nk}\,(s/a)^k W_k` of :math:`T_n(sA/a)`, n <= len-1,
     computed exactly in rational arithmetic from the integer moments :math:`W_k` (``sign`` s = -1 for
@@ -257,17 +273,11 @@ def chebyshev_from_walks(walks, scale: float, *, sign: int = -1) -> np.ndarray:
     ``scale`` a is the float used by KPM (taken as the exact rational it is), so the result is the
     exact value of what KPM computes in floating point.
     """
-    w = list(walks)
-    if not w:
-        raise ValueError("walks must hold at least W_0.")
-    try:
-        w = [int(x) for x in w]
-    except (TypeError, ValueError, OverflowError):
-        raise ValueError("walks must be integers (closed-walk counts).") from None
+    w = _walk_list(walks)
     a = _validate.positive_real("scale", scale)
-    s = _validate.choice("sign", sign, (-1, 1)) if not isinstance(sign, int) else sign
-    if s not in (-1, 1):
-        raise ValueError(f"sign must be -1 or 1, got {sign!r}.")
+    s = _validate.integer("sign", sign, minimum=-1, maximum=1)
+    if s == 0:
+        raise ValueError("sign must be -1 or 1, got 0.")
     x = Fraction(s) / Fraction(a)
     m = [w[k] * x**k for k in range(len(w))]  # moments of the variable sA/a
     # T_n coefficients by the recurrence T_{n+1} = 2x T_n - T_{n-1}
@@ -316,8 +326,8 @@ class SpectralRadius(Result):
 
     @property
     def lower(self) -> float:
-        """The best proven lower bound."""
-        return max(self.lower_root, self.lower_ratio)
+        """The best proven lower bound (walk root, walk ratio, or the covering tree's 2 sqrt(q - 1))."""
+        return max(self.lower_root, self.lower_ratio, 2.0 * math.sqrt(self.q - 1))
 
     def band_bottom_interval(self) -> tuple[float, float]:
         """``(-upper, -lower)``: the interval that provably holds the band bottom of H = -A."""
@@ -331,7 +341,7 @@ class SpectralRadius(Result):
 def spectral_radius_bounds(walks) -> tuple[float, float]:
     r"""``(max_n W_2n^(1/2n), max_n sqrt(W_2n / W_2n-2))``: proven lower bounds on :math:`\rho` from exact
     closed-walk counts (float64 logarithms of exact integers; the last digit is rounding)."""
-    w = [int(x) for x in walks]
+    w = _walk_list(walks)
     evens = [(n, w[2 * n]) for n in range(1, len(w) // 2 + (len(w) % 2)) if 2 * n < len(w)]
     root = max((math.exp(math.log(c) / (2 * n)) for n, c in evens if c > 0), default=0.0)
     ratio = max((math.sqrt(w[2 * n] / w[2 * n - 2]) for n, c in evens if n >= 1 and w[2 * n - 2] > 0), default=0.0)

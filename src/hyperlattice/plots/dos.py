@@ -1,0 +1,137 @@
+"""Figures of densities of states: one KPM result (the ``dos`` command) and the comparison of
+periodic clusters, flake interiors, the Abelian DOS, the exact moments and the continuum."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from . import new_axes
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
+__all__ = ["dos_figure", "comparison_axes", "convergence_axes", "bottom_axes", "comparison_figure"]
+
+
+def dos_figure(result, *, path=None, ax=None, continuum: bool = True) -> Axes:
+    """The density of states of one :class:`~hyperlattice.graph.kpm.KPMDos` with its error band, and
+    the continuum (Plancherel) density near the band bottom when {p,q} is known; saved to ``path``."""
+    import matplotlib.pyplot as plt
+
+    ax = new_axes(ax, size=(6.4, 4.4))
+    result.plot(ax=ax)
+    if continuum and result.p is not None and result.q is not None:
+        from ..compare.dos import continuum_dos
+
+        e = np.linspace(-result.q, -result.q + 0.5 * result.q, 600)
+        ax.plot(e, continuum_dos(e, result.p, result.q), color="k", lw=1.0, ls="--",
+                label="continuum (Plancherel, paper's map)")
+    ax.set_title(f"{result.label}: {result.moments} moments, {result.vectors} vector(s)", fontsize=9)
+    ax.set_ylim(bottom=0)
+    ax.legend(fontsize=8)
+    if path is not None:
+        ax.figure.savefig(path, dpi=120)
+        plt.close(ax.figure)
+    return ax
+
+
+def comparison_axes(cmp, ax=None, *, window: tuple[float, float] | None = None) -> Axes:
+    """The full-resolution densities: largest cluster, largest flake interior, Abelian DOS, with the
+    exact reference (closed walks) and the continuum density."""
+    from ..compare.dos import continuum_dos
+
+    ax = new_axes(ax, size=(7.0, 4.6))
+    e = cmp.energies
+    cl = [i for i, k in enumerate(cmp.kinds) if k == "cluster"]
+    fl = [i for i, k in enumerate(cmp.kinds) if k == "flake"]
+    if cl:
+        ax.plot(e, cmp.density[cl[-1]], color="tab:blue", lw=0.8, label=cmp.labels[cl[-1]])
+    if fl:
+        ax.plot(e, cmp.density[fl[-1]], color="tab:orange", lw=0.8, ls="-.", label=cmp.labels[fl[-1]])
+    for i, k in enumerate(cmp.kinds):
+        if k == "abelian":
+            ax.plot(e, cmp.density[i], color="tab:green", lw=0.8, label=cmp.labels[i])
+    ax.plot(e, cmp.reference, color="k", lw=1.6, label=f"exact moments (closed walks), M = {cmp.resolution}")
+    ec = np.linspace(cmp.continuum_bottom["paper"] - 0.01, -cmp.q + 0.35 * cmp.q, 400)
+    ax.plot(ec, continuum_dos(ec, cmp.p, cmp.q), color="tab:red", lw=1.2, ls="--",
+            label="continuum (Plancherel density via the dictionary)")
+    ax.axvspan(-cmp.rho_upper, -cmp.rho_lower, color="0.85", zorder=0, label="proven band-bottom interval")
+    if window is not None:
+        ax.set_xlim(*window)
+    ax.set_ylim(0, 1.15 * float(np.nanmax(cmp.reference)) * 2.5)
+    ax.set_xlabel("E / t")
+    ax.set_ylabel("states per site per unit energy")
+    ax.set_title(f"{{{cmp.p},{cmp.q}}}: densities of states, {cmp.moments} moments", fontsize=9)
+    ax.legend(fontsize=6.5, loc="upper left")
+    return ax
+
+
+def convergence_axes(cmp, ax=None) -> Axes:
+    """Every curve at the resolution of the exact moments: the L1 distance to the exact DOS against size."""
+    ax = new_axes(ax, size=(5.0, 4.2))
+    for kind, marker, color in (("cluster", "o", "tab:blue"), ("flake", "s", "tab:orange"),
+                                ("abelian", "^", "tab:green")):
+        idx = [i for i, k in enumerate(cmp.kinds) if k == kind]
+        if not idx:
+            continue
+        n = cmp.sites[idx] if kind != "flake" else np.array([_traced(cmp.labels[i]) for i in idx])
+        err = np.nan_to_num(cmp.distance_err[idx])
+        label = {"cluster": "periodic clusters (N sites)", "flake": "flake interiors (traced sites)",
+                 "abelian": "Abelian DOS (unit-cell sites)"}[kind]
+        ax.errorbar(n, cmp.distance[idx], yerr=err, marker=marker, color=color, ls="-" if kind != "abelian" else "",
+                    capsize=2, label=label)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("sites")
+    ax.set_ylabel(f"L1 distance to the exact DOS (M = {cmp.resolution})")
+    ax.set_title("convergence to the infinite lattice", fontsize=9)
+    ax.legend(fontsize=7)
+    return ax
+
+
+def _traced(label: str) -> int:
+    # "flake interior, 8 rings (315 of 15,435 sites)" -> 315
+    try:
+        return int(label.split("(")[1].split(" of")[0].replace(",", ""))
+    except (IndexError, ValueError):
+        return 1
+
+
+def bottom_axes(cmp, ax=None) -> Axes:
+    """Integrated DOS N(E) near the band bottom: the largest cluster against the continuum (both maps)."""
+    from ..compare.dos import continuum_integrated_dos
+
+    ax = new_axes(ax, size=(5.0, 4.2))
+    e = cmp.bottom_energies
+    if np.any(np.isfinite(cmp.bottom_integrated)):
+        n = cmp.bottom_integrated
+        ax.plot(e, n, color="tab:blue", lw=1.2, label=cmp.bottom_label)
+        ax.fill_between(e, n - cmp.bottom_integrated_err, n + cmp.bottom_integrated_err, color="tab:blue", alpha=0.3)
+    ax.plot(e, continuum_integrated_dos(e, cmp.p, cmp.q), color="tab:red", ls="--", label="continuum, paper's map")
+    ax.plot(e, continuum_integrated_dos(e, cmp.p, cmp.q, dictionary_name="improved"), color="tab:purple", ls=":",
+            label="continuum, improved map")
+    ax.axvspan(-cmp.rho_upper, -cmp.rho_lower, color="0.85", zorder=0, label="proven band-bottom interval")
+    ax.set_yscale("log")
+    ax.set_ylim(1e-5, 0.3)
+    ax.set_xlim(e[0], -cmp.q + 0.4 * cmp.q)
+    ax.set_xlabel("E / t")
+    ax.set_ylabel("states per site below E")
+    ax.set_title("band bottom: integrated DOS", fontsize=9)
+    ax.legend(fontsize=6.5, loc="lower right")
+    return ax
+
+
+def comparison_figure(cmp, *, path=None):
+    """Three panels: the densities, the convergence with size, the band bottom against the continuum."""
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 3, figsize=(15.0, 4.6), layout="constrained",
+                             gridspec_kw={"width_ratios": [1.5, 1.0, 1.0]})
+    comparison_axes(cmp, ax=axes[0])
+    convergence_axes(cmp, ax=axes[1])
+    bottom_axes(cmp, ax=axes[2])
+    if path is not None:
+        fig.savefig(path, dpi=110)
+    return fig
