@@ -76,6 +76,11 @@ def test_improved_flux_refused(capsys):
     assert len(err.strip().splitlines()) == 1 and "zero field" in err
 
 
+def test_schur_window_memory_refused_before_allocating():
+    with pytest.raises(ValueError, match="GB of ring words"):
+        limits.schur_bound(7, 3, window=256, rings=13)
+
+
 def test_plateau_needs_band():
     with pytest.raises(ValueError, match="BandBottom"):
         limits.plateau_analysis(object())

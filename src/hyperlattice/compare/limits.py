@@ -453,6 +453,10 @@ class SchurBound(Result):
         return super().summary()
 
 
+#: largest sites x (2W + 2) of the ring-word array of :func:`schur_bound` (about 4 GB with its copy)
+_MAX_WORD_ENTRIES = 250_000_000
+
+
 def _local_patterns(p: int, q: int, rings: int, window: int) -> tuple[np.ndarray, np.ndarray, int]:
     """``(patterns, last_ring, n_types)``: one row per site (type, q neighbour codes) for the sites
     whose neighbours' words are complete (rings <= rings - 2), and each row's ring."""
@@ -557,8 +561,14 @@ def schur_bound(p: int = 7, q: int = 3, *, window: int = 8, rings: int | None = 
         while rings < 12 and site_count(p, q, rings + 1) <= 400_000:
             rings += 1
     rings = _validate.integer("rings", rings, minimum=5, maximum=14)
-    if site_count(p, q, rings) > 2_000_000:
+    n_sites = site_count(p, q, rings)
+    if n_sites > 2_000_000:
         raise ValueError(f"the {rings}-ring {{{p},{q}}} flake is too large for the pattern scan; use fewer rings.")
+    # the ring words take sites x (2W + 2) int64 (twice, with np.unique): refuse before allocating
+    if n_sites * (2 * window + 2) > _MAX_WORD_ENTRIES:
+        raise ValueError(f"window {window} on the {rings}-ring {{{p},{q}}} flake needs "
+                         f"{n_sites * (2 * window + 2) * 16 / 1e9:.1f} GB of ring words (limit "
+                         f"{_MAX_WORD_ENTRIES * 16 / 1e9:.0f} GB); use fewer rings or a smaller window.")
     rows, ring, n_types = _local_patterns(p, q, rings, window)
     pats = np.unique(rows, axis=0)
     closed = np.unique(rows[ring <= rings - 3], axis=0).shape[0] == pats.shape[0]
