@@ -51,8 +51,9 @@ expansion of the star (:mod:`hyperlattice.dictionary`): the isotropic :math:`h^4
 :math:`q(\frac\lambda8 - \frac{\lambda^2}{64})h^4` at :math:`\lambda = 1` (:math:`\frac{7q}{64}h^4`),
 the isotropic rest (:math:`h^6` and beyond, the exact :math:`-q P_{-1/2}(\cosh 2d_0)`), and the
 remainder: the anisotropic orders :math:`m = \pm q` (the paper's :math:`h^3\mathcal D` term,
-``adj32``/``adj33``, and higher orders m = ±2q, ...), which average to zero over the star
-orientations and act only through the orientations' correlation with the state.
+``adj32``/``adj33``, and higher orders m = ±2q, ...), which would average to zero over uniformly
+spread star orientations (on the ring lattice :math:`\langle\cos 3(\chi_i - \phi_i)\rangle = 0.17`)
+and act weakly at first and at second order.
 
 The improved dictionary against the graph
 -----------------------------------------

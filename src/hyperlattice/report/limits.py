@@ -210,7 +210,8 @@ def limits_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[
         f"{b73.band_mass:.5f} exceeds the paper's (3/4)h^2 = {b73.paper_edge + 3:.5f}. The gap is the isotropic "
         f"O(h^4) term of the star, (7q/64)h^4 = {plateau.terms['isotropic_h4']:.3e}, plus "
         f"{plateau.terms['isotropic_rest']:.1e} from higher isotropic orders; the anisotropic O(h^3) term D "
-        f"(adj32) averages to zero over the star orientations; the anisotropic orders leave {plateau.terms['anisotropic']:.1e}.",
+        f"(adj32) would average to zero over uniformly spread star orientations (on the ring lattice <cos 3(chi - phi)> "
+        f"= 0.17): the anisotropic orders leave only {plateau.terms['anisotropic']:.1e}.",
         f"Improved dictionary. Summing the isotropic part of the star exactly (mean-value property of "
         f"eigenfunctions: E = -q P_nu(cosh 2d0), nu = (-1 + ik)/2) and putting the Dirichlet wall where the "
         f"lattice puts it (on the missing neighbours, half a bond beyond the area radius of eq12) lowers the "
