@@ -152,3 +152,20 @@ def test_refusals(lat5):
         cb.boundary_correlator(line_graph(ring_lattice(7, 3, 3)), -4.0)
     with pytest.raises(ValueError, match="at least 10"):
         cb.fit_delta([0.5, 1.0], [1.0, 0.5], [0.1, 0.1], 0.1)
+
+
+def test_ldl_resolvent_matches_superlu_and_resolves_tiny_entries():
+    # regression for the speed-up: the LDL^T route (own order, numba) against the SuperLU route, entry by
+    # entry in relative terms, down to the smallest outer-ring values (M-matrix: no cancellation)
+    lat = ring_lattice(7, 3, 6)
+    ring = cb.outer_ring(lat)
+    fast, slow = BelowBandResolvent(lat), BelowBandResolvent(lat, method="superlu")
+    for w in (-3.8, -2.9):
+        a, b = fast.column(w, ring[0]), slow.column(w, ring[0])
+        assert np.max(np.abs(a / b - 1)) < 1e-11 and a.min() > 0
+    assert fast.column(-3.8, ring[0])[ring].min() < 1e-10          # spans many decades
+    e0 = lowest_levels(lat, 1).energies[0]
+    with pytest.raises(ValueError, match="1 level"):
+        fast.column(e0 + 1e-6, 0)
+    with pytest.raises(ValueError, match="method"):
+        BelowBandResolvent(lat, method="cg")
