@@ -39,7 +39,7 @@ import scipy.sparse as sp
 from .. import _validate
 from .. import geometry
 from ..errors import ConvergenceError
-from .lattice import _check_pq, _available_memory, _layer_topology, _type_counts  # noqa: F401
+from .lattice import _available_memory, _check_pq, _type_counts
 
 __all__ = ["SectorLattice", "sector_lattice", "sector_block", "lowest_pair", "flake_memory"]
 
@@ -602,7 +602,6 @@ def lowest_pair(p: int = 7, q: int = 3, rings: int = 3, *, t: float = 1.0, tol: 
     from .solvers import (_check_residuals, _factor_backend, _lanczos_ritz, _shift_invert_lowest,
                           _single_threaded_blas, _SymmetricFactor)
     from .spectrum import Spectrum
-    from ..errors import ConvergenceError
 
     t_start = time.perf_counter()
     t = _validate.positive_real("the hopping t", t)
@@ -657,7 +656,7 @@ def lowest_pair(p: int = 7, q: int = 3, rings: int = 3, *, t: float = 1.0, tol: 
             if below is not None:
                 # a known lower bound of the block's levels (E0 for every other block)
                 theta = np.array([below])
-                delta = 1e-3 * t
+                delta = 1e-6 * t
             else:
                 theta = _lanczos_ritz(mat, 40)
                 spread = max(float(theta[-1] - theta[0]), 1e-3 * t)

@@ -393,6 +393,8 @@ def _dense_lowest(table: SectorTable, k: int) -> tuple[np.ndarray, np.ndarray]:
 # ----------------------------------------------------------------------------
 
 _BACKENDS = ("auto", "cholmod", "splu")
+#: Lanczos basis of the shift-invert runs (measured: 19 solves per level at 12, the fewest).
+_NCV = 12
 
 
 def _cholmod():
@@ -475,17 +477,23 @@ def _shift_invert_lowest(mat: sp.spmatrix, k: int, factor: _SymmetricFactor, x: 
 
     lin = spla.LinearOperator((n, n), matvec=op, dtype=np.float64)
     v0 = np.random.default_rng(12345).standard_normal(n)
-    ncv = min(n, max(2 * k + 1, 12))
-    try:
-        _, vecs = spla.eigsh(lin, k=k, which="LA", ncv=ncv, tol=1e-14, v0=v0, maxiter=2000)
-    except spla.ArpackNoConvergence as exc:  # pragma: no cover - depends on the matrix
-        raise ConvergenceError(f"{label}: ARPACK did not converge ({exc}).") from exc
-    vecs /= np.linalg.norm(vecs, axis=0)[None, :]
-    bv = mat @ vecs
-    energies = np.einsum("ij,ij->j", vecs, bv)
-    order = np.argsort(energies)
-    energies, vecs, bv = energies[order], vecs[:, order], bv[:, order]
-    res = np.linalg.norm(bv - vecs * energies[None, :], axis=0)
+    ncv = min(n, max(2 * k + 1, _NCV))
+    # ARPACK's tolerance is relative to the eigenvalues 1/(E - x) of the inverse; a loose first
+    # try usually leaves a residual of B far below tol already (and the eigenvalue error is about
+    # residual^2 / gap); a tight one follows only when the residual misses tol / 10.
+    for arpack_tol in (1e-10, 1e-14):
+        try:
+            _, vecs = spla.eigsh(lin, k=k, which="LA", ncv=ncv, tol=arpack_tol, v0=v0, maxiter=2000)
+        except spla.ArpackNoConvergence as exc:  # pragma: no cover - depends on the matrix
+            raise ConvergenceError(f"{label}: ARPACK did not converge ({exc}).") from exc
+        vecs /= np.linalg.norm(vecs, axis=0)[None, :]
+        bv = mat @ vecs
+        energies = np.einsum("ij,ij->j", vecs, bv)
+        order = np.argsort(energies)
+        energies, vecs, bv = energies[order], vecs[:, order], bv[:, order]
+        res = np.linalg.norm(bv - vecs * energies[None, :], axis=0)
+        if np.all(res <= 0.1 * tol):
+            break
     return energies, vecs, res, solves[0]
 
 
