@@ -86,3 +86,21 @@ def test_helpers():
     x = np.linspace(-2.9, 2.9, 20001)
     expect = 2 / math.pi * math.asin(2.9 / 3.0)
     assert np.trapezoid(jackson_density(np.array([1.0, 0.0]), 3.0, x), x) == pytest.approx(expect, rel=1e-6)
+
+
+@pytest.mark.slow
+def test_report_section(tmp_path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from hyperlattice.report.infinite import infinite_section
+
+    sec = infinite_section(tmp_path, lambda m: None)
+    assert sec.title == "Beyond the paper: the infinite lattice"
+    assert (tmp_path / "fig_dos_infinite.png").stat().st_size > 10_000
+    names = [t.name for t in sec.tables]
+    assert names == ["dos_routes", "band_edges"]
+    edges = sec.tables[1].rows
+    lo, hi = float(edges[0][1]), float(edges[0][2])
+    assert -3 < lo < hi < -2.8  # the proven band-bottom interval
+    assert "uniform state" in sec.text[0]
