@@ -87,3 +87,15 @@ def test_prebuilt_sector_lattice_is_used_and_labels_are_the_paper_ones():
     assert spec.rings == 7 and spec.sites == slat.sites
     assert list(zip(spec.n.tolist(), spec.m.tolist())) == [(1, 0), (1, 1)]
     assert spec.summary()["method"] == "sector-shift-invert"
+
+
+def test_without_scikit_sparse_the_pure_fallback_runs(monkeypatch):
+    import hyperlattice.graph.solvers as solvers
+
+    monkeypatch.setattr(solvers, "_cholmod", lambda: None)
+    spec = lowest_pair(7, 3, 7)  # backend="auto" falls back to SuperLU
+    assert "SuperLU" in spec.description and "inertia" in spec.description
+    ref = lowest_levels(ring_lattice(7, 3, 7), 2)
+    assert np.allclose(spec.energies, ref.energies, rtol=0, atol=1e-12)
+    with pytest.raises(ValueError, match="scikit-sparse"):
+        lowest_pair(7, 3, 3, backend="cholmod")
