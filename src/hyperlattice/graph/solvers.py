@@ -422,10 +422,11 @@ class _SymmetricFactor:
 
     CHOLMOD (simplicial :math:`LDL^T`, AMD ordering; the symbolic analysis is shared by all
     shifts of the same matrix) when ``backend="cholmod"``, else SuperLU with a symmetric
-    permutation (COLAMD on :math:`B^T B` pattern, ``SymmetricMode``) and no pivoting, whose
-    :math:`U` then has :math:`D` on its diagonal. Neither pivots, which is safe here: the
-    shifted blocks are positive definite or have a handful of negative eigenvalues well
-    separated from zero, and a zero pivot is reported instead of a wrong count.
+    permutation (COLAMD, ``SymmetricMode``) and no pivoting, whose :math:`U` then has :math:`D`
+    on its diagonal. Neither pivots. For a positive definite matrix that is as backward stable as
+    Cholesky, so a count of zero holds for every eigenvalue farther than rounding (about
+    1e-14 here) from x; the one indefinite case used (m = 0 even, with E0 below x) is checked
+    against the level computed from the same factor. A zero pivot raises instead of counting.
 
     ``negatives`` is the number of eigenvalues of B below x (Sylvester's law of inertia), or
     None when SuperLU did not keep the permutation symmetric (then no count is claimed).
