@@ -32,7 +32,6 @@ from __future__ import annotations
 import functools
 import os
 import re
-import time
 from dataclasses import dataclass
 from functools import cached_property
 from typing import TYPE_CHECKING
@@ -562,6 +561,7 @@ def _finish(name, p, q, nb, order, group, source) -> Cluster:
 def psl2_primes(p: int, q: int, r_max: int = _R_MAX) -> list[int]:
     """Odd primes r <= r_max for which PSL(2, r) is a torsion-free quotient of Δ(2, q, p)."""
     p, q = _validate.pq(p, q)
+    r_max = _validate.integer("r_max", r_max, minimum=5, maximum=_R_MAX)
     return [r for r in range(5, r_max + 1) if groups.is_prime(r) and _psl2_triple(p, q, r) is not None]
 
 
@@ -770,10 +770,3 @@ def same_map(a: Cluster, b: Cluster, *, regular: bool = True) -> bool:
     ca = map_code(a)
     darts = [(0, 0)] if regular else [(v, j) for v in range(b.sites) for j in range(b.q)]
     return any(np.array_equal(ca, map_code(b, v, j)) for v, j in darts)
-
-
-def _timed_psl2(p: int, q: int, r: int) -> tuple[float, Cluster]:
-    """(seconds, cluster) for the benchmark: a fresh build, not the cached one."""
-    t0 = time.perf_counter()
-    c = psl2_cluster(p, q, r)
-    return time.perf_counter() - t0, c

@@ -301,7 +301,12 @@ def permutation_group_order(generators) -> int:
 
     Used to check coset enumeration; costs memory proportional to the order times the degree.
     """
-    gens = [tuple(int(i) for i in g) for g in generators]
+    try:
+        gens = [tuple(_validate.integer("a permutation entry", i, minimum=0) for i in g) for g in generators]
+    except TypeError:
+        raise ValueError("generators must be a list of permutations (sequences of images).") from None
+    if not gens or any(sorted(g) != list(range(len(gens[0]))) for g in gens):
+        raise ValueError("generators must be permutations of range(n), all of the same n.")
     n = len(gens[0])
     identity = tuple(range(n))
     seen = {identity}
@@ -348,8 +353,14 @@ def _mul(a, b, r):
 
 def psl2_element_order(m, r: int) -> int:
     """Order in PSL(2, r) of the matrix ``m = (a, b, c, d)`` (of determinant 1): m^k = ±1."""
+    r = _psl2_check_prime(r)
+    try:
+        m = tuple(_validate.integer("a matrix entry", v) % r for v in m)
+    except TypeError:
+        raise ValueError("m must be a matrix (a, b, c, d) of integers.") from None
+    if len(m) != 4 or (m[0] * m[3] - m[1] * m[2]) % r != 1:
+        raise ValueError(f"m must be (a, b, c, d) with ad - bc = 1 mod {r}.")
     one, minus = (1, 0, 0, 1), (r - 1, 0, 0, r - 1)
-    m = tuple(int(v) % r for v in m)
     acc = m
     for k in range(1, r + 2):
         if acc == one or acc == minus:
@@ -402,6 +413,9 @@ def psl2_triple(p: int, q: int, r: int):
     -------
     (x, y) as tuples (a, b, c, d), or None when PSL(2, r) has no elements of order p or q.
     """
+    p = _validate.integer("p", p, minimum=2, maximum=10_000)
+    q = _validate.integer("q", q, minimum=2, maximum=10_000)
+    r = _psl2_check_prime(r)
     ty = _traces_of_order(q, r)
     tz = _traces_of_order(p, r)
     if not ty or not tz:
@@ -461,7 +475,9 @@ def psl2_dart_tables(x, y, r: int) -> tuple[np.ndarray, np.ndarray]:
     -------
     (X, Y) : int32 arrays of length |PSL(2, r)|, ``X[i]`` the index of element i times x.
     """
-    n = psl2_order(r)
+    r = _psl2_check_prime(r)
+    x, y = _matrix("x", x, r), _matrix("y", y, r)
+    n = _dart_count(r)
     X = np.empty(n, dtype=np.int32)
     Y = np.empty(n, dtype=np.int32)
     _kernels()["psl2_tables"](np.int64(r), _inverses(r), _mul_tables(r, x, y, _mul(x, y, r)), X, Y)
@@ -482,7 +498,10 @@ def psl2_map(x, y, r: int, q: int) -> np.ndarray:
     ndarray of int32, shape (|G|/q, q): ``nb[v, j]`` is the head of the dart
     :math:`d_v y^j`, :math:`d_v` the smallest dart of vertex v.
     """
-    n = psl2_order(r)
+    r = _psl2_check_prime(r)
+    x, y = _matrix("x", x, r), _matrix("y", y, r)
+    q = _validate.integer("q", q, minimum=2, maximum=10_000)
+    n = _dart_count(r)
     k = _kernels()
     inv = _inverses(r)
     T = _mul_tables(r, x, y, _mul(x, y, r))
@@ -627,8 +646,25 @@ def _kernels() -> dict:
     return {"psl2_tables": psl2_tables, "psl2_mask": psl2_mask, "psl2_fill": psl2_fill}
 
 
+def _dart_count(r: int) -> int:
+    n = psl2_order(r)
+    if n >= 2**31:  # darts are numbered with int32 (and memory is checked by the callers)
+        raise ValueError(f"PSL(2,{r}) has {n:,} elements; at most 2**31 - 1 darts are supported.")
+    return n
+
+
+def _matrix(name: str, m, r: int) -> tuple[int, int, int, int]:
+    try:
+        t = tuple(_validate.integer(f"an entry of {name}", v) % r for v in m)
+    except TypeError:
+        raise ValueError(f"{name} must be a matrix (a, b, c, d) of integers.") from None
+    if len(t) != 4 or (t[0] * t[3] - t[1] * t[2]) % r != 1:
+        raise ValueError(f"{name} must be (a, b, c, d) with ad - bc = 1 mod {r}.")
+    return t
+
+
 def _psl2_check_prime(r) -> int:
-    r = _validate.integer("r", r, minimum=5)
+    r = _validate.integer("r", r, minimum=3, maximum=100_000)
     if not is_prime(r):
         raise ValueError(f"r must be an odd prime, got {r}.")
     if math.prod((r, r, r)) > 2**62:  # pragma: no cover - far beyond memory anyway
