@@ -293,6 +293,9 @@ class DosComparison(Result):
         :math:`\nu` of ``quantiles``; ``quantile_improved`` with the improved map.
     density_resolved : ndarray (C, K)
         Each curve at the ``resolution`` of the exact comparison (what ``distance`` measures).
+    ratio_band : ndarray (3, Q)
+        :math:`N_{\rm cont}(E)/\nu` at :math:`E = E_{\rm latt}(\nu)` and at :math:`E \mp 2` error bars
+        (:meth:`continuum_ratio`).
     bottom_energies, bottom_integrated, bottom_integrated_err : ndarray
         Integrated DOS of the largest cluster near the band bottom (``bottom_label`` says which run).
     notes : list of str
@@ -327,6 +330,7 @@ class DosComparison(Result):
     quantile_continuum: np.ndarray
     quantile_improved: np.ndarray
     density_resolved: np.ndarray
+    ratio_band: np.ndarray
     bottom_energies: np.ndarray
     bottom_integrated: np.ndarray
     bottom_integrated_err: np.ndarray
@@ -345,18 +349,9 @@ class DosComparison(Result):
     def continuum_ratio(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         r"""Per quantile :math:`\nu`: :math:`N_{\rm cont}(E_{\rm latt}(\nu))/\nu` (paper's map), the fraction
         of states the continuum puts below the lattice's :math:`E(\nu)` relative to the lattice's, and the
-        same at :math:`E(\nu) \mp 2` error bars (low, high): 1 = agreement."""
-        e = self.quantile_lattice
-        err = np.nan_to_num(self.quantile_lattice_err)
-        nu = self.quantiles
-
-        def at(x):
-            ok = np.isfinite(x)
-            out = np.full(x.shape, np.nan)
-            out[ok] = continuum_integrated_dos(x[ok], self.p, self.q) / nu[ok]
-            return out
-
-        return at(e), at(e - 2 * err), at(e + 2 * err)
+        same at :math:`E(\nu) \mp 2` error bars (low, high): 1 = agreement (stored ``ratio_band``)."""
+        band = np.asarray(self.ratio_band, dtype=float).reshape(3, -1)
+        return band[0], band[1], band[2]
 
     def continuum_agreement(self, tolerance: float = 0.1) -> np.ndarray:
         r"""Per quantile :math:`\nu`: does the continuum count the same states below the lattice's
@@ -662,6 +657,15 @@ def dos_comparison(p: int = 7, q: int = 3, *, clusters=None, rings=None, moments
     tab_lam, tab_e = _improved_table(p, q)
     q_imp = np.where(lam_nu <= tab_lam[-1], np.interp(lam_nu, tab_lam, tab_e), np.nan)
     edges = np.asarray(edges, dtype=float).reshape(-1, 4)
+
+    def ratio_at(x):
+        out = np.full(x.shape, np.nan)
+        ok = np.isfinite(x)
+        out[ok] = continuum_integrated_dos(x[ok], p, q) / qs[ok]
+        return out
+
+    err2 = 2.0 * np.nan_to_num(q_lat_err)
+    ratio_band = np.vstack([ratio_at(q_lat), ratio_at(q_lat - err2), ratio_at(q_lat + err2)])
     return DosComparison(
         p=p, q=q, moments=moments, resolution=resolution, quantile=quantile, energies=energies, labels=labels,
         kinds=kinds, sites=np.asarray(sizes, dtype=np.int64), density=np.asarray(dens).reshape(len(labels), -1),
@@ -670,7 +674,7 @@ def dos_comparison(p: int = 7, q: int = 3, *, clusters=None, rings=None, moments
         bottom=edges[:, 0], bottom_err=edges[:, 1], top=edges[:, 2], top_err=edges[:, 3],
         rho_lower=sr.lower, rho_upper=sr.upper, continuum_bottom=bottoms, quantiles=qs, quantile_lattice=q_lat,
         quantile_lattice_err=q_lat_err, quantile_continuum=q_cont, quantile_improved=q_imp, notes=notes,
-        density_resolved=np.asarray(resolved).reshape(len(labels), -1), bottom_energies=e_bot,
+        density_resolved=np.asarray(resolved).reshape(len(labels), -1), ratio_band=ratio_band, bottom_energies=e_bot,
         bottom_integrated=n_bot, bottom_integrated_err=n_bot_err,
         bottom_label=(f"{labels[[i for i, k in enumerate(kinds) if k == 'cluster'][-1]]}, {largest.moments} moments"
                       if largest is not None else ""),
