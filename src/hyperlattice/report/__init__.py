@@ -58,6 +58,10 @@ def reproduce(out_dir: str | Path = "reproduction", max_rings: int = 10, *, cach
     import matplotlib.pyplot as plt
 
     from . import sections as sec
+    from .below_band import holography_section, qubits_section
+    from .disorder import disorder_section
+    from .infinite import infinite_section
+    from .limits import limits_section
     from .writers import write_html, write_md
 
     if isinstance(max_rings, bool) or not isinstance(max_rings, (int, np.integer)) or not 2 <= max_rings <= 14:
@@ -73,9 +77,15 @@ def reproduce(out_dir: str | Path = "reproduction", max_rings: int = 10, *, cach
     sections = [sec.geometry_section(), sec.counts_section(max_rings), sec.fig1_section(out)]
     spec_section, records = sec.spectrum_section(cache, max_rings, timings, progress)
     sections += [spec_section, sec.fig2_section(records, out, progress)]
+    sections.append(limits_section(cache, max_rings, out, progress))
     sections.append(sec.green_section(cache, max_rings, out, progress))
     sections.append(sec.scaling_section(out, progress))
+    # beyond the paper, each from its own module
     sections.append(sec.magnetic_section(out, progress))
+    sections.append(infinite_section(out, progress))
+    sections.append(holography_section(out, progress))
+    sections.append(qubits_section(out, progress))
+    sections.append(disorder_section(out, progress))
 
     header = ["# Reproduction of Boettcher, Bienias, Belyansky, Kollár, Gorshkov, PRA 102, 032208 (2020)", "",
               f"Computed by hyperlattice {__version__} with max_rings = {max_rings}. Every number below is computed "

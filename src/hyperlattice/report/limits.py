@@ -231,6 +231,6 @@ def limits_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[
         "the isotropic sum helps most for {7,3}; for q = 4 the anisotropic orders are m = ±4.",
         f"Stored flake levels (REFERENCE_LEVELS) regenerate with: {REFERENCE_COMMAND}.",
     ]
-    return Section("Beyond the paper: the infinite lattice, the plateau explained, an improved dictionary",
+    return Section("Beyond the paper: the band bottom, the plateau explained, an improved dictionary",
                    "AppSpec, AppAdj, adj26, adj32, adj33, eq12, spec2", text, [t_band, t_fit, t_terms, t_dict],
                    [figure])
