@@ -31,8 +31,9 @@ def add_arguments(parser) -> None:
     parser.add_argument("--sector", default=None, metavar="M",
                         help="only sector M (0..p-1 or signed, e.g. -1 = p-1)")
     parser.add_argument("--line-graph", action="store_true", help="use the line graph (resonator layout)")
-    parser.add_argument("--method", choices=("auto", "sector", "dense", "sparse"), default="auto",
-                        help="eigensolver (default auto: angular-momentum sectors)")
+    parser.add_argument("--method", choices=("auto", "sector", "dense", "sparse", "pair"), default="auto",
+                        help="eigensolver (default auto: angular-momentum sectors); pair: E0 and E1 only, "
+                        "from the sector blocks without building the lattice (large flakes, l = 15..17)")
     parser.add_argument("--flux", type=finite_float, default=None, metavar="F",
                         help="uniform field: F flux quanta per p-gon, F > 0 counterclockwise (default 0)")
     parser.add_argument("--tol", type=float, default=1e-10, help="largest acceptable residual (default 1e-10)")
@@ -43,6 +44,8 @@ def run(args) -> int:
     sector = None
     if args.sector is not None:
         sector = signed_sector(_sector(args.sector), args.p)
+    if args.method == "pair":
+        return _run_pair(args)
     with Progress("spectrum") as progress:
         progress.update("building the lattice")
         lattice = ring_lattice(args.p, args.q, args.rings)
@@ -73,4 +76,28 @@ def run(args) -> int:
     for e, n, m, d, r in zip(spec.energies, spec.n, spec.m, spec.degeneracy, spec.errors):
         print(f"{e:20.14f} {n:3d} {m:4d} {d:3d} {r:10.1e}")
     print("deg = 2: sectors m and -m (= p - m) are degenerate.")
+    return 0
+
+
+def _run_pair(args) -> int:
+    """``--method pair``: E0 and E1 from the sector-only build (graph.sectors.lowest_pair)."""
+    from ..graph.sectors import lowest_pair
+
+    for flag, bad in (("--line-graph", args.line_graph), ("--sector", args.sector is not None),
+                      ("--flux", bool(args.flux)), ("--levels other than 2", args.levels != 2)):
+        if bad:
+            raise ValueError(f"--method pair computes E0 and E1 of the flake only; {flag} is not supported with it.")
+    with Progress("spectrum") as progress:
+        spec = lowest_pair(args.p, args.q, args.rings, tol=args.tol, progress=progress.update)
+    if args.json:
+        out = spec.summary()
+        if args.flux is not None:
+            out["flux"] = float(args.flux)
+        print_json(out)
+        return 0
+    print(f"{{{args.p},{args.q}}} rings={args.rings} sites={spec.sites} method={spec.method} "
+          f"time={spec.timings.get('total', 0.0):.2f} s")
+    print(f"{'E':>20} {'n':>3} {'m':>4} {'deg':>3} {'residual':>10}")
+    for e, n, m, d, r in zip(spec.energies, spec.n, spec.m, spec.degeneracy, spec.errors):
+        print(f"{e:20.14f} {n:3d} {m:4d} {d:3d} {r:10.1e}")
     return 0
