@@ -110,9 +110,57 @@ def _factories():
         "ConvergenceStudy": lambda: scaling.convergence_study(ring_lattice(7, 3, 3), scaling.SmoothFunction.exp_x()),
         "CountingFit": lambda: sums.fit_counting(ring_lattice(7, 3, 4)),
         "MagneticComparison": _magnetic_comparison,
+        **_beyond_factories(),
         "SumCheck": lambda: sums.SumCheck(p=7, q=3, rings=2, sites=77, radius=0.9, function="f",
                                           lattice_sum=1.5 + 1e-3j, integral=complex(1.49, 0.0)),
     }
+
+
+def _beyond_factories():
+    """Real constructions of the results beyond the paper (small and cheap)."""
+    from hyperlattice.graph.lattice import ring_lattice
+
+    def bolza():
+        from hyperlattice.graph.clusters import pbc_cluster
+
+        return pbc_cluster(8, 3, "bolza")
+
+    def bands(kind):
+        from hyperlattice.graph import bands as b
+
+        return {"Windings": lambda: b.edge_windings(bolza()),
+                "Bands": lambda: b.band_structure(bolza(), points=3),
+                "AbelianDOS": lambda: b.abelian_dos(bolza(), samples=8, bins=10, batches=2)}[kind]()
+
+    def limits(kind):
+        from hyperlattice.compare import limits as lim
+
+        return {"BandBottom": lambda: lim.band_bottom(7, 3, schur_window=None),
+                "SchurBound": lambda: lim.schur_bound(7, 3, window=0, rings=7),
+                "DictionaryComparison": lambda: lim.compare_dictionaries(),
+                "BandBottomFit": lambda: lim.fit_band_bottom(*[a[-6:] for a in lim.reference_levels()[:2]])}[kind]()
+
+    def dos():
+        from hyperlattice.compare.dos import dos_comparison
+
+        return dos_comparison(7, 3, clusters=("klein",), rings=(4,), moments=32, vectors=3, abelian=False,
+                              walk_length=11, resolution=20)
+
+    def spins():
+        from hyperlattice.graph.qubits import spin_model
+
+        return spin_model(ring_lattice(7, 3, 3), [0, 10, 30], -3.1, 0.05)
+
+    def cluster():
+        from hyperlattice.graph.clusters import pbc_cluster
+
+        return pbc_cluster(7, 3, "klein")
+
+    out = {"Cluster": cluster, "DosComparison": dos, "SpinModel": spins}
+    out.update({k: (lambda k=k: bands(k)) for k in ("Windings", "Bands", "AbelianDOS")})
+    out.update({k: (lambda k=k: limits(k)) for k in ("BandBottom", "SchurBound", "DictionaryComparison",
+                                                     "BandBottomFit")})
+    return out
 
 
 def _magnetic_comparison():
