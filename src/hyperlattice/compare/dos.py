@@ -465,13 +465,12 @@ def _abelian(cluster, energies, samples, seed):
     ab = abelian_dos(cluster, samples=samples, bins=240, seed=seed)
     dens = np.interp(energies, ab.energies, ab.density, left=0.0, right=0.0)
     err = np.interp(energies, ab.energies, ab.errors, left=0.0, right=0.0)
-    # Chebyshev moments of the histogram (uniform within a bin): for the resolution-limited distance
     return ab, dens, err
 
 
 def _hist_moments(ab, scale: float, m: int) -> np.ndarray:
+    """Chebyshev moments of a histogram density (uniform within each bin, 9-point average of T_n)."""
     edges = np.asarray(ab.bin_edges) / scale
-    th = np.arccos(np.clip(edges, -1, 1))
     weights = np.asarray(ab.density) * np.diff(ab.bin_edges)
     n = np.arange(m)
     # average of cos(n theta) over x in the bin, weighted by dx: int T_n dx over the bin / dx
