@@ -10,7 +10,7 @@ from typing import Callable
 from ..graph.lattice import ring_lattice
 from .writers import Section, Table, save_figure
 
-__all__ = ["holography_section", "qubits_section"]
+__all__ = ["holography_section", "qubits_section", "delta_scaling"]
 
 _OMEGAS = (-3.8, -3.5, -3.2, -3.0, -2.95)
 
@@ -106,3 +106,77 @@ def qubits_section(out: Path, progress: Callable[[str], None]) -> Section:
             "bound: the curvature limits its size (cf. Bienias et al., PRL 128, 013601 (2022)); on the flake the "
             "growth continues up to E0(l), where the edge takes over."]
     return Section("Beyond the paper: circuit-QED qubits below the band", "issue 14; eq20, eq21", text, [t1, t2], figs)
+
+
+#: the rings and frequencies of the Delta(l) table and figure of docs/below-band.md
+DELTA_RINGS = (5, 6, 7, 8, 9, 10, 11, 12)
+BF_RINGS = (3, 4, 5, 6, 7, 8, 9, 10, 11, 12)
+
+
+def delta_scaling(out=None, rings=DELTA_RINGS, omegas=_OMEGAS, bf_rings=BF_RINGS, *, p: int = 7, q: int = 3,
+                  progress: Callable[[str], None] | None = None) -> dict:
+    r"""Δ_lattice(m²) for several ℓ against Δ_continuum, and the lattice BF bound E0(ℓ): table data and figure.
+
+    One :func:`~hyperlattice.compare.boundary.delta_curve` per ℓ (source = first outer-ring site, depth 2)
+    and one :func:`~hyperlattice.compare.boundary.lattice_bf_bound`. With ``out`` (a directory) writes
+    ``below-band-delta.png`` (left: Δ against m², lattice and continuum; middle: Δ_lattice − Δ_continuum
+    against ℓ per mass; right: E0(ℓ) and E∞) and ``below-band-delta.json`` (the numbers).
+    Regenerates the tables of ``docs/below-band.md``; ℓ = 12 (725,760 sites) needs about 2 GB and a
+    minute or two.
+
+    Returns
+    -------
+    dict
+        ``{"curves": [DeltaCurve.as_dict() ...], "bf": LatticeBFBound.as_dict(), "seconds": {...}}``.
+    """
+    import time
+
+    import numpy as np
+
+    from ..compare.boundary import delta_curve, lattice_bf_bound
+
+    say = progress if progress is not None else (lambda s: None)
+    curves, secs = [], {}
+    for ell in rings:
+        t0 = time.perf_counter()
+        lat = ring_lattice(p, q, ell)
+        curves.append(delta_curve(lat, omegas))
+        secs[str(ell)] = time.perf_counter() - t0
+        say(f"l = {ell}: {lat.sites} sites, {secs[str(ell)]:.1f} s")
+        del lat
+    t0 = time.perf_counter()
+    bf = lattice_bf_bound(p, q, tuple(bf_rings))
+    secs["bf"] = time.perf_counter() - t0
+    say(f"BF bound l = {bf_rings[0]}..{bf_rings[-1]}: {secs['bf']:.1f} s")
+    data = {"curves": [c.as_dict() for c in curves], "bf": bf.as_dict(), "seconds": secs}
+    if out is not None:
+        import json
+
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        from ..plots.boundary import plot_bf_bound, plot_delta_curve
+
+        out = Path(out)
+        fig, axes = plt.subplots(1, 3, figsize=(15.0, 4.2), layout="constrained")
+        plot_delta_curve(curves, ax=axes[0])
+        ax = axes[1]
+        ells = np.array([c.rings for c in curves])
+        for k, w in enumerate(curves[0].omegas):
+            dl = np.array([c.delta_lattice[k] for c in curves])
+            de = np.array([c.delta_lattice_err[k] for c in curves])
+            dc = curves[0].delta_continuum[k]
+            ax.errorbar(ells, dl - dc, yerr=de, fmt="o-", ms=3, capsize=2,
+                        label=fr"$\omega = {w:g}$, $m^2 = {round(float(curves[0].mass2[k]), 2) + 0.0:.2f}$")
+        ax.axhline(0.0, color="k", lw=0.8)
+        ax.set_xlabel(r"rings $\ell$")
+        ax.set_ylabel(r"$\Delta_{\rm lattice} - \Delta_{\rm continuum}$")
+        ax.legend(fontsize=7)
+        plot_bf_bound(bf, ax=axes[2])
+        fig.savefig(out / "below-band-delta.png", dpi=100, metadata={"Software": None})
+        plt.close(fig)
+        (out / "below-band-delta.json").write_text(json.dumps(data, indent=1, default=float) + "\n",
+                                                    encoding="utf-8")
+    return data
