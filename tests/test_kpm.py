@@ -206,3 +206,26 @@ def test_cluster_moments_equal_lattice_walks_below_the_systole():
     # the exact local moments at any site of the cluster are the lattice's (vertex-transitive quotient)
     loc = local_dos(c, 123, c.systole)
     assert np.abs(loc.mu - ref).max() < 1e-12
+
+
+@pytest.mark.parametrize("kind", ["rademacher", "phase"])
+def test_block_kernel_equals_single_vector_kernel(kind, flake):
+    # kpm_dos runs its vectors in blocks of 8 columns; each column must give the single-vector moments
+    clusters = pytest.importorskip("hyperlattice.graph.clusters")
+    for graph in (flake, clusters.pbc_cluster(7, 3, min_sites=1000), _table_matrix(_prism(25))):
+        op = graph_operator(graph)
+        res = kpm_dos(graph, 61, vectors=11, seed=3, kind=kind)  # one full block of 8, one of 3
+        ref = []
+        for r in range(11):
+            v = kpm._random_vector(kind, op.sites, 3, r, None)
+            if op.perm is not None:
+                w = np.empty_like(v)
+                w[op.perm] = v
+                v = w
+            ref.append(kpm._chebyshev_moments(op, v, 61, res.scale) / op.sites)
+        assert np.abs(res.mu_vectors - np.array(ref)).max() < 1e-12
+    # serial and parallel block kernels reduce in the same fixed chunks: identical moments
+    t = _prism(3000)
+    a = kpm_dos(t, 30, vectors=8, seed=1)
+    b = kpm_dos(t, 30, vectors=8, seed=1, parallel=True)
+    assert np.array_equal(a.mu_vectors, b.mu_vectors)

@@ -324,6 +324,137 @@ def _chebyshev_moments(op: GraphOperator, r: np.ndarray, moments: int, scale: fl
     return mu
 
 
+_BLOCK_KERNELS: dict = {}
+#: rows per reduction chunk of the block kernels: the partial dot products of a chunk are summed in a
+#: fixed order, so serial and parallel runs give the same moments bit for bit
+CHUNK = 2048
+#: vectors per block: 8 float64 = one 64-byte cache line per site, so a gather brings 8 useful numbers
+BLOCK = 8
+
+
+def _block_kernels(parallel: bool) -> tuple[Callable, Callable]:
+    """Fused Chebyshev steps on a block of vectors, ``out = c * (A Y) - Yprev`` (Y of shape (N, R),
+    row-major), writing the per-chunk partial dots ``<out,out>`` and ``<out,Y>`` of every column.
+
+    ``out`` may be ``Yprev`` (row i of Yprev is read before row i of out is written): two work blocks
+    instead of three, and one stream fewer.
+    """
+    if parallel in _BLOCK_KERNELS:
+        return _BLOCK_KERNELS[parallel]
+    import numba
+
+    rng = numba.prange if parallel else range
+
+    @numba.njit(cache=True, parallel=parallel, fastmath=False)
+    def block_table(nb, c, y, yprev, out, soo, soy, chunk):  # pragma: no cover - jitted
+        n, w = nb.shape
+        nv = y.shape[1]
+        for b in rng(soo.shape[0]):
+            acc = np.zeros_like(y[0])
+            for r in range(nv):
+                soo[b, r] = 0.0
+                soy[b, r] = 0.0
+            for i in range(b * chunk, min(n, (b + 1) * chunk)):
+                j = nb[i, 0]
+                for r in range(nv):
+                    acc[r] = y[j, r]
+                for k in range(1, w):
+                    j = nb[i, k]
+                    for r in range(nv):
+                        acc[r] += y[j, r]
+                for r in range(nv):
+                    v = c * acc[r] - yprev[i, r]
+                    out[i, r] = v
+                    soo[b, r] += v.real * v.real + v.imag * v.imag
+                    soy[b, r] += v.real * y[i, r].real + v.imag * y[i, r].imag
+
+    @numba.njit(cache=True, parallel=parallel, fastmath=False)
+    def block_csr(indptr, indices, data, weighted, c, y, yprev, out, soo, soy, chunk):  # pragma: no cover
+        n = indptr.shape[0] - 1
+        nv = y.shape[1]
+        for b in rng(soo.shape[0]):
+            acc = np.zeros_like(y[0])
+            for r in range(nv):
+                soo[b, r] = 0.0
+                soy[b, r] = 0.0
+            for i in range(b * chunk, min(n, (b + 1) * chunk)):
+                for r in range(nv):
+                    acc[r] = 0.0
+                for k in range(indptr[i], indptr[i + 1]):
+                    j = indices[k]
+                    if weighted:
+                        d = data[k]
+                        for r in range(nv):
+                            acc[r] += d * y[j, r]
+                    else:
+                        for r in range(nv):
+                            acc[r] += y[j, r]
+                for r in range(nv):
+                    v = c * acc[r] - yprev[i, r]
+                    out[i, r] = v
+                    soo[b, r] += v.real * v.real + v.imag * v.imag
+                    soy[b, r] += v.real * y[i, r].real + v.imag * y[i, r].imag
+
+    _BLOCK_KERNELS[parallel] = (block_table, block_csr)
+    return _BLOCK_KERNELS[parallel]
+
+
+def _block_step_fn(op: GraphOperator, parallel: bool, nv: int):
+    """``step(c, Y, Yprev, out) -> (<out,out>, <out,Y>)`` per column, for a block of ``nv`` vectors."""
+    block_table, block_csr = _block_kernels(_validate.flag("parallel", parallel))
+    nch = -(-op.sites // CHUNK)
+    soo = np.empty((nch, nv))
+    soy = np.empty((nch, nv))
+    if op.table is not None:
+        nb = op.table
+
+        def step(c, y, yprev, out):
+            block_table(nb, c, y, yprev, out, soo, soy, CHUNK)
+            return soo.sum(axis=0), soy.sum(axis=0)
+        return step
+    weighted = op.data is not None
+    data = op.data if weighted else np.zeros(1)
+    indptr, indices = op.indptr, op.indices
+
+    def step(c, y, yprev, out):
+        block_csr(indptr, indices, data, weighted, c, y, yprev, out, soo, soy, CHUNK)
+        return soo.sum(axis=0), soy.sum(axis=0)
+    return step
+
+
+def _chebyshev_moments_block(op: GraphOperator, x: np.ndarray, moments: int, scale: float,
+                             parallel: bool = False) -> np.ndarray:
+    """Raw moments of every column of ``x`` (N, R), shape (R, moments); ``x`` is overwritten.
+
+    The same doubling recurrence as :func:`_chebyshev_moments`, R vectors per pass over the graph:
+    each gather ``x[nb[i, k], :]`` reads one cache line holding all R numbers of that site.
+    """
+    nv = x.shape[1]
+    step = _block_step_fn(op, parallel, nv)
+    c = -2.0 / scale
+    mu = np.empty((nv, moments))
+    t1 = np.zeros_like(x)
+    step(c, x, t1, t1)  # t1 = c A x
+    t1 *= 0.5
+    mu0 = np.einsum("ij,ij->j", x.conj(), x).real
+    mu1 = np.einsum("ij,ij->j", x.conj(), t1).real
+    mu[:, 0] = mu0
+    if moments > 1:
+        mu[:, 1] = mu1
+    if moments > 2:
+        mu[:, 2] = 2.0 * np.einsum("ij,ij->j", t1.conj(), t1).real - mu0
+    prev, cur = x, t1
+    n = 1
+    while 2 * n + 1 < moments:
+        s_oo, s_oy = step(c, cur, prev, prev)  # prev <- t_{n+1}, in place
+        mu[:, 2 * n + 1] = 2.0 * s_oy - mu1
+        if 2 * n + 2 < moments:
+            mu[:, 2 * n + 2] = 2.0 * s_oo - mu0
+        prev, cur = cur, prev
+        n += 1
+    return mu
+
+
 # ----------------------------------------------------------------------------
 # the result
 # ----------------------------------------------------------------------------
@@ -502,12 +633,15 @@ def _available_memory() -> int:
     return avail()
 
 
-def _check_memory(n: int, itemsize: int) -> None:
-    need = 5 * n * itemsize  # four work vectors and one random vector
+def _check_memory(n: int, itemsize: int, block: int = 1) -> int:
+    """The block width (<= ``block``) whose work arrays fit in memory; refuse if not even one vector fits."""
     have = _available_memory()
-    if need > have:
-        raise ValueError(f"the KPM work vectors need about {need / 1024**3:.1f} GB for {n:,} sites, "
-                         f"more than the {have / 1024**3:.1f} GB available.")
+    for nv in range(block, 0, -1):
+        if 3 * n * itemsize * nv <= have:  # two work blocks and the vectors being drawn
+            return nv
+    need = 5 * n * itemsize  # the single-vector path: four work vectors and one random vector
+    raise ValueError(f"the KPM work vectors need about {need / 1024**3:.1f} GB for {n:,} sites, "
+                     f"more than the {have / 1024**3:.1f} GB available.")
 
 
 def _random_vector(kind: str, n: int, seed: int, r: int, support: np.ndarray | None) -> np.ndarray:
@@ -576,22 +710,32 @@ def _stochastic(op: GraphOperator, moments: int, vectors: int, seed: int, kind: 
                 deflate: list[np.ndarray] | None = None) -> tuple[np.ndarray, float]:
     import time
 
-    _check_memory(op.sites, 8 if kind == "rademacher" else 16)
+    itemsize = 8 if kind == "rademacher" else 16
+    width = _check_memory(op.sites, itemsize, min(BLOCK, vectors))
     scale = op.bound / (1.0 - EPS)
     ns = op.sites if support is None else support.shape[0]
     per = np.empty((vectors, moments))
     t0 = time.perf_counter()
-    for r in range(vectors):
-        if progress is not None:
-            progress(f"random vector {r + 1}/{vectors}")
-        v = _random_vector(kind, op.sites, seed, r, support)
-        if op.perm is not None:  # the same vector in the operator's numbering: results do not depend on it
-            w = np.empty_like(v)
-            w[op.perm] = v
-            v = w
-        for u in deflate or ():
-            v -= np.dot(u, v) * u  # trace of (1 - P) T_n(H) (1 - P): the state u is left out
-        per[r] = _chebyshev_moments(op, v, moments, scale, parallel) / ns
+    # R vectors in blocks of ``width`` columns of one row-major (N, width) array: a pass over the graph
+    # then serves all of them, and each random gather fetches a whole cache line of useful numbers
+    for start in range(0, vectors, width):
+        nv = min(width, vectors - start)
+        x = np.empty((op.sites, nv), dtype=np.float64 if kind == "rademacher" else np.complex128)
+        for j in range(nv):
+            r = start + j
+            if progress is not None:
+                progress(f"random vector {r + 1}/{vectors}")
+            v = _random_vector(kind, op.sites, seed, r, support)
+            if op.perm is not None:  # the same vector in the operator's numbering: results do not depend on it
+                w = np.empty_like(v)
+                w[op.perm] = v
+                v = w
+            for u in deflate or ():
+                v -= np.dot(u, v) * u  # trace of (1 - P) T_n(H) (1 - P): the state u is left out
+            x[:, j] = v
+            del v
+        per[start:start + nv] = _chebyshev_moments_block(op, x, moments, scale, parallel) / ns
+        del x
     return per, time.perf_counter() - t0
 
 
