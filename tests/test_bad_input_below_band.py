@@ -36,10 +36,11 @@ CASES = [
     ("fit_window", cb.fit_window, dict(lattice=LAT, depth=2), {}),
     ("fit_delta", cb.fit_delta, dict(theta=[0.5 + 0.1 * k for k in range(12)], values=[1.0] * 12,
                                      eps=[0.1] * 12, theta_min=0.1), {}),
-    ("boundary_correlator", cb.boundary_correlator, dict(lattice=LAT, omega=-3.2, source=SRC, depth=2),
+    ("boundary_correlator", cb.boundary_correlator, dict(lattice=LAT, omega=-3.2, source=SRC, depth=2,
+                                                                continuum_disk="whole"),
      {"source": {"none"}}),
     ("continuum_boundary_column", cb.continuum_boundary_column,
-     dict(lattice=LAT, omega=-3.2, source=SRC, targets=[SRC + 1]), {}),
+     dict(lattice=LAT, omega=-3.2, source=SRC, targets=[SRC + 1], disk="whole"), {}),
     ("delta_curve", cb.delta_curve, dict(lattice=LAT, omegas=[-3.2], source=SRC, depth=2), {"source": {"none"}}),
     ("lattice_bf_bound", cb.lattice_bf_bound, dict(p=7, q=3, rings=[3]), {}),
     ("bulk_to_boundary", cb.bulk_to_boundary, dict(lattice=LAT, omega=-3.2, source=SRC), {"source": {"none"}}),
@@ -55,6 +56,7 @@ CLI_FLAGS = [
     (["boundary", "--rings", "4"], "--omega", set()),   # -1, 0, 3.5 lie in or above the band
     (["boundary", "--rings", "4"], "--site", set()),
     (["boundary", "--rings", "4"], "--depth", set()),
+    (["boundary", "--rings", "4"], "--continuum-disk", set()),
     (["qubits", "--rings", "4"], "--rings", set()),
     (["qubits", "--rings", "4"], "--omega-q", set()),
     (["qubits", "--rings", "4"], "--g", {"-1", "3.5"}),    # the sign of g is irrelevant; 3.5 is strong coupling

@@ -169,3 +169,39 @@ def test_ldl_resolvent_matches_superlu_and_resolves_tiny_entries():
         fast.column(e0 + 1e-6, 0)
     with pytest.raises(ValueError, match="method"):
         BelowBandResolvent(lat, method="cg")
+
+
+# -- continuum side: whole disk vs Dirichlet disk of radius L (issue 14, item 2) --
+
+@pytest.mark.parametrize("omega", [-3.5, -3.2])
+def test_dirichlet_disk_continuum_is_closer_to_the_lattice(lat5, omega):
+    from hyperlattice.dictionary import disk_radius_for_rings
+
+    whole = cb.boundary_correlator(lat5, omega)
+    assert np.array_equal(whole.continuum, cb.boundary_correlator(lat5, omega, continuum_disk="whole").continuum)
+    dir_ = cb.boundary_correlator(lat5, omega, continuum_disk="dirichlet")
+    assert dir_.delta_lattice == whole.delta_lattice              # the fit does not depend on the model
+    L = disk_radius_for_rings(5)[0]
+    z = np.abs(ring_lattice(7, 3, 5).z[dir_.sites])
+    src = dir_.sites == dir_.source
+    assert np.isinf(dir_.continuum[src]).all()
+    assert np.all(np.isnan(dir_.continuum[z >= L])) and np.all(np.isfinite(dir_.continuum[(z < L) & ~src]))
+    assert np.all(dir_.continuum[(z < L) & ~src] > 0)
+    k = np.isfinite(dir_.continuum)
+    rel = lambda c: np.linalg.norm(dir_.graph[k] - c[k]) / np.linalg.norm(dir_.graph[k])
+    # measured: 0.212 vs 0.255 (omega = -3.5), 0.249 vs 0.465 (-3.2)
+    assert rel(dir_.continuum) < rel(whole.continuum) - 0.03
+    # pointwise the Dirichlet column lies below the whole-disk one (G_L < G_1: the maximum principle)
+    assert np.all(dir_.continuum[k] < whole.continuum[k])
+    mapped = cb.boundary_correlator(lat5, omega, continuum_disk="mapped")
+    assert np.all(np.isfinite(mapped.continuum[~src])) and np.all(mapped.continuum[~src] > 0)
+
+
+def test_dirichlet_disk_refused_beyond_its_series():
+    lat7 = ring_lattice(7, 3, 7)
+    ring = cb.outer_ring(lat7)
+    for disk in ("dirichlet", "mapped"):
+        with pytest.raises(ValueError, match="Fourier orders"):
+            cb.continuum_boundary_column(lat7, -3.2, int(ring[0]), ring, disk=disk)
+    with pytest.raises(ValueError, match="one of"):
+        cb.boundary_correlator(ring_lattice(7, 3, 4), -3.2, continuum_disk="L")

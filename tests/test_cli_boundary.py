@@ -68,3 +68,16 @@ def test_errors_exit_2(capsys, tmp_path):
         assert code == 2
         err = capsys.readouterr().err
         assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+
+
+def test_csv_dirichlet_continuum_keeps_the_columns(tmp_path, capsys):
+    out = tmp_path / "d.csv"
+    assert main(["boundary", "--rings", "5", "--omega=-3.2", "--continuum-disk", "dirichlet", "--out", str(out)]) == 0
+    with open(out) as fh:
+        rows = list(csv.DictReader(fh))
+    assert list(rows[0]) == ["site", "theta", "graph", "continuum"]
+    ref = boundary_correlator(ring_lattice(7, 3, 5), -3.2, continuum_disk="dirichlet")
+    got = np.array([float(r["continuum"]) for r in rows])
+    assert np.array_equal(np.isnan(got), np.isnan(ref.continuum)) and np.any(np.isnan(got))
+    k = np.isfinite(ref.continuum)
+    assert np.array_equal(got[k], ref.continuum[k])

@@ -17,7 +17,8 @@ DESCRIPTION = (
     "G ~ [sin(theta/2)]^(-2 Delta). Prints lambda, mass2, the continuum Delta = 1/2 + sqrt(1 - lambda)/2 "
     "(null beyond the continuum BF bound omega > E_inf) and the fitted lattice Delta with its uncertainty. "
     "--out writes one CSV row per outer-ring site with columns site,theta,graph,continuum (graph = G_ij "
-    "itself; continuum = eq21 with the whole-disk (L = 1) propagator at the site positions; inf at the source)."
+    "itself; continuum = eq21 with the whole-disk (L = 1) propagator at the site positions, or with --continuum-disk "
+    "the Dirichlet disk of radius L; inf at the source, nan where the model has no value)."
 )
 
 COLUMNS = ["site", "theta", "graph", "continuum"]
@@ -33,6 +34,10 @@ def add_arguments(parser) -> None:
     parser.add_argument("--depth", type=positive_int, default=2,
                         help="fit window: geodesics between the pair reach at least this many rings inward "
                              "(default 2)")
+    parser.add_argument("--continuum-disk", default="whole", choices=("whole", "dirichlet", "mapped"),
+                        help="continuum column: whole-disk propagator (default), Dirichlet disk of the dictionary "
+                             "radius L at the site positions (empty beyond L; up to 6 rings for {7,3}), or the "
+                             "Dirichlet disk with the ring mapped to its mean depth")
     parser.add_argument("--out", default=None, metavar="FILE.csv",
                         help="CSV, one row per outer-ring site (columns: " + ",".join(COLUMNS) + "); '-' for stdout")
     parser.add_argument("--plot", default=None, metavar="FILE", help="figure file (.png, .svg, ...)")
@@ -56,7 +61,7 @@ def run(args) -> int:
     lat = ring_lattice(args.p, args.q, args.rings)
     if args.site is not None and not 0 <= args.site < lat.sites:
         raise ValueError(f"--site {args.site} is not a site of this lattice (valid: 0..{lat.sites - 1}).")
-    bc = boundary_correlator(lat, args.omega, args.site, depth=args.depth)
+    bc = boundary_correlator(lat, args.omega, args.site, depth=args.depth, continuum_disk=args.continuum_disk)
     if args.out == "-":
         _write_csv(sys.stdout, bc)
     elif out is not None:

@@ -72,6 +72,7 @@ __all__ = [
     "BulkToBoundary",
     "bulk_to_boundary",
     "continuum_boundary_column",
+    "CONTINUUM_DISKS",
 ]
 
 _MIN_PAIRS = 10
@@ -171,25 +172,84 @@ def fit_delta(theta, values, eps, theta_min) -> tuple[float, float, int, float, 
     return float(coef[1]), float(math.sqrt(max(cov[1, 1], 0.0))), n, float(math.exp(coef[0])), beta
 
 
-def continuum_boundary_column(lattice: Lattice, omega, source: int, targets) -> np.ndarray:
-    r"""``eq21`` with the :math:`L = 1` propagator: :math:`\frac{4\mathcal A}{qh^2}\frac1{2\pi}Q_\nu(y_{ij})`
-    at the targets (inf at the source itself, NaN beyond the continuum BF bound :math:`\lambda \ge 1`)."""
+#: continuum models of the outer ring (``continuum_disk``), see :func:`continuum_boundary_column`
+CONTINUUM_DISKS = ("whole", "dirichlet", "mapped")
+_MAX_DIRICHLET_ORDERS = 10_000
+
+
+def continuum_boundary_column(lattice: Lattice, omega, source: int, targets, *, disk: str = "whole") -> np.ndarray:
+    r"""The continuum side of ``eq21`` at the targets for one source: :math:`\frac{4\mathcal A}{qh^2}G(z_i, z_j)`.
+
+    Parameters
+    ----------
+    lattice, omega, source, targets
+        As in :func:`boundary_correlator`; ``targets`` any sites.
+    disk : {"whole", "dirichlet", "mapped"}
+        ``"whole"`` (default): the whole-disk propagator :math:`\frac1{2\pi}Q_\nu(y)` (L = 1) at the site
+        positions; NaN beyond the continuum BF bound :math:`\lambda \ge 1`. ``"dirichlet"``: the Dirichlet
+        disk of the dictionary radius L (``eq12``, :func:`~hyperlattice.dictionary.disk_radius_for_rings`) at
+        the site positions, NaN for targets with :math:`|z| \ge L` (the source must lie inside L).
+        ``"mapped"``: the Dirichlet disk with source and targets moved radially onto one circle at the
+        mean hyperbolic depth :math:`\bar\delta` of the outer ring below L,
+        :math:`|z| = \tanh(\operatorname{artanh}L - \bar\delta)`, angles kept. Both Dirichlet variants
+        sum the ``green36`` series; its length grows like :math:`1/(1 - |z||z'|/L^2)` and they are
+        refused (ValueError, before any work) when it would exceed 10,000 orders, i.e. for
+        {7,3} beyond ℓ = 6 (ℓ = 7 needs about 3·10⁴ orders and minutes, and the series overflowed
+        there in a measured run; ℓ = 10 would need 6·10⁵).
+
+    Returns
+    -------
+    ndarray
+        inf at the source itself, NaN where the model has no value.
+    """
     from ..continuum.green import continuum_green
+    from ..dictionary import disk_radius_for_rings
 
     lat = _site_lattice(lattice)
     omega = _real_omega("omega", omega)
     source = _validate.site_index("source", source, lat.sites)
     tg = _validate.site_indices("targets", targets, lat.sites)
+    disk = _validate.choice("disk", disk, CONTINUUM_DISKS)
     lam = float(lambda_from_energy(omega, lat.p, lat.q))
     out = np.full(tg.size, math.nan)
-    if lam >= 1.0:
-        return out
     same = tg == source
+    z, zs = lat.z[tg], complex(lat.z[source])
+    if disk == "whole":
+        if lam >= 1.0:
+            return out
+        use = ~same
+    else:
+        L = disk_radius_for_rings(lat.rings, lat.p, lat.q)[0]
+        if disk == "mapped":
+            ring = outer_ring(lat)
+            depth = float(np.mean(np.arctanh(L) - np.arctanh(np.abs(lat.z[ring]))))
+            r_star = math.tanh(math.atanh(L) - depth)
+            with np.errstate(invalid="ignore", divide="ignore"):
+                z = np.where(z != 0, r_star * z / np.abs(z), z)
+            zs = r_star * zs / abs(zs) if zs != 0 else zs
+        elif abs(zs) >= L:
+            raise ValueError(f"source {source} lies outside the Dirichlet disk of radius L = {L:.9g} "
+                             f"(|z| = {abs(zs):.9g}); use disk='whole' or 'mapped'.")
+        use = ~same & (np.abs(z) < L)
+        if np.any(use):
+            # orders of the green36 series for a relative tail of 1e-12 at the closest pair
+            x = float(np.max(np.abs(z[use]))) * abs(zs) / (L * L)
+            need = math.inf if x >= 1.0 else 27.7 / -math.log(x)
+            if need > _MAX_DIRICHLET_ORDERS:
+                raise ValueError(f"the Dirichlet-disk continuum ({disk!r}) needs about {need:.3g} Fourier orders at "
+                                 f"{lat.rings} rings (more than {_MAX_DIRICHLET_ORDERS}); use disk='whole'.")
+            max_terms = max(4000, math.ceil(1.5 * need) + 100)
     out[same] = math.inf
-    other = ~same
-    if np.any(other):
-        vals = continuum_green(lat.z[tg[other]], lat.z[source], lam, 1.0)
-        out[other] = green_prefactor(lat.p, lat.q) * np.real(vals)
+    if np.any(use):
+        if disk == "whole":
+            vals = continuum_green(z[use], zs, lam, 1.0)
+        else:
+            vals = continuum_green(z[use], zs, lam, L, max_terms=max_terms)
+        vals = green_prefactor(lat.p, lat.q) * np.real(vals)
+        if not np.all(np.isfinite(vals)):
+            raise ValueError(f"the Dirichlet-disk continuum ({disk!r}) lost all precision at {lat.rings} rings "
+                             "(non-finite series); use disk='whole'.")
+        out[use] = vals
     return out
 
 
@@ -282,7 +342,8 @@ def _window_systematic(theta, values, eps, lat, depth, delta) -> float:
 
 
 def boundary_correlator(lattice: Lattice, omega, source: int | None = None, *, depth: int = 2,
-                        resolvent: BelowBandResolvent | None = None, continuum: bool = True) -> BoundaryCorrelator:
+                        resolvent: BelowBandResolvent | None = None, continuum: bool = True,
+                        continuum_disk: str = "whole") -> BoundaryCorrelator:
     r"""Outer-ring correlators :math:`G_{ij}(\omega)` for one source j, the continuum, and the fitted Δ.
 
     Parameters
@@ -299,6 +360,11 @@ def boundary_correlator(lattice: Lattice, omega, source: int | None = None, *, d
         Reuse a factorization (several sources at one omega).
     continuum : bool
         Also evaluate the continuum column (cheap: one closed form per site).
+    continuum_disk : {"whole", "dirichlet", "mapped"}
+        Continuum model of the ``continuum`` column (:func:`continuum_boundary_column`): the whole-disk
+        propagator (default), the Dirichlet disk of radius L at the site positions (NaN beyond L; closest
+        to the lattice where it can be summed, ℓ ≤ 6-8, see ``docs/below-band.md``), or the Dirichlet disk
+        with the ring mapped onto the circle of its mean depth. Does not change the fit.
 
     Raises
     ------
@@ -309,6 +375,7 @@ def boundary_correlator(lattice: Lattice, omega, source: int | None = None, *, d
     omega = _real_omega("omega", omega)
     depth = _depth(depth)
     continuum = _validate.flag("continuum", continuum)
+    continuum_disk = _validate.choice("continuum_disk", continuum_disk, CONTINUUM_DISKS)
     ring = outer_ring(lat)
     if source is None:
         source = int(ring[0])
@@ -323,7 +390,8 @@ def boundary_correlator(lattice: Lattice, omega, source: int | None = None, *, d
     keep = ring != source
     delta, se, beta, thmin, n, sysw = _fit_with_window(theta[keep], g[keep], eps[keep], lat, depth)
     lam = float(lambda_from_energy(omega, lat.p, lat.q))
-    cont = continuum_boundary_column(lat, omega, source, ring) if continuum else np.full(ring.size, math.nan)
+    cont = (continuum_boundary_column(lat, omega, source, ring, disk=continuum_disk) if continuum
+            else np.full(ring.size, math.nan))
     return BoundaryCorrelator(p=lat.p, q=lat.q, rings=lat.rings, source=source, omega=omega, lam=lam, mass2=-lam,
                               delta_continuum=_delta_continuum(omega, lat.p, lat.q), delta_lattice=delta,
                               delta_lattice_err=math.hypot(se, sysw), delta_lattice_stat=se,
