@@ -35,7 +35,12 @@ Traces
 Moments use the doubling identities :math:`\mu_{2n} = 2\langle t_n|t_n\rangle - \mu_0`,
 :math:`\mu_{2n+1} = 2\langle t_{n+1}|t_n\rangle - \mu_1` (:math:`t_n = T_n(\tilde H)|r\rangle`), so M
 moments cost M/2 products; the recurrence step and both dot products are one fused pass over the
-vectors. Graphs come as a neighbour table (q-regular clusters: a dense ``(N, q)`` int32 table, no
+vectors. The R random vectors of a stochastic trace run together, 8 at a time, as the columns of a
+row-major (N, 8) array: one pass over the graph then serves all 8, and each random gather
+``Y[nb[i, k], :]`` fetches one 64-byte cache line of 8 useful numbers instead of one. On the large
+periodic clusters (expanders: no numbering puts neighbours close in memory) the product is bound by
+these gathers, not by bandwidth; see docs/dos.md, "Performance". The partial dot products are summed
+per fixed chunk of rows, so serial and parallel runs give identical moments. Graphs come as a neighbour table (q-regular clusters: a dense ``(N, q)`` int32 table, no
 index pointer to stream) or as CSR (flakes, whose boundary sites have fewer neighbours).
 """
 
@@ -778,9 +783,10 @@ def kpm_dos(graph, moments: int = 512, *, vectors: int = 16, seed: int = 0, kind
         :math:`\rho < q`) and carry weight 1/N each. The density then integrates to
         (N - deflated)/N; ``deflated`` records how many. No effect on flakes (none exist).
     parallel : bool
-        Use the numba-parallel kernel (threads over rows). Off by default: on a shared 2-core machine
-        a parallel loop waits for descheduled threads (measured 28 ms against 17 ms serial per
-        product at 1.27 million sites, load average 5); see benchmarks/bench_kpm.py.
+        Use the numba-parallel kernel (threads over chunks of rows; same moments as serial). Off by
+        default: on a shared 2-core machine a parallel loop waits for descheduled threads (measured
+        28 ms against 17 ms serial per product at 1.27 million sites, load average 5); see
+        benchmarks/bench_kpm.py.
 
     Returns
     -------
