@@ -112,3 +112,15 @@ def test_resonator_model_on_the_line_graph(lat4):
     lg = line_graph(ring_lattice(7, 3, 3))
     ens = disorder_ensemble(lg, 1e-3, 2, model="resonator", omega0=100.0, ipr=False)
     assert ens.kind == "line_graph" and math.isfinite(ens.r_mean)
+
+
+def test_periodic_cluster_without_boundary_reaches_goe():
+    from hyperlattice.graph.clusters import psl2_cluster
+
+    # {7,3} cluster of PSL(2,13) (364 sites, no boundary): the models apply unchanged, and W = 2 mixes
+    # its large symmetry multiplets; the 4060-site PSL(2,29) cluster gives 0.529 +- 0.002 at W = 1
+    c = psl2_cluster(7, 3, 13)
+    assert np.array_equal(disordered_hamiltonian(c, disorder(c, "box", 0.0)).toarray(), -c.adjacency().toarray())
+    ens = disorder_ensemble(c, 2.0, 10, ipr=False)
+    assert ens.kind == "cluster" and abs(ens.r_mean - GOE_R) < 0.02
+    assert abs(disorder_ensemble(c, 200.0, 10, ipr=False).r_mean - POISSON_R) < 0.02

@@ -32,7 +32,7 @@ import scipy.linalg as sla
 from .. import _validate
 from ..dictionary import dictionary_parameters
 from ..geometry import distance
-from ..graph.disorder import MODELS, disorder, disordered_hamiltonian, onsite_variance
+from ..graph.disorder import MODELS, _system, disorder, disordered_hamiltonian, onsite_variance
 from ..graph.lattice import Lattice
 from ..results import Result
 
@@ -149,7 +149,7 @@ def realization_observables(lattice: Lattice, model: str = "box", strength: floa
         (histogram over :func:`_dos_edges`), ``e_min``, ``e_max``. Sums and counts, so that
         realizations pool exactly.
     """
-    _validate.lattice(lattice)
+    lattice = _system(lattice)
     _check_size(lattice)
     win = default_windows(lattice.q) if windows is None else _edges("windows", windows)
     dos_bins = _validate.positive_int("dos_bins", dos_bins, maximum=100_000)
@@ -280,7 +280,7 @@ def disorder_ensemble(lattice: Lattice, strength: float = 1.0, realizations: int
     -------
     DisorderEnsemble
     """
-    _validate.lattice(lattice)
+    lattice = _system(lattice)
     _check_size(lattice)
     model = _validate.choice("model", model, MODELS)
     realizations = _validate.positive_int("realizations", realizations, maximum=MAX_REALIZATIONS)
@@ -293,7 +293,8 @@ def disorder_ensemble(lattice: Lattice, strength: float = 1.0, realizations: int
     elif len(rows) != realizations:
         raise ValueError(f"got {len(rows)} rows for {realizations} realizations.")
     spread = dis0.strength if model != "resonator" else 2.0 * dis0.strength * dis0.omega0
-    return _pool(lattice.p, lattice.q, lattice.rings, lattice.kind, lattice.sites, model, dis0.strength,
+    return _pool(lattice.p, lattice.q, getattr(lattice, "rings", 0), getattr(lattice, "kind", "cluster"),
+                 lattice.sites, model, dis0.strength,
                  dis0.seed, realizations, dis0.omega0, rows, win, _dos_edges(lattice.q, spread, dos_bins))
 
 
@@ -329,7 +330,7 @@ def r_scan(lattice: Lattice, strengths, realizations: int = 10, *, seed: int = 0
     disorder, where the levels spread over :math:`[-W/2, W/2]`). ``r_err`` is the standard error of
     the per-realization window means.
     """
-    _validate.lattice(lattice)
+    lattice = _system(lattice)
     _check_size(lattice)
     realizations = _validate.positive_int("realizations", realizations, maximum=MAX_REALIZATIONS)
     model = _validate.choice("model", model, MODELS)
@@ -351,7 +352,7 @@ def r_scan(lattice: Lattice, strengths, realizations: int = 10, *, seed: int = 0
         means.append(float(s.sum() / c.sum()) if c.sum() else math.nan)
         per = s[c > 0] / c[c > 0]
         errs.append(float(np.std(per, ddof=1) / math.sqrt(per.size)) if per.size >= 2 else math.nan)
-    return RScan(p=lattice.p, q=lattice.q, rings=lattice.rings, sites=lattice.sites, model=model, seed=seed,
+    return RScan(p=lattice.p, q=lattice.q, rings=getattr(lattice, "rings", 0), sites=lattice.sites, model=model, seed=seed,
                  realizations=realizations, window=edges, W=ws, r_mean=np.array(means), r_err=np.array(errs))
 
 
@@ -467,7 +468,7 @@ def graph_scba(lattice: Lattice, omega, variance: float, *, tol: float = 1e-12, 
     """
     from ..errors import ConvergenceError
 
-    _validate.lattice(lattice)
+    lattice = _system(lattice)
     _check_size(lattice)
     om = _omega_upper(omega)
     w2 = _validate.real("variance", variance, minimum=0.0, maximum=1e12)

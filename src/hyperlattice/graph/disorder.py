@@ -32,7 +32,8 @@ matrix (:math:`O(N^3)`, about p² times the clean cost); ``lowest_levels`` must 
 or ``sparse`` method (the ``sector`` method refuses a non-invariant on-site term); Green functions
 use :class:`~hyperlattice.graph.green.GraphResolvent` (sparse LU) unchanged. Hopping disorder is
 passed as a matrix (:func:`disordered_hamiltonian`), which every matrix-taking solver accepts.
-Periodic clusters are not part of the package yet; flakes and line graphs are.
+Flakes, line graphs and periodic clusters (:class:`~hyperlattice.graph.clusters.Cluster`, no
+boundary) all take every model but ``resonator``, which needs a line graph.
 """
 
 from __future__ import annotations
@@ -72,6 +73,15 @@ def _strength(model: str, value) -> float:
     if v > _MAX_STRENGTH:
         raise ValueError(f"{name} = {v:g} is too large (at most {_MAX_STRENGTH:g}).")
     return v
+
+
+def _system(value):
+    """A flake or line graph (:class:`Lattice`) or a periodic cluster (:class:`~hyperlattice.graph.clusters.Cluster`)."""
+    from .clusters import Cluster  # lazy: clusters are optional for flakes
+
+    if isinstance(value, Cluster):
+        return value
+    return _validate.lattice(value)
 
 
 def realization_rng(seed: int, realization: int) -> np.random.Generator:
@@ -148,8 +158,9 @@ def disorder(lattice: Lattice, model: str = "box", strength: float = 1.0, *, see
 
     Parameters
     ----------
-    lattice : Lattice
-        A flake or (required for ``"resonator"``) a line graph.
+    lattice : Lattice or Cluster
+        A flake, a periodic cluster (:mod:`hyperlattice.graph.clusters`) or (required for
+        ``"resonator"``) a line graph.
     model : {"box", "gaussian", "hopping", "resonator"}
         See the module docstring.
     strength : float
@@ -164,13 +175,13 @@ def disorder(lattice: Lattice, model: str = "box", strength: float = 1.0, *, see
     -------
     Disorder
     """
-    _validate.lattice(lattice)
+    lattice = _system(lattice)
     model = _validate.choice("model", model, MODELS)
     s = _strength(model, strength)
     seed, realization = _seed(seed), _realization(realization)
     if model == "resonator":
         w0 = _omega0(omega0)
-        if lattice.kind != "line_graph":
+        if getattr(lattice, "kind", "cluster") != "line_graph":
             raise ValueError("the resonator model lives on the line graph (resonators are its sites); "
                              "pass line_graph(lattice).")
     elif omega0 is not None:
@@ -198,7 +209,7 @@ def disordered_hamiltonian(lattice: Lattice, dis: Disorder, *, t: float = 1.0) -
     With ``strength = 0`` this is exactly :func:`~hyperlattice.graph.operators.hamiltonian` of the
     clean lattice (same entries, same order).
     """
-    _validate.lattice(lattice)
+    lattice = _system(lattice)
     if not isinstance(dis, Disorder):
         raise ValueError(f"dis must be a Disorder (from hyperlattice.graph.disorder.disorder), got {type(dis).__name__}.")
     t = _validate.real("the hopping t", t)
