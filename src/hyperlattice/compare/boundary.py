@@ -9,14 +9,15 @@ For :math:`\omega` below the band the graph propagator :math:`G_{ij}(\omega) = [
 
 Continuum side
 --------------
-``continuum`` is the right-hand side of ``eq21`` with the propagator of the whole disk
-(:math:`L = 1`, the AdS₂ propagator :math:`\frac1{2\pi}Q_{\Delta-1}(\cosh 2d)`), at the actual
-positions of the outer-ring sites. The Dirichlet disk of radius :math:`L` (``eq12``) is not used
-for the boundary: about half of the outer-ring sites lie beyond :math:`L` (its series diverges
-for :math:`|z||z'| \ge L^2`), and for points within one edge length of the circle the ``green36``
-series did not converge in 4000 orders already at :math:`\ell = 7` (measured). Beyond the
-continuum BF bound (:math:`\omega > E_\infty`, :math:`\lambda > 1`) the :math:`L = 1` propagator
-does not exist: ``continuum`` and ``delta_continuum`` are NaN there.
+``continuum`` is the right-hand side of ``eq21`` at the outer-ring sites, with (``continuum_disk``)
+the propagator of the whole disk (default ``"whole"``: :math:`L = 1`, :math:`\frac1{2\pi}Q_{\Delta-1}(\cosh 2d)`),
+or of the Dirichlet disk of the dictionary radius :math:`L` (``eq12``) at the site positions
+(``"dirichlet"``; NaN for the 8–19 % of sites beyond L) or with the ring moved onto the circle of its
+mean depth (``"mapped"``). Measured at ℓ = 5, 6 the Dirichlet disk at the sites is closest to the lattice
+(relative L2 0.14–0.25 against 0.26–0.50 for L = 1), but its ``green36`` series needs ~1/(1 - |z||z'|/L²)
+orders and is refused beyond 10⁴ (ℓ ≥ 7 for {7,3}); hence the default. Beyond the continuum BF bound
+(:math:`\omega > E_\infty`, :math:`\lambda > 1`) the :math:`L = 1` propagator does not exist: ``continuum``
+and ``delta_continuum`` are NaN there.
 
 Fit of Δ and its window
 -----------------------
