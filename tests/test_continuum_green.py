@@ -483,3 +483,17 @@ def test_lambda_beyond_the_legendre_range_is_refused():
                  lambda: green_infinite_disk(0.1, 0.2, 2j * MAX_LAMBDA)):
         with pytest.raises(ValueError, match="beyond the range"):
             call()
+
+
+def test_overflowing_series_raises_instead_of_returning_nan():
+    """Regression: points near the circle of the l = 7 disk with max_terms = 1e5 overflowed the
+    green36 series; the result was NaN with a NaN error estimate and no warning."""
+    from hyperlattice.dictionary import disk_radius_for_rings, lambda_from_energy
+    from hyperlattice.errors import ConvergenceError
+
+    L = disk_radius_for_rings(7, 7, 3)[0]
+    r = np.tanh(np.arctanh(L) - 0.19)
+    z = np.full(4, r + 0j)
+    zp = r * np.exp(1j * np.linspace(0.5, np.pi, 4))
+    with pytest.raises(ConvergenceError, match="overflows"):
+        continuum_green(z, zp, complex(lambda_from_energy(-3.2, 7, 3)), L, tol=1e-10, max_terms=100_000)

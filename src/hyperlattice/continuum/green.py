@@ -138,7 +138,7 @@ import numpy as np
 from scipy import special as sc
 
 from .. import _validate
-from ..errors import ConvergenceWarning
+from ..errors import ConvergenceError, ConvergenceWarning
 from ..geometry import one_minus_abs2
 from ..results import Result
 from .special import legendre_cm, legendre_log_p, legendre_log_q, legendre_p, legendre_q, nu_from_lambda
@@ -876,8 +876,17 @@ def continuum_green(z, zp, lam, radius=1.0, *, tol: float = 1e-12, extend: bool 
     M, accel = 0, False
     inner = np.flatnonzero(~on_circle)
     if inner.size:
-        dGi, tail[inner], rounding[inner], M, accel = _boundary_correction(nu, zf[inner], zpf[inner], L, tol,
-                                                                           max_terms, np.abs(g0[inner]))
+        with np.errstate(over="ignore", invalid="ignore"):
+            dGi, tail[inner], rounding[inner], M, accel = _boundary_correction(nu, zf[inner], zpf[inner], L, tol,
+                                                                               max_terms, np.abs(g0[inner]))
+        # terms of a series with up to max_terms orders can overflow double precision for points
+        # very close to the circle; a NaN there must not pass as a value (or as a NaN error estimate)
+        bad = np.isfinite(g0[inner]) & ~(np.isfinite(dGi) & np.isfinite(tail[inner]) & np.isfinite(rounding[inner]))
+        if np.any(bad):
+            k = inner[np.flatnonzero(bad)[0]]
+            ratio = abs(zf[k]) * abs(zpf[k]) / (L * L)
+            raise ConvergenceError(f"green36 overflows double precision at m <= {M} for points this close to the "
+                                   f"circle (|z||z'|/L^2 = {ratio:.6f}); the Fourier series cannot be summed there.")
         dG[inner] = dGi
         val[inner] = g0[inner] - dGi
     finite = np.isfinite(g0) & ~on_circle
