@@ -205,3 +205,22 @@ def test_dirichlet_disk_refused_beyond_its_series():
             cb.continuum_boundary_column(lat7, -3.2, int(ring[0]), ring, disk=disk)
     with pytest.raises(ValueError, match="one of"):
         cb.boundary_correlator(ring_lattice(7, 3, 4), -3.2, continuum_disk="L")
+
+
+def test_plot_names_the_continuum_model_used():
+    """Regression: the figure said "L = 1" also when the Dirichlet-disk column was drawn."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from hyperlattice.compare.boundary import boundary_correlator
+    from hyperlattice.graph.lattice import ring_lattice
+
+    bc = boundary_correlator(ring_lattice(7, 3, 5), -3.2, continuum_disk="dirichlet")
+    assert bc.continuum_disk == "dirichlet"
+    ax = bc.plot()
+    labels = [t.get_text() for t in ax.get_legend().get_texts()] if ax.get_legend() else \
+        [h.get_label() for h in ax.get_lines()]
+    assert any("Dirichlet disk of radius L" in t for t in labels), labels
+    plt.close(ax.figure)

@@ -310,6 +310,8 @@ class BoundaryCorrelator(Result):
     theta: np.ndarray = field(repr=False)
     graph: np.ndarray = field(repr=False)
     continuum: np.ndarray = field(repr=False)
+    #: which continuum model fills ``continuum`` ("whole", "dirichlet" or "mapped")
+    continuum_disk: str = "whole"
 
     def summary(self) -> dict:
         """The ``boundary --json`` contract: p, q, rings, omega, lambda, mass2, delta_continuum,
@@ -397,7 +399,7 @@ def boundary_correlator(lattice: Lattice, omega, source: int | None = None, *, d
                               delta_continuum=_delta_continuum(omega, lat.p, lat.q), delta_lattice=delta,
                               delta_lattice_err=math.hypot(se, sysw), delta_lattice_stat=se,
                               delta_lattice_window=sysw, beta=beta, theta_min=thmin, depth=depth, pairs=n,
-                              sites=ring, theta=theta, graph=g, continuum=cont)
+                              sites=ring, theta=theta, graph=g, continuum=cont, continuum_disk=continuum_disk)
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)

@@ -29,7 +29,8 @@ def _axes(ax, size=(5.2, 3.8)):
 
 def plot_boundary_correlator(bc: BoundaryCorrelator, ax=None) -> Axes:
     r""":math:`G_{ij}` on the outer ring against :math:`\sin(\theta/2)` (log-log): graph, continuum
-    (``eq21``, L = 1) and the fitted conformal slope :math:`-2\Delta` over the window."""
+    (``eq21`` on the disk named by ``bc.continuum_disk``) and the fitted conformal slope
+    :math:`-2\Delta` over the window."""
     ax = _axes(ax)
     keep = np.asarray(bc.sites) != bc.source
     s = np.abs(np.sin(0.5 * np.asarray(bc.theta)[keep]))
@@ -37,7 +38,9 @@ def plot_boundary_correlator(bc: BoundaryCorrelator, ax=None) -> Axes:
     ax.loglog(s, g, ".", ms=2, color="tab:red", alpha=0.5, label=r"graph $G_{ij}$")
     c = np.asarray(bc.continuum)[keep]
     if np.any(np.isfinite(c)):
-        ax.loglog(s, c, ".", ms=1.5, color="k", alpha=0.4, label="continuum (eq21, L = 1)")
+        disk = {"whole": "L = 1", "dirichlet": "Dirichlet disk of radius L",
+                "mapped": "radius L, sites at the mean depth"}[bc.continuum_disk]
+        ax.loglog(s, c, ".", ms=1.5, color="k", alpha=0.4, label=f"continuum (eq21, {disk})")
     s_min = np.sin(0.5 * bc.theta_min)
     ax.axvline(s_min, color="0.5", ls=":", lw=1, label=r"window edge $\theta_{\min}$")
     xs = np.geomspace(max(s_min, s.min()), 1.0, 20)
