@@ -55,9 +55,9 @@ _DEGENERATE = 1e-9
 
 
 def _single_thread():
-    from ..graph.solvers import _single_threaded_blas
+    from ..graph.solvers import single_threaded_blas
 
-    return _single_threaded_blas()
+    return single_threaded_blas()
 
 
 def spacing_ratios(energies, *, window=None) -> tuple[np.ndarray, np.ndarray]:

@@ -30,7 +30,6 @@ the lattice ball gives systole 2R, the first radius at which it has more edges g
 from __future__ import annotations
 
 import functools
-import os
 import re
 from dataclasses import dataclass
 from functools import cached_property
@@ -42,6 +41,7 @@ from .. import _validate
 from ..errors import HyperlatticeError
 from ..results import Result
 from . import groups
+from .lattice import _available_memory
 
 if TYPE_CHECKING:
     import scipy.sparse
@@ -490,20 +490,6 @@ def _systole(nb: np.ndarray, p: int, q: int) -> tuple[int, bool]:
 # ----------------------------------------------------------------------------
 # the two routes
 # ----------------------------------------------------------------------------
-
-def _available_memory() -> int:
-    try:
-        with open("/proc/meminfo") as fh:
-            for line in fh:
-                if line.startswith("MemAvailable:"):
-                    return int(line.split()[1]) * 1024
-    except OSError:
-        pass
-    try:
-        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_AVPHYS_PAGES")
-    except (ValueError, OSError, AttributeError):  # pragma: no cover
-        return 8 * 1024**3
-
 
 def _check_fits(darts: int, what: str) -> None:
     need = darts * _BYTES_PER_DART

@@ -38,6 +38,7 @@ from __future__ import annotations
 
 import contextlib
 import ctypes
+import functools
 import warnings
 from dataclasses import dataclass
 from typing import Callable, Iterator
@@ -198,22 +199,21 @@ _BLAS_SYMBOLS = (
 )
 
 
-@contextlib.contextmanager
-def _single_threaded_blas() -> Iterator[None]:
-    """Run ARPACK's many small BLAS calls on one thread, restoring the setting afterwards.
+@functools.lru_cache(maxsize=1)
+def blas_thread_controls() -> tuple:
+    """``(setter, getter)`` of the thread count of every OpenBLAS loaded in this process.
 
-    On vectors of 1e5-1e6 entries a multi-threaded OpenBLAS spends more on waking its
-    threads than on the arithmetic, and on a loaded 2-core machine each call can wait for a
-    descheduled thread: measured 15x slower ARPACK runs (5.1 s vs 0.34 s for sector m = 0 at
-    rings = 12). The OpenBLAS copies bundled with numpy and scipy are found among the loaded
-    libraries (as threadpoolctl does); other BLAS builds are left alone.
+    The OpenBLAS copies bundled with numpy and scipy are found among the loaded libraries (as
+    threadpoolctl does; other BLAS builds are left alone). Found once: scanning
+    ``/proc/self/maps`` and opening the libraries costs about 2 ms, and numpy's and scipy's
+    libraries are loaded by the time this module is imported.
     """
-    restore = []
     try:
         with open("/proc/self/maps") as fh:
             paths = {line.split()[-1] for line in fh if "openblas" in line.lower() and "/" in line}
     except OSError:  # pragma: no cover - not Linux
         paths = set()
+    out = []
     for path in sorted(paths):
         try:
             lib = ctypes.CDLL(path)
@@ -221,17 +221,35 @@ def _single_threaded_blas() -> Iterator[None]:
             continue
         for set_name, get_name in _BLAS_SYMBOLS:
             if hasattr(lib, set_name) and hasattr(lib, get_name):
-                setter, getter = getattr(lib, set_name), getattr(lib, get_name)
+                getter = getattr(lib, get_name)
                 getter.restype = ctypes.c_int
-                old = int(getter())
-                setter(1)
-                restore.append((setter, old))
+                out.append((getattr(lib, set_name), getter))
                 break
+    return tuple(out)
+
+
+@contextlib.contextmanager
+def single_threaded_blas() -> Iterator[None]:
+    """Run ARPACK's many small BLAS calls on one thread, restoring the setting afterwards.
+
+    On vectors of 1e5-1e6 entries a multi-threaded OpenBLAS spends more on waking its
+    threads than on the arithmetic, and on a loaded 2-core machine each call can wait for a
+    descheduled thread: measured 15x slower ARPACK runs (5.1 s vs 0.34 s for sector m = 0 at
+    rings = 12). The libraries are those of :func:`blas_thread_controls`.
+    """
+    restore = []
+    for setter, getter in blas_thread_controls():
+        restore.append((setter, int(getter())))
+        setter(1)
     try:
         yield
     finally:
         for setter, old in restore:
             setter(old)
+
+
+#: the name used inside the package before the guard became public
+_single_threaded_blas = single_threaded_blas
 
 
 def _dtype(table: SectorTable, x: np.ndarray) -> np.dtype:

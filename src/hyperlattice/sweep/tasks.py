@@ -40,38 +40,14 @@ _DEPTH = 0
 _SAVED: list = []
 
 
-@functools.lru_cache(maxsize=1)
 def _blas_controls() -> tuple:
-    """(setter, getter) of every OpenBLAS loaded in this process, found once (as the solvers' guard does).
-
-    Scanning ``/proc/self/maps`` and opening the libraries costs about 2 ms, too much per task;
-    the libraries do not change while the process lives.
-    """
-    import ctypes
-
+    """(setter, getter) of every OpenBLAS loaded in this process (the solvers' list, found once)."""
     import numpy.linalg  # noqa: F401 - load numpy's and scipy's OpenBLAS before looking for them
     import scipy.linalg  # noqa: F401
 
-    from ..graph.solvers import _BLAS_SYMBOLS
+    from ..graph.solvers import blas_thread_controls
 
-    try:
-        with open("/proc/self/maps") as fh:
-            paths = {line.split()[-1] for line in fh if "openblas" in line.lower() and "/" in line}
-    except OSError:  # pragma: no cover - not Linux
-        paths = set()
-    out = []
-    for path in sorted(paths):
-        try:
-            lib = ctypes.CDLL(path)
-        except OSError:  # pragma: no cover
-            continue
-        for set_name, get_name in _BLAS_SYMBOLS:
-            if hasattr(lib, set_name) and hasattr(lib, get_name):
-                getter = getattr(lib, get_name)
-                getter.restype = ctypes.c_int
-                out.append((getattr(lib, set_name), getter))
-                break
-    return tuple(out)
+    return blas_thread_controls()
 
 
 @contextlib.contextmanager
