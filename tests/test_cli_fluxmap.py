@@ -36,7 +36,7 @@ def test_plain_output_is_the_statement(capsys):
 
 
 @pytest.mark.parametrize("words", [["--rings", "x"], ["--rings", "5-3"], ["--rings", "0"], ["--rings", "1-13"],
-                                   ["--rings", "3-20"], ["--fmax", "2"], ["--fmax", "-0.1"],
+                                   ["--rings", "3-20"], ["--rings", "1-99999999999"], ["--fmax", "2"], ["--fmax", "-0.1"],
                                    ["--rings", "2", "--levels", "50"], ["--rings", "2", "--out", "map"],
                                    ["--rings", "2", "--table", "map.txt"]])
 def test_bad_values_exit_2_with_one_line(words, capsys, tmp_path, monkeypatch):

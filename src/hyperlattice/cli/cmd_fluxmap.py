@@ -36,6 +36,8 @@ def _rings(text: str) -> list[int]:
             raise ValueError(f"--rings must look like 3-12 or 3,5,8, got {text!r}.") from None
         if a < 1 or b < a:
             raise ValueError(f"--rings ranges must be 1 <= a <= b, got {part!r}.")
+        if b - a >= MAX_FLAKES:  # refuse before building a set of that size (1-99999999999)
+            raise ValueError(f"--rings names {b - a + 1:,} flakes; at most {MAX_FLAKES}.")
         out.update(range(a, b + 1))
     if len(out) > MAX_FLAKES:
         raise ValueError(f"--rings names {len(out)} flakes; at most {MAX_FLAKES}.")
