@@ -255,22 +255,3 @@ def test_threshold_kappa_in_a_forbidden_region_is_finite():
     value = dirichlet_function(10.0, 100, 6.0, 0.9)
     assert np.isfinite(value)
 
-
-def test_compiled_continuation_equals_the_numpy_reference():
-    """The numba kernel (own steps per parameter set) against the NumPy reference (one step
-    sequence for the batch): the same function, so equal to rounding of the continuation."""
-    from hyperlattice.continuum.magnetic import _hyp2f1, _hyp2f1_reference, hypergeometric_parameters
-
-    rng = np.random.default_rng(7)
-    m = rng.integers(-12, 13, 30).astype(float)
-    B = 6.0
-    kappa = rng.uniform(1.1, 60.0, 30)
-    a, b, c, delta = hypergeometric_parameters(m, B, kappa)
-    for s in (0.3, 1e-3, 4e-7):
-        wave = (kappa, m, 0.5 * B, delta)
-        got = _hyp2f1(a, b, c, s, wave=wave)
-        ref = _hyp2f1_reference(a, b, c, s, wave=wave)
-        scale = np.maximum(np.abs(ref), 1e-300)
-        # both are continuations with different steps: agreement to the evaluation error
-        assert np.max(np.abs(got - ref) / scale) < 1e-9
-        assert np.all(np.isfinite(got))
