@@ -88,8 +88,8 @@ holding :math:`10^5` flux quanta (l = 12, f = 0.3) needs the orders 0..K only.
 
 Limits: :math:`|B| \le` :data:`MAX_FIELD`, at most :data:`MAX_LEVELS` levels, and orders up to
 :data:`~hyperlattice.continuum.spectrum.MAX_ORDER` (ValueError if the lowest levels would need
-more). Measured cost (``benchmarks/bench_magnetic.py``): 6-11 ms per level at l = 5..12 and
-f = 0.05..0.3, the search over orders included, like the zero-field module (9-15 ms per level
+more). Measured cost (``benchmarks/bench_magnetic.py``): 4-6 ms per level (idle machine) at l = 5..12 and
+f = 0.05..0.3, the search over orders included, like the zero-field module (6-8 ms per level
 in the same run); the compiled continuation (:func:`_kernel`) made it 20-30x faster than the
 NumPy version it replaced.
 
@@ -208,7 +208,7 @@ def _kernel():
     Written by hand because no library evaluates 2F1 with complex a, b, c on [0, 1) (scipy's
     ``hyp2f1`` refuses complex parameters; mpmath is slower per value). The NumPy version it
     replaced ran the whole batch with the steps of its worst member and spent most of its time in
-    interpreter overhead on small arrays (130-230 ms per level against 6-11 ms now).
+    interpreter overhead on small arrays (130-230 ms per level on a loaded machine, 6-11 ms now under the same load).
     """
     import numba
 
