@@ -287,24 +287,19 @@ def _check_residuals(res: np.ndarray, tol: float, what: str) -> None:
                       ConvergenceWarning, stacklevel=4)
 
 
-def _ritz_values(table: SectorTable, steps: int, rng: np.random.Generator) -> np.ndarray:
-    """Ritz values of a short plain Lanczos run: upper bounds of the lowest levels.
+def _plain_lanczos(matvec, v: np.ndarray, steps: int) -> np.ndarray:
+    """Ritz values (ascending) of ``steps`` plain Lanczos steps from the start vector ``v``.
 
     Run without re-orthogonalisation: in so few steps none of the clustered low levels
-    converges, which is when orthogonality would be lost.
+    converges, which is when orthogonality would be lost. The Ritz values are upper bounds of
+    the lowest levels.
     """
-    n = table.size
-    dt = np.complex128 if table.is_complex else np.float64
-    v = rng.standard_normal(n).astype(dt)
-    v /= np.linalg.norm(v)
+    v = v / np.linalg.norm(v)
     v_old = np.zeros_like(v)
-    w = np.empty_like(v)
-    kern = _kernel()
     alphas, betas = [], []
     beta = 0.0
-    for _ in range(min(steps, n)):
-        kern(table.cols, table.weights, table.diag, 0.0, 1.0, 0.0, v, v, w)
-        w -= beta * v_old
+    for _ in range(min(steps, v.size)):
+        w = matvec(v) - beta * v_old
         a = float(np.vdot(v, w).real)
         w -= a * v
         alphas.append(a)
@@ -315,6 +310,19 @@ def _ritz_values(table: SectorTable, steps: int, rng: np.random.Generator) -> np
         v_old, v = v, w / beta
     k = len(alphas)
     return sla.eigh_tridiagonal(np.array(alphas), np.array(betas[: k - 1]), eigvals_only=True)
+
+
+def _ritz_values(table: SectorTable, steps: int, rng: np.random.Generator) -> np.ndarray:
+    """Ritz values of a short plain Lanczos run on a sector table: upper bounds of the lowest levels."""
+    dt = np.complex128 if table.is_complex else np.float64
+    kern = _kernel()
+
+    def matvec(x):
+        out = np.empty_like(x)
+        kern(table.cols, table.weights, table.diag, 0.0, 1.0, 0.0, x, x, out)
+        return out
+
+    return _plain_lanczos(matvec, rng.standard_normal(table.size).astype(dt), steps)
 
 
 def _chebyshev_lowest(table: SectorTable, k: int, tol: float, progress: ProgressFn | None, label: str,
@@ -518,21 +526,4 @@ def _shift_invert_lowest(mat: sp.spmatrix, k: int, factor: _SymmetricFactor, x: 
 
 def _lanczos_ritz(mat: sp.spmatrix, steps: int) -> np.ndarray:
     """Ritz values of a short plain Lanczos run on a real symmetric matrix (upper bounds, ascending)."""
-    n = mat.shape[0]
-    v = np.random.default_rng(12345).standard_normal(n)
-    v /= np.linalg.norm(v)
-    v_old = np.zeros(n)
-    alphas, betas = [], []
-    beta = 0.0
-    for _ in range(min(steps, n)):
-        w = mat @ v - beta * v_old
-        a = float(v @ w)
-        w -= a * v
-        alphas.append(a)
-        beta = float(np.linalg.norm(w))
-        if beta < 1e-12:
-            break
-        betas.append(beta)
-        v_old, v = v, w / beta
-    k = len(alphas)
-    return sla.eigh_tridiagonal(np.array(alphas), np.array(betas[: k - 1]), eigvals_only=True)
+    return _plain_lanczos(lambda x: mat @ x, np.random.default_rng(12345).standard_normal(mat.shape[0]), steps)
