@@ -211,7 +211,7 @@ def test_graph_count_and_partition_function_agree_with_graph_spectrum(counts_l4)
     from hyperlattice.graph.spectrum import partition_function
 
     g, _ = counts_l4
-    assert g.side == "graph" and g.states == 146 and g.n is None
+    assert g.side == "graph" and g.states == 146 and g.at_cutoff == 2 and g.n is None
     beta = np.linspace(0.05, 6.0, 7)
     np.testing.assert_allclose(g.partition_function(beta), partition_function(ring_lattice(7, 3, 4), beta),
                                rtol=1e-13)

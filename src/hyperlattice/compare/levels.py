@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .. import _validate
+from .._ties import classify, stable_order
 from ..results import Levels, Result, compare_levels
 
 if TYPE_CHECKING:
@@ -263,7 +264,8 @@ class LevelCount(Result):
     radius : float
         Disk radius L (``eq12`` for a lattice).
     cutoff : float
-        Only levels with :math:`E < {\rm cutoff}` are listed.
+        Only levels with :math:`E < {\rm cutoff}` are listed, decided robustly: a level within
+        ``tolerance`` of the cutoff is neither listed nor hidden but counted in ``at_cutoff``.
     energies : ndarray
         Ascending; a degenerate continuum pair :math:`\pm m` is listed once.
     degeneracy : ndarray of int
@@ -273,6 +275,14 @@ class LevelCount(Result):
         Continuum labels (radial index, :math:`|m|`); None for the graph.
     description : str
         How the levels were obtained.
+    at_cutoff : int
+        States whose computed energy lies within ``tolerance`` of the cutoff: their side of it
+        is rounding noise (it differs between BLAS kernels), so they are reported here instead
+        of being sorted by the sign of that noise. For a graph and cutoff 0 these are the zero
+        modes of the flake (two for the {7,3} flake with l = 4).
+    tolerance : float
+        The largest error bound of a listed energy (graph: :func:`~hyperlattice.graph.spectrum.
+        full_spectrum_tolerance`; continuum: the Dirichlet roots' energy error bounds).
     """
 
     side: str
@@ -286,6 +296,8 @@ class LevelCount(Result):
     n: np.ndarray | None
     m: np.ndarray | None
     description: str
+    at_cutoff: int = 0
+    tolerance: float = 0.0
 
     @property
     def states(self) -> int:
@@ -340,18 +352,22 @@ def _check_beta(beta) -> np.ndarray:
 def graph_levels_below(lattice, cutoff: float = 0.0) -> LevelCount:
     r"""All eigenvalues of :math:`H = -A` on ``lattice`` below ``cutoff`` (``Fig2`` inset: 0).
 
-    The full spectrum (:func:`hyperlattice.graph.spectrum.full_spectrum`, a dense computation
-    per rotation sector) with each eigenvalue listed once per state.
+    The full spectrum (:func:`hyperlattice.graph.spectrum.full_spectrum_tolerance`, a dense
+    computation per rotation sector) with each eigenvalue listed once per state. Levels within
+    the eigensolver's error bound of the cutoff are not listed but counted in ``at_cutoff``
+    (at cutoff 0: the flake's exact zero modes), so the count is the same on every machine.
     """
-    from ..graph.spectrum import full_spectrum
+    from ..graph.spectrum import full_spectrum_tolerance
 
     lattice = _validate.lattice(lattice, kind="sites")
     cutoff = _validate.real("cutoff", cutoff)
-    e = full_spectrum(lattice)
-    e = e[e < cutoff]
+    e, tol = full_spectrum_tolerance(lattice)
+    below, at, _ = classify(e, cutoff, tol)
+    e = e[below]
     return LevelCount(side="graph", p=lattice.p, q=lattice.q, rings=lattice.rings, radius=lattice.radius,
                       cutoff=cutoff, energies=e, degeneracy=np.ones(e.size, dtype=np.int64), n=None, m=None,
-                      description="all eigenvalues of H = -A (dense, per rotation sector)")
+                      description="all eigenvalues of H = -A (dense, per rotation sector)",
+                      at_cutoff=int(np.count_nonzero(at)), tolerance=float(tol))
 
 
 #: Largest (n, m) table of Dirichlet roots :func:`continuum_levels_below` computes before it refuses.
@@ -395,16 +411,22 @@ def continuum_levels_below(p: int = 7, q: int = 3, *, rings=None, radius=None, c
                              "roots; lower the cutoff or raise max_table.")
         tab = dirichlet_levels(p, q, radius=radius, rings=rings, n_max=n_max, m_max=m_max)
         e = tab.energies  # e[n - 1, m]
-        if np.all(e[:, -1] > cutoff) and np.all(e[-1, :] > cutoff):
+        # the table's last row and column must lie above the cutoff beyond their error bounds
+        if np.all(e[:, -1] - tab.errors[:, -1] > cutoff) and np.all(e[-1, :] - tab.errors[-1, :] > cutoff):
             break
         n_max, m_max = n_max + 4, m_max + 8
-    n_idx, m_idx = np.nonzero(e < cutoff)
+    err = np.asarray(tab.errors, dtype=float)
+    below, at, _ = classify(e, cutoff, err)
+    n_idx, m_idx = np.nonzero(below)
     energies = e[n_idx, m_idx]
-    order = np.argsort(energies, kind="stable")
+    # ascending energy; degenerate levels (within their error bounds) by (n, m), not by rounding
+    order = stable_order(energies, err[n_idx, m_idx], n_idx, m_idx)
     m = m_idx[order]
+    at_states = int(np.sum(np.where(np.nonzero(at)[1] == 0, 1, 2)))
     return LevelCount(side="continuum", p=p, q=q, rings=None if rings is None else int(rings), radius=tab.radius,
                       cutoff=cutoff, energies=energies[order], degeneracy=np.where(m == 0, 1, 2), n=n_idx[order] + 1,
-                      m=m, description=f"Dirichlet roots of spec2 on a {n_max} x {m_max + 1} (n, m) table")
+                      m=m, description=f"Dirichlet roots of spec2 on a {n_max} x {m_max + 1} (n, m) table",
+                      at_cutoff=at_states, tolerance=float(err[n_idx, m_idx].max(initial=0.0)))
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
@@ -413,6 +435,8 @@ class PartitionComparison(Result):
 
     :math:`Z = \sum_n\Theta(-E_n)e^{-\beta E_n}` over the graph levels and
     :math:`Z' = \sum_n\Theta(-E^{(\rm cont)}_n)e^{-\beta E^{(\rm cont)}_n}` over the disk's states.
+    ``graph_zero_modes`` counts the graph states within ``graph_tolerance`` (the eigensolver's
+    error bound) of the cutoff: left out of Z and reported, never sorted by the sign of rounding.
     """
 
     rings: int | None
@@ -422,6 +446,8 @@ class PartitionComparison(Result):
     e0_graph: float
     graph_states: int
     continuum_states: int
+    graph_zero_modes: int = 0
+    graph_tolerance: float = 0.0
 
     def plot(self, ax=None) -> Axes:
         r""":math:`\ln Z` against :math:`\beta`, graph and disk, with the asymptote :math:`-\beta E_0`."""
@@ -440,4 +466,5 @@ def partition_functions(graph: LevelCount, continuum: LevelCount, beta) -> Parti
     b = _check_beta(beta)
     return PartitionComparison(rings=graph.rings, beta=b, z_graph=graph.partition_function(b),
                                z_continuum=continuum.partition_function(b), e0_graph=float(graph.energies.min()),
-                               graph_states=graph.states, continuum_states=continuum.states)
+                               graph_states=graph.states, continuum_states=continuum.states,
+                               graph_zero_modes=graph.at_cutoff, graph_tolerance=graph.tolerance)

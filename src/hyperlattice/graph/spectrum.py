@@ -37,11 +37,12 @@ import numpy as np
 import scipy.linalg as sla
 
 from .. import _validate
+from .._ties import classify, eigenvalue_tolerance
 from ..errors import ConvergenceError
 from ..results import Levels
 from .flux import _flux
 from .lattice import Lattice
-from .operators import OnSite, hamiltonian
+from .operators import OnSite, hamiltonian, onsite_values
 from .solvers import (
     ProgressFn,
     _check_residuals,
@@ -59,7 +60,7 @@ from .symmetry import (
     signed_sector,
 )
 
-__all__ = ["Spectrum", "lowest_levels", "full_spectrum", "partition_function", "log_partition_function",
+__all__ = ["Spectrum", "lowest_levels", "full_spectrum", "full_spectrum_tolerance", "partition_function", "log_partition_function",
            "DENSE_MAX"]
 
 #: Largest matrix (full or sector block) diagonalised densely by ``method="auto"``: eigh of
@@ -417,7 +418,9 @@ def full_spectrum(lattice: Lattice, *, t: float = 1.0, onsite: OnSite = None,
     """All N eigenvalues of :math:`H = -tA + V`, ascending.
 
     Uses the p sector blocks (each diagonalised densely, p times less memory and about
-    :math:`p^2` less work than the full matrix) when V is rotation invariant.
+    :math:`p^2` less work than the full matrix) when V is rotation invariant. The last bits of
+    each eigenvalue depend on the BLAS kernel; :func:`full_spectrum_tolerance` gives the bound
+    to use when a decision is taken on them (e.g. which levels are negative).
 
     Parameters
     ----------
@@ -441,6 +444,32 @@ def full_spectrum(lattice: Lattice, *, t: float = 1.0, onsite: OnSite = None,
     ValueError
         If N exceeds ``max_sites``.
     """
+    return _full_spectrum(lattice, t=t, onsite=onsite, max_sites=max_sites, flux=flux)[0]
+
+
+def full_spectrum_tolerance(lattice: Lattice, *, t: float = 1.0, onsite: OnSite = None,
+                            max_sites: int = 50_000, flux: float = 0.0) -> tuple[np.ndarray, float]:
+    r"""All N eigenvalues (as :func:`full_spectrum`) and the error bound of each.
+
+    The bound is :func:`hyperlattice._ties.eigenvalue_tolerance` of the largest matrix that was
+    diagonalised (one sector block, or the whole H) with :math:`\|H\| \le |t|\,\max_i
+    \deg(i) + \max_i |V_i|` (the largest absolute row sum). Levels closer than this to a
+    threshold are *at* it: their computed sign is rounding noise that differs between BLAS
+    kernels and thread counts (the two exact zero modes of the {7,3} flake with l = 4 come out
+    as :math:`\pm 5\times 10^{-16}`).
+
+    Returns
+    -------
+    energies : ndarray, shape (N,)
+        Ascending.
+    tolerance : float
+        Absolute error bound of every eigenvalue (about 1e-13 for N of a few hundred).
+    """
+    return _full_spectrum(lattice, t=t, onsite=onsite, max_sites=max_sites, flux=flux)
+
+
+def _full_spectrum(lattice: Lattice, *, t: float, onsite: OnSite, max_sites: int,
+                   flux: float) -> tuple[np.ndarray, float]:
     _validate.lattice(lattice)
     t = _validate.real("the hopping t", t)
     max_sites = _validate.positive_int("max_sites", max_sites)
@@ -448,30 +477,47 @@ def full_spectrum(lattice: Lattice, *, t: float = 1.0, onsite: OnSite = None,
     if lattice.sites > max_sites:
         raise ValueError(f"the full spectrum of {lattice.sites:,} sites is a dense computation; "
                          f"raise max_sites (now {max_sites:,}) if that is intended.")
+    v = onsite_values(lattice, onsite)
+    degree = np.bincount(np.asarray(lattice.edges).ravel(), minlength=lattice.sites)
+    norm = abs(t) * float(degree.max(initial=0)) + (0.0 if v is None else float(np.max(np.abs(v), initial=0.0)))
     if rotation_invariant(lattice, onsite):
         orbits = rotation_orbits(lattice)
-        parts = []
+        parts, largest = [], 1
         for m in range(lattice.p):
             block = sector_table(lattice, m, t, onsite, orbits=orbits, flux=flux).to_csr().toarray()
+            largest = max(largest, block.shape[0])
             parts.append(sla.eigvalsh(block))
-        return np.sort(np.concatenate(parts))
-    return sla.eigvalsh(hamiltonian(lattice, t=t, onsite=onsite, flux=flux).toarray())
+        return np.sort(np.concatenate(parts)), eigenvalue_tolerance(norm, largest)
+    e = sla.eigvalsh(hamiltonian(lattice, t=t, onsite=onsite, flux=flux).toarray())
+    return e, eigenvalue_tolerance(norm, lattice.sites)
 
 
 def _negative_levels(system, beta, t: float, onsite: OnSite) -> tuple[np.ndarray, np.ndarray]:
-    """The negative energies of ``system`` (ascending) and beta as a checked array."""
+    """The negative energies of ``system`` (ascending) and beta as a checked array.
+
+    "Negative" is decided robustly: a computed level within its error bound of zero is a zero
+    mode (its sign is rounding noise), never counted as negative. For a lattice the bound is
+    :func:`full_spectrum_tolerance`'s, for a :class:`~hyperlattice.results.Levels` its
+    ``errors`` when they bound the energies, and for plain numbers none (they are taken as exact).
+    """
     if isinstance(system, Lattice):
-        energies = full_spectrum(system, t=t, onsite=onsite)
+        energies, tol = full_spectrum_tolerance(system, t=t, onsite=onsite)
     elif isinstance(system, Levels):
         energies = np.asarray(system.energies, dtype=float)
         if not np.all(np.isfinite(energies)):
             raise ValueError("the energies must be finite numbers.")
+        errs = getattr(system, "errors", None)
+        tol = 0.0 if errs is None else np.nan_to_num(np.asarray(errs, dtype=float), nan=0.0, posinf=0.0)
+        if np.ndim(tol) and np.shape(tol) != energies.shape:
+            tol = 0.0
     else:
         energies = _validate.real_array("energies", system).ravel()
+        tol = 0.0
     b = _validate.real_array("beta", beta)
     if np.any(b < 0):
         raise ValueError(f"beta must be non-negative, got {float(b.min()):g}.")
-    return np.sort(energies[energies < 0]), b
+    below, _, _ = classify(energies, 0.0, tol)
+    return np.sort(energies[below]), b
 
 
 def _shifted_sum(neg: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -509,7 +555,8 @@ def partition_function(system, beta, *, t: float = 1.0, onsite: OnSite = None) -
     float or ndarray
         Z for each beta (the shape of ``beta``). Levels with :math:`E_n \ge 0` are left out,
         as in the paper, to cut off energies outside the continuum approximation (Z = 0 if
-        no level is negative).
+        no level is negative); so are zero modes, levels within their error bound of 0
+        (:func:`full_spectrum_tolerance`), whose computed sign is rounding noise.
 
     Raises
     ------

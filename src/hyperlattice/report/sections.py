@@ -231,7 +231,10 @@ def fig2_section(records: list[dict], out: Path, progress: Callable[[str], None]
                [[_fmt(b, 4), _fmt(a, 8), _fmt(c, 8)]
                 for b, a, c in zip(z.beta[::10], z.z_graph[::10], z.z_continuum[::10])],
                f"Z(beta) for l = 4 over {z.graph_states} negative graph levels and {z.continuum_states} negative "
-               "continuum states (degenerate ±m counted twice).")
+               "continuum states (degenerate ±m counted twice); "
+               + (f"the flake's {z.graph_zero_modes} zero modes (|E| within the eigensolver's error bound "
+                  f"{z.graph_tolerance:.0e}, so their computed sign is rounding noise) are left out."
+                  if z.graph_zero_modes else "the graph has no zero mode."))
     return Section("Spectrum vs number of rings; partition function", "Fig2", [], [zt], [fig_obj])
 
 
