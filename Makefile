@@ -20,7 +20,7 @@ run: $(STAMP)
 	$(BIN)/hyperlattice reproduce --out reproduction
 
 test: $(STAMP)
-	$(BIN)/python -m pytest
+	$(BIN)/python -m pytest --blas-threads 2
 
 bench: $(STAMP)
 	for b in benchmarks/bench_*.py; do $(BIN)/python $$b || exit 1; done

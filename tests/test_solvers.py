@@ -79,34 +79,26 @@ def test_check_residuals_raises_far_off_and_warns_near():
             solvers._check_residuals(np.array([1e-12, bad]), 1e-10, "x")
 
 
-def _openblas_threads() -> list[int]:
-    """Thread counts of the OpenBLAS copies loaded in this process (as the guard finds them)."""
-    import ctypes
+def _blas_threads() -> list[int]:
+    """Thread counts of the BLAS libraries loaded in this process, read independently of the guard."""
+    from threadpoolctl import threadpool_info
 
-    with open("/proc/self/maps") as fh:
-        paths = sorted({line.split()[-1] for line in fh if "openblas" in line.lower() and "/" in line})
-    counts = []
-    for path in paths:
-        lib = ctypes.CDLL(path)
-        for _, get_name in solvers._BLAS_SYMBOLS:
-            if hasattr(lib, get_name):
-                getter = getattr(lib, get_name)
-                getter.restype = ctypes.c_int
-                counts.append(int(getter()))
-                break
-    return counts
+    return [info["num_threads"] for info in threadpool_info() if info["user_api"] == "blas"]
 
 
-@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="the guard reads /proc/self/maps")
 def test_single_threaded_blas_restores_the_setting():
-    before = _openblas_threads()
-    with solvers._single_threaded_blas():
-        assert all(n == 1 for n in _openblas_threads())
-    assert _openblas_threads() == before
-    with pytest.raises(RuntimeError):  # restored on the way out of an exception too
+    from threadpoolctl import threadpool_limits
+
+    assert _blas_threads(), "numpy and scipy load a BLAS"
+    with threadpool_limits(2, user_api="blas"):  # a known starting point, whatever the session set
+        before = _blas_threads()
         with solvers._single_threaded_blas():
-            raise RuntimeError("boom")
-    assert _openblas_threads() == before
+            assert all(n == 1 for n in _blas_threads())
+        assert _blas_threads() == before
+        with pytest.raises(RuntimeError):  # restored on the way out of an exception too
+            with solvers._single_threaded_blas():
+                raise RuntimeError("boom")
+        assert _blas_threads() == before
 
 
 def test_sector_table_type_and_complexity():

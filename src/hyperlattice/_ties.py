@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["EPS", "eigenvalue_tolerance", "classify", "degenerate_groups", "stable_order"]
+__all__ = ["EPS", "eigenvalue_tolerance", "monotone_tolerance", "classify", "degenerate_groups", "stable_order"]
 
 #: machine epsilon of float64
 EPS = float(np.finfo(float).eps)
@@ -142,3 +142,14 @@ def stable_order(values, tol, *keys) -> np.ndarray:
     # np.lexsort sorts by the last key first
     cols = [np.asarray(k).ravel()[::1] for k in reversed(keys)]
     return np.lexsort(tuple(cols) + (groups,)) if cols else first
+
+
+def monotone_tolerance(values) -> float:
+    r"""Smallest step of a tabulated function that counts as a rise: :math:`64\,\varepsilon\max|f|`.
+
+    Finding where a function stops rising by ``np.diff(f) <= 0`` decides at exactly zero, where
+    the computed step near a maximum is rounding noise of a few ulps of :math:`|f|`; comparing
+    with this bound instead puts the decision where the noise cannot reach.
+    """
+    v = np.asarray(values, dtype=float)
+    return 64.0 * EPS * float(np.max(np.abs(v), initial=0.0))

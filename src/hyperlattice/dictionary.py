@@ -67,6 +67,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _validate, geometry
+from ._ties import monotone_tolerance
 from .results import Result
 
 __all__ = [
@@ -401,7 +402,10 @@ def improved_lambda_from_energy(energy, p=7, q=3) -> float:
     lam_hi = 1.0 + 4.0 * (3.9 / (2.0 * d0)) ** 2
     grid = np.linspace(0.0, lam_hi, 400)
     vals = -q * spherical_function(grid, d0)
-    top = int(np.argmax(np.diff(vals) <= 0)) if np.any(np.diff(vals) <= 0) else grid.size - 1
+    # steps within rounding of zero (at the maximum) count as not rising: the branch end does
+    # not move with the last bits of the spherical function
+    flat = np.diff(vals) <= monotone_tolerance(vals)
+    top = int(np.argmax(flat)) if np.any(flat) else grid.size - 1
     lo, hi = float(vals[0]), float(vals[top])
     if not lo <= e <= hi:
         raise ValueError(f"the energy {e:g} is outside the range [{lo:.6g}, {hi:.6g}] of the improved map for "

@@ -58,6 +58,7 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 
 from .. import _validate, dictionary, geometry
+from .._ties import monotone_tolerance
 from ..results import Result
 
 if TYPE_CHECKING:
@@ -108,7 +109,10 @@ def _improved_table(p: int, q: int) -> tuple[np.ndarray, np.ndarray]:
     d0 = geometry.d0(p, q)
     lam = 1.0 + np.linspace(0.0, 2.0 * (3.9 / (2.0 * d0)), 3001) ** 2
     e = np.asarray(dictionary.improved_energy_from_lambda(lam, p, q), dtype=float)
-    stop = int(np.argmax(np.diff(e) <= 0)) if np.any(np.diff(e) <= 0) else e.size - 1
+    # the monotone branch ends where E stops rising; steps within rounding of zero (at the
+    # maximum) count as not rising, so the end does not move with the last bits of E
+    flat = np.diff(e) <= monotone_tolerance(e)
+    stop = int(np.argmax(flat)) if np.any(flat) else e.size - 1
     return lam[: stop + 1], e[: stop + 1]
 
 

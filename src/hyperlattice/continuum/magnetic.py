@@ -121,6 +121,7 @@ import numpy as np
 from scipy.optimize import elementwise as _elementwise
 
 from .. import _validate
+from .._ties import stable_order
 from ..dictionary import energy_from_lambda, field_from_flux, hopping_scale
 from ..errors import ConvergenceError
 from ..geometry import lattice_h
@@ -620,7 +621,9 @@ def magnetic_levels(p=7, q=3, radius=None, rings=None, levels: int = 4, flux=0.0
         pos = ms > 0
         kap, ns, delta = (np.concatenate([v, v[pos]]) for v in (kap, ns, delta))
         ms = np.concatenate([ms, -ms[pos]])
-    order = np.lexsort((ms < 0, np.abs(ms), kap))[:K]
+    # levels within their enclosures of each other (the +-m pairs at B = 0, crossings of
+    # different m at special fields) are ordered by (|m|, +m first, n), not by rounding
+    order = stable_order(kap, delta, np.abs(ms).astype(np.int64), (ms < 0).astype(np.int64), ns)[:K]
     kap, ns, ms, delta = kap[order], ns[order], ms[order].astype(int), delta[order]
     scale = hopping_scale(p, q)
     energies = np.asarray(energy_from_lambda(kap, p, q), float)

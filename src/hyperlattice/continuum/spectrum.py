@@ -76,6 +76,7 @@ from ..dictionary import (
     improved_disk_for_rings,
     map_energy_from_k,
 )
+from .._ties import stable_order
 from ..errors import ConvergenceError
 from ..geometry import lattice_h, one_minus_abs2
 from ..results import Levels, Result
@@ -683,8 +684,10 @@ def _lowest_states(x: float, K: int, *, check_nodes: bool, x_rounding: float):
     nn = np.concatenate([ns, ns[ms > 0]])
     mm_ = np.concatenate([ms, -ms[ms > 0]])
     wd = np.concatenate([width, width[ms > 0]])
-    # ascending k; ties (the +-m pairs) keep +m first; lexsort's last key is primary
-    order = np.lexsort((mm_ < 0, np.abs(mm_), ks))[:K]
+    # ascending k; roots within their bracket widths of each other (the exact +-m pairs, and
+    # accidental degeneracies of different |m|) are ordered by (|m|, +m first, n), never by their
+    # last bits, so the cut at K keeps the same states on every machine
+    order = stable_order(ks, wd, np.abs(mm_), (mm_ < 0).astype(np.int64), nn)[:K]
     ks, nn, mm_, wd = ks[order], nn[order], mm_[order], wd[order]
     if check_nodes:
         for v in np.unique(np.abs(mm_)):

@@ -37,7 +37,6 @@ The numba kernel is compiled on first use (and cached on disk), never at import.
 from __future__ import annotations
 
 import contextlib
-import ctypes
 import functools
 import warnings
 from dataclasses import dataclass
@@ -191,40 +190,20 @@ def _kernel() -> Callable:
     return _KERNEL
 
 
-_BLAS_SYMBOLS = (
-    ("scipy_openblas_set_num_threads64_", "scipy_openblas_get_num_threads64_"),
-    ("scipy_openblas_set_num_threads", "scipy_openblas_get_num_threads"),
-    ("openblas_set_num_threads64_", "openblas_get_num_threads64_"),
-    ("openblas_set_num_threads", "openblas_get_num_threads"),
-)
-
-
 @functools.lru_cache(maxsize=1)
 def blas_thread_controls() -> tuple:
-    """``(setter, getter)`` of the thread count of every OpenBLAS loaded in this process.
+    """``(setter, getter)`` of the thread count of every BLAS library loaded in this process.
 
-    The OpenBLAS copies bundled with numpy and scipy are found among the loaded libraries (as
-    threadpoolctl does; other BLAS builds are left alone). Found once: scanning
-    ``/proc/self/maps`` and opening the libraries costs about 2 ms, and numpy's and scipy's
-    libraries are loaded by the time this module is imported.
+    Found by threadpoolctl (OpenBLAS, MKL, BLIS, FlexiBLAS, Apple Accelerate: whatever numpy
+    and scipy loaded), once: the scan of the loaded libraries costs a few ms, and numpy's and
+    scipy's BLAS are loaded by the time this module is imported.
     """
-    try:
-        with open("/proc/self/maps") as fh:
-            paths = {line.split()[-1] for line in fh if "openblas" in line.lower() and "/" in line}
-    except OSError:  # pragma: no cover - not Linux
-        paths = set()
+    from threadpoolctl import ThreadpoolController
+
     out = []
-    for path in sorted(paths):
-        try:
-            lib = ctypes.CDLL(path)
-        except OSError:  # pragma: no cover
-            continue
-        for set_name, get_name in _BLAS_SYMBOLS:
-            if hasattr(lib, set_name) and hasattr(lib, get_name):
-                getter = getattr(lib, get_name)
-                getter.restype = ctypes.c_int
-                out.append((getattr(lib, set_name), getter))
-                break
+    for lib in ThreadpoolController().lib_controllers:
+        if lib.user_api == "blas":
+            out.append((lib.set_num_threads, lib.get_num_threads))
     return tuple(out)
 
 

@@ -197,7 +197,11 @@ def _realify(vecs: np.ndarray) -> np.ndarray:
     out = np.empty(vecs.shape)
     for c in range(vecs.shape[1]):
         v = vecs[:, c]
-        k = int(np.argmax(np.abs(v)))
+        # the phase is fixed at the largest entry; symmetric states have several entries of equal
+        # modulus whose computed order is rounding noise, so take the first index within a
+        # relative 1e-8 of the maximum (the phase, and so the sign, is then the same everywhere)
+        a = np.abs(v)
+        k = int(np.flatnonzero(a >= a.max() * (1.0 - 1e-8))[0])
         v = v * (abs(v[k]) / v[k])
         out[:, c] = v.real / np.linalg.norm(v.real)
     return out
