@@ -123,22 +123,15 @@ def edge_windings(cluster: Cluster) -> Windings:
     def edge_of(a: np.ndarray, b: np.ndarray) -> np.ndarray:
         return np.searchsorted(keys, np.minimum(a, b) * n + np.maximum(a, b))
 
-    # spanning tree T of the graph: breadth-first from site 0
-    nb = c.neighbours
+    # spanning tree T of the graph: breadth-first from site 0 (SciPy's csgraph)
+    from scipy.sparse import csgraph, csr_matrix
+
+    nb = np.asarray(c.neighbours, dtype=np.int64)
+    graph = csr_matrix((np.ones(n * q, dtype=np.int8), nb.ravel(), np.arange(0, n * q + 1, q)), shape=(n, n))
+    _, pred = csgraph.breadth_first_order(graph, 0, directed=True, return_predecessors=True)
+    child = np.flatnonzero(pred >= 0)
     in_tree = np.zeros(ne, dtype=bool)
-    seen = np.zeros(n, dtype=bool)
-    seen[0] = True
-    frontier = np.array([0])
-    while frontier.size:
-        heads = nb[frontier].ravel()
-        tails = np.repeat(frontier, q)
-        new = ~seen[heads]
-        heads, tails = heads[new], tails[new]
-        heads, first = np.unique(heads, return_index=True)  # each new site joins the tree once
-        tails = tails[first]
-        seen[heads] = True
-        in_tree[edge_of(tails, heads)] = True
-        frontier = heads
+    in_tree[edge_of(pred[child], child)] = True
     # faces and their directed edges
     faces = np.asarray(c.faces, dtype=np.int64)
     nf = len(faces)
@@ -152,7 +145,10 @@ def edge_windings(cluster: Cluster) -> Windings:
     owners[flat_e, side] = flat_f
     if np.any(owners < 0):  # pragma: no cover - guaranteed by the map checks
         raise HyperlatticeError("an edge does not border two faces.")
-    # spanning tree C of the dual among non-tree edges: breadth-first from face 0
+    # spanning tree C of the dual among non-tree edges: breadth-first from face 0. Written out
+    # rather than csgraph's: the dual of a small cluster is a multigraph (two faces can share
+    # several edges) and the tree must name *which* edge joins a face to its parent, which a
+    # sparse adjacency matrix (duplicates summed) cannot keep.
     in_cotree = np.zeros(ne, dtype=bool)
     parent_edge = np.full(nf, -1, dtype=np.int64)
     fseen = np.zeros(nf, dtype=bool)

@@ -332,28 +332,7 @@ def _kernels() -> dict:
             nf += 1
         return nf
 
-    @numba.njit(cache=True)
-    def bfs(nb, start, max_radius):
-        n, q = nb.shape
-        dist = np.full(n, -1, np.int32)
-        queue = np.empty(n, np.int32)
-        dist[start] = 0
-        queue[0] = start
-        head, tail = 0, 1
-        while head < tail:
-            v = queue[head]
-            head += 1
-            if dist[v] >= max_radius:
-                continue
-            for j in range(q):
-                u = nb[v, j]
-                if dist[u] < 0:
-                    dist[u] = dist[v] + 1
-                    queue[tail] = u
-                    tail += 1
-        return dist, queue[:tail].copy()
-
-    return {"build": build, "bfs": bfs, "faces": faces_from_rotation}
+    return {"build": build, "faces": faces_from_rotation}
 
 
 def _map_from_darts(X: np.ndarray, Y: np.ndarray, p: int, q: int) -> np.ndarray:
@@ -381,6 +360,25 @@ def _genus(p: int, q: int, darts: int) -> int:
 # systole: balls of the cluster against balls of the infinite lattice
 # ----------------------------------------------------------------------------
 
+def _bfs(nb: np.ndarray, start: int, max_radius: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Graph distances from ``start`` over a neighbour table (breadth-first, SciPy's csgraph).
+
+    Returns ``dist`` (int32, -1 beyond ``max_radius`` or unreachable) and the reached vertices.
+    Rows padded with the vertex itself (boundary sites of a flake) are self-loops, which a
+    shortest-path search ignores.
+    """
+    from scipy.sparse import csgraph, csr_matrix
+
+    n, q = nb.shape
+    graph = csr_matrix((np.ones(n * q, dtype=np.int8), np.asarray(nb, dtype=np.int32).ravel(),
+                        np.arange(0, n * q + 1, q)), shape=(n, n))
+    d = csgraph.dijkstra(graph, directed=True, indices=start, unweighted=True,
+                         limit=np.inf if max_radius is None else float(max_radius) + 0.5)
+    reached = np.isfinite(d)
+    dist = np.where(reached, d, -1).astype(np.int32)
+    return dist, np.flatnonzero(reached).astype(np.int32)
+
+
 def _ball_counts(nb: np.ndarray, start: int = 0, max_radius: int | None = None
                  ) -> tuple[np.ndarray, np.ndarray]:
     """Vertex and edge counts of the balls B_R(start), R = 0 .. max_radius (cumulative).
@@ -388,8 +386,7 @@ def _ball_counts(nb: np.ndarray, start: int = 0, max_radius: int | None = None
     The breadth-first search stops at ``max_radius`` (default: the whole graph), so the cost is
     that of the ball, not of the cluster.
     """
-    big = np.iinfo(np.int32).max
-    dist, seen = _kernels()["bfs"](nb, int(start), big if max_radius is None else int(max_radius))
+    dist, seen = _bfs(nb, int(start), max_radius)
     d = dist[seen].astype(np.int64)
     rmax = int(d.max())
     nverts = np.cumsum(np.bincount(d, minlength=rmax + 1))
@@ -414,7 +411,7 @@ def _lattice_reference(p: int, q: int, rings: int) -> tuple[np.ndarray, np.ndarr
     src, dst = src[order], dst[order]
     slot = np.arange(len(src)) - np.searchsorted(src, np.arange(n))[src]
     nb[src, slot] = dst
-    dist, _ = _kernels()["bfs"](nb, 0, np.iinfo(np.int32).max)
+    dist, _ = _bfs(nb, 0)
     outer = np.asarray(lat.ring) == int(np.max(lat.ring))
     valid = int(dist[outer].min()) - 2  # balls of radius <= valid never touch the boundary
     nverts, nedges = _ball_counts(nb, 0, valid)
@@ -585,7 +582,7 @@ def psl2_cluster(p: int, q: int, r: int) -> Cluster:
     _check_fits(darts, f"the {{{p},{q}}} cluster PSL(2,{r})")
     nb = groups.psl2_map(*triple, r, q)
     if max(p, q) <= 5:  # the triple might generate A4, S4 or A5 only: then the graph falls apart
-        dist, _ = _kernels()["bfs"](nb, 0, np.iinfo(np.int32).max)
+        dist, _ = _bfs(nb, 0)
         if np.any(dist < 0):
             raise ValueError(f"the chosen generators do not generate PSL(2,{r}); no {{{p},{q}}} cluster.")
     x, y = triple

@@ -97,6 +97,8 @@ def boundary_distance(lattice, *, site: int | None = None) -> np.ndarray | int:
     deficient = np.diff(indptr) < lattice.coordination
     if site is not None:
         site = _validate.site_index("site", site, lattice.sites)
+        # written out: it stops at the first deficient site, so it costs the ball around the
+        # site, not the flake (csgraph's searches have no stop-at-target)
         seen = np.zeros(lattice.sites, dtype=bool)
         frontier = np.array([site])
         seen[site] = True
@@ -110,15 +112,17 @@ def boundary_distance(lattice, *, site: int | None = None) -> np.ndarray | int:
             frontier = nb
             d += 1
         return -1
-    dist = np.full(lattice.sites, -1, dtype=np.int64)
-    frontier = np.nonzero(deficient)[0]
-    d = 0
-    while frontier.shape[0]:
-        dist[frontier] = d
-        nb = _neighbours_of(indptr, indices, frontier)
-        frontier = nb[dist[nb] < 0]
-        d += 1
-    return dist
+    sources = np.flatnonzero(deficient)
+    if sources.size == 0:
+        return np.full(lattice.sites, -1, dtype=np.int64)
+    # a breadth-first search from all deficient sites at once (SciPy's csgraph; min_only keeps
+    # the distance to the nearest source)
+    from scipy.sparse import csgraph, csr_matrix
+
+    graph = csr_matrix((np.ones(indices.shape[0], dtype=np.int8), indices, indptr),
+                       shape=(lattice.sites, lattice.sites))
+    d = csgraph.dijkstra(graph, directed=True, indices=sources, unweighted=True, min_only=True)
+    return np.where(np.isfinite(d), d, -1).astype(np.int64)
 
 
 def _neighbours_of(indptr, indices, sites) -> np.ndarray:
