@@ -123,3 +123,23 @@ def test_stable_order_breaks_ties_by_labels_not_rounding():
         vals = np.array([1.0, 1.0 + noise, -2.0 - noise, -2.0])
         order = _ties.stable_order(vals, 1e-14, labels)
         assert labels[order].tolist() == [0, 2, 1, 3]
+
+
+def test_default_distance_bins_are_centred_on_the_lattice_distances():
+    """Nearest neighbours lie at exactly d0: the default bins put it at a centre, not an edge."""
+    from hyperlattice.compare.correlation import bin_by_distance
+    from hyperlattice.geometry import d0, distance
+
+    lat = ring_lattice(7, 3, 4)
+    d = distance(lat.z, lat.z[0])
+    b = bin_by_distance(d, np.ones_like(d))
+    assert b.edge_ties == 0
+    # a neighbour distance computed a few ulps above or below d0 lands in the same bin
+    w = 0.5 * d0(7, 3)
+    for eps in (-4e-16, 4e-16):
+        bb = bin_by_distance(np.array([0.0, d0(7, 3) * (1 + eps), 3.0]), np.ones(3))
+        assert bb.count.tolist() == [1, 1, 1]
+        np.testing.assert_allclose(bb.centre, [0.0, 2 * w, np.round(3.0 / w) * w])
+    # explicit edges through an exact distance are reported as ties
+    tied = bin_by_distance(np.array([0.2, 0.5, 0.7]), np.ones(3), edges=[0.0, 0.5, 1.0])
+    assert tied.edge_ties == 1

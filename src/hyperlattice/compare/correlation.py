@@ -77,6 +77,11 @@ class BinnedCorrelation(Result):
         Population standard deviation :math:`\sqrt{\langle|F-\mu|^2\rangle}` in each bin.
     count : ndarray of int
         Number of values in each bin.
+    edge_ties : int
+        Distances within rounding (:math:`64\varepsilon \max d`) of an interior bin edge: their
+        bin is decided by the last bits of the distance, so they are counted here. The default
+        bins are centred on the multiples of :math:`d_0/2`, where the lattice's exact distances
+        (0, :math:`d_0`, ...) lie, so that this is 0 for the default bins on a lattice.
     """
 
     edges: np.ndarray
@@ -84,6 +89,7 @@ class BinnedCorrelation(Result):
     mean: np.ndarray
     std: np.ndarray
     count: np.ndarray
+    edge_ties: int = 0
 
     def plot(self, ax=None, **kwargs) -> Axes:
         """Mean ± standard deviation (real part) against the bin centre; returns the axes."""
@@ -102,8 +108,10 @@ def bin_by_distance(dist, values, width: float | None = None, edges=None) -> Bin
     r"""Bin :math:`F` by hyperbolic distance: mean and (population) standard deviation per bin.
 
     Default bins have width :math:`d_0/2` of {7,3} (0.141), fine enough to resolve the
-    distance dependence and coarse enough to hold several sites each. Complex values: the
-    std is :math:`\sqrt{\langle|F-\mu|^2\rangle}`.
+    distance dependence and coarse enough to hold several sites each, and are *centred* on the
+    multiples of :math:`d_0/2` (edges at :math:`(k - \tfrac12)\,d_0/2`): nearest neighbours lie
+    at exactly :math:`d_0`, and a bin edge there would sort them by the sign of their rounding
+    error. Complex values: the std is :math:`\sqrt{\langle|F-\mu|^2\rangle}`.
 
     Parameters
     ----------
@@ -112,7 +120,8 @@ def bin_by_distance(dist, values, width: float | None = None, edges=None) -> Bin
     values : array, shape (K,)
         Real or complex values F, finite.
     width : float, optional
-        Bin width (default :math:`d_0/2` of {7,3}); ignored when ``edges`` is given.
+        Bin width, edges at its multiples (default: :math:`d_0/2` of {7,3} with edges at the
+        half-integer multiples); ignored when ``edges`` is given.
     edges : array, optional
         Strictly increasing bin edges; distances outside fall into the first or last bin.
     """
@@ -123,8 +132,13 @@ def bin_by_distance(dist, values, width: float | None = None, edges=None) -> Bin
     if np.any(d < 0):
         raise ValueError("distances must be non-negative.")
     if edges is None:
-        width = 0.5 * d0(7, 3) if width is None else _validate.positive_real("the bin width", width)
-        edges = np.arange(0.0, d.max() + width, width)
+        if width is None:
+            width = 0.5 * d0(7, 3)
+            start = -0.5 * width   # centres on the multiples of d0/2 (docstring)
+        else:
+            width = _validate.positive_real("the bin width", width)
+            start = 0.0
+        edges = np.arange(start, d.max() + width, width)
         if edges[-1] <= d.max():
             edges = np.append(edges, edges[-1] + width)
     else:
@@ -144,7 +158,19 @@ def bin_by_distance(dist, values, width: float | None = None, edges=None) -> Bin
     std = np.zeros(nb)
     std[nz] = np.sqrt(var[nz] / count[nz])
     centre = 0.5 * (edges[:-1] + edges[1:])
-    return BinnedCorrelation(edges=edges, centre=centre[nz], mean=mean[nz], std=std[nz], count=count[nz])
+    tol = 64.0 * np.finfo(float).eps * max(float(d.max()), float(np.max(np.abs(edges))))
+    ties = _edge_ties(d, edges[1:-1], tol)
+    return BinnedCorrelation(edges=edges, centre=centre[nz], mean=mean[nz], std=std[nz], count=count[nz],
+                             edge_ties=ties)
+
+
+def _edge_ties(d: np.ndarray, inner: np.ndarray, tol: float) -> int:
+    """How many of ``d`` lie within ``tol`` of one of the ascending ``inner`` edges."""
+    if inner.size == 0:
+        return 0
+    j = np.searchsorted(inner, d)
+    near = np.minimum(np.abs(d - inner[np.minimum(j, inner.size - 1)]), np.abs(d - inner[np.maximum(j - 1, 0)]))
+    return int(np.count_nonzero(near <= tol))
 
 
 def collapse_measure(dist, values, width: float | None = None) -> float:
