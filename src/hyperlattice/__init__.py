@@ -43,6 +43,7 @@ _EXPORTS = {
     "Spectrum": "graph.spectrum",
     "lowest_levels": "graph.spectrum",
     "full_spectrum": "graph.spectrum",
+    "full_spectrum_tolerance": "graph.spectrum",
     "partition_function": "graph.spectrum",
     "log_partition_function": "graph.spectrum",
     "graph_green": "graph.green",
