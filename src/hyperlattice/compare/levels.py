@@ -441,3 +441,9 @@ def partition_functions(graph: LevelCount, continuum: LevelCount, beta) -> Parti
     return PartitionComparison(rings=graph.rings, beta=b, z_graph=graph.partition_function(b),
                                z_continuum=continuum.partition_function(b), e0_graph=float(graph.energies.min()),
                                graph_states=graph.states, continuum_states=continuum.states)
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

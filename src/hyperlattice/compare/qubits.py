@@ -272,3 +272,9 @@ def bound_state_sizes(lattice: Lattice, omegas_q, g, site: int = 0) -> BoundStat
     return BoundStateSizes(p=lat.p, q=lat.q, rings=lat.rings, kind=lat.kind, site=site, g=g, e0=e0, omega_q=om,
                            detuning=e0 - om, energy=E, size_graph=sg, size_continuum=sc, decay_length_graph=xg,
                            decay_length_asymptotic=xa)
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

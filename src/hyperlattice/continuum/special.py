@@ -147,7 +147,7 @@ import numpy as np
 from scipy import special as sc
 
 from .. import _validate
-from ..errors import ConvergenceError, ConvergenceWarning
+from ..errors import ConvergenceError, ConvergenceWarning, RangeWarning
 
 __all__ = [
     "MAX_ORDER",
@@ -943,6 +943,8 @@ def legendre_p_log_parts(nu, m, x) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         :math:`P = \text{mantissa}\cdot e^{\text{log\_scale}}`, with ``abs_err`` the estimated
         absolute error of the mantissa (same scale).
     """
+    # validated like legendre_p (flat copies; cheap next to the evaluation itself)
+    nu, m, x, _ = _broadcast(nu, m, x)
     return _log_p_parts(nu, m, x)
 
 
@@ -987,6 +989,14 @@ def evaluate_checked(func, nu, m, x, *, warn: bool = True) -> tuple[np.ndarray, 
     ConvergenceError
         If a value is not finite (outside the supported domain).
     """
+    func = _validate.function("func", func)
+    warn = _validate.flag("warn", warn)
+    nu, m, x, _ = _broadcast(nu, m, x)
+    return _evaluate_checked(func, nu, m, x, warn=warn)
+
+
+def _evaluate_checked(func, nu, m, x, *, warn: bool = True):
+    """:func:`evaluate_checked` on arrays the caller has validated (flat, same length)."""
     n = x.size
     if n and int(np.max(m)) > MAX_ORDER:
         raise ValueError(f"the order m must be at most {MAX_ORDER:,}, got {int(np.max(m)):,}.")
@@ -1031,7 +1041,18 @@ def _check_q_poles(nu, m):
 
 def _finish(scale, mant, shape):
     with np.errstate(over="ignore", under="ignore", invalid="ignore"):
-        val = mant * np.exp(scale)
+        big = np.exp(scale)
+        val = mant * big
+    over = np.isinf(big) & (mant != 0)
+    if over.any():
+        # |value| beyond 1.8e308: say so, and keep the phase (inf * (re + i im) would put NaN in
+        # a zero component)
+        val[over] = (np.where(mant[over].real != 0, np.copysign(np.inf, mant[over].real), 0.0)
+                     + 1j * np.where(mant[over].imag != 0, np.copysign(np.inf, mant[over].imag), 0.0))
+        k = int(np.argmax(over))
+        warnings.warn(f"the value overflows the float64 range (|value| = e^{float(scale[k]):.6g} > 1.8e308) "
+                      "and is returned as inf; the log_* functions (e.g. legendre_log_p) give it as a "
+                      "log-scale and a mantissa.", RangeWarning, stacklevel=3)
     val = val.reshape(shape)
     return val[()] if val.ndim == 0 else val
 
@@ -1069,7 +1090,7 @@ def legendre_p(nu, m, x) -> complex | np.ndarray:
         If a series fails to converge (outside the documented domain).
     """
     nu_f, m_f, x_f, shape = _broadcast(nu, m, x)
-    s, mt, _ = evaluate_checked(_log_p_parts, nu_f, m_f, x_f, warn=False)
+    s, mt, _ = _evaluate_checked(_log_p_parts, nu_f, m_f, x_f, warn=False)
     return _finish(s, mt, shape)
 
 
@@ -1110,7 +1131,7 @@ def legendre_q(nu, m, x) -> complex | np.ndarray:
     """
     nu_f, m_f, x_f, shape = _broadcast(nu, m, x, allow_one=False)
     _check_q_poles(nu_f, m_f)
-    s, mt, _ = evaluate_checked(_log_q_parts, nu_f, m_f, x_f)
+    s, mt, _ = _evaluate_checked(_log_q_parts, nu_f, m_f, x_f)
     return _finish(s, mt, shape)
 
 
@@ -1123,7 +1144,7 @@ def legendre_log_p(nu, m, x) -> tuple[np.ndarray, np.ndarray]:
     (0-d arrays for scalar input).
     """
     nu_f, m_f, x_f, shape = _broadcast(nu, m, x)
-    s, mt, _ = evaluate_checked(_log_p_parts, nu_f, m_f, x_f, warn=False)
+    s, mt, _ = _evaluate_checked(_log_p_parts, nu_f, m_f, x_f, warn=False)
     return s.reshape(shape), mt.reshape(shape)
 
 
@@ -1134,7 +1155,7 @@ def legendre_log_q(nu, m, x) -> tuple[np.ndarray, np.ndarray]:
     """
     nu_f, m_f, x_f, shape = _broadcast(nu, m, x, allow_one=False)
     _check_q_poles(nu_f, m_f)
-    s, mt, _ = evaluate_checked(_log_q_parts, nu_f, m_f, x_f)
+    s, mt, _ = _evaluate_checked(_log_q_parts, nu_f, m_f, x_f)
     return s.reshape(shape), mt.reshape(shape)
 
 
@@ -1149,8 +1170,8 @@ def legendre_q_over_p(nu, m, x) -> complex | np.ndarray:
     """
     nu_f, m_f, x_f, shape = _broadcast(nu, m, x, allow_one=False)
     _check_q_poles(nu_f, m_f)
-    sp, mp_, _ = evaluate_checked(_log_p_parts, nu_f, m_f, x_f, warn=False)
-    sq, mq, _ = evaluate_checked(_log_q_parts, nu_f, m_f, x_f)
+    sp, mp_, _ = _evaluate_checked(_log_p_parts, nu_f, m_f, x_f, warn=False)
+    sq, mq, _ = _evaluate_checked(_log_q_parts, nu_f, m_f, x_f)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         val = (mq / mp_) * np.exp(sq - sp)
     val = val.reshape(shape)
@@ -1227,3 +1248,9 @@ def conical_p(k, m, x) -> float | np.ndarray:
     """
     k_a = _validate.real_array("the momentum k", k)
     return np.real(legendre_p(-0.5 + 0.5j * k_a, m, x))
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -914,3 +914,9 @@ def line_graph(lattice: Lattice, *, max_sites: int | None = None) -> Lattice:
     rotation = srt[found]
     return Lattice(p=lattice.p, q=lattice.q, rings=lattice.rings, z=z_mid, ring=ring_lg,
                    edges=lg_edges, rotation=rotation, kind="line_graph", parent_edges=e_sorted.astype(np.int32))
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -739,3 +739,9 @@ def lowest_pair(p: int = 7, q: int = 3, rings: int = 3, *, t: float = 1.0, tol: 
     return Spectrum(energies=energies, n=np.array(ns), m=np.array(ms), errors=res, method="sector-shift-invert",
                     description=description, p=p, q=q, rings=rings, sites=sectors.sites, kind="sites",
                     timings=timings)
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

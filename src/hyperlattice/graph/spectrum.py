@@ -565,3 +565,9 @@ def log_partition_function(system, beta, *, t: float = 1.0, onsite: OnSite = Non
     if not np.all(np.isfinite(log_z)):
         raise ValueError(f"beta * |E0| exceeds the float range for beta = {float(np.max(b)):g}.")
     return float(log_z) if np.ndim(log_z) == 0 else log_z
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -1,0 +1,159 @@
+"""Regression tests for the input door (issue 19, item 4 "bypass the input door" and item 5
+"overflow returned as a number"): the fuzzer's examples, each a ValueError naming the parameter.
+
+The class as a whole is covered by tests/test_bad_input_all.py, which walks every public function.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+from hyperlattice import _validate
+from hyperlattice.graph.lattice import ring_lattice
+
+LAT = ring_lattice(7, 3, 4)
+
+
+def _src():
+    from hyperlattice.compare.boundary import outer_ring
+
+    return int(outer_ring(LAT)[0])
+
+
+@pytest.mark.parametrize("call", [
+    lambda: __import__("hyperlattice.graph.qubits", fromlist=["x"]).bound_state(LAT, 0, -3.2, 0.1, resolvent=True),
+    lambda: __import__("hyperlattice.graph.qubits", fromlist=["x"]).spin_model(LAT, [0, 5], -3.2, 0.1, resolvent=True),
+    lambda: __import__("hyperlattice.compare.boundary", fromlist=["x"]).boundary_correlator(
+        LAT, -3.2, _src(), resolvent=True),
+    lambda: __import__("hyperlattice.compare.boundary", fromlist=["x"]).bulk_to_boundary(LAT, -3.2, _src(), resolvent=True),
+    lambda: __import__("hyperlattice.compare.green", fromlist=["x"]).compare_green(LAT, -2.95, 1, resolvent=True),
+], ids=["bound_state", "spin_model", "boundary_correlator", "bulk_to_boundary", "compare_green"])
+def test_bogus_resolvent_is_named(call):
+    with pytest.raises(ValueError, match="resolvent must be"):
+        call()
+
+
+@pytest.mark.parametrize("bad", [True, None, 3.5, "x"])
+def test_face_cycles(bad):
+    from hyperlattice.graph import flux
+
+    with pytest.raises(ValueError, match="cycles"):
+        flux.face_areas(LAT, bad)
+    if bad is not None:  # None means "all faces" for face_fluxes
+        with pytest.raises(ValueError, match="cycles"):
+            flux.face_fluxes(LAT, 0.1, bad)
+    with pytest.raises(ValueError, match="not neighbours"):
+        flux.face_fluxes(LAT, 0.1, [[0, 2, 4]])
+
+
+def test_named_examples():
+    from hyperlattice import dictionary, geometry
+    from hyperlattice.compare import disorder, dos, magnetic
+    from hyperlattice.continuum import magnetic as kmag
+    from hyperlattice.continuum import scba
+    from hyperlattice.graph import groups
+    from hyperlattice.sweep.engine import task_key
+
+    lat2 = ring_lattice(7, 3, 2)
+    cases = [
+        (lambda: disorder.disorder_ensemble(lat2, realizations=1, rows=True), "rows"),
+        (lambda: disorder.disorder_ensemble(lat2, realizations=1, rows=[[1, 2]]), "rows"),
+        (lambda: magnetic.magnetic_comparison(rings=None), "rings"),
+        (lambda: groups.triangle_relators(None, 3), "p"),
+        (lambda: groups.triangle_relators(10**140, 3), "p"),
+        (lambda: groups.parse_word(None), "word"),
+        (lambda: task_key("probe", {"x": 1 + 2j}), "parameters"),
+        (lambda: dictionary.laplacian_coefficient(None, 0.2), "q"),
+        (lambda: kmag.radial_function(0.5, 1, 10.0, 10**140), "kappa"),
+        (lambda: geometry.effective_radius(112, 7, 10**400), "q"),
+        (lambda: dictionary.lattice_parameters(1.0, 0.5, 2.0, 7, 10**400), "q"),
+        (lambda: dictionary.continuum_parameters(1.0, 0.5, 2.0, 7, 10**400), "q"),
+        (lambda: scba.scba(-2.9 + 0.1j, 0.01, 7, 10**400), "q"),
+        (lambda: dos.dos_comparison(7, 10**140), "q"),
+        (lambda: geometry.distance(0.1, 0.2, check=0), "check"),
+        (lambda: groups.is_prime(math.inf), "n"),
+        (lambda: groups.is_prime(math.nan), "n"),
+    ]
+    for call, name in cases:
+        with pytest.raises(ValueError, match=name) as info:
+            call()
+        assert "\n" not in str(info.value)
+
+
+def test_guard_keeps_the_functions_own_messages_and_working_calls():
+    from hyperlattice.graph.symmetry import signed_sector
+
+    with pytest.raises(ValueError, match="sector m must be an integer"):
+        signed_sector(None, 7)
+    # a duck-typed argument the annotation does not name still works (a Cluster for lattice: Lattice)
+    from hyperlattice.compare.disorder import realization_observables
+    from hyperlattice.graph.clusters import pbc_cluster
+
+    out = realization_observables(pbc_cluster(8, 3, "bolza"), dos_bins=5, ipr=False)
+    assert out["r_count"] >= 0
+    # a str where the annotation says Path is converted, not refused
+    from hyperlattice.report.writers import write_md
+
+    with pytest.raises(ValueError, match="out"):
+        write_md([], ["# x"], "/nonexistent/folder")
+
+
+def test_guard_names_the_argument_only_when_it_is_to_blame():
+    def f(x: int) -> int:
+        raise TypeError("a bug of ours")
+
+    g = _validate.guard(f)
+    with pytest.raises(TypeError, match="a bug of ours"):
+        g(3)  # a valid argument: the bug propagates
+    with pytest.raises(ValueError, match="x must be an integer, got None"):
+        g(None)
+
+
+def test_pq_range_is_where_float_arithmetic_holds():
+    from hyperlattice import dictionary, geometry
+
+    assert _validate.PQ_MAX == 10**9
+    for p in (10**9, 7):
+        assert math.isfinite(dictionary.field_from_flux(0.1, p=p))
+        assert math.isfinite(dictionary.flux_from_field(2.4, p=p))
+        assert math.isfinite(geometry.effective_radius(2240, p=p))
+    for call in (lambda: dictionary.field_from_flux(0.1, p=1e308), lambda: dictionary.flux_from_field(2.4, p=1e308),
+                 lambda: geometry.effective_radius(2240, p=1e308)):
+        with pytest.raises(ValueError, match="p must be at most"):
+            call()
+
+
+def test_integer_fits_int64_unless_bounded_otherwise():
+    with pytest.raises(ValueError, match="at most 9,223,372,036,854,775,807"):
+        _validate.integer("n", 2**63)
+    with pytest.raises(ValueError, match="at least"):
+        _validate.integer("n", -(2**63) - 1)
+    assert _validate.integer("n", 2**63 - 1) == 2**63 - 1
+
+
+BIG = str(10**140)
+
+
+@pytest.mark.parametrize("words", [
+    ["geometry", f"-p={BIG}"], ["geometry", f"-q={BIG}"], ["dictionary", f"-p={BIG}"], ["dictionary", f"-q={BIG}"],
+    ["lattice", f"--rings={BIG}"], ["lattice", f"-q={BIG}"], ["spectrum", f"--rings={BIG}"],
+    ["green", "--rings", "2", f"--site={BIG}"], ["dos", f"--seed={BIG}"], ["disorder", f"--seed={BIG}"],
+    ["geometry", "-p=" + "9" * 5000],  # beyond Python's 4300-digit int conversion limit
+])
+def test_cli_huge_integers_one_line_exit_2(words, capsys, tmp_path, monkeypatch):
+    from hyperlattice.cli import main
+
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setenv("HYPERLATTICE_CACHE", str(tmp_path / "cache"))
+    try:
+        code = main(words)
+    except SystemExit as exc:
+        code = exc.code
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert len([line for line in err.splitlines() if line.strip()]) == 1, err
+    assert "internal error" not in err and "Traceback" not in err
