@@ -157,3 +157,57 @@ def test_cli_huge_integers_one_line_exit_2(words, capsys, tmp_path, monkeypatch)
     assert code == 2, err
     assert len([line for line in err.splitlines() if line.strip()]) == 1, err
     assert "internal error" not in err and "Traceback" not in err
+
+
+# ---------------------------------------------------------------------------------------------
+# issue 19, item 5 "overflow returned as a number"
+# ---------------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("call", [
+    lambda d: d.field_from_flux(1e308), lambda d: d.field_from_flux(0.1, p=1e308),
+    lambda d: d.flux_from_field(2.4, p=1e308), lambda d: d.lambda_from_energy(1e308),
+    lambda d: d.continuum_parameters(1e308, 1.0, 1.0),
+], ids=["field(f)", "field(p)", "flux(p)", "lambda", "continuum_parameters"])
+def test_dictionary_maps_refuse_non_finite_results(call):
+    from hyperlattice import dictionary
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no numpy overflow warning either: one sentence
+        with pytest.raises(ValueError) as info:
+            call(dictionary)
+    assert "\n" not in str(info.value)
+
+
+def test_effective_radius_huge_p_refused():
+    from hyperlattice import geometry
+
+    with pytest.raises(ValueError, match="p must be at most"):
+        geometry.effective_radius(2240, p=1e308)
+
+
+def test_legendre_overflow_warns_with_the_reason():
+    from hyperlattice.continuum.special import legendre_log_p, legendre_p
+    from hyperlattice.errors import RangeWarning
+
+    with pytest.warns(RangeWarning, match="float64 range"):
+        v = legendre_p(1000.5, 1, 3.0)
+    assert math.isinf(v.real) and not math.isnan(v.imag)  # was inf + nan*j
+    s, mant = legendre_log_p(1000.5, 1, 3.0)  # the log form holds the true size
+    assert np.isfinite(s) and s > 709
+
+
+def test_distance_check_must_be_a_bool():
+    from hyperlattice.geometry import distance
+
+    for bad in (0, 1, "yes", None):
+        with pytest.raises(ValueError, match="check must be True or False"):
+            distance(2.0, 3.0, check=bad)
+
+
+def test_exchange_comparison_refuses_g_zero():
+    from hyperlattice.compare.qubits import exchange_comparison
+
+    with pytest.raises(ValueError, match="g must be nonzero"):
+        exchange_comparison(LAT, -3.1, 0.0)
+    with pytest.raises(ValueError, match="overflows"):
+        exchange_comparison(LAT, -3.1, 1e200)

@@ -676,12 +676,52 @@ def guard(func: Callable) -> Callable:
     return guarded
 
 
-def guard_public(namespace: dict) -> None:
+def _all_finite(value) -> bool:
+    if isinstance(value, (bool, np.bool_, str, bytes)) or value is None:
+        return True
+    if isinstance(value, numbers.Number):
+        c = complex(value)
+        return math.isfinite(c.real) and math.isfinite(c.imag)
+    if isinstance(value, np.ndarray):
+        return value.dtype.kind not in "fc" or bool(np.all(np.isfinite(value)))
+    if isinstance(value, (tuple, list)):
+        return all(_all_finite(v) for v in value)
+    import dataclasses
+
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):  # e.g. ContinuumParameters
+        return all(_all_finite(getattr(value, f.name)) for f in dataclasses.fields(value))
+    return True
+
+
+def finite_output(func: Callable) -> Callable:
+    """``func`` wrapped so that a result that is not finite becomes a ValueError.
+
+    For the maps of the dictionary and of geometry: an argument like ``f = 1e308`` used to give
+    ``B = inf`` (or NaN) as if it were an answer. The true value lies beyond the float64 range,
+    so the map refuses with a sentence instead (numpy's overflow warnings are silenced inside:
+    the sentence says it).
+    """
+    import functools
+
+    @functools.wraps(func)
+    def checked(*args, **kwargs):
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            out = func(*args, **kwargs)
+        if not _all_finite(out):
+            raise ValueError(f"{func.__name__}: the result for these arguments is not a finite number "
+                             "(it lies beyond the float64 range, about 1.8e308); use smaller arguments.")
+        return out
+
+    checked.__hyperlattice_guarded__ = getattr(func, "__hyperlattice_guarded__", False)
+    return checked
+
+
+def guard_public(namespace: dict, *, finite=()) -> None:
     """Wrap every public function defined in the module ``namespace`` with :func:`guard`.
 
     Called as the last line of each module, ``_validate.guard_public(globals())``: a new public
     function is guarded the day it is written, and the bad-input harness (tests/badinput.py)
-    walks them all.
+    walks them all. ``finite`` (True for all, or a tuple of names) adds :func:`finite_output`.
     """
     import inspect
 
@@ -689,4 +729,6 @@ def guard_public(namespace: dict) -> None:
     for name, obj in list(namespace.items()):
         if name.startswith("_") or not inspect.isfunction(obj) or obj.__module__ != module:
             continue
+        if finite is True or name in finite:
+            obj = finite_output(obj)
         namespace[name] = guard(obj)

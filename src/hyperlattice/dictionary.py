@@ -476,4 +476,5 @@ def map_energy_from_k(k, p=7, q=3, dictionary: str = "paper") -> float | np.ndar
 # every public function above checks its annotated argument types at the door (issue 19)
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
-_guard_public(globals())
+# and every map's result is finite, or a sentence says why not (f = 1e308 used to give B = inf)
+_guard_public(globals(), finite=True)

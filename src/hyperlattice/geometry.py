@@ -324,4 +324,6 @@ def tiling_constants(p, q=3) -> TilingConstants:
 # every public function above checks its annotated argument types at the door (issue 19)
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
-_guard_public(globals())
+# the {p,q} constants and the effective radius: a finite result, or a sentence
+_guard_public(globals(), finite=("r0", "d0", "lattice_h", "site_area", "radius_constant", "counting_slope",
+                                 "effective_radius"))
