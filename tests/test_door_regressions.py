@@ -211,3 +211,72 @@ def test_exchange_comparison_refuses_g_zero():
         exchange_comparison(LAT, -3.1, 0.0)
     with pytest.raises(ValueError, match="overflows"):
         exchange_comparison(LAT, -3.1, 1e200)
+
+
+# ---------------------------------------------------------------------------------------------
+# issue 19, item 4 "sizes not refused": the one memory probe honours ulimit -v and cgroups
+# ---------------------------------------------------------------------------------------------
+
+_RLIMIT_SCRIPT = r"""
+import resource, sys
+from hyperlattice import _validate
+from hyperlattice.graph import lattice as L
+used = _validate._proc_status_bytes("VmSize")
+resource.setrlimit(resource.RLIMIT_AS, (used + 512 * 2**20, resource.RLIM_INFINITY))
+avail = _validate.available_memory()
+assert avail <= 512 * 2**20, avail
+assert L._available_memory() == avail or abs(L._available_memory() - avail) < 2**24
+from hyperlattice.cli import main
+sys.exit(main(sys.argv[1:]))
+"""
+
+
+def test_available_memory_honours_rlimit_as_and_the_cli_refuses_in_one_line(tmp_path):
+    import os
+    import subprocess
+    import sys
+
+    env = dict(os.environ, HYPERLATTICE_CACHE=str(tmp_path / "cache"))
+    res = subprocess.run([sys.executable, "-c", _RLIMIT_SCRIPT, "lattice", "--rings", "12", "--line-graph"],
+                         capture_output=True, text=True, timeout=120, env=env, cwd=tmp_path)
+    assert res.returncode == 2, res.stderr
+    lines = [line for line in res.stderr.splitlines() if line.strip()]
+    assert len(lines) == 1 and "may allocate" in lines[0], res.stderr
+
+
+def test_available_memory_reads_cgroup_limits(monkeypatch):
+    files = {"/sys/fs/cgroup/memory.max": "1073741824", "/sys/fs/cgroup/memory.current": "536870912"}
+    real = _validate._read_int
+    monkeypatch.setattr(_validate, "_read_int", lambda path: int(files[path]) if path in files else real(path))
+    assert _validate.available_memory() <= 512 * 2**20
+    files["/sys/fs/cgroup/memory.max"] = "max"  # no limit: read as None
+    monkeypatch.setattr(_validate, "_read_int", lambda path: None if path in files else real(path))
+    assert _validate.available_memory() > 0
+
+
+def test_require_memory_sentence():
+    with pytest.raises(MemoryError, match=r"needs about 1\.0e\+03 TiB|needs about .* TiB, more than"):
+        _validate.require_memory("a test", 2.0**50)
+
+
+def test_continuum_levels_below_refuses_a_huge_cutoff_by_weyls_law():
+    import time
+
+    from hyperlattice.compare.levels import MAX_LEVELS_BELOW, continuum_levels_below
+
+    for cutoff in (1e300, 1e6, 50.0):
+        t0 = time.perf_counter()
+        with pytest.raises(ValueError, match="Weyl"):
+            continuum_levels_below(7, 3, rings=4, cutoff=cutoff)
+        assert time.perf_counter() - t0 < 1.0  # refused before any root is computed (ran > 45 s)
+    with pytest.raises(ValueError, match=f"at most {MAX_LEVELS_BELOW}"):
+        continuum_levels_below(7, 3, rings=5, cutoff=0.0)  # ~400 levels: minutes of root finding
+
+
+def test_weyl_estimate_is_close_to_the_count():
+    # the estimate A lambda / 4 pi over-counts by the boundary term (~ perimeter sqrt(lambda)):
+    # within a factor 2 of the true count for the 3-ring disk
+    from hyperlattice.compare.levels import continuum_levels_below
+
+    res = continuum_levels_below(7, 3, rings=3, cutoff=0.0)
+    assert 0.5 * 52.6 < res.degeneracy.sum() < 1.05 * 52.6

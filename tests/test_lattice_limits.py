@@ -144,7 +144,7 @@ def test_line_graph_size_is_checked_before_allocating():
 def test_line_graph_refused_by_memory(monkeypatch):
     lat = ring_lattice(7, 3, 6)
     monkeypatch.setattr(L, "_available_memory", lambda: 10**6)
-    with pytest.raises(ValueError, match="more than this machine can hold"):
+    with pytest.raises(ValueError, match="more than this process may allocate"):
         line_graph(lat)
     # the CLI refuses before it builds the parent lattice
     with pytest.raises(ValueError, match="line graph"):

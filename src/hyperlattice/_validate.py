@@ -46,6 +46,8 @@ __all__ = [
     "output_path",
     "input_path",
     "directory",
+    "available_memory",
+    "require_memory",
 ]
 
 
@@ -389,6 +391,89 @@ def directory(name: str, value, *, create: bool = True) -> Path:
     except OSError as exc:
         raise _os_error(name, path, exc) from None
     return path
+
+
+# ----------------------------------------------------------------------------
+# memory: what this process may still allocate
+# ----------------------------------------------------------------------------
+
+def _read_int(path: str) -> int | None:
+    try:
+        with open(path) as fh:
+            text = fh.read().strip()
+    except OSError:
+        return None
+    return int(text) if text.isdigit() else None  # "max" (no limit) and junk: None
+
+
+def _proc_status_bytes(key: str) -> int | None:
+    try:
+        with open("/proc/self/status") as fh:
+            for line in fh:
+                if line.startswith(key + ":"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    return None
+
+
+def available_memory() -> int:
+    """Bytes this process may still allocate: the smallest of three limits.
+
+    * the machine's ``MemAvailable`` (``/proc/meminfo``; sysconf as a fallback);
+    * the address-space limit ``RLIMIT_AS`` (``ulimit -v``) minus the address space already in
+      use (``VmSize``): a process under a 6 GB limit fails at 6 GB whatever the machine has;
+    * the cgroup's ``memory.max`` (v2) or ``memory.limit_in_bytes`` (v1) minus its current usage
+      (containers, CI runners, batch jobs).
+
+    The one memory probe of the package: every refusal "needs X, Y available" asks it.
+    """
+    limits = []
+    try:
+        with open("/proc/meminfo") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    limits.append(int(line.split()[1]) * 1024)
+                    break
+    except (OSError, ValueError, IndexError):
+        pass
+    if not limits:
+        try:
+            limits.append(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_AVPHYS_PAGES"))
+        except (ValueError, OSError, AttributeError):
+            limits.append(8 * 1024**3)
+    try:
+        import resource
+
+        soft, _ = resource.getrlimit(resource.RLIMIT_AS)
+        if soft != resource.RLIM_INFINITY and soft > 0:
+            used = _proc_status_bytes("VmSize") or 0
+            limits.append(soft - used)
+    except (ImportError, OSError, ValueError):
+        pass
+    for limit_file, usage_file in (("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory.current"),
+                                   ("/sys/fs/cgroup/memory/memory.limit_in_bytes",
+                                    "/sys/fs/cgroup/memory/memory.usage_in_bytes")):
+        limit = _read_int(limit_file)
+        if limit is not None and limit < 2**60:  # v1 reports "no limit" as a huge number
+            limits.append(limit - (_read_int(usage_file) or 0))
+            break
+    return max(0, min(limits))
+
+
+def require_memory(what: str, needed: float) -> None:
+    """Refuse (MemoryError with a sentence) when ``needed`` bytes exceed :func:`available_memory`."""
+    have = available_memory()
+    if needed > have:
+        raise MemoryError(f"{what} needs about {_bytes(needed)}, more than the {_bytes(have)} this process "
+                          "may still allocate.")
+
+
+def _bytes(n: float) -> str:
+    for unit, size in (("TiB", 2**40), ("GiB", 2**30), ("MiB", 2**20)):
+        if n >= size:
+            return f"{n / size:.3g} {unit}" if n / size < 1e6 else f"{n / size:.3g} {unit}"
+    return f"{int(n):,} bytes"
 
 
 # ----------------------------------------------------------------------------

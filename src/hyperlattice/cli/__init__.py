@@ -94,8 +94,9 @@ def main(argv: list[str] | None = None) -> int:
         msg = _one_line(exc) or exc.__class__.__name__
         sys.stderr.write(f"{prefix}: error: {msg}\n")
         return EXIT_USAGE
-    except MemoryError:
-        sys.stderr.write(f"{prefix}: error: out of memory for this size.\n")
+    except MemoryError as exc:
+        # a refusal of the package says what it needs and what is available (numpy's says the size)
+        sys.stderr.write(f"{prefix}: error: {_one_line(exc) or 'out of memory for this size.'}\n")
         return EXIT_USAGE
     except BrokenPipeError:
         # output piped into e.g. `head`, which closed early: not an error of ours

@@ -448,7 +448,14 @@ def _p_near_quad(nu, m, x):
     """(log_scale, mantissa, abs_err) of P by the trapezoidal rule on the Laplace integral."""
     d, t, _, _ = _geom(x)
     s = np.sqrt(d * (d + 2.0))
-    nnodes = np.ceil(m + 1.5 * np.abs(nu) * t + 40.0).astype(int)
+    nnodes_f = np.ceil(m + 1.5 * np.abs(nu) * t + 40.0)
+    # the node count grows like |nu| arccosh(x): refuse before allocating (issue 19: nu = 1e12 asked
+    # numpy for 22.6 TiB; beyond 1e18 the count does not even fit an integer); a row of nodes holds
+    # ~12 float64 temporaries (phi, weights, the complex base, exponent and integrand, cos(m phi))
+    top = int(np.argmax(nnodes_f))
+    _validate.require_memory(f"P_nu^m at nu = {_nice(nu[top])}, x = {float(x[top]):g} (a Laplace quadrature "
+                             f"with {float(nnodes_f[top]):.3g} nodes)", 96.0 * (float(nnodes_f[top]) * 1.2 + 1.0))
+    nnodes = nnodes_f.astype(int)
     nnodes += nnodes % 2
     out_scale = np.empty(x.shape)
     out_mant = np.empty(x.shape, complex)

@@ -299,6 +299,11 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
     if method == "sector" and not symmetric:
         raise ValueError("the on-site term is not invariant under the p-fold rotation, so H has no "
                          "angular-momentum sectors; use method='dense' or 'sparse'.")
+    if method == "dense":
+        # refused before allocating (issue 19: ell = 9 asked LAPACK for 12.2 GiB): the matrix, eigh's
+        # copy of it and its work space, ~3 N^2 numbers
+        _validate.require_memory(f"method='dense' on {lattice.sites:,} sites (LAPACK eigh of the full matrix)",
+                                 3.0 * lattice.sites**2 * (16 if flux else 8))
     with _single_threaded_blas():
         if method == "sector":
             return _sector_levels(lattice, levels, t, onsite, sector, eigenvectors, tol, progress, t_start, flux)
@@ -448,7 +453,11 @@ def full_spectrum(lattice: Lattice, *, t: float = 1.0, onsite: OnSite = None,
     if lattice.sites > max_sites:
         raise ValueError(f"the full spectrum of {lattice.sites:,} sites is a dense computation; "
                          f"raise max_sites (now {max_sites:,}) if that is intended.")
-    if rotation_invariant(lattice, onsite):
+    symmetric = rotation_invariant(lattice, onsite)
+    n_block = -(-lattice.sites // lattice.p) if symmetric else lattice.sites  # the largest dense block
+    _validate.require_memory(f"the full spectrum of {lattice.sites:,} sites (dense eigh of "
+                             f"{n_block:,} x {n_block:,} blocks)", 3.0 * n_block**2 * (16 if flux else 8))
+    if symmetric:
         orbits = rotation_orbits(lattice)
         parts = []
         for m in range(lattice.p):
