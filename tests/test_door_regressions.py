@@ -280,3 +280,31 @@ def test_weyl_estimate_is_close_to_the_count():
 
     res = continuum_levels_below(7, 3, rings=3, cutoff=0.0)
     assert 0.5 * 52.6 < res.degeneracy.sum() < 1.05 * 52.6
+
+
+# ---------------------------------------------------------------------------------------------
+# issue 19, item 4 "tolerances not scaled": residuals relative to the energy scale of H
+# ---------------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("t", [1e20, -1e20, 1e-20, 3.0])
+def test_lowest_levels_scale_with_t(t):
+    from hyperlattice.graph.spectrum import lowest_levels
+
+    lat = ring_lattice(7, 3, 3)
+    ref = lowest_levels(lat, 2).energies if t > 0 else lowest_levels(lat, 2, t=-1.0).energies
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no ConvergenceWarning either
+        spec = lowest_levels(lat, 2, t=t)
+    # H = -tA: the energies scale with |t| exactly; eigh's rounding is ~1e-15 relative
+    np.testing.assert_allclose(spec.energies, abs(t) * ref, rtol=1e-12)
+
+
+@pytest.mark.parametrize("t", [1e20, 1e-20])
+def test_lowest_pair_scales_with_t(t):
+    from hyperlattice.graph.sectors import lowest_pair
+
+    ref = lowest_pair(7, 3, 3).energies
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        spec = lowest_pair(7, 3, 3, t=t)
+    np.testing.assert_allclose(spec.energies, t * ref, rtol=1e-12)

@@ -41,7 +41,7 @@ from ..errors import ConvergenceError
 from ..results import Levels
 from .flux import _flux
 from .lattice import Lattice
-from .operators import OnSite, hamiltonian
+from .operators import OnSite, hamiltonian, onsite_values
 from .solvers import (
     ProgressFn,
     _check_residuals,
@@ -304,11 +304,22 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
         # copy of it and its work space, ~3 N^2 numbers
         _validate.require_memory(f"method='dense' on {lattice.sites:,} sites (LAPACK eigh of the full matrix)",
                                  3.0 * lattice.sites**2 * (16 if flux else 8))
+    # residuals are judged relative to the energy scale of H (issue 19: t = 1e20 failed with
+    # "residual 7.9e-04 exceeds the tolerance 1e-10"): tol is in units of max(|t|, max|V|)
+    tol = tol * _energy_scale(lattice, t, onsite)
     with _single_threaded_blas():
         if method == "sector":
             return _sector_levels(lattice, levels, t, onsite, sector, eigenvectors, tol, progress, t_start, flux)
         return _full_levels(lattice, levels, t, onsite, method, symmetric, eigenvectors, tol, progress, t_start,
                             flux)
+
+
+def _energy_scale(lattice, t: float, onsite) -> float:
+    """max(|t|, max|V|): the unit of the residual tolerance (1 for the default t = 1, V = 0)."""
+    v = onsite_values(lattice, onsite)
+    top = float(np.max(np.abs(v))) if v is not None and np.size(v) else 0.0
+    scale = max(abs(t), top)
+    return scale if scale > 0 else 1.0
 
 
 def _sector_levels(lattice, levels, t, onsite, sector, want_vecs, tol, progress, t_start, flux=0.0) -> Spectrum:
