@@ -85,3 +85,114 @@ def check_cli(words, flag, value, capsys, tmp_path, monkeypatch) -> None:
     lines = [line for line in err.splitlines() if line.strip()]
     assert len(lines) == 1, err
     assert "Traceback" not in err
+
+
+# ---------------------------------------------------------------------------------------------
+# every public function, found by walking the package (issue 19, item 4)
+# ---------------------------------------------------------------------------------------------
+
+#: the bad values every parameter of every public function is probed with (tag -> value)
+PROBES = {
+    "none": None,
+    "bool": True,
+    "complex": 1 + 2j,
+    "nan": math.nan,
+    "inf": math.inf,
+    "huge": 10**140,
+    "vast": 10**400,  # beyond float: float() raises OverflowError
+    "negative": -1,
+    "str": "seven",
+    "ragged": [[1, 2], [3]],
+    "object": object(),
+}
+
+#: exception types that are the documented answer to bad input or to a size that does not fit
+ACCEPTED = (ValueError, MemoryError)
+
+
+def public_functions():
+    """``{qualified name: function}`` for every function importable without a leading underscore.
+
+    Walks every module of the package whose dotted path has no part starting with ``_``, keeps
+    the functions defined in hyperlattice (re-exports count once) and the public methods of
+    its public classes are left to their own entries in :data:`METHODS` of the test file.
+    """
+    import importlib
+    import inspect
+    import pkgutil
+
+    import hyperlattice
+
+    found = {}
+    names = ["hyperlattice"] + [m.name for m in pkgutil.walk_packages(hyperlattice.__path__, "hyperlattice.")]
+    for modname in names:
+        if any(part.startswith("_") for part in modname.split(".")[1:]):
+            continue
+        module = importlib.import_module(modname)
+        for attr in dir(module):
+            if attr.startswith("_"):
+                continue
+            obj = getattr(module, attr)
+            if not inspect.isfunction(obj):
+                continue
+            target = inspect.unwrap(obj)
+            if not getattr(target, "__module__", "").startswith("hyperlattice"):
+                continue
+            if any(part.startswith("_") for part in target.__module__.split(".")[1:]):
+                continue  # re-exported from a private module (e.g. the CLI helpers)
+            found.setdefault(f"{target.__module__}.{target.__qualname__}", obj)
+    return dict(sorted(found.items()))
+
+
+class ProbeTimeout(Exception):
+    """A probe ran longer than the harness allows (a bad value was taken for a huge size)."""
+
+
+def _alarm(signum, frame):
+    raise ProbeTimeout
+
+
+def probe(func, good: dict, *, seconds: float = 10.0, skip=()):
+    """Call ``func`` with each parameter spoiled by each value of :data:`PROBES`.
+
+    Returns the list of failures as text: an exception other than ValueError/MemoryError (or
+    their subclasses: the package's errors are ValueError or HyperlatticeError), a message that
+    is empty or longer than one line, or a call that takes longer than ``seconds``.
+    """
+    import inspect
+    import signal
+    import warnings
+
+    from hyperlattice.errors import HyperlatticeError
+
+    failures = []
+    params = [p for p in inspect.signature(func).parameters.values()
+              if p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD)]
+    for par in params:
+        for tag, value in PROBES.items():
+            if (par.name, tag) in skip or par.name in skip:
+                continue
+            if value is None and par.default is None:
+                continue  # passing the default is not bad input
+            kwargs = dict(good)
+            kwargs[par.name] = value
+            old = signal.signal(signal.SIGALRM, _alarm)
+            signal.setitimer(signal.ITIMER_REAL, seconds)
+            try:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    func(**kwargs)
+            except (ValueError, MemoryError, HyperlatticeError) as exc:
+                msg = str(exc).strip()
+                if not msg or "\n" in msg:
+                    failures.append(f"{par.name}={tag}: {type(exc).__name__} without a one-line sentence: {msg!r}")
+            except ProbeTimeout:
+                failures.append(f"{par.name}={tag}: still running after {seconds:g} s")
+            except BaseException as exc:  # noqa: BLE001 - the point is to see every other type
+                if isinstance(exc, (KeyboardInterrupt, SystemExit)) and not isinstance(exc, SystemExit):
+                    raise
+                failures.append(f"{par.name}={tag}: {type(exc).__name__}: {str(exc)[:120]}")
+            finally:
+                signal.setitimer(signal.ITIMER_REAL, 0)
+                signal.signal(signal.SIGALRM, old)
+    return failures

@@ -54,12 +54,20 @@ def test_integer_refuses_junk(value):
     _one_sentence(exc, "rings")
 
 
-@pytest.mark.parametrize("value, expected", [(3, 3), (np.int8(3), 3), (np.uint64(2 ** 63), 2 ** 63), (3.0, 3),
+@pytest.mark.parametrize("value, expected", [(3, 3), (np.int8(3), 3), (np.uint64(2 ** 63 - 1), 2 ** 63 - 1), (3.0, 3),
                                              (np.float32(-4.0), -4), (np.array(5), 5), (np.array(6.0), 6),
-                                             (10 ** 30, 10 ** 30)])
+                                             (-(2 ** 63), -(2 ** 63))])
 def test_integer_accepts(value, expected):
     out = v.integer("n", value)
     assert out == expected and type(out) is int
+
+
+@pytest.mark.parametrize("value", [np.uint64(2 ** 63), 10 ** 30, -(10 ** 30), 10 ** 400])
+def test_integer_beyond_int64_needs_an_explicit_maximum(value):
+    # issue 19: 10**140 used to pass the door and end as OverflowError inside numpy
+    with pytest.raises(ValueError, match="n must be at"):
+        v.integer("n", value)
+    assert v.integer("n", 10 ** 30, maximum=10 ** 40) == 10 ** 30
 
 
 @pytest.mark.parametrize("value", [3.5, Fraction(7, 2), np.array([3]), np.array(True), 1e-300])

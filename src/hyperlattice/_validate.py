@@ -28,6 +28,7 @@ if TYPE_CHECKING:
 __all__ = [
     "integer",
     "positive_int",
+    "int_list",
     "real",
     "positive_real",
     "complex_number",
@@ -45,6 +46,8 @@ __all__ = [
     "output_path",
     "input_path",
     "directory",
+    "available_memory",
+    "require_memory",
 ]
 
 
@@ -64,12 +67,22 @@ def _zero_d(value):
 # scalars
 # ----------------------------------------------------------------------------
 
+#: the implicit upper bound of :func:`integer`
+INT64_MAX = 2**63 - 1
+
+
 def integer(name: str, value, *, minimum: int | None = None, maximum: int | None = None) -> int:
     """``value`` as a Python int in ``[minimum, maximum]`` (bounds optional).
 
     Accepts Python and numpy integers, floats with an integral value (``3.0``) and 0-d arrays of
-    either; refuses ``bool``, None, NaN, inf, strings, complex numbers and fractions.
+    either; refuses ``bool``, None, NaN, inf, strings, complex numbers and fractions. Without a
+    ``maximum``, the value must fit a 64-bit integer (what numpy and every size computation take;
+    10**140 used to surface as OverflowError deep in the stack).
     """
+    if maximum is None:
+        maximum = INT64_MAX
+    if minimum is None:
+        minimum = -INT64_MAX - 1
     value = _zero_d(value)
     if isinstance(value, (bool, np.bool_)) or value is None:
         raise ValueError(f"{name} must be an integer, got {_shown(value)}.")
@@ -89,6 +102,20 @@ def integer(name: str, value, *, minimum: int | None = None, maximum: int | None
     if maximum is not None and v > maximum:
         raise ValueError(f"{name} must be at most {maximum:,}, got {_shown(v)}.")
     return v
+
+
+def int_list(name: str, value, *, minimum: int | None = None, maximum: int | None = None) -> list[int]:
+    """A non-empty list, tuple or 1-d array of integers, each as :func:`integer` checks it."""
+    if isinstance(value, (str, bytes, dict)) or not isinstance(value, (list, tuple, range, np.ndarray)):
+        raise ValueError(f"{name} must be a list of integers, got {_shown(value)}.")
+    if isinstance(value, np.ndarray) and value.ndim != 1:
+        raise ValueError(f"{name} must be a flat list of integers, got an array of shape {value.shape}.")
+    if len(value) == 0:
+        raise ValueError(f"{name} must hold at least one value.")
+    try:
+        return [integer(name, v, minimum=minimum, maximum=maximum) for v in value]
+    except ValueError as exc:
+        raise ValueError(f"{name} must be a list of integers: {exc}") from None
 
 
 def positive_int(name: str, value, *, maximum: int | None = None) -> int:
@@ -224,15 +251,22 @@ def disk_points(name: str, value, *, limit: float = 1.0, closed: bool = False) -
 # lattice objects
 # ----------------------------------------------------------------------------
 
+#: the largest p or q accepted anywhere: far beyond any lattice that can be built, and small
+#: enough that every {p,q} constant and dictionary map (products like pq, areas (p-2)π - 2πp/q,
+#: fields 2πf/𝒜) stays finite and accurate in float64 (issue 19: p = 1e308 gave inf and NaN)
+PQ_MAX = 10**9
+
+
 def pq(p, q, *, allow_infinite_p: bool = False) -> tuple:
     """A hyperbolic Schläfli symbol {p,q}: integers with (p-2)(q-2) > 4 (p = inf optionally).
 
+    p and q are at most :data:`PQ_MAX` (10⁹), where float arithmetic on {p,q} constants holds.
     Builders that store per-site data in small integers bound p and q further themselves.
     """
     if allow_infinite_p and isinstance(p, float) and math.isinf(p) and p > 0:
-        return math.inf, integer("q", q, minimum=3)
-    p = integer("p", p, minimum=3)
-    q = integer("q", q, minimum=3)
+        return math.inf, integer("q", q, minimum=3, maximum=PQ_MAX)
+    p = integer("p", p, minimum=3, maximum=PQ_MAX)
+    q = integer("q", q, minimum=3, maximum=PQ_MAX)
     if (p - 2) * (q - 2) <= 4:
         raise ValueError(f"{{{p},{q}}} is not a hyperbolic tessellation: need (p-2)(q-2) > 4, "
                          f"got {(p - 2) * (q - 2)}.")
@@ -357,3 +391,429 @@ def directory(name: str, value, *, create: bool = True) -> Path:
     except OSError as exc:
         raise _os_error(name, path, exc) from None
     return path
+
+
+# ----------------------------------------------------------------------------
+# memory: what this process may still allocate
+# ----------------------------------------------------------------------------
+
+def _read_int(path: str) -> int | None:
+    try:
+        with open(path) as fh:
+            text = fh.read().strip()
+    except OSError:
+        return None
+    return int(text) if text.isdigit() else None  # "max" (no limit) and junk: None
+
+
+def _proc_status_bytes(key: str) -> int | None:
+    try:
+        with open("/proc/self/status") as fh:
+            for line in fh:
+                if line.startswith(key + ":"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    return None
+
+
+def available_memory() -> int:
+    """Bytes this process may still allocate: the smallest of three limits.
+
+    * the machine's ``MemAvailable`` (``/proc/meminfo``; sysconf as a fallback);
+    * the address-space limit ``RLIMIT_AS`` (``ulimit -v``) minus the address space already in
+      use (``VmSize``): a process under a 6 GB limit fails at 6 GB whatever the machine has;
+    * the cgroup's ``memory.max`` (v2) or ``memory.limit_in_bytes`` (v1) minus its current usage
+      (containers, CI runners, batch jobs).
+
+    The one memory probe of the package: every refusal "needs X, Y available" asks it.
+    """
+    limits = []
+    try:
+        with open("/proc/meminfo") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    limits.append(int(line.split()[1]) * 1024)
+                    break
+    except (OSError, ValueError, IndexError):
+        pass
+    if not limits:
+        try:
+            limits.append(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_AVPHYS_PAGES"))
+        except (ValueError, OSError, AttributeError):
+            limits.append(8 * 1024**3)
+    try:
+        import resource
+
+        soft, _ = resource.getrlimit(resource.RLIMIT_AS)
+        if soft != resource.RLIM_INFINITY and soft > 0:
+            used = _proc_status_bytes("VmSize") or 0
+            limits.append(soft - used)
+    except (ImportError, OSError, ValueError):
+        pass
+    for limit_file, usage_file in (("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory.current"),
+                                   ("/sys/fs/cgroup/memory/memory.limit_in_bytes",
+                                    "/sys/fs/cgroup/memory/memory.usage_in_bytes")):
+        limit = _read_int(limit_file)
+        if limit is not None and limit < 2**60:  # v1 reports "no limit" as a huge number
+            limits.append(limit - (_read_int(usage_file) or 0))
+            break
+    return max(0, min(limits))
+
+
+def require_memory(what: str, needed: float) -> None:
+    """Refuse (MemoryError with a sentence) when ``needed`` bytes exceed :func:`available_memory`."""
+    have = available_memory()
+    if needed > have:
+        raise MemoryError(f"{what} needs about {_bytes(needed)}, more than the {_bytes(have)} this process "
+                          "may still allocate.")
+
+
+def _bytes(n: float) -> str:
+    for unit, size in (("TiB", 2**40), ("GiB", 2**30), ("MiB", 2**20)):
+        if n >= size:
+            return f"{n / size:.3g} {unit}" if n / size < 1e6 else f"{n / size:.3g} {unit}"
+    return f"{int(n):,} bytes"
+
+
+# ----------------------------------------------------------------------------
+# the generic guard: every public function checks its annotated parameter types
+# ----------------------------------------------------------------------------
+#
+# Each module ends with ``_validate.guard_public(globals())``. Every public function defined in
+# it is then wrapped so that an argument whose *type* contradicts the annotation (``True`` for
+# ``resolvent: BelowBandResolvent | None``, ``None`` for ``q: int``, ``0`` for ``check: bool``,
+# a complex number for ``t: float``) gives the door's ValueError naming the parameter, before
+# the function body can fail with AttributeError or TypeError deep in the stack. Ranges and
+# meanings stay with each function's own checks; the guard only knows types. Parameters whose
+# annotation it does not understand (``np.ndarray`` accepts lists, type aliases) are left alone,
+# and a function with nothing to check is not wrapped at all (no cost on hot paths).
+
+_ATOM_WORDS = {
+    "int": "an integer",
+    "float": "a finite real number",
+    "complex": "a finite (complex) number",
+    "bool": "True or False",
+    "str": "a string",
+    "dict": "a dict",
+    "list": "a list",
+    "tuple": "a tuple or list",
+    "Sequence": "a list or tuple",
+    "Callable": "a function",
+    "Path": "a path",
+}
+
+
+def _is_int(v) -> bool:
+    v = _zero_d(v)
+    if isinstance(v, (bool, np.bool_)):
+        return False
+    if isinstance(v, (int, np.integer)):
+        return True
+    return isinstance(v, (float, np.floating)) and math.isfinite(v) and float(v).is_integer()
+
+
+def _is_real(v) -> bool:
+    v = _zero_d(v)
+    if isinstance(v, (bool, np.bool_)) or not isinstance(v, numbers.Real):
+        return False
+    try:
+        return math.isfinite(float(v))
+    except (OverflowError, TypeError, ValueError):
+        return False
+
+
+def _is_complex(v) -> bool:
+    v = _zero_d(v)
+    if isinstance(v, (bool, np.bool_)) or not isinstance(v, numbers.Number):
+        return False
+    try:
+        c = complex(v)
+    except (OverflowError, TypeError, ValueError):
+        return False
+    return math.isfinite(c.real) and math.isfinite(c.imag)
+
+
+_PLAIN = (bool, np.bool_, numbers.Number, str, bytes, list, tuple, dict, set, frozenset, range)
+
+
+def _is_object_like(v) -> bool:
+    return not (v is None or isinstance(v, _PLAIN) or type(v) is object
+                or (isinstance(v, np.ndarray) and v.ndim == 0))
+
+
+def _is_sequence(v) -> bool:
+    return not isinstance(v, (str, bytes, dict, bool, np.bool_)) and hasattr(v, "__iter__")
+
+
+def _array_or(test):
+    # scalar annotations on functions that broadcast: arrays are left to the function itself
+    return lambda v: (isinstance(v, np.ndarray) and v.ndim > 0) or test(v)
+
+
+_ATOM_TESTS = {
+    "int": _array_or(_is_int),
+    "float": _array_or(_is_real),
+    "complex": _array_or(_is_complex),
+    "bool": lambda v: isinstance(v, (bool, np.bool_)),
+    "str": lambda v: isinstance(v, str),
+    "dict": lambda v: isinstance(v, dict),
+    "list": _is_sequence,
+    "tuple": _is_sequence,
+    "Sequence": _is_sequence,
+    "Callable": callable,
+    "Path": lambda v: isinstance(v, (str, os.PathLike)) and not isinstance(v, bool),
+}
+
+
+def _split_union(text: str) -> list[str]:
+    parts, depth, start = [], 0, 0
+    for i, ch in enumerate(text):
+        if ch in "[(":
+            depth += 1
+        elif ch in "])":
+            depth -= 1
+        elif ch == "|" and depth == 0:
+            parts.append(text[start:i].strip())
+            start = i + 1
+    parts.append(text[start:].strip())
+    return parts
+
+
+def _resolve_class(name: str, namespace: dict):
+    """The class a string annotation names, from the function's module or any loaded hyperlattice
+    module (result types are often imported only for type checking); None when unknown."""
+    import importlib
+    import sys
+
+    head, _, rest = name.partition(".")
+    obj = namespace.get(head)
+    if obj is None and rest:
+        try:
+            obj = importlib.import_module(head)
+        except ImportError:
+            obj = None
+    if obj is not None:
+        for part in rest.split(".") if rest else ():
+            obj = getattr(obj, part, None)
+    if obj is None and not rest:
+        for modname, module in list(sys.modules.items()):
+            if modname.startswith("hyperlattice") and module is not None:
+                cand = getattr(module, name, None)
+                if isinstance(cand, type):
+                    obj = cand
+                    break
+    return obj if isinstance(obj, type) else None
+
+
+class _Check:
+    """The type test of one annotated parameter (built on first use: classes load lazily)."""
+
+    __slots__ = ("annotation", "namespace", "allow_none", "tests", "words", "ready", "usable")
+
+    def __init__(self, annotation: str, namespace: dict, allow_none: bool) -> None:
+        self.annotation, self.namespace, self.allow_none = annotation, namespace, allow_none
+        self.ready, self.usable = False, True
+        self.tests, self.words = [], []
+
+    def _build(self) -> None:
+        self.ready = True
+        for part in _split_union(self.annotation):
+            base = part.split("[", 1)[0].strip().strip("'\"")
+            if base == "None":
+                self.allow_none = True
+            elif base in ("list", "Sequence") and "[" in part and part.endswith("]"):
+                # list[dict], Sequence[DeltaCurve]: the elements are checked too
+                inner = _Check(part[part.index("[") + 1:-1].strip(), self.namespace, False)
+                inner._build()
+                if not inner.usable:
+                    self.tests.append(_ATOM_TESTS[base])
+                    self.words.append(_ATOM_WORDS[base])
+                else:
+                    self.tests.append(lambda v, inner=inner: _is_sequence(v) and not isinstance(v, np.ndarray)
+                                      and all(any(t(e) for t in inner.tests) for e in v))
+                    self.words.append(f"a list of {' or '.join(w.split(' ', 1)[-1] for w in inner.words)} values")
+            elif base in _ATOM_TESTS:
+                self.tests.append(_ATOM_TESTS[base])
+                self.words.append(_ATOM_WORDS[base])
+            elif base.isidentifier() or all(w.isidentifier() for w in base.split(".")):
+                cls = _resolve_class(base, self.namespace)
+                head = base.split(".")[0]
+                if cls is None and (head in self.namespace or base in ("np", "sp") or head in ("np", "sp")):
+                    self.usable = False  # a type alias (OnSite = float | array | callable): no guess
+                    return
+                if cls is not None and (cls.__module__ in ("numpy", "builtins")
+                                        or cls.__module__.startswith(("numpy.", "scipy"))):
+                    self.usable = False  # np.ndarray, sparse matrices: arrays take lists too
+                    return
+                # duck-typed: an annotation ``Lattice`` also takes a Cluster, a SectorLattice, ...
+                # (and a class known only to the type checker, e.g. matplotlib's Axes, is not
+                # imported here); what such a parameter never takes is a plain value (None, True,
+                # 3.5, "x", [1, 2], object())
+                self.tests.append(lambda v, cls=cls: (cls is not None and isinstance(v, cls)) or _is_object_like(v))
+                word = base.split(".")[-1]
+                self.words.append(f"{'an' if word[0] in 'AEIOU' else 'a'} {word}")
+            else:
+                self.usable = False
+                return
+        if not self.tests:
+            self.usable = False
+
+    def __call__(self, name: str, value) -> None:
+        if not self.ready:
+            self._build()
+        if not self.usable or (value is None and self.allow_none):
+            return
+        for test in self.tests:
+            if test(value):
+                return
+        words = self.words + (["None"] if self.allow_none else [])
+        what = ", ".join(words[:-1]) + " or " + words[-1] if len(words) > 1 else words[0]
+        raise ValueError(f"{name} must be {what}, got {_shown(value)}.")
+
+
+#: what a function body raises when an argument of the wrong type reaches it
+_CRASHES = (TypeError, AttributeError, OverflowError, ZeroDivisionError, IndexError, KeyError,
+            RecursionError)
+
+
+def guard(func: Callable) -> Callable:
+    """``func`` wrapped so that its annotated parameter types are checked at the door.
+
+    Two kinds of check. A parameter annotated ``bool`` must be True or False *before* the call
+    (``check=0`` would otherwise be taken silently as False). Every other annotated parameter is
+    checked only if the body fails with a type-level crash (:data:`_CRASHES`): then the first
+    argument that contradicts its annotation is named in a ValueError, and if none does, the
+    original exception propagates (a bug of ours, not bad input). This keeps each function's own,
+    more specific messages, costs nothing on the success path, and never refuses a value that a
+    function handles although its annotation is narrower. Returns ``func`` itself when no
+    parameter has an annotation the guard understands.
+    """
+    import functools
+    import inspect
+
+    if getattr(func, "__hyperlattice_guarded__", False):
+        return func
+    try:
+        sig = inspect.signature(func)
+    except (TypeError, ValueError):
+        return func
+    namespace = getattr(func, "__globals__", {})
+    before, after, paths = [], [], []
+    for index, par in enumerate(sig.parameters.values()):
+        if par.kind in (par.VAR_POSITIONAL, par.VAR_KEYWORD) or par.annotation is par.empty:
+            continue
+        ann = par.annotation
+        text = ann if isinstance(ann, str) else getattr(ann, "__name__", None) or str(ann)
+        if not isinstance(text, str):
+            continue
+        position = index if par.kind in (par.POSITIONAL_ONLY, par.POSITIONAL_OR_KEYWORD) else 10**9
+        entry = (position, par.name, par.default, _Check(text, namespace, par.default is None))
+        # True or False and functions are never ambiguous: check them before the call (check=0
+        # would be taken as False; a bad progress callback would fail only after the work)
+        atoms = {p.split("[", 1)[0].strip() for p in _split_union(text)}
+        if atoms <= {"Path", "None"} and "Path" in atoms:
+            paths.append(entry)  # a ``Path`` parameter takes any path: str is converted first
+        (before if atoms <= {"bool", "None", "Callable", "Path"} else after).append(entry)
+    if not before and not after:
+        return func
+    before, after = tuple(before), tuple(before + after)
+    paths = tuple((position, name) for position, name, _, _ in paths)
+
+    def as_paths(args, kwargs):
+        args = list(args)
+        for position, name in paths:
+            if position < len(args):
+                if isinstance(args[position], (str, os.PathLike)):
+                    args[position] = Path(args[position])
+            elif isinstance(kwargs.get(name), (str, os.PathLike)):
+                kwargs[name] = Path(kwargs[name])
+        return args, kwargs
+
+    def run(checks, args, kwargs):
+        n = len(args)
+        for position, name, default, check in checks:
+            if position < n:
+                value = args[position]
+            elif name in kwargs:
+                value = kwargs[name]
+            else:
+                continue
+            if value is not default:
+                check(name, value)
+
+    @functools.wraps(func)
+    def guarded(*args, **kwargs):
+        if before:
+            run(before, args, kwargs)
+            if paths:
+                args, kwargs = as_paths(args, kwargs)
+        try:
+            return func(*args, **kwargs)
+        except _CRASHES:
+            try:
+                run(after, args, kwargs)
+            except ValueError as bad:  # an argument is to blame: the door's sentence, not the crash
+                raise bad from None
+            raise
+
+    guarded.__hyperlattice_guarded__ = True
+    return guarded
+
+
+def _all_finite(value) -> bool:
+    if isinstance(value, (bool, np.bool_, str, bytes)) or value is None:
+        return True
+    if isinstance(value, numbers.Number):
+        c = complex(value)
+        return math.isfinite(c.real) and math.isfinite(c.imag)
+    if isinstance(value, np.ndarray):
+        return value.dtype.kind not in "fc" or bool(np.all(np.isfinite(value)))
+    if isinstance(value, (tuple, list)):
+        return all(_all_finite(v) for v in value)
+    import dataclasses
+
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):  # e.g. ContinuumParameters
+        return all(_all_finite(getattr(value, f.name)) for f in dataclasses.fields(value))
+    return True
+
+
+def finite_output(func: Callable) -> Callable:
+    """``func`` wrapped so that a result that is not finite becomes a ValueError.
+
+    For the maps of the dictionary and of geometry: an argument like ``f = 1e308`` used to give
+    ``B = inf`` (or NaN) as if it were an answer. The true value lies beyond the float64 range,
+    so the map refuses with a sentence instead (numpy's overflow warnings are silenced inside:
+    the sentence says it).
+    """
+    import functools
+
+    @functools.wraps(func)
+    def checked(*args, **kwargs):
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            out = func(*args, **kwargs)
+        if not _all_finite(out):
+            raise ValueError(f"{func.__name__}: the result for these arguments is not a finite number "
+                             "(it lies beyond the float64 range, about 1.8e308); use smaller arguments.")
+        return out
+
+    checked.__hyperlattice_guarded__ = getattr(func, "__hyperlattice_guarded__", False)
+    return checked
+
+
+def guard_public(namespace: dict, *, finite=()) -> None:
+    """Wrap every public function defined in the module ``namespace`` with :func:`guard`.
+
+    Called as the last line of each module, ``_validate.guard_public(globals())``: a new public
+    function is guarded the day it is written, and the bad-input harness (tests/badinput.py)
+    walks them all. ``finite`` (True for all, or a tuple of names) adds :func:`finite_output`.
+    """
+    import inspect
+
+    module = namespace.get("__name__")
+    for name, obj in list(namespace.items()):
+        if name.startswith("_") or not inspect.isfunction(obj) or obj.__module__ != module:
+            continue
+        if finite is True or name in finite:
+            obj = finite_output(obj)
+        namespace[name] = guard(obj)

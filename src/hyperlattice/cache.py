@@ -268,3 +268,9 @@ class Cache:
                 shutil.rmtree(self.directory)
             except OSError as exc:
                 raise ValueError(f"cannot clear the cache {str(self.directory)!r}: {exc.strerror or exc}.") from None
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

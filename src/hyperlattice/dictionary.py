@@ -119,7 +119,10 @@ def laplacian_coefficient(q: int, h) -> float | np.ndarray:
     The one place this factor is written; :func:`hopping_scale` evaluates it at :math:`h = \tanh d_0`,
     and the h-expansion of :mod:`hyperlattice.compare.scaling` at any h.
     """
-    return 0.25 * q * h * h
+    q = _validate.integer("q", q, minimum=3, maximum=_validate.PQ_MAX)
+    h = _validate.real_array("h", h)
+    out = 0.25 * q * h * h
+    return float(out) if np.ndim(out) == 0 else out
 
 
 def hopping_scale(p=7, q=3) -> float:
@@ -368,7 +371,7 @@ def spherical_mean_energy(lam, q: int, h) -> float | np.ndarray:
     Its expansion, :math:`-q + \frac q4 h^2\lambda + q(\frac\lambda8 - \frac{\lambda^2}{64})h^4 + O(h^6)`,
     starts with the paper's map (``spec2``); the tests check both orders.
     """
-    q = _validate.integer("q", q, minimum=3)
+    q = _validate.integer("q", q, minimum=3, maximum=_validate.PQ_MAX)
     h = _validate.real("h", h, minimum=0.0, maximum=0.999)
     return -q * spherical_function(lam, math.atanh(h))
 
@@ -472,3 +475,10 @@ def map_energy_from_k(k, p=7, q=3, dictionary: str = "paper") -> float | np.ndar
     if _check_dictionary(dictionary) == "paper":
         return energy_from_k(k, p, q)
     return improved_energy_from_k(k, p, q)
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+# and every map's result is finite, or a sentence says why not (f = 1e308 used to give B = inf)
+_guard_public(globals(), finite=True)

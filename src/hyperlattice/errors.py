@@ -15,3 +15,7 @@ class ConvergenceError(HyperlatticeError):
 
 class ConvergenceWarning(UserWarning):
     """A result was returned, but a convergence criterion was only nearly met."""
+
+
+class RangeWarning(UserWarning):
+    """A value overflows the float64 range and is returned as ``inf`` (its true size is finite)."""

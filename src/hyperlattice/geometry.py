@@ -319,3 +319,11 @@ def tiling_constants(p, q=3) -> TilingConstants:
     p, q = _validate.pq(p, q, allow_infinite_p=True)
     return TilingConstants(p=p, q=q, r0=r0(p, q), d0=d0(p, q), h=lattice_h(p, q),
                            site_area=site_area(p, q), radius_constant=radius_constant(p, q))
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+# the {p,q} constants and the effective radius: a finite result, or a sentence
+_guard_public(globals(), finite=("r0", "d0", "lattice_h", "site_area", "radius_constant", "counting_slope",
+                                 "effective_radius"))

@@ -202,3 +202,9 @@ def paper_values(key: str) -> list[PaperValue]:
         keys = sorted({k for k, _ in _BY_KEY})
         raise ValueError(f"the paper prints no value {key!r}; keys: {', '.join(keys)}.")
     return rows
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

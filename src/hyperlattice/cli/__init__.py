@@ -32,6 +32,13 @@ EXIT_BUG = 1
 class _OneLineParser(argparse.ArgumentParser):
     """argparse prints usage plus an error; our contract is one line and exit 2."""
 
+    def __init__(self, *args, **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        from ._common import integer
+
+        # every ``type=int`` flag of every command: bounded to what the API takes, one sentence
+        self.register("type", int, integer)
+
     def error(self, message) -> None:  # noqa: D102 - argparse API
         sys.stderr.write(f"{self.prog}: error: {message}\n")
         raise SystemExit(EXIT_USAGE)
@@ -66,8 +73,10 @@ def _one_line(text: str) -> str:
     return " ".join(str(text).split())
 
 
-def main(argv=None) -> int:
+def main(argv: list[str] | None = None) -> int:
     """Run the command line ``hyperlattice ...`` (``argv`` without the program name); return the exit code."""
+    if argv is not None and (not isinstance(argv, (list, tuple)) or not all(isinstance(w, str) for w in argv)):
+        raise ValueError("argv must be a list of strings (the command line words).")
     parser = build_parser()
     args = parser.parse_args(argv)
     prefix = f"hyperlattice {args.command}"
@@ -85,8 +94,9 @@ def main(argv=None) -> int:
         msg = _one_line(exc) or exc.__class__.__name__
         sys.stderr.write(f"{prefix}: error: {msg}\n")
         return EXIT_USAGE
-    except MemoryError:
-        sys.stderr.write(f"{prefix}: error: out of memory for this size.\n")
+    except MemoryError as exc:
+        # a refusal of the package says what it needs and what is available (numpy's says the size)
+        sys.stderr.write(f"{prefix}: error: {_one_line(exc) or 'out of memory for this size.'}\n")
         return EXIT_USAGE
     except BrokenPipeError:
         # output piped into e.g. `head`, which closed early: not an error of ours
@@ -111,3 +121,9 @@ def main(argv=None) -> int:
 
 if __name__ == "__main__":  # pragma: no cover
     sys.exit(main())
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -14,23 +14,44 @@ import numpy as np
 from .. import _validate
 
 
+def _shown(text: str) -> str:
+    return repr(text) if len(text) <= 40 else repr(text[:37] + "...")
+
+
+def integer(text: str, *, maximum: int = _validate.INT64_MAX, what: str = "an integer") -> int:
+    """An integer that fits the API (argparse type, registered for every ``type=int`` flag).
+
+    A 140-digit value used to pass argparse and end as an OverflowError inside the computation;
+    here it is one sentence, and so is a number of more than 4300 digits (Python's int limit).
+    """
+    try:
+        v = int(text.strip())
+    except (ValueError, OverflowError):
+        raise argparse.ArgumentTypeError(f"expected {what}, got {_shown(text)}") from None
+    if abs(v) > maximum:
+        raise argparse.ArgumentTypeError(f"expected {what} of magnitude at most {maximum:,}, got {_shown(text)}")
+    return v
+
+
+def pq_int(text: str) -> int:
+    """p or q of a {p,q} tiling: an integer up to :data:`hyperlattice._validate.PQ_MAX` (argparse type)."""
+    return integer(text, maximum=_validate.PQ_MAX)
+
+
 def p_value(text: str) -> int | float:
     """A polygon size p: an integer, or 'inf' (only where a limit makes sense)."""
     t = text.strip().lower()
     if t in ("inf", "infinity", "oo"):
         return math.inf
     try:
-        return int(t)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"p must be an integer or 'inf', got {text!r}") from None
+        return integer(t, maximum=_validate.PQ_MAX)
+    except argparse.ArgumentTypeError as exc:
+        raise argparse.ArgumentTypeError(f"p must be an integer or 'inf': {exc}") from None
 
 
 def positive_int(text: str) -> int:
     """An integer >= 1 (argparse type)."""
-    try:
-        v = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+    v = integer(text)
     if v < 1:
         raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {v}")
     return v
@@ -96,8 +117,8 @@ def plot_file(flag: str, value) -> Path:
 
 
 def add_pq(parser: argparse.ArgumentParser, *, default_p: int = 7) -> None:
-    parser.add_argument("-p", type=int, default=default_p, help=f"polygon size p (default {default_p})")
-    parser.add_argument("-q", type=int, default=3, help="coordination number q (default 3)")
+    parser.add_argument("-p", type=pq_int, default=default_p, help=f"polygon size p (default {default_p})")
+    parser.add_argument("-q", type=pq_int, default=3, help="coordination number q (default 3)")
 
 
 def to_jsonable(obj) -> object:

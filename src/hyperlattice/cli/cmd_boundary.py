@@ -24,7 +24,7 @@ DESCRIPTION = (
 COLUMNS = ["site", "theta", "graph", "continuum"]
 
 
-def add_arguments(parser) -> None:
+def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_pq(parser)
     parser.add_argument("--rings", type=positive_int, default=6, help="number of rings l (default 6)")
     parser.add_argument("--omega", type=finite_float, default=-3.2,
@@ -51,7 +51,7 @@ def _write_csv(handle, bc) -> None:
         w.writerow([s, repr(float(th)), repr(float(g)), repr(float(c))])
 
 
-def run(args) -> int:
+def run(args: argparse.Namespace) -> int:
     from .. import _validate
     from ..compare.boundary import boundary_correlator
     from ..graph.lattice import ring_lattice
@@ -87,3 +87,9 @@ def run(args) -> int:
         print(f"Delta continuum = {dc}; Delta lattice = {bc.delta_lattice:.6f} +- {bc.delta_lattice_err:.6f} "
               f"({bc.pairs} pairs with theta >= {bc.theta_min:.4g}, depth {bc.depth})")
     return 0
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

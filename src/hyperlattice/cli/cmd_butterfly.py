@@ -21,7 +21,7 @@ DESCRIPTION = (
 MAX_FLUXES = 5000
 
 
-def add_arguments(parser) -> None:
+def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_pq(parser)
     parser.add_argument("--rings", type=positive_int, default=5, help="number of rings (default 5)")
     parser.add_argument("--fluxes", type=positive_int, default=200,
@@ -43,7 +43,7 @@ def _write_table(path, result) -> None:
             w.writerow([repr(f), m, repr(e)])
 
 
-def run(args) -> int:
+def run(args: argparse.Namespace) -> int:
     """Compute the butterfly and write the figure / table; bad input raises ValueError (exit 2)."""
     import numpy as np
 
@@ -80,3 +80,9 @@ def run(args) -> int:
         if path is not None:
             print(f"{name}: {path}")
     return 0
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -13,7 +13,7 @@ ORDER = 22
 HELP = "periodic {p,q} clusters (compact surfaces): list them, or write one's edges and faces (.npz)"
 
 
-def add_arguments(parser) -> None:
+def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_pq(parser)
     parser.add_argument("--list", action="store_true",
                         help="list the available clusters (name, p, q, sites, edges, faces, genus, systole)")
@@ -27,7 +27,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--json", action="store_true", help="print JSON")
 
 
-def run(args) -> int:
+def run(args: argparse.Namespace) -> int:
     _validate.pq(args.p, args.q)
     if args.list:
         if args.name is not None or args.min_sites is not None or args.out is not None:
@@ -59,3 +59,9 @@ def run(args) -> int:
     if out is not None:
         print(f"  edges and faces written to {out}")
     return 0
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -9,7 +9,7 @@ ORDER = 40
 HELP = "lowest continuum levels E = -q + (q/4) h^2 (1 + k^2) on the Dirichlet disk (spec2)"
 
 
-def add_arguments(parser) -> None:
+def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_pq(parser)
     size = parser.add_mutually_exclusive_group()
     size.add_argument("--rings", type=positive_int, default=None,
@@ -28,7 +28,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--json", action="store_true", help="print one JSON object")
 
 
-def run(args) -> int:
+def run(args: argparse.Namespace) -> int:
     """Compute the levels (``spec1``/``spec2``) and print them; bad input raises ValueError (exit 2)."""
     from ..continuum.spectrum import continuum_levels
 
@@ -65,3 +65,9 @@ def run(args) -> int:
     a = spec.asymptotic
     print(f"asymptotic: E0={a['E0']:.6f}  E1={a['E1']:.6f}  E_inf={a['E_inf']:.6f}")
     return 0
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -10,7 +10,7 @@ ORDER = 60
 HELP = "map lattice (t, mu, U) on {p,q} to the continuum (t', mu', U') of Eqs. (13)-(14), or back"
 
 
-def add_arguments(parser) -> None:
+def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_pq(parser)
     parser.add_argument("--t", type=finite_float, default=1.0, help="hopping t (default 1)")
     parser.add_argument("--mu", type=finite_float, default=0.0, help="chemical potential mu (default 0)")
@@ -20,7 +20,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--json", action="store_true", help="print JSON")
 
 
-def run(args) -> int:
+def run(args: argparse.Namespace) -> int:
     fn = lattice_parameters if args.inverse else continuum_parameters
     c = fn(args.t, args.mu, args.U, args.p, args.q)
     if args.json:
@@ -32,3 +32,9 @@ def run(args) -> int:
     print("  (t' = (q/4) h^2 t, mu' = mu + q t, U' = A U)")
     print(f"  field: alpha(z_i) = {c.field_scale:.10g} a_i   (= a_i / sqrt(A))")
     return 0
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -17,7 +17,7 @@ DESCRIPTION = (
 )
 
 
-def add_arguments(parser) -> None:
+def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_pq(parser)
     parser.add_argument("--rings", type=positive_int, default=4, help="number of rings (default 4)")
     parser.add_argument("--W", type=finite_float, default=1.0,
@@ -35,7 +35,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--json", action="store_true", help="print one JSON object")
 
 
-def run(args) -> int:
+def run(args: argparse.Namespace) -> int:
     """Compute the ensemble and print its summary; bad input raises ValueError (exit 2)."""
     from ..compare.disorder import disorder_ensemble
     from ..graph.lattice import line_graph, ring_lattice
@@ -73,3 +73,9 @@ def run(args) -> int:
     if out is not None:
         print(f"figure: {out}")
     return 0
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -24,7 +24,7 @@ DESCRIPTION = (
 MAX_POINTS = 1_000_000
 
 
-def add_arguments(parser) -> None:
+def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_pq(parser)
     what = parser.add_mutually_exclusive_group()
     what.add_argument("--rings", type=positive_int, default=None, help="flake of this many rings (default 8)")
@@ -58,7 +58,7 @@ def _write_csv(path, result, points) -> None:
             w.writerow(["nan" if isinstance(v, float) and math.isnan(v) else repr(float(v)) for v in row])
 
 
-def run(args) -> int:
+def run(args: argparse.Namespace) -> int:
     """Compute the DOS and write the CSV / figure; bad input raises ValueError (exit 2)."""
     from ..graph.kpm import MAX_MOMENTS, MAX_VECTORS, bulk_dos, kpm_dos, local_dos
     from ..graph.lattice import ring_lattice
@@ -125,3 +125,9 @@ def run(args) -> int:
         if path is not None:
             print(f"{name}: {path}")
     return 0
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -44,7 +44,7 @@ def _rings(text: str) -> list[int]:
     return sorted(out)
 
 
-def add_arguments(parser) -> None:
+def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_pq(parser)
     parser.add_argument("--rings", default="3-7", help="flakes: a range 3-12 or a list 3,5,8 (default 3-7; l <= 12)")
     parser.add_argument("--fluxes", type=positive_int, default=7,
@@ -67,7 +67,7 @@ def _write_table(path, result) -> None:
             w.writerow([repr(v) if isinstance(v, float) else v for v in row])
 
 
-def run(args) -> int:
+def run(args: argparse.Namespace) -> int:
     """Compute the comparison and write the figure / table; bad input raises ValueError (exit 2)."""
     import numpy as np
 
@@ -102,3 +102,9 @@ def run(args) -> int:
         if path is not None:
             print(f"{name}: {path}")
     return 0
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

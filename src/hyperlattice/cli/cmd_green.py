@@ -14,7 +14,7 @@ HELP = "graph Green function G_ij(omega) for one source vs the continuum Green f
 COLUMNS = ["site", "ring", "re_z", "im_z", "distance", "graph_re", "graph_im", "continuum_re", "continuum_im"]
 
 
-def add_arguments(parser) -> None:
+def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_pq(parser)
     parser.add_argument("--rings", type=positive_int, default=6, help="number of rings l (default 6)")
     parser.add_argument("--omega", type=complex_value, default=complex(-2.95),
@@ -38,7 +38,7 @@ def _write_csv(handle, lat, cmp) -> None:
                     repr(float(c.real)), repr(float(c.imag))])
 
 
-def run(args) -> int:
+def run(args: argparse.Namespace) -> int:
     from ..compare.green import compare_green
     from ..graph.lattice import ring_lattice
 
@@ -63,3 +63,9 @@ def run(args) -> int:
         print(f"relative L2 distance graph vs continuum (source excluded): {cmp.rel_l2:.4f}")
         print(f"continuum series: {cmp.terms} orders, estimated truncation error {cmp.tail_estimate:.1e}")
     return 0
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

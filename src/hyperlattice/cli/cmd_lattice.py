@@ -13,7 +13,7 @@ HELP = "build a {p,q} ring lattice; print its size or write coordinates (.dat) /
 _FORMATS = (".dat", ".npz")
 
 
-def add_arguments(parser) -> None:
+def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_pq(parser)
     parser.add_argument("--rings", type=int, default=6, help="number of rings l >= 1 (default 6)")
     parser.add_argument("--line-graph", action="store_true",
@@ -23,7 +23,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--json", action="store_true", help="print a JSON summary")
 
 
-def run(args) -> int:
+def run(args: argparse.Namespace) -> int:
     rings = _validate.positive_int("rings", args.rings)
     out = None
     if args.out is not None:
@@ -49,3 +49,9 @@ def run(args) -> int:
     if out is not None:
         print(f"  written to {args.out}")
     return 0
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

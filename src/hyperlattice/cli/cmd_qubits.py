@@ -35,7 +35,7 @@ def _sites(text: str) -> list[int]:
     return vals
 
 
-def add_arguments(parser) -> None:
+def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_pq(parser)
     parser.add_argument("--rings", type=positive_int, default=6, help="number of rings l (default 6)")
     parser.add_argument("--line-graph", action="store_true", help="couple to the resonators (line graph)")
@@ -54,7 +54,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--json", action="store_true", help="print one JSON object")
 
 
-def run(args) -> int:
+def run(args: argparse.Namespace) -> int:
     from .. import _validate
     from ..compare.qubits import exchange_comparison
     from ..graph.lattice import line_graph, ring_lattice
@@ -114,3 +114,9 @@ def run(args) -> int:
             s = model.summary()
             print(f"spin model: {s['qubits']} qubits, largest J {s['max_coupling']:.4e}")
     return 0
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -11,7 +11,7 @@ ORDER = 5
 HELP = "recompute every table and figure of the paper (report.html/.md, CSV/JSON, PNG/SVG)"
 
 
-def add_arguments(parser) -> None:
+def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", default="reproduction", metavar="DIR", help="output directory (default reproduction/)")
     parser.add_argument("--max-rings", type=int, default=10,
                         help="largest l in the spectrum tables, 2..14 (default 10, the paper's range)")
@@ -20,7 +20,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--clear-cache", action="store_true", help="delete the cache before running")
 
 
-def run(args) -> int:
+def run(args: argparse.Namespace) -> int:
     from ..report import reproduce
 
     if not 2 <= args.max_rings <= 14:
@@ -35,3 +35,9 @@ def run(args) -> int:
     print(f"wrote {summary['out_dir']}/report.html and report.md ({len(summary['sections'])} sections) in "
           f"{summary['seconds']:.1f} s (cache: {summary['cache_hits']} hits, {summary['cache_misses']} computed)")
     return 0
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

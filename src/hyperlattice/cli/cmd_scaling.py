@@ -44,7 +44,7 @@ def _plot_opt(p) -> None:
     p.add_argument("--plot", metavar="FILE.png", help="also save the figure to this file")
 
 
-def add_arguments(parser) -> None:
+def add_arguments(parser: argparse.ArgumentParser) -> None:
     sub = parser.add_subparsers(dest="task", metavar="TASK", parser_class=type(parser))
     sub.required = True
     fnames = ", ".join(PRESETS)
@@ -218,5 +218,11 @@ _TASKS = {"angles": _angles, "operator": _operator, "convergence": _convergence,
           "counting": _counting, "sums": _sums}
 
 
-def run(args) -> int:
+def run(args: argparse.Namespace) -> int:
     return _TASKS[args.task](args)
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -24,7 +24,7 @@ def _sector(text: str) -> int:
         raise ValueError(f"sector m must be an integer, got {text!r}.") from None
 
 
-def add_arguments(parser) -> None:
+def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_pq(parser)
     parser.add_argument("--rings", type=positive_int, default=4, help="number of rings (default 4)")
     parser.add_argument("--levels", type=positive_int, default=2, help="number of lowest states (default 2)")
@@ -40,7 +40,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--json", action="store_true", help="print one JSON object")
 
 
-def run(args) -> int:
+def run(args: argparse.Namespace) -> int:
     sector = None
     if args.sector is not None:
         sector = signed_sector(_sector(args.sector), args.p)
@@ -101,3 +101,9 @@ def _run_pair(args) -> int:
     for e, n, m, d, r in zip(spec.energies, spec.n, spec.m, spec.degeneracy, spec.errors):
         print(f"{e:20.14f} {n:3d} {m:4d} {d:3d} {r:10.1e}")
     return 0
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

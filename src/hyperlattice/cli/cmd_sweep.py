@@ -25,7 +25,7 @@ DESCRIPTION = (
 EXIT_FAILED = 3
 
 
-def add_arguments(parser) -> None:
+def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("config", nargs="?", default=None, metavar="CONFIG", help="JSON file with the sweep")
     parser.add_argument("--task", default=None, help="task name: disorder, levels or probe")
     parser.add_argument("--grid", action="append", default=[], metavar="NAME=VALUES",
@@ -94,7 +94,7 @@ def _config(path) -> dict:
     return data
 
 
-def run(args) -> int:
+def run(args: argparse.Namespace) -> int:
     """Run the sweep and print a summary; exit 3 when some tasks failed."""
     from ..sweep import run_sweep
 
@@ -131,3 +131,9 @@ def run(args) -> int:
                          f"a rerun retries them); first: {first['key']}: {first['error']}\n")
         return EXIT_FAILED
     return 0
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

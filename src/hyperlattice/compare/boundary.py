@@ -610,3 +610,9 @@ def bulk_to_boundary(lattice: Lattice, omega, source: int | None = None, *,
                           delta_fit=float(coef[1]), delta_fit_err=float(math.sqrt(max(cov[1, 1], 0.0))), rel_l2=rel,
                           kernel_rel_l2=krel,
                           graph=g, continuum=cont, kernel=kern, bulk=bulk)
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

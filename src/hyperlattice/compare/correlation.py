@@ -184,3 +184,9 @@ def collapse_measure(dist, values, width: float | None = None) -> float:
     if den == 0:
         raise ValueError("the values vanish identically; the collapse number is undefined.")
     return float(np.sqrt(np.sum(b.count * b.std ** 2) / den))
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -104,6 +104,7 @@ def inverse_participation(vectors) -> np.ndarray:
 
 def default_windows(q: int) -> np.ndarray:
     """Energy window edges ``[-inf, -2q/3, -q/3, 0, q/3, 2q/3, inf]`` (six windows, all levels counted)."""
+    q = _validate.integer("q", q, minimum=3, maximum=_validate.PQ_MAX)
     inner = np.linspace(-q, q, 7)[1:-1]
     return np.concatenate([[-np.inf], inner, [np.inf]])
 
@@ -290,12 +291,36 @@ def disorder_ensemble(lattice: Lattice, strength: float = 1.0, realizations: int
     if rows is None:
         rows = [realization_observables(lattice, model, strength, seed=seed, realization=k, omega0=omega0,
                                         windows=win, dos_bins=dos_bins, ipr=ipr) for k in range(realizations)]
-    elif len(rows) != realizations:
-        raise ValueError(f"got {len(rows)} rows for {realizations} realizations.")
+    else:
+        rows = _rows(rows, realizations)
     spread = dis0.strength if model != "resonator" else 2.0 * dis0.strength * dis0.omega0
-    return _pool(lattice.p, lattice.q, getattr(lattice, "rings", 0), getattr(lattice, "kind", "cluster"),
+    try:
+        return _pool(lattice.p, lattice.q, getattr(lattice, "rings", 0), getattr(lattice, "kind", "cluster"),
                  lattice.sites, model, dis0.strength,
                  dis0.seed, realizations, dis0.omega0, rows, win, _dos_edges(lattice.q, spread, dos_bins))
+    except (TypeError, ValueError, IndexError) as exc:
+        # rows of another lattice, window set or bin count: their arrays do not line up
+        raise ValueError(f"rows do not match this ensemble (another lattice, windows or dos_bins?): {exc}"
+                         .split("\n")[0]) from None
+
+
+#: the keys a precomputed realization row must carry (see realization_observables)
+_ROW_KEYS = ("r_sum", "r_count", "r_mean", "r_window_sum", "r_window_count", "ipr_window_sum",
+             "ipr_window_count", "dos_counts")
+
+
+def _rows(rows, realizations: int) -> list:
+    if not isinstance(rows, (list, tuple)):
+        raise ValueError(f"rows must be a list of dicts from realization_observables, got {type(rows).__name__}.")
+    if len(rows) != realizations:
+        raise ValueError(f"got {len(rows)} rows for {realizations} realizations.")
+    for k, row in enumerate(rows):
+        if not isinstance(row, dict):
+            raise ValueError(f"rows[{k}] must be a dict from realization_observables, got {type(row).__name__}.")
+        missing = [key for key in _ROW_KEYS if key not in row]
+        if missing:
+            raise ValueError(f"rows[{k}] lacks {', '.join(missing)} (not a realization_observables result).")
+    return list(rows)
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
@@ -600,3 +625,9 @@ def compare_scba(lattice: Lattice, omega, strengths, realizations: int = 20, *, 
     return SCBAComparison(p=lattice.p, q=lattice.q, rings=lattice.rings, omega=om, source=source, seed=int(seed),
                           realizations=int(realizations), W=ws, continuum_floor=floor,
                           **{k: np.array(v) for k, v in out.items()})
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

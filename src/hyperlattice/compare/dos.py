@@ -682,3 +682,9 @@ def dos_comparison(p: int = 7, q: int = 3, *, clusters=None, rings=None, moments
         bottom_label=(f"{labels[[i for i, k in enumerate(kinds) if k == 'cluster'][-1]]}, {largest.moments} moments"
                       if largest is not None else ""),
         timings={"total": time.perf_counter() - t_start})
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

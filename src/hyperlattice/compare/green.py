@@ -98,7 +98,7 @@ def relative_l2(graph, continuum, exclude: int | None = None) -> float:
         keep[_validate.site_index("exclude", exclude, g.size)] = False
     try:
         c = np.asarray(continuum, dtype=complex)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise ValueError("continuum must be an array of (complex) numbers.") from None
     if c.shape != g.shape:
         raise ValueError(f"graph and continuum must have the same shape, got {g.shape} and {c.shape}.")
@@ -197,3 +197,9 @@ def compare_green(lattice: Lattice, omega, source: int, *, tol: float = 1e-12,
                            lam=lam, radius=lattice.radius, prefactor=pref, graph=g, continuum=c,
                            distance=d, rel_l2=relative_l2(g, c, exclude=source), terms=info.terms,
                            tail_estimate=info.tail_estimate)
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

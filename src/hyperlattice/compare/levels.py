@@ -370,6 +370,9 @@ def graph_levels_below(lattice, cutoff: float = 0.0) -> LevelCount:
                       at_cutoff=int(np.count_nonzero(at)), tolerance=float(tol))
 
 
+#: Most levels :func:`continuum_levels_below` counts, by Weyl's estimate before any root is found:
+#: the {7,3} disk of 4 rings has ~150 below E = 0 (2.5 s), that of 5 rings ~400 (over 100 s).
+MAX_LEVELS_BELOW = 300
 #: Largest (n, m) table of Dirichlet roots :func:`continuum_levels_below` computes before it refuses.
 MAX_TABLE = 50_000
 
@@ -399,11 +402,24 @@ def continuum_levels_below(p: int = 7, q: int = 3, *, rings=None, radius=None, c
     ValueError
         For bad input, or when the levels below the cutoff need a table larger than ``max_table``.
     """
-    from ..continuum.spectrum import dirichlet_levels
+    from ..continuum.spectrum import dirichlet_levels, disk_argument
+    from ..dictionary import lambda_from_energy
 
     p, q = _validate.pq(p, q)
     cutoff = _validate.real("cutoff", cutoff)
     max_table = _validate.positive_int("max_table", max_table)
+    # Weyl's law first (issue 19: a huge cutoff ran for minutes before max_table stopped it):
+    # N(lambda) ~ A lambda / (4 pi), A = pi L^2 / (1 - L^2) the disk's area in the metric of eq3
+    L, _ = disk_argument(radius, p=p, q=q, rings=rings)
+    lam = float(lambda_from_energy(min(cutoff, 1e300), p, q).real) if cutoff > -q else 0.0
+    weyl = max(lam, 0.0) * (L * L / ((1.0 - L) * (1.0 + L))) / 4.0
+    if weyl / 2 > max_table:
+        raise ValueError(f"about {weyl:.3g} Dirichlet levels lie below {cutoff:g} on this disk (Weyl's law): "
+                         f"more than max_table = {max_table:,} roots; lower the cutoff or raise max_table.")
+    if weyl > MAX_LEVELS_BELOW:
+        raise ValueError(f"about {weyl:.3g} Dirichlet levels lie below {cutoff:g} on this disk (Weyl's law); "
+                         f"at most {MAX_LEVELS_BELOW:,} are counted (the root table search grows too slow "
+                         "beyond); lower the cutoff or use a smaller disk.")
     n_max, m_max = 6, 12
     while True:
         if n_max * (m_max + 1) > max_table:
@@ -468,3 +484,9 @@ def partition_functions(graph: LevelCount, continuum: LevelCount, beta) -> Parti
                                z_continuum=continuum.partition_function(b), e0_graph=float(graph.energies.min()),
                                graph_states=graph.states, continuum_states=continuum.states,
                                graph_zero_modes=graph.at_cutoff, graph_tolerance=graph.tolerance)
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -963,3 +963,9 @@ def compare_dictionaries(rings=None, E0=None, E1=None, *, p: int = 7, q: int = 3
     return DictionaryComparison(p=p, q=q, rings=ell.astype(np.int64), graph_E0=e0, graph_E1=e1,
                                 paper_E0=rel["paper"][0], paper_E1=rel["paper"][1], improved_E0=rel["improved"][0],
                                 improved_E1=rel["improved"][1], improved_limit=lim, improved_limit_error=lim_err)
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -181,7 +181,7 @@ def magnetic_comparison(p: int = 7, q: int = 3, *, rings=(3, 4, 5, 6, 7), fluxes
 
     t0 = time.perf_counter()
     p, q = _validate.pq(p, q)
-    ells = np.array([_validate.positive_int("rings", r, maximum=12) for r in rings], dtype=np.int64)
+    ells = np.array(_validate.int_list("rings", rings, minimum=1, maximum=12), dtype=np.int64)
     if ells.size == 0:
         raise ValueError("rings must hold at least one value.")
     f = np.linspace(0.0, 0.3, 7) if fluxes is None else _validate.real_array("fluxes", fluxes, ndim=1)
@@ -211,3 +211,9 @@ def magnetic_comparison(p: int = 7, q: int = 3, *, rings=(3, 4, 5, 6, 7), fluxes
     return MagneticComparison(p=p, q=q, fluxes=f, rings=ells, n=n, m=m, graph=g, continuum=c,
                               relative_error=rel, d0=edge_length(p, q), disk_radius=radius,
                               magnetic_length=lb, timings={"total": time.perf_counter() - t0})
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

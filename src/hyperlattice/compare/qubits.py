@@ -161,6 +161,11 @@ def exchange_comparison(lattice: Lattice, omega_q, g, site: int = 0, *,
     site = _validate.site_index("site", site, lat.sites)
     omega_q = _real_omega("omega_q", omega_q)
     g = _validate.real("g", g)
+    if g == 0.0:
+        # J = g^2 G vanishes identically: the relative error and the decay lengths would be 0/0
+        raise ValueError("g must be nonzero: with g = 0 the exchange J = g^2 G vanishes and there is nothing to compare.")
+    if not math.isfinite(g * g):
+        raise ValueError(f"g = {g:g} is too large: g^2 overflows the float64 range.")
     res = resolvent if resolvent is not None else BelowBandResolvent(lat)
     gcol = g * g * res.column(omega_q, site)
     ccol = g * g * _continuum_column(lat, omega_q, site)
@@ -272,3 +277,9 @@ def bound_state_sizes(lattice: Lattice, omegas_q, g, site: int = 0) -> BoundStat
     return BoundStateSizes(p=lat.p, q=lat.q, rings=lat.rings, kind=lat.kind, site=site, g=g, e0=e0, omega_q=om,
                            detuning=e0 - om, energy=E, size_graph=sg, size_continuum=sc, decay_length_graph=xg,
                            decay_length_asymptotic=xa)
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -771,3 +771,9 @@ def convergence_study(lattice: Lattice | FrameAngles, f: SmoothFunction, hs=None
                           f"expected h^{expected[k]}.", ConvergenceWarning, stacklevel=2)
     return ConvergenceStudy(p=angles.p, q=angles.q, function=f.name, h=hs, errors=errors,
                             exponents=exponents, expected=expected, fit_rms=rms)
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

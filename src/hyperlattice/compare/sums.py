@@ -283,3 +283,9 @@ def sum_check(lattice: Lattice, f: Callable, *, name: str | None = None) -> SumC
     return SumCheck(p=lattice.p, q=lattice.q, rings=lattice.rings, sites=lattice.sites,
                     radius=float(L), function=str(label), lattice_sum=complex(vals.sum()),
                     integral=complex(integral))
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -907,3 +907,9 @@ def continuum_green(z, zp, lam, radius=1.0, *, tol: float = 1e-12, extend: bool 
     method = "series-accelerated" if accel else "series"
     return finish(val, GreenInfo(method=method, nu=nu, terms=M + 1 if inner.size else 0, tail_estimate=worst,
                                  tol=tol, rounding_estimate=worst_round))
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

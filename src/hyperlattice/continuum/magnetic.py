@@ -158,9 +158,9 @@ def hypergeometric_parameters(m, B, kappa) -> tuple[np.ndarray, np.ndarray, np.n
 
     :math:`\delta = \sqrt{1-\kappa+B^2/4}` (principal root; imaginary above the threshold).
     """
-    m = np.asarray(m, dtype=float)
-    B = np.asarray(B, dtype=float)
-    kappa = np.asarray(kappa, dtype=float)
+    m = _validate.real_array("m", m)
+    B = _validate.real_array("the field B", B)
+    kappa = _validate.real_array("kappa", kappa)
     delta = np.sqrt((1.0 - kappa + 0.25 * B * B).astype(complex))
     beta = 0.5 * (1.0 - delta)
     am = np.abs(m)
@@ -334,6 +334,10 @@ def _field(B) -> float:
     return _validate.real("the field B", B, minimum=-MAX_FIELD, maximum=MAX_FIELD)
 
 
+#: the largest |kappa| radial_function accepts (the 2F1 continuation takes ~sqrt(kappa) steps)
+KAPPA_MAX = 1e10
+
+
 def radial_function(r, m, B, kappa) -> np.ndarray:
     r"""Regular radial solution :math:`R(r) = r^{|m|}(1-r^2)^{\beta_-}F(a,b';c;r^2)` (real, module
     docstring) of :math:`-\Delta_B(e^{\mathrm im\phi}R) = \kappa e^{\mathrm im\phi}R`, at radii
@@ -343,7 +347,9 @@ def radial_function(r, m, B, kappa) -> np.ndarray:
         raise ValueError("the radius r must satisfy 0 <= r < 1.")
     m = _validate.integer("m", m, minimum=-MAX_ORDER, maximum=MAX_ORDER)
     B = _field(B)
-    kappa = _validate.real("kappa", kappa)
+    # beyond 1e10 the continuation's step count runs out (ConvergenceError), and near 1e140 the
+    # local wavenumber overflows the step-size arithmetic: refuse at the door instead
+    kappa = _validate.real("kappa", kappa, minimum=-KAPPA_MAX, maximum=KAPPA_MAX)
     a, b, c, delta = (np.atleast_1d(v) for v in hypergeometric_parameters(m, B, kappa))
     out = np.empty(r.shape)
     for idx, rv in np.ndenumerate(r):
@@ -633,3 +639,9 @@ def magnetic_levels(p=7, q=3, radius=None, rings=None, levels: int = 4, flux=0.0
                             flux=flux, field=B,
                             asymptotic=asymptotic_energies(p, q, radius=None if rings is not None else radius,
                                                            rings=rings))
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -242,3 +242,9 @@ def scba(omega, variance: float, p: int = 7, q: int = 3, *, local: Callable[[com
         lam = complex(lambda_from_energy(w, p, q))
     return SCBAResult(p=p, q=q, omega=om, variance=w2, self_energy=w - om, omega_shifted=w, lam=lam,
                       born=born, iterations=it, residual=float(residual))
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -147,7 +147,7 @@ import numpy as np
 from scipy import special as sc
 
 from .. import _validate
-from ..errors import ConvergenceError, ConvergenceWarning
+from ..errors import ConvergenceError, ConvergenceWarning, RangeWarning
 
 __all__ = [
     "MAX_ORDER",
@@ -448,7 +448,14 @@ def _p_near_quad(nu, m, x):
     """(log_scale, mantissa, abs_err) of P by the trapezoidal rule on the Laplace integral."""
     d, t, _, _ = _geom(x)
     s = np.sqrt(d * (d + 2.0))
-    nnodes = np.ceil(m + 1.5 * np.abs(nu) * t + 40.0).astype(int)
+    nnodes_f = np.ceil(m + 1.5 * np.abs(nu) * t + 40.0)
+    # the node count grows like |nu| arccosh(x): refuse before allocating (issue 19: nu = 1e12 asked
+    # numpy for 22.6 TiB; beyond 1e18 the count does not even fit an integer); a row of nodes holds
+    # ~12 float64 temporaries (phi, weights, the complex base, exponent and integrand, cos(m phi))
+    top = int(np.argmax(nnodes_f))
+    _validate.require_memory(f"P_nu^m at nu = {_nice(nu[top])}, x = {float(x[top]):g} (a Laplace quadrature "
+                             f"with {float(nnodes_f[top]):.3g} nodes)", 96.0 * (float(nnodes_f[top]) * 1.2 + 1.0))
+    nnodes = nnodes_f.astype(int)
     nnodes += nnodes % 2
     out_scale = np.empty(x.shape)
     out_mant = np.empty(x.shape, complex)
@@ -943,6 +950,8 @@ def legendre_p_log_parts(nu, m, x) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         :math:`P = \text{mantissa}\cdot e^{\text{log\_scale}}`, with ``abs_err`` the estimated
         absolute error of the mantissa (same scale).
     """
+    # validated like legendre_p (flat copies; cheap next to the evaluation itself)
+    nu, m, x, _ = _broadcast(nu, m, x)
     return _log_p_parts(nu, m, x)
 
 
@@ -987,6 +996,14 @@ def evaluate_checked(func, nu, m, x, *, warn: bool = True) -> tuple[np.ndarray, 
     ConvergenceError
         If a value is not finite (outside the supported domain).
     """
+    func = _validate.function("func", func)
+    warn = _validate.flag("warn", warn)
+    nu, m, x, _ = _broadcast(nu, m, x)
+    return _evaluate_checked(func, nu, m, x, warn=warn)
+
+
+def _evaluate_checked(func, nu, m, x, *, warn: bool = True):
+    """:func:`evaluate_checked` on arrays the caller has validated (flat, same length)."""
     n = x.size
     if n and int(np.max(m)) > MAX_ORDER:
         raise ValueError(f"the order m must be at most {MAX_ORDER:,}, got {int(np.max(m)):,}.")
@@ -1031,7 +1048,18 @@ def _check_q_poles(nu, m):
 
 def _finish(scale, mant, shape):
     with np.errstate(over="ignore", under="ignore", invalid="ignore"):
-        val = mant * np.exp(scale)
+        big = np.exp(scale)
+        val = mant * big
+    over = np.isinf(big) & (mant != 0)
+    if over.any():
+        # |value| beyond 1.8e308: say so, and keep the phase (inf * (re + i im) would put NaN in
+        # a zero component)
+        val[over] = (np.where(mant[over].real != 0, np.copysign(np.inf, mant[over].real), 0.0)
+                     + 1j * np.where(mant[over].imag != 0, np.copysign(np.inf, mant[over].imag), 0.0))
+        k = int(np.argmax(over))
+        warnings.warn(f"the value overflows the float64 range (|value| = e^{float(scale[k]):.6g} > 1.8e308) "
+                      "and is returned as inf; the log_* functions (e.g. legendre_log_p) give it as a "
+                      "log-scale and a mantissa.", RangeWarning, stacklevel=3)
     val = val.reshape(shape)
     return val[()] if val.ndim == 0 else val
 
@@ -1069,7 +1097,7 @@ def legendre_p(nu, m, x) -> complex | np.ndarray:
         If a series fails to converge (outside the documented domain).
     """
     nu_f, m_f, x_f, shape = _broadcast(nu, m, x)
-    s, mt, _ = evaluate_checked(_log_p_parts, nu_f, m_f, x_f, warn=False)
+    s, mt, _ = _evaluate_checked(_log_p_parts, nu_f, m_f, x_f, warn=False)
     return _finish(s, mt, shape)
 
 
@@ -1110,7 +1138,7 @@ def legendre_q(nu, m, x) -> complex | np.ndarray:
     """
     nu_f, m_f, x_f, shape = _broadcast(nu, m, x, allow_one=False)
     _check_q_poles(nu_f, m_f)
-    s, mt, _ = evaluate_checked(_log_q_parts, nu_f, m_f, x_f)
+    s, mt, _ = _evaluate_checked(_log_q_parts, nu_f, m_f, x_f)
     return _finish(s, mt, shape)
 
 
@@ -1123,7 +1151,7 @@ def legendre_log_p(nu, m, x) -> tuple[np.ndarray, np.ndarray]:
     (0-d arrays for scalar input).
     """
     nu_f, m_f, x_f, shape = _broadcast(nu, m, x)
-    s, mt, _ = evaluate_checked(_log_p_parts, nu_f, m_f, x_f, warn=False)
+    s, mt, _ = _evaluate_checked(_log_p_parts, nu_f, m_f, x_f, warn=False)
     return s.reshape(shape), mt.reshape(shape)
 
 
@@ -1134,7 +1162,7 @@ def legendre_log_q(nu, m, x) -> tuple[np.ndarray, np.ndarray]:
     """
     nu_f, m_f, x_f, shape = _broadcast(nu, m, x, allow_one=False)
     _check_q_poles(nu_f, m_f)
-    s, mt, _ = evaluate_checked(_log_q_parts, nu_f, m_f, x_f)
+    s, mt, _ = _evaluate_checked(_log_q_parts, nu_f, m_f, x_f)
     return s.reshape(shape), mt.reshape(shape)
 
 
@@ -1149,8 +1177,8 @@ def legendre_q_over_p(nu, m, x) -> complex | np.ndarray:
     """
     nu_f, m_f, x_f, shape = _broadcast(nu, m, x, allow_one=False)
     _check_q_poles(nu_f, m_f)
-    sp, mp_, _ = evaluate_checked(_log_p_parts, nu_f, m_f, x_f, warn=False)
-    sq, mq, _ = evaluate_checked(_log_q_parts, nu_f, m_f, x_f)
+    sp, mp_, _ = _evaluate_checked(_log_p_parts, nu_f, m_f, x_f, warn=False)
+    sq, mq, _ = _evaluate_checked(_log_q_parts, nu_f, m_f, x_f)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         val = (mq / mp_) * np.exp(sq - sp)
     val = val.reshape(shape)
@@ -1227,3 +1255,9 @@ def conical_p(k, m, x) -> float | np.ndarray:
     """
     k_a = _validate.real_array("the momentum k", k)
     return np.real(legendre_p(-0.5 + 0.5j * k_a, m, x))
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -828,3 +828,9 @@ def radial_g(k, m, r, method: str = "closed") -> complex | np.ndarray:
         out.ravel()[i] = phase * cur
     out = out.reshape(rr.shape)
     return out.reshape(r.shape)[()] if r.ndim == 0 else out
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -474,3 +474,9 @@ def abelian_dos(cluster: Cluster, *, samples: int = 400, bins: int = 200, seed: 
     return AbelianDOS(energies=0.5 * (edges[1:] + edges[:-1]), density=density, errors=errors,
                       bin_edges=edges, samples=samples, method="uniform-random-k", name=c.name,
                       p=c.p, q=c.q, genus=c.genus)
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -753,3 +753,9 @@ def same_map(a: Cluster, b: Cluster, *, regular: bool = True) -> bool:
     ca = map_code(a)
     darts = [(0, 0)] if regular else [(v, j) for v in range(b.sites) for j in range(b.q)]
     return any(np.array_equal(ca, map_code(b, v, j)) for v, j in darts)
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -226,3 +226,9 @@ def disordered_hamiltonian(lattice: Lattice, dis: Disorder, *, t: float = 1.0) -
     h.eliminate_zeros()
     h.sort_indices()
     return h
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

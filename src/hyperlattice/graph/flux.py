@@ -48,6 +48,7 @@ measures them by their angles (Gauss-Bonnet, independent of the phases) and
 
 from __future__ import annotations
 
+import numbers
 import time
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
@@ -104,9 +105,22 @@ def triangle_area(a, b) -> np.ndarray:
 
     Counterclockwise (0 -> a -> b) positive; curvature -4 metric. Vectorised over a and b.
     """
-    a = np.asarray(a, dtype=np.complex128)
-    b = np.asarray(b, dtype=np.complex128)
+    a = _validate.disk_points("a", a)
+    b = _validate.disk_points("b", b)
     return 0.5 * np.angle(1.0 - a * np.conj(b))
+
+
+def _cycles(n: int, cycles) -> list[np.ndarray]:
+    """Face cycles as int64 arrays of site indices (at least 3 sites each)."""
+    if isinstance(cycles, (str, bytes, dict, np.ndarray)) or not isinstance(cycles, (list, tuple)):
+        raise ValueError(f"cycles must be a list of site-index arrays (one per face), got {type(cycles).__name__}.")
+    out = []
+    for c, cyc in enumerate(cycles):
+        arr = _validate.site_indices(f"cycles[{c}]", cyc, n)
+        if arr.shape[0] < 3:
+            raise ValueError(f"cycles[{c}] must have at least 3 sites, got {arr.shape[0]}.")
+        out.append(arr)
+    return out
 
 
 def edge_phases(lattice: Lattice, flux) -> np.ndarray:
@@ -189,7 +203,11 @@ def face_areas(lattice: Lattice, cycles: list[np.ndarray]) -> np.ndarray:
     Independent of :func:`triangle_area` (Gauss-Bonnet with the interior angles measured by
     Möbius maps), so it checks the phases.
     """
-    z = np.asarray(lattice.z, dtype=np.complex128)
+    # only the positions are read (duck-typed: anything with a ``z`` array of disk points)
+    if not hasattr(lattice, "z") or isinstance(lattice, (str, bytes, numbers.Number)):
+        raise ValueError(f"lattice must be a Lattice (anything with site positions z), got {type(lattice).__name__}.")
+    z = _validate.disk_points("the site positions lattice.z", lattice.z)
+    cycles = _cycles(z.size, cycles)
     areas = np.empty(len(cycles))
     for c, cyc in enumerate(cycles):
         prev, nxt = np.roll(cyc, 1), np.roll(cyc, -1)
@@ -201,10 +219,12 @@ def face_areas(lattice: Lattice, cycles: list[np.ndarray]) -> np.ndarray:
 def face_fluxes(lattice: Lattice, flux, cycles: list[np.ndarray] | None = None,
                 phases: np.ndarray | None = None) -> np.ndarray:
     """Sum of the Peierls phases counterclockwise around each bounded face (not reduced mod 2 pi)."""
-    if cycles is None:
-        cycles = faces(lattice)
+    _validate.lattice(lattice)
+    cycles = faces(lattice) if cycles is None else _cycles(lattice.sites, cycles)
     if phases is None:
         phases = edge_phases(lattice, flux)
+    else:
+        phases = _validate.real_array("phases", phases, ndim=1, shape=(lattice.edges.shape[0],))
     e = lattice.edges.astype(np.int64)
     lookup = {}
     for k in range(e.shape[0]):
@@ -215,7 +235,11 @@ def face_fluxes(lattice: Lattice, flux, cycles: list[np.ndarray] | None = None,
     for c, cyc in enumerate(cycles):
         nxt = np.roll(cyc, -1)
         # going u -> v picks up theta_{vu}
-        out[c] = sum(lookup[(int(v), int(u))] for u, v in zip(cyc, nxt))
+        try:
+            out[c] = sum(lookup[(int(v), int(u))] for u, v in zip(cyc, nxt))
+        except KeyError as exc:
+            raise ValueError(f"cycles[{c}] steps between sites {exc.args[0][1]} and {exc.args[0][0]}, "
+                             "which are not neighbours (a face cycle follows edges).") from None
     return out
 
 
@@ -373,3 +397,9 @@ def butterfly(lattice: Lattice, fluxes, *, t: float = 1.0, onsite=None, max_site
                    f"at each of {f.shape[0]:,} flux values.")
     return Butterfly(fluxes=f, energies=energies, m=labels, p=p, q=lattice.q, rings=lattice.rings, sites=n,
                      kind=lattice.kind, t=t, description=description, timings={"total": total})
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

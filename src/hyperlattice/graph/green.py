@@ -244,3 +244,9 @@ def graph_green(lattice, omega, source=None, targets=None, *, t: float = 1.0, on
             block = block[0]
         out.append(block)
     return out[0] if scalar else np.stack(out)
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -48,6 +48,10 @@ __all__ = [
 
 #: coset enumeration refuses to define more cosets than this (a Python list per coset)
 MAX_COSETS = 2_000_000
+#: the most generators coset_table takes (the table has two columns per generator)
+MAX_GENERATORS = 1000
+#: the largest n is_prime tests (trial division: up to 10**6 divisions)
+MAX_PRIME_TEST = 10**12
 
 
 # ----------------------------------------------------------------------------
@@ -112,7 +116,13 @@ def parse_word(text: str, letters: str = "xy") -> tuple[int, ...]:
 
 
 def triangle_relators(p: int, q: int) -> list[tuple[int, ...]]:
-    """The relators :math:`x^2, y^q, (xy)^p` of the triangle group Δ(2, q, p)."""
+    """The relators :math:`x^2, y^q, (xy)^p` of the triangle group Δ(2, q, p).
+
+    p and q are at most :data:`MAX_COSETS`: a relator longer than the coset limit can never
+    close a scan of :func:`coset_table` (and 10**140 letters do not fit in memory).
+    """
+    p = _validate.integer("p", p, minimum=2, maximum=MAX_COSETS)
+    q = _validate.integer("q", q, minimum=2, maximum=MAX_COSETS)
     return [(0, 0), (2,) * q, (0, 2) * p]
 
 
@@ -150,7 +160,7 @@ def coset_table(n_generators: int, relators, subgroup=(), *, max_cosets: int = M
     the subgroup generators), defining new cosets to complete each scan; a scan that closes
     with two different cosets records a coincidence, processed with a union-find queue.
     """
-    ngen = _validate.positive_int("n_generators", n_generators)
+    ngen = _validate.positive_int("n_generators", n_generators, maximum=MAX_GENERATORS)
     max_cosets = _validate.positive_int("max_cosets", max_cosets)
     ncol = 2 * ngen
     rels = [_checked_word("relator", w, ncol) for w in _sequence("relators", relators)]
@@ -328,7 +338,9 @@ def permutation_group_order(generators) -> int:
 # ----------------------------------------------------------------------------
 
 def is_prime(n: int) -> bool:
-    """Trial division (n is at most a few thousand here)."""
+    """Trial division (n is at most a few thousand here; at most :data:`MAX_PRIME_TEST`)."""
+    # an integer at the door: inf or NaN would loop forever in the trial division below
+    n = _validate.integer("n", n, maximum=MAX_PRIME_TEST)
     if n < 2:
         return False
     if n % 2 == 0:
@@ -343,6 +355,7 @@ def is_prime(n: int) -> bool:
 
 def psl2_order(r: int) -> int:
     r""":math:`|PSL(2, \mathbb F_r)| = r(r^2 - 1)/2` for an odd prime r."""
+    r = _validate.integer("r", r, minimum=2)
     return r * (r * r - 1) // 2
 
 
@@ -670,3 +683,9 @@ def _psl2_check_prime(r) -> int:
     if math.prod((r, r, r)) > 2**62:  # pragma: no cover - far beyond memory anyway
         raise ValueError(f"r = {r} is too large.")
     return r
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

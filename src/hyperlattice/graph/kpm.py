@@ -885,3 +885,9 @@ def bulk_dos(lattice, moments: int | None = None, *, exclude: int | None = None,
     return _finish(op, "bulk", per, elapsed, kind=kind, seed=seed, vectors=vectors, traced=int(support.shape[0]),
                    exact=exact, excluded=k,
                    label=f"{{{lattice.p},{lattice.q}}} flake interior (rings 1..{lattice.rings - k} of {lattice.rings})")
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -29,7 +29,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -74,17 +73,9 @@ _CALIBRATION_SPOKES = 2**16
 
 
 def _available_memory() -> int:
-    try:
-        with open("/proc/meminfo") as fh:
-            for line in fh:
-                if line.startswith("MemAvailable:"):
-                    return int(line.split()[1]) * 1024
-    except OSError:
-        pass
-    try:
-        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_AVPHYS_PAGES")
-    except (ValueError, OSError, AttributeError):
-        return 8 * 1024**3
+    # the package's one probe: machine, RLIMIT_AS and cgroup limits (issue 19: `lattice --rings 15
+    # --line-graph` under `ulimit -v` used to be sized by the machine's RAM)
+    return _validate.available_memory()
 
 
 # ----------------------------------------------------------------------------
@@ -640,7 +631,7 @@ def _refusal(what: str, n: int, exact: bool, limit: int, by_memory: bool, bytes_
     if limit >= _MAX_SITES:
         why = "the 32-bit site ids allow"
     elif by_memory:
-        why = "this machine can hold"
+        why = "this process may allocate (machine, ulimit -v and cgroup limits)"
     else:
         why = "max_sites allows"
     return f"the {what} {size}, more than {why} (limit {max(limit, 0):,} sites)."
@@ -914,3 +905,9 @@ def line_graph(lattice: Lattice, *, max_sites: int | None = None) -> Lattice:
     rotation = srt[found]
     return Lattice(p=lattice.p, q=lattice.q, rings=lattice.rings, z=z_mid, ring=ring_lg,
                    edges=lg_edges, rotation=rotation, kind="line_graph", parent_edges=e_sorted.astype(np.int32))
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -136,3 +136,9 @@ def incidence(lattice: Lattice) -> sp.csr_matrix:
     rows = e.T.ravel()
     cols = np.concatenate([np.arange(n_e), np.arange(n_e)])
     return sp.csr_matrix((np.ones(2 * n_e), (rows, cols)), shape=(lattice.sites, n_e))
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

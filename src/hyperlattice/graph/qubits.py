@@ -640,3 +640,9 @@ def spin_model(lattice: Lattice, sites, omega_q, g, *, t: float = 1.0,
     d = distance(lat.z[idx][:, None], lat.z[idx][None, :])
     return SpinModel(p=lat.p, q=lat.q, rings=lat.rings, kind=lat.kind, sites=idx, omega_q=omega_q, g=g,
                      couplings=J, lamb_shift=lamb, distance=d)
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

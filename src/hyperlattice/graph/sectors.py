@@ -606,6 +606,7 @@ def lowest_pair(p: int = 7, q: int = 3, rings: int = 3, *, t: float = 1.0, tol: 
     t_start = time.perf_counter()
     t = _validate.positive_real("the hopping t", t)
     tol = _validate.positive_real("tol", tol)
+    tol_h = tol * t  # residuals relative to the energy scale t of H = -tA (issue 19: t = 1e20 failed)
     backend = _factor_backend(backend)
     if progress is not None:
         _validate.function("progress", progress)
@@ -672,7 +673,7 @@ def lowest_pair(p: int = 7, q: int = 3, rings: int = 3, *, t: float = 1.0, tol: 
                 delta *= 2.0
             else:  # pragma: no cover - the spectrum is bounded by the Gershgorin disc
                 raise ConvergenceError(f"block m={spec[0]} ({spec[1]}): no shift below its lowest level found.")
-            e, v, res, solves = _shift_invert_lowest(mat, k, factor, sigma, tol, f"block m={spec[0]}")
+            e, v, res, solves = _shift_invert_lowest(mat, k, factor, sigma, tol_h, f"block m={spec[0]}")
             info[spec] = {"sigma": sigma, "solves": solves}
             timings[f"solve {spec[0]} {spec[1]}"] = time.perf_counter() - t0
             say(f"block m={spec[0]} {spec[1]}: {e.tolist()} after {solves} solves")
@@ -726,7 +727,7 @@ def lowest_pair(p: int = 7, q: int = 3, rings: int = 3, *, t: float = 1.0, tol: 
         below = sum(1 for other in levels if other[1][0] == m and other[0] < lv[0])
         ms.append(m)
         ns.append(below + 1)
-    _check_residuals(res, tol, f"{{{p},{q}}} flake with {rings} rings")
+    _check_residuals(res, tol_h, f"{{{p},{q}}} flake with {rings} rings")
     timings["solve"] = time.perf_counter() - t_start - timings["build"]
     timings["total"] = time.perf_counter() - t_start
     delta = e_pair[1][0] - x
@@ -739,3 +740,9 @@ def lowest_pair(p: int = 7, q: int = 3, rings: int = 3, *, t: float = 1.0, tol: 
     return Spectrum(energies=energies, n=np.array(ns), m=np.array(ms), errors=res, method="sector-shift-invert",
                     description=description, p=p, q=q, rings=rings, sites=sectors.sites, kind="sites",
                     timings=timings)
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -506,3 +506,9 @@ def _shift_invert_lowest(mat: sp.spmatrix, k: int, factor: _SymmetricFactor, x: 
 def _lanczos_ritz(mat: sp.spmatrix, steps: int) -> np.ndarray:
     """Ritz values of a short plain Lanczos run on a real symmetric matrix (upper bounds, ascending)."""
     return _plain_lanczos(lambda x: mat @ x, np.random.default_rng(12345).standard_normal(mat.shape[0]), steps)
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -304,11 +304,27 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
     if method == "sector" and not symmetric:
         raise ValueError("the on-site term is not invariant under the p-fold rotation, so H has no "
                          "angular-momentum sectors; use method='dense' or 'sparse'.")
+    if method == "dense":
+        # refused before allocating (issue 19: ell = 9 asked LAPACK for 12.2 GiB): the matrix, eigh's
+        # copy of it and its work space, ~3 N^2 numbers
+        _validate.require_memory(f"method='dense' on {lattice.sites:,} sites (LAPACK eigh of the full matrix)",
+                                 3.0 * lattice.sites**2 * (16 if flux else 8))
+    # residuals are judged relative to the energy scale of H (issue 19: t = 1e20 failed with
+    # "residual 7.9e-04 exceeds the tolerance 1e-10"): tol is in units of max(|t|, max|V|)
+    tol = tol * _energy_scale(lattice, t, onsite)
     with _single_threaded_blas():
         if method == "sector":
             return _sector_levels(lattice, levels, t, onsite, sector, eigenvectors, tol, progress, t_start, flux)
         return _full_levels(lattice, levels, t, onsite, method, symmetric, eigenvectors, tol, progress, t_start,
                             flux)
+
+
+def _energy_scale(lattice, t: float, onsite) -> float:
+    """max(|t|, max|V|): the unit of the residual tolerance (1 for the default t = 1, V = 0)."""
+    v = onsite_values(lattice, onsite)
+    top = float(np.max(np.abs(v))) if v is not None and np.size(v) else 0.0
+    scale = max(abs(t), top)
+    return scale if scale > 0 else 1.0
 
 
 def _sector_levels(lattice, levels, t, onsite, sector, want_vecs, tol, progress, t_start, flux=0.0) -> Spectrum:
@@ -484,7 +500,11 @@ def _full_spectrum(lattice: Lattice, *, t: float, onsite: OnSite, max_sites: int
     v = onsite_values(lattice, onsite)
     degree = np.bincount(np.asarray(lattice.edges).ravel(), minlength=lattice.sites)
     norm = abs(t) * float(degree.max(initial=0)) + (0.0 if v is None else float(np.max(np.abs(v), initial=0.0)))
-    if rotation_invariant(lattice, onsite):
+    symmetric = rotation_invariant(lattice, onsite)
+    n_block = -(-lattice.sites // lattice.p) if symmetric else lattice.sites  # the largest dense block
+    _validate.require_memory(f"the full spectrum of {lattice.sites:,} sites (dense eigh of "
+                             f"{n_block:,} x {n_block:,} blocks)", 3.0 * n_block**2 * (16 if flux else 8))
+    if symmetric:
         orbits = rotation_orbits(lattice)
         parts, largest = [], 1
         for m in range(lattice.p):
@@ -616,3 +636,9 @@ def log_partition_function(system, beta, *, t: float = 1.0, onsite: OnSite = Non
     if not np.all(np.isfinite(log_z)):
         raise ValueError(f"beta * |E0| exceeds the float range for beta = {float(np.max(b)):g}.")
     return float(log_z) if np.ndim(log_z) == 0 else log_z
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

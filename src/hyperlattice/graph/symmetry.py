@@ -129,7 +129,7 @@ def signed_sector(m, p: int) -> int:
     Accepts ``0 <= m < p`` (Bloch phase :math:`e^{2\\pi i m/p}`) or an already signed value
     ``-p/2 < m <= p/2``; sector p - m is reported as -m.
     """
-    p = _validate.integer("p", p, minimum=3)
+    p = _validate.integer("p", p, minimum=3, maximum=_validate.PQ_MAX)
     m = _validate.integer("sector m", m)
     if not (-p / 2 < m < p):
         raise ValueError(
@@ -264,3 +264,9 @@ def lift(orbits: RotationOrbits, m: int, phi: np.ndarray) -> np.ndarray:
         phase = phase.real
     out = phi[orbits.orbit]
     return out * (phase[:, None] if out.ndim == 2 else phase)
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

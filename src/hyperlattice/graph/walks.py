@@ -363,3 +363,9 @@ def spectral_radius(p: int, q: int, n_max: int = 22, *, max_sites: int | None = 
     ns = np.arange(1, n_max // 2 + 1)
     ratios = np.sqrt(np.array([int(w[2 * n]) / int(w[2 * n - 2]) for n in ns]))
     return SpectralRadius(p=p, q=q, n_max=n_max, lower_root=root, lower_ratio=ratio, upper=upper, ratios=ratios)
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

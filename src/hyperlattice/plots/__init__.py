@@ -11,10 +11,24 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
 
-def new_axes(ax=None, size=(6.0, 4.2)) -> Axes:
+def new_axes(ax: Axes | None = None, size=(6.0, 4.2)) -> Axes:
     """Return ``ax``, or a fresh axes of ``size`` inches (constrained layout) when it is None."""
+    if ax is not None and not (hasattr(ax, "plot") and hasattr(ax, "figure")):
+        raise ValueError(f"ax must be a matplotlib Axes (or None for a new figure), got {type(ax).__name__}.")
     if ax is None:
+        from .. import _validate
+
+        size = _validate.real_array("size", size, shape=(2,))
+        if not (size > 0).all():
+            raise ValueError("size must be two positive numbers (width, height in inches).")
+        size = tuple(float(v) for v in size)
         import matplotlib.pyplot as plt
 
         _, ax = plt.subplots(figsize=size, layout="constrained")
     return ax
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

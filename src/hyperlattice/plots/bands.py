@@ -53,3 +53,9 @@ def bands_and_dos(bands: Bands, dos: AbelianDOS | None = None, *, path=None) -> 
     if path is not None:
         fig.savefig(path)
     return fig
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

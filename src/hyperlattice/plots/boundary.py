@@ -27,7 +27,7 @@ def _axes(ax, size=(5.2, 3.8)):
     return ax
 
 
-def plot_boundary_correlator(bc: BoundaryCorrelator, ax=None) -> Axes:
+def plot_boundary_correlator(bc: BoundaryCorrelator, ax: Axes | None = None) -> Axes:
     r""":math:`G_{ij}` on the outer ring against :math:`\sin(\theta/2)` (log-log): graph, continuum
     (``eq21`` on the disk named by ``bc.continuum_disk``) and the fitted conformal slope
     :math:`-2\Delta` over the window."""
@@ -57,7 +57,7 @@ def plot_boundary_correlator(bc: BoundaryCorrelator, ax=None) -> Axes:
     return ax
 
 
-def plot_delta_curve(curves: Sequence[DeltaCurve], ax=None) -> Axes:
+def plot_delta_curve(curves: Sequence[DeltaCurve], ax: Axes | None = None) -> Axes:
     """Δ against m² for one or more lattices (error bars) and the continuum Δ(m²), with the BF bound."""
     from ..continuum.massive import BF_MASS2, delta_from_mass2
 
@@ -76,7 +76,7 @@ def plot_delta_curve(curves: Sequence[DeltaCurve], ax=None) -> Axes:
     return ax
 
 
-def plot_bf_bound(bf: LatticeBFBound, ax=None) -> Axes:
+def plot_bf_bound(bf: LatticeBFBound, ax: Axes | None = None) -> Axes:
     r"""Lattice BF bound :math:`E_0(\ell)` against ℓ with the continuum bound :math:`E_\infty`."""
     ax = _axes(ax)
     ax.plot(bf.rings, bf.e0, "o-", color="tab:red", label=r"lattice $E_0(\ell)$")
@@ -87,7 +87,7 @@ def plot_bf_bound(bf: LatticeBFBound, ax=None) -> Axes:
     return ax
 
 
-def plot_exchange(ex: ExchangeComparison, ax=None) -> Axes:
+def plot_exchange(ex: ExchangeComparison, ax: Axes | None = None) -> Axes:
     """J against hyperbolic distance: graph points, binned means, and the continuum."""
     ax = _axes(ax)
     keep = np.isfinite(np.asarray(ex.continuum))
@@ -102,7 +102,7 @@ def plot_exchange(ex: ExchangeComparison, ax=None) -> Axes:
     return ax
 
 
-def plot_bound_state_sizes(bs: BoundStateSizes, ax=None) -> Axes:
+def plot_bound_state_sizes(bs: BoundStateSizes, ax: Axes | None = None) -> Axes:
     """Bound-state size and decay length against detuning from the band bottom."""
     ax = _axes(ax)
     ax.plot(bs.detuning, bs.size_graph, "o-", color="tab:red", label=r"$\langle d\rangle$ graph (exact)")
@@ -116,3 +116,9 @@ def plot_bound_state_sizes(bs: BoundStateSizes, ax=None) -> Axes:
     ax.set_ylabel("hyperbolic distance")
     ax.legend(fontsize=7)
     return ax
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

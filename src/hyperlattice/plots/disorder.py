@@ -23,7 +23,7 @@ def _axes(ax, size=(5.5, 4.0)):
     return ax
 
 
-def plot_dos(ens: DisorderEnsemble, ax=None, **kwargs) -> Axes:
+def plot_dos(ens: DisorderEnsemble, ax: Axes | None = None, **kwargs) -> Axes:
     """Disorder-averaged density of states per site (stairs)."""
     ax = _axes(ax)
     ax.stairs(ens.dos, ens.dos_edges, label=kwargs.pop("label", f"W = {ens.W:g}"), **kwargs)
@@ -34,7 +34,7 @@ def plot_dos(ens: DisorderEnsemble, ax=None, **kwargs) -> Axes:
     return ax
 
 
-def plot_r_scan(scan: RScan, ax=None, **kwargs) -> Axes:
+def plot_r_scan(scan: RScan, ax: Axes | None = None, **kwargs) -> Axes:
     """<r> against W (log axis) with the GOE and Poisson values."""
     from ..compare.disorder import GOE_R, POISSON_R
 
@@ -52,7 +52,7 @@ def plot_r_scan(scan: RScan, ax=None, **kwargs) -> Axes:
     return ax
 
 
-def plot_green_distance(ens: DisorderGreen, ax=None, *, bins: int = 12, clean: bool = True) -> Axes:
+def plot_green_distance(ens: DisorderGreen, ax: Axes | None = None, *, bins: int = 12, clean: bool = True) -> Axes:
     """|<G_ij>| (and |G_ij(W=0)| if ``clean``) against the hyperbolic distance (binned means), source excluded."""
     ax = _axes(ax)
     keep = np.arange(ens.distance.size) != ens.source
@@ -71,7 +71,7 @@ def plot_green_distance(ens: DisorderGreen, ax=None, *, bins: int = 12, clean: b
     return ax
 
 
-def plot_scba_comparison(cmp: SCBAComparison, ax=None) -> Axes:
+def plot_scba_comparison(cmp: SCBAComparison, ax: Axes | None = None) -> Axes:
     """Relative distance of the ensemble average from the clean column and the two SCBA predictions."""
     ax = _axes(ax)
     w = np.asarray(cmp.W, float)
@@ -84,3 +84,9 @@ def plot_scba_comparison(cmp: SCBAComparison, ax=None) -> Axes:
     ax.set_ylabel("relative L2 distance from the ensemble average")
     ax.legend(fontsize=7)
     return ax
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -12,10 +12,13 @@ from . import new_axes
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
+    from ..compare.dos import DosComparison
+    from ..graph.kpm import KPMDos
+
 __all__ = ["dos_figure", "comparison_axes", "convergence_axes", "bottom_axes", "comparison_figure"]
 
 
-def dos_figure(result, *, path=None, ax=None, continuum: bool = True) -> Axes:
+def dos_figure(result: KPMDos | DosComparison, *, path=None, ax: Axes | None = None, continuum: bool = True) -> Axes:
     """The density of states of one :class:`~hyperlattice.graph.kpm.KPMDos` with its error band, and
     the continuum (Plancherel) density near the band bottom when {p,q} is known; saved to ``path``."""
     import matplotlib.pyplot as plt
@@ -37,7 +40,7 @@ def dos_figure(result, *, path=None, ax=None, continuum: bool = True) -> Axes:
     return ax
 
 
-def comparison_axes(cmp, ax=None, *, window: tuple[float, float] | None = None) -> Axes:
+def comparison_axes(cmp: DosComparison, ax: Axes | None = None, *, window: tuple[float, float] | None = None) -> Axes:
     """The full-resolution densities: largest cluster, largest flake interior, Abelian DOS, with the
     exact reference (closed walks) and the continuum density."""
     from ..compare.dos import continuum_dos
@@ -68,7 +71,7 @@ def comparison_axes(cmp, ax=None, *, window: tuple[float, float] | None = None) 
     return ax
 
 
-def convergence_axes(cmp, ax=None) -> Axes:
+def convergence_axes(cmp: DosComparison, ax: Axes | None = None) -> Axes:
     """Every curve at the resolution of the exact moments: the L1 distance to the exact DOS against size."""
     ax = new_axes(ax, size=(5.0, 4.2))
     for kind, marker, color in (("cluster", "o", "tab:blue"), ("flake", "s", "tab:orange"),
@@ -99,7 +102,7 @@ def _traced(label: str) -> int:
         return 1
 
 
-def bottom_axes(cmp, ax=None) -> Axes:
+def bottom_axes(cmp: DosComparison, ax: Axes | None = None) -> Axes:
     """Integrated DOS N(E) near the band bottom: the largest cluster against the continuum (both maps)."""
     from ..compare.dos import continuum_integrated_dos
 
@@ -123,7 +126,7 @@ def bottom_axes(cmp, ax=None) -> Axes:
     return ax
 
 
-def comparison_figure(cmp, *, path=None):
+def comparison_figure(cmp: DosComparison, *, path=None):
     """Three panels: the densities, the convergence with size, the band bottom against the continuum."""
     import matplotlib.pyplot as plt
 
@@ -135,3 +138,9 @@ def comparison_figure(cmp, *, path=None):
     if path is not None:
         fig.savefig(path, dpi=110)
     return fig
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -10,8 +10,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from . import new_axes
 from .. import _validate
+from . import new_axes
 from ..compare.correlation import BinnedCorrelation, bin_by_distance, sorted_pairs
 from ..compare.green import GreenComparison
 from ..graph.lattice import Lattice
@@ -37,6 +37,7 @@ def plot_disk_map(lattice: Lattice, values, source: int | None = None, *, scale:
         raise ValueError(f"values must have one entry per site ({lattice.sites}).")
     keep = np.isfinite(v)
     if source is not None:
+        source = _validate.site_index("source", source, lattice.sites)
         keep[source] = False
     amp = np.sqrt(np.abs(v[keep]))
     size = scale * amp / max(amp.max(), 1e-300)
@@ -86,7 +87,7 @@ def plot_distance_profile(comparison: GreenComparison, lattice: Lattice | None =
     return ax
 
 
-def plot_binned(binned: BinnedCorrelation, ax=None, **kwargs) -> Axes:
+def plot_binned(binned: BinnedCorrelation, ax: Axes | None = None, **kwargs) -> Axes:
     """Mean ± standard deviation (real part of the mean) of a :class:`BinnedCorrelation` against the bin centre."""
     ax = _axes(ax, size=(5.2, 3.8))
     opts = {"fmt": "o", "ms": 3.5, "capsize": 2, "lw": 0.9} | kwargs
@@ -96,7 +97,7 @@ def plot_binned(binned: BinnedCorrelation, ax=None, **kwargs) -> Axes:
     return ax
 
 
-def plot_fig3_row(lattice: Lattice, omega, source: int = 10, *, axes=None,
+def plot_fig3_row(lattice: Lattice, omega, source: int = 10, *, axes: Sequence[Axes] | None = None,
                   comparison: GreenComparison | None = None) -> Sequence[Axes]:
     """One row of ``Fig3``: graph map, continuum map, distance profile. Returns the three axes.
 
@@ -116,3 +117,9 @@ def plot_fig3_row(lattice: Lattice, omega, source: int = 10, *, axes=None,
                   title=r"continuum $\frac{4\mathcal{A}}{qh^2}G(z_i,z_j)$")
     plot_distance_profile(cmp, ax=axes[2])
     return axes
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -13,11 +13,13 @@ from . import new_axes
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
+    from ..compare.limits import BandBottom, BandBottomFit, DictionaryComparison, PlateauAnalysis
+
 __all__ = ["plot_band_fit", "plot_band_residuals", "plot_band_bottom", "plot_plateau", "plot_dictionaries",
            "limits_figure"]
 
 
-def plot_band_fit(fit, ax=None) -> Axes:
+def plot_band_fit(fit: BandBottomFit, ax: Axes | None = None) -> Axes:
     """``E(l) - E_b`` of the fitted flakes (points) and of the fit (line) on a log scale, with the
     residuals (fit - data) on a twin axis; returns the axes."""
     ax = new_axes(ax)
@@ -35,7 +37,7 @@ def plot_band_fit(fit, ax=None) -> Axes:
     return ax
 
 
-def plot_band_residuals(band, ax=None) -> Axes:
+def plot_band_residuals(band: BandBottom, ax: Axes | None = None) -> Axes:
     """Residuals (fit - data) of the disk-model fits of E0 and E1 over the last six flakes (the central
     variant and its E1 partner) and of the rational fits over the same flakes; returns the axes."""
     ax = new_axes(ax)
@@ -54,7 +56,7 @@ def plot_band_residuals(band, ax=None) -> Axes:
     return ax
 
 
-def plot_band_bottom(band, ax=None) -> Axes:
+def plot_band_bottom(band: BandBottom, ax: Axes | None = None) -> Axes:
     """The band bottom: the extrapolated value with its error bar, the rigorous interval, both maps'
     edges, and the central fit of E0 continued in l; returns the axes."""
     ax = new_axes(ax)
@@ -80,7 +82,7 @@ def plot_band_bottom(band, ax=None) -> Axes:
     return ax
 
 
-def plot_plateau(plateau, ax=None) -> Axes:
+def plot_plateau(plateau: PlateauAnalysis, ax: Axes | None = None) -> Axes:
     """The paper map's relative error of E0 and E1 against l with the predicted limit
     (-rho - E_inf)/rho and its error band; returns the axes."""
     ax = new_axes(ax)
@@ -98,7 +100,7 @@ def plot_plateau(plateau, ax=None) -> Axes:
     return ax
 
 
-def plot_dictionaries(comparison, ax=None) -> Axes:
+def plot_dictionaries(comparison: DictionaryComparison, ax: Axes | None = None) -> Axes:
     """|relative error| of E0 and E1 with the paper's and the improved map against l (log scale),
     and the improved map's l -> infinity limit; returns the axes."""
     ax = new_axes(ax)
@@ -116,7 +118,7 @@ def plot_dictionaries(comparison, ax=None) -> Axes:
     return ax
 
 
-def limits_figure(band, plateau, comparison, path=None):
+def limits_figure(band: BandBottom, plateau: PlateauAnalysis, comparison: DictionaryComparison, path=None):
     """The four panels side by side (band bottom, the fits' residuals, plateau, dictionaries); saved to
     ``path`` if given. Returns the figure."""
     import matplotlib.pyplot as plt
@@ -129,3 +131,9 @@ def limits_figure(band, plateau, comparison, path=None):
     if path is not None:
         fig.savefig(path)
     return fig
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -11,6 +11,8 @@ from . import new_axes
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
+    from ..graph.flux import Butterfly
+
 __all__ = ["continuum_curves", "butterfly_figure", "error_map"]
 
 
@@ -23,13 +25,15 @@ def continuum_curves(p: int, q: int, rings: int, fluxes, levels: int = 6) -> tup
     """
     from ..continuum.magnetic import magnetic_levels
 
-    f = np.asarray(fluxes, dtype=float)
+    from .. import _validate
+
+    f = _validate.real_array("fluxes", fluxes, ndim=1)
     e = np.array([magnetic_levels(p, q, rings=rings, levels=levels, flux=float(fk)).energies[:levels]
                   for fk in f.tolist()])
     return f, e
 
 
-def butterfly_figure(result, *, continuum: bool = True, max_flux: float = 0.3, points: int = 13,
+def butterfly_figure(result: Butterfly, *, continuum: bool = True, max_flux: float = 0.3, points: int = 13,
                      levels: int = 6, ax=None, path=None) -> Axes:
     """The butterfly (every level against f) with, for a site flake, the ``levels`` lowest continuum
     Dirichlet levels overlaid at ``0 <= f <= max_flux`` (red lines, ``points`` flux values).
@@ -51,12 +55,15 @@ def butterfly_figure(result, *, continuum: bool = True, max_flux: float = 0.3, p
     return ax
 
 
-def error_map(fluxes, ells, rel_error, *, ax=None, title: str = "") -> Axes:
+def error_map(fluxes, ells, rel_error, *, ax: Axes | None = None, title: str = "") -> Axes:
     """log10 of the relative error over the (f, l) plane (``rel_error`` of shape (len(ells), len(fluxes)))."""
+    from .. import _validate
+
+    f = _validate.real_array("fluxes", fluxes, ndim=1)
+    ell = _validate.real_array("ells", ells, ndim=1)
+    err = _validate.real_array("rel_error", rel_error, shape=(ell.size, f.size))
     ax = new_axes(ax)
-    f = np.asarray(fluxes, dtype=float)
-    ell = np.asarray(ells, dtype=float)
-    z = np.log10(np.maximum(np.asarray(rel_error, dtype=float), 1e-17))
+    z = np.log10(np.maximum(err, 1e-17))
     mesh = ax.pcolormesh(f, ell, z, shading="nearest", cmap="viridis")
     ax.figure.colorbar(mesh, ax=ax, label="log10 relative error")
     if np.nanmin(z) < -3 < np.nanmax(z):
@@ -65,3 +72,9 @@ def error_map(fluxes, ells, rel_error, *, ax=None, title: str = "") -> Axes:
     ax.set_ylabel("rings l")
     ax.set_title(title or "graph vs continuum: lowest level")
     return ax
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

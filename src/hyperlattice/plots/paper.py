@@ -31,7 +31,7 @@ def _geodesic_segments(lattice: Lattice, samples: int = 12) -> np.ndarray:
     return np.stack([pts.real, pts.imag], axis=-1)
 
 
-def plot_tessellation(rings: int = 3, background_rings: int = 7, p: int = 7, q: int = 3, ax=None) -> Axes:
+def plot_tessellation(rings: int = 3, background_rings: int = 7, p: int = 7, q: int = 3, ax: Axes | None = None) -> Axes:
     """``Fig1``: the {p,q} tessellation in the Poincaré disk (grey) with the ``rings``-ring graph
     highlighted, sites coloured by ring."""
     ax = _axes(ax)
@@ -53,7 +53,7 @@ def plot_tessellation(rings: int = 3, background_rings: int = 7, p: int = 7, q: 
     return ax
 
 
-def plot_levels(table: list[dict], ax=None, *, lnphi_form: bool = True) -> Axes:
+def plot_levels(table: list[dict], ax: Axes | None = None, *, lnphi_form: bool = True) -> Axes:
     """``Fig2`` main panel: E0 and E1 against the number of rings, graph (filled) and continuum
     (open), with the asymptotic formulas of ``eq19`` as lines.
 
@@ -62,6 +62,10 @@ def plot_levels(table: list[dict], ax=None, *, lnphi_form: bool = True) -> Axes:
     """
     from ..continuum.spectrum import asymptotic_energies
 
+    keys = ("rings", "E0_graph", "E1_graph", "E0_continuum", "E1_continuum")
+    if not isinstance(table, (list, tuple)) or not all(isinstance(r, dict) and all(k in r for k in keys)
+                                                        for r in table):
+        raise ValueError(f"table must be a list of dicts with keys {', '.join(keys)}.")
     ax = _axes(ax, (6.4, 4.6))
     rings = np.array([r["rings"] for r in table])
     for key, color, label in (("E0", "C0", "$E_0$"), ("E1", "C1", "$E_1$")):
@@ -81,8 +85,14 @@ def plot_levels(table: list[dict], ax=None, *, lnphi_form: bool = True) -> Axes:
     return ax
 
 
-def plot_partition(beta: np.ndarray, z_graph: np.ndarray, z_cont: np.ndarray, e0: float, ax=None) -> Axes:
+def plot_partition(beta: np.ndarray, z_graph: np.ndarray, z_cont: np.ndarray, e0: float, ax: Axes | None = None) -> Axes:
     """``Fig2`` inset: ln Z(beta) over negative energies, graph vs disk, and the asymptote -beta E0."""
+    from .. import _validate
+
+    beta = _validate.real_array("beta", beta, ndim=1)
+    z_graph = _validate.real_array("z_graph", z_graph, shape=beta.shape)
+    z_cont = _validate.real_array("z_cont", z_cont, shape=beta.shape)
+    e0 = _validate.real("e0", e0)
     ax = _axes(ax, (3.2, 2.4))
     ax.plot(beta, np.log(z_graph), "-", color="C0", lw=1.6, label="graph")
     ax.plot(beta, np.log(z_cont), "--", color="C3", lw=1.6, label="disk")
@@ -94,7 +104,7 @@ def plot_partition(beta: np.ndarray, z_graph: np.ndarray, z_cont: np.ndarray, e0
     return ax
 
 
-def plot_relative_error(trend: RelativeErrorTrend, ax=None) -> Axes:
+def plot_relative_error(trend: RelativeErrorTrend, ax: Axes | None = None) -> Axes:
     r"""Signed relative error :math:`(E_{\rm graph}-E_{\rm cont})/|E_{\rm graph}|` against l
     (a :class:`~hyperlattice.compare.levels.RelativeErrorTrend`), with its last sign change and,
     when it saturates, the Aitken limit as a dotted line."""
@@ -112,7 +122,7 @@ def plot_relative_error(trend: RelativeErrorTrend, ax=None) -> Axes:
     return ax
 
 
-def plot_level_counting(count: LevelCount, ax=None, *, label: str | None = None, **kwargs) -> Axes:
+def plot_level_counting(count: LevelCount, ax: Axes | None = None, *, label: str | None = None, **kwargs) -> Axes:
     r"""Counting function :math:`\mathcal N(E)` (states up to E) of a
     :class:`~hyperlattice.compare.levels.LevelCount` as a staircase."""
     ax = _axes(ax, (5.2, 3.8))
@@ -126,7 +136,7 @@ def plot_level_counting(count: LevelCount, ax=None, *, label: str | None = None,
     return ax
 
 
-def plot_level_comparison(comparison: LevelComparison, ax=None) -> Axes:
+def plot_level_comparison(comparison: LevelComparison, ax: Axes | None = None) -> Axes:
     """Graph (filled) and continuum (open) levels of a
     :class:`~hyperlattice.compare.levels.LevelComparison` against the level index."""
     ax = _axes(ax, (5.2, 3.8))
@@ -138,3 +148,9 @@ def plot_level_comparison(comparison: LevelComparison, ax=None) -> Axes:
     ax.set_ylabel("energy E / t")
     ax.legend(fontsize=8)
     return ax
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -24,7 +24,7 @@ def _axes(ax, size=(6.0, 4.2)) -> Axes:
     return new_axes(ax, size)
 
 
-def draw_radial_profile(profile: RadialProfile, ax=None, *, label: str = r"mean over sites at equal $r$") -> Axes:
+def draw_radial_profile(profile: RadialProfile, ax: Axes | None = None, *, label: str = r"mean over sites at equal $r$") -> Axes:
     """Mean of a :class:`RadialProfile` against r; red bars span min..max where it is not unique."""
     ax = _axes(ax)
     ax.plot(profile.r, profile.mean, "o", ms=3.5, color="C0", label=label)
@@ -35,7 +35,7 @@ def draw_radial_profile(profile: RadialProfile, ax=None, *, label: str = r"mean 
     return ax
 
 
-def plot_frame_angles(lattice: Lattice | FrameAngles | None = None, ax=None) -> Axes:
+def plot_frame_angles(lattice: Lattice | FrameAngles | None = None, ax: Axes | None = None) -> Axes:
     r"""Fig. FigScos3delta: :math:`\cos(q\delta_i)` against :math:`r_i`, averaged at equal radius.
 
     :math:`\delta_i` is defined modulo :math:`2\pi/q`, so :math:`\cos(q\delta_i)` (the quantity
@@ -57,7 +57,7 @@ def plot_frame_angles(lattice: Lattice | FrameAngles | None = None, ax=None) -> 
     return ax
 
 
-def draw_operator_profile(profile: OperatorProfile, ax=None) -> Axes:
+def draw_operator_profile(profile: OperatorProfile, ax: Axes | None = None) -> Axes:
     r"""Fig. FigSh for one :class:`OperatorProfile`: :math:`\hat A_h f - qf` against :math:`d(r,0)`.
 
     Circles: ``adj34``; squares: cubic approximation (adj36); line: quadratic (adj35),
@@ -93,7 +93,7 @@ def plot_formal_operator(lattice: Lattice | FrameAngles | None = None, h: float 
     return draw_operator_profile(operator_profile(angles, f, h), ax)
 
 
-def plot_convergence(study: ConvergenceStudy, ax=None) -> Axes:
+def plot_convergence(study: ConvergenceStudy, ax: Axes | None = None) -> Axes:
     r"""Errors of the order-k approximations of :math:`\hat A_h` against h (log-log), one line
     per order, each with a dashed line of its expected power through its last point."""
     ax = _axes(ax)
@@ -111,7 +111,7 @@ def plot_convergence(study: ConvergenceStudy, ax=None) -> Axes:
     return ax
 
 
-def plot_counting(lattice: Lattice | CountingFit | None = None, ax=None) -> Axes:
+def plot_counting(lattice: Lattice | CountingFit | None = None, ax: Axes | None = None) -> Axes:
     r"""Fig. FigS1: the counting function :math:`\mathcal{N}(r)` (``sum2``) against
     :math:`\rho` with the fitted line :math:`s\rho + b` (``sum4``). Default {7,3}, 4 rings.
 
@@ -142,3 +142,9 @@ def plot_counting(lattice: Lattice | CountingFit | None = None, ax=None) -> Axes
     ax.tick_params(labelsize=10)
     ax.legend(fontsize=10)
     return ax
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

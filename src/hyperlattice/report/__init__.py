@@ -25,7 +25,7 @@ from typing import Callable
 
 import numpy as np
 
-from .. import __version__
+from .. import __version__, _validate
 from ..cache import Cache
 
 __all__ = ["reproduce"]
@@ -66,8 +66,9 @@ def reproduce(out_dir: str | Path = "reproduction", max_rings: int = 10, *, cach
 
     if isinstance(max_rings, bool) or not isinstance(max_rings, (int, np.integer)) or not 2 <= max_rings <= 14:
         raise ValueError(f"max_rings must be an integer between 2 and 14, got {max_rings!r}.")
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    if cache is not None and not isinstance(cache, Cache):
+        raise ValueError(f"cache must be a Cache (or None for the default one), got {type(cache).__name__}.")
+    out = _validate.directory("out_dir", out_dir)
     cache = cache if cache is not None else Cache()
     progress = progress or (lambda msg: None)
     timings: dict = {}
@@ -101,3 +102,9 @@ def reproduce(out_dir: str | Path = "reproduction", max_rings: int = 10, *, cach
     (out / "timings.json").write_text(json.dumps(timings, indent=1, sort_keys=True))
     return {"out_dir": str(out), "sections": [s.title for s in sections], "records": records,
             "cache_hits": cache.hits, "cache_misses": cache.misses, "seconds": timings["total"]}
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -135,6 +135,15 @@ def delta_scaling(out=None, rings=DELTA_RINGS, omegas=_OMEGAS, bf_rings=BF_RINGS
 
     from ..compare.boundary import delta_curve, lattice_bf_bound
 
+    from .. import _validate
+
+    # everything at the door: the curves take minutes, and a bad ``out`` used to fail only after them
+    rings = _validate.int_list("rings", rings, minimum=1, maximum=14)
+    bf_rings = _validate.int_list("bf_rings", bf_rings, minimum=1, maximum=14)
+    omegas = _validate.real_array("omegas", omegas, ndim=1)
+    p, q = _validate.pq(p, q)
+    if out is not None:
+        out = _validate.directory("out", out)
     say = progress if progress is not None else (lambda s: None)
     curves, secs = [], {}
     for ell in rings:
@@ -180,3 +189,9 @@ def delta_scaling(out=None, rings=DELTA_RINGS, omegas=_OMEGAS, bf_rings=BF_RINGS
         (out / "below-band-delta.json").write_text(json.dumps(data, indent=1, default=float) + "\n",
                                                     encoding="utf-8")
     return data
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -60,3 +60,9 @@ def green_row(cache: Cache, rings: int, omega, source: int, comparison: GreenCom
     key = {"rings": rings, "omega": [omega.real, omega.imag] if isinstance(omega, complex) else omega,
            "source": source}
     return cache.get("green_compare", key, compute)
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

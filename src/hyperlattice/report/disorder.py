@@ -86,3 +86,9 @@ def disorder_section(out: Path, progress: Callable[[str], None]) -> Section:
     ]
     return Section("Beyond the paper: disorder", "abstract (\"disorder ... in the future\"); issue 15",
                    text, [r_table, g_table], figs)
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -73,3 +73,9 @@ def infinite_section(out: Path, progress: Callable[[str], None]) -> Section:
         text.append("Left out: " + " ".join(cmp.notes))
     return Section("Beyond the paper: the infinite lattice", "issue 12 (densities of states, band edges)", text,
                    [conv, edges], figs)
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -234,3 +234,9 @@ def limits_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[
     return Section("Beyond the paper: the band bottom, the plateau explained, an improved dictionary",
                    "AppSpec, AppAdj, adj26, adj32, adj33, eq12, spec2", text, [t_band, t_fit, t_terms, t_dict],
                    [figure])
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

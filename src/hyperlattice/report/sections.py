@@ -365,3 +365,9 @@ def magnetic_section(out: Path, progress: Callable[[str], None]) -> Section:
             "of f flux quanta per p-gon, f > 0 counterclockwise. " + cmp.statement()]
     return Section("Beyond the paper: magnetic flux", "issue 11 (Hofstadter butterfly, hyperbolic Landau levels)",
                    text, [table], figs)
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

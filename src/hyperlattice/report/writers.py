@@ -13,10 +13,13 @@ import html
 import io
 import json
 import math
+import numbers
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+
+from .. import _validate
 
 __all__ = ["Table", "Figure", "Section", "fmt", "save_figure", "write_md", "write_html"]
 
@@ -68,11 +71,14 @@ def fmt(x, digits: int = 12) -> str:
         return str(int(x))
     if x is None or (isinstance(x, float) and math.isnan(x)):
         return ""
+    if not isinstance(x, numbers.Real):
+        raise ValueError(f"a table cell must be a number, a string or None, got {type(x).__name__}.")
     return f"{x:.{digits}f}"
 
 
-def save_figure(fig, out: Path, name: str, caption: str) -> Figure:
+def save_figure(fig: matplotlib.figure.Figure, out: Path, name: str, caption: str) -> Figure:
     """Write ``fig`` as ``fig_<name>.png`` and ``.svg`` without timestamps, close it, return the Figure."""
+    out = _validate.directory("out", out, create=False)
     import matplotlib.pyplot as plt
 
     buf = io.BytesIO()
@@ -94,6 +100,7 @@ def _md_table(t: Table) -> list[str]:
 
 def write_md(sections: list[Section], header: list[str], out: Path) -> None:
     """Write ``report.md`` (figures linked as ``fig_*.png``)."""
+    out = _validate.directory("out", out, create=False)
     lines = list(header)
     for s in sections:
         lines += [f"## {s.title}", "", f"Reproduces: {s.labels}", ""]
@@ -108,6 +115,7 @@ def write_md(sections: list[Section], header: list[str], out: Path) -> None:
 
 def write_html(sections: list[Section], header: list[str], out: Path) -> None:
     """Write ``report.html``, self-contained: figures embedded as base64 PNG, no external references."""
+    out = _validate.directory("out", out, create=False)
     e = html.escape
     parts = ["<!DOCTYPE html>", '<html lang="en">', "<head>", '<meta charset="utf-8">',
              "<title>hyperlattice: reproduction of Boettcher et al., PRA 102, 032208</title>",
@@ -143,3 +151,9 @@ def write_html(sections: list[Section], header: list[str], out: Path) -> None:
                          f"<figcaption>{e(f.caption)}</figcaption></figure>")
     parts += ["</body>", "</html>", ""]
     (out / "report.html").write_text("\n".join(parts))
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -80,7 +80,14 @@ def _canonical(value):
 
 def task_key(task: str, params: dict) -> str:
     """``<task>-<sha256 of the sorted parameters, 24 hex digits>``: equal tasks, equal keys."""
-    text = json.dumps({"task": task, "params": params}, sort_keys=True, separators=(",", ":"))
+    if not isinstance(task, str):
+        raise ValueError(f"task must be a task name (a string), got {type(task).__name__}.")
+    if not isinstance(params, dict) or not all(isinstance(k, str) for k in params):
+        raise ValueError("params must be a dict from parameter names (strings) to values.")
+    try:
+        text = json.dumps({"task": task, "params": params}, sort_keys=True, separators=(",", ":"))
+    except (TypeError, ValueError) as exc:  # a complex number, an object: not a table value
+        raise ValueError(f"task parameters must be numbers, strings, True/False or lists of them ({exc}).") from None
     return f"{task}-{hashlib.sha256(text.encode()).hexdigest()[:24]}"
 
 
@@ -369,3 +376,9 @@ def run_sweep(task: str, grid: dict, path, *, scheduler=None, workers: int | Non
     return SweepReport(path=str(store.path), table=str(table), task=spec.name, scheduler=label,
                        total=len(points), skipped=len(keys_all) - len(todo), completed=completed,
                        failed=failures, seconds=time.perf_counter() - t0)
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

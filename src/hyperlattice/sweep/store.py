@@ -271,3 +271,9 @@ def read_table(path) -> SweepTable:
     rows = store._read_parts()
     return SweepTable(columns=_columns(rows), metadata=store._manifest())
 
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -174,5 +174,20 @@ def get_task(name) -> Task:
 
 def execute(name: str, params: dict) -> dict:
     """Run task ``name`` on ``params`` on one BLAS thread (this is what a worker calls)."""
+    import inspect
+
+    task = get_task(name)
+    if not isinstance(params, dict):
+        raise ValueError(f"params must be a dict of the task's parameters, got {type(params).__name__}.")
+    try:
+        inspect.signature(task.run).bind(**params)
+    except TypeError as exc:
+        raise ValueError(f"params do not fit task {name!r}: {exc}.") from None
     with blas_one_thread():
-        return TASKS[name].run(**params)
+        return task.run(**params)
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

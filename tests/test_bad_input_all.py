@@ -1,0 +1,116 @@
+"""Every public function of every module, probed with bad values (issue 19, item 4).
+
+:func:`badinput.public_functions` walks the package, so a new public function is probed the day
+it is written. Each parameter is replaced in turn by each value of :data:`badinput.PROBES`
+(None, True, a complex number, NaN, inf, 10**140, -1, a string, a ragged list, an object): the
+call must either work or raise a ``ValueError`` (the package's errors are ValueError or
+``HyperlatticeError`` subclasses; ``MemoryError`` for a refused size) with a one-line sentence,
+never AttributeError, TypeError, OverflowError, ZeroDivisionError, RecursionError, ...
+
+The other arguments come from a working call: the topic files' ``CASES`` where they list the
+function, else :data:`GOOD` below by parameter name, else :data:`CALLS` for a function whose
+working call needs something specific. Sizes are kept small so that a bad value that is
+legitimately accepted (10**140 as a ``max_sites`` cap, say) still runs in milliseconds.
+"""
+
+from __future__ import annotations
+
+import inspect
+
+import numpy as np
+import pytest
+
+from badinput import probe, public_functions
+
+pytestmark = pytest.mark.filterwarnings("ignore")
+
+
+def _lat():
+    from hyperlattice.graph.lattice import ring_lattice
+
+    return ring_lattice(7, 3, 2)
+
+
+LAT = _lat()
+
+#: a working value for a required parameter, by its name
+GOOD = {
+    "B": 10.0, "U": 2.0, "U_prime": 2.0, "a": 0.2j, "angle": 0.3, "b": 0.1 + 0.1j, "beta": 1.0, "center": 0.1,
+    "d": 0.3, "delta": 1.5, "e0": -2.9, "energies": [-2.9, -2.8], "energy": -2.9, "eps": 0.1, "flux": 0.1,
+    "fluxes": [0.0, 0.1], "g": 0.1, "genus": 2, "h": 0.1, "k": 1.0, "kappa": 5.0, "lam": 0.5, "lattice": LAT,
+    "graph": LAT, "system": LAT, "m": 1, "m2": 0.5, "mu": 0.5, "mu_prime": 0.5, "n": 2, "n_max": 6, "nu": 0.5,
+    "omega": -2.95, "omega_q": -3.2, "omegas": [-3.2], "omegas_q": [-3.2], "p": 7, "q": 3, "r": 0.5,
+    "radius": 0.9, "rings": 2, "ring": 1, "site": 0, "sites": [0, 5], "source": 1, "strength": 1.0,
+    "strengths": [1.0], "t": 1.0, "t_prime": 1.0, "theta": 1.0, "variance": 0.01, "x": 2.0, "z": 0.1,
+    "zp": 0.2j, "z1": 0.1, "z2": 0.2j, "w": 0.1, "text": "x y X", "task": "probe", "grid": {"x": [1.0]},
+    "params": {"x": 1.0}, "walks": [1, 0, 3, 0, 15], "moments": 8, "quantile": 0.5, "scale": 3.0,
+    "theta_min": 0.1, "values": np.ones(LAT.sites), "dist": np.linspace(0, 1, LAT.sites), "u": 0.5,
+    "key": "fig2", "printed": "1.5", "model": "box", "seed": 0, "realization": 0, "max_rings": 2,
+    "n_generators": 2, "relators": ["x^2", "y^3", "(x y)^3"], "generators": [[1, 0, 2], [1, 2, 0]],
+    "vectors": [[1.0, 0.0], [0.0, 1.0]], "integrated": [0.0, 1.0], "mirror": "real", "order": 2,
+    # report and plot building blocks: a result object they need is left as None (refused: the
+    # probes then check that nothing crashes, the topic tests check the working calls)
+    # progress=None is refused before the call (a required callback): the report sections take
+    # seconds to minutes, and a probe must not run one to its end
+    "progress": None, "out": "out", "out_dir": "out", "timings": {}, "records": [],
+    "trends": [], "sections": [], "header": [], "name": "x", "caption": "a caption", "func": None,
+    "flag": "--out", "obj": 1.0,
+}
+
+#: working calls that must stay cheap (small sizes), by qualified name, and probes they skip
+#: because the bad value is a legitimate one there (a string is a path)
+CALLS = {
+    "hyperlattice.sweep.engine.run_sweep": (
+        dict(task="probe", grid={"x": [1.0]}, path="sw", scheduler="serial", retries=0, progress=False),
+        {("path", "str")}),
+    "hyperlattice.report.reproduce": (dict(out_dir="out", max_rings=2), {("out_dir", "str")}),
+    "hyperlattice.report.below_band.delta_scaling": (
+        dict(out=None, rings=[2], omegas=[-3.2], bf_rings=[3]), {("out", "str")}),
+    "hyperlattice.compare.magnetic.magnetic_comparison": (dict(p=7, q=3, rings=[2], fluxes=[0.1], levels=1), set()),
+    "hyperlattice.cli.main": (dict(argv=["geometry"]), {("argv", "none")}),  # None: the process's own argv
+}
+
+
+def _collect_cases():
+    """The working calls the topic files already list: {function: kwargs}."""
+    import importlib
+
+    calls = {}
+    for name in ["test_bad_input", "test_bad_input_below_band", "test_bad_input_bigflakes",
+                 "test_bad_input_clusters", "test_bad_input_disorder", "test_bad_input_dos",
+                 "test_bad_input_limits"]:
+        for _, func, good, _ in importlib.import_module(name).CASES:
+            calls.setdefault(inspect.unwrap(func), good)
+    return calls
+
+
+CASES = _collect_cases()
+FUNCTIONS = public_functions()
+
+
+def good_call(func) -> dict:
+    target = inspect.unwrap(func)
+    qual = f"{target.__module__}.{target.__qualname__}"
+    if qual in CALLS:
+        return dict(CALLS[qual][0])
+    if target in CASES:
+        return dict(CASES[target])
+    good = {}
+    for par in inspect.signature(func).parameters.values():
+        if par.default is par.empty and par.kind not in (par.VAR_POSITIONAL, par.VAR_KEYWORD):
+            good[par.name] = GOOD.get(par.name)
+    return good
+
+
+@pytest.mark.parametrize("name", list(FUNCTIONS))
+def test_public_function_refuses_bad_values_with_a_sentence(name, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setenv("HYPERLATTICE_CACHE", str(tmp_path / "cache"))
+    func = FUNCTIONS[name]
+    skip = CALLS.get(name, ({}, set()))[1]
+    failures = probe(func, good_call(func), skip=skip)
+    import sys
+
+    if "matplotlib.pyplot" in sys.modules:  # the plot probes that work leave figures open
+        sys.modules["matplotlib.pyplot"].close("all")
+    assert not failures, f"{name}:\n  " + "\n  ".join(failures)
