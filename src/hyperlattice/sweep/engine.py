@@ -41,7 +41,58 @@ from .tasks import execute, get_task
 
 __all__ = ["run_sweep", "SweepReport", "expand_grid", "task_key", "have_dask"]
 
-MAX_TASKS = 10_000_000
+#: Documented maximum of tasks per sweep (split a bigger study into several sweeps into one
+#: directory: the grids merge). A sweep holds every point's parameters, key and (on Dask) future
+#: in the driver at once; ten million of them ended in std::bad_alloc.
+MAX_TASKS = 1_000_000
+#: Driver memory per task, with margin: 440 B for the expanded point and its key (tracemalloc,
+#: 200,000 probe points), plus its row on consolidation and, on Dask, its future and the
+#: scheduler's task state (a few kB).
+_BYTES_PER_TASK = 8192
+
+
+def _memory_budget() -> int:
+    """Bytes this process may still allocate: the machine's available memory, and RLIMIT_AS if set."""
+    avail = None
+    try:
+        with open("/proc/meminfo") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    avail = int(line.split()[1]) * 1024
+                    break
+    except (OSError, ValueError):
+        pass
+    if avail is None:
+        try:
+            avail = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_AVPHYS_PAGES")
+        except (ValueError, OSError, AttributeError):
+            avail = 8 * 1024**3
+    try:
+        import resource
+
+        soft, _ = resource.getrlimit(resource.RLIMIT_AS)
+        if soft != resource.RLIM_INFINITY:
+            with open("/proc/self/statm") as fh:
+                used = int(fh.read().split()[0]) * os.sysconf("SC_PAGE_SIZE")
+            avail = min(avail, max(0, soft - used))
+    except (ImportError, OSError, ValueError, AttributeError):
+        pass
+    return int(avail)
+
+
+def max_tasks() -> int:
+    """The most tasks one sweep may have here: :data:`MAX_TASKS`, or fewer if memory is short."""
+    return int(max(1, min(MAX_TASKS, _memory_budget() // _BYTES_PER_TASK)))
+
+
+def check_grid_size(total: int) -> None:
+    """Refuse a grid of ``total`` points before anything is expanded (ValueError with the limit)."""
+    limit = max_tasks()
+    if total > limit:
+        why = "per sweep" if limit == MAX_TASKS else \
+            f"for the {_memory_budget() / 2**30:.1f} GiB of memory available ({_BYTES_PER_TASK:,} bytes per task)"
+        raise ValueError(f"the grid has {total:,} tasks; at most {limit:,} {why} "
+                         "(split it into several sweeps into the same directory).")
 _SCALAR = (int, float, str, bool, type(None))
 
 
@@ -84,6 +135,18 @@ def task_key(task: str, params: dict) -> str:
     return f"{task}-{hashlib.sha256(text.encode()).hexdigest()[:24]}"
 
 
+def _grid_keys(task: str, grid: dict):
+    """The keys of ``grid``'s points in grid order (no checks: the grid was checked when it ran)."""
+    spec = get_task(task)
+    names = [n for n in grid if n in spec.defaults]
+    values = [[_canonical(v) for v in (grid[n] if isinstance(grid[n], (list, tuple)) else [grid[n]])]
+              for n in names]
+    for combo in itertools.product(*values):
+        params = dict(spec.defaults)
+        params.update(zip(names, combo))
+        yield task_key(task, {k: _canonical(v) for k, v in params.items()})
+
+
 def expand_grid(task: str, grid: dict) -> list[dict]:
     """The Cartesian product of ``grid`` (name -> list of values, or one value), over the task's defaults.
 
@@ -104,9 +167,7 @@ def expand_grid(task: str, grid: dict) -> list[dict]:
             raise ValueError(f"the grid gives no values for {name!r}.")
         names.append(name)
         values.append([_canonical(v) for v in vals])
-    total = math.prod(len(v) for v in values)
-    if total > MAX_TASKS:
-        raise ValueError(f"the grid has {total:,} tasks; at most {MAX_TASKS:,} per sweep.")
+    check_grid_size(math.prod(len(v) for v in values))
     out, seen = [], set()
     for combo in itertools.product(*values):
         params = dict(defaults)
@@ -321,9 +382,9 @@ def run_sweep(task: str, grid: dict, path, *, scheduler=None, workers: int | Non
         _check_address(scheduler)
     points = expand_grid(spec.name, grid)
     store = SweepStore(path)
-    meta = store.open(spec.name, {k: (v if isinstance(v, (list, tuple)) else [v]) for k, v in grid.items()})
+    meta = store.open(spec.name, {k: [_canonical(x) for x in (v if isinstance(v, (list, tuple)) else [v])]
+                                  for k, v in grid.items()})
     keys_all = [task_key(spec.name, p) for p in points]
-    index = {k: i for i, k in enumerate(keys_all)}
     done = store.done()
     todo = [(p, k) for p, k in zip(points, keys_all) if k not in done]
     part_meta = {"version": __version__, "task": spec.name, "parameters": meta["parameters"]}
@@ -336,11 +397,15 @@ def run_sweep(task: str, grid: dict, path, *, scheduler=None, workers: int | Non
         buffer.clear()
         last_flush[0] = time.monotonic()
 
+    written = [0]
+
     def write(key, params, outputs):
-        row = {"key": key, "index": index[key], **params}
+        # keyed by the parameters only; the grid position ("index") is the merged grid's, given on reading
+        row = {"key": key, **params}
         for name, value in outputs.items():
-            row[name if name not in row else f"out_{name}"] = value
+            row[name if name not in row and name != "index" else f"out_{name}"] = value
         buffer.append(row)
+        written[0] += 1
         if len(buffer) >= flush_rows or time.monotonic() - last_flush[0] >= flush_seconds:
             flush()
 
@@ -363,9 +428,9 @@ def run_sweep(task: str, grid: dict, path, *, scheduler=None, workers: int | Non
         flush()             # whatever finished is kept, also on KeyboardInterrupt
         if bar is not None:
             bar.close()
-        store.write_failures(failures)
+        store.write_failures(failures, tried={k for _, k in todo})
         table = store.consolidate()
-    completed = len(store.done() & set(keys_all)) - (len(keys_all) - len(todo))
+    completed = written[0]
     return SweepReport(path=str(store.path), table=str(table), task=spec.name, scheduler=label,
                        total=len(points), skipped=len(keys_all) - len(todo), completed=completed,
                        failed=failures, seconds=time.perf_counter() - t0)
