@@ -77,3 +77,16 @@ def test_cli_clear_cache_keeps_user_files(how, tmp_path, monkeypatch, capsys):
     assert set(before) <= set(left)
     assert (user / "thesis" / "c.tex").read_text() == "x"
     assert (user / __version__ / "plot.png").exists()
+
+
+@pytest.mark.parametrize("second", ["same", "dot-path", "symlink"])
+def test_qubits_refuses_one_file_for_out_and_edges(second, tmp_path, capsys):
+    f = tmp_path / "f.csv"
+    f.write_text("mine\n")
+    other = {"same": f, "dot-path": tmp_path / "." / "f.csv", "symlink": tmp_path / "g.csv"}[second]
+    if second == "symlink":
+        other.symlink_to(f)
+    assert main(["qubits", "--rings", "4", "--qubit-sites", "0,10", "--out", str(f), "--edges", str(other)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "same file" in err
+    assert f.read_text() == "mine\n"            # refused before anything was written
