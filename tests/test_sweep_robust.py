@@ -175,3 +175,78 @@ def test_cli_bad_config_one_sentence(config, match, tmp_path, capsys):
         cfg.write_text(json.dumps({**config, "out": str(tmp_path / "D"), "scheduler": "serial"}))
     assert main(["sweep", str(cfg)]) == 2
     assert __import__("re").search(match, _err_line(capsys))
+
+
+# -- schedulers: one line each, bounded in time (loopback addresses only) ------------------------
+
+def _free_port() -> int:
+    import socket
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture
+def http_server():
+    """``python -m http.server`` on a loopback port: something listens there, but not Dask."""
+    import socket
+    import time
+
+    port = _free_port()
+    proc = subprocess.Popen([sys.executable, "-m", "http.server", str(port), "--bind", "127.0.0.1"],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        deadline = time.monotonic() + 10
+        while True:
+            try:
+                socket.create_connection(("127.0.0.1", port), timeout=0.5).close()
+                break
+            except OSError:
+                if time.monotonic() > deadline or proc.poll() is not None:
+                    pytest.fail("the test's http.server did not start")
+                time.sleep(0.05)
+        yield f"tcp://127.0.0.1:{port}"
+    finally:
+        proc.kill()
+        proc.wait(timeout=10)
+
+
+def _sweep_seconds(capsys, tmp_path, *extra):
+    import time
+
+    pytest.importorskip("distributed")
+    t0 = time.monotonic()
+    code = main(["sweep", "--task", "probe", "--grid", "x=1,2", "--out", str(tmp_path / "D"), "--no-progress",
+                 *extra])
+    return code, time.monotonic() - t0, _err_line(capsys)
+
+
+def test_a_port_that_does_not_speak_dask_respects_timeout(http_server, tmp_path, capsys):
+    # it hung past 200 s whatever --timeout said
+    code, seconds, err = _sweep_seconds(capsys, tmp_path, "--scheduler", http_server, "--timeout", "1.5")
+    assert code == 2 and "did not answer as a Dask scheduler within 1.5 s" in err
+    assert seconds < 10
+
+
+@pytest.mark.parametrize("address, match", [
+    ("tcp://127.0.0.1:1", "cannot reach the Dask scheduler"),     # nothing listens: refused at once (was 30.8 s)
+    ("tls://127.0.0.1:1", "TLS needs certificates"),               # was TypeError
+    ("inproc://x", "no Dask scheduler inproc://x runs in this process"),   # was "not enough values to unpack"
+])
+def test_bad_scheduler_addresses_one_sentence(address, match, tmp_path, capsys):
+    code, seconds, err = _sweep_seconds(capsys, tmp_path, "--scheduler", address, "--timeout", "5")
+    assert code == 2 and match in err
+    assert seconds < 10
+
+
+def test_more_workers_than_cores_are_capped_with_one_warning(tmp_path, capsys, monkeypatch):
+    monkeypatch.setattr(os, "cpu_count", lambda: 2)
+    with pytest.warns(UserWarning, match="64 workers requested on a machine with 2 cores; using 2"):
+        assert engine._local_workers(64) == 2
+    assert engine._local_workers(None) == 2 and engine._local_workers(1) == 1
+    # through the CLI (threads: the cap, not process start-up, is under test): one warning line only
+    code = main(["sweep", "--task", "probe", "--grid", "x=1,2", "--out", str(tmp_path / "D"), "--no-progress",
+                 "--scheduler", "threads", "--workers", "64", "--timeout", "60"])
+    err = capsys.readouterr().err
+    assert code == 0 and err.count("\n") == 1 and "using 2" in err and "Traceback" not in err

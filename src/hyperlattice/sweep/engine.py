@@ -249,29 +249,150 @@ def _run_serial(task, todo, keys, write, retries, failures, bar, on_row, deadlin
             bar.update(1)
 
 
-def _client_for(scheduler, workers: int | None):
-    """(client, cluster or None, label) for the scheduler argument; the caller closes what it got."""
+#: Seconds to reach a scheduler at an address (distributed's own default is 30 s, each retry
+#: included); a smaller sweep ``timeout`` bounds it further.
+CONNECT_TIMEOUT = 10.0
+
+
+def _split_tcp(address: str) -> tuple[str, int] | None:
+    """(host, port) of a tcp:// or bare host:port address, else None."""
+    rest = address[len("tcp://"):] if address.startswith("tcp://") else address
+    if "://" in rest:
+        return None
+    host, sep, port = rest.rpartition(":")
+    if not sep or not port.isdigit():
+        return None
+    return host.strip("[]") or "127.0.0.1", int(port)
+
+
+def _probe_tcp(address: str, wait: float) -> None:
+    """Refuse, within ``wait`` seconds, a tcp address where no Dask scheduler answers.
+
+    A Dask server speaks first: on accepting a connection it sends its handshake, a frame whose
+    first 8 bytes are the little-endian byte count of what follows (``distributed.comm.tcp``).
+    distributed's own handshake read has no time limit, so a port where something else listens
+    (an HTTP server waits for a request) would hang the client for minutes; this probe waits at
+    most ``wait`` seconds for those 8 bytes and checks that they are plausible.
+    """
+    import socket
+    import struct
+
+    hp = _split_tcp(address)
+    if hp is None:
+        return
+    deadline = time.monotonic() + wait
+    try:
+        with socket.create_connection(hp, timeout=max(0.1, wait)) as sock:
+            head = b""
+            while len(head) < 8:
+                left = deadline - time.monotonic()
+                if left <= 0:
+                    raise socket.timeout
+                sock.settimeout(left)
+                chunk = sock.recv(8 - len(head))
+                if not chunk:
+                    raise HyperlatticeError(f"something listens at {address} but closed the connection without "
+                                            "answering as a Dask scheduler.")
+                head += chunk
+    except HyperlatticeError:
+        raise
+    except socket.timeout:
+        raise HyperlatticeError(f"something listens at {address} but did not answer as a Dask scheduler "
+                                f"within {wait:g} s.") from None
+    except OSError as exc:
+        raise HyperlatticeError(f"cannot reach the Dask scheduler at {address}: "
+                                f"{exc.strerror or type(exc).__name__}.") from None
+    (nbytes,) = struct.unpack("<Q", head)
+    if not 0 < nbytes < 2**24:      # a handshake is a few hundred bytes
+        raise HyperlatticeError(f"something listens at {address} but does not speak Dask's protocol.")
+
+
+def _quiet_distributed():
+    """distributed's loggers at CRITICAL while a sweep runs: its own retries, worker restarts and
+    closed comms are reported by the sweep (failures, one-line errors), not as tracebacks on stderr."""
+    import contextlib
+    import logging
+
+    @contextlib.contextmanager
+    def quiet():
+        names = ("distributed", "distributed.nanny", "distributed.scheduler", "distributed.worker",
+                 "distributed.core", "distributed.comm", "distributed.client", "tornado", "asyncio")
+        saved = [(logging.getLogger(n), logging.getLogger(n).level) for n in names]
+        for lg, _ in saved:
+            lg.setLevel(logging.CRITICAL)
+        try:
+            yield
+        finally:
+            for lg, level in saved:
+                lg.setLevel(level)
+
+    return quiet()
+
+
+def _local_workers(workers: int | None) -> int:
+    """Workers of a local cluster: one per core by default; more than the cores are capped, with a warning."""
+    import warnings
+
+    cores = max(1, os.cpu_count() or 1)
+    if workers is None:
+        return cores
+    if workers > cores:
+        # each worker is a single-threaded process (or thread): more of them than cores only
+        # compete for the same cores, and dozens of nannies on a small machine time out
+        warnings.warn(f"{workers} workers requested on a machine with {cores} cores; using {cores}.",
+                      UserWarning, stacklevel=4)
+        return cores
+    return workers
+
+
+def _client_for(scheduler, workers: int | None, timeout: float | None = None):
+    """(client, cluster or None, label, own) for the scheduler argument; the caller closes what it got."""
+    import logging
+
+    import dask
     from distributed import Client, LocalCluster
 
     if isinstance(scheduler, Client):
         return scheduler, None, f"client {scheduler.scheduler.address}", False
     if scheduler in (None, "local", "threads"):
-        n = workers or max(1, os.cpu_count() or 1)
+        n = _local_workers(workers)
         processes = scheduler != "threads"
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=processes, dashboard_address=None)
-        client = Client(cluster)
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=processes, dashboard_address=None,
+                               silence_logs=logging.CRITICAL)
+        try:
+            client = Client(cluster)
+        except BaseException:
+            cluster.close()
+            raise
         return client, cluster, f"local ({n} {'processes' if processes else 'threads'})", True
+    wait = CONNECT_TIMEOUT if timeout is None else min(CONNECT_TIMEOUT, timeout)
+    _probe_tcp(scheduler, wait)
     try:
-        client = Client(scheduler, timeout=30)
+        with dask.config.set({"distributed.comm.timeouts.connect": f"{wait}s"}):
+            client = Client(scheduler, timeout=wait)
     except (OSError, TimeoutError) as exc:
-        raise HyperlatticeError(f"cannot reach the Dask scheduler at {scheduler}: {_error_text(exc)}") from None
+        raise HyperlatticeError(f"cannot reach the Dask scheduler at {scheduler} within {wait:g} s "
+                                f"({_error_text(exc)}).") from None
+    except TypeError as exc:
+        if str(scheduler).startswith(("tls://", "wss://")):
+            raise HyperlatticeError(f"cannot connect to the Dask scheduler at {scheduler}: TLS needs certificates "
+                                    "in the dask configuration (distributed.comm.tls) or a distributed.Client "
+                                    "made with a Security object.") from None
+        raise HyperlatticeError(f"cannot connect to the Dask scheduler at {scheduler}: {_error_text(exc)}."
+                                ) from None
+    except Exception as exc:        # any other backend error, in one sentence
+        if str(scheduler).startswith("inproc://"):
+            raise HyperlatticeError(f"no Dask scheduler {scheduler} runs in this process (an inproc:// address "
+                                    "is only valid inside the process that started it).") from None
+        raise HyperlatticeError(f"cannot connect to the Dask scheduler at {scheduler}: {_error_text(exc)}."
+                                ) from None
     return client, None, str(scheduler), True
 
 
 def _run_dask(task, todo, keys, write, retries, failures, bar, on_row, scheduler, workers, timeout):
     from distributed import as_completed
 
-    client, cluster, label, own = _client_for(scheduler, workers)
+    client, cluster, label, own = _client_for(scheduler, workers, timeout)
     futures = {}
     try:
         for params, key in zip(todo, keys):
@@ -420,8 +541,9 @@ def run_sweep(task: str, grid: dict, path, *, scheduler=None, workers: int | Non
                 deadline = None if timeout is None else time.monotonic() + timeout
                 _run_serial(spec.name, ps, ks, write, retries, failures, bar, on_row, deadline)
             else:
-                label = _run_dask(spec.name, ps, ks, write, retries, failures, bar, on_row, scheduler, workers,
-                                  timeout)
+                with _quiet_distributed():
+                    label = _run_dask(spec.name, ps, ks, write, retries, failures, bar, on_row, scheduler,
+                                      workers, timeout)
         elif not serial:
             label = "nothing to do"
     finally:
