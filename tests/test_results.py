@@ -101,6 +101,11 @@ def _factories():
         "Lattice": lambda: ring_lattice(7, 3, 2),
         "tests.LineGraph": lambda: line_graph(ring_lattice(7, 3, 2)),
         "Spectrum": spectrum,
+        # Levels are checked when read back (integer n, ascending energies): real data, not samples
+        "ContinuumSpectrum": lambda: __import__("hyperlattice.continuum.spectrum", fromlist=["x"]).continuum_levels(
+            7, 3, rings=3, levels=3),
+        "MagneticSpectrum": lambda: __import__("hyperlattice.continuum.magnetic", fromlist=["x"]).magnetic_levels(
+            7, 3, rings=3, levels=2, flux=0.1),
         "GreenComparison": green,
         "TilingConstants": tiling,
         "ContinuumParameters": lambda: continuum_parameters(1.0, 0.5, 2.0),

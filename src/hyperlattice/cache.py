@@ -2,7 +2,7 @@
 
 Entries are keyed on a name, the inputs and the package version, so a new version never
 reads an old result. The directory is ``$HYPERLATTICE_CACHE`` or ``~/.cache/hyperlattice``
-(``$XDG_CACHE_HOME/hyperlattice``); it can be deleted at any time
+(``$XDG_CACHE_HOME/hyperlattice``); its entries can be deleted at any time
 (``hyperlattice reproduce --clear-cache``).
 
 An entry is one JSON file, ``<dir>/<version>/<name>-<digest>.json``::
@@ -22,6 +22,13 @@ temporary file in the same directory (:func:`tempfile.mkstemp`) that replaces th
 and never collide on a temporary name; the last writer wins. A failure to *store* (disk full,
 permissions changed) only warns: the value was computed and is returned.
 
+Only what the package wrote is ever deleted. The cache directory may be shared with the user's
+own files (``--cache-dir ~/thesis``, or the same directory as ``--out``): :meth:`Cache.clear`
+removes only entry files (``<name>-<24 hex digits>.json`` whose content starts with this
+module's schema) and the package's own temporary files inside version subdirectories marked by
+``.hyperlattice-cache``, then the marker and the subdirectory if it is left empty. Anything else
+there -- a user's ``thesis/c.tex``, a file renamed by hand -- stays.
+
 Why hand-written and not ``diskcache`` (the obvious library): the entries stay plain JSON files a
 person can open, diff and delete one by one (the reproduction's numbers can be traced to them);
 ``diskcache`` keeps values in SQLite, pickled by default (unpickling a shared cache directory runs
@@ -35,6 +42,7 @@ import contextlib
 import hashlib
 import json
 import os
+import re
 import shutil
 import tempfile
 import warnings
@@ -48,6 +56,10 @@ __all__ = ["Cache", "CacheWarning", "default_cache_dir"]
 
 #: Written into every entry; an entry with another schema is recomputed.
 SCHEMA = "hyperlattice-cache/1"
+#: Marks a version subdirectory as written by this module (clear() looks only into marked ones).
+MARKER = ".hyperlattice-cache"
+_ENTRY = re.compile(r"^[A-Za-z0-9_-]+-[0-9a-f]{24}\.json$")
+_TEMP = re.compile(r"^\.[A-Za-z0-9_-]+-[0-9a-f]{24}\..+\.tmp$")
 
 
 class CacheWarning(UserWarning):
@@ -189,6 +201,10 @@ class Cache:
         tmp = None
         try:
             path.parent.mkdir(parents=True, exist_ok=True)
+            marker = path.parent / MARKER
+            if not marker.exists():
+                marker.write_text("hyperlattice cache entries (hyperlattice reproduce --clear-cache deletes "
+                                  "only files named <name>-<digest>.json holding a cache entry)\n")
             if path.is_dir() and not path.is_symlink():
                 shutil.rmtree(path)  # os.replace cannot put a file over a directory
             fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=".tmp")
@@ -255,19 +271,51 @@ class Cache:
         if self.enabled:
             self._write(self._path(name, inputs), name, inputs, value)
 
-    def clear(self) -> None:
-        """Delete the whole cache directory.
+    def clear(self) -> int:
+        """Delete the cache entries this package wrote, and nothing else; return how many.
+
+        Only version subdirectories marked by ``.hyperlattice-cache`` are looked into, and in
+        them only entry files (``<name>-<digest>.json`` starting with the schema), the package's
+        temporary files and the marker are removed; the subdirectory goes when nothing else is
+        left in it. Other files and directories, also the user's own in the same directory,
+        are never touched.
 
         Raises
         ------
         ValueError
-            If it cannot be deleted.
+            If an entry cannot be deleted.
         """
-        if self.directory.exists():
-            try:
-                shutil.rmtree(self.directory)
-            except OSError as exc:
-                raise ValueError(f"cannot clear the cache {str(self.directory)!r}: {exc.strerror or exc}.") from None
+        removed = 0
+        if not self.directory.is_dir():
+            return 0
+        head = '{"schema": "%s"' % SCHEMA
+        for sub in sorted(self.directory.iterdir()):
+            if sub.is_symlink() or not sub.is_dir() or not (sub / MARKER).is_file():
+                continue
+            for f in sorted(sub.iterdir()):
+                if f.is_symlink() or not f.is_file():
+                    continue
+                ours = bool(_TEMP.match(f.name))
+                if not ours and _ENTRY.match(f.name):
+                    try:
+                        with open(f, encoding="utf-8", errors="replace") as fh:
+                            ours = fh.read(len(head)) == head
+                    except OSError:
+                        ours = False
+                if ours:
+                    try:
+                        f.unlink()
+                    except FileNotFoundError:
+                        continue
+                    except OSError as exc:
+                        raise ValueError(f"cannot clear the cache entry {str(f)!r}: "
+                                         f"{exc.strerror or exc}.") from None
+                    removed += 1
+            # the marker is ours too; the subdirectory goes only when nothing else is in it
+            with contextlib.suppress(OSError):
+                (sub / MARKER).unlink()
+                sub.rmdir()
+        return removed
 
 
 # every public function above checks its annotated argument types at the door (issue 19)

@@ -40,6 +40,7 @@ This module imports only numpy (matplotlib only inside ``plot``): every layer ma
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 import json
 import math
 import typing
@@ -236,6 +237,32 @@ def _decode(obj):
     return {k: _decode(v) for k, v in obj.items()}
 
 
+def _digest(meta: dict, arrays: dict | None = None) -> str:
+    """sha256 of a stored result: the canonical JSON of ``meta`` (without its ``"sha256"``) and,
+    for ``.npz`` files, each array's name, dtype, shape and bytes in name order."""
+    h = hashlib.sha256()
+    body = {k: v for k, v in meta.items() if k != "sha256"}
+    h.update(json.dumps(body, sort_keys=True, separators=(",", ":"), allow_nan=False).encode())
+    for name in sorted(arrays or {}):
+        a = np.ascontiguousarray(arrays[name])
+        h.update(f"\0{name}\0{a.dtype.str}\0{a.shape}\0".encode())
+        h.update(a.tobytes())
+    return h.hexdigest()
+
+
+def _verify_digest(where: str, meta: dict, arrays: dict | None = None) -> None:
+    """Pop ``meta["sha256"]`` and check it (files without one, e.g. hand-written, are not checked)."""
+    stored = meta.pop("sha256", None)
+    if stored is None:
+        return
+    try:
+        ok = isinstance(stored, str) and stored == _digest(meta, arrays)
+    except (ValueError, TypeError):     # a NaN or a non-JSON value typed into the file
+        ok = False
+    if not ok:
+        raise ValueError(f"{where} fails its checksum: it was changed after hyperlattice wrote it, or is damaged.")
+
+
 def _bad(obj):
     text = json.dumps(obj)
     raise ValueError(f"unreadable stored value {text[:60]}{'...' if len(text) > 60 else ''}.")
@@ -376,7 +403,9 @@ class Result:
         path = _validate.output_path("path", path, suffixes=(".json", ".npz"))
         try:
             if path.suffix == ".json":
-                path.write_text(self.to_json())
+                data = self.as_dict()
+                data["sha256"] = _digest(data)      # checked by load_result: edits are refused
+                path.write_text(json.dumps(data, allow_nan=False))
                 return path
             arrays = {}
             meta = {"type": self.TYPE}
@@ -388,6 +417,7 @@ class Result:
                     arrays[f.name] = v
                 else:
                     meta[f.name] = _encode(v)
+            meta["sha256"] = _digest(meta, arrays)
             np.savez(path, __meta__=np.array(json.dumps(meta, allow_nan=False)), **arrays)
         except OSError as exc:
             raise ValueError(f"cannot write {str(path)!r}: {exc.strerror or exc}.") from None
@@ -401,10 +431,64 @@ class Result:
             raise ValueError(f"{path} holds a {type(res).__name__}, not a {cls.__name__}.")
         return res
 
+    # -- checks of what is read back -----------------------------------------------------
+    def _check_loaded(self) -> str | None:
+        """Why this result, read from a file, cannot be what hyperlattice computed (one clause), or None.
+
+        The base checks every field against its type hint (an ``int`` field holds an integer, not
+        a float or a bool; an array field a numeric array; ...) and that counts are not negative
+        (``p, q >= 3``; ``sites, rings, edges, levels`` >= 0). Subclasses add their invariants.
+        """
+        hints = _hints(type(self))
+        for f in dataclasses.fields(self):
+            why = _type_error(f.name, getattr(self, f.name), hints.get(f.name, f.type))
+            if why is not None:
+                return why
+            v = getattr(self, f.name)
+            if isinstance(v, (int, np.integer)) and not isinstance(v, bool):
+                low = _MINIMUM.get(f.name)
+                if low is not None and v < low:
+                    return f"{f.name} = {v} (it must be at least {low})"
+        return None
+
     # -- figures -----------------------------------------------------------------------
     def plot(self, ax=None) -> Axes:
         """Draw the result on ``ax`` (a new figure if None) and return the axes."""
         raise NotImplementedError(f"{type(self).__name__} has no standard plot.")
+
+
+#: Smallest valid value of integer fields of these names, wherever they occur.
+_MINIMUM = {"p": 3, "q": 3, "sites": 0, "rings": 0, "edges": 0, "levels": 0, "realizations": 0}
+
+
+def _type_error(name: str, v, hint) -> str | None:
+    """Why ``v`` does not fit the type hint of field ``name`` (for plain hints), or None."""
+    text = str(hint).replace("typing.", "")
+    options = [t.strip() for t in text.replace("Optional[", "").rstrip("]").split("|")]
+    if v is None:
+        return None if ("None" in options or "NoneType" in options or "Optional" in text) else \
+            f"{name} is missing (null)"
+    plain = {"<class 'int'>": "int", "int": "int", "<class 'float'>": "float", "float": "float",
+             "<class 'str'>": "str", "str": "str", "<class 'bool'>": "bool", "bool": "bool"}
+    kinds = {plain.get(o, o) for o in options} - {"None", "NoneType"}
+    if any("ndarray" in k for k in kinds) and len(kinds) == 1:
+        if not isinstance(v, np.ndarray) or v.dtype.kind not in "biufcUS":
+            return f"{name} must be an array of numbers or strings, got {type(v).__name__}" + \
+                (f" of dtype {v.dtype}" if isinstance(v, np.ndarray) else "")
+        return None
+    if kinds == {"int"}:
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)):
+            return f"{name} must be an integer, got {v!r}"
+    elif kinds == {"float"}:
+        if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
+            return f"{name} must be a number, got {v!r}"
+    elif kinds == {"str"}:
+        if not isinstance(v, str):
+            return f"{name} must be a string, got {v!r}"
+    elif kinds == {"bool"}:
+        if not isinstance(v, (bool, np.bool_)):
+            return f"{name} must be true or false, got {v!r}"
+    return None
 
 
 def _hints(cls) -> dict:
@@ -451,45 +535,74 @@ _ALL_IMPORTED: list = []
 
 
 def load_result(path) -> Result:
-    """Read any result written by :meth:`Result.save` (``.json`` or ``.npz``).
+    """Read any result written by :meth:`Result.save` (``.json`` or ``.npz``), checked.
+
+    A file written by this version carries the sha256 of its contents: a mismatch (an edited
+    number, a damaged file) is refused. Every file, also one without a checksum, is then checked
+    for what the result must satisfy: field types (an integer is not a float or a bool, arrays
+    are numeric), counts not negative, and the result's own invariants (:class:`Levels`: finite,
+    ascending energies with one ``n``, ``m`` and error per level; a lattice: its structure).
 
     Raises
     ------
     ValueError
-        If the file is missing, unreadable or does not hold a saved result.
+        If the file is missing, unreadable, fails its checksum or does not hold a valid saved
+        result; the message (one sentence) names the file.
     """
     from . import _validate
 
     path = _validate.input_path("path", path, suffixes=(".json", ".npz"))
+    where = repr(str(path))
+    arrays = None
     try:
         if path.suffix == ".json":
-            return Result.from_dict(json.loads(path.read_text()))
-        with np.load(path, allow_pickle=False) as data:
-            if "__meta__" not in data:
-                raise ValueError(f"{path} is not a saved hyperlattice result.")
-            meta = json.loads(str(data["__meta__"]))
-            arrays = {k: data[k] for k in data.files if k != "__meta__"}
+            meta = json.loads(path.read_text())
+        else:
+            with np.load(path, allow_pickle=False) as data:
+                if "__meta__" not in data:
+                    raise ValueError(f"{where} is not a saved hyperlattice result.")
+                meta = json.loads(str(data["__meta__"]))
+                arrays = {k: data[k] for k in data.files if k != "__meta__"}
     except (OSError, EOFError, zipfile.BadZipFile, json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise ValueError(f"cannot read a result from {path}: {exc}.") from None
+        raise ValueError(f"cannot read a result from {where}: {exc}.") from None
+    except RecursionError:
+        raise ValueError(f"cannot read a result from {where}: it is nested too deeply.") from None
     if not isinstance(meta, dict):
-        raise ValueError(f"{path} is not a saved hyperlattice result.")
+        raise ValueError(f"{where} is not a saved hyperlattice result.")
+    _verify_digest(where, meta, arrays)
     tag = meta.get("type")
     cls = _registered(tag) if isinstance(tag, str) else None
     if cls is None:
-        raise ValueError(f"{path} holds an unknown result type {tag!r}.")
+        raise ValueError(f"{where} holds an unknown result type {tag!r}.")
+    try:
+        if arrays is None:
+            res = Result.from_dict(meta)
+        else:
+            res = _from_npz(cls, tag, meta, arrays)
+    except ValueError as exc:
+        raise ValueError(f"{where}: {str(exc).rstrip('.')}.") from None
+    except RecursionError:
+        raise ValueError(f"cannot read a result from {where}: it is nested too deeply.") from None
+    why = res._check_loaded()
+    if why is not None:
+        raise ValueError(f"{where} does not hold a valid {tag}: {why}.")
+    return res
+
+
+def _from_npz(cls, tag: str, meta: dict, arrays: dict) -> Result:
     names = {f.name for f in dataclasses.fields(cls)}
     unknown = (set(meta) | set(arrays)) - names - {"type"}
     if unknown:
-        raise ValueError(f"{path}: stored {tag} has unknown fields {sorted(unknown)}.")
+        raise ValueError(f"stored {tag} has unknown fields {sorted(unknown)}.")
     kwargs = dict(arrays)
     for name, v in meta.items():
         if name != "type":
             try:
                 kwargs[name] = _decode(v)
             except ValueError as exc:
-                raise ValueError(f"{path}: stored {tag}.{name}: {exc}") from None
+                raise ValueError(f"stored {tag}.{name}: {exc}") from None
             except (TypeError, KeyError, IndexError, AttributeError):
-                raise ValueError(f"{path}: stored {tag}.{name} is malformed.") from None
+                raise ValueError(f"stored {tag}.{name} is malformed.") from None
     return _build(cls, kwargs)
 
 
@@ -536,6 +649,38 @@ class Levels(Result):
 
     def __len__(self) -> int:
         return int(self.energies.shape[0])
+
+    def _check_loaded(self) -> str | None:
+        why = super()._check_loaded()
+        if why is not None:
+            return why
+        e, n, m, err = self.energies, self.n, self.m, self.errors
+        if e.ndim != 1 or e.dtype.kind != "f":
+            return f"energies must be a 1-d float array, got {e.dtype} of shape {e.shape}"
+        k = e.shape[0]
+        for name, a, kinds in (("n", n, "iu"), ("m", m, "iu"), ("errors", err, "f")):
+            if a is None:
+                continue
+            if a.dtype.kind not in kinds:
+                return f"{name} has the wrong dtype {a.dtype}"
+            if a.shape != (k,):
+                return f"{name} has {a.shape[0] if a.ndim else 0} entries for {k} energies"
+        if not np.all(np.isfinite(e)):
+            return "some energies are not finite"
+        if np.any(n < 1):
+            return "the radial index n starts at 1"
+        if np.any(err < 0):      # NaN stands for an unknown error and is kept
+            return "errors must be non-negative"
+        if m is not None and self.error_kind == "residual" and np.any((2 * m <= -self.p) | (2 * m > self.p)):
+            return f"m must lie in (-p/2, p/2] = (-{self.p / 2:g}, {self.p / 2:g}]"
+        if k > 1:
+            # ascending up to each level's own error and the rounding of the largest energy
+            known = np.nan_to_num(err, nan=0.0, posinf=0.0)
+            slack = known[:-1] + known[1:] + 16 * np.finfo(float).eps * max(1.0, float(np.max(np.abs(e))))
+            if np.any(np.diff(e) < -slack):
+                i = int(np.argmax(np.diff(e) < -slack))
+                return f"the energies are not ascending (E[{i}] = {e[i]:.17g} > E[{i + 1}] = {e[i + 1]:.17g})"
+        return None
 
     @property
     def degeneracy(self) -> np.ndarray:

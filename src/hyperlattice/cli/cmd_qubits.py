@@ -54,6 +54,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", action="store_true", help="print one JSON object")
 
 
+def _same_file(a, b) -> bool:
+    """True if two output paths are one file (same resolved path, or hard links / symlinks to one)."""
+    import os
+
+    if os.path.abspath(a) == os.path.abspath(b) or os.path.realpath(a) == os.path.realpath(b):
+        return True
+    try:
+        return os.path.samefile(a, b)
+    except OSError:         # one of them does not exist yet: different files
+        return False
+
+
 def run(args: argparse.Namespace) -> int:
     from .. import _validate
     from ..compare.qubits import exchange_comparison
@@ -62,6 +74,9 @@ def run(args: argparse.Namespace) -> int:
 
     out = _validate.output_path("--out", args.out, suffixes=(".csv",)) if args.out not in (None, "-") else None
     edges = _validate.output_path("--edges", args.edges, suffixes=(".csv",)) if args.edges is not None else None
+    if out is not None and edges is not None and _same_file(out, edges):
+        # both tables would be written into one file, the second over the first
+        raise ValueError(f"--out and --edges name the same file {str(out)!r}; give two different files.")
     if edges is not None and args.qubit_sites is None:
         raise ValueError("--edges needs --qubit-sites (the sites of the qubits of the spin model).")
     threshold = _validate.real("--threshold", args.threshold, minimum=0.0, maximum=1.0)

@@ -23,6 +23,7 @@ DESCRIPTION = (
 )
 
 EXIT_FAILED = 3
+_JSON_NAMES = {list: "array", str: "string", int: "number", float: "number", bool: "boolean"}
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -74,8 +75,11 @@ def _axis(spec: str) -> tuple[str, list]:
             a, b = int(lo), int(hi)
         except ValueError:
             raise ValueError(f"--grid {name}=START:STOP takes integers, got {values!r}.") from None
-        if b <= a or b - a > 10_000_000:
-            raise ValueError(f"--grid {name}={values}: STOP must exceed START (and by at most 10,000,000).")
+        if b <= a:
+            raise ValueError(f"--grid {name}={values}: STOP must exceed START.")
+        from ..sweep.engine import check_grid_size
+
+        check_grid_size(b - a)      # before the list is built: ten million points is refused, not allocated
         return name, list(range(a, b))
     return name, [_value(v) for v in values.split(",")]
 
@@ -86,6 +90,11 @@ def _config(path) -> dict:
         data = json.loads(p.read_text())
     except (ValueError, UnicodeDecodeError) as exc:
         raise ValueError(f"CONFIG {str(p)!r} is not valid JSON ({exc}).") from None
+    except RecursionError:
+        # json's decoder recurses once per level: a file nested 100,000 deep exhausts the stack
+        raise ValueError(f"CONFIG {str(p)!r} is nested too deeply to be a sweep configuration.") from None
+    except OSError as exc:
+        raise ValueError(f"cannot read CONFIG {str(p)!r}: {exc.strerror or exc}.") from None
     if not isinstance(data, dict):
         raise ValueError(f"CONFIG {str(p)!r} must hold a JSON object.")
     unknown = set(data) - {"task", "grid", "out", "scheduler", "workers", "retries", "timeout"}
@@ -102,12 +111,22 @@ def run(args: argparse.Namespace) -> int:
     task = args.task or cfg.get("task")
     if task is None:
         raise ValueError("give the task (--task NAME or \"task\" in CONFIG).")
-    grid = dict(cfg.get("grid") or {})
+    grid = cfg.get("grid")
+    if grid is None:
+        grid = {}
     if not isinstance(grid, dict):
-        raise ValueError("the grid in CONFIG must be an object of NAME: [values].")
+        raise ValueError(f"the grid in CONFIG must be an object of NAME: [values], got a JSON "
+                         f"{_JSON_NAMES.get(type(grid), type(grid).__name__)}.")
+    grid = dict(grid)
+    given: set[str] = set()
     for spec in args.grid:
         name, values = _axis(spec)
-        grid[name] = values
+        if name in given:
+            # the second --grid would silently replace the first one's values
+            raise ValueError(f"--grid {name}=... is given twice; list all its values in one --grid "
+                             f"{name}=V1,V2,... .")
+        given.add(name)
+        grid[name] = values         # a flag overrides the CONFIG's axis of that name
     out = args.out or cfg.get("out")
     if out is None:
         raise ValueError("give the sweep directory (--out DIR or \"out\" in CONFIG).")

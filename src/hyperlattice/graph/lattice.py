@@ -38,7 +38,7 @@ import numpy as np
 
 from .. import _validate
 from .. import geometry
-from ..results import Result
+from ..results import Result, _digest, _verify_digest
 
 if TYPE_CHECKING:  # only for annotations: matplotlib and networkx are imported where used
     import networkx
@@ -220,6 +220,10 @@ class Lattice(Result):
             "radius": self.radius,
         }
 
+    def _check_loaded(self) -> str | None:
+        # a lattice read back must be the lattice its p, q, rings and kind describe
+        return _lattice_error(self)
+
     @classmethod
     def from_dict(cls, data: dict) -> "Lattice":
         """Rebuild a lattice from :meth:`as_dict` output, checking that its arrays fit together."""
@@ -301,13 +305,19 @@ class Lattice(Result):
             if suffix == ".dat":
                 np.savetxt(path, np.column_stack([self.z.real, self.z.imag]), fmt="%.17g")
             elif suffix == ".npz":
-                extra = {} if self.parent_edges is None else {"parent_edges": self.parent_edges}
-                # the layout of earlier versions, plus the protocol's type tag
-                np.savez_compressed(path, z=self.z, ring=self.ring, edges=self.edges, p=self.p, q=self.q,
-                                    rings=self.rings, kind=self.kind, rotation=self.rotation,
-                                    __meta__=np.array(json.dumps({"type": self.TYPE})), **extra)
+                arrays = {"z": self.z, "ring": self.ring, "edges": self.edges, "p": self.p, "q": self.q,
+                          "rings": self.rings, "kind": self.kind, "rotation": self.rotation}
+                if self.parent_edges is not None:
+                    arrays["parent_edges"] = self.parent_edges
+                arrays = {k: np.asarray(v) for k, v in arrays.items()}
+                # the layout of earlier versions, plus the protocol's type tag and the arrays' sha256
+                meta = {"type": self.TYPE}
+                meta["sha256"] = _digest(meta, arrays)
+                np.savez_compressed(path, __meta__=np.array(json.dumps(meta)), **arrays)
             else:
-                path.write_text(self.to_json())
+                data = self.as_dict()
+                data["sha256"] = _digest(data)
+                path.write_text(json.dumps(data, allow_nan=False))
         except OSError as exc:
             raise ValueError(f"cannot write {str(path)!r}: {exc.strerror or exc}.") from None
         return path
@@ -319,36 +329,118 @@ class Lattice(Result):
 
 
 def _checked(lat: Lattice, source: str) -> Lattice:
-    """``lat`` if its arrays describe a lattice (shapes, index ranges, permutation), else ValueError.
+    """``lat`` if its arrays describe a lattice (shapes, index ranges, permutation, structure), else ValueError.
 
     Used for lattices read from files, never on the builder's hot path.
     """
-    def bad(why: str):
-        return ValueError(f"{source} is not a valid lattice: {why}.")
+    why = _lattice_error(lat)
+    if why is not None:
+        raise ValueError(f"{source} is not a valid lattice: {why}.")
+    return lat
 
+
+def _lattice_error(lat: Lattice) -> str | None:
+    """Why ``lat`` is not a consistent lattice (one clause), or None."""
     try:
         _validate.pq(lat.p, lat.q)
     except ValueError as exc:
-        raise bad(str(exc).rstrip(".")) from None
+        return str(exc).rstrip(".")
     if lat.kind not in _KINDS:
-        raise bad(f"kind must be 'sites' or 'line_graph', got {lat.kind!r}")
+        return f"kind must be 'sites' or 'line_graph', got {lat.kind!r}"
     n = lat.sites
     if lat.z.ndim != 1 or n == 0:
-        raise bad("z must be a non-empty 1-d array")
+        return "z must be a non-empty 1-d array"
     if not (np.all(np.isfinite(lat.z)) and np.all(np.abs(lat.z) < 1.0)):
-        raise bad("some sites lie outside the open unit disk")
+        return "some sites lie outside the open unit disk"
     if lat.ring.shape != (n,) or lat.rotation.shape != (n,):
-        raise bad("ring and rotation must have one entry per site")
+        return "ring and rotation must have one entry per site"
     if lat.rings < 1 or np.any(lat.ring < 1) or np.any(lat.ring > lat.rings) or np.any(np.diff(lat.ring) < 0):
-        raise bad("ring indices must be sorted and lie in 1..rings")
+        return "ring indices must be sorted and lie in 1..rings"
     if lat.edges.ndim != 2 or lat.edges.shape[1] != 2 or (lat.edges.size and (lat.edges.min() < 0
                                                                             or lat.edges.max() >= n)):
-        raise bad("edges must be pairs of site indices")
+        return "edges must be pairs of site indices"
     if np.any(lat.rotation < 0) or np.any(lat.rotation >= n) or np.any(np.bincount(lat.rotation, minlength=n) != 1):
-        raise bad("rotation must be a permutation of the sites")
+        return "rotation must be a permutation of the sites"
     if lat.kind == "line_graph" and (lat.parent_edges is None or lat.parent_edges.shape != (n, 2)):
-        raise bad("a line graph needs parent_edges, one pair per site")
-    return lat
+        return "a line graph needs parent_edges, one pair per site"
+    return _structure_error(lat)
+
+
+#: Rounding of stored coordinates grows with the ring through the construction (each ring is
+#: placed from the previous one): measured |d - d0| <= 37 eps (w_a + w_b) over {7,3} to 9 rings,
+#: {8,3} 8, {12,3} 6, {3,7} 5, {4,5} 6, {6,4} 5 (w = 1/(1 - |z|^2), the metric factor that turns
+#: an error in z into a hyperbolic length). The tolerance takes 256 eps (w_a + w_b) per ring:
+#: still 1e-10 of a hyperbolic length for a site moved by 1e-6 near the boundary.
+_LENGTH_EPS_PER_RING = 256.0
+
+
+def _structure_error(lat: Lattice) -> str | None:
+    """Why ``lat`` is not the lattice its p, q, rings and kind describe, or None.
+
+    Checks what the solvers trust: no self-loop or repeated edge; for a site lattice the ring
+    sizes and edge count of {p,q} with that many rings, edges only within a ring or between
+    neighbouring rings, degree q inside and at most q on the last ring, every edge of length
+    d0 and each ring counterclockwise once around; for both kinds the rotation table maps each
+    ring onto itself, every edge onto an edge and (site lattices) z onto exp(2 pi i/p) z. Float
+    comparisons use a tolerance from the coordinates' own rounding (``_LENGTH_EPS_PER_RING``).
+    """
+    n = lat.sites
+    e = lat.edges.astype(np.int64)
+    if e.shape[0] and np.any(e[:, 0] == e[:, 1]):
+        return f"site {int(e[np.argmax(e[:, 0] == e[:, 1]), 0])} has an edge to itself"
+    lo, hi = np.minimum(e[:, 0], e[:, 1]), np.maximum(e[:, 0], e[:, 1])
+    keys = np.sort(lo * n + hi)
+    if keys.size and np.any(np.diff(keys) == 0):
+        k = int(keys[np.argmax(np.diff(keys) == 0)])
+        return f"the edge ({k // n}, {k % n}) appears twice"
+    # the rotation: each ring onto itself, edges onto edges (the sector solver builds on this)
+    rot = lat.rotation.astype(np.int64)
+    if np.any(lat.ring[rot] != lat.ring):
+        return "the rotation table moves sites between rings"
+    a, b = rot[e[:, 0]], rot[e[:, 1]]
+    img = np.minimum(a, b) * n + np.maximum(a, b)
+    pos = np.minimum(np.searchsorted(keys, img), max(keys.size - 1, 0))
+    if keys.size and not np.array_equal(keys[pos], img):
+        return "the rotation table does not map the edges onto edges"
+    if lat.kind != "sites":
+        return None
+    p, q, rings = lat.p, lat.q, lat.rings
+    if not np.array_equal(lat.sites_per_ring, ring_sizes(p, q, rings)):
+        return f"its ring sizes are not those of {{{p},{q}}} with {rings} rings"
+    if e.shape[0] != edge_count(p, q, rings):
+        return f"it has {e.shape[0]} edges, {{{p},{q}}} with {rings} rings has {edge_count(p, q, rings)}"
+    ring = lat.ring.astype(np.int64)
+    if e.shape[0] and np.any(np.abs(ring[e[:, 0]] - ring[e[:, 1]]) > 1):
+        return "an edge skips a ring"
+    deg = lat.degree
+    inner = ring < rings
+    if np.any(deg[inner] != q) or np.any(deg > q):
+        i = int(np.argmax(((deg != q) & inner) | (deg > q)))
+        return f"site {i} has {int(deg[i])} neighbours (q = {q} inside, at most q on the last ring)"
+    eps = np.finfo(float).eps
+    w = 1.0 / geometry.one_minus_abs2(lat.z)
+    tol_scale = _LENGTH_EPS_PER_RING * eps * rings
+    d0 = lat.d0
+    lengths = geometry.distance(lat.z[e[:, 0]], lat.z[e[:, 1]], check=False)
+    err = np.abs(lengths - d0) - tol_scale * (w[e[:, 0]] + w[e[:, 1]] + d0)
+    if err.size and np.any(err > 0):
+        k = int(np.argmax(err))
+        return (f"the edge ({int(e[k, 0])}, {int(e[k, 1])}) has length {float(lengths[k]):.17g}, "
+                f"not d0 = {d0:.17g}")
+    moved = geometry.distance(lat.z[rot], np.exp(2j * math.pi / p) * lat.z, check=False) - tol_scale * 2 * w
+    if np.any(moved > 0):
+        return f"the rotation table maps site {int(np.argmax(moved))} elsewhere than its rotated position"
+    # each ring counterclockwise, once around: the angular steps to the next site sum to 2 pi
+    offsets = lat.ring_offsets.astype(np.int64)
+    nxt = np.arange(1, n + 1, dtype=np.int64)
+    nxt[offsets[1:] - 1] = offsets[:-1]
+    ang = np.angle(lat.z)
+    steps = np.mod(ang[nxt] - ang, 2 * math.pi)
+    turns = np.bincount(ring - 1, weights=steps, minlength=rings) / (2 * math.pi)
+    if np.any(np.abs(turns - 1.0) > 1e-6):
+        k = int(np.argmax(np.abs(turns - 1.0))) + 1
+        return f"the sites of ring {k} are not in counterclockwise order"
+    return None
 
 
 def _csr_sorted(rows: np.ndarray, cols: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -363,38 +455,78 @@ def _csr_sorted(rows: np.ndarray, cols: np.ndarray, n: int) -> tuple[np.ndarray,
 def load_lattice(path) -> Lattice:
     """Read a lattice written by :meth:`Lattice.save` (``.npz``, also from earlier versions, or ``.json``).
 
+    What is read back is checked, never trusted: a file written by this version carries the
+    sha256 of its contents, and a mismatch (an edited or damaged file) is refused; every file,
+    also one without a checksum, must hold the lattice its p, q, rings and kind describe (ring
+    sizes, edge count, no self-loop or repeated edge, degrees, every edge of length d0 within the
+    coordinates' rounding, counterclockwise rings, and a rotation table that maps sites to their
+    rotated positions and edges onto edges -- the sector solver relies on it).
+
     Raises
     ------
     ValueError
-        If the file does not exist, cannot be read, or does not hold a consistent lattice.
+        If the file does not exist, cannot be read, fails its checksum or does not hold a
+        consistent lattice; the message names the file.
     """
     path = _validate.input_path("path", path)
+    where = repr(str(path))
     try:
         if path.suffix.lower() == ".json":
-            return Lattice.from_dict(json.loads(path.read_text()))
+            try:
+                data = json.loads(path.read_text())
+            except RecursionError:
+                raise ValueError(f"{where} is not a saved lattice (nested too deeply).") from None
+            if not isinstance(data, dict):
+                raise ValueError(f"{where} is not a saved lattice (not a JSON object).")
+            _verify_digest(where, data)
+            return _checked(Lattice.from_dict(data), where)
         if not zipfile.is_zipfile(path):
-            raise ValueError(f"{str(path)!r} is not a saved lattice (not an .npz archive).")
+            raise ValueError(f"{where} is not a saved lattice (not an .npz archive).")
         with np.load(path, allow_pickle=False) as f:
             missing = [k for k in ("z", "ring", "edges", "rotation", "p", "q", "rings", "kind") if k not in f.files]
             if missing:
-                raise ValueError(f"{str(path)!r} is not a saved lattice (it lacks {', '.join(missing)}).")
-            scalars = {}
-            for name in ("p", "q", "rings"):
-                v = f[name]
+                raise ValueError(f"{where} is not a saved lattice (it lacks {', '.join(missing)}).")
+            arrays = {k: f[k] for k in f.files if k != "__meta__"}
+            if "__meta__" in f.files:
+                # files of this version carry the sha256 of their arrays; earlier ones have none
                 try:
-                    scalars[name] = _validate.integer(name, v.item() if v.ndim == 0 else v)
-                except ValueError as exc:
-                    raise ValueError(f"{str(path)!r} is not a valid lattice: {str(exc).rstrip('.')}.") from None
-            parent = f["parent_edges"] if "parent_edges" in f.files else None
-            lat = Lattice(**scalars, z=f["z"], ring=f["ring"], edges=f["edges"], rotation=f["rotation"],
-                          kind=f["kind"], parent_edges=parent)
-    except (OSError, EOFError, zipfile.BadZipFile, json.JSONDecodeError, UnicodeDecodeError, TypeError) as exc:
-        raise ValueError(f"cannot read a lattice from {str(path)!r}: {exc}.") from None
+                    meta = json.loads(str(f["__meta__"]))
+                except (ValueError, RecursionError):
+                    meta = None
+                if not isinstance(meta, dict):
+                    raise ValueError(f"{where} is not a saved lattice (unreadable __meta__).")
+                _verify_digest(where, meta, arrays)
+        unknown = set(arrays) - {"z", "ring", "edges", "rotation", "p", "q", "rings", "kind", "parent_edges"}
+        if unknown:
+            raise ValueError(f"{where} is not a saved lattice (unknown arrays {', '.join(sorted(unknown))}).")
+        scalars = {}
+        for name in ("p", "q", "rings"):
+            v = arrays[name]
+            if v.ndim != 0 or v.dtype.kind not in "iu":
+                raise ValueError(f"{where} is not a valid lattice: {name} must be an integer.")
+            scalars[name] = _validate.integer(name, v.item())
+        kind = arrays["kind"]
+        if kind.ndim != 0 or kind.dtype.kind != "U":
+            raise ValueError(f"{where} is not a valid lattice: kind must be a string.")
+        for name, kinds in (("z", "c"), ("ring", "iu"), ("edges", "iu"), ("rotation", "iu"), ("parent_edges", "iu")):
+            if name in arrays and arrays[name].dtype.kind not in kinds:
+                raise ValueError(f"{where} is not a valid lattice: {name} has the wrong dtype "
+                                 f"{arrays[name].dtype}.")
+            if name in arrays and kinds == "iu" and arrays[name].size:
+                # the lattice stores these narrower (int16 rings, int32 ids): refuse what would wrap
+                info = np.iinfo(_DTYPES[name])
+                if arrays[name].min() < info.min or arrays[name].max() > info.max:
+                    raise ValueError(f"{where} is not a valid lattice: {name} has entries beyond {info.dtype}.")
+        lat = Lattice(**scalars, z=arrays["z"], ring=arrays["ring"], edges=arrays["edges"],
+                      rotation=arrays["rotation"], kind=str(kind), parent_edges=arrays.get("parent_edges"))
+    except (OSError, EOFError, zipfile.BadZipFile, json.JSONDecodeError, UnicodeDecodeError, TypeError,
+            OverflowError) as exc:
+        raise ValueError(f"cannot read a lattice from {where}: {exc}.") from None
     except ValueError as exc:
-        if str(exc).startswith(f"{str(path)!r} is not"):
+        if str(exc).startswith(where):
             raise
-        raise ValueError(f"cannot read a lattice from {str(path)!r}: {str(exc).rstrip('.')}.") from None
-    return _checked(lat, repr(str(path)))
+        raise ValueError(f"cannot read a lattice from {where}: {str(exc).rstrip('.')}.") from None
+    return _checked(lat, where)
 
 
 # ----------------------------------------------------------------------------

@@ -41,7 +41,58 @@ from .tasks import execute, get_task
 
 __all__ = ["run_sweep", "SweepReport", "expand_grid", "task_key", "have_dask"]
 
-MAX_TASKS = 10_000_000
+#: Documented maximum of tasks per sweep (split a bigger study into several sweeps into one
+#: directory: the grids merge). A sweep holds every point's parameters, key and (on Dask) future
+#: in the driver at once; ten million of them ended in std::bad_alloc.
+MAX_TASKS = 1_000_000
+#: Driver memory per task, with margin: 440 B for the expanded point and its key (tracemalloc,
+#: 200,000 probe points), plus its row on consolidation and, on Dask, its future and the
+#: scheduler's task state (a few kB).
+_BYTES_PER_TASK = 8192
+
+
+def _memory_budget() -> int:
+    """Bytes this process may still allocate: the machine's available memory, and RLIMIT_AS if set."""
+    avail = None
+    try:
+        with open("/proc/meminfo") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    avail = int(line.split()[1]) * 1024
+                    break
+    except (OSError, ValueError):
+        pass
+    if avail is None:
+        try:
+            avail = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_AVPHYS_PAGES")
+        except (ValueError, OSError, AttributeError):
+            avail = 8 * 1024**3
+    try:
+        import resource
+
+        soft, _ = resource.getrlimit(resource.RLIMIT_AS)
+        if soft != resource.RLIM_INFINITY:
+            with open("/proc/self/statm") as fh:
+                used = int(fh.read().split()[0]) * os.sysconf("SC_PAGE_SIZE")
+            avail = min(avail, max(0, soft - used))
+    except (ImportError, OSError, ValueError, AttributeError):
+        pass
+    return int(avail)
+
+
+def max_tasks() -> int:
+    """The most tasks one sweep may have here: :data:`MAX_TASKS`, or fewer if memory is short."""
+    return int(max(1, min(MAX_TASKS, _memory_budget() // _BYTES_PER_TASK)))
+
+
+def check_grid_size(total: int) -> None:
+    """Refuse a grid of ``total`` points before anything is expanded (ValueError with the limit)."""
+    limit = max_tasks()
+    if total > limit:
+        why = "per sweep" if limit == MAX_TASKS else \
+            f"for the {_memory_budget() / 2**30:.1f} GiB of memory available ({_BYTES_PER_TASK:,} bytes per task)"
+        raise ValueError(f"the grid has {total:,} tasks; at most {limit:,} {why} "
+                         "(split it into several sweeps into the same directory).")
 _SCALAR = (int, float, str, bool, type(None))
 
 
@@ -91,6 +142,18 @@ def task_key(task: str, params: dict) -> str:
     return f"{task}-{hashlib.sha256(text.encode()).hexdigest()[:24]}"
 
 
+def _grid_keys(task: str, grid: dict):
+    """The keys of ``grid``'s points in grid order (no checks: the grid was checked when it ran)."""
+    spec = get_task(task)
+    names = [n for n in grid if n in spec.defaults]
+    values = [[_canonical(v) for v in (grid[n] if isinstance(grid[n], (list, tuple)) else [grid[n]])]
+              for n in names]
+    for combo in itertools.product(*values):
+        params = dict(spec.defaults)
+        params.update(zip(names, combo))
+        yield task_key(task, {k: _canonical(v) for k, v in params.items()})
+
+
 def expand_grid(task: str, grid: dict) -> list[dict]:
     """The Cartesian product of ``grid`` (name -> list of values, or one value), over the task's defaults.
 
@@ -111,9 +174,7 @@ def expand_grid(task: str, grid: dict) -> list[dict]:
             raise ValueError(f"the grid gives no values for {name!r}.")
         names.append(name)
         values.append([_canonical(v) for v in vals])
-    total = math.prod(len(v) for v in values)
-    if total > MAX_TASKS:
-        raise ValueError(f"the grid has {total:,} tasks; at most {MAX_TASKS:,} per sweep.")
+    check_grid_size(math.prod(len(v) for v in values))
     out, seen = [], set()
     for combo in itertools.product(*values):
         params = dict(defaults)
@@ -195,29 +256,150 @@ def _run_serial(task, todo, keys, write, retries, failures, bar, on_row, deadlin
             bar.update(1)
 
 
-def _client_for(scheduler, workers: int | None):
-    """(client, cluster or None, label) for the scheduler argument; the caller closes what it got."""
+#: Seconds to reach a scheduler at an address (distributed's own default is 30 s, each retry
+#: included); a smaller sweep ``timeout`` bounds it further.
+CONNECT_TIMEOUT = 10.0
+
+
+def _split_tcp(address: str) -> tuple[str, int] | None:
+    """(host, port) of a tcp:// or bare host:port address, else None."""
+    rest = address[len("tcp://"):] if address.startswith("tcp://") else address
+    if "://" in rest:
+        return None
+    host, sep, port = rest.rpartition(":")
+    if not sep or not port.isdigit():
+        return None
+    return host.strip("[]") or "127.0.0.1", int(port)
+
+
+def _probe_tcp(address: str, wait: float) -> None:
+    """Refuse, within ``wait`` seconds, a tcp address where no Dask scheduler answers.
+
+    A Dask server speaks first: on accepting a connection it sends its handshake, a frame whose
+    first 8 bytes are the little-endian byte count of what follows (``distributed.comm.tcp``).
+    distributed's own handshake read has no time limit, so a port where something else listens
+    (an HTTP server waits for a request) would hang the client for minutes; this probe waits at
+    most ``wait`` seconds for those 8 bytes and checks that they are plausible.
+    """
+    import socket
+    import struct
+
+    hp = _split_tcp(address)
+    if hp is None:
+        return
+    deadline = time.monotonic() + wait
+    try:
+        with socket.create_connection(hp, timeout=max(0.1, wait)) as sock:
+            head = b""
+            while len(head) < 8:
+                left = deadline - time.monotonic()
+                if left <= 0:
+                    raise socket.timeout
+                sock.settimeout(left)
+                chunk = sock.recv(8 - len(head))
+                if not chunk:
+                    raise HyperlatticeError(f"something listens at {address} but closed the connection without "
+                                            "answering as a Dask scheduler.")
+                head += chunk
+    except HyperlatticeError:
+        raise
+    except socket.timeout:
+        raise HyperlatticeError(f"something listens at {address} but did not answer as a Dask scheduler "
+                                f"within {wait:g} s.") from None
+    except OSError as exc:
+        raise HyperlatticeError(f"cannot reach the Dask scheduler at {address}: "
+                                f"{exc.strerror or type(exc).__name__}.") from None
+    (nbytes,) = struct.unpack("<Q", head)
+    if not 0 < nbytes < 2**24:      # a handshake is a few hundred bytes
+        raise HyperlatticeError(f"something listens at {address} but does not speak Dask's protocol.")
+
+
+def _quiet_distributed():
+    """distributed's loggers at CRITICAL while a sweep runs: its own retries, worker restarts and
+    closed comms are reported by the sweep (failures, one-line errors), not as tracebacks on stderr."""
+    import contextlib
+    import logging
+
+    @contextlib.contextmanager
+    def quiet():
+        names = ("distributed", "distributed.nanny", "distributed.scheduler", "distributed.worker",
+                 "distributed.core", "distributed.comm", "distributed.client", "tornado", "asyncio")
+        saved = [(logging.getLogger(n), logging.getLogger(n).level) for n in names]
+        for lg, _ in saved:
+            lg.setLevel(logging.CRITICAL)
+        try:
+            yield
+        finally:
+            for lg, level in saved:
+                lg.setLevel(level)
+
+    return quiet()
+
+
+def _local_workers(workers: int | None) -> int:
+    """Workers of a local cluster: one per core by default; more than the cores are capped, with a warning."""
+    import warnings
+
+    cores = max(1, os.cpu_count() or 1)
+    if workers is None:
+        return cores
+    if workers > cores:
+        # each worker is a single-threaded process (or thread): more of them than cores only
+        # compete for the same cores, and dozens of nannies on a small machine time out
+        warnings.warn(f"{workers} workers requested on a machine with {cores} cores; using {cores}.",
+                      UserWarning, stacklevel=4)
+        return cores
+    return workers
+
+
+def _client_for(scheduler, workers: int | None, timeout: float | None = None):
+    """(client, cluster or None, label, own) for the scheduler argument; the caller closes what it got."""
+    import logging
+
+    import dask
     from distributed import Client, LocalCluster
 
     if isinstance(scheduler, Client):
         return scheduler, None, f"client {scheduler.scheduler.address}", False
     if scheduler in (None, "local", "threads"):
-        n = workers or max(1, os.cpu_count() or 1)
+        n = _local_workers(workers)
         processes = scheduler != "threads"
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=processes, dashboard_address=None)
-        client = Client(cluster)
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=processes, dashboard_address=None,
+                               silence_logs=logging.CRITICAL)
+        try:
+            client = Client(cluster)
+        except BaseException:
+            cluster.close()
+            raise
         return client, cluster, f"local ({n} {'processes' if processes else 'threads'})", True
+    wait = CONNECT_TIMEOUT if timeout is None else min(CONNECT_TIMEOUT, timeout)
+    _probe_tcp(scheduler, wait)
     try:
-        client = Client(scheduler, timeout=30)
+        with dask.config.set({"distributed.comm.timeouts.connect": f"{wait}s"}):
+            client = Client(scheduler, timeout=wait)
     except (OSError, TimeoutError) as exc:
-        raise HyperlatticeError(f"cannot reach the Dask scheduler at {scheduler}: {_error_text(exc)}") from None
+        raise HyperlatticeError(f"cannot reach the Dask scheduler at {scheduler} within {wait:g} s "
+                                f"({_error_text(exc)}).") from None
+    except TypeError as exc:
+        if str(scheduler).startswith(("tls://", "wss://")):
+            raise HyperlatticeError(f"cannot connect to the Dask scheduler at {scheduler}: TLS needs certificates "
+                                    "in the dask configuration (distributed.comm.tls) or a distributed.Client "
+                                    "made with a Security object.") from None
+        raise HyperlatticeError(f"cannot connect to the Dask scheduler at {scheduler}: {_error_text(exc)}."
+                                ) from None
+    except Exception as exc:        # any other backend error, in one sentence
+        if str(scheduler).startswith("inproc://"):
+            raise HyperlatticeError(f"no Dask scheduler {scheduler} runs in this process (an inproc:// address "
+                                    "is only valid inside the process that started it).") from None
+        raise HyperlatticeError(f"cannot connect to the Dask scheduler at {scheduler}: {_error_text(exc)}."
+                                ) from None
     return client, None, str(scheduler), True
 
 
 def _run_dask(task, todo, keys, write, retries, failures, bar, on_row, scheduler, workers, timeout):
     from distributed import as_completed
 
-    client, cluster, label, own = _client_for(scheduler, workers)
+    client, cluster, label, own = _client_for(scheduler, workers, timeout)
     futures = {}
     try:
         for params, key in zip(todo, keys):
@@ -328,9 +510,9 @@ def run_sweep(task: str, grid: dict, path, *, scheduler=None, workers: int | Non
         _check_address(scheduler)
     points = expand_grid(spec.name, grid)
     store = SweepStore(path)
-    meta = store.open(spec.name, {k: (v if isinstance(v, (list, tuple)) else [v]) for k, v in grid.items()})
+    meta = store.open(spec.name, {k: [_canonical(x) for x in (v if isinstance(v, (list, tuple)) else [v])]
+                                  for k, v in grid.items()})
     keys_all = [task_key(spec.name, p) for p in points]
-    index = {k: i for i, k in enumerate(keys_all)}
     done = store.done()
     todo = [(p, k) for p, k in zip(points, keys_all) if k not in done]
     part_meta = {"version": __version__, "task": spec.name, "parameters": meta["parameters"]}
@@ -343,11 +525,15 @@ def run_sweep(task: str, grid: dict, path, *, scheduler=None, workers: int | Non
         buffer.clear()
         last_flush[0] = time.monotonic()
 
+    written = [0]
+
     def write(key, params, outputs):
-        row = {"key": key, "index": index[key], **params}
+        # keyed by the parameters only; the grid position ("index") is the merged grid's, given on reading
+        row = {"key": key, **params}
         for name, value in outputs.items():
-            row[name if name not in row else f"out_{name}"] = value
+            row[name if name not in row and name != "index" else f"out_{name}"] = value
         buffer.append(row)
+        written[0] += 1
         if len(buffer) >= flush_rows or time.monotonic() - last_flush[0] >= flush_seconds:
             flush()
 
@@ -362,17 +548,18 @@ def run_sweep(task: str, grid: dict, path, *, scheduler=None, workers: int | Non
                 deadline = None if timeout is None else time.monotonic() + timeout
                 _run_serial(spec.name, ps, ks, write, retries, failures, bar, on_row, deadline)
             else:
-                label = _run_dask(spec.name, ps, ks, write, retries, failures, bar, on_row, scheduler, workers,
-                                  timeout)
+                with _quiet_distributed():
+                    label = _run_dask(spec.name, ps, ks, write, retries, failures, bar, on_row, scheduler,
+                                      workers, timeout)
         elif not serial:
             label = "nothing to do"
     finally:
         flush()             # whatever finished is kept, also on KeyboardInterrupt
         if bar is not None:
             bar.close()
-        store.write_failures(failures)
+        store.write_failures(failures, tried={k for _, k in todo})
         table = store.consolidate()
-    completed = len(store.done() & set(keys_all)) - (len(keys_all) - len(todo))
+    completed = written[0]
     return SweepReport(path=str(store.path), table=str(table), task=spec.name, scheduler=label,
                        total=len(points), skipped=len(keys_all) - len(todo), completed=completed,
                        failed=failures, seconds=time.perf_counter() - t0)

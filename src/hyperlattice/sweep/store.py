@@ -2,10 +2,32 @@
 
 Layout of a sweep directory::
 
-    _sweep.json            manifest: format, task, package version, the parameter grid, backend
-    parts/part-<hash>.*    finished tasks, a batch per file, written atomically as results arrive
-    table.parquet          every row, sorted by grid position (``index``), rebuilt at the end of a run
-    _failures.json         the tasks that failed in the last run, with their errors (absent if none)
+    _sweep.json            manifest: format, task, package version, every grid run into it, backend
+    parts/part-<hash>.*    finished tasks, a batch per file, written atomically as results arrive,
+                           each with the sha256 of its rows
+    table.parquet          every row once, sorted by grid position (``index``), rebuilt at the end of a run
+    _failures.json         the tasks that failed and have no row yet, with their errors (absent if none)
+    .sweep.lock            the write lock (:mod:`filelock`)
+
+Integrity, whatever runs write to one directory (at once or one after another):
+
+* A row is keyed by its task and parameters only (:func:`~hyperlattice.sweep.engine.task_key`),
+  never by a run's grid position, so the table holds each key exactly once (the rows of one key
+  are identical: tasks are deterministic).
+* ``index`` is not stored in the parts: it is the row's position in the *merged* grid, computed
+  when the table is read -- the grids of all runs in the order they were first run, each in its
+  own nested-loop order, a point already listed earlier keeping its place -- so it is 0..n-1 without
+  collisions however the runs overlapped.
+* The manifest keeps every grid (``grids``, in order) and, under ``parameters``, every value
+  any grid gave each parameter; a later run adds its grid and never drops an earlier one.
+* Every change of the manifest, the table and ``_failures.json`` happens under an exclusive lock
+  on ``.sweep.lock`` (:class:`filelock.FileLock`: ``flock``/``LockFileEx``, released by the OS if
+  a process dies), each as read-merge-write; parts need none (atomic renames, named by the hash of
+  their keys).
+* A part is checked against its sha256 when read: an edited or damaged part is refused with its
+  file name, never copied into the table.
+* A directory that holds anything but a sweep's files is refused: nothing of the user's is
+  overwritten or deleted.
 
 Why Parquet: a sweep's result is a flat table of numbers with a few list-valued columns (a DOS
 histogram), which is exactly what Parquet stores, column-typed and compressed; pandas
@@ -34,6 +56,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+from filelock import FileLock, Timeout
 
 from .. import __version__, _validate
 
@@ -42,6 +65,12 @@ __all__ = ["SweepStore", "SweepTable", "read_table", "have_pyarrow", "FORMAT"]
 FORMAT = "hyperlattice-sweep/1"
 _MANIFEST = "_sweep.json"
 _FAILURES = "_failures.json"
+_LOCK = ".sweep.lock"
+#: Seconds to wait for another run's write (a part, the manifest or the table) before giving up.
+LOCK_TIMEOUT = 120.0
+#: What a new sweep directory may already hold (an empty parts/ and the lock of a run that stopped
+#: before writing its manifest).
+_OURS_BEFORE_MANIFEST = {"parts", _LOCK}
 
 
 def have_pyarrow() -> bool:
@@ -117,11 +146,47 @@ def _columns(rows: list[dict]) -> dict:
     return cols
 
 
+def _rows_digest(rows: list[dict]) -> str:
+    return hashlib.sha256(json.dumps(rows, sort_keys=True, separators=(",", ":"),
+                                     allow_nan=True).encode()).hexdigest()
+
+
+def _order_key(value):
+    # a total order over the JSON scalars a parameter can take (None < bool < number < str)
+    if value is None:
+        return (0, 0)
+    if isinstance(value, bool):
+        return (1, int(value))
+    if isinstance(value, (int, float)):
+        return (2, value)
+    return (3, str(value))
+
+
 class SweepStore:
-    """A sweep directory (see the module docstring). ``backend`` is ``"parquet"`` or ``"json"``."""
+    """A sweep directory (see the module docstring). ``backend`` is ``"parquet"`` or ``"json"``.
+
+    Raises
+    ------
+    ValueError
+        If ``path`` exists and holds anything that is not a sweep's (its files are never touched).
+    """
 
     def __init__(self, path, *, backend: str | None = None) -> None:
         self.path = _validate.directory("the sweep directory", path)
+        if not (self.path / _MANIFEST).exists():
+            try:
+                foreign = sorted(f.name for f in self.path.iterdir() if f.name not in _OURS_BEFORE_MANIFEST)
+                parts = self.path / "parts"
+                if parts.is_dir() and any(parts.iterdir()):
+                    foreign.append("parts/")
+            except OSError as exc:
+                raise ValueError(f"cannot read the sweep directory {str(self.path)!r}: "
+                                 f"{exc.strerror or exc}.") from None
+            if foreign:
+                raise ValueError(f"{str(self.path)!r} is not a sweep directory (no {_MANIFEST}, and it holds "
+                                 f"{foreign[0]!r}{' and more' if len(foreign) > 1 else ''}); "
+                                 "give a new or empty directory.")
+        self.lock = FileLock(str(self.path / _LOCK), timeout=LOCK_TIMEOUT)
         self.parts = self.path / "parts"
         self.parts.mkdir(exist_ok=True)
         if backend is None:
@@ -132,6 +197,27 @@ class SweepStore:
                              "(pip install 'hyperlattice[sweep]').")
         self.suffix = ".parquet" if self.backend == "parquet" else ".json"
 
+    # -- the lock ----------------------------------------------------------------
+    def locked(self):
+        """The directory's exclusive write lock, as a context manager (reentrant in one process)."""
+        store = self
+
+        class _Held:
+            def __enter__(self_inner):
+                try:
+                    store.lock.acquire()
+                except Timeout:
+                    raise ValueError(f"the sweep directory {str(store.path)!r} stayed locked by another run "
+                                     f"for {LOCK_TIMEOUT:g} s ({_LOCK}); try again when it has finished."
+                                     ) from None
+                return store
+
+            def __exit__(self_inner, *exc):
+                store.lock.release()
+                return False
+
+        return _Held()
+
     # -- manifest --------------------------------------------------------------
     def _manifest(self) -> dict:
         f = self.path / _MANIFEST
@@ -139,52 +225,108 @@ class SweepStore:
             return {}
         try:
             data = json.loads(f.read_text())
-        except (OSError, ValueError):
+        except (OSError, ValueError, RecursionError):
             raise ValueError(f"{str(f)!r} is not a sweep manifest (unreadable JSON).") from None
         if not isinstance(data, dict) or data.get("format") != FORMAT:
             raise ValueError(f"{str(f)!r} is not a manifest of format {FORMAT}.")
+        grids = data.get("grids", [data.get("parameters", {})])
+        if not isinstance(grids, list) or not all(isinstance(g, dict) for g in grids):
+            raise ValueError(f"{str(f)!r} is not a sweep manifest (its grids are not a list of objects).")
+        data["grids"] = grids
         return data
 
     def open(self, task: str, parameters: dict) -> dict:
-        """Start (or resume) a sweep of ``task``: write the manifest, refusing another task's directory."""
-        old = self._manifest()
-        if old and old.get("task") != task:
-            raise ValueError(f"{str(self.path)!r} holds a sweep of task {old.get('task')!r}, not {task!r}; "
-                             "use another directory.")
-        if old and old.get("backend") != self.backend:
-            raise ValueError(f"{str(self.path)!r} holds {old.get('backend')} parts; this run would write "
-                             f"{self.backend}.")
-        meta = {"format": FORMAT, "task": task, "version": __version__, "backend": self.backend,
-                "parameters": parameters}
-        tmp = self.path / f".{_MANIFEST}.{os.getpid()}"
-        tmp.write_text(json.dumps(meta, indent=1, sort_keys=True))
-        os.replace(tmp, self.path / _MANIFEST)
+        """Start (or resume) a sweep of ``task`` with grid ``parameters``; refuse another task's directory.
+
+        The grid is added to the manifest's ``grids`` (once) and its values to ``parameters``,
+        under the lock: a run never drops the grid of an earlier or concurrent one.
+        """
+        grid = {str(k): list(v) for k, v in parameters.items()}
+        with self.locked():
+            old = self._manifest()
+            if old and old.get("task") != task:
+                raise ValueError(f"{str(self.path)!r} holds a sweep of task {old.get('task')!r}, not {task!r}; "
+                                 "use another directory.")
+            if old and old.get("backend") != self.backend:
+                raise ValueError(f"{str(self.path)!r} holds {old.get('backend')} parts; this run would write "
+                                 f"{self.backend}.")
+            grids = [g for g in old.get("grids", []) if g] if old else []
+            if grid not in grids:
+                grids.append(grid)
+            merged: dict = {}
+            for g in grids:
+                for name, values in g.items():
+                    have = merged.setdefault(name, [])
+                    for v in values:
+                        if not any(type(v) is type(u) and v == u for u in have):
+                            have.append(v)
+            meta = {"format": FORMAT, "task": task, "version": __version__, "backend": self.backend,
+                    "grids": grids, "parameters": merged}
+            tmp = self.path / f".{_MANIFEST}.{os.getpid()}"
+            tmp.write_text(json.dumps(meta, indent=1, sort_keys=True))
+            os.replace(tmp, self.path / _MANIFEST)
         return meta
 
     # -- parts -----------------------------------------------------------------
     def _part_files(self) -> list[Path]:
         return sorted(self.parts.glob(f"part-*{self.suffix}"))
 
+    def _bad_part(self, f: Path, why: str) -> ValueError:
+        return ValueError(f"sweep part {str(f)!r} {why}; delete it to recompute its tasks.")
+
+    def _read_part(self, f: Path):
+        """The rows of one part (a list of dicts, or a pyarrow table), checked against its sha256."""
+        if self.backend == "parquet":
+            import pyarrow.parquet as pq
+
+            try:
+                table = pq.read_table(f)
+            except (OSError, ValueError) as exc:
+                raise self._bad_part(f, f"cannot be read ({type(exc).__name__})") from None
+            meta = table.schema.metadata or {}
+            try:
+                stored = json.loads(meta.get(b"hyperlattice", b"{}")).get("sha256")
+            except (ValueError, AttributeError):
+                stored = None
+            if stored is None:
+                raise self._bad_part(f, "carries no checksum (it was not written by this version)")
+            if stored != _rows_digest(table.to_pylist()):
+                raise self._bad_part(f, "fails its checksum (edited or damaged)")
+            return table.replace_schema_metadata(None)
+        try:
+            data = json.loads(f.read_text())
+        except (OSError, ValueError, RecursionError) as exc:
+            raise self._bad_part(f, f"cannot be read ({type(exc).__name__})") from None
+        if not isinstance(data, dict) or data.get("format") != FORMAT or not isinstance(data.get("rows"), list) \
+                or not all(isinstance(r, dict) and isinstance(r.get("key"), str) for r in data["rows"]):
+            raise self._bad_part(f, f"is not a {FORMAT} part")
+        if data.get("sha256") != _rows_digest(data["rows"]):
+            raise self._bad_part(f, "fails its checksum (edited or damaged)")
+        return data["rows"]
+
     def done(self) -> set[str]:
         """Keys of the finished tasks (rows present in some part)."""
         keys: set[str] = set()
         for f in self._part_files():
+            part = self._read_part(f)
             if self.backend == "parquet":
-                import pyarrow.parquet as pq
-
-                keys.update(pq.read_table(f, columns=["key"]).column("key").to_pylist())
+                if "key" not in part.column_names:
+                    raise self._bad_part(f, "has no key column")
+                keys.update(part.column("key").to_pylist())
             else:
-                keys.update(r["key"] for r in json.loads(f.read_text()))
+                keys.update(r["key"] for r in part)
         return keys
 
     def write_rows(self, rows: list[dict], meta: dict) -> Path | None:
         """Write finished tasks as one part, atomically (a temporary file renamed into place).
 
-        The part's name is a hash of its keys, so the same batch written twice is one file.
+        The part's name is a hash of its keys, so the same batch written twice is one file; the
+        part holds the sha256 of its rows. An ``index`` in the rows is dropped (it is the merged
+        grid's, assigned on reading).
         """
         if not rows:
             return None
-        rows = [{k: _plain(v) for k, v in row.items()} for row in rows]
+        rows = [{k: _plain(v) for k, v in row.items() if k != "index"} for row in rows]
         digest = hashlib.sha256("\n".join(r["key"] for r in rows).encode()).hexdigest()[:24]
         final = self.parts / f"part-{digest}{self.suffix}"
         tmp = self.parts / f".tmp-{digest}-{os.getpid()}{self.suffix}"
@@ -192,36 +334,70 @@ class SweepStore:
             import pyarrow as pa
             import pyarrow.parquet as pq
 
-            table = pa.Table.from_pylist(rows).replace_schema_metadata({"hyperlattice": json.dumps(meta)})
+            table = pa.Table.from_pylist(rows)
+            info = {**meta, "sha256": _rows_digest(table.to_pylist())}
+            table = table.replace_schema_metadata({"hyperlattice": json.dumps(info)})
             pq.write_table(table, tmp)
         else:
-            tmp.write_text(json.dumps(rows))
+            tmp.write_text(json.dumps({"format": FORMAT, "sha256": _rows_digest(rows), "rows": rows}))
         os.replace(tmp, final)
         return final
+
+    def _positions(self, keys: list[str]) -> list[int]:
+        """Each key's position in the merged grid (see the module docstring); unknown keys last."""
+        from .engine import _grid_keys
+
+        meta = self._manifest()
+        wanted = set(keys)
+        pos: dict[str, int] = {}
+        if meta:
+            for grid in meta["grids"]:
+                for k in _grid_keys(meta["task"], grid):
+                    if k in wanted and k not in pos:
+                        pos[k] = len(pos)
+                if len(pos) == len(wanted):
+                    break
+        rest = sorted(wanted - set(pos))
+        for k in rest:
+            pos[k] = len(pos)
+        return [pos[k] for k in keys]
 
     def _read_parts(self) -> list[dict]:
         if self.backend == "parquet":
             return self._parquet_parts().to_pylist()
-        rows = [r for f in self._part_files() for r in json.loads(f.read_text())]
-        rows.sort(key=lambda r: (r.get("index", 0), r.get("key", "")))
-        return _unique(rows)
+        rows = [r for f in self._part_files() for r in self._read_part(f)]
+        rows = _unique(rows)        # one row per key: the rows of one key are identical
+        order = self._positions([r["key"] for r in rows])
+        out = []
+        for i, (_, r) in enumerate(sorted(zip(order, rows), key=lambda t: t[0])):
+            r = {k: v for k, v in r.items() if k != "index"}
+            out.append({"key": r.pop("key"), "index": i, **r})
+        return out
 
     def _parquet_parts(self):
-        """All Parquet parts as one pyarrow table sorted by (index, key), one row per key."""
+        """All Parquet parts as one pyarrow table in merged-grid order, one row per key, ``index`` 0..n-1."""
         import pyarrow as pa
-        import pyarrow.parquet as pq
 
         files = self._part_files()
         if not files:
             return pa.table({})
-        tables = [pq.read_table(f).replace_schema_metadata(None) for f in files]
+        tables = [self._read_part(f) for f in files]
         table = pa.concat_tables(tables, promote_options="permissive")
-        table = table.sort_by([("index", "ascending"), ("key", "ascending")])
+        if "index" in table.column_names:       # parts of earlier versions stored their run's position
+            table = table.drop_columns(["index"])
         keys = table.column("key").to_pylist()
-        if len(set(keys)) != len(keys):
-            # two runs raced on one directory: the rows of one key are identical (deterministic tasks)
-            first = [i for i, k in enumerate(keys) if i == 0 or k != keys[i - 1]]
-            table = table.take(first)
+        first: dict[str, int] = {}
+        for i, k in enumerate(keys):
+            first.setdefault(k, i)          # one row per key, wherever the runs overlapped
+        rows = list(first.values())
+        order = self._positions(list(first))
+        take = [r for _, r in sorted(zip(order, rows))]
+        table = table.take(take)
+        names = table.column_names
+        table = table.add_column(1 if names and names[0] == "key" else 0, "index",
+                                 pa.array(np.arange(len(take), dtype=np.int64)))
+        if table.column_names[0] != "key":
+            table = table.select(["key", "index"] + [n for n in table.column_names if n not in ("key", "index")])
         return table
 
     # -- the table ----------------------------------------------------------------
@@ -230,33 +406,55 @@ class SweepStore:
         return self.path / ("table.parquet" if self.backend == "parquet" else "table.jsonl")
 
     def consolidate(self) -> Path:
-        """Rebuild the table from all parts, sorted by grid position, metadata in the schema."""
-        meta = self._manifest()
-        tmp = self.path / f".table-{os.getpid()}"
-        if self.backend == "parquet":
-            import pyarrow.parquet as pq
+        """Rebuild the table from all parts, in merged-grid order, metadata in the schema (under the lock)."""
+        with self.locked():
+            meta = self._manifest()
+            tmp = self.path / f".table-{os.getpid()}"
+            if self.backend == "parquet":
+                import pyarrow.parquet as pq
 
-            table = self._parquet_parts()
-            table = table.replace_schema_metadata({"hyperlattice": json.dumps(meta, sort_keys=True)})
-            pq.write_table(table, tmp)
-        else:
-            rows = self._read_parts()
-            with open(tmp, "w") as fh:
-                for r in rows:
-                    fh.write(json.dumps(r) + "\n")
-        os.replace(tmp, self.table_path)
+                table = self._parquet_parts()
+                table = table.replace_schema_metadata({"hyperlattice": json.dumps(meta, sort_keys=True)})
+                pq.write_table(table, tmp)
+            else:
+                rows = self._read_parts()
+                with open(tmp, "w") as fh:
+                    for r in rows:
+                        fh.write(json.dumps(r) + "\n")
+            os.replace(tmp, self.table_path)
         return self.table_path
 
-    def write_failures(self, failures: list[dict]) -> None:
+    def write_failures(self, failures: list[dict], tried: set[str] | None = None) -> None:
+        """Record this run's failures, merged with the earlier ones (under the lock).
+
+        An earlier failure is dropped when its key now has a row or was tried again by this run
+        (``tried``); the others stay, so a concurrent run's failures are not lost.
+        """
         f = self.path / _FAILURES
-        if failures:
-            f.write_text(json.dumps(failures, indent=1))
-        elif f.exists():
-            f.unlink()
+        with self.locked():
+            done = self.done()
+            keep = [x for x in self.failures() if x.get("key") not in done
+                    and x.get("key") not in (tried or set())]
+            new_keys = {x["key"] for x in failures}
+            merged = [x for x in keep if x.get("key") not in new_keys] + list(failures)
+            if merged:
+                tmp = self.path / f".{_FAILURES}.{os.getpid()}"
+                tmp.write_text(json.dumps(merged, indent=1))
+                os.replace(tmp, f)
+            elif f.exists():
+                f.unlink()
 
     def failures(self) -> list[dict]:
         f = self.path / _FAILURES
-        return json.loads(f.read_text()) if f.exists() else []
+        if not f.exists():
+            return []
+        try:
+            data = json.loads(f.read_text())
+        except (OSError, ValueError, RecursionError):
+            raise ValueError(f"{str(f)!r} is not a sweep's failure list (unreadable JSON).") from None
+        if not isinstance(data, list) or not all(isinstance(x, dict) for x in data):
+            raise ValueError(f"{str(f)!r} is not a sweep's failure list.")
+        return data
 
 
 def read_table(path) -> SweepTable:
@@ -268,7 +466,7 @@ def read_table(path) -> SweepTable:
     if not (p / _MANIFEST).exists():
         raise ValueError(f"{str(p)!r} is not a sweep directory (no {_MANIFEST}).")
     store = SweepStore(p)
-    rows = store._read_parts()
+    rows = store._read_parts()       # under no lock: a running sweep's parts are complete files
     return SweepTable(columns=_columns(rows), metadata=store._manifest())
 
 
