@@ -104,6 +104,9 @@ class Spectrum(Levels):
         to ``energies[k]``.
     flux : float
         Flux quanta per p-gon face of a uniform field (0 without field).
+    backend : str
+        The sparse factorisation that ran (``"cholmod"`` or ``"superlu"``, see
+        :mod:`hyperlattice.graph.factor`), or ``""`` when none did.
     """
 
     error_kind: str = "residual"
@@ -114,6 +117,7 @@ class Spectrum(Levels):
     timings: dict = field(default_factory=dict)
     eigenvectors: np.ndarray | None = None
     flux: float = 0.0
+    backend: str = ""
 
     @property
     def residuals(self) -> np.ndarray:
