@@ -198,7 +198,7 @@ def _symbolic_kernel():
         # elimination tree until a node already marked for k; each step is one entry L[k, i]
         parent = np.full(n, -1, np.int64)
         flag = np.empty(n, np.int64)
-        total = 0
+        colcount = np.ones(n, np.int64)
         for k in range(n):
             flag[k] = k
             for p in range(ap[k], ap[k + 1]):
@@ -207,21 +207,22 @@ def _symbolic_kernel():
                     while flag[i] != k:
                         if parent[i] == -1:
                             parent[i] = k
-                        total += 1
+                        colcount[i] += 1
                         flag[i] = k
                         i = parent[i]
-        return total
+        return colcount
 
     _SYMBOLIC["counts"] = counts
     return counts
 
 
-def _factor_nnz(pattern: sp.csc_matrix, perm: np.ndarray) -> int:
-    """Entries of L (strictly below the diagonal, plus the diagonal) for the symmetric order ``perm``."""
+def _factor_counts(pattern: sp.csc_matrix, perm: np.ndarray) -> tuple[int, float]:
+    """Entries of L (diagonal included) and the flops of its factorisation, for the symmetric order ``perm``."""
     n = pattern.shape[0]
     pp = pattern[perm][:, perm].tocsc()
     pp.sort_indices()
-    return int(_symbolic_kernel()(n, pp.indptr.astype(np.int64), pp.indices.astype(np.int64))) + n
+    cc = _symbolic_kernel()(n, pp.indptr.astype(np.int64), pp.indices.astype(np.int64)).astype(np.float64)
+    return int(cc.sum()), float(np.dot(cc, cc))
 
 
 def _as_square(mat, what: str) -> sp.csc_matrix:
@@ -288,6 +289,7 @@ class SymbolicAnalysis:
         self._cholmod_llt = None      # supernodal LL^T analysis (positive definite, faster)
         self._perm = None             # SuperLU: the column order of the first factorisation
         self.exact = False
+        self.supernodal = False
         nnz_a = self.matrix.nnz
         if self.backend == "cholmod":
             self._check(self._bytes(2 * nnz_a), "the symbolic analysis")
@@ -297,7 +299,10 @@ class SymbolicAnalysis:
                     warnings.simplefilter("ignore")   # CHOLMOD warns on complex-to-real conversions
                     self._cholmod_ldl = cholmod.analyze(self.matrix, mode="simplicial", ordering_method="amd")
                 perm = np.asarray(self._cholmod_ldl.P(), dtype=np.int64)
-                self.factor_entries = _factor_nnz(self.matrix, perm)
+                self.factor_entries, flops = _factor_counts(self.matrix, perm)
+                # CHOLMOD's own rule: supernodal pays when flops / nnz(L) >= 40; on these graphs the
+                # fill is tiny and the simplicial LDL^T is 5x faster (0.010 s vs 0.052 s at l = 10)
+                self.supernodal = flops >= 40.0 * self.factor_entries
             except MemoryError:
                 raise _refusal(what, self._bytes(2 * nnz_a), available_memory()) from None
             except Exception as exc:  # noqa: BLE001 - any backend error becomes one sentence
@@ -432,7 +437,7 @@ class Factor:
         an = self.analysis
         shifted = an.matrix
         beta = -self.sigma
-        if positive:
+        if positive and an.supernodal:
             if an._cholmod_llt is None:
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore")
@@ -445,7 +450,8 @@ class Factor:
                 self.kind = "LL^T"
                 self.negatives, self.proved, self.positive_definite = 0, True, True
                 return
-        # the simplicial LDL^T: CHOLMOD does not pivot, so D holds the inertia
+        # the simplicial LDL^T: CHOLMOD does not pivot, so D holds the inertia (all D > 0 proves
+        # positive definiteness as well as a Cholesky factorisation would)
         self._f = an._cholmod_ldl.cholesky(shifted, beta=beta)
         self.kind = "LDL^T"
         d = np.real(np.asarray(self._f.D()))
