@@ -343,7 +343,7 @@ class SymbolicAnalysis:
         out.data[diag] -= sigma
         return out
 
-    def factor(self, sigma: float = 0.0, *, positive: bool = False, matrix=None) -> "Factor":
+    def factor(self, sigma: float = 0.0, *, positive: bool = False, matrix=None, pivoting: bool = False) -> "Factor":
         """Numeric factorisation of :math:`H - \\sigma` reusing this analysis (see :func:`factorize`).
 
         ``matrix``: another matrix with the same sparsity pattern (the real sector blocks of
@@ -357,7 +357,7 @@ class SymbolicAnalysis:
             if np.iscomplexobj(mat.data) != self.complex:
                 raise ValueError("the matrix is not of the analysed type (real or complex).")
             self.matrix = mat
-        return Factor(self, sigma, positive=positive)
+        return Factor(self, sigma, positive=positive, pivoting=pivoting)
 
     def __repr__(self) -> str:
         return (f"<SymbolicAnalysis {self.backend} n={self.n} factor entries "
@@ -410,7 +410,7 @@ class Factor:
     analysis : SymbolicAnalysis
     """
 
-    def __init__(self, analysis: SymbolicAnalysis, sigma, *, positive: bool = False):
+    def __init__(self, analysis: SymbolicAnalysis, sigma, *, positive: bool = False, pivoting: bool = False):
         self.analysis = analysis
         self.backend = analysis.backend
         self.n = analysis.n
@@ -421,7 +421,7 @@ class Factor:
         self.positive_definite = False
         what = analysis.what
         try:
-            if not hermitian:
+            if not hermitian or pivoting:
                 self._general(sigma)
             elif self.backend == "cholmod":
                 self._cholmod(positive)
@@ -488,7 +488,7 @@ class Factor:
 
     def _general(self, sigma) -> None:
         an = self.analysis
-        m = an.shifted(complex(sigma))
+        m = an.shifted(sigma)
         self._lu = spla.splu(m, permc_spec="COLAMD")
         self._perm = None
         self.kind = "LU"
@@ -527,9 +527,9 @@ class Factor:
             return lu.solve(np.ascontiguousarray(b.real)) + 1j * lu.solve(np.ascontiguousarray(b.imag))
         return lu.solve(np.asarray(b, dtype=lu.L.dtype))
 
-    def refactor(self, sigma, *, positive: bool = False) -> "Factor":
+    def refactor(self, sigma, *, positive: bool = False, pivoting: bool = False) -> "Factor":
         """A new factor at another shift, reusing the symbolic analysis."""
-        return Factor(self.analysis, sigma, positive=positive)
+        return Factor(self.analysis, sigma, positive=positive, pivoting=pivoting)
 
     def __repr__(self) -> str:
         return (f"<Factor {self.backend} {self.kind} n={self.n} sigma={self.sigma} negatives={self.negatives} "
@@ -565,7 +565,8 @@ def analyze(mat, *, backend: str = "auto", what: str = "H - sigma", max_bytes: i
 
 
 def factorize(mat, sigma=0.0, *, backend: str = "auto", analysis: SymbolicAnalysis | None = None,
-              positive: bool = False, what: str = "H - sigma", max_bytes: int | None = None) -> Factor:
+              positive: bool = False, pivoting: bool = False, what: str = "H - sigma",
+              max_bytes: int | None = None) -> Factor:
     r"""Factorise :math:`H - \sigma` once, for solves and the inertia count.
 
     Parameters
@@ -581,6 +582,9 @@ def factorize(mat, sigma=0.0, *, backend: str = "auto", analysis: SymbolicAnalys
     positive : bool
         σ is expected below the spectrum: CHOLMOD tries a supernodal :math:`LL^T` first, whose
         success proves it (``factor.positive_definite``); on failure the :math:`LDL^T` counts.
+    pivoting : bool
+        A plain LU with partial pivoting (SuperLU) even for a real shift: stable inside the
+        spectrum, where an :math:`LDL^T` without pivoting may not be; no inertia.
     what : str
         Name of the matrix in error messages.
     max_bytes : int, optional
@@ -598,8 +602,10 @@ def factorize(mat, sigma=0.0, *, backend: str = "auto", analysis: SymbolicAnalys
         Zero pivot (σ an eigenvalue to working precision) or another backend failure.
     """
     if analysis is None:
+        if pivoting or (np.iscomplexobj(sigma) and complex(sigma).imag != 0):
+            backend = "superlu"   # a pivoted LU is SuperLU's job; no CHOLMOD analysis to pay for
         analysis = analyze(mat, backend=backend, what=what, max_bytes=max_bytes)
-    return analysis.factor(sigma, positive=positive)
+    return analysis.factor(sigma, positive=positive, pivoting=pivoting)
 
 
 #: Lanczos basis of the shift-invert runs (measured: 19 solves per level at 12, the fewest).
