@@ -58,6 +58,10 @@ BACKENDS = ("auto", "cholmod", "superlu")
 #: nnz(L + U) / nnz(H - sigma) bound of SuperLU (COLAMD, symmetric mode) on these graphs; measured
 #: 4.37-4.53 on {7,3} flakes (l = 6..10) and 1.8-4.2 on their sector blocks, with margin
 _SUPERLU_FILL = 6.0
+#: address space SuperLU reserves per entry of H - sigma (its initial L/U workspaces are sized by a fill
+#: factor of 20, mostly untouched pages): measured 820-900 B on {7,3} sector blocks (l = 12, 13);
+#: counts against RLIMIT_AS, not against free RAM
+_SUPERLU_ADDRESS = 1000
 #: bytes per stored factor entry beyond the value itself (row index, supernode padding, workspace)
 _ENTRY_OVERHEAD = 8
 #: bytes per unknown of the backends' workspaces (permutations, elimination tree, counts, one RHS)
@@ -135,6 +139,13 @@ def available_memory() -> int:
     """Bytes this process can still allocate: the least of free RAM, RLIMIT_AS headroom and the cgroup limit."""
     values = [v for v in (_meminfo_available(), _address_space_headroom(), _cgroup_headroom()) if v is not None]
     return int(min(values)) if values else 8 * 1024**3
+
+
+def _memory_limits() -> tuple[int, int | None]:
+    """(resident bytes available: free RAM and cgroup, address space left under RLIMIT_AS or None)."""
+    values = [v for v in (_meminfo_available(), _cgroup_headroom()) if v is not None]
+    resident = int(min(values)) if values else 8 * 1024**3
+    return resident, _address_space_headroom()
 
 
 def _gb(nbytes: float) -> str:
@@ -328,11 +339,20 @@ class SymbolicAnalysis:
 
     def _check(self, needed: int, stage: str) -> None:
         if self.max_bytes is not None:
-            limit, allowed = int(self.max_bytes), True
-        else:
-            limit, allowed = available_memory(), False
-        if needed > limit:
-            raise _refusal(self.what, needed, limit, allowed)
+            if needed > int(self.max_bytes):
+                raise _refusal(self.what, needed, int(self.max_bytes), True)
+            return
+        resident, address = _memory_limits()
+        if needed > resident:
+            raise _refusal(self.what, needed, min(resident, address if address is not None else resident))
+        if address is not None:
+            # SuperLU reserves far more address space than it touches: that counts against RLIMIT_AS
+            reserve = max(needed, _SUPERLU_ADDRESS * self.matrix.nnz) if self.backend == "superlu" else needed
+            if reserve > address:
+                raise FactorMemoryError(
+                    f"the sparse factorisation of {self.what} needs about {_gb(reserve)} of address space"
+                    f"{' (SuperLU reserves its workspace up front)' if self.backend == 'superlu' else ''}, more "
+                    f"than the {_gb(address)} left under this process's address-space limit.")
 
     def shifted(self, sigma) -> sp.csc_matrix:
         """:math:`H - \\sigma` with the analysed pattern (a new array)."""

@@ -39,7 +39,7 @@ import scipy.sparse as sp
 from .. import _validate
 from .. import geometry
 from ..errors import ConvergenceError
-from .lattice import _available_memory, _check_pq, _type_counts
+from .lattice import _check_pq, _type_counts
 
 __all__ = ["SectorLattice", "sector_lattice", "sector_block", "lowest_pair", "lowest_sector_levels", "flake_memory"]
 
@@ -115,7 +115,10 @@ def flake_memory(p: int, q: int, rings: int) -> int:
 
 def _check_flake_size(p: int, q: int, rings: int, max_bytes) -> int:
     """Full-lattice site count, or ValueError when the sector build will not fit."""
-    limit = _available_memory() if max_bytes is None else _validate.positive_int("max_bytes", max_bytes)
+    from .factor import available_memory
+
+    # the address-space limit and the cgroup count too, not only free RAM
+    limit = available_memory() if max_bytes is None else _validate.positive_int("max_bytes", max_bytes)
     per_site = _BYTES_PER_SITE_SECTORS
     counts, _ = _type_counts(p, q, rings, stop_above=max(limit // per_site, 1))
     n = sum(counts)
@@ -738,6 +741,16 @@ def lowest_sector_levels(p: int = 7, q: int = 3, rings: int = 3, levels: int = 2
                     out += [(float(e[j]), spec, j, float(r[j]))] * _states(spec, p)
             return sorted(out, key=lambda lv: (lv[0], lv[1][0], lv[2]))
 
+        # every kind of block analysed before any numeric work: a factorisation that will not fit is
+        # refused now, with one sentence, not after minutes of solving the blocks that do fit
+        for spec in specs:
+            if key(spec) not in analyses:
+                keep = spec in ((0, "even"), (1, "real"))
+                mat = block(spec, keep)
+                analyses[key(spec)] = fct.analyze(
+                    mat, backend=backend, max_bytes=max_bytes,
+                    what=f"the sector block m = {spec[0]} ({spec[1]}, {mat.shape[0]:,} rows)")
+                del mat
         e0, r0 = lowest((0, "even"), 1)
         found = {(0, "even"): (e0, r0)}
         if levels <= 2 and (1, "real") in specs:
