@@ -3,7 +3,7 @@
 import pytest
 
 from badinput import api_cases, check_api
-from hyperlattice.graph.sectors import flake_memory, lowest_pair, sector_block, sector_lattice
+from hyperlattice.graph.sectors import flake_memory, lowest_pair, lowest_sector_levels, sector_block, sector_lattice
 
 _SLAT = sector_lattice(7, 3, 3)
 
@@ -13,6 +13,9 @@ CASES = [
      {"mirror": {"none"}}),
     ("lowest_pair", lowest_pair, {"p": 7, "q": 3, "rings": 3, "t": 1.0, "tol": 1e-10, "backend": "auto",
                                   "max_bytes": 10**9}, {"max_bytes": {"none"}}),
+    ("lowest_sector_levels", lowest_sector_levels, {"p": 7, "q": 3, "rings": 3, "levels": 3, "t": 1.0,
+                                                    "tol": 1e-10, "backend": "auto", "max_bytes": 10**9},
+     {"max_bytes": {"none"}}),
     ("flake_memory", flake_memory, {"p": 7, "q": 3, "rings": 3}, {}),
 ]
 

@@ -154,12 +154,13 @@ def test_refusals(lat5):
         cb.fit_delta([0.5, 1.0], [1.0, 0.5], [0.1, 0.1], 0.1)
 
 
-def test_ldl_resolvent_matches_superlu_and_resolves_tiny_entries():
-    # regression for the speed-up: the LDL^T route (own order, numba) against the SuperLU route, entry by
-    # entry in relative terms, down to the smallest outer-ring values (M-matrix: no cancellation)
+def test_default_resolvent_matches_superlu_and_resolves_tiny_entries():
+    # the default backend (CHOLMOD when installed) against the SuperLU route, entry by entry in
+    # relative terms, down to the smallest outer-ring values (M-matrix: no cancellation)
     lat = ring_lattice(7, 3, 6)
     ring = cb.outer_ring(lat)
     fast, slow = BelowBandResolvent(lat), BelowBandResolvent(lat, method="superlu")
+    assert slow.backend == "superlu" and fast.backend in ("cholmod", "superlu")
     for w in (-3.8, -2.9):
         a, b = fast.column(w, ring[0]), slow.column(w, ring[0])
         assert np.max(np.abs(a / b - 1)) < 1e-11 and a.min() > 0

@@ -20,7 +20,7 @@ def test_json_contract(capsys):
     out = run_json(capsys, "-p", "7", "-q", "3", "--rings", "5", "--levels", "4")
     assert set(out) == KEYS
     assert (out["p"], out["q"], out["rings"], out["sites"]) == (7, 3, 5, 847)
-    assert out["method"] in ("dense", "sparse", "sector-dense", "sector-sparse")
+    assert out["method"] in ("dense", "sparse", "sector-dense", "sector-sparse", "sector-shift-invert")
     lengths = {len(out[k]) for k in ("energies", "n", "m", "residuals")}
     assert lengths == {4}
     assert out["energies"] == sorted(out["energies"])
@@ -83,5 +83,5 @@ def test_all_states_by_levels_equal_to_n(capsys):
 def test_line_graph_at_ten_rings(capsys):
     # used to fail (wrong line-graph rotation from ten rings on)
     out = run_json(capsys, "--rings", "10", "--levels", "2", "--line-graph")
-    assert out["sites"] == 135_135 and out["m"] == [0, 1] and out["method"] == "sector-sparse"
+    assert out["sites"] == 135_135 and out["m"] == [0, 1] and out["method"] == "sector-shift-invert"
     assert max(out["residuals"]) < 1e-10

@@ -360,10 +360,11 @@ def test_butterfly_refuses_large_before_allocating():
 
 @pytest.mark.slow
 def test_sector_sparse_with_flux():
-    """Blocks above DENSE_MAX go through the Chebyshev-Lanczos solver, complex with flux."""
+    """Blocks above DENSE_MAX go through shift-invert (graph/factor, complex Hermitian blocks) with flux."""
     lat = ring_lattice(7, 3, 8)  # 15,435 sites, blocks of 2,205
     spec = lowest_levels(lat, 6, flux=0.05)
-    assert spec.method == "sector-sparse" and np.max(spec.errors) < 1e-10
+    assert spec.method == "sector-shift-invert" and np.max(spec.errors) < 1e-10
+    assert spec.backend in ("cholmod", "superlu")
     for m in (0, -3):
         e = sla.eigvalsh(sector_table(lat, m, flux=0.05).to_csr().toarray(), subset_by_index=[0, 1])
         sel = spec.energies[spec.m == m]

@@ -90,12 +90,27 @@ def test_prebuilt_sector_lattice_is_used_and_labels_are_the_paper_ones():
 
 
 def test_without_scikit_sparse_the_pure_fallback_runs(monkeypatch):
-    import hyperlattice.graph.solvers as solvers
+    import hyperlattice.graph.factor as factor
 
-    monkeypatch.setattr(solvers, "_cholmod", lambda: None)
-    spec = lowest_pair(7, 3, 7)  # backend="auto" falls back to SuperLU
-    assert "SuperLU" in spec.description and "inertia" in spec.description
+    monkeypatch.setattr(factor, "_cholmod", lambda: None)
+    spec = lowest_pair(7, 3, 7)  # backend="auto" falls back to SuperLU, silently
+    assert "SuperLU" in spec.description and "inertia" in spec.description and spec.backend == "superlu"
     ref = lowest_levels(ring_lattice(7, 3, 7), 2)
     assert np.allclose(spec.energies, ref.energies, rtol=0, atol=1e-12)
-    with pytest.raises(ValueError, match="scikit-sparse"):
-        lowest_pair(7, 3, 3, backend="cholmod")
+    with pytest.warns(factor.SolverFallbackWarning, match="SuperLU"):
+        spec = lowest_pair(7, 3, 3, backend="cholmod")
+    assert spec.backend == "superlu"
+
+
+@pytest.mark.parametrize("backend", ["superlu", pytest.param("cholmod", marks=pytest.mark.skipif(
+    not __import__("hyperlattice.graph.factor", fromlist=["x"]).cholmod_available(), reason="no scikit-sparse"))])
+@pytest.mark.parametrize("p,q,rings,levels", [(7, 3, 8, 10), (8, 3, 6, 7), (7, 3, 9, 25)])
+def test_k_lowest_sector_levels_equal_lowest_levels(p, q, rings, levels, backend):
+    # reference: the sector eigensolver of lowest_levels on the full lattice (dense/Chebyshev blocks)
+    from hyperlattice.graph.sectors import lowest_sector_levels
+
+    ref = lowest_levels(ring_lattice(p, q, rings), levels, method="sector")
+    got = lowest_sector_levels(p, q, rings, levels, backend=backend)
+    assert got.backend == backend and "inertia" in got.description
+    np.testing.assert_allclose(got.energies, ref.energies, rtol=0, atol=1e-12)
+    assert got.m.tolist() == ref.m.tolist() and got.n.tolist() == ref.n.tolist()

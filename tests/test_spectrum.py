@@ -13,10 +13,12 @@ from hyperlattice.graph.spectrum import full_spectrum, lowest_levels, partition_
 from hyperlattice.paper_values import paper_value
 
 
-@pytest.fixture
-def force_sparse_blocks(monkeypatch):
-    """Send every block, however small, through the Chebyshev-ARPACK path."""
+@pytest.fixture(params=["sector-shift-invert", "sector-sparse"])
+def force_sparse_blocks(monkeypatch, request):
+    """Send every block, however small, through a sparse path: shift-invert (graph/factor) or Chebyshev-ARPACK."""
     monkeypatch.setattr(spectrum_mod, "DENSE_MAX", 0)
+    monkeypatch.setattr(spectrum_mod, "_SHIFT_INVERT_BLOCKS", request.param == "sector-shift-invert")
+    return request.param
 
 
 @pytest.mark.parametrize("rings", [2, 3, 4, 5, 6])
@@ -25,7 +27,7 @@ def test_dense_sparse_sector_agree(rings, force_sparse_blocks):
     k = 6
     sector = lowest_levels(lat, k, method="sector")
     # at two rings the blocks (5 x 5) are too small for ARPACK and stay dense
-    assert sector.method == ("sector-dense" if rings == 2 else "sector-sparse")
+    assert sector.method == ("sector-dense" if rings == 2 else force_sparse_blocks)
     sparse = lowest_levels(lat, k, method="sparse")
     exact = np.linalg.eigvalsh(hamiltonian(lat).toarray())[:k]
     dense = lowest_levels(lat, k, method="dense")
@@ -193,7 +195,8 @@ def test_residuals_at_twelve_rings():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         spec = lowest_levels(lat, 2)
-    assert spec.sites == 725_760 and spec.method == "sector-sparse"
+    # the default route at this size: the sector-only shift-invert (no lattice blocks), inertia-proved
+    assert spec.sites == 725_760 and spec.method == "sector-shift-invert" and "inertia" in spec.description
     assert np.all(spec.residuals < 1e-9)
     assert spec.m.tolist() == [0, 1]
     # the levels are close (gap ~5e-3) but their residuals make each good to ~1e-13

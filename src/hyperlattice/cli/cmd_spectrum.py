@@ -31,9 +31,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--sector", default=None, metavar="M",
                         help="only sector M (0..p-1 or signed, e.g. -1 = p-1)")
     parser.add_argument("--line-graph", action="store_true", help="use the line graph (resonator layout)")
-    parser.add_argument("--method", choices=("auto", "sector", "dense", "sparse", "pair"), default="auto",
-                        help="eigensolver (default auto: angular-momentum sectors); pair: E0 and E1 only, "
-                        "from the sector blocks without building the lattice (large flakes, l = 15..17)")
+    parser.add_argument("--method", choices=("auto", "sector", "dense", "sparse", "shift-invert", "pair"),
+                        default="auto",
+                        help="eigensolver (default auto: the fastest route for the request, recorded as "
+                        "'method' in the output: shift-invert on the sector blocks built without the lattice for "
+                        "large plain flakes, else angular-momentum sectors); pair: E0 and E1 only, from the "
+                        "sector blocks without building the lattice (large flakes, l = 15..17)")
     parser.add_argument("--flux", type=finite_float, default=None, metavar="F",
                         help="uniform field: F flux quanta per p-gon, F > 0 counterclockwise (default 0)")
     parser.add_argument("--tol", type=float, default=1e-10, help="largest acceptable residual (default 1e-10)")
@@ -46,6 +49,8 @@ def run(args: argparse.Namespace) -> int:
         sector = signed_sector(_sector(args.sector), args.p)
     if args.method == "pair":
         return _run_pair(args)
+    if args.method in ("auto", "shift-invert") and _sector_only(args, sector):
+        return _run_pair(args, levels=args.levels)
     with Progress("spectrum") as progress:
         progress.update("building the lattice")
         lattice = ring_lattice(args.p, args.q, args.rings)
@@ -79,16 +84,35 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _run_pair(args) -> int:
-    """``--method pair``: E0 and E1 from the sector-only build (graph.sectors.lowest_pair)."""
-    from ..graph.sectors import lowest_pair
+def _sector_only(args, sector) -> bool:
+    """The request is one the sector-only route answers, and its blocks are big enough to pay (the API's rule)."""
+    from ..graph.lattice import _check_pq, _type_counts
+    from ..graph.spectrum import _SECTOR_ONLY_MIN
 
-    for flag, bad in (("--line-graph", args.line_graph), ("--sector", args.sector is not None),
-                      ("--flux", bool(args.flux)), ("--levels other than 2", args.levels != 2)):
-        if bad:
-            raise ValueError(f"--method pair computes E0 and E1 of the flake only; {flag} is not supported with it.")
+    if args.line_graph or sector is not None or args.flux:
+        return False
+    p, q = _check_pq(args.p, args.q)
+    if args.method == "shift-invert":
+        return True
+    counts, _ = _type_counts(p, q, args.rings, stop_above=2**62)
+    sites = sum(counts)
+    return sites // p > _SECTOR_ONLY_MIN and args.levels <= sites // 2
+
+
+def _run_pair(args, levels: int | None = None) -> int:
+    """``--method pair``: E0 and E1 from the sector-only build (graph.sectors.lowest_pair); with ``levels``
+    (the default route for large flakes) the ``levels`` lowest (graph.sectors.lowest_sector_levels)."""
+    from ..graph.sectors import lowest_sector_levels
+
+    if levels is None:
+        for flag, bad in (("--line-graph", args.line_graph), ("--sector", args.sector is not None),
+                          ("--flux", bool(args.flux)), ("--levels other than 2", args.levels != 2)):
+            if bad:
+                raise ValueError(f"--method pair computes E0 and E1 of the flake only; {flag} is not supported "
+                                 "with it.")
     with Progress("spectrum") as progress:
-        spec = lowest_pair(args.p, args.q, args.rings, tol=args.tol, progress=progress.update)
+        spec = lowest_sector_levels(args.p, args.q, args.rings, 2 if levels is None else levels, tol=args.tol,
+                                    progress=progress.update)
     if args.json:
         out = spec.summary()
         if args.flux is not None:

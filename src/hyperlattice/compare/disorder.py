@@ -425,15 +425,13 @@ def _omega_upper(omega) -> complex:
 
 
 def _column(h, omega: complex, source: int) -> np.ndarray:
-    r"""Column ``source`` of :math:`(H-\omega)^{-1}` by sparse LU (H sparse; the fill-in is small)."""
-    import scipy.sparse as sp
-    import scipy.sparse.linalg as spla
+    r"""Column ``source`` of :math:`(H-\omega)^{-1}` by sparse LU (graph/factor; the fill-in is small)."""
+    from ..graph.factor import factorize
 
     n = h.shape[0]
-    a = (sp.csc_matrix(h, dtype=complex) - omega * sp.identity(n, dtype=complex, format="csc")).tocsc()
     rhs = np.zeros(n, complex)
     rhs[source] = 1.0
-    return spla.splu(a, permc_spec="COLAMD").solve(rhs)
+    return factorize(h, omega, pivoting=True, what=f"H - omega of a disordered {n:,}-site lattice").solve(rhs)
 
 
 def green_ensemble(lattice: Lattice, omega, strength: float, realizations: int = 20, *, seed: int = 0,

@@ -11,7 +11,6 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from .. import _validate
 from .lattice import Lattice
@@ -110,6 +109,13 @@ class GraphResolvent:
         self._eig = None
         self._lu = None
         self._lu_omega = None
+        self._analysis = None      # graph/factor analysis for omega below the band (Cholesky-type)
+        self._general = None       # graph/factor analysis for the pivoted LU elsewhere
+        self.backend = ""          # the factorisation backend of the last sparse omega
+        # a lower bound of the spectrum (Gershgorin): below it H - omega is positive definite
+        d = self.H.diagonal()
+        off = np.asarray(abs(self.H).sum(axis=1)).ravel() - np.abs(d)
+        self._lower = float(np.min(d - off)) if self.n else 0.0
 
     # -- spectrum checks -------------------------------------------------------
     def _tol(self, omega: complex) -> float:
@@ -125,19 +131,39 @@ class GraphResolvent:
             self._eig = sla.eigh(self.H.toarray())
         return self._eig
 
-    def _factor(self, omega: complex) -> spla.SuperLU:
+    def _factor(self, omega: complex):
+        """The factorisation of H - omega (graph/factor), cached for the last omega.
+
+        Below the spectrum a Cholesky-type factorisation without pivoting (CHOLMOD when installed)
+        is tried first: its success proves omega < E0 and it is the fastest. Elsewhere (inside the
+        band, complex omega) a pivoted LU, stable for an indefinite or non-Hermitian H - omega.
+        """
+        from .factor import FactorizationError, analyze
+
         if self._lu is not None and self._lu_omega == omega:
             return self._lu
         shift = omega.real if omega.imag == 0 else omega      # real arithmetic for real omega
-        M = (self.H - shift * sp.identity(self.n, format="csc")).tocsc()
+        what = f"H - omega of the {self.n:,}-site lattice"
         try:
-            lu = spla.splu(M, permc_spec="COLAMD")
-        except RuntimeError as exc:     # SuperLU: "Factor is exactly singular"
+            lu = None
+            if omega.imag == 0 and omega.real < self._lower:
+                if self._analysis is None:
+                    self._analysis = analyze(self.H, what=what)
+                lu = self._analysis.factor(shift, positive=True)
+                if not lu.positive_definite:
+                    lu = None
+            if lu is None:
+                if self._general is None:
+                    self._general = analyze(self.H, backend="superlu", what=what)
+                lu = self._general.factor(shift, pivoting=True)
+        except FactorizationError as exc:     # exactly singular: omega is an eigenvalue
             raise self._on_spectrum_error(omega, "singular factorization") from exc
-        piv = np.abs(lu.U.diagonal())
-        if piv.size and piv.min() <= self._tol(omega):
-            raise self._on_spectrum_error(omega, f"LU pivot {piv.min():.1e}")
+        if lu.kind == "LU":
+            piv = np.abs(lu._lu.U.diagonal())
+            if piv.size and piv.min() <= self._tol(omega):
+                raise self._on_spectrum_error(omega, f"LU pivot {piv.min():.1e}")
         self._lu, self._lu_omega = lu, omega
+        self.backend = lu.backend
         return lu
 
     # -- evaluation ------------------------------------------------------------

@@ -29,10 +29,11 @@ complement) gives the qubit block :math:`\omega_q - g^2 B^T G(E) B` with
   (below the band every entry of :math:`G` is positive). Bienias, Boettcher, Belyansky, Kollár
   and Gorshkov, PRL 128, 013601 (2022) study these bound states and exchange couplings.
 
-The solves use :class:`BelowBandResolvent`: one sparse :math:`LDL^T` factorization per frequency
-(fill-reducing order and elimination tree once per lattice, numeric factorization in numba), whose
-pivot signs give the inertia of :math:`H - \omega` (Sylvester's law): all pivots positive proves
-:math:`\omega < E_0`, so "below the band" is checked exactly, at no extra cost. It is shared with
+The solves use :class:`BelowBandResolvent`: one sparse factorization per frequency through
+:mod:`hyperlattice.graph.factor` (symbolic analysis once per lattice), whose success as a Cholesky
+factorization (or the pivot signs of its :math:`LDL^T`) gives the inertia of :math:`H - \omega`
+(Sylvester's law): it proves :math:`\omega < E_0`, so "below the band" is checked exactly, at no
+extra cost. It is shared with
 :mod:`hyperlattice.compare.boundary` (the boundary correlators of the massive scalar).
 """
 
@@ -44,7 +45,6 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from .. import _validate
 from ..errors import ConvergenceError
@@ -81,154 +81,6 @@ def _real_omega(name: str, omega) -> float:
     return _validate.real(name, omega)
 
 
-def _angular_dissection(adj: sp.csr_matrix, angle: np.ndarray, leaf: int = 32) -> np.ndarray:
-    """Nested-dissection order of a flake by recursive median splits in angle (cuts along radial geodesics).
-
-    The separator of a split is the set of sites of one half adjacent to the other half; it is ordered
-    after both halves. Hyperbolic flakes are tree-like: a radial cut crosses about two sites per ring, so
-    the separators stay small (measured <= 20 sites at l = 10) and the fill of the factor stays near linear.
-    """
-    n = adj.shape[0]
-    out: list[np.ndarray] = []
-    stack: list[tuple[np.ndarray, bool]] = [(np.arange(n), False)]
-    in_q = np.zeros(n)
-    while stack:                       # iterative post-order: (P, Q, S) -> P, Q, then S
-        region, emit = stack.pop()
-        if emit or region.size <= leaf:
-            out.append(region)
-            continue
-        srt = np.argsort(angle[region], kind="stable")
-        half = region.size // 2
-        P, Q = region[srt[:half]], region[srt[half:]]
-        in_q[Q] = 1.0
-        touch = (adj[P] @ in_q) > 0
-        in_q[Q] = 0.0
-        # pushed in reverse: P first, then Q, then the separator
-        stack.append((P[touch], True))
-        stack.append((Q, False))
-        stack.append((P[~touch], False))
-    return np.concatenate(out) if out else np.arange(0)
-
-
-def _fill_reducing_order(adj: sp.csr_matrix, angle: np.ndarray) -> np.ndarray:
-    """Sites of degree <= 2 first (eliminating one only joins its two neighbours), then an angular
-    nested dissection of the rest on the graph in which those chains are contracted."""
-    adj = sp.csr_matrix(adj, dtype=float)
-    adj.data[:] = 1.0
-    deg = np.diff(adj.indptr)
-    low = np.flatnonzero(deg <= 2)
-    rest = np.flatnonzero(deg > 2)
-    if rest.size == 0:
-        return np.argsort(angle, kind="stable")
-    low = low[np.argsort(angle[low], kind="stable")]
-    a_rr = adj[rest][:, rest]
-    a_rl = adj[rest][:, low]
-    a_ll = adj[low][:, low]
-    # chains of one or two low-degree sites contracted (longer chains: a little extra fill, still exact)
-    g = (a_rr + a_rl @ a_rl.T + a_rl @ a_ll @ a_rl.T).tocsr()
-    return np.concatenate([low, rest[_angular_dissection(g, angle[rest])]])
-
-
-_KERNELS: dict = {}
-
-
-def _ldl_kernels() -> dict:
-    """Numba kernels of a simplicial LDL^T (up-looking, elimination tree), compiled on first use, cached on disk."""
-    if _KERNELS:
-        return _KERNELS
-    import numba
-
-    @numba.njit(cache=True)
-    def symbolic(n, ap, ai):                     # pragma: no cover - compiled
-        parent = np.full(n, -1, np.int64)
-        flag = np.empty(n, np.int64)
-        lnz = np.zeros(n, np.int64)
-        for k in range(n):
-            flag[k] = k
-            for p in range(ap[k], ap[k + 1]):
-                i = ai[p]
-                if i < k:
-                    while flag[i] != k:
-                        if parent[i] == -1:
-                            parent[i] = k
-                        lnz[i] += 1
-                        flag[i] = k
-                        i = parent[i]
-        lp = np.zeros(n + 1, np.int64)
-        for k in range(n):
-            lp[k + 1] = lp[k] + lnz[k]
-        return parent, lp
-
-    @numba.njit(cache=True)
-    def numeric(n, ap, ai, ax, shift, parent, lp):   # pragma: no cover - compiled
-        # (A - shift) = L D L^T, row by row; stops at the first pivot that is not > 0
-        li = np.empty(lp[n], np.int64)
-        lx = np.empty(lp[n])
-        d = np.empty(n)
-        y = np.zeros(n)
-        pattern = np.empty(n, np.int64)
-        flag = np.empty(n, np.int64)
-        lnz = np.zeros(n, np.int64)
-        for k in range(n):
-            top = n
-            flag[k] = k
-            y[k] = -shift
-            for p in range(ap[k], ap[k + 1]):
-                i = ai[p]
-                if i > k:
-                    continue
-                y[i] += ax[p]
-                ln = 0
-                while flag[i] != k:
-                    pattern[ln] = i
-                    ln += 1
-                    flag[i] = k
-                    i = parent[i]
-                while ln > 0:
-                    top -= 1
-                    ln -= 1
-                    pattern[top] = pattern[ln]
-            dk = y[k]
-            y[k] = 0.0
-            while top < n:
-                i = pattern[top]
-                top += 1
-                yi = y[i]
-                y[i] = 0.0
-                p2 = lp[i] + lnz[i]
-                for p in range(lp[i], p2):
-                    y[li[p]] -= lx[p] * yi
-                lki = yi / d[i]
-                dk -= lki * yi
-                li[p2] = k
-                lx[p2] = lki
-                lnz[i] += 1
-            d[k] = dk
-            if not dk > 0.0:
-                return li, lx, d, k
-        return li, lx, d, -1
-
-    @numba.njit(cache=True)
-    def solve(n, lp, li, lx, d, x):              # pragma: no cover - compiled
-        for c in range(x.shape[1]):
-            for j in range(n):
-                xj = x[j, c]
-                if xj != 0.0:
-                    for p in range(lp[j], lp[j + 1]):
-                        x[li[p], c] -= lx[p] * xj
-            for j in range(n):
-                x[j, c] /= d[j]
-            for j in range(n - 1, -1, -1):
-                s = x[j, c]
-                for p in range(lp[j], lp[j + 1]):
-                    s -= lx[p] * x[li[p], c]
-                x[j, c] = s
-        return x
-
-    _KERNELS.update(symbolic=symbolic, numeric=numeric, solve=solve)
-    return _KERNELS
-
-
 class BelowBandResolvent:
     r""":math:`G(\omega) = (H - \omega)^{-1}` for real :math:`\omega` below the spectrum of :math:`H`.
 
@@ -238,116 +90,77 @@ class BelowBandResolvent:
         The lattice (``kind`` ``"sites"`` or ``"line_graph"``); :math:`H = -tA`.
     t : float
         Hopping (default 1).
-    method : {"ldl", "superlu"}
-        ``"ldl"`` (default): a fill-reducing order computed once per lattice (sites of degree <= 2
-        first, then nested dissection along radial geodesics), its elimination tree once, and per
-        :math:`\omega` a numeric :math:`LDL^T` without pivoting (numba). ``"superlu"``: SuperLU in
-        symmetric mode with diagonal pivots, COLAMD order (the first version; 5-10x slower).
+    method : {"auto", "cholmod", "superlu"}
+        The factorisation backend of :mod:`hyperlattice.graph.factor` (``"auto"``: CHOLMOD when
+        installed, else SuperLU; ``"ldl"``, the former default, means ``"auto"``). The symbolic
+        analysis is done once per lattice; every :math:`\omega` costs one numeric factorisation.
 
     Notes
     -----
-    **Below the band, proved.** For a symmetric matrix, :math:`H - \omega = LDL^T` with every pivot
-    :math:`D_{kk} > 0` is positive definite (Sylvester's law of inertia), i.e. :math:`\omega < E_0`;
-    conversely an LDL^T without pivoting of a positive-definite matrix never meets a pivot
-    :math:`\le 0`. So "below the band" is checked exactly, by the factorization itself. When a pivot
-    :math:`\le 0` appears the SuperLU route runs once more to count the levels at or below
-    :math:`\omega` for the error message.
+    **Below the band, proved.** :math:`H - \omega` is factorised without pivoting (CHOLMOD
+    :math:`LL^T`, or SuperLU as :math:`LDL^T`); success of the Cholesky factorisation, or all pivots
+    :math:`D_{kk} > 0`, proves it positive definite (Sylvester's law of inertia), i.e.
+    :math:`\omega < E_0`; otherwise the :math:`LDL^T` pivots count the levels at or below
+    :math:`\omega` for the error message. So "below the band" is checked exactly, by the
+    factorisation itself.
 
     **Accuracy.** :math:`H - \omega` is then a nonsingular M-matrix (off-diagonal entries
-    :math:`\le 0`): its :math:`L` has entries :math:`\le 0` below the diagonal and the triangular
-    solves for a right-hand side :math:`e_j \ge 0` add terms of one sign only, so every entry of the
-    column, down to :math:`G_{ij} \sim 10^{-21}` across an :math:`\ell = 10` flake, comes with a small
-    *relative* error (measured 2e-13 against ``spsolve``). Krylov solvers (CG, multi-shift CG) give a
-    small *normwise* residual and cannot resolve these entries; the boundary fit needs them.
-
-    Cost at :math:`\ell = 10` ({7,3}, 105,875 sites): order and elimination tree about 1 s once,
-    about 0.07 s per :math:`\omega`, 0.01 s per solve (``benchmarks/bench_boundary.py``).
+    :math:`\le 0`): its Cholesky factor has entries :math:`\le 0` below the diagonal and the
+    triangular solves for a right-hand side :math:`e_j \ge 0` add terms of one sign only, so every
+    entry of the column, down to :math:`G_{ij} \sim 10^{-21}` across an :math:`\ell = 10` flake,
+    comes with a small *relative* error (measured 2e-13 against ``spsolve``). Krylov solvers (CG,
+    multi-shift CG) give a small *normwise* residual and cannot resolve these entries; the boundary
+    fit needs them.
     """
 
-    def __init__(self, system: Lattice, *, t: float = 1.0, method: str = "ldl") -> None:
+    def __init__(self, system: Lattice, *, t: float = 1.0, method: str = "auto") -> None:
+        from .factor import resolve_backend
+
         lat = _validate.lattice(system)
         t = _validate.positive_real("the hopping t", t)
-        self.method = _validate.choice("method", method, ("ldl", "superlu"))
+        method = _validate.choice("method", method, ("auto", "cholmod", "superlu", "ldl"))
+        self.method = "auto" if method == "ldl" else method
+        self.backend = resolve_backend(self.method)
         self.lattice = lat
         self.H = hamiltonian(lat, t=t).tocsc().astype(float)
         self.n = self.H.shape[0]
-        self._lu = None
+        self._analysis = None
+        self._factor = None
         self._omega = None
-        self._sym = None            # (perm, inverse perm, ap, ai, ax, parent, lp): once per lattice
-        self._ldl = None            # (omega, li, lx, d)
 
-    # -- SuperLU route (also the level count when omega is not below the band) --
-    def factor(self, omega) -> spla.SuperLU:
-        """SuperLU factorization of :math:`H - \\omega` (cached for the last omega); ValueError above :math:`E_0`."""
+    def factor(self, omega):
+        """The factorisation of :math:`H - \\omega` (a :class:`~hyperlattice.graph.factor.Factor`, cached for
+        the last omega); ValueError unless omega lies below :math:`E_0`."""
+        from .factor import FactorizationError, analyze
+
         omega = _real_omega("omega", omega)
-        if self._lu is not None and self._omega == omega:
-            return self._lu
-        M = (self.H - omega * sp.identity(self.n, format="csc")).tocsc()
+        if self._factor is not None and self._omega == omega:
+            return self._factor
+        if self._analysis is None:
+            self._analysis = analyze(self.H, backend=self.backend,
+                                     what=f"H - omega of the {self.n:,}-site lattice")
         try:
-            lu = spla.splu(M, permc_spec="COLAMD", diag_pivot_thresh=0.0,
-                           options={"SymmetricMode": True})
-        except RuntimeError:        # SuperLU: exactly singular
-            raise ValueError(f"omega = {omega:g} is an eigenvalue of H: the propagator does not exist there.") \
-                from None
-        piv = lu.U.diagonal()
-        below = int(np.count_nonzero(piv <= 0))
-        # symmetric mode may still swap rows when a diagonal pivot is exactly zero: then the
-        # inertia argument does not hold and we say so instead of guessing
-        if not np.array_equal(lu.perm_r, lu.perm_c):
+            f = self._analysis.factor(omega, positive=True)
+        except FactorizationError:
+            raise ValueError(f"omega = {omega:g} is not safely below the band: the factorisation of H - omega "
+                             "met a zero pivot (omega within rounding of a level).") from None
+        if f.negatives is None:
             raise ValueError(f"omega = {omega:g}: the factorization of H - omega needed off-diagonal pivots; "
                              "omega is not safely below the band.")
-        if below:
-            raise ValueError(f"omega = {omega:g} is not below the band: {below} level(s) of H lie at or below it "
-                             "(the propagator below the band needs omega < E0, the lattice BF bound).")
-        self._lu, self._omega = lu, omega
-        return lu
-
-    # -- LDL^T route --
-    def _symbolic(self) -> tuple:
-        if self._sym is None:
-            k = _ldl_kernels()
-            z = getattr(self.lattice, "z", None)
-            angle = np.angle(np.asarray(z)) if z is not None and len(z) == self.n else np.arange(self.n, dtype=float)
-            perm = _fill_reducing_order(self.H.tocsr(), angle)
-            inv = np.empty(self.n, np.int64)
-            inv[perm] = np.arange(self.n)
-            hp = self.H[perm][:, perm].tocsc()
-            hp.sort_indices()
-            ap, ai = hp.indptr.astype(np.int64), hp.indices.astype(np.int64)
-            parent, lp = k["symbolic"](self.n, ap, ai)
-            self._sym = (perm, inv, ap, ai, np.ascontiguousarray(hp.data, float), parent, lp)
-        return self._sym
-
-    def _ldl_factor(self, omega: float) -> tuple:
-        if self._ldl is not None and self._ldl[0] == omega:
-            return self._ldl
-        perm, inv, ap, ai, ax, parent, lp = self._symbolic()
-        li, lx, d, bad = _ldl_kernels()["numeric"](self.n, ap, ai, ax, float(omega), parent, lp)
-        if bad >= 0:
-            # not positive definite: omega is at or above E0. Let the SuperLU route count the levels
-            # (and raise); if it finds none (a pivot <= 0 within rounding of E0), say so plainly.
-            self.factor(omega)
-            raise ValueError(f"omega = {omega:g} is not safely below the band: the LDL^T factorization of "
-                             "H - omega met a pivot <= 0 (omega within rounding of E0).")
-        self._ldl = (omega, li, lx, d)
-        return self._ldl
+        if f.negatives:
+            raise ValueError(f"omega = {omega:g} is not below the band: {f.negatives} level(s) of H lie at or "
+                             "below it (the propagator below the band needs omega < E0, the lattice BF bound).")
+        self._factor, self._omega = f, omega
+        return f
 
     def columns(self, omega, sources) -> np.ndarray:
         r"""Columns :math:`G_{\cdot j}(\omega)` for the given sources, real array ``(N, k)``."""
         src = _validate.site_indices("sources", sources, self.n)
         omega = _real_omega("omega", omega)
-        if self.method == "superlu":
-            lu = self.factor(omega)
-            rhs = np.zeros((self.n, src.size))
-            rhs[src, np.arange(src.size)] = 1.0
-            out = lu.solve(rhs)
-        else:
-            _, li, lx, d = self._ldl_factor(omega)
-            perm, inv, _, _, _, _, lp = self._sym
-            x = np.zeros((self.n, src.size))
-            x[inv[src], np.arange(src.size)] = 1.0
-            _ldl_kernels()["solve"](self.n, lp, li, lx, d, x)
-            out = x[inv]
+        f = self.factor(omega)
+        rhs = np.zeros((self.n, src.size))
+        rhs[src, np.arange(src.size)] = 1.0
+        out = f.solve(rhs)
         if not np.all(np.isfinite(out)):
             raise ValueError(f"omega = {omega}: the solve overflowed (omega within rounding of E0).")
         return out

@@ -38,10 +38,11 @@ import scipy.sparse as sp
 
 from .. import _validate
 from .. import geometry
+from .._ties import eigenvalue_tolerance, stable_order
 from ..errors import ConvergenceError
-from .lattice import _available_memory, _check_pq, _type_counts
+from .lattice import _check_pq, _type_counts
 
-__all__ = ["SectorLattice", "sector_lattice", "sector_block", "lowest_pair", "flake_memory"]
+__all__ = ["SectorLattice", "sector_lattice", "sector_block", "lowest_pair", "lowest_sector_levels", "flake_memory"]
 
 #: Peak bytes per *site of the full lattice* while building a :class:`SectorLattice` and solving
 #: for E0, E1: measured 107 B at 15 rings (1.39 GB peak RSS for 13.0 M sites, interpreter
@@ -115,7 +116,10 @@ def flake_memory(p: int, q: int, rings: int) -> int:
 
 def _check_flake_size(p: int, q: int, rings: int, max_bytes) -> int:
     """Full-lattice site count, or ValueError when the sector build will not fit."""
-    limit = _available_memory() if max_bytes is None else _validate.positive_int("max_bytes", max_bytes)
+    from .factor import available_memory
+
+    # the address-space limit and the cgroup count too, not only free RAM
+    limit = available_memory() if max_bytes is None else _validate.positive_int("max_bytes", max_bytes)
     per_site = _BYTES_PER_SITE_SECTORS
     counts, _ = _type_counts(p, q, rings, stop_above=max(limit // per_site, 1))
     n = sum(counts)
@@ -545,6 +549,10 @@ def sector_block(slat: SectorLattice, m: int, *, mirror: str | None = None, t: f
 # E0 and E1 of a big flake
 # ----------------------------------------------------------------------------
 
+#: order of the mirror halves of a block when levels tie (m = 0 even first)
+_HALF_ORDER = {"even": 0, "odd": 1, "real": 2}
+
+
 def _block_specs(p: int) -> list[tuple[int, str]]:
     """The real blocks whose union is the spectrum of H (each m != 0, p/2 stands for the pair +-m)."""
     specs = [(0, "even"), (0, "odd")]
@@ -557,57 +565,91 @@ def lowest_pair(p: int = 7, q: int = 3, rings: int = 3, *, t: float = 1.0, tol: 
                 progress=None):
     r"""E0 and E1 of :math:`H = -tA` on the ``rings``-ring {p,q} flake, from sector blocks only.
 
-    The lattice is never built (:func:`sector_lattice`). The ground state lies in the
-    mirror-even half of m = 0 (it is positive); E1 is searched in the other real blocks
-    (:func:`sector_block`). Each wanted level is found by shift-invert Lanczos (ARPACK on
-    :math:`(B - \sigma)^{-1}`, σ just below the level, checked to be below it by the inertia of
-    the factorisation). Then every block is factorised once more at
-    :math:`x = E_1 - \delta` (δ = twice the residual of E1 plus 1e-10 |E1|): Sylvester's law of
-    inertia counts its eigenvalues below x, which proves that E0 is the only level below
-    :math:`E_1 - \delta` (blocks that hold neither level are never diagonalised).
-
-    Parameters
-    ----------
-    p, q, rings : int
-        The flake.
-    t : float
-        Hopping amplitude, positive.
-    tol : float
-        Largest accepted residual :math:`\|H\psi - E\psi\|` (a ConvergenceError above 100 tol, a
-        ConvergenceWarning between tol and 100 tol).
-    backend : {"auto", "cholmod", "splu"}
-        Sparse factorisation: CHOLMOD (scikit-sparse, optional) or SciPy's SuperLU.
-    sectors : SectorLattice, optional
-        A prebuilt :func:`sector_lattice` of the same flake (saves the build).
-    max_bytes : int, optional
-        Memory budget; refused before allocating when the estimate exceeds it (default: the
-        memory available).
-    progress : callable, optional
-        Called with short status strings.
+    :func:`lowest_sector_levels` with ``levels=2`` (see there for the method and the proof).
 
     Returns
     -------
     Spectrum
         Two levels, ascending, with (n, m) labels and residuals; ``method`` is
         ``"sector-shift-invert"``; ``timings`` has ``"build"``, ``"solve"``, ``"total"`` and one
-        entry per block; no eigenvectors.
+        entry per block; ``description`` names the factorisation backend; no eigenvectors.
+    """
+    return lowest_sector_levels(p, q, rings, 2, t=t, tol=tol, backend=backend, sectors=sectors,
+                                max_bytes=max_bytes, progress=progress)
+
+
+def _states(spec, p: int) -> int:
+    """States per level of a real block: 2 for m and -m (0 < m < p/2), else 1."""
+    m, kind = spec
+    return 1 if kind in ("even", "odd") or (2 * m) % p == 0 else 2
+
+
+def lowest_sector_levels(p: int = 7, q: int = 3, rings: int = 3, levels: int = 2, *, t: float = 1.0,
+                         tol: float = 1e-10, backend: str = "auto", sectors: SectorLattice | None = None,
+                         max_bytes: int | None = None, progress=None):
+    r"""The ``levels`` lowest states of :math:`H = -tA` on the {p,q} flake, from sector blocks only.
+
+    The lattice is never built (:func:`sector_lattice`). The spectrum of H is the union of the
+    real mirror-reduced blocks (:func:`sector_block`): m = 0 even and odd, and m = 1..p/2 (each
+    level of 0 < m < p/2 is a ±m pair, two states). In each block the wanted levels are found by
+    shift-invert Lanczos (ARPACK on :math:`(B - \sigma)^{-1}`, σ below them, proved below by the
+    factorisation itself: :mod:`hyperlattice.graph.factor`). How many levels each block holds is
+    first guessed from short Lanczos runs (their Ritz values are upper bounds of the levels), then
+    **proved**: every block is factorised at :math:`x = E_{K} - \delta` (the K-th state, δ = twice
+    its residual plus 1e-10 |E|) and Sylvester's law of inertia counts its eigenvalues below x;
+    a block holding more than were computed is solved again for all of them, until the counts
+    agree. So no level below :math:`E_K - \delta` is missed. All blocks of one kind share one
+    symbolic analysis (the real forms of m = 1..p/2 have one sparsity pattern).
+
+    Parameters
+    ----------
+    p, q, rings : int
+        The flake.
+    levels : int
+        Number K of lowest states (a ±m pair counts twice).
+    t : float
+        Hopping amplitude, positive.
+    tol : float
+        Largest accepted residual :math:`\|H\psi - E\psi\|` (a ConvergenceError above 100 tol, a
+        ConvergenceWarning between tol and 100 tol).
+    backend : {"auto", "cholmod", "superlu"}
+        Sparse factorisation (:func:`hyperlattice.graph.factor.resolve_backend`; "splu" is accepted
+        for "superlu").
+    sectors : SectorLattice, optional
+        A prebuilt :func:`sector_lattice` of the same flake (saves the build).
+    max_bytes : int, optional
+        Memory budget; refused before allocating when the estimate (the build, and the
+        factorisation fill from the symbolic analysis) exceeds it (default: the memory available).
+    progress : callable, optional
+        Called with short status strings.
+
+    Returns
+    -------
+    Spectrum
+        K levels ascending, labels (n, m) (+m before -m), residuals; ``method`` is
+        ``"sector-shift-invert"``; ``timings`` per stage and block; no eigenvectors.
 
     Raises
     ------
     ValueError
         Bad input, or a flake that will not fit.
+    FactorMemoryError
+        The factorisation of a block will not fit (one sentence; refused before work).
     ConvergenceError
         A residual above 100 tol, or levels the inertia counts contradict.
     """
-    from .solvers import (_check_residuals, _factor_backend, _lanczos_ritz, _shift_invert_lowest,
-                          _single_threaded_blas, _SymmetricFactor)
+    from . import factor as fct
+    from .solvers import _check_residuals, _lanczos_ritz, _single_threaded_blas
     from .spectrum import Spectrum
 
     t_start = time.perf_counter()
     t = _validate.positive_real("the hopping t", t)
     tol = _validate.positive_real("tol", tol)
+    levels = _validate.positive_int("levels", levels)
+    backend = fct.resolve_backend(backend)
+    if max_bytes is not None:
+        max_bytes = _validate.positive_int("max_bytes", max_bytes)
     tol_h = tol * t  # residuals relative to the energy scale t of H = -tA (issue 19: t = 1e20 failed)
-    backend = _factor_backend(backend)
     if progress is not None:
         _validate.function("progress", progress)
     say = progress or (lambda msg: None)
@@ -619,9 +661,13 @@ def lowest_pair(p: int = 7, q: int = 3, rings: int = 3, *, t: float = 1.0, tol: 
     else:
         sectors = _check_sector_lattice(sectors)
         p, q, rings = sectors.p, sectors.q, sectors.rings
+    # rounding floor of every computed level: c n eps ||H||, ||H|| <= t q, n the largest block
+    floor_tol = eigenvalue_tolerance(t * q, sectors.size)
     timings = {"build": time.perf_counter() - t_start}
     if sectors.sites < 2:  # pragma: no cover - every flake has p >= 3 sites
         raise ValueError("a flake with one site has no E1.")
+    if levels > sectors.sites:
+        raise ValueError(f"levels = {levels:,} exceeds the {sectors.sites:,} states of this flake.")
     info = {}
     with _single_threaded_blas():
         factory = _BlockFactory(sectors)
@@ -640,14 +686,30 @@ def lowest_pair(p: int = 7, q: int = 3, rings: int = 3, *, t: float = 1.0, tol: 
 
         specs = [spec for spec in _block_specs(p) if factory.dim(spec[1]) > 0]
         analyses = {}
+        ritz = {}
 
         def key(spec):  # the real forms of m = 1..p/2 share one sparsity pattern, hence one analysis
             return "real" if spec[1] == "real" else spec
 
+        def factorise(spec, mat, sigma, positive):
+            an = analyses.get(key(spec))
+            if an is None:
+                an = fct.analyze(mat, backend=backend, max_bytes=max_bytes,
+                                 what=f"the sector block m = {spec[0]} ({spec[1]}, {mat.shape[0]:,} rows)")
+                analyses[key(spec)] = an
+                return an.factor(sigma, positive=positive)
+            return an.factor(sigma, positive=positive, matrix=mat)
+
+        def ritz_values(spec, mat):
+            if spec not in ritz:
+                ritz[spec] = _lanczos_ritz(mat, 40)
+            return ritz[spec]
+
         def lowest(spec, k, below=None):
-            """k lowest levels of a block: sigma below them (proved by inertia), then shift-invert."""
+            """k lowest levels of a block: sigma below them (proved by the factor), then shift-invert."""
             mat = block(spec, True)
             t0 = time.perf_counter()
+            k = min(k, mat.shape[0])
             if mat.shape[0] <= 2 * k + 2 or mat.shape[0] <= 400:
                 w, v = sla.eigh(mat.toarray())
                 e, v = w[:k], v[:, :k]
@@ -659,51 +721,90 @@ def lowest_pair(p: int = 7, q: int = 3, rings: int = 3, *, t: float = 1.0, tol: 
                 theta = np.array([below])
                 delta = 1e-6 * t
             else:
-                theta = _lanczos_ritz(mat, 40)
+                theta = ritz_values(spec, mat)
                 spread = max(float(theta[-1] - theta[0]), 1e-3 * t)
-                # theta[k-1] >= the k-th level (interlacing): step below it until the inertia
-                # count shows nothing below sigma
-                delta = max(float(theta[min(k, theta.shape[0] - 1)] - theta[k - 1]), 1e-4 * spread)
+                # theta[k-1] >= the k-th level (interlacing): step below it until the factor
+                # proves nothing below sigma
+                delta = max(float(theta[min(k, theta.shape[0] - 1)] - theta[min(k, theta.shape[0]) - 1]),
+                            1e-4 * spread)
             for _ in range(60):
                 sigma = float(theta[min(k, theta.shape[0]) - 1]) - delta
-                factor = _SymmetricFactor(mat, sigma, backend, analyses.get(key(spec)))
-                analyses[key(spec)] = factor.analysis
+                factor = factorise(spec, mat, sigma, positive=True)
                 if factor.negatives == 0 or factor.negatives is None:
                     break
                 delta *= 2.0
             else:  # pragma: no cover - the spectrum is bounded by the Gershgorin disc
                 raise ConvergenceError(f"block m={spec[0]} ({spec[1]}): no shift below its lowest level found.")
-            e, v, res, solves = _shift_invert_lowest(mat, k, factor, sigma, tol_h, f"block m={spec[0]}")
+            e, v, res, solves = fct.shift_invert_lowest(mat, k, factor, tol_h, f"block m={spec[0]}")
+            del v
             info[spec] = {"sigma": sigma, "solves": solves}
             timings[f"solve {spec[0]} {spec[1]}"] = time.perf_counter() - t0
             say(f"block m={spec[0]} {spec[1]}: {e.tolist()} after {solves} solves")
             return e, res
 
+        def state_list():
+            """All states found so far, ascending; states of different blocks whose energies agree
+            within their error bounds are ordered by (m, mirror half, index), never by the last
+            bits of the energies, so the cut at ``levels`` and the labels are the same everywhere."""
+            out = []
+            for spec, (e, r) in found.items():
+                for j in range(e.shape[0]):
+                    out += [(float(e[j]), spec, j, float(r[j]))] * _states(spec, p)
+            if not out:
+                return out
+            order = stable_order(np.array([lv[0] for lv in out]), np.array([lv[3] for lv in out]) + floor_tol,
+                                 np.array([lv[1][0] for lv in out]),
+                                 np.array([_HALF_ORDER[lv[1][1]] for lv in out]), np.array([lv[2] for lv in out]))
+            return [out[i] for i in order]
+
+        # every kind of block analysed before any numeric work: a factorisation that will not fit is
+        # refused now, with one sentence, not after minutes of solving the blocks that do fit
+        for spec in specs:
+            if key(spec) not in analyses:
+                keep = spec in ((0, "even"), (1, "real"))
+                mat = block(spec, keep)
+                analyses[key(spec)] = fct.analyze(
+                    mat, backend=backend, max_bytes=max_bytes,
+                    what=f"the sector block m = {spec[0]} ({spec[1]}, {mat.shape[0]:,} rows)")
+                del mat
         e0, r0 = lowest((0, "even"), 1)
         found = {(0, "even"): (e0, r0)}
-        # E1: the (+-1) pair for every {p,q} measured so far; the inertia counts below check it
-        candidates = [(1, "real")] if (1, "real") in specs else []
-        for spec in candidates:
-            # every level lies above E0 (minus its error): the shift just below E0 needs no search
-            found[spec] = lowest(spec, 1, below=float(e0[0]) - 2.0 * float(r0[0]))
-        for _ in range(len(specs) + 1):
-            levels = sorted((float(e[j]), spec, j, float(r[j])) for spec, (e, r) in found.items()
-                            for j in range(e.shape[0]))
-            if len(levels) < 2:  # only the ground state so far: take the next level of m = 0 even
-                found[(0, "even")] = lowest((0, "even"), 2)
+        if levels <= 2 and (1, "real") in specs:
+            # E1: the (+-1) pair for every {p,q} measured so far; the inertia counts below check it.
+            # Every level lies above E0 (minus its error): the shift just below E0 needs no search
+            found[(1, "real")] = lowest((1, "real"), 1, below=float(e0[0]) - 2.0 * float(r0[0]))
+        elif levels > 2:
+            # how many levels each block holds among the K lowest, guessed from Ritz values (upper
+            # bounds of the levels, so every block holds at least its share); the counts below prove it
+            est = sorted((float(th), spec) for spec in specs
+                         for th in ritz_values(spec, block(spec, False))[:levels]
+                         for _ in range(_states(spec, p)))
+            cut = est[min(levels, len(est)) - 1][0]
+            for spec in specs:
+                k_b = sum(1 for th, sp_ in est if sp_ == spec and th <= cut) // _states(spec, p)
+                if k_b > found.get(spec, (np.zeros(0),))[0].shape[0]:
+                    found[spec] = lowest(spec, k_b)
+        counts = {}
+        for _ in range(4 * len(specs) + 4):
+            states = state_list()
+            if len(states) < levels:
+                # fewer states than wanted: one more level from the block whose next Ritz value is lowest
+                nxt = min(specs, key=lambda sp_: float(ritz_values(sp_, block(sp_, False))[
+                    min(found.get(sp_, (np.zeros(0),))[0].shape[0], 39)]))
+                have = found.get(nxt, (np.zeros(0),))[0].shape[0]
+                found[nxt] = lowest(nxt, have + 1)
                 continue
-            e1, spec1, _, res1 = levels[1]
+            ek, _, _, resk = states[levels - 1]
             # margin: the backward error of LDL^T without pivoting on these sparse blocks is about
             # (column count) * eps * ||B|| ~ 1e-14; 1e-10 leaves ample room for rounding
-            x = e1 - 2.0 * res1 - 1e-10 * max(1.0, abs(e1))
+            x = ek - 2.0 * resk - 1e-10 * max(1.0, abs(ek))
             missing = None
             counts = {}
             for spec in specs:
                 mat = block(spec, False)
                 t0 = time.perf_counter()
-                have = sum(1 for lv in levels if lv[1] == spec and lv[0] < x)
-                factor = _SymmetricFactor(mat, x, backend, analyses.get(key(spec)))
-                analyses[key(spec)] = factor.analysis
+                have = sum(1 for lv in states if lv[1] == spec and lv[0] < x) // _states(spec, p)
+                factor = factorise(spec, mat, x, positive=have == 0)
                 counts[spec] = factor.negatives
                 del factor, mat
                 timings["inertia"] = timings.get("inertia", 0.0) + time.perf_counter() - t0
@@ -713,33 +814,41 @@ def lowest_pair(p: int = 7, q: int = 3, rings: int = 3, *, t: float = 1.0, tol: 
             if missing is None:
                 break
             spec, count = missing
-            found[spec] = lowest(spec, count)  # the levels below x that were missed
+            found[spec] = lowest(spec, count + 1)  # the levels below x that were missed, and the next
         else:  # pragma: no cover
             raise ConvergenceError("the inertia counts and the computed levels do not agree.")
         proved = all(c is not None for c in counts.values())
-    e_pair = [levels[0], levels[1]]
-    energies = np.array([lv[0] for lv in e_pair])
-    res = np.array([lv[3] for lv in e_pair])
+        backend_ran = next(iter(analyses.values())).backend if analyses else backend
+    chosen = states[:levels]
+    energies = np.array([lv[0] for lv in chosen])
+    res = np.array([lv[3] for lv in chosen])
     ms, ns = [], []
-    for lv in e_pair:
+    seen = set()
+    for lv in chosen:
         m = lv[1][0]
-        # radial index: levels of the same m below it, across both mirror halves of m = 0
-        below = sum(1 for other in levels if other[1][0] == m and other[0] < lv[0])
-        ms.append(m)
+        # the second state of a +-m pair is -m
+        signed = -m if (lv[1], lv[2]) in seen else m
+        seen.add((lv[1], lv[2]))
+        # radial index: levels of the same |m| below it, across both mirror halves of m = 0
+        # (below it beyond both error bounds: a degenerate partner is not "below")
+        below = len({(o[1], o[2]) for o in states
+                     if o[1][0] == m and o[0] < lv[0] - (o[3] + lv[3] + 2.0 * floor_tol)})
+        ms.append(signed)
         ns.append(below + 1)
     _check_residuals(res, tol_h, f"{{{p},{q}}} flake with {rings} rings")
     timings["solve"] = time.perf_counter() - t_start - timings["build"]
     timings["total"] = time.perf_counter() - t_start
-    delta = e_pair[1][0] - x
-    how = ("CHOLMOD simplicial LDL^T" if backend == "cholmod" else "SuperLU (symmetric ordering, no pivoting)")
-    proof = (f"Sylvester inertia of every block at E1 - {delta:.1e} shows no other level below it"
+    delta = states[levels - 1][0] - x
+    how = ("CHOLMOD (LL^T below the band, simplicial LDL^T for the counts)" if backend_ran == "cholmod"
+           else "SuperLU (symmetric ordering, no pivoting)")
+    proof = (f"Sylvester inertia of every block at E{levels - 1} - {delta:.1e} shows no other level below it"
              if proved else "the SuperLU ordering was not symmetric, so no inertia count proves the order")
     description = (f"Shift-invert Lanczos on the real mirror-reduced {sectors.size:,}-orbit sector blocks "
                    f"(m = 0 even/odd, 1..{p // 2}) of the {{{p},{q}}} flake built sector by sector, "
                    f"factorised by {how}; {proof}.")
     return Spectrum(energies=energies, n=np.array(ns), m=np.array(ms), errors=res, method="sector-shift-invert",
                     description=description, p=p, q=q, rings=rings, sites=sectors.sites, kind="sites",
-                    timings=timings)
+                    timings=timings, backend=backend_ran)
 
 
 # every public function above checks its annotated argument types at the door (issue 19)

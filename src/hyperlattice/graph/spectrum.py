@@ -30,6 +30,7 @@ with :class:`~hyperlattice.errors.ConvergenceWarning` when within a factor 100).
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from dataclasses import dataclass, field
 
@@ -40,6 +41,7 @@ from .. import _validate
 from .._ties import classify, eigenvalue_tolerance
 from ..errors import ConvergenceError
 from ..results import Levels
+from .factor import lowest_eigenpairs
 from .flux import _flux
 from .lattice import Lattice
 from .operators import OnSite, hamiltonian, onsite_values
@@ -67,7 +69,9 @@ __all__ = ["Spectrum", "lowest_levels", "full_spectrum", "full_spectrum_toleranc
 #: 2000 x 2000 takes well under a second here, while ARPACK start-up dominates below that.
 DENSE_MAX = 2000
 
-_METHODS = ("auto", "sector", "dense", "sparse")
+_METHODS = ("auto", "sector", "dense", "sparse", "shift-invert")
+#: sector blocks above DENSE_MAX by shift-invert through graph/factor (else the Chebyshev Lanczos)
+_SHIFT_INVERT_BLOCKS = True
 
 
 # ----------------------------------------------------------------------------
@@ -105,6 +109,9 @@ class Spectrum(Levels):
         to ``energies[k]``.
     flux : float
         Flux quanta per p-gon face of a uniform field (0 without field).
+    backend : str
+        The sparse factorisation that ran (``"cholmod"`` or ``"superlu"``, see
+        :mod:`hyperlattice.graph.factor`), or ``""`` when none did.
     """
 
     error_kind: str = "residual"
@@ -115,6 +122,7 @@ class Spectrum(Levels):
     timings: dict = field(default_factory=dict)
     eigenvectors: np.ndarray | None = None
     flux: float = 0.0
+    backend: str = ""
 
     @property
     def residuals(self) -> np.ndarray:
@@ -238,10 +246,16 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
         Hopping amplitude (t = 1 in the paper).
     onsite : scalar, array or callable ``(z, ring) -> array``, optional
         On-site term V. A rotation-breaking V rules out ``method="sector"``.
-    method : {"auto", "sector", "dense", "sparse"}
-        ``"auto"`` uses sectors when V is rotation invariant, else dense for N <= DENSE_MAX and
-        sparse above; inside ``"sector"`` each block is dense when small. The method that ran
-        is reported in :attr:`Spectrum.method`.
+    method : {"auto", "sector", "dense", "sparse", "shift-invert"}
+        ``"auto"`` takes the fastest route for the request: for the plain flake (no on-site term,
+        no flux, no single sector, no eigenvectors) with blocks above 400 orbits, shift-invert on
+        the real mirror-reduced sector blocks built without the lattice, with an inertia proof
+        that no level was missed (:func:`~hyperlattice.graph.sectors.lowest_sector_levels`,
+        ``"sector-shift-invert"``); otherwise sectors when V is rotation invariant (each block
+        dense when small, else shift-invert through :mod:`hyperlattice.graph.factor`), else dense
+        for N <= DENSE_MAX and sparse above. ``"shift-invert"`` asks for the sector-only route
+        whenever it applies. The method that ran is reported in :attr:`Spectrum.method`, the
+        factorisation backend in :attr:`Spectrum.backend`.
     sector : int, optional
         Restrict to one sector m (``range(p)`` or signed); then K levels of that sector.
     eigenvectors : bool
@@ -297,6 +311,13 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
     if sector is not None:
         sector = signed_sector(sector, p)
     symmetric = rotation_invariant(lattice, onsite)
+    if method in ("auto", "shift-invert") and _sector_only_applies(lattice, levels, t, onsite, sector,
+                                                                    eigenvectors, flux, method):
+        spec = _sector_only_levels(lattice, levels, t, tol, progress, t_start)
+        if spec is not None:
+            return spec
+    if method == "shift-invert":
+        method = "sector"
     if method == "auto":
         method = "sector" if symmetric else ("dense" if lattice.sites <= DENSE_MAX else "sparse")
     if sector is not None and method != "sector":
@@ -327,6 +348,44 @@ def _energy_scale(lattice, t: float, onsite) -> float:
     return scale if scale > 0 else 1.0
 
 
+#: smallest sector block (N/p orbits) for which ``method="auto"`` takes the sector-only route: below
+#: it the dense blocks of the full lattice are as fast (a few ms)
+_SECTOR_ONLY_MIN = 400
+
+
+def _sector_only_applies(lattice, levels, t, onsite, sector, want_vecs, flux, method) -> bool:
+    """True when the request is one the sector-only shift-invert route answers (the plain flake H = -tA)."""
+    if onsite is not None or flux != 0.0 or sector is not None or want_vecs or not t > 0:
+        return False
+    if lattice.kind != "sites" or lattice.sites < 2:
+        return False
+    if method == "auto" and lattice.sites // lattice.p <= _SECTOR_ONLY_MIN:
+        return False
+    return levels <= lattice.sites // 2
+
+
+def _sector_only_levels(lattice, levels, t, tol, progress, t_start) -> Spectrum | None:
+    """:func:`~hyperlattice.graph.sectors.lowest_sector_levels` of the flake, or None when the lattice is not
+    the plain {p,q} ring flake that the sector-only build reproduces (then the caller's route runs)."""
+    from .sectors import lowest_sector_levels, sector_lattice
+
+    try:
+        slat = sector_lattice(lattice.p, lattice.q, lattice.rings)
+    except ValueError:
+        return None
+    # the same flake: same sites, same edges, same degree histogram (a rewired or loaded-and-edited
+    # lattice takes the route that reads its own edges)
+    degrees = np.bincount(np.asarray(lattice.edges).ravel(), minlength=lattice.sites)
+    orbit_deg = np.bincount(slat.rows, minlength=slat.size)
+    if (slat.sites != lattice.sites or slat.rows.shape[0] * lattice.p != 2 * lattice.edges.shape[0]
+            or not np.array_equal(np.bincount(degrees), lattice.p * np.bincount(orbit_deg))):
+        return None
+    spec = lowest_sector_levels(sectors=slat, levels=levels, t=t, tol=tol, progress=progress)
+    timings = dict(spec.timings)
+    timings["total"] = time.perf_counter() - t_start
+    return dataclasses.replace(spec, timings=timings)
+
+
 def _sector_levels(lattice, levels, t, onsite, sector, want_vecs, tol, progress, t_start, flux=0.0) -> Spectrum:
     p = lattice.p
     orbits = rotation_orbits(lattice)
@@ -344,6 +403,8 @@ def _sector_levels(lattice, levels, t, onsite, sector, want_vecs, tol, progress,
     if sector is not None and levels > size:
         raise ValueError(f"sector {sector} has only {size} levels, fewer than the {levels} requested.")
     per_method = set()
+    backends = set()
+    analyses = {}
     found = []  # (energy, m, n, residual, vector or None)
     for m, k_m in wanted.items():
         t0 = time.perf_counter()
@@ -352,6 +413,18 @@ def _sector_levels(lattice, levels, t, onsite, sector, want_vecs, tol, progress,
         if size <= DENSE_MAX or size < 2 * k_m + 3:  # ARPACK needs a basis larger than k + 1
             e, v = _dense_lowest(table, k_m)
             per_method.add("dense")
+        elif _SHIFT_INVERT_BLOCKS:
+            # shift-invert through the one factorisation layer, with its inertia check; the
+            # blocks of one lattice share a sparsity pattern (hence one symbolic analysis) per type
+            mat = table.to_csr()
+            kind = "complex" if np.iscomplexobj(mat.data) else "real"
+            e, v, _, info = lowest_eigenpairs(mat, k_m, tol=tol, label=f"sector m={m}",
+                                              analysis=analyses.get((kind, mat.nnz)))
+            analyses[(kind, mat.nnz)] = info["analysis"]
+            backends.add(info["backend"])
+            per_method.add("shift-invert")
+            if progress is not None:
+                progress(f"sector m={m}: {e.tolist()} after {info['solves']} solves")
         else:
             e, v, _ = _chebyshev_lowest(table, k_m, tol, progress, f"sector m={m}")
             per_method.add("sparse")
@@ -378,16 +451,20 @@ def _sector_levels(lattice, levels, t, onsite, sector, want_vecs, tol, progress,
         vecs = np.column_stack(cols)
     timings["solve"] = sum(v for k, v in timings.items() if k.startswith("sector"))
     timings["total"] = time.perf_counter() - t_start
-    method = "sector-" + ("sparse" if "sparse" in per_method else "dense")
+    method = "sector-" + ("shift-invert" if "shift-invert" in per_method
+                          else "sparse" if "sparse" in per_method else "dense")
     solved = ", ".join(str(m) for m in wanted)
-    how = ("ARPACK on a Chebyshev polynomial of" if method == "sector-sparse" else "dense LAPACK eigh of")
+    how = {"sector-sparse": "ARPACK on a Chebyshev polynomial of",
+           "sector-shift-invert": f"shift-invert Lanczos ({'/'.join(sorted(backends))} factorisation, "
+                                  "inertia-checked) on",
+           "sector-dense": "dense LAPACK eigh of"}[method]
     description = (f"{how[0].upper()}{how[1:]} the {size:,} x {size:,} angular-momentum block"
                    f"{'s' if len(wanted) > 1 else ''} H_m for m = {solved}"
                    + (f" with flux f = {flux:g} per p-gon" if flux != 0.0 else "")
                    + (" (sector -m is the complex conjugate of m)" if sector is None and flux == 0.0 else "") + ".")
     return Spectrum(energies=energies, n=ns, m=ms, errors=res, method=method, description=description, p=p,
                     q=lattice.q, rings=lattice.rings, sites=lattice.sites, kind=lattice.kind, timings=timings,
-                    eigenvectors=vecs, flux=flux)
+                    eigenvectors=vecs, flux=flux, backend="/".join(sorted(backends)))
 
 
 def _full_levels(lattice, levels, t, onsite, method, symmetric, want_vecs, tol, progress, t_start,

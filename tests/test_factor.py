@@ -1,0 +1,135 @@
+"""The sparse-direct layer (graph/factor.py): inertia, solves, refactorisation, backends, memory refusal."""
+
+import builtins
+import sys
+
+import numpy as np
+import pytest
+import scipy.linalg as sla
+import scipy.sparse as sp
+
+from hyperlattice.errors import HyperlatticeError
+from hyperlattice.graph import factor as F
+from hyperlattice.graph.lattice import ring_lattice
+from hyperlattice.graph.operators import hamiltonian
+
+BACKENDS = ["superlu", pytest.param("cholmod", marks=pytest.mark.skipif(
+    not F.cholmod_available(), reason="scikit-sparse (CHOLMOD) not installed"))]
+
+
+@pytest.fixture(scope="module")
+def flake():
+    return ring_lattice(7, 3, 4)
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+@pytest.mark.parametrize("flux", [0.0, 0.13])
+def test_inertia_matches_dense_eigvalsh(flake, backend, flux):
+    # reference: LAPACK eigvalsh of the dense H; shifts kept > 1e-6 away from every level so that the
+    # count cannot depend on rounding (the factor's backward error is ~1e-14 here)
+    H = hamiltonian(flake, flux=flux)
+    w = sla.eigvalsh(H.toarray())
+    an = F.analyze(H, backend=backend)
+    assert an.backend == backend
+    for sigma in (-3.5, -2.5, -0.77, 0.3, 1.7, 3.5):
+        assert np.min(np.abs(w - sigma)) > 1e-6
+        f = an.factor(sigma)
+        assert f.backend == backend and f.proved
+        assert f.negatives == int(np.count_nonzero(w < sigma)), sigma
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_solves_one_and_many_rhs(flake, backend):
+    H = hamiltonian(flake, flux=0.21)
+    n = H.shape[0]
+    f = F.factorize(H, 0.4, backend=backend)
+    b = np.random.default_rng(1).standard_normal((n, 4)) + 0j
+    x = f.solve(b)
+    dense = H.toarray() - 0.4 * np.eye(n)
+    # the residual is bounded by the backward error ~ n eps ||H|| ||x||
+    assert np.max(np.abs(dense @ x - b)) < 1e-10 * max(1.0, np.abs(x).max())
+    x1 = f.solve(b[:, 0])
+    assert x1.shape == (n,)
+    np.testing.assert_allclose(x1, x[:, 0], rtol=1e-12, atol=1e-12)
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_refactorisation_equals_fresh_factorisation(flake, backend):
+    H = hamiltonian(flake)
+    n = H.shape[0]
+    b = np.random.default_rng(2).standard_normal(n)
+    first = F.factorize(H, -3.3, backend=backend)
+    again = first.refactor(-2.95)
+    fresh = F.factorize(H, -2.95, backend=backend)
+    assert again.analysis is first.analysis
+    # same matrix, same order: equal to rounding (both solutions ~ 1/dist ~ 10, eps-level differences)
+    np.testing.assert_allclose(again.solve(b), fresh.solve(b), rtol=1e-11, atol=1e-13)
+    assert again.negatives == fresh.negatives == 0
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_positive_definite_proved_below_the_band(flake, backend):
+    H = hamiltonian(flake)
+    e0 = sla.eigvalsh(H.toarray())[0]
+    below = F.factorize(H, e0 - 1e-3, backend=backend, positive=True)
+    assert below.positive_definite and below.negatives == 0
+    above = F.factorize(H, e0 + 1e-3, backend=backend, positive=True)
+    assert not above.positive_definite and above.negatives == 1
+
+
+def test_complex_shift_gives_lu_without_inertia(flake):
+    H = hamiltonian(flake)
+    f = F.factorize(H, 0.3 + 0.01j)
+    assert f.kind == "LU" and f.negatives is None and not f.proved
+    b = np.zeros(H.shape[0])
+    b[3] = 1.0
+    x = f.solve(b)
+    np.testing.assert_allclose((H - (0.3 + 0.01j) * sp.identity(H.shape[0])) @ x, b, atol=1e-10)
+
+
+def test_zero_pivot_is_one_sentence():
+    # a 2x2 matrix with eigenvalue exactly 1: the shift sigma = 1 leaves an exactly singular factor
+    H = sp.csc_matrix(np.array([[1.0, 0.0], [0.0, 2.0]]))
+    with pytest.raises(HyperlatticeError, match="eigenvalue"):
+        F.factorize(H, 1.0, backend="superlu")
+
+
+def test_memory_refusal_before_work(flake):
+    H = hamiltonian(flake)
+    with pytest.raises(F.FactorMemoryError, match=r"needs about .* more than the .* allowed by max_bytes") as info:
+        F.analyze(H, max_bytes=1000)
+    assert isinstance(info.value, MemoryError) and isinstance(info.value, HyperlatticeError)
+    assert "\n" not in str(info.value)
+
+
+def test_available_memory_respects_the_address_space_limit():
+    import resource
+    soft, hard = resource.getrlimit(resource.RLIMIT_AS)
+    assert F.available_memory() > 0
+    if soft != resource.RLIM_INFINITY:  # pragma: no cover - the suite normally runs without a limit
+        assert F.available_memory() <= soft
+
+
+def test_fallback_to_superlu_is_taken_and_named(flake, monkeypatch):
+    # CHOLMOD made unimportable: "auto" silently takes SuperLU, an explicit "cholmod" warns and names it
+    real_import = builtins.__import__
+
+    def no_sksparse(name, *args, **kwargs):
+        if name.startswith("sksparse"):
+            raise ImportError("No module named 'sksparse'")
+        return real_import(name, *args, **kwargs)
+
+    monkeypatch.delitem(sys.modules, "sksparse", raising=False)
+    monkeypatch.delitem(sys.modules, "sksparse.cholmod", raising=False)
+    monkeypatch.setattr(builtins, "__import__", no_sksparse)
+    assert not F.cholmod_available()
+    H = hamiltonian(flake)
+    assert F.factorize(H, -3.5).backend == "superlu"
+    with pytest.warns(F.SolverFallbackWarning, match="SuperLU ran instead"):
+        f = F.factorize(H, -3.5, backend="cholmod")
+    assert f.backend == "superlu" and f.positive_definite
+
+
+def test_bad_backend_is_a_value_error(flake):
+    with pytest.raises(ValueError, match="backend"):
+        F.analyze(hamiltonian(flake), backend="mumps")
