@@ -143,3 +143,19 @@ def test_default_distance_bins_are_centred_on_the_lattice_distances():
     # explicit edges through an exact distance are reported as ties
     tied = bin_by_distance(np.array([0.2, 0.5, 0.7]), np.ones(3), edges=[0.0, 0.5, 1.0])
     assert tied.edge_ties == 1
+
+
+def test_sector_levels_cut_through_degenerate_pairs_consistently():
+    """k lowest states from sector blocks: every prefix of the k = 12 list equals the k-level
+    answer, +-m pairs keep (+m, -m) with one radial index, whatever the rounding of the pair."""
+    from hyperlattice.graph.sectors import lowest_sector_levels
+
+    ref = lowest_sector_levels(7, 3, 5, levels=12)
+    for k in (2, 3, 4, 7, 11):
+        s = lowest_sector_levels(7, 3, 5, levels=k)
+        assert s.m.tolist() == ref.m[:k].tolist() and s.n.tolist() == ref.n[:k].tolist()
+        np.testing.assert_allclose(s.energies, ref.energies[:k], rtol=0, atol=1e-12)
+    m, n = ref.m, ref.n
+    for i in np.flatnonzero(m > 0):
+        if i + 1 < m.size:
+            assert m[i + 1] == -m[i] and n[i + 1] == n[i]
