@@ -87,6 +87,7 @@ def max_tasks() -> int:
 
 def check_grid_size(total: int) -> None:
     """Refuse a grid of ``total`` points before anything is expanded (ValueError with the limit)."""
+    total = _validate.integer("total", total, minimum=0)
     limit = max_tasks()
     if total > limit:
         why = "per sweep" if limit == MAX_TASKS else \
