@@ -242,6 +242,7 @@ def test_a_port_that_does_not_speak_dask_respects_timeout(http_server, tmp_path,
     code, seconds, err = _sweep_seconds(capsys, tmp_path, "--scheduler", http_server, "--timeout", "1.5")
     assert code == 2 and "did not answer as a Dask scheduler within 1.5 s" in err
     assert seconds < 10
+    assert not (tmp_path / "D").exists()               # refused before the sweep directory was made
 
 
 @pytest.mark.parametrize("address, match", [

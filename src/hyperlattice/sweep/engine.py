@@ -255,6 +255,10 @@ def _run_serial(task, todo, keys, write, retries, failures, bar, on_row, deadlin
 CONNECT_TIMEOUT = 10.0
 
 
+def _connect_wait(timeout: float | None) -> float:
+    return CONNECT_TIMEOUT if timeout is None else min(CONNECT_TIMEOUT, timeout)
+
+
 def _split_tcp(address: str) -> tuple[str, int] | None:
     """(host, port) of a tcp:// or bare host:port address, else None."""
     rest = address[len("tcp://"):] if address.startswith("tcp://") else address
@@ -366,8 +370,8 @@ def _client_for(scheduler, workers: int | None, timeout: float | None = None):
             cluster.close()
             raise
         return client, cluster, f"local ({n} {'processes' if processes else 'threads'})", True
-    wait = CONNECT_TIMEOUT if timeout is None else min(CONNECT_TIMEOUT, timeout)
-    _probe_tcp(scheduler, wait)
+    wait = _connect_wait(timeout)
+    _probe_tcp(scheduler, wait)     # again: run_sweep's probe may be long past
     try:
         with dask.config.set({"distributed.comm.timeouts.connect": f"{wait}s"}):
             client = Client(scheduler, timeout=wait)
@@ -502,6 +506,9 @@ def run_sweep(task: str, grid: dict, path, *, scheduler=None, workers: int | Non
                              f"distributed.Client, got {scheduler!r}.")
     if isinstance(scheduler, str) and scheduler not in ("local", "threads", "serial"):
         _check_address(scheduler)
+        if not serial:
+            # before the sweep directory is created: a wrong address leaves nothing behind
+            _probe_tcp(scheduler, _connect_wait(timeout))
     points = expand_grid(spec.name, grid)
     store = SweepStore(path)
     meta = store.open(spec.name, {k: [_canonical(x) for x in (v if isinstance(v, (list, tuple)) else [v])]
