@@ -19,6 +19,13 @@
   failures`` deaths). What still fails is reported in :class:`SweepReport` ``failed`` and in
   ``_failures.json`` with its error, and is retried by the next run; nothing is dropped silently.
 * **Progress.** A tqdm bar on stderr (``progress=True``).
+* **Refusals before work, in one sentence.** A grid of more than :data:`MAX_TASKS` points, or
+  more than the memory available allows (``_BYTES_PER_TASK`` each), before it is expanded; a
+  ``tcp://`` address where no Dask scheduler answers its handshake within ``timeout`` (at most
+  :data:`CONNECT_TIMEOUT` s: distributed's own handshake read waits without limit), before the
+  sweep directory is created; ``tls://`` without certificates and unknown ``inproc://``
+  addresses. ``workers`` beyond the machine's cores is capped with one warning, and
+  distributed's loggers are silenced while a sweep runs (its failures are the sweep's report).
 """
 
 from __future__ import annotations
@@ -94,6 +101,8 @@ def check_grid_size(total: int) -> None:
             f"for the {_memory_budget() / 2**30:.1f} GiB of memory available ({_BYTES_PER_TASK:,} bytes per task)"
         raise ValueError(f"the grid has {total:,} tasks; at most {limit:,} {why} "
                          "(split it into several sweeps into the same directory).")
+
+
 _SCALAR = (int, float, str, bool, type(None))
 
 
