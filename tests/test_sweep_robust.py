@@ -110,6 +110,21 @@ def test_an_edited_parquet_part_is_refused(tmp_path):
         read_table(tmp_path)
 
 
+def test_cli_an_edited_part_is_one_line_exit_2(tmp_path, capsys):
+    pa = pytest.importorskip("pyarrow")
+    pq = pytest.importorskip("pyarrow.parquet")
+    args = ["sweep", "--task", "probe", "--grid", "x=1,2", "--scheduler", "serial", "--out", str(tmp_path)]
+    assert main(args) == 0
+    (part,) = (tmp_path / "parts").glob("part-*.parquet")
+    table = pq.read_table(part)
+    table = table.set_column(table.column_names.index("y"), "y", pa.array([7.0, 7.0]))
+    pq.write_table(table, part)
+    capsys.readouterr()
+    assert main(args) == 2
+    err = _err_line(capsys)
+    assert str(part) in err and ("checksum" in err or "cannot be read" in err)
+
+
 def test_sweep_into_a_foreign_directory_is_refused(tmp_path, capsys):
     d = tmp_path / "mine"
     d.mkdir()
@@ -227,6 +242,7 @@ def test_a_port_that_does_not_speak_dask_respects_timeout(http_server, tmp_path,
     code, seconds, err = _sweep_seconds(capsys, tmp_path, "--scheduler", http_server, "--timeout", "1.5")
     assert code == 2 and "did not answer as a Dask scheduler within 1.5 s" in err
     assert seconds < 10
+    assert not (tmp_path / "D").exists()               # refused before the sweep directory was made
 
 
 @pytest.mark.parametrize("address, match", [

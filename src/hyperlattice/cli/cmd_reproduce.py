@@ -17,7 +17,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="largest l in the spectrum tables, 2..14 (default 10, the paper's range)")
     parser.add_argument("--cache-dir", metavar="DIR", help="cache directory (default $HYPERLATTICE_CACHE or ~/.cache/hyperlattice)")
     parser.add_argument("--no-cache", action="store_true", help="recompute everything, store nothing")
-    parser.add_argument("--clear-cache", action="store_true", help="delete the cache before running")
+    parser.add_argument("--clear-cache", action="store_true", help="delete the cache entries hyperlattice wrote before running (other files stay)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -29,7 +29,7 @@ def run(args: argparse.Namespace) -> int:
     _validate.directory("--out", args.out)
     cache = Cache(args.cache_dir, enabled=not args.no_cache)
     if args.clear_cache:
-        cache.clear()
+        cache.clear()       # only the package's own entries: the directory may hold the user's files
     with Progress("reproduce", delay=0.0) as bar:
         summary = reproduce(args.out, args.max_rings, cache=cache, progress=bar.update)
     print(f"wrote {summary['out_dir']}/report.html and report.md ({len(summary['sections'])} sections) in "

@@ -19,6 +19,13 @@
   failures`` deaths). What still fails is reported in :class:`SweepReport` ``failed`` and in
   ``_failures.json`` with its error, and is retried by the next run; nothing is dropped silently.
 * **Progress.** A tqdm bar on stderr (``progress=True``).
+* **Refusals before work, in one sentence.** A grid of more than :data:`MAX_TASKS` points, or
+  more than the memory available allows (``_BYTES_PER_TASK`` each), before it is expanded; a
+  ``tcp://`` address where no Dask scheduler answers its handshake within ``timeout`` (at most
+  :data:`CONNECT_TIMEOUT` s: distributed's own handshake read waits without limit), before the
+  sweep directory is created; ``tls://`` without certificates and unknown ``inproc://``
+  addresses. ``workers`` beyond the machine's cores is capped with one warning, and
+  distributed's loggers are silenced while a sweep runs (its failures are the sweep's report).
 """
 
 from __future__ import annotations
@@ -87,12 +94,15 @@ def max_tasks() -> int:
 
 def check_grid_size(total: int) -> None:
     """Refuse a grid of ``total`` points before anything is expanded (ValueError with the limit)."""
+    total = _validate.integer("total", total, minimum=0)
     limit = max_tasks()
     if total > limit:
         why = "per sweep" if limit == MAX_TASKS else \
             f"for the {_memory_budget() / 2**30:.1f} GiB of memory available ({_BYTES_PER_TASK:,} bytes per task)"
         raise ValueError(f"the grid has {total:,} tasks; at most {limit:,} {why} "
                          "(split it into several sweeps into the same directory).")
+
+
 _SCALAR = (int, float, str, bool, type(None))
 
 
@@ -261,6 +271,10 @@ def _run_serial(task, todo, keys, write, retries, failures, bar, on_row, deadlin
 CONNECT_TIMEOUT = 10.0
 
 
+def _connect_wait(timeout: float | None) -> float:
+    return CONNECT_TIMEOUT if timeout is None else min(CONNECT_TIMEOUT, timeout)
+
+
 def _split_tcp(address: str) -> tuple[str, int] | None:
     """(host, port) of a tcp:// or bare host:port address, else None."""
     rest = address[len("tcp://"):] if address.startswith("tcp://") else address
@@ -372,8 +386,8 @@ def _client_for(scheduler, workers: int | None, timeout: float | None = None):
             cluster.close()
             raise
         return client, cluster, f"local ({n} {'processes' if processes else 'threads'})", True
-    wait = CONNECT_TIMEOUT if timeout is None else min(CONNECT_TIMEOUT, timeout)
-    _probe_tcp(scheduler, wait)
+    wait = _connect_wait(timeout)
+    _probe_tcp(scheduler, wait)     # again: run_sweep's probe may be long past
     try:
         with dask.config.set({"distributed.comm.timeouts.connect": f"{wait}s"}):
             client = Client(scheduler, timeout=wait)
@@ -508,6 +522,9 @@ def run_sweep(task: str, grid: dict, path, *, scheduler=None, workers: int | Non
                              f"distributed.Client, got {scheduler!r}.")
     if isinstance(scheduler, str) and scheduler not in ("local", "threads", "serial"):
         _check_address(scheduler)
+        if not serial:
+            # before the sweep directory is created: a wrong address leaves nothing behind
+            _probe_tcp(scheduler, _connect_wait(timeout))
     points = expand_grid(spec.name, grid)
     store = SweepStore(path)
     meta = store.open(spec.name, {k: [_canonical(x) for x in (v if isinstance(v, (list, tuple)) else [v])]

@@ -151,17 +151,6 @@ def _rows_digest(rows: list[dict]) -> str:
                                      allow_nan=True).encode()).hexdigest()
 
 
-def _order_key(value):
-    # a total order over the JSON scalars a parameter can take (None < bool < number < str)
-    if value is None:
-        return (0, 0)
-    if isinstance(value, bool):
-        return (1, int(value))
-    if isinstance(value, (int, float)):
-        return (2, value)
-    return (3, str(value))
-
-
 class SweepStore:
     """A sweep directory (see the module docstring). ``backend`` is ``"parquet"`` or ``"json"``.
 
