@@ -353,3 +353,25 @@ def test_estimate_sites_before_building():
 
     assert estimate_sites(7, 10, 3) == 10647 == ring_lattice(7, 10, 3).sites
     assert estimate_sites(7, 3, 3, line_graph=True) == ring_lattice(7, 3, 3).edges.shape[0]
+
+
+@pytest.mark.parametrize("rings", ["9", "14"])
+def test_spectrum_dense_refused_before_the_build(rings, capsys, tmp_path, monkeypatch):
+    import time
+
+    t0 = time.perf_counter()
+    code, err = _cli(["spectrum", "--rings", rings, "--method", "dense"], capsys, tmp_path, monkeypatch)
+    assert code == 2 and "method='dense'" in err and "may still allocate" in err, err
+    assert len(err.strip().splitlines()) == 1
+    assert time.perf_counter() - t0 < 5  # the 5 M-site lattice of 14 rings is not built
+
+
+def test_lowest_levels_dense_refused_before_lapack(monkeypatch):
+    from hyperlattice.graph.spectrum import full_spectrum, lowest_levels
+
+    lat = ring_lattice(7, 3, 3)
+    monkeypatch.setattr(_validate, "available_memory", lambda: 10_000)
+    with pytest.raises(MemoryError, match="method='dense' on 112 sites"):
+        lowest_levels(lat, 2, method="dense")
+    with pytest.raises(MemoryError, match="full spectrum"):
+        full_spectrum(lat)
