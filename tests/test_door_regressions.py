@@ -373,5 +373,6 @@ def test_lowest_levels_dense_refused_before_lapack(monkeypatch):
     monkeypatch.setattr(_validate, "available_memory", lambda: 10_000)
     with pytest.raises(MemoryError, match="method='dense' on 112 sites"):
         lowest_levels(lat, 2, method="dense")
+    monkeypatch.setattr(_validate, "available_memory", lambda: 1_000)  # the 7 blocks of 16 need ~6 kB
     with pytest.raises(MemoryError, match="full spectrum"):
         full_spectrum(lat)
