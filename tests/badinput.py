@@ -14,6 +14,10 @@ flag, values of :data:`BAD_CLI` that are legitimate), then parametrizes::
 
 The contract (README, "Conventions"): bad input gives a ``ValueError`` with one plain sentence
 from the API, and one line on stderr with exit code 2 from the CLI, never a traceback.
+
+Beyond the listed cases, :func:`public_functions` finds every public function of every module
+and :func:`probe` spoils each of its parameters with each value of :data:`PROBES`
+(tests/test_bad_input_all.py): a new public function is probed the day it is written.
 """
 
 from __future__ import annotations
@@ -114,8 +118,9 @@ def public_functions():
     """``{qualified name: function}`` for every function importable without a leading underscore.
 
     Walks every module of the package whose dotted path has no part starting with ``_``, keeps
-    the functions defined in hyperlattice (re-exports count once) and the public methods of
-    its public classes are left to their own entries in :data:`METHODS` of the test file.
+    the functions defined in hyperlattice (re-exports count once). Classes are not walked:
+    their constructors and methods are covered by the topic files' ``CASES`` (e.g.
+    ``GraphResolvent``, ``KPMDos.density``) and by the functions that build them.
     """
     import importlib
     import inspect

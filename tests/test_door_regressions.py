@@ -308,3 +308,71 @@ def test_lowest_pair_scales_with_t(t):
         warnings.simplefilter("error")
         spec = lowest_pair(7, 3, 3, t=t)
     np.testing.assert_allclose(spec.energies, t * ref, rtol=1e-12)
+
+
+# ---------------------------------------------------------------------------------------------
+# issue 19, item 4: green / butterfly / disorder with q = 10 ran for minutes unannounced
+# ---------------------------------------------------------------------------------------------
+
+def _cli(words, capsys, tmp_path, monkeypatch):
+    from hyperlattice.cli import main
+
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setenv("HYPERLATTICE_CACHE", str(tmp_path / "cache"))
+    code = main(words)
+    return code, capsys.readouterr().err
+
+
+@pytest.mark.parametrize("words", [
+    ["disorder", "--rings", "3", "-q", "10"],                               # ~3 h of dense eigh
+    ["butterfly", "--rings", "3", "--fluxes", "4", "-q", "10", "--max-seconds", "20"],
+    ["green", "--rings", "3", "-q", "10", "--max-seconds", "1"],            # 10,647 sites x 4,001 orders
+])
+def test_long_runs_refused_from_the_estimate(words, capsys, tmp_path, monkeypatch):
+    import time
+
+    t0 = time.perf_counter()
+    code, err = _cli(words, capsys, tmp_path, monkeypatch)
+    assert code == 2, err
+    lines = [line for line in err.splitlines() if line.strip()]
+    assert len(lines) == 1 and "would take about" in lines[0] and "--max-seconds" in lines[0], err
+    assert time.perf_counter() - t0 < 10  # the estimate, not the work
+
+
+def test_long_runs_are_announced(capsys, tmp_path, monkeypatch):
+    from hyperlattice.cli import _common
+
+    monkeypatch.setattr(_common, "ANNOUNCE_SECONDS", 0.0)
+    code, err = _cli(["butterfly", "--rings", "2", "--fluxes", "2"], capsys, tmp_path, monkeypatch)
+    assert code == 0 and "note: about" in err and "dense blocks" in err
+
+
+def test_estimate_sites_before_building():
+    from hyperlattice.cli._common import estimate_sites
+    from hyperlattice.graph.lattice import ring_lattice
+
+    assert estimate_sites(7, 10, 3) == 10647 == ring_lattice(7, 10, 3).sites
+    assert estimate_sites(7, 3, 3, line_graph=True) == ring_lattice(7, 3, 3).edges.shape[0]
+
+
+@pytest.mark.parametrize("rings", ["9", "14"])
+def test_spectrum_dense_refused_before_the_build(rings, capsys, tmp_path, monkeypatch):
+    import time
+
+    t0 = time.perf_counter()
+    code, err = _cli(["spectrum", "--rings", rings, "--method", "dense"], capsys, tmp_path, monkeypatch)
+    assert code == 2 and "method='dense'" in err and "may still allocate" in err, err
+    assert len(err.strip().splitlines()) == 1
+    assert time.perf_counter() - t0 < 5  # the 5 M-site lattice of 14 rings is not built
+
+
+def test_lowest_levels_dense_refused_before_lapack(monkeypatch):
+    from hyperlattice.graph.spectrum import full_spectrum, lowest_levels
+
+    lat = ring_lattice(7, 3, 3)
+    monkeypatch.setattr(_validate, "available_memory", lambda: 10_000)
+    with pytest.raises(MemoryError, match="method='dense' on 112 sites"):
+        lowest_levels(lat, 2, method="dense")
+    monkeypatch.setattr(_validate, "available_memory", lambda: 1_000)  # the 7 blocks of 16 need ~6 kB
+    with pytest.raises(MemoryError, match="full spectrum"):
+        full_spectrum(lat)

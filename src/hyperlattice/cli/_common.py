@@ -184,3 +184,54 @@ class Progress:
     def __exit__(self, *exc) -> bool:
         self.close()
         return False
+
+
+# ----------------------------------------------------------------------------
+# work estimates: refuse (or announce) long runs before they start
+# ----------------------------------------------------------------------------
+
+#: default of ``--max-seconds``: the CLI refuses a run estimated to take longer (raise the flag
+#: or use the Python API for longer runs)
+MAX_SECONDS = 600.0
+#: runs estimated above this many seconds get one line on stderr saying so before they start
+ANNOUNCE_SECONDS = 30.0
+#: seconds per n^3 of a dense Hermitian eigensolver (LAPACK eigh/eigvalsh). Measured 0.17-0.22 ns
+#: single-threaded for n = 800-1521 on the project's 2-core machine (2026-11-24), 3.8 s for a
+#: complex 1521 block under load: 1 ns covers complex blocks, eigenvectors and a busy machine.
+DENSE_SECONDS_PER_N3 = 1e-9
+
+
+def add_max_seconds(parser: argparse.ArgumentParser) -> None:
+    """The ``--max-seconds`` flag of commands whose work is estimated before it starts."""
+    parser.add_argument("--max-seconds", type=finite_float, default=MAX_SECONDS, metavar="S",
+                        help=f"refuse a run estimated to take longer than S seconds (default {MAX_SECONDS:g})")
+
+
+def estimate_sites(p: int, q: int, rings: int, *, line_graph: bool = False) -> int:
+    """Sites of the ``rings``-ring {p,q} flake (or of its line graph: its edges) from the ring-count
+    recursion, before anything is built; ValueError with a sentence when even the count is too big."""
+    from ..graph.lattice import edge_count, site_count
+
+    p, q = _validate.pq(p, q)
+    return int(edge_count(p, q, rings) if line_graph else site_count(p, q, rings))
+
+
+def check_work(command: str, seconds: float, max_seconds, detail: str) -> None:
+    """Refuse a run estimated above ``max_seconds`` (ValueError, one sentence); announce one
+    above :data:`ANNOUNCE_SECONDS` on stderr (one line) so that a long run is never silent."""
+    limit = _validate.real("--max-seconds", max_seconds, minimum=0.0, open_min=True)
+    if seconds > limit:
+        raise ValueError(f"this run would take about {_duration(seconds)} ({detail}), more than --max-seconds "
+                         f"{limit:g}; raise --max-seconds or choose fewer rings, a smaller q or fewer values.")
+    if seconds > ANNOUNCE_SECONDS:
+        sys.stderr.write(f"hyperlattice {command}: note: about {_duration(seconds)} of work ({detail}).\n")
+
+
+def _duration(seconds: float) -> str:
+    if seconds < 120:
+        return f"{seconds:.0f} s"
+    if seconds < 7200:
+        return f"{seconds / 60:.0f} min"
+    if seconds < 2 * 86400:
+        return f"{seconds / 3600:.1f} h"
+    return f"{seconds / 86400:.3g} days"

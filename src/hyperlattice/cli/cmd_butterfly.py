@@ -5,7 +5,8 @@ from __future__ import annotations
 import csv
 
 from .. import _validate
-from ._common import Progress, add_pq, plot_file, positive_int, print_json
+from ._common import (DENSE_SECONDS_PER_N3, Progress, add_max_seconds, add_pq, check_work, estimate_sites,
+                      plot_file, positive_int, print_json)
 
 NAME = "butterfly"
 ORDER = 35
@@ -32,6 +33,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--continuum", action="store_true",
                         help="overlay the continuum Dirichlet levels (magnetic_levels) at small f on the figure")
     parser.add_argument("--json", action="store_true", help="print one JSON object (the summary)")
+    add_max_seconds(parser)
 
 
 def _write_table(path, result) -> None:
@@ -54,6 +56,13 @@ def run(args: argparse.Namespace) -> int:
     out = plot_file("--out", args.out) if args.out is not None else None
     table = _validate.output_path("--table", args.table, suffixes=(".csv",)) if args.table is not None else None
     nflux = _validate.positive_int("--fluxes", args.fluxes, maximum=MAX_FLUXES)
+    # the work before the build (issue 19: --rings 3 -q 10 ran for minutes unannounced): p dense
+    # Hermitian blocks of about N/p per flux value
+    n = estimate_sites(args.p, args.q, args.rings, line_graph=args.line_graph)
+    block = -(-n // args.p)
+    _validate.require_memory(f"the butterfly's {block:,} x {block:,} complex blocks", 3.0 * 16 * block**2)
+    check_work("butterfly", nflux * args.p * block**3 * DENSE_SECONDS_PER_N3, args.max_seconds,
+               f"{n:,} sites: {nflux * args.p:,} dense blocks of {block:,}")
     with Progress("butterfly") as progress:
         progress.update("building the lattice")
         lattice = ring_lattice(args.p, args.q, args.rings)

@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 from .. import _validate
-from ._common import Progress, add_pq, finite_float, plot_file, positive_int, print_json
+from ._common import (DENSE_SECONDS_PER_N3, Progress, add_max_seconds, add_pq, check_work, estimate_sites,
+                      finite_float, plot_file, positive_int, print_json)
 
 NAME = "disorder"
 ORDER = 40
@@ -33,6 +34,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--no-ipr", action="store_true", help="skip the eigenvectors (no IPR, about 2x faster)")
     parser.add_argument("--plot", default=None, metavar="FILE", help="figure of the averaged DOS (.png, .svg, ...)")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
+    add_max_seconds(parser)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -43,6 +45,13 @@ def run(args: argparse.Namespace) -> int:
     out = plot_file("--plot", args.plot) if args.plot is not None else None
     seed = _validate.integer("--seed", args.seed, minimum=0, maximum=2**63 - 1)
     _validate.real("--W", args.W, minimum=0.0)
+    # the work before the build (issue 19: --rings 3 -q 10 ran for minutes unannounced): one dense
+    # eigendecomposition of all N sites per realization (without eigenvectors, --no-ipr, about half)
+    n = estimate_sites(args.p, args.q, args.rings, line_graph=args.line_graph)
+    _validate.require_memory(f"a dense disorder realization of {n:,} sites", 3.0 * 8 * n**2)
+    reps = _validate.positive_int("--realizations", args.realizations)
+    check_work("disorder", reps * n**3 * DENSE_SECONDS_PER_N3 * (0.5 if args.no_ipr else 1.0), args.max_seconds,
+               f"{reps:,} dense eigendecompositions of {n:,} sites")
     with Progress("disorder") as progress:
         progress.update("building the lattice")
         lattice = ring_lattice(args.p, args.q, args.rings)

@@ -5,7 +5,7 @@ from __future__ import annotations
 from ..graph.lattice import line_graph, ring_lattice
 from ..graph.spectrum import lowest_levels
 from ..graph.symmetry import signed_sector
-from ._common import Progress, add_pq, finite_float, positive_int, print_json
+from ._common import Progress, add_pq, estimate_sites, finite_float, positive_int, print_json
 
 NAME = "spectrum"
 ORDER = 30
@@ -51,6 +51,14 @@ def run(args: argparse.Namespace) -> int:
         return _run_pair(args)
     if args.method in ("auto", "shift-invert") and _sector_only(args, sector):
         return _run_pair(args, levels=args.levels)
+    if args.method == "dense":
+        # before the build (issue 19: --rings 9 asked LAPACK for 12.2 GiB, --rings 14 built 5 M sites
+        # first): the same refusal lowest_levels makes, from the ring-count recursion
+        from .. import _validate
+
+        n = estimate_sites(args.p, args.q, args.rings, line_graph=args.line_graph)
+        _validate.require_memory(f"method='dense' on {n:,} sites (LAPACK eigh of the full matrix)",
+                                 3.0 * n**2 * (16 if args.flux else 8))
     with Progress("spectrum") as progress:
         progress.update("building the lattice")
         lattice = ring_lattice(args.p, args.q, args.rings)
