@@ -59,32 +59,10 @@ _BYTES_PER_TASK = 8192
 
 
 def _memory_budget() -> int:
-    """Bytes this process may still allocate: the machine's available memory, and RLIMIT_AS if set."""
-    avail = None
-    try:
-        with open("/proc/meminfo") as fh:
-            for line in fh:
-                if line.startswith("MemAvailable:"):
-                    avail = int(line.split()[1]) * 1024
-                    break
-    except (OSError, ValueError):
-        pass
-    if avail is None:
-        try:
-            avail = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_AVPHYS_PAGES")
-        except (ValueError, OSError, AttributeError):
-            avail = 8 * 1024**3
-    try:
-        import resource
+    """Bytes this process may still allocate (the package's one probe: machine, RLIMIT_AS, cgroup)."""
+    from .. import _validate
 
-        soft, _ = resource.getrlimit(resource.RLIMIT_AS)
-        if soft != resource.RLIM_INFINITY:
-            with open("/proc/self/statm") as fh:
-                used = int(fh.read().split()[0]) * os.sysconf("SC_PAGE_SIZE")
-            avail = min(avail, max(0, soft - used))
-    except (ImportError, OSError, ValueError, AttributeError):
-        pass
-    return int(avail)
+    return int(_validate.available_memory())
 
 
 def max_tasks() -> int:
