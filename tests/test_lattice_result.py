@@ -183,3 +183,13 @@ def test_plot_bad_options():
         ring_lattice(7, 3, 2).plot(samples=1)
     with pytest.raises(ValueError):
         ring_lattice(7, 3, 2).plot(geodesic="yes")
+
+
+def test_package_ships_license_and_py_typed():
+    """PEP 561 marker (annotations visible to type checkers) and the MIT licence in the sdist/wheel."""
+    from importlib.resources import files
+    from pathlib import Path
+
+    assert files("hyperlattice").joinpath("py.typed").is_file()
+    root = Path(__file__).resolve().parents[1]
+    assert "MIT License" in (root / "LICENSE").read_text()
