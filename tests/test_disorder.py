@@ -124,3 +124,17 @@ def test_periodic_cluster_without_boundary_reaches_goe():
     ens = disorder_ensemble(c, 2.0, 10, ipr=False)
     assert ens.kind == "cluster" and abs(ens.r_mean - GOE_R) < 0.02
     assert abs(disorder_ensemble(c, 200.0, 10, ipr=False).r_mean - POISSON_R) < 0.02
+
+
+def test_summary_windows_hold_numbers_and_nulls_only():
+    """Window edges are [low, high] pairs, null for an open end: no mix of strings and numbers."""
+    import json
+
+    from hyperlattice.compare.disorder import disorder_ensemble
+    from hyperlattice.graph.lattice import ring_lattice
+
+    s = disorder_ensemble(ring_lattice(7, 3, 2), 1.0, realizations=2, seed=1).summary()
+    w = s["windows"]
+    assert w[0][0] is None and w[-1][1] is None and all(len(pair) == 2 for pair in w)
+    assert all(v is None or isinstance(v, float) for pair in w for v in pair)
+    json.dumps(s["windows"], allow_nan=False)

@@ -356,7 +356,7 @@ def test_nested_arrays_are_read_only():
 def test_summary_is_the_plain_view():
     lv = _levels()
     s = lv.summary()
-    assert s["type"] == "Levels" and s["energies"] == [-2.9, -2.8, -2.8] and s["errors"][2] == "nan"
+    assert s["type"] == "Levels" and s["energies"] == [-2.9, -2.8, -2.8] and s["errors"][2] is None  # NaN is null in the display view (one convention)
     assert to_jsonable(lv) == s
 
 
@@ -451,3 +451,13 @@ def test_a_result_reads_back_in_a_fresh_interpreter(tmp_path):
             "print(type(r).__name__, r.rings.tolist())")
     out = subprocess.run([sys.executable, "-c", code, str(path)], capture_output=True, text=True, check=True)
     assert out.stdout.split() == ["MagneticComparison", "[2]"]
+
+
+def test_one_json_display_convention_for_api_and_cli():
+    """The CLI's encoder is the package's: NaN -> null, +-inf -> "inf"/"-inf", in both."""
+    from hyperlattice.cli._common import to_jsonable as cli_encode
+
+    data = {"a": np.array([1.0, np.nan, np.inf, -np.inf]), "b": complex(np.nan, 1.0)}
+    want = {"a": [1.0, None, "inf", "-inf"], "b": {"re": None, "im": 1.0}}
+    assert to_jsonable(data) == cli_encode(data) == want
+    json.dumps(want, allow_nan=False)  # strict JSON

@@ -76,14 +76,26 @@ def _float(x: float):
     return x
 
 
+def _display_float(x: float):
+    """The display view's one convention: NaN ("no value") is null, as pandas and most JSON
+    readers take it; an infinity, which JSON has no number for, is the string "inf" / "-inf"."""
+    x = float(x)
+    if math.isnan(x):
+        return None
+    if math.isinf(x):
+        return "inf" if x > 0 else "-inf"
+    return x
+
+
 def to_jsonable(obj) -> Any:
     """Plain JSON types for numbers, arrays, tuples, dicts and results (a display view).
 
-    Complex numbers become ``{"re": x, "im": y}``, non-finite floats the strings
-    ``"inf"``, ``"-inf"``, ``"nan"`` (strict JSON has no such numbers); arrays become nested
+    The package's one JSON encoder for what it prints (the CLI's ``--json``, summaries).
+    Complex numbers become ``{"re": x, "im": y}``; NaN becomes ``null`` and an infinity the
+    string ``"inf"`` or ``"-inf"`` (strict JSON has no such numbers); arrays become nested
     lists (complex arrays ``{"re": [...], "im": [...]}``); a result becomes its
     :meth:`Result.summary`. Not exactly invertible (dtypes, tuples and int keys are lost): the
-    exact form is :meth:`Result.as_dict`.
+    exact form is :meth:`Result.as_dict`, which keeps NaN as ``{"__float__": "nan"}``.
     """
     if isinstance(obj, Result):
         return obj.summary()
@@ -100,22 +112,24 @@ def to_jsonable(obj) -> Any:
     if isinstance(obj, np.integer):
         return int(obj)
     if isinstance(obj, (float, np.floating)):
-        return _float(obj)
+        return _display_float(obj)
     if isinstance(obj, (complex, np.complexfloating)):
-        return {"re": _float(obj.real), "im": _float(obj.imag)}
+        return {"re": _display_float(obj.real), "im": _display_float(obj.imag)}
     if isinstance(obj, Path):
         return str(obj)
     return obj
 
 
 def _number(x):
+    if x is None:
+        return math.nan
     if isinstance(x, str) and x in ("nan", "inf", "-inf"):
         return float(x)
     return x
 
 
 def from_jsonable(obj) -> Any:
-    """Inverse of :func:`to_jsonable` for scalars: ``"inf"`` and ``{"re", "im"}`` back to numbers."""
+    """Inverse of :func:`to_jsonable` for scalars: ``null`` (NaN), ``"inf"`` and ``{"re", "im"}`` back to numbers."""
     if isinstance(obj, dict):
         if set(obj) == {"re", "im"} and not isinstance(obj["re"], list):
             return complex(_number(obj["re"]), _number(obj["im"]))

@@ -122,25 +122,11 @@ def add_pq(parser: argparse.ArgumentParser, *, default_p: int = 7) -> None:
 
 
 def to_jsonable(obj) -> object:
-    """Convert numpy scalars/arrays (and inf) to plain JSON values."""
-    if isinstance(obj, dict):
-        return {str(k): to_jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [to_jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return to_jsonable(obj.tolist())
-    if isinstance(obj, (np.integer,)):
-        return int(obj)
-    if isinstance(obj, (np.floating, float)):
-        f = float(obj)
-        if math.isinf(f):
-            return "inf" if f > 0 else "-inf"
-        if math.isnan(f):
-            return None
-        return f
-    if isinstance(obj, (complex, np.complexfloating)):
-        return {"re": float(obj.real), "im": float(obj.imag)}
-    return obj
+    """The package's one JSON display encoder (:func:`hyperlattice.results.to_jsonable`: NaN is null,
+    an infinity the string "inf"/"-inf")."""
+    from ..results import to_jsonable as _encode
+
+    return _encode(obj)
 
 
 def print_json(obj) -> None:

@@ -220,7 +220,11 @@ class DisorderEnsemble(Result):
         return {"W": self.W, "realizations": self.realizations, "seed": self.seed, "r_mean": self.r_mean,
                 "r_err": self.r_err, "r_count": self.r_count, "model": self.model, "p": self.p, "q": self.q,
                 "rings": self.rings, "kind": self.kind, "sites": self.sites, "goe": GOE_R, "poisson": POISSON_R,
-                "windows": self.windows.tolist(), "r_window": self.r_window.tolist(),
+                # each window as [low, high]; null is an open end (the outer windows), so the
+                # list holds numbers and nulls only
+                "windows": [[None if np.isinf(lo) else float(lo), None if np.isinf(hi) else float(hi)]
+                            for lo, hi in zip(self.windows[:-1], self.windows[1:])],
+                "r_window": self.r_window.tolist(),
                 "ipr_window": self.ipr_window.tolist()}
 
     def plot(self, ax=None) -> Axes:
