@@ -269,7 +269,7 @@ def test_to_networkx():
     lat = ring_lattice(7, 3, 3)
     g = lat.to_networkx()
     assert g.number_of_nodes() == lat.sites and g.number_of_edges() == lat.edges.shape[0]
-    assert g.nodes[0]["z"] == complex(lat.z[0]) and g.nodes[0]["ring"] == 1
+    assert complex(g.nodes[0]["x"], g.nodes[0]["y"]) == complex(lat.z[0]) and g.nodes[0]["ring"] == 1
     assert nx.is_connected(g)
 
 

@@ -44,6 +44,7 @@ _EXPORTS = {
     "lowest_levels": "graph.spectrum",
     "full_spectrum": "graph.spectrum",
     "full_spectrum_tolerance": "graph.spectrum",
+    "lattice_from_networkx": "graph.lattice",
     "partition_function": "graph.spectrum",
     "log_partition_function": "graph.spectrum",
     "graph_green": "graph.green",

@@ -205,6 +205,30 @@ class Cluster(Result):
         out.setflags(write=False)
         return out
 
+    def to_networkx(self):
+        """The cluster as a :class:`networkx.Graph` with plain attributes (GraphML-safe).
+
+        Nodes are the vertex indices 0..N-1; each edge carries ``slot_u`` and ``slot_v``, the
+        positions of the edge in the counterclockwise neighbour lists of its smaller and larger
+        end (the rotation system that defines the faces, so the surface is recoverable from the
+        graph). Graph attributes: ``name``, ``p``, ``q``, ``genus``, ``systole``, ``group``.
+        A cluster has no coordinates: it is a graph on a surface of genus g, not in the disk.
+        """
+        try:
+            import networkx as nx
+        except ImportError as exc:  # pragma: no cover - depends on the environment
+            raise ImportError("to_networkx() needs networkx: pip install 'hyperlattice[networkx]'") from exc
+        g = nx.Graph(name=str(self.name), p=int(self.p), q=int(self.q), genus=int(self.genus),
+                     systole=int(self.systole), group=str(self.group))
+        g.add_nodes_from(range(self.sites))
+        nb = np.asarray(self.neighbours)
+        for u in range(nb.shape[0]):
+            for j, v in enumerate(nb[u].tolist()):
+                if u < v:
+                    k = int(np.flatnonzero(nb[v] == u)[0])
+                    g.add_edge(u, int(v), slot_u=j, slot_v=k)
+        return g
+
     def adjacency(self) -> scipy.sparse.csr_matrix:
         """The adjacency matrix A (symmetric, entries 0/1) as a CSR matrix; H = -tA."""
         import scipy.sparse as sp

@@ -46,6 +46,7 @@ if TYPE_CHECKING:  # only for annotations: matplotlib and networkx are imported 
 
 __all__ = [
     "Lattice",
+    "lattice_from_networkx",
     "ring_lattice",
     "line_graph",
     "ring_sizes",
@@ -275,16 +276,26 @@ class Lattice(Result):
         return ax
 
     # -- export --------------------------------------------------------------
-    def to_networkx(self) -> networkx.Graph:
-        """The lattice as a :class:`networkx.Graph` with node attributes ``z`` and ``ring``."""
+    def to_networkx(self, *, pos: bool = True) -> networkx.Graph:
+        """The lattice as a :class:`networkx.Graph` with plain attributes.
+
+        Nodes are the site indices (0-based, the paper's order) with ``x``, ``y`` (float,
+        Poincaré-disk coordinates, ``z = x + iy``), ``ring`` (int) and, unless ``pos=False``,
+        ``pos = (x, y)``, the attribute networkx's drawing functions read
+        (``nx.draw(g, pos=nx.get_node_attributes(g, "pos"))``). Edges carry nothing; the graph
+        attributes are ``p``, ``q``, ``rings`` and ``kind``. GraphML has no tuples: write
+        ``to_networkx(pos=False)`` with :func:`networkx.write_graphml`; :func:`from_networkx`
+        reads the graph, or its GraphML round trip, back into a checked :class:`Lattice`.
+        """
         try:
             import networkx as nx
         except ImportError as exc:  # pragma: no cover - depends on the environment
             raise ImportError("to_networkx() needs networkx: pip install 'hyperlattice[networkx]'") from exc
-        g = nx.Graph(p=self.p, q=self.q, rings=self.rings, kind=self.kind)
-        g.add_nodes_from(
-            (i, {"z": complex(zi), "ring": int(ri)}) for i, (zi, ri) in enumerate(zip(self.z, self.ring))
-        )
+        pos = _validate.flag("pos", pos)
+        g = nx.Graph(p=int(self.p), q=int(self.q), rings=int(self.rings), kind=str(self.kind))
+        xs, ys, rs = self.z.real.tolist(), self.z.imag.tolist(), self.ring.tolist()
+        g.add_nodes_from((i, {"x": x, "y": y, "ring": int(r), **({"pos": (x, y)} if pos else {})})
+                         for i, (x, y, r) in enumerate(zip(xs, ys, rs)))
         g.add_edges_from(map(tuple, self.edges.tolist()))
         return g
 
@@ -450,6 +461,60 @@ def _csr_sorted(rows: np.ndarray, cols: np.ndarray, n: int) -> tuple[np.ndarray,
     m = sp.csr_matrix((np.ones(rows.shape[0], dtype=np.int8), (rows, cols)), shape=(n, n))
     m.sort_indices()  # rows hold at most a few entries: cheap, unlike a global comparison sort
     return m.indptr.astype(np.int64), m.indices.astype(np.int32)
+
+
+def lattice_from_networkx(graph) -> Lattice:
+    """The :class:`Lattice` a :meth:`Lattice.to_networkx` graph describes (also after a GraphML round trip).
+
+    The graph must carry the attributes ``to_networkx`` writes (graph: ``p``, ``q``, ``rings``,
+    ``kind``; nodes ``0..N-1``, as ints or their strings, with ``x`` and ``y``). The lattice is
+    rebuilt from (p, q, rings, kind) and the graph is checked against it: the same sites at the
+    same positions (to 1e-12) and the same edges; anything else is refused, since a solver would
+    otherwise trust a rotation table the graph does not have.
+
+    Raises
+    ------
+    ValueError
+        If the graph is not such a lattice graph or differs from the lattice it names.
+    """
+    if not (hasattr(graph, "graph") and hasattr(graph, "nodes") and hasattr(graph, "edges")):
+        raise ValueError(f"lattice_from_networkx takes a networkx graph, got {type(graph).__name__}.")
+    attrs = graph.graph
+    missing = [k for k in ("p", "q", "rings", "kind") if k not in attrs]
+    if missing:
+        raise ValueError(f"the graph lacks the lattice attributes {', '.join(missing)} (written by to_networkx).")
+    p, q = _validate.pq(attrs["p"], attrs["q"])
+    rings = _validate.positive_int("rings", attrs["rings"])
+    kind = attrs["kind"]
+    if kind not in ("sites", "line_graph"):
+        raise ValueError(f"the graph's kind must be 'sites' or 'line_graph', got {kind!r}.")
+    lat = ring_lattice(p, q, rings)
+    if kind == "line_graph":
+        lat = line_graph(lat)
+    n = graph.number_of_nodes()
+    if n != lat.sites:
+        raise ValueError(f"the graph has {n:,} nodes, the {kind} lattice {{{p},{q}}} with {rings} rings {lat.sites:,}.")
+    try:
+        index = {node: int(node) for node in graph.nodes}
+    except (TypeError, ValueError):
+        raise ValueError("the graph's nodes must be the site indices 0..N-1.") from None
+    if sorted(index.values()) != list(range(n)):
+        raise ValueError("the graph's nodes must be the site indices 0..N-1.")
+    z = np.empty(n, dtype=complex)
+    for node, data in graph.nodes(data=True):
+        try:
+            z[index[node]] = complex(float(data["x"]), float(data["y"]))
+        except (KeyError, TypeError, ValueError):
+            raise ValueError(f"node {node!r} lacks float x and y coordinates.") from None
+    if not np.allclose(z, lat.z, rtol=0.0, atol=1e-12):
+        raise ValueError("the graph's site positions differ from those of the lattice it names.")
+    edges = np.array(sorted((min(index[a], index[b]), max(index[a], index[b])) for a, b in graph.edges),
+                     dtype=np.int64).reshape(-1, 2)
+    ref = np.asarray(lat.edges, dtype=np.int64)
+    ref = ref[np.lexsort((ref[:, 1], ref[:, 0]))]
+    if edges.shape != ref.shape or not np.array_equal(edges, ref):
+        raise ValueError("the graph's edges differ from those of the lattice it names.")
+    return lat
 
 
 def load_lattice(path) -> Lattice:
