@@ -376,3 +376,18 @@ def test_lowest_levels_dense_refused_before_lapack(monkeypatch):
     monkeypatch.setattr(_validate, "available_memory", lambda: 1_000)  # the 7 blocks of 16 need ~6 kB
     with pytest.raises(MemoryError, match="full spectrum"):
         full_spectrum(lat)
+
+
+@pytest.mark.parametrize("t", [1e20, 1e-20, 3.7])
+def test_sector_levels_scale_exactly_with_t(t):
+    """Issue 19: lowest_pair(..., t=1e20) raised (then warned); -tA has t times the spectrum of -A."""
+    import warnings
+
+    from hyperlattice.graph.sectors import lowest_pair
+
+    ref = lowest_pair(7, 3, 8)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        s = lowest_pair(7, 3, 8, t=t)
+    np.testing.assert_allclose(s.energies, t * ref.energies, rtol=2e-16 * 4, atol=0)
+    assert s.m.tolist() == ref.m.tolist() and s.n.tolist() == ref.n.tolist()

@@ -28,6 +28,7 @@ counts its eigenvalues below the shift).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from dataclasses import dataclass
@@ -649,6 +650,18 @@ def lowest_sector_levels(p: int = 7, q: int = 3, rings: int = 3, levels: int = 2
     backend = fct.resolve_backend(backend)
     if max_bytes is not None:
         max_bytes = _validate.positive_int("max_bytes", max_bytes)
+    if t != 1.0:
+        # the spectrum of -tA is t times that of -A (t > 0), residuals too: solve at t = 1 and scale,
+        # exactly (one correctly rounded product), whatever the magnitude of t (issue 19: t = 1e20
+        # left shift-invert margins and ARPACK's tolerance at the wrong scale)
+        base = lowest_sector_levels(p, q, rings, levels, t=1.0, tol=tol, backend=backend, sectors=sectors,
+                                    max_bytes=max_bytes, progress=progress)
+        with np.errstate(over="ignore"):
+            energies, errors = base.energies * t, base.errors * t
+        if not (np.all(np.isfinite(energies)) and np.all(np.isfinite(errors))):
+            raise ValueError(f"t = {t:g} makes the energies exceed the float64 range.")
+        return dataclasses.replace(base, energies=energies, errors=errors,
+                                   description=base.description + f" Solved at t = 1 and scaled by t = {t:g}.")
     tol_h = tol * t  # residuals relative to the energy scale t of H = -tA (issue 19: t = 1e20 failed)
     if progress is not None:
         _validate.function("progress", progress)
