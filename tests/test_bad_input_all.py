@@ -33,6 +33,18 @@ def _lat():
 
 LAT = _lat()
 
+
+def _h_and_factor():
+    from hyperlattice.graph.factor import factorize
+
+    from hyperlattice import adjacency
+
+    h = -adjacency(LAT).tocsc().astype(float)
+    return h, factorize(h, -3.5, positive=True)
+
+
+H, FACTOR = _h_and_factor()
+
 #: a working value for a required parameter, by its name
 GOOD = {
     "B": 10.0, "U": 2.0, "U_prime": 2.0, "a": 0.2j, "angle": 0.3, "b": 0.1 + 0.1j, "beta": 1.0, "center": 0.1,
@@ -67,6 +79,10 @@ CALLS = {
     "hyperlattice.report.below_band.delta_scaling": (
         dict(out=None, rings=[2], omegas=[-3.2], bf_rings=[3]), {("out", "str")}),
     "hyperlattice.compare.magnetic.magnetic_comparison": (dict(p=7, q=3, rings=[2], fluxes=[0.1], levels=1), set()),
+    "hyperlattice.graph.factor.analyze": (dict(mat=H), set()),
+    "hyperlattice.graph.factor.factorize": (dict(mat=H, sigma=-3.5), set()),
+    "hyperlattice.graph.factor.lowest_eigenpairs": (dict(mat=H, k=2), set()),
+    "hyperlattice.graph.factor.shift_invert_lowest": (dict(mat=H, k=2, factor=FACTOR, tol=1e-10, label="H"), set()),
     "hyperlattice.cli.main": (dict(argv=["geometry"]), {("argv", "none")}),  # None: the process's own argv
 }
 

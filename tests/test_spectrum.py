@@ -369,7 +369,8 @@ def test_line_graph_at_ten_rings():
     # was not a permutation (an int32 overflow in its edge key), so the sectors were wrong
     lg = line_graph(ring_lattice(7, 3, 10))
     spec = lowest_levels(lg, 2, eigenvectors=True)
-    assert spec.method == "sector-sparse" and spec.kind == "line_graph" and spec.sites == 135_135
+    # the route (sector shift-invert by default since issue 20) may change; the sector labels may not
+    assert spec.method.startswith("sector-") and spec.kind == "line_graph" and spec.sites == 135_135
     assert spec.m.tolist() == [0, 1]
     # the full matrix, no symmetry used: the same two levels
     full = lowest_levels(lg, 2, method="sparse")

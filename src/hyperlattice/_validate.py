@@ -417,48 +417,56 @@ def _proc_status_bytes(key: str) -> int | None:
     return None
 
 
-def available_memory() -> int:
-    """Bytes this process may still allocate: the smallest of three limits.
+def memory_limits() -> tuple[int, int | None]:
+    """(resident bytes this process may still use, address space left under ``RLIMIT_AS`` or None).
 
-    * the machine's ``MemAvailable`` (``/proc/meminfo``; sysconf as a fallback);
-    * the address-space limit ``RLIMIT_AS`` (``ulimit -v``) minus the address space already in
-      use (``VmSize``): a process under a 6 GB limit fails at 6 GB whatever the machine has;
-    * the cgroup's ``memory.max`` (v2) or ``memory.limit_in_bytes`` (v1) minus its current usage
-      (containers, CI runners, batch jobs).
-
-    The one memory probe of the package: every refusal "needs X, Y available" asks it.
+    Resident: the least of the machine's ``MemAvailable`` (``/proc/meminfo``; sysconf as a
+    fallback) and the cgroup's ``memory.max`` (v2) or ``memory.limit_in_bytes`` (v1) minus its
+    current usage (containers, CI runners, batch jobs). Address space: the soft ``RLIMIT_AS``
+    (``ulimit -v``) minus the address space already mapped (``VmSize``); None without a limit. The
+    two are kept apart because some backends (SuperLU) reserve far more address space than they
+    touch.
     """
-    limits = []
+    resident = []
     try:
         with open("/proc/meminfo") as fh:
             for line in fh:
                 if line.startswith("MemAvailable:"):
-                    limits.append(int(line.split()[1]) * 1024)
+                    resident.append(int(line.split()[1]) * 1024)
                     break
     except (OSError, ValueError, IndexError):
         pass
-    if not limits:
+    if not resident:
         try:
-            limits.append(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_AVPHYS_PAGES"))
+            resident.append(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_AVPHYS_PAGES"))
         except (ValueError, OSError, AttributeError):
-            limits.append(8 * 1024**3)
-    try:
-        import resource
-
-        soft, _ = resource.getrlimit(resource.RLIMIT_AS)
-        if soft != resource.RLIM_INFINITY and soft > 0:
-            used = _proc_status_bytes("VmSize") or 0
-            limits.append(soft - used)
-    except (ImportError, OSError, ValueError):
-        pass
+            resident.append(8 * 1024**3)
     for limit_file, usage_file in (("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory.current"),
                                    ("/sys/fs/cgroup/memory/memory.limit_in_bytes",
                                     "/sys/fs/cgroup/memory/memory.usage_in_bytes")):
         limit = _read_int(limit_file)
         if limit is not None and limit < 2**60:  # v1 reports "no limit" as a huge number
-            limits.append(limit - (_read_int(usage_file) or 0))
+            resident.append(limit - (_read_int(usage_file) or 0))
             break
-    return max(0, min(limits))
+    address = None
+    try:
+        import resource
+
+        soft, _ = resource.getrlimit(resource.RLIMIT_AS)
+        if soft != resource.RLIM_INFINITY and soft > 0:
+            address = max(0, int(soft) - (_proc_status_bytes("VmSize") or 0))
+    except (ImportError, OSError, ValueError):
+        pass
+    return max(0, int(min(resident))), address
+
+
+def available_memory() -> int:
+    """Bytes this process may still allocate: the least of the limits of :func:`memory_limits`.
+
+    The one memory probe of the package: every refusal "needs X, Y available" asks it.
+    """
+    resident, address = memory_limits()
+    return resident if address is None else min(resident, address)
 
 
 def require_memory(what: str, needed: float) -> None:

@@ -39,8 +39,6 @@ sentence; any other backend error into :class:`FactorizationError`.
 
 from __future__ import annotations
 
-import os
-import resource
 import warnings
 import numpy as np
 import scipy.sparse as sp
@@ -84,68 +82,8 @@ class SolverFallbackWarning(UserWarning):
 # memory
 # ----------------------------------------------------------------------------
 
-def _meminfo_available() -> int | None:
-    try:
-        with open("/proc/meminfo") as fh:
-            for line in fh:
-                if line.startswith("MemAvailable:"):
-                    return int(line.split()[1]) * 1024
-    except OSError:
-        pass
-    try:
-        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_AVPHYS_PAGES")
-    except (ValueError, OSError, AttributeError):
-        return None
-
-
-def _address_space_headroom() -> int | None:
-    """RLIMIT_AS minus the address space the process maps now (None without a limit)."""
-    try:
-        soft, _ = resource.getrlimit(resource.RLIMIT_AS)
-    except (ValueError, OSError):
-        return None
-    if soft == resource.RLIM_INFINITY:
-        return None
-    try:
-        with open("/proc/self/statm") as fh:
-            mapped = int(fh.read().split()[0]) * os.sysconf("SC_PAGE_SIZE")
-    except (OSError, ValueError, IndexError):
-        mapped = 0
-    return max(int(soft) - mapped, 0)
-
-
-def _cgroup_headroom() -> int | None:
-    """cgroup v2 (or v1) memory limit minus current usage (None without a limit)."""
-    for limit_file, usage_file in (("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory.current"),
-                                   ("/sys/fs/cgroup/memory/memory.limit_in_bytes",
-                                    "/sys/fs/cgroup/memory/memory.usage_in_bytes")):
-        try:
-            with open(limit_file) as fh:
-                text = fh.read().strip()
-            if text == "max":
-                return None
-            limit = int(text)
-            if limit >= 2**60:   # v1 reports "no limit" as a huge number
-                return None
-            with open(usage_file) as fh:
-                used = int(fh.read().strip())
-            return max(limit - used, 0)
-        except (OSError, ValueError):
-            continue
-    return None
-
-
-def available_memory() -> int:
-    """Bytes this process can still allocate: the least of free RAM, RLIMIT_AS headroom and the cgroup limit."""
-    values = [v for v in (_meminfo_available(), _address_space_headroom(), _cgroup_headroom()) if v is not None]
-    return int(min(values)) if values else 8 * 1024**3
-
-
-def _memory_limits() -> tuple[int, int | None]:
-    """(resident bytes available: free RAM and cgroup, address space left under RLIMIT_AS or None)."""
-    values = [v for v in (_meminfo_available(), _cgroup_headroom()) if v is not None]
-    resident = int(min(values)) if values else 8 * 1024**3
-    return resident, _address_space_headroom()
+available_memory = _validate.available_memory
+_memory_limits = _validate.memory_limits
 
 
 def _gb(nbytes: float) -> str:
@@ -237,18 +175,45 @@ def _factor_counts(pattern: sp.csc_matrix, perm: np.ndarray) -> tuple[int, float
     return int(cc.sum()), float(np.dot(cc, cc))
 
 
-def _as_square(mat, what: str) -> sp.csc_matrix:
+def _as_square(mat, what: str, name: str = "mat") -> sp.csc_matrix:
+    """``mat`` as a CSC matrix of float64 or complex128, refused in one sentence when it is not one."""
     if not sp.issparse(mat):
-        arr = np.asarray(mat)
-        if arr.ndim != 2:
-            raise ValueError(f"{what} must be a square matrix.")
+        try:
+            arr = np.asarray(mat)
+        except (ValueError, TypeError):
+            arr = None
+        if arr is None or arr.ndim != 2 or arr.dtype.kind not in "biufc":
+            raise ValueError(f"{name} ({what}) must be a square sparse or dense matrix of numbers.")
         mat = sp.csc_matrix(arr)
-    if mat.shape[0] != mat.shape[1]:
-        raise ValueError(f"{what} must be a square matrix, got shape {mat.shape}.")
+    if mat.shape[0] != mat.shape[1] or mat.shape[0] == 0:
+        raise ValueError(f"{name} ({what}) must be a non-empty square matrix, got shape {mat.shape}.")
+    if mat.dtype.kind not in "biufc":
+        raise ValueError(f"{name} ({what}) must hold numbers, got dtype {mat.dtype}.")
     mat = sp.csc_matrix(mat)
     if mat.dtype not in (np.float64, np.complex128):
         mat = mat.astype(np.complex128 if np.iscomplexobj(mat.data) else np.float64)
+    if not np.all(np.isfinite(mat.data)):
+        raise ValueError(f"{name} ({what}) has entries that are NaN or infinite.")
     return mat
+
+
+def _text(name: str, value) -> str:
+    if not isinstance(value, str):
+        raise ValueError(f"{name} must be a string, got {_validate._shown(value)}.")
+    return value
+
+
+def _shift(value):
+    """A finite real or complex shift sigma."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, complex, np.number)):
+        raise ValueError(f"sigma must be a real or complex number, got {_validate._shown(value)}.")
+    try:
+        z = complex(value)
+    except (OverflowError, TypeError, ValueError):
+        raise ValueError(f"sigma must be a finite number, got {_validate._shown(value)}.") from None
+    if not (np.isfinite(z.real) and np.isfinite(z.imag)):
+        raise ValueError(f"sigma must be a finite number, got {_validate._shown(value)}.")
+    return z if z.imag != 0 else z.real
 
 
 def _with_diagonal(mat: sp.csc_matrix) -> sp.csc_matrix:
@@ -579,6 +544,7 @@ def analyze(mat, *, backend: str = "auto", what: str = "H - sigma", max_bytes: i
     FactorMemoryError
         When the estimated factor will not fit (one sentence with the needed and available bytes).
     """
+    what = _text("what", what)
     if max_bytes is not None:
         max_bytes = _validate.positive_int("max_bytes", max_bytes)
     return SymbolicAnalysis(mat, backend, what=what, max_bytes=max_bytes)
@@ -621,6 +587,11 @@ def factorize(mat, sigma=0.0, *, backend: str = "auto", analysis: SymbolicAnalys
     FactorizationError
         Zero pivot (σ an eigenvalue to working precision) or another backend failure.
     """
+    sigma = _shift(sigma)
+    positive = _validate.flag("positive", positive)
+    pivoting = _validate.flag("pivoting", pivoting)
+    if analysis is not None and not isinstance(analysis, SymbolicAnalysis):
+        raise ValueError(f"analysis must be a SymbolicAnalysis from analyze(), got {_validate._shown(analysis)}.")
     if analysis is None:
         if pivoting or (np.iscomplexobj(sigma) and complex(sigma).imag != 0):
             backend = "superlu"   # a pivoted LU is SuperLU's job; no CHOLMOD analysis to pay for
@@ -641,7 +612,15 @@ def shift_invert_lowest(mat, k: int, factor: Factor, tol: float, label: str):
     """
     from ..errors import ConvergenceError
 
+    if not isinstance(factor, Factor):
+        raise ValueError(f"factor must be a Factor from factorize(), got {_validate._shown(factor)}.")
+    label = _text("label", label)
+    mat = _as_square(mat, label)
     n = mat.shape[0]
+    if n != factor.n:
+        raise ValueError(f"mat has {n} rows but the factor was made for {factor.n}.")
+    k = _validate.positive_int("k", k, maximum=max(n - 2, 1))
+    tol = _validate.positive_real("tol", tol)
     dtype = np.complex128 if np.iscomplexobj(mat.data) else np.float64
     solves = [0]
 
@@ -688,7 +667,17 @@ def lowest_eigenpairs(mat, k: int, *, tol: float = 1e-10, backend: str = "auto",
     from ..errors import ConvergenceError
     from .solvers import _lanczos_ritz
 
+    label = _text("label", label)
+    mat = _as_square(mat, label)
     n = mat.shape[0]
+    if n < 3:
+        raise ValueError(f"mat ({label}) must have at least 3 rows for a Lanczos run, got {n}.")
+    k = _validate.positive_int("k", k, maximum=n - 2)
+    tol = _validate.positive_real("tol", tol)
+    if analysis is not None and not isinstance(analysis, SymbolicAnalysis):
+        raise ValueError(f"analysis must be a SymbolicAnalysis from analyze(), got {_validate._shown(analysis)}.")
+    if max_bytes is not None:
+        max_bytes = _validate.positive_int("max_bytes", max_bytes)
     an = analysis if analysis is not None else analyze(mat, backend=backend, what=label, max_bytes=max_bytes)
 
     def ritz():
@@ -725,3 +714,9 @@ def lowest_eigenpairs(mat, k: int, *, tol: float = 1e-10, backend: str = "auto",
         factor = an.factor(sigma, positive=True, matrix=mat)
     info = {"backend": an.backend, "sigma": sigma, "solves": solves, "proved": proved, "analysis": an}
     return e[:k], v[:, :k], res[:k], info
+
+
+# every public function above checks its arguments at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())
