@@ -1,0 +1,22 @@
+r"""Interacting bosons on hyperbolic lattices: the Bose–Hubbard model and its continuum field theory.
+
+.. math::
+
+    H = -t \sum_{\langle ij\rangle} (a_i^\dagger a_j + \mathrm{h.c.})
+        + \frac{U}{2} \sum_i n_i (n_i - 1) - \mu \sum_i n_i
+
+(the form of Boettcher et al., PRA 102, 032208, Sec. on the Bose–Hubbard model), mapped to the
+continuum through the paper's dictionary :math:`t' = (3/4) h^2 t`, :math:`\mu' = \mu + 3t`,
+:math:`U' = (\pi/28) U` for the {7,3} lattice (general {p,q}: :mod:`hyperlattice.dictionary`).
+
+Submodules, one job each (data flows one way: basis -> ed; meanfield and gp use graph/ and
+continuum/ only):
+
+* ``basis``, ``ed`` -- exact diagonalisation in a number-conserving basis with an occupation cutoff;
+* ``meanfield`` -- site-decoupled (Gutzwiller) mean field and the Mott lobes;
+* ``gp`` -- discrete and continuum Gross–Pitaevskii ground states and Bogoliubov spectra.
+"""
+
+from __future__ import annotations
+
+__all__: list[str] = []
