@@ -19,4 +19,8 @@ continuum/ only):
 
 from __future__ import annotations
 
-__all__: list[str] = []
+from .meanfield import (GutzwillerState, MottLobe, MottLobeTable, gutzwiller, largest_adjacency_eigenvalue,
+                        lobe_boundary, lobe_tip, mott_lobe, mott_lobes)
+
+__all__: list[str] = ["GutzwillerState", "MottLobe", "MottLobeTable", "gutzwiller", "largest_adjacency_eigenvalue",
+                      "lobe_boundary", "lobe_tip", "mott_lobe", "mott_lobes"]

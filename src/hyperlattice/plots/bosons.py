@@ -1,0 +1,100 @@
+"""Figures of the interacting bosons (:mod:`hyperlattice.bosons`): Mott lobes and order-parameter profiles."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from . import new_axes
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
+    from ..bosons.meanfield import GutzwillerState, MottLobeTable
+
+__all__ = ["plot_mott_lobes", "plot_lobe_tips", "plot_order_parameter", "meanfield_figure"]
+
+_STYLE = {"flake": "-", "continuum": "--", "cluster": ":", "infinite": "-"}
+
+
+def plot_mott_lobes(table: MottLobeTable, ax: Axes | None = None) -> Axes:
+    """The Mott lobes of every system of ``table`` (t/U horizontal, μ/U vertical); returns the axes.
+
+    Flakes are solid lines shaded light to dark with l, their continuum disks dashed in the same
+    shade, periodic clusters dotted, the infinite lattice black.
+    """
+    import matplotlib.pyplot as plt
+
+    ax = new_axes(ax, size=(5.0, 4.0))
+    flakes = sorted({ell for ell, kind in zip(table.rings, table.kinds) if kind == "flake"})
+    cmap = plt.get_cmap("viridis")
+    shade = {ell: cmap(0.15 + 0.7 * i / max(1, len(flakes) - 1)) for i, ell in enumerate(flakes)}
+    for lobe, kind, ell in zip(table.lobes, table.kinds, table.rings):
+        color = "k" if kind == "infinite" else ("0.45" if kind == "cluster" else shade.get(ell, "C0"))
+        label = lobe.label if kind != "continuum" or ell == flakes[-1] else None
+        ax.plot(lobe.t_c_over_U, lobe.mu_over_U, _STYLE[kind], color=color, lw=1.6 if kind == "infinite" else 1.1,
+                label=label)
+    ax.set_xlabel("t / U")
+    ax.set_ylabel("μ / U")
+    ax.set_xlim(left=0.0)
+    ax.set_title(f"{{{table.p},{table.q}}} Mott lobe n = {table.filling} (mean field)", fontsize=10)
+    ax.legend(fontsize=8, frameon=False, loc="upper right")
+    return ax
+
+
+def plot_lobe_tips(table: MottLobeTable, ax: Axes | None = None) -> Axes:
+    """The lobe tip t_c/U against l for the flakes (points) and their continuum disks (line), with
+    the infinite lattice and the clusters as horizontal lines; returns the axes."""
+    ax = new_axes(ax, size=(5.0, 4.0))
+    rows = table.rows()
+    for kind, style, name in (("flake", "o", "flakes"), ("continuum", "s--", "continuum (paper dictionary)")):
+        pts = [(r["rings"], r["tip_t_over_U"]) for r in rows if r["kind"] == kind]
+        if pts:
+            x, y = np.array(pts, dtype=float).T
+            ax.plot(x, y, style, ms=4, label=name, mfc="none" if kind == "continuum" else None)
+    for r in rows:
+        if r["kind"] in ("infinite", "cluster"):
+            ax.axhline(r["tip_t_over_U"], color="k" if r["kind"] == "infinite" else "0.5",
+                       ls="-" if r["kind"] == "infinite" else ":", lw=1.0, label=r["label"])
+    ax.set_xlabel("rings ℓ")
+    ax.set_ylabel("lobe tip t_c / U")
+    ax.xaxis.get_major_locator().set_params(integer=True)
+    ax.legend(fontsize=8, frameon=False)
+    return ax
+
+
+def plot_order_parameter(state: GutzwillerState, lattice, ax: Axes | None = None) -> Axes:
+    """|ψ_i| of a Gutzwiller state against the ring of each site of a flake (one point per site)."""
+    ax = new_axes(ax, size=(5.0, 3.6))
+    ring = np.asarray(lattice.ring)
+    if ring.shape[0] != state.psi.shape[0]:
+        raise ValueError("the lattice and the state have different numbers of sites.")
+    ax.plot(ring + 0.15 * (np.random.default_rng(0).random(ring.shape[0]) - 0.5), state.psi, ".", ms=3)
+    ax.set_xlabel("ring")
+    ax.set_ylabel("ψ_i = ⟨a_i⟩")
+    ax.xaxis.get_major_locator().set_params(integer=True)
+    ax.set_title(f"t/U = {state.t / state.U:.4g}, μ/U = {state.mu / state.U:.4g}", fontsize=9)
+    return ax
+
+
+def meanfield_figure(table: MottLobeTable, path=None):
+    """Two panels, (a) the lobes and (b) the tips against l; saved to ``path`` when given. Returns the figure."""
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(10.0, 4.0), layout="constrained")
+    plot_mott_lobes(table, ax=axes[0])
+    plot_lobe_tips(table, ax=axes[1])
+    for ax, letter in zip(axes, "ab"):
+        ax.text(-0.12, 1.02, f"({letter})", transform=ax.transAxes, fontsize=11, fontweight="bold")
+    if path is not None:
+        from .. import _validate
+
+        fig.savefig(_validate.output_path("path", path), dpi=130)
+    return fig
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -1,0 +1,154 @@
+"""Mean-field (Gutzwiller) Bose–Hubbard: the lobe formula, the self-consistent state, the CLI contract."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+import hyperlattice as hl
+from hyperlattice.bosons import meanfield as mf
+from hyperlattice.cli import main
+
+
+def test_textbook_lobe_formula_and_tip():
+    # van Oosten et al. PRA 63, 053601, Eq. 9: z t_c/U = (n - mu/U)(mu/U - n + 1)/(1 + mu/U)
+    # for n = 1; tip (sqrt(n+1) - sqrt(n))^2 / z at mu/U = sqrt(n(n+1)) - n + (n - 1)
+    mu = np.linspace(0.05, 0.95, 19)
+    z = 6.0
+    expected = (1 - mu) * mu / (1 + mu) / z
+    assert np.allclose(mf.lobe_boundary(z, mu, 1), expected, rtol=1e-13, atol=0)
+    for n in (1, 2, 3):
+        tip_mu, tip_t = mf.lobe_tip(z, n)
+        grid = np.linspace(n - 1 + 1e-6, n - 1e-6, 200_001)
+        tc = mf.lobe_boundary(z, grid, n)
+        # the closed form is the maximum of the boundary (grid spacing 5e-6: the maximum is
+        # quadratic, so the grid value is within ~1e-10 relative)
+        assert tip_t == pytest.approx(tc.max(), rel=1e-9)
+        assert tip_mu == pytest.approx(grid[np.argmax(tc)], abs=1e-4)
+    assert mf.lobe_tip(1.0, 1)[1] == pytest.approx(3 - 2 * math.sqrt(2), rel=1e-15)
+    # outside (n-1, n) there is no Mott state of filling n
+    assert np.isnan(mf.atomic_susceptibility(1.2, 1)) and np.isnan(mf.atomic_susceptibility(-0.1, 1))
+
+
+def test_local_kernel_against_dense_eigh():
+    k = np.arange(7)
+    rng = np.random.default_rng(3)
+    phi = np.concatenate([[0.0, 1e-9], rng.uniform(0, 2, 30)])
+    out = [np.empty(phi.size) for _ in range(3)]
+    mf._local_kernel(False)(phi, 1.0, 0.7, 6, *out)
+    for i, f in enumerate(phi):
+        h = np.diag(0.5 * k * (k - 1) - 0.7 * k) - f * (np.diag(np.sqrt(k[1:]), 1) + np.diag(np.sqrt(k[1:]), -1))
+        w, v = np.linalg.eigh(h)
+        v0 = v[:, 0]
+        # 1e-12: eigh and the bisection/inverse iteration both reach ~1e-15; allow for the
+        # level-spacing-limited vector error at tiny fields
+        assert out[2][i] == pytest.approx(w[0], abs=1e-12)
+        assert out[0][i] == pytest.approx(abs(np.sum(np.sqrt(k[1:]) * v0[:-1] * v0[1:])), abs=1e-10)
+        assert out[1][i] == pytest.approx(np.sum(k * v0**2), abs=1e-10)
+
+
+def test_regular_cluster_is_homogeneous_and_lambda_max_is_q():
+    cl = hl.pbc_cluster(8, 3, "bolza")
+    assert mf.largest_adjacency_eigenvalue(cl) == 3.0
+    tc = mf.lobe_boundary(3.0, 0.4)
+    st = mf.gutzwiller(cl, 1.3 * tc, 0.4, 1.0)
+    assert st.converged and st.superfluid
+    # a q-regular graph: every site sees the same field, so the state is homogeneous to rounding
+    assert np.ptp(st.psi) < 1e-12
+    # inside the lobe the order parameter dies out (the monotone iteration descends to 0)
+    mott = mf.gutzwiller(cl, 0.7 * tc, 0.4, 1.0)
+    assert mott.converged and not mott.superfluid
+    assert np.allclose(mott.density, 1.0, atol=1e-8)
+
+
+def test_flake_is_inhomogeneous_and_obeys_the_linear_criterion():
+    lat = hl.ring_lattice(7, 3, 4)
+    lam = mf.largest_adjacency_eigenvalue(lat)
+    assert lam == pytest.approx(2.84663309, abs=1e-8)  # -E0 of the l = 4 flake (paper Tab. S1)
+    tc = mf.lobe_boundary(lam, 0.4)
+    sf = mf.gutzwiller(lat, 1.2 * tc, 0.4, 1.0)
+    assert sf.superfluid
+    # outer-ring sites have two neighbours, inner ones three: psi is largest in the centre
+    ring = np.asarray(lat.ring)
+    assert sf.psi[ring == 1].mean() > sf.psi[ring == lat.rings].mean()
+    assert not mf.gutzwiller(lat, 0.8 * tc, 0.4, 1.0).superfluid
+
+
+def test_lambda_max_grows_with_the_flake_towards_rho():
+    lams = [mf.largest_adjacency_eigenvalue(hl.ring_lattice(7, 3, ell)) for ell in (2, 3, 4, 5, 6)]
+    assert np.all(np.diff(lams) > 0)
+    from hyperlattice.compare.limits import band_bottom
+
+    rho = band_bottom(7, 3, schur_window=None).rho
+    assert lams[-1] < rho < 3.0
+
+
+def test_selfconsistent_boundary_converges_to_the_linear_one():
+    # the nonlinear iteration alone (no linearisation) finds the boundary; tightening the
+    # self-consistency and bisection tolerances brings it closer to 1 / (lambda_max g_1)
+    cl = hl.pbc_cluster(8, 3, "bolza")
+    exact = mf.lobe_boundary(3.0, 0.4)
+    loose = abs(mf.selfconsistent_boundary(cl, 0.4, tol=1e-4, t_tol=3e-2) / exact - 1)
+    tight = abs(mf.selfconsistent_boundary(cl, 0.4, tol=1e-6, t_tol=3e-3) / exact - 1)
+    assert tight < loose
+    assert tight < 5e-3   # t_tol = 3e-3 of the bisection, plus the sqrt(tol) threshold's shift
+
+
+def test_cutoff_weight_is_reported_and_small_by_default():
+    lat = hl.ring_lattice(7, 3, 3)
+    st = mf.gutzwiller(lat, 0.2, 0.5, 1.0)
+    assert 0 <= st.cutoff_weight < 1e-3
+    small = mf.gutzwiller(lat, 0.2, 0.5, 1.0, nmax=2)
+    assert small.cutoff_weight > st.cutoff_weight
+
+
+def test_unconverged_iteration_warns_with_its_residual():
+    lat = hl.ring_lattice(7, 3, 3)
+    from hyperlattice.errors import ConvergenceWarning
+
+    with pytest.warns(ConvergenceWarning, match="residual"):
+        st = mf.gutzwiller(lat, 0.1, 0.4, 1.0, max_iter=2)
+    assert not st.converged
+
+
+def test_mott_lobes_table_flakes_continuum_clusters_infinite():
+    table = mf.mott_lobes(7, 3, rings=(3, 5), clusters=("klein",))
+    kinds = [r["kind"] for r in table.rows()]
+    assert kinds == ["flake", "continuum", "flake", "continuum", "cluster", "infinite"]
+    tips = {(r["kind"], r["rings"]): r["tip_t_over_U"] for r in table.rows()}
+    # a larger lambda_max gives a smaller lobe: flakes > infinite lattice > q-regular cluster
+    assert tips[("flake", 3)] > tips[("flake", 5)] > tips[("infinite", None)] > tips[("cluster", None)]
+    # the continuum disk (paper dictionary) reproduces the flake's tip to 0.1 % at l = 5
+    assert tips[("continuum", 5)] == pytest.approx(tips[("flake", 5)], rel=1e-3)
+    ax = table.plot()
+    assert ax.get_xlabel() == "t / U"
+    import matplotlib.pyplot as plt
+
+    plt.close("all")
+
+
+def test_cli_meanfield_contract(capsys):
+    assert main(["bosons", "meanfield", "--rings", "4", "-p", "7", "-q", "3", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    for key in ("lambda_max", "mu_over_U", "t_c_over_U"):
+        assert key in out
+    assert out["lambda_max"] == pytest.approx(2.84663309, abs=1e-8)
+    mu = np.array(out["mu_over_U"])
+    tc = np.array(out["t_c_over_U"])
+    assert mu[0] == 0 and mu[-1] == 1 and tc[0] == 0 and tc[-1] == 0
+    assert np.allclose(tc[1:-1], mf.lobe_boundary(out["lambda_max"], mu[1:-1]), rtol=1e-14)
+    assert main(["bosons", "meanfield", "--cluster", "bolza", "-p", "8", "--filling", "2", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["lambda_max"] == 3.0 and out["mu_over_U"][0] == 1.0
+
+
+@pytest.mark.parametrize("words", [["--rings", "0"], ["--rings", "4", "--filling", "0"],
+                                   ["--cluster", "nonesuch"], ["--rings", "3", "--t", "0.1"],
+                                   ["--cluster", "klein", "--continuum"]])
+def test_cli_meanfield_bad_input_is_one_line(words, capsys):
+    assert main(["bosons", "meanfield", *words]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "error" in err[0]
