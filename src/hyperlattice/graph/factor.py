@@ -19,7 +19,9 @@ Backends
     the row and column permutations agree, the diagonal of :math:`U` is :math:`D` and its signs
     give the inertia (checked every time; otherwise no count is claimed). The column order of the
     first factorisation is kept and reused at every further shift.
-``"auto"`` takes CHOLMOD when it is importable, else SuperLU, silently; an explicit
+``"auto"`` takes CHOLMOD when it is importable, else SuperLU, silently (the environment variable
+``HYPERLATTICE_FACTOR_BACKEND=superlu`` hides CHOLMOD, as if it were not installed: the
+SuperLU-only configuration of CI and the benchmarks); an explicit
 ``backend="cholmod"`` without scikit-sparse warns (:class:`SolverFallbackWarning`) and runs SuperLU.
 The backend that ran is recorded on every :class:`Factor` (``factor.backend``).
 
@@ -39,7 +41,9 @@ sentence; any other backend error into :class:`FactorizationError`.
 
 from __future__ import annotations
 
+import os
 import warnings
+
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
@@ -100,8 +104,20 @@ def _refusal(what: str, needed: float, available: float, allowed: bool = False) 
 # backends
 # ----------------------------------------------------------------------------
 
+#: environment variable that hides CHOLMOD from the package (``superlu``): the SuperLU-only
+#: configuration, for CI and the benchmarks, without uninstalling scikit-sparse; read at every
+#: call, so subprocesses (the CLI) inherit it
+BACKEND_ENV = "HYPERLATTICE_FACTOR_BACKEND"
+
+
 def _cholmod():
-    """scikit-sparse's CHOLMOD module, or None (an optional accelerator, never required)."""
+    """scikit-sparse's CHOLMOD module, or None (an optional accelerator, never required).
+
+    None as well when the environment variable :data:`BACKEND_ENV` is ``superlu`` (CHOLMOD then
+    behaves exactly as if it were not installed).
+    """
+    if os.environ.get(BACKEND_ENV, "").strip().lower() == "superlu":
+        return None
     try:
         from sksparse import cholmod
     except ImportError:
