@@ -235,13 +235,24 @@ def _shift(value):
 def _with_diagonal(mat: sp.csc_matrix) -> sp.csc_matrix:
     """The matrix with every diagonal entry stored, explicit zeros kept (every shift has one pattern)."""
     n = mat.shape[0]
-    coo = mat.tocoo()
-    diag = np.arange(n)
-    rows = np.concatenate([coo.row, diag])
-    cols = np.concatenate([coo.col, diag])
-    data = np.concatenate([coo.data, np.zeros(n, dtype=mat.dtype)])
-    out = sp.csc_matrix((data, (rows, cols)), shape=mat.shape)   # duplicates summed, zeros kept
-    out.sort_indices()
+    mat = mat.copy()
+    mat.sum_duplicates()                  # canonical: sorted indices, no duplicates
+    cols = np.repeat(np.arange(n, dtype=np.int64), np.diff(mat.indptr))
+    on_diag = mat.indices == cols
+    missing = np.ones(n, dtype=bool)
+    missing[cols[on_diag]] = False
+    if np.any(missing):
+        # insert an explicit zero at the sorted place of every missing diagonal entry (O(nnz))
+        before = np.bincount(cols[mat.indices < cols], minlength=n)
+        where = (mat.indptr[:-1] + before)[missing]
+        add = np.flatnonzero(missing)
+        indices = np.insert(mat.indices.astype(np.int64), where, add)
+        data = np.insert(mat.data, where, np.zeros(add.shape[0], dtype=mat.dtype))
+        indptr = mat.indptr.astype(np.int64) + np.concatenate([[0], np.cumsum(missing)])
+        out = sp.csc_matrix((data, indices, indptr), shape=mat.shape)
+        out.has_sorted_indices = True
+    else:
+        out = mat
     if np.iscomplexobj(out.data):
         # a Hermitian diagonal is real; a rounding-level imaginary part (a rotation phase summed in
         # a sector block) makes CHOLMOD refuse the matrix as not positive definite

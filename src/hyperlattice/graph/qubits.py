@@ -216,6 +216,32 @@ class BelowBandResolvent:
 _MIRROR_MIN = 2_000
 
 
+def _ring_reflection(lat: Lattice, axis: complex) -> np.ndarray | None:
+    """Candidate reflection through the axis of ``axis`` from the ring layout (sites of a ring counterclockwise).
+
+    A reflection that fixes the centre keeps every ring and reverses its cyclic order: ring k is
+    mapped by ``r -> (c_k - r) mod n_k``, with c_k twice the position of the site nearest the axis
+    (or that minus/plus one when the axis passes between two sites). O(N), vectorised; the caller
+    checks the candidate against the coordinates and the edges.
+    """
+    off = np.asarray(lat.ring_offsets, dtype=np.int64)
+    n = int(off[-1])
+    if off[0] != 0 or n != lat.sites or np.any(np.diff(off) <= 0):
+        return None
+    a = np.angle(np.asarray(lat.z) * (abs(axis) / axis))     # angle from the axis, (-pi, pi]
+    absa = np.abs(a)
+    starts, sizes = off[:-1], np.diff(off)
+    mins = np.minimum.reduceat(absa, starts)
+    hit = np.flatnonzero(absa == np.repeat(mins, sizes))
+    r0 = hit[np.searchsorted(hit, starts)]                    # first site of each ring nearest the axis
+    local = r0 - starts
+    on_axis = absa[r0] <= 1e-6 * np.pi / sizes
+    c2 = 2 * local + np.where(on_axis, 0, np.where(a[r0] > 0, -1, 1))
+    ring_of = np.repeat(np.arange(sizes.shape[0]), sizes)
+    pos = np.arange(n, dtype=np.int64) - starts[ring_of]
+    return starts[ring_of] + (c2[ring_of] - pos) % sizes[ring_of]
+
+
 class _MirrorEven:
     r"""The mirror-even block :math:`B^T H B` of a reflection :math:`\sigma` (see :class:`BelowBandResolvent`)."""
 
@@ -229,8 +255,14 @@ class _MirrorEven:
         self.cls = pos[np.minimum(idx, perm)]
         self.dim = int(lead.sum())
         self.weight = np.where(fixed, 1.0, math.sqrt(0.5))
-        B = sp.csc_matrix((self.weight, (idx, self.cls)), shape=(n, self.dim))
-        self.block = (B.T @ H @ B).tocsc()
+        # B^T H B from the lead rows only: for a pair {a, sigma a} the row of sigma a repeats that of
+        # a (H commutes with sigma), so row c(a) = f_a w_a sum_k w_k H_ak with f_a = 2 for a pair
+        coo = H.tocoo()
+        rows = coo.row if coo.row.dtype == np.int64 else coo.row.astype(np.int64)
+        on = lead[rows]
+        r, k = rows[on], coo.col[on]
+        f = np.where(fixed[r], 1.0, 2.0) * self.weight[r] * self.weight[k]
+        self.block = sp.csc_matrix((f * coo.data[on], (self.cls[r], self.cls[k])), shape=(self.dim, self.dim))
         self.what = what
         self.backend = backend
         self._analysis = None
@@ -240,29 +272,38 @@ class _MirrorEven:
     @classmethod
     def find(cls, res: "BelowBandResolvent", source: int) -> "_MirrorEven | None":
         """The reflection through the axis of ``source`` when it is a symmetry of the graph, else None."""
-        from scipy.spatial import cKDTree
-
-        z = np.asarray(res.lattice.z)
+        lat = res.lattice
+        z = np.asarray(lat.z)
         zj = complex(z[source])
         if abs(zj) == 0.0:
             return None
-        if res._tree is None:
-            res._tree = cKDTree(np.column_stack([z.real, z.imag]))
         zr = (zj / abs(zj)) ** 2 * np.conj(z)
-        dist, perm = res._tree.query(np.column_stack([zr.real, zr.imag]))
         # a candidate only: the map must match every site closely (well inside the local spacing,
         # which shrinks like 1 - |z|^2 towards the rim) and then be an exact automorphism of the graph
-        if not np.all(dist <= 1e-9 + 1e-6 * (1.0 - np.abs(z) ** 2)):
-            return None
-        perm = perm.astype(np.int64)
+        tol = 1e-9 + 1e-6 * (1.0 - np.abs(z) ** 2)
+        perm = _ring_reflection(lat, zj)
+        if perm is None or not np.all(np.abs(z[perm] - zr) <= tol):
+            from scipy.spatial import cKDTree   # any other layout: nearest site to every mirror image
+
+            if res._tree is None:
+                res._tree = cKDTree(np.column_stack([z.real, z.imag]))
+            dist, perm = res._tree.query(np.column_stack([zr.real, zr.imag]))
+            if not np.all(dist <= tol):
+                return None
+            perm = perm.astype(np.int64)
         n = perm.shape[0]
         if perm[source] != source or not np.array_equal(perm[perm], np.arange(n)):
             return None
-        e = np.asarray(res.lattice.edges, dtype=np.int64)
-        key = np.sort(np.minimum(e[:, 0], e[:, 1]) * n + np.maximum(e[:, 0], e[:, 1]))
-        me = perm[e]
-        mkey = np.sort(np.minimum(me[:, 0], me[:, 1]) * n + np.maximum(me[:, 0], me[:, 1]))
-        if not np.array_equal(key, mkey):
+        # every edge maps onto an edge of H (a bijection of the sites mapping the E edges into the E
+        # edges maps them onto): the nonzeros of the CSC H, keyed column * n + row, are sorted
+        e = np.asarray(lat.edges, dtype=np.int64)
+        H = res.H
+        if not H.has_sorted_indices:
+            H.sort_indices()
+        keys = np.repeat(np.arange(n, dtype=np.int64), np.diff(H.indptr)) * n + H.indices
+        mapped = perm[e[:, 1]] * n + perm[e[:, 0]]
+        at = np.minimum(np.searchsorted(keys, mapped), keys.shape[0] - 1)
+        if not np.array_equal(keys[at], mapped):
             return None
         return cls(perm, res.H, f"the mirror-even block of H - omega ({n:,}-site lattice)", res.backend)
 
