@@ -344,39 +344,49 @@ class _RingFit:
         self.keep = ring != source
         th, e = self.theta[self.keep], self.eps[self.keep]
         s = np.abs(np.sin(0.5 * th))
-        self._positive_eps = e > 0
-        log_s = np.log(np.where(s > 0, s, 1.0))
-        log_e = np.log(np.where(e > 0, e, 1.0))
+        # the windows are nested (s >= sin(theta_min / 2), theta_min growing with depth): with the
+        # pairs sorted by decreasing s, each window is a prefix, and one pass serves all three
+        self.order = np.argsort(-s, kind="stable")
+        s_sorted, e_sorted = s[self.order], e[self.order]
+        bad_e = np.flatnonzero(~(e_sorted > 0))
+        first_bad_e = int(bad_e[0]) if bad_e.size else s.shape[0]
         self.windows = {}
         for d in (depth - 1, depth, depth + 1):
             if d < 1 or d >= lat.rings:
                 continue
             thmin = fit_window(lat, d)
-            sel = (s >= math.sin(0.5 * thmin)) & (s > 0)
-            n = int(np.count_nonzero(sel))
+            n = int(np.count_nonzero((s_sorted >= math.sin(0.5 * thmin)) & (s_sorted > 0)))
+            self.windows[d] = [thmin, n, None]
+        self.n_max = max((w[1] for w in self.windows.values()), default=0)
+        log_s = np.log(np.where(s_sorted[:self.n_max] > 0, s_sorted[:self.n_max], 1.0))
+        log_e = np.log(np.where(e_sorted[:self.n_max] > 0, e_sorted[:self.n_max], 1.0))
+        X_all = np.column_stack([np.ones(self.n_max), -2.0 * log_s, log_e])
+        for d, w in self.windows.items():
+            thmin, n, _ = w
             if n < _MIN_PAIRS:
-                self.windows[d] = (thmin, sel, n, None)
                 continue
-            X = np.column_stack([np.ones(n), -2.0 * log_s[sel], log_e[sel]])
+            X = X_all[:n]
             if np.ptp(X[:, 2]) == 0:          # all probes on one circle: beta is not identifiable
-                X = X[:, :2]
+                X = np.ascontiguousarray(X[:, :2])
             # normal equations of the column-scaled X (condition ~1e2 here, so ~1e-12 relative in
             # the coefficients, against the 1e-3 the fit claims); einsum keeps BLAS threads out
             scale = np.sqrt(np.einsum("ij,ij->j", X, X))
             gram = np.einsum("ij,ik->jk", X, X) / np.outer(scale, scale)
-            self.windows[d] = (thmin, sel, n, (X, scale, np.linalg.inv(gram), np.linalg.pinv(X.T @ X)))
+            w[2] = (X, scale, np.linalg.inv(gram), np.linalg.pinv(X.T @ X), n <= first_bad_e)
 
-    def fit(self, d: int, values: np.ndarray) -> tuple[float, float, int, float, float]:
-        """:func:`fit_delta` of the kept values in window ``d`` (same returns and refusals)."""
-        thmin, sel, n, solver = self.windows[d]
+    def fit(self, d: int, y: np.ndarray, first_bad: int) -> tuple[float, float, int, float, float]:
+        """:func:`fit_delta` in window ``d`` from the logs ``y`` of the sorted values (same returns and refusals).
+
+        ``first_bad``: index of the first non-positive sorted value (their logs are not used).
+        """
+        thmin, n, solver = self.windows[d]
         if solver is None:
             raise ValueError(f"only {n} boundary pairs lie in the fit window theta >= {thmin:.3g}; at least "
                              f"{_MIN_PAIRS} are needed (use more rings or a smaller depth).")
-        v = values[sel]
-        if np.any(v <= 0) or not np.all(self._positive_eps[sel]):
+        X, scale, gram_inv, xtx, eps_ok = solver
+        if n > first_bad or not eps_ok:
             raise ValueError("the correlator must be positive in the fit window (omega below the band).")
-        X, scale, gram_inv, xtx = solver
-        y = np.log(v)
+        y = y[:n]
         # einsum, not BLAS: a level-1/2 BLAS call on ~10^5 entries waits for OpenBLAS's threads to
         # wake (measured 4 ms for one dot on a loaded 2-core machine, against 0.1 ms here)
         coef = gram_inv @ (np.einsum("ij,i->j", X, y) / scale) / scale
@@ -388,14 +398,17 @@ class _RingFit:
 
     def fit_with_window(self, g: np.ndarray) -> tuple[float, float, float, float, int, float]:
         """(delta, stderr, beta, theta_min, pairs, window systematic) from the outer-ring column ``g``."""
-        values = g[self.keep]
-        delta, se, n, _, beta = self.fit(self.depth, values)
+        v = g[self.keep][self.order][:self.n_max]
+        bad = np.flatnonzero(~(v > 0))
+        first_bad = int(bad[0]) if bad.size else v.shape[0]
+        y = np.log(np.where(v > 0, v, 1.0))
+        delta, se, n, _, beta = self.fit(self.depth, y, first_bad)
         shifts = []
         for d in (self.depth - 1, self.depth + 1):
             if d not in self.windows:
                 continue
             try:
-                shifts.append(abs(self.fit(d, values)[0] - delta))
+                shifts.append(abs(self.fit(d, y, first_bad)[0] - delta))
             except ValueError:            # fewer than 10 pairs: that window does not count
                 continue
         return delta, se, beta, self.windows[self.depth][0], n, max(shifts) if shifts else 0.0

@@ -185,10 +185,18 @@ def _symbolic_kernel():
 def _factor_counts(pattern: sp.csc_matrix, perm: np.ndarray) -> tuple[int, float]:
     """Entries of L (diagonal included) and the flops of its factorisation, for the symmetric order ``perm``."""
     n = pattern.shape[0]
-    pp = pattern[perm][:, perm].tocsc()
-    pp.sort_indices()
-    cc = _symbolic_kernel()(n, pp.indptr.astype(np.int64), pp.indices.astype(np.int64)).astype(np.float64)
-    return int(cc.sum()), float(np.dot(cc, cc))
+    perm = np.asarray(perm, dtype=np.int64)
+    iperm = np.empty(n, dtype=np.int64)
+    iperm[perm] = np.arange(n, dtype=np.int64)
+    # P A P^T of the symmetric pattern without scipy's fancy indexing: column k of the result is
+    # column perm[k] of A with its rows renamed by iperm (the kernel needs no sorted rows)
+    start = pattern.indptr[perm].astype(np.int64)
+    count = (pattern.indptr[perm + 1] - pattern.indptr[perm]).astype(np.int64)
+    indptr = np.concatenate([[0], np.cumsum(count)])
+    gather = np.repeat(start - indptr[:-1], count) + np.arange(int(indptr[-1]), dtype=np.int64)
+    indices = iperm[pattern.indices[gather]]
+    cc = _symbolic_kernel()(n, indptr, indices).astype(np.float64)
+    return int(cc.sum()), float(np.einsum("i,i->", cc, cc))
 
 
 def _as_square(mat, what: str, name: str = "mat") -> sp.csc_matrix:
