@@ -254,8 +254,14 @@ def _with_diagonal(mat: sp.csc_matrix) -> sp.csc_matrix:
         before = np.bincount(cols[mat.indices < cols], minlength=n)
         where = (mat.indptr[:-1] + before)[missing]
         add = np.flatnonzero(missing)
-        indices = np.insert(mat.indices.astype(np.int64), where, add)
-        data = np.insert(mat.data, where, np.zeros(add.shape[0], dtype=mat.dtype))
+        # the new entries land at where + (number inserted before them); the old ones fill the rest
+        slot = np.zeros(mat.nnz + add.shape[0], dtype=bool)
+        slot[where + np.arange(add.shape[0])] = True
+        indices = np.empty(slot.shape[0], dtype=np.int64)
+        indices[slot] = add
+        indices[~slot] = mat.indices
+        data = np.zeros(slot.shape[0], dtype=mat.dtype)
+        data[~slot] = mat.data
         indptr = mat.indptr.astype(np.int64) + np.concatenate([[0], np.cumsum(missing)])
         out = sp.csc_matrix((data, indices, indptr), shape=mat.shape)
         out.has_sorted_indices = True
