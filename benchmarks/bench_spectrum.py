@@ -73,7 +73,7 @@ def one_size(rings: int, args) -> None:
     if not args.skip_old:
         t0 = time.perf_counter()
         old = lowest_levels(lat, 2, tol=1e-10, method="sector")
-        results.append(("hyperlattice lowest_levels(method='sector', blocks of the full lattice)", time.perf_counter() - t0,
+        results.append(("hyperlattice lowest_levels(method='sector', full-lattice blocks)", time.perf_counter() - t0,
                         np.asarray(old.energies), float(old.residuals.max())))
 
     def shift_invert(solve_factory, sigma):
