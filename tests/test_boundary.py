@@ -188,6 +188,9 @@ def test_source_on_a_mirror_axis_uses_the_even_block_without_losing_tiny_entries
         b = res.columns(w, [j])[:, 0]          # several sources: the full matrix
         assert np.max(np.abs(a / b - 1)) < 1e-11 and a[ring].min() < 1e-4 * a.max()   # many decades
     assert len(res._mirrors) == 1 and res._mirrors[0].dim < 0.51 * lat.sites
+    res.column(-3.6, j)
+    assert res.route.startswith(backend) and "mirror-even block" in res.route
+    assert "mirror-even block" in cb.boundary_correlator(lat, -3.6, j, resolvent=res, continuum=False).solver
     assert res._mirrors[0]._factor.backend == backend
     # the even block keeps the ground state: omega above E0 is refused there as well
     e0 = lowest_levels(lat, 1).energies[0]
@@ -196,7 +199,7 @@ def test_source_on_a_mirror_axis_uses_the_even_block_without_losing_tiny_entries
     # a source off every axis takes the full factorisation
     off = int(ring[np.argmin(np.abs(np.angle(lat.z[ring]) - 0.1))])
     np.testing.assert_allclose(res.column(-3.6, off), res.columns(-3.6, [off])[:, 0], rtol=1e-13)
-    assert off in res._no_mirror
+    assert off in res._no_mirror and "of H (5,887 rows)" in res.route
 
 
 # -- continuum side: whole disk vs Dirichlet disk of radius L (issue 14, item 2) --

@@ -288,6 +288,8 @@ class BoundaryCorrelator(Result):
         :math:`G_{ij}(\omega)`.
     continuum : ndarray
         ``eq21`` with the :math:`L = 1` propagator (inf at the source, NaN beyond the BF bound).
+    solver : str
+        What solved for ``graph`` (backend, factor kind, full H or its mirror-even block).
     """
 
     p: int
@@ -312,6 +314,8 @@ class BoundaryCorrelator(Result):
     continuum: np.ndarray = field(repr=False)
     #: which continuum model fills ``continuum`` ("whole", "dirichlet" or "mapped")
     continuum_disk: str = "whole"
+    #: what solved for ``graph``: backend, factor kind, full H or its mirror-even block ("" when unknown)
+    solver: str = ""
 
     def summary(self) -> dict:
         """The ``boundary --json`` contract: p, q, rings, omega, lambda, mass2, delta_continuum,
@@ -481,7 +485,8 @@ def _boundary_correlator(lat, omega, source, ring, depth, res, continuum, contin
                               delta_continuum=_delta_continuum(omega, lat.p, lat.q), delta_lattice=delta,
                               delta_lattice_err=math.hypot(se, sysw), delta_lattice_stat=se,
                               delta_lattice_window=sysw, beta=beta, theta_min=thmin, depth=depth, pairs=n,
-                              sites=ring, theta=theta, graph=g, continuum=cont, continuum_disk=continuum_disk)
+                              sites=ring, theta=theta, graph=g, continuum=cont, continuum_disk=continuum_disk,
+                              solver=res.route)
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)

@@ -140,6 +140,8 @@ class BelowBandResolvent:
         self._analysis = None
         self._factor = None
         self._omega = None
+        #: what solved the last column: backend, factor kind and the matrix (full H or mirror-even block)
+        self.route = ""
         self._mirrors = []          # mirror-even reductions found so far (see _mirror)
         self._no_mirror = set()     # sources known to lie on no mirror axis
         self._tree = None
@@ -179,6 +181,7 @@ class BelowBandResolvent:
         out = f.solve(rhs)
         if not np.all(np.isfinite(out)):
             raise ValueError(f"omega = {omega}: the solve overflowed (omega within rounding of E0).")
+        self.route = f"{f.backend} {f.kind} of H ({self.n:,} rows)"
         return out
 
     def column(self, omega, source) -> np.ndarray:
@@ -195,6 +198,7 @@ class BelowBandResolvent:
         out = mirror.weight * x[mirror.cls]
         if not np.all(np.isfinite(out)):
             raise ValueError(f"omega = {omega}: the solve overflowed (omega within rounding of E0).")
+        self.route = f"{f.backend} {f.kind} of the mirror-even block ({mirror.dim:,} of {self.n:,} rows)"
         return out
 
     def _mirror(self, source: int) -> "_MirrorEven | None":
