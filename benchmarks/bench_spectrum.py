@@ -10,8 +10,9 @@ hyperlattice sides:
   building the flake (sector by sector, never the full lattice), the mirror-real sector blocks,
   shift-invert Lanczos for E0 (m = 0 even) and E1 (m = 1), and the Sylvester-inertia proof that
   no other block has a level below E1. CHOLMOD when scikit-sparse is importable, else SuperLU.
-* ``lowest_levels(lattice, 2)`` (hyperlattice 0.2: Chebyshev-accelerated Lanczos per sector),
-  for reference (``--skip-old`` to skip).
+* ``lowest_levels(lattice, 2, method="sector")`` (the sector blocks of the full lattice, each by
+  shift-invert through graph/factor; the Chebyshev-accelerated Lanczos of 0.2 before issue 20),
+  for reference (``--skip-old`` to skip). The *default* call is benchmarked by ``bench_routes.py``.
 
 Peers (the two largest eigenvalues of A are minus the two lowest of H), timed *without* building
 the lattice or the adjacency (a handicap for hyperlattice):
@@ -71,8 +72,8 @@ def one_size(rings: int, args) -> None:
 
     if not args.skip_old:
         t0 = time.perf_counter()
-        old = lowest_levels(lat, 2, tol=1e-10)
-        results.append(("hyperlattice lowest_levels (0.2, Chebyshev-Lanczos per sector)", time.perf_counter() - t0,
+        old = lowest_levels(lat, 2, tol=1e-10, method="sector")
+        results.append(("hyperlattice lowest_levels(method='sector', full-lattice blocks)", time.perf_counter() - t0,
                         np.asarray(old.energies), float(old.residuals.max())))
 
     def shift_invert(solve_factory, sigma):
@@ -119,7 +120,7 @@ def one_size(rings: int, args) -> None:
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--rings", type=int, nargs="+", default=[12, 14])
-    ap.add_argument("--skip-old", action="store_true", help="skip lowest_levels (hyperlattice 0.2)")
+    ap.add_argument("--skip-old", action="store_true", help="skip lowest_levels(method='sector')")
     ap.add_argument("--skip-splu", action="store_true", help="skip the splu peer")
     ap.add_argument("--plain", action="store_true", help="also time plain eigsh (the slowest peer)")
     ap.add_argument("--flake", type=int, nargs="*", default=[], help="sector-only lowest_pair in a fresh process")

@@ -24,6 +24,9 @@ def pytest_addoption(parser):
                     help="run the session with N BLAS threads (threadpoolctl); default: leave as loaded")
     group.addoption("--numba-serial", action="store_true", default=False,
                     help="run numba's parallel loops on one thread")
+    group.addoption("--superlu-only", action="store_true", default=False,
+                    help="hide CHOLMOD (HYPERLATTICE_FACTOR_BACKEND=superlu, inherited by CLI subprocesses): "
+                         "every factorisation runs SciPy's SuperLU, the CHOLMOD-only tests skip")
 
 
 def pytest_configure(config):
@@ -37,6 +40,10 @@ def pytest_configure(config):
         config._hl_blas_limits = threadpool_limits(n, user_api="blas")
         for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
             os.environ[var] = str(n)
+    if config.getoption("--superlu-only"):
+        # graph/factor reads the variable at every call: the fallback configuration of an install
+        # without scikit-sparse, for this process and the CLI subprocesses the tests start
+        os.environ["HYPERLATTICE_FACTOR_BACKEND"] = "superlu"
     if config.getoption("--numba-serial"):
         import numba
 
@@ -78,7 +85,10 @@ def pytest_report_header(config):
 
     blas = sorted({f"{i['internal_api']}:{i['num_threads']}" for i in threadpool_info() if i["user_api"] == "blas"})
     serial = " numba serial" if config.getoption("--numba-serial") else ""
-    return f"hyperlattice: BLAS threads {', '.join(blas) or 'none found'}{serial}"
+    from hyperlattice.graph.factor import resolve_backend
+
+    return (f"hyperlattice: BLAS threads {', '.join(blas) or 'none found'}{serial}; "
+            f"factorisation backend {resolve_backend('auto')}")
 
 #: layers of hypertiling's {3,7} tilings compared with our {7,3} ring lattices
 HYPERTILING_RINGS = (3, 5, 7)

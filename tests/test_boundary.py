@@ -172,6 +172,36 @@ def test_default_resolvent_matches_superlu_and_resolves_tiny_entries():
         BelowBandResolvent(lat, method="cg")
 
 
+
+@pytest.mark.parametrize("backend", ["superlu", pytest.param("cholmod", marks=pytest.mark.skipif(
+    not __import__("hyperlattice.graph.factor", fromlist=["x"]).cholmod_available(), reason="no scikit-sparse"))])
+def test_source_on_a_mirror_axis_uses_the_even_block_without_losing_tiny_entries(backend):
+    # l = 7: the outer-ring site on the real axis; its column from the mirror-even block (half the
+    # size) against the full factorisation, entry by entry in relative terms (both M-matrix solves,
+    # relative error ~1e-14 each; 1e-11 leaves room for the condition near E0 at -2.93)
+    lat = ring_lattice(7, 3, 7)
+    ring = cb.outer_ring(lat)
+    j = int(ring[np.argmin(np.abs(np.angle(lat.z[ring])))])
+    res = BelowBandResolvent(lat, method=backend)
+    for w in (-3.6, -2.93):
+        a = res.column(w, j)
+        b = res.columns(w, [j])[:, 0]          # several sources: the full matrix
+        assert np.max(np.abs(a / b - 1)) < 1e-11 and a[ring].min() < 1e-4 * a.max()   # many decades
+    assert len(res._mirrors) == 1 and res._mirrors[0].dim < 0.51 * lat.sites
+    res.column(-3.6, j)
+    assert res.route.startswith(backend) and "mirror-even block" in res.route
+    assert "mirror-even block" in cb.boundary_correlator(lat, -3.6, j, resolvent=res, continuum=False).solver
+    assert res._mirrors[0]._factor.backend == backend
+    # the even block keeps the ground state: omega above E0 is refused there as well
+    e0 = lowest_levels(lat, 1).energies[0]
+    with pytest.raises(ValueError, match="mirror-even block"):
+        res.column(e0 + 1e-6, j)
+    # a source off every axis takes the full factorisation
+    off = int(ring[np.argmin(np.abs(np.angle(lat.z[ring]) - 0.1))])
+    np.testing.assert_allclose(res.column(-3.6, off), res.columns(-3.6, [off])[:, 0], rtol=1e-13)
+    assert off in res._no_mirror and "of H (5,887 rows)" in res.route
+
+
 # -- continuum side: whole disk vs Dirichlet disk of radius L (issue 14, item 2) --
 
 @pytest.mark.parametrize("omega", [-3.5, -3.2])

@@ -85,3 +85,26 @@ def test_line_graph_at_ten_rings(capsys):
     out = run_json(capsys, "--rings", "10", "--levels", "2", "--line-graph")
     assert out["sites"] == 135_135 and out["m"] == [0, 1] and out["method"] == "sector-shift-invert"
     assert max(out["residuals"]) < 1e-10
+
+
+def test_a_command_imports_only_its_own_module(capsys):
+    # start-up (issue 20): `hyperlattice spectrum` must not import every command (cmd_scaling pulls
+    # scipy.integrate, ~0.5 s); a fresh interpreter, since this process has imported them all
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    src = str(Path(__file__).resolve().parents[1] / "src")
+    code = ("import sys, io, contextlib; from hyperlattice.cli import main\n"
+            "with contextlib.redirect_stdout(io.StringIO()): rc = main(['spectrum', '--rings', '2', '--json'])\n"
+            "print(rc, sorted(m for m in sys.modules if m.startswith('hyperlattice.cli.cmd_')))")
+    env = dict(os.environ, PYTHONPATH=src + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=120)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "0 ['hyperlattice.cli.cmd_spectrum']"
+    # an unknown word still gets the full parser: its one-line error lists every command
+    with pytest.raises(SystemExit) as info:
+        main(["spectrm"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert info.value.code == 2 and len(err) == 1 and "'scaling'" in err[0] and "'spectrum'" in err[0]

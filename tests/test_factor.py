@@ -133,3 +133,12 @@ def test_fallback_to_superlu_is_taken_and_named(flake, monkeypatch):
 def test_bad_backend_is_a_value_error(flake):
     with pytest.raises(ValueError, match="backend"):
         F.analyze(hamiltonian(flake), backend="mumps")
+
+
+def test_environment_variable_hides_cholmod(flake, monkeypatch):
+    # HYPERLATTICE_FACTOR_BACKEND=superlu: the SuperLU-only configuration (pytest --superlu-only, CI)
+    monkeypatch.setenv(F.BACKEND_ENV, "superlu")
+    assert not F.cholmod_available() and F.resolve_backend("auto") == "superlu"
+    assert F.factorize(hamiltonian(flake), -3.5).backend == "superlu"
+    monkeypatch.setenv(F.BACKEND_ENV, "")
+    assert F.resolve_backend("auto") == ("cholmod" if F._cholmod() is not None else "superlu")

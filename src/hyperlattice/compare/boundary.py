@@ -288,6 +288,8 @@ class BoundaryCorrelator(Result):
         :math:`G_{ij}(\omega)`.
     continuum : ndarray
         ``eq21`` with the :math:`L = 1` propagator (inf at the source, NaN beyond the BF bound).
+    solver : str
+        What solved for ``graph`` (backend, factor kind, full H or its mirror-even block).
     """
 
     p: int
@@ -312,6 +314,8 @@ class BoundaryCorrelator(Result):
     continuum: np.ndarray = field(repr=False)
     #: which continuum model fills ``continuum`` ("whole", "dirichlet" or "mapped")
     continuum_disk: str = "whole"
+    #: what solved for ``graph``: backend, factor kind, full H or its mirror-even block ("" when unknown)
+    solver: str = ""
 
     def summary(self) -> dict:
         """The ``boundary --json`` contract: p, q, rings, omega, lambda, mass2, delta_continuum,
@@ -327,21 +331,106 @@ class BoundaryCorrelator(Result):
         return plot_boundary_correlator(self, ax=ax)
 
 
-def _fit_with_window(theta, values, eps, lat, depth) -> tuple[float, float, float, float, int, float]:
-    delta, se, n, _, beta = fit_delta(theta, values, eps, fit_window(lat, depth))
-    return delta, se, beta, fit_window(lat, depth), n, _window_systematic(theta, values, eps, lat, depth, delta)
+class _RingFit:
+    r"""The omega-independent part of the Δ fits of one source: angles, covariates, window solvers.
 
+    :func:`fit_delta` rebuilds the design matrix :math:`X = [1, -2\ln\sin(\theta/2), \ln\epsilon]`
+    and factorises it at every call; on one lattice with one source only the values change with
+    omega, so the reduced QR of X of each window (``depth`` and ``depth`` ± 1) is computed once and
+    every fit is two products with it (the same least-squares solution to rounding). Used by
+    :func:`boundary_correlator` and, once for all masses, by :func:`delta_curve`.
+    """
 
-def _window_systematic(theta, values, eps, lat, depth, delta) -> float:
-    shifts = []
-    for d in (depth - 1, depth + 1):
-        if d < 1 or d >= lat.rings:
-            continue
-        try:
-            shifts.append(abs(fit_delta(theta, values, eps, fit_window(lat, d))[0] - delta))
-        except ValueError:            # fewer than 10 pairs: that window does not count
-            continue
-    return max(shifts) if shifts else 0.0
+    def __init__(self, lat: Lattice, source: int, ring: np.ndarray, depth: int) -> None:
+        self.lat, self.source, self.ring, self.depth = lat, source, ring, depth
+        self.theta = np.angle(lat.z[ring] * np.conj(lat.z[source]))
+        self.eps = one_minus_abs2(lat.z[ring])
+        self.keep = ring != source
+        th, e = self.theta[self.keep], self.eps[self.keep]
+        s = np.abs(np.sin(0.5 * th))
+        # the windows are nested (s >= sin(theta_min / 2), theta_min growing with depth): with the
+        # pairs sorted by decreasing s, each window is a prefix, and one pass serves all three
+        self.order = np.argsort(-s, kind="stable")
+        s_sorted, e_sorted = s[self.order], e[self.order]
+        bad_e = np.flatnonzero(~(e_sorted > 0))
+        first_bad_e = int(bad_e[0]) if bad_e.size else s.shape[0]
+        self.windows = {}
+        for d in (depth - 1, depth, depth + 1):
+            if d < 1 or d >= lat.rings:
+                continue
+            thmin = fit_window(lat, d)
+            n = int(np.count_nonzero((s_sorted >= math.sin(0.5 * thmin)) & (s_sorted > 0)))
+            self.windows[d] = [thmin, n, None]
+        self.n_max = max((w[1] for w in self.windows.values()), default=0)
+        log_s = np.log(np.where(s_sorted[:self.n_max] > 0, s_sorted[:self.n_max], 1.0))
+        log_e = np.log(np.where(e_sorted[:self.n_max] > 0, e_sorted[:self.n_max], 1.0))
+        X_all = np.column_stack([np.ones(self.n_max), -2.0 * log_s, log_e])
+        self._X_all = X_all
+        for d, w in self.windows.items():
+            thmin, n, _ = w
+            if n < _MIN_PAIRS:
+                continue
+            X = X_all[:n]
+            if np.ptp(X[:, 2]) == 0:          # all probes on one circle: beta is not identifiable
+                X = np.ascontiguousarray(X[:, :2])
+            # normal equations of the column-scaled X (condition ~1e2 here, so ~1e-12 relative in
+            # the coefficients, against the 1e-3 the fit claims); einsum keeps BLAS threads out
+            scale = np.sqrt(np.einsum("ij,ij->j", X, X))
+            gram = np.einsum("ij,ik->jk", X, X) / np.outer(scale, scale)
+            w[2] = (X, scale, np.linalg.inv(gram), np.linalg.pinv(X.T @ X), n <= first_bad_e)
+
+    def fit(self, d: int, y: np.ndarray, first_bad: int, xty: np.ndarray | None = None,
+            residual: bool = True) -> tuple[float, float, int, float, float]:
+        """:func:`fit_delta` in window ``d`` from the logs ``y`` of the sorted values (same returns and refusals).
+
+        ``first_bad``: index of the first non-positive sorted value (their logs are not used);
+        ``xty``: :math:`X^Ty` of the window when already summed; ``residual=False`` skips the
+        standard error (NaN), for the windows that only shift Δ.
+        """
+        thmin, n, solver = self.windows[d]
+        if solver is None:
+            raise ValueError(f"only {n} boundary pairs lie in the fit window theta >= {thmin:.3g}; at least "
+                             f"{_MIN_PAIRS} are needed (use more rings or a smaller depth).")
+        X, scale, gram_inv, xtx, eps_ok = solver
+        if n > first_bad or not eps_ok:
+            raise ValueError("the correlator must be positive in the fit window (omega below the band).")
+        y = y[:n]
+        # einsum, not BLAS: a level-1/2 BLAS call on ~10^5 entries waits for OpenBLAS's threads to
+        # wake (measured 4 ms for one dot on a loaded 2-core machine, against 0.1 ms here)
+        if xty is None:
+            xty = np.einsum("ij,i->j", X, y)
+        coef = gram_inv @ (xty[:X.shape[1]] / scale) / scale
+        if residual:
+            resid = y - np.einsum("ij,j->i", X, coef)
+            dof = max(n - X.shape[1], 1)
+            var = xtx[1, 1] * float(np.einsum("i,i->", resid, resid)) / dof
+        else:
+            var = math.nan
+        beta = float(coef[2]) if X.shape[1] == 3 else math.nan
+        return float(coef[1]), float(math.sqrt(max(var, 0.0))), n, float(math.exp(coef[0])), beta
+
+    def fit_with_window(self, g: np.ndarray) -> tuple[float, float, float, float, int, float]:
+        """(delta, stderr, beta, theta_min, pairs, window systematic) from the outer-ring column ``g``."""
+        v = g[self.keep][self.order][:self.n_max]
+        bad = np.flatnonzero(~(v > 0))
+        first_bad = int(bad[0]) if bad.size else v.shape[0]
+        y = np.log(np.where(v > 0, v, 1.0))
+        # X^T y of the nested windows in one pass: sums over the segments between their ends
+        ends = sorted({w[1] for w in self.windows.values() if w[2] is not None and w[1] <= first_bad})
+        xty, acc, start = {}, np.zeros(3), 0
+        for end in ends:
+            acc = acc + np.einsum("ij,i->j", self._X_all[start:end], y[start:end])
+            xty[end], start = acc, end
+        delta, se, n, _, beta = self.fit(self.depth, y, first_bad, xty.get(self.windows[self.depth][1]))
+        shifts = []
+        for d in (self.depth - 1, self.depth + 1):
+            if d not in self.windows:
+                continue
+            try:
+                shifts.append(abs(self.fit(d, y, first_bad, xty.get(self.windows[d][1]), residual=False)[0] - delta))
+            except ValueError:            # fewer than 10 pairs: that window does not count
+                continue
+        return delta, se, beta, self.windows[self.depth][0], n, max(shifts) if shifts else 0.0
 
 
 def boundary_correlator(lattice: Lattice, omega, source: int | None = None, *, depth: int = 2,
@@ -380,18 +469,30 @@ def boundary_correlator(lattice: Lattice, omega, source: int | None = None, *, d
     continuum = _validate.flag("continuum", continuum)
     continuum_disk = _validate.choice("continuum_disk", continuum_disk, CONTINUUM_DISKS)
     ring = outer_ring(lat)
+    source = _outer_source(lat, ring, source, depth)
+    res = resolvent if resolvent is not None else BelowBandResolvent(lat)
+    return _boundary_correlator(lat, omega, source, ring, depth, res, continuum, continuum_disk)
+
+
+def _outer_source(lat: Lattice, ring: np.ndarray, source, depth: int) -> int:
+    """The source checked (default: the first outer-ring site); too few rings for the window refused before work."""
     if source is None:
         source = int(ring[0])
     source = _validate.site_index("source", source, lat.sites)
     if lat.ring[source] != lat.rings:
         raise ValueError(f"source {source} is not on the outer ring (sites {ring[0]}..{ring[-1]}).")
     fit_window(lat, depth)          # refuse too few rings before the solve
-    res = resolvent if resolvent is not None else BelowBandResolvent(lat)
+    return source
+
+
+def _boundary_correlator(lat, omega, source, ring, depth, res, continuum, continuum_disk,
+                         fit: _RingFit | None = None) -> BoundaryCorrelator:
+    """:func:`boundary_correlator` after its checks; ``fit`` reuses the omega-independent part of the fits."""
     g = res.column(omega, source)[ring]
-    theta = np.angle(lat.z[ring] * np.conj(lat.z[source]))
-    eps = one_minus_abs2(lat.z[ring])
-    keep = ring != source
-    delta, se, beta, thmin, n, sysw = _fit_with_window(theta[keep], g[keep], eps[keep], lat, depth)
+    if fit is None:
+        fit = _RingFit(lat, source, ring, depth)
+    theta = fit.theta
+    delta, se, beta, thmin, n, sysw = fit.fit_with_window(g)
     lam = float(lambda_from_energy(omega, lat.p, lat.q))
     cont = (continuum_boundary_column(lat, omega, source, ring, disk=continuum_disk) if continuum
             else np.full(ring.size, math.nan))
@@ -399,7 +500,8 @@ def boundary_correlator(lattice: Lattice, omega, source: int | None = None, *, d
                               delta_continuum=_delta_continuum(omega, lat.p, lat.q), delta_lattice=delta,
                               delta_lattice_err=math.hypot(se, sysw), delta_lattice_stat=se,
                               delta_lattice_window=sysw, beta=beta, theta_min=thmin, depth=depth, pairs=n,
-                              sites=ring, theta=theta, graph=g, continuum=cont, continuum_disk=continuum_disk)
+                              sites=ring, theta=theta, graph=g, continuum=cont, continuum_disk=continuum_disk,
+                              solver=res.route)
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
@@ -454,10 +556,13 @@ def delta_curve(lattice: Lattice, omegas, *, source: int | None = None, depth: i
     res = BelowBandResolvent(lat)
     dl, de, dc = (np.empty(om.size) for _ in range(3))
     src = None
+    depth = _depth(depth)
+    ring = outer_ring(lat)
+    src = _outer_source(lat, ring, source, depth)
+    fit = _RingFit(lat, src, ring, depth)            # the omega-independent part, once for all masses
     for k, w in enumerate(om):
-        bc = boundary_correlator(lat, float(w), source, depth=depth, resolvent=res, continuum=False)
+        bc = _boundary_correlator(lat, _real_omega("omega", float(w)), src, ring, depth, res, False, "whole", fit)
         dl[k], de[k], dc[k] = bc.delta_lattice, bc.delta_lattice_err, bc.delta_continuum
-        src = bc.source
     return DeltaCurve(p=lat.p, q=lat.q, rings=lat.rings, source=src, depth=_depth(depth), omegas=om,
                       mass2=np.asarray(mass2_from_omega(om, lat.p, lat.q), float).reshape(om.shape),
                       delta_continuum=dc, delta_lattice=dl, delta_lattice_err=de,

@@ -19,7 +19,9 @@ Backends
     the row and column permutations agree, the diagonal of :math:`U` is :math:`D` and its signs
     give the inertia (checked every time; otherwise no count is claimed). The column order of the
     first factorisation is kept and reused at every further shift.
-``"auto"`` takes CHOLMOD when it is importable, else SuperLU, silently; an explicit
+``"auto"`` takes CHOLMOD when it is importable, else SuperLU, silently (the environment variable
+``HYPERLATTICE_FACTOR_BACKEND=superlu`` hides CHOLMOD, as if it were not installed: the
+SuperLU-only configuration of CI and the benchmarks); an explicit
 ``backend="cholmod"`` without scikit-sparse warns (:class:`SolverFallbackWarning`) and runs SuperLU.
 The backend that ran is recorded on every :class:`Factor` (``factor.backend``).
 
@@ -39,7 +41,9 @@ sentence; any other backend error into :class:`FactorizationError`.
 
 from __future__ import annotations
 
+import os
 import warnings
+
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
@@ -100,8 +104,20 @@ def _refusal(what: str, needed: float, available: float, allowed: bool = False) 
 # backends
 # ----------------------------------------------------------------------------
 
+#: environment variable that hides CHOLMOD from the package (``superlu``): the SuperLU-only
+#: configuration, for CI and the benchmarks, without uninstalling scikit-sparse; read at every
+#: call, so subprocesses (the CLI) inherit it
+BACKEND_ENV = "HYPERLATTICE_FACTOR_BACKEND"
+
+
 def _cholmod():
-    """scikit-sparse's CHOLMOD module, or None (an optional accelerator, never required)."""
+    """scikit-sparse's CHOLMOD module, or None (an optional accelerator, never required).
+
+    None as well when the environment variable :data:`BACKEND_ENV` is ``superlu`` (CHOLMOD then
+    behaves exactly as if it were not installed).
+    """
+    if os.environ.get(BACKEND_ENV, "").strip().lower() == "superlu":
+        return None
     try:
         from sksparse import cholmod
     except ImportError:
@@ -169,10 +185,18 @@ def _symbolic_kernel():
 def _factor_counts(pattern: sp.csc_matrix, perm: np.ndarray) -> tuple[int, float]:
     """Entries of L (diagonal included) and the flops of its factorisation, for the symmetric order ``perm``."""
     n = pattern.shape[0]
-    pp = pattern[perm][:, perm].tocsc()
-    pp.sort_indices()
-    cc = _symbolic_kernel()(n, pp.indptr.astype(np.int64), pp.indices.astype(np.int64)).astype(np.float64)
-    return int(cc.sum()), float(np.dot(cc, cc))
+    perm = np.asarray(perm, dtype=np.int64)
+    iperm = np.empty(n, dtype=np.int64)
+    iperm[perm] = np.arange(n, dtype=np.int64)
+    # P A P^T of the symmetric pattern without scipy's fancy indexing: column k of the result is
+    # column perm[k] of A with its rows renamed by iperm (the kernel needs no sorted rows)
+    start = pattern.indptr[perm].astype(np.int64)
+    count = (pattern.indptr[perm + 1] - pattern.indptr[perm]).astype(np.int64)
+    indptr = np.concatenate([[0], np.cumsum(count)])
+    gather = np.repeat(start - indptr[:-1], count) + np.arange(int(indptr[-1]), dtype=np.int64)
+    indices = iperm[pattern.indices[gather]]
+    cc = _symbolic_kernel()(n, indptr, indices).astype(np.float64)
+    return int(cc.sum()), float(np.einsum("i,i->", cc, cc))
 
 
 def _as_square(mat, what: str, name: str = "mat") -> sp.csc_matrix:
@@ -219,13 +243,30 @@ def _shift(value):
 def _with_diagonal(mat: sp.csc_matrix) -> sp.csc_matrix:
     """The matrix with every diagonal entry stored, explicit zeros kept (every shift has one pattern)."""
     n = mat.shape[0]
-    coo = mat.tocoo()
-    diag = np.arange(n)
-    rows = np.concatenate([coo.row, diag])
-    cols = np.concatenate([coo.col, diag])
-    data = np.concatenate([coo.data, np.zeros(n, dtype=mat.dtype)])
-    out = sp.csc_matrix((data, (rows, cols)), shape=mat.shape)   # duplicates summed, zeros kept
-    out.sort_indices()
+    mat = mat.copy()
+    mat.sum_duplicates()                  # canonical: sorted indices, no duplicates
+    cols = np.repeat(np.arange(n, dtype=np.int64), np.diff(mat.indptr))
+    on_diag = mat.indices == cols
+    missing = np.ones(n, dtype=bool)
+    missing[cols[on_diag]] = False
+    if np.any(missing):
+        # insert an explicit zero at the sorted place of every missing diagonal entry (O(nnz))
+        before = np.bincount(cols[mat.indices < cols], minlength=n)
+        where = (mat.indptr[:-1] + before)[missing]
+        add = np.flatnonzero(missing)
+        # the new entries land at where + (number inserted before them); the old ones fill the rest
+        slot = np.zeros(mat.nnz + add.shape[0], dtype=bool)
+        slot[where + np.arange(add.shape[0])] = True
+        indices = np.empty(slot.shape[0], dtype=np.int64)
+        indices[slot] = add
+        indices[~slot] = mat.indices
+        data = np.zeros(slot.shape[0], dtype=mat.dtype)
+        data[~slot] = mat.data
+        indptr = mat.indptr.astype(np.int64) + np.concatenate([[0], np.cumsum(missing)])
+        out = sp.csc_matrix((data, indices, indptr), shape=mat.shape)
+        out.has_sorted_indices = True
+    else:
+        out = mat
     if np.iscomplexobj(out.data):
         # a Hermitian diagonal is real; a rounding-level imaginary part (a rotation phase summed in
         # a sector block) makes CHOLMOD refuse the matrix as not positive definite

@@ -63,9 +63,11 @@ class GraphResolvent:
     (:math:`O(N^3)`); afterwards a column costs :math:`O(N^2)` per :math:`\omega` via
     ``eq20`` and the distance of :math:`\omega` to the spectrum is known exactly. That pays
     for :math:`N \lesssim 4000` and more than a few :math:`\omega`. ``method="sparse"``
-    factorises :math:`H-\omega` (SuperLU, COLAMD; the fill-in is tiny on these graphs, see
-    NUMERICS-NOTES) once per :math:`\omega` (the factorization of the last :math:`\omega` is
-    kept, so several sources at one :math:`\omega` reuse it). ``"auto"`` picks sparse.
+    factorises :math:`H-\omega` through :mod:`hyperlattice.graph.factor` once per :math:`\omega`
+    (below the spectrum an :math:`LDL^T`/Cholesky without pivoting, CHOLMOD when installed, whose
+    pivots prove :math:`\omega < E_0`; elsewhere SuperLU's pivoted LU; the fill-in is tiny on these
+    graphs) and keeps the factorization of the last :math:`\omega`, so several sources at one
+    :math:`\omega` reuse it; ``backend`` records what ran. ``"auto"`` picks sparse.
 
     Parameters
     ----------

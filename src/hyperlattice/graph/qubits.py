@@ -111,6 +111,19 @@ class BelowBandResolvent:
     comes with a small *relative* error (measured 2e-13 against ``spsolve``). Krylov solvers (CG,
     multi-shift CG) give a small *normwise* residual and cannot resolve these entries; the boundary
     fit needs them.
+
+    **A source on a mirror axis** (:meth:`column`; e.g. the first outer-ring site of the {7,3}
+    flakes with ℓ = 4, 10): the column is even under the reflection :math:`\sigma` through that
+    axis, so it is solved in the mirror-even block :math:`B^T H B` (:math:`B` the orthonormal even
+    basis: :math:`e_i` for a site on the axis, :math:`(e_i + e_{\sigma i})/\sqrt2` for a pair),
+    half the size of H, and read back as :math:`G_{ij} = B_{i,c(i)} x_{c(i)}`. The block is again
+    an M-matrix (B has non-negative entries), so the relative accuracy above holds, and it keeps
+    the ground state (a non-negative ground state u of H gives the even, non-negative
+    :math:`u + \sigma u`: Perron–Frobenius), so its positive definiteness still proves
+    :math:`\omega < E_0`. The reflection :math:`z \mapsto e^{2i\arg z_j}\bar z` is found from
+    the coordinates and accepted only when it maps the edge set onto itself exactly. Rotation
+    sectors are *not* used for single columns: their Fourier sum cancels the O(1) correlators of
+    the source's images down to entries of ~1e-21 and would lose the relative accuracy.
     """
 
     def __init__(self, system: Lattice, *, t: float = 1.0, method: str = "auto") -> None:
@@ -127,6 +140,11 @@ class BelowBandResolvent:
         self._analysis = None
         self._factor = None
         self._omega = None
+        #: what solved the last column: backend, factor kind and the matrix (full H or mirror-even block)
+        self.route = ""
+        self._mirrors = []          # mirror-even reductions found so far (see _mirror)
+        self._no_mirror = set()     # sources known to lie on no mirror axis
+        self._tree = None
 
     def factor(self, omega):
         """The factorisation of :math:`H - \\omega` (a :class:`~hyperlattice.graph.factor.Factor`, cached for
@@ -163,12 +181,158 @@ class BelowBandResolvent:
         out = f.solve(rhs)
         if not np.all(np.isfinite(out)):
             raise ValueError(f"omega = {omega}: the solve overflowed (omega within rounding of E0).")
+        self.route = f"{f.backend} {f.kind} of H ({self.n:,} rows)"
         return out
 
     def column(self, omega, source) -> np.ndarray:
-        r"""One column :math:`G_{\cdot j}(\omega)`, shape ``(N,)``."""
+        r"""One column :math:`G_{\cdot j}(\omega)`, shape ``(N,)`` (mirror-even block when j is on a mirror axis)."""
         source = _validate.site_index("source", source, self.n)
-        return self.columns(omega, [source])[:, 0]
+        omega = _real_omega("omega", omega)
+        mirror = self._mirror(source)
+        if mirror is None:
+            return self.columns(omega, [source])[:, 0]
+        f = mirror.factor(omega, self)
+        rhs = np.zeros(mirror.dim)
+        rhs[mirror.cls[source]] = 1.0
+        x = f.solve(rhs)
+        out = mirror.weight * x[mirror.cls]
+        if not np.all(np.isfinite(out)):
+            raise ValueError(f"omega = {omega}: the solve overflowed (omega within rounding of E0).")
+        self.route = f"{f.backend} {f.kind} of the mirror-even block ({mirror.dim:,} of {self.n:,} rows)"
+        return out
+
+    def _mirror(self, source: int) -> "_MirrorEven | None":
+        """The mirror-even reduction whose axis holds ``source``, or None (no such symmetry, or too small)."""
+        for m in self._mirrors:
+            if m.perm[source] == source:
+                return m
+        if source in self._no_mirror or self.n < _MIRROR_MIN:
+            return None
+        m = _MirrorEven.find(self, source)
+        if m is None:
+            self._no_mirror.add(source)
+            return None
+        self._mirrors.append(m)
+        return m
+
+
+#: smallest lattice whose single columns use the mirror-even block (below, the full solve is instant)
+_MIRROR_MIN = 2_000
+
+
+def _ring_reflection(lat: Lattice, axis: complex) -> np.ndarray | None:
+    """Candidate reflection through the axis of ``axis`` from the ring layout (sites of a ring counterclockwise).
+
+    A reflection that fixes the centre keeps every ring and reverses its cyclic order: ring k is
+    mapped by ``r -> (c_k - r) mod n_k``, with c_k twice the position of the site nearest the axis
+    (or that minus/plus one when the axis passes between two sites). O(N), vectorised; the caller
+    checks the candidate against the coordinates and the edges.
+    """
+    off = np.asarray(lat.ring_offsets, dtype=np.int64)
+    n = int(off[-1])
+    if off[0] != 0 or n != lat.sites or np.any(np.diff(off) <= 0):
+        return None
+    a = np.angle(np.asarray(lat.z) * (abs(axis) / axis))     # angle from the axis, (-pi, pi]
+    absa = np.abs(a)
+    starts, sizes = off[:-1], np.diff(off)
+    mins = np.minimum.reduceat(absa, starts)
+    hit = np.flatnonzero(absa == np.repeat(mins, sizes))
+    r0 = hit[np.searchsorted(hit, starts)]                    # first site of each ring nearest the axis
+    local = r0 - starts
+    on_axis = absa[r0] <= 1e-6 * np.pi / sizes
+    c2 = 2 * local + np.where(on_axis, 0, np.where(a[r0] > 0, -1, 1))
+    ring_of = np.repeat(np.arange(sizes.shape[0]), sizes)
+    pos = np.arange(n, dtype=np.int64) - starts[ring_of]
+    return starts[ring_of] + (c2[ring_of] - pos) % sizes[ring_of]
+
+
+class _MirrorEven:
+    r"""The mirror-even block :math:`B^T H B` of a reflection :math:`\sigma` (see :class:`BelowBandResolvent`)."""
+
+    def __init__(self, perm: np.ndarray, H: sp.csc_matrix, what: str, backend: str) -> None:
+        n = perm.shape[0]
+        idx = np.arange(n)
+        fixed = perm == idx
+        lead = idx <= perm
+        pos = np.cumsum(lead) - 1
+        self.perm = perm
+        self.cls = pos[np.minimum(idx, perm)]
+        self.dim = int(lead.sum())
+        self.weight = np.where(fixed, 1.0, math.sqrt(0.5))
+        # B^T H B from the lead rows only: for a pair {a, sigma a} the row of sigma a repeats that of
+        # a (H commutes with sigma), so row c(a) = f_a w_a sum_k w_k H_ak with f_a = 2 for a pair
+        coo = H.tocoo()
+        rows = coo.row if coo.row.dtype == np.int64 else coo.row.astype(np.int64)
+        on = lead[rows]
+        r, k = rows[on], coo.col[on]
+        f = np.where(fixed[r], 1.0, 2.0) * self.weight[r] * self.weight[k]
+        self.block = sp.csc_matrix((f * coo.data[on], (self.cls[r], self.cls[k])), shape=(self.dim, self.dim))
+        self.what = what
+        self.backend = backend
+        self._analysis = None
+        self._factor = None
+        self._omega = None
+
+    @classmethod
+    def find(cls, res: "BelowBandResolvent", source: int) -> "_MirrorEven | None":
+        """The reflection through the axis of ``source`` when it is a symmetry of the graph, else None."""
+        lat = res.lattice
+        z = np.asarray(lat.z)
+        zj = complex(z[source])
+        if abs(zj) == 0.0:
+            return None
+        zr = (zj / abs(zj)) ** 2 * np.conj(z)
+        # a candidate only: the map must match every site closely (well inside the local spacing,
+        # which shrinks like 1 - |z|^2 towards the rim) and then be an exact automorphism of the graph
+        tol = 1e-9 + 1e-6 * (1.0 - np.abs(z) ** 2)
+        perm = _ring_reflection(lat, zj)
+        if perm is None or not np.all(np.abs(z[perm] - zr) <= tol):
+            from scipy.spatial import cKDTree   # any other layout: nearest site to every mirror image
+
+            if res._tree is None:
+                res._tree = cKDTree(np.column_stack([z.real, z.imag]))
+            dist, perm = res._tree.query(np.column_stack([zr.real, zr.imag]))
+            if not np.all(dist <= tol):
+                return None
+            perm = perm.astype(np.int64)
+        n = perm.shape[0]
+        if perm[source] != source or not np.array_equal(perm[perm], np.arange(n)):
+            return None
+        # every edge maps onto an edge of H (a bijection of the sites mapping the E edges into the E
+        # edges maps them onto): the nonzeros of the CSC H, keyed column * n + row, are sorted
+        e = np.asarray(lat.edges, dtype=np.int64)
+        H = res.H
+        if not H.has_sorted_indices:
+            H.sort_indices()
+        keys = np.repeat(np.arange(n, dtype=np.int64), np.diff(H.indptr)) * n + H.indices
+        mapped = perm[e[:, 1]] * n + perm[e[:, 0]]
+        at = np.minimum(np.searchsorted(keys, mapped), keys.shape[0] - 1)
+        if not np.array_equal(keys[at], mapped):
+            return None
+        return cls(perm, res.H, f"the mirror-even block of H - omega ({n:,}-site lattice)", res.backend)
+
+    def factor(self, omega: float, res: "BelowBandResolvent"):
+        """Factorisation of the block minus omega, cached; ValueError unless omega lies below E0."""
+        from .factor import FactorizationError, analyze
+
+        if self._factor is not None and self._omega == omega:
+            return self._factor
+        if self._analysis is None:
+            self._analysis = analyze(self.block, backend=self.backend, what=self.what)
+        try:
+            f = self._analysis.factor(omega, positive=True)
+        except FactorizationError:
+            raise ValueError(f"omega = {omega:g} is not safely below the band: the factorisation of H - omega "
+                             "met a zero pivot (omega within rounding of a level).") from None
+        if f.negatives is None:
+            raise ValueError(f"omega = {omega:g}: the factorization of H - omega needed off-diagonal pivots; "
+                             "omega is not safely below the band.")
+        if f.negatives:
+            raise ValueError(f"omega = {omega:g} is not below the band: {f.negatives} level(s) of the mirror-even "
+                             "block of H lie at or below it (the propagator below the band needs omega < E0, the "
+                             "lattice BF bound).")
+        self._factor, self._omega = f, omega
+        return f
 
 
 def _sites(lat: Lattice, sites) -> np.ndarray:

@@ -2,25 +2,36 @@ r"""Lowest levels of :math:`H = -tA + V` on a lattice, labelled by angular momen
 
 Methods (``lowest_levels(..., method=...)``):
 
-``"sector"`` (default whenever V is rotation invariant)
+``"auto"`` (default)
+    The fastest correct route for the request: the sector-only shift-invert route
+    (:func:`hyperlattice.graph.sectors.lowest_sector_levels`, reported ``"sector-shift-invert"``)
+    for the plain flake with blocks of more than 400 orbits and no on-site term, flux, single
+    sector or eigenvectors; otherwise ``"sector"`` when V is rotation invariant, else ``"dense"``
+    (small) or ``"sparse"``. Every factorisation goes through :mod:`hyperlattice.graph.factor`
+    (CHOLMOD when installed, else SuperLU; ``Spectrum.backend`` says which ran).
+``"shift-invert"``
+    The sector-only route whenever it applies, else ``"sector"``.
+``"sector"``
     H splits into p Bloch blocks :math:`H_m` of size N/p (:mod:`hyperlattice.graph.symmetry`).
     Sectors m and -m are complex conjugates, so only :math:`m = 0, 1, \dots, \lfloor p/2
     \rfloor` are solved. Each block is diagonalised densely when small (reported
-    ``"sector-dense"``) and otherwise by ARPACK applied to a Chebyshev polynomial of the block
-    (``"sector-sparse"``). Inside a sector the lowest gap is much larger than the
-    full :math:`E_1 - E_0` (which separates different sectors), so the Krylov method converges
-    in far fewer steps.
+    ``"sector-dense"``) and otherwise by shift-invert Lanczos with an inertia proof
+    (:func:`hyperlattice.graph.factor.lowest_eigenpairs`, reported ``"sector-shift-invert"``;
+    complex Hermitian blocks with flux). Inside a sector the lowest gap is much larger than the
+    full :math:`E_1 - E_0` (which separates different sectors).
 ``"dense"`` / ``"sparse"``
-    The full N x N matrix (needed when V breaks the rotation); levels are still labelled by m
-    by diagonalising the rotation inside each degenerate cluster of eigenvectors.
+    The full N x N matrix (needed when V breaks the rotation): LAPACK, or ARPACK on a Chebyshev
+    polynomial of H (numba products); levels are still labelled by m by diagonalising the
+    rotation inside each degenerate cluster of eigenvectors.
 
 With a uniform magnetic field (``flux=f`` flux quanta per p-gon, gauge and sign convention in
 :mod:`hyperlattice.graph.flux`) the gauge keeps the rotation symmetry, so the same methods
 apply; but H is complex, :math:`H_{-m} \ne \overline{H_m}`, and all p sectors are solved.
 
-The solvers themselves (the fixed-width neighbour tables, the Chebyshev-accelerated Lanczos
-with its numba kernel, the dense fallback, the residual checks) live in
-:mod:`hyperlattice.graph.solvers`; this module chooses among them and labels the levels.
+The solvers themselves live in :mod:`hyperlattice.graph.factor` (shift-invert, inertia),
+:mod:`hyperlattice.graph.sectors` (the sector-only route) and :mod:`hyperlattice.graph.solvers`
+(fixed-width tables, Chebyshev-accelerated Lanczos, residual checks); this module chooses among
+them and labels the levels.
 
 Every returned level carries its residual :math:`\|H\psi - E\psi\|` for the normalised
 state, evaluated with the true H (a sector residual equals the full residual of the lifted
@@ -96,7 +107,8 @@ class Spectrum(Levels):
     error_kind : str
         Always ``"residual"``.
     method : str
-        ``"dense"``, ``"sparse"``, ``"sector-dense"`` or ``"sector-sparse"`` (what actually ran).
+        ``"dense"``, ``"sparse"``, ``"sector-dense"``, ``"sector-shift-invert"`` or ``"sector-sparse"``
+        (what actually ran).
     description : str
         One sentence on what ran.
     p, q, rings, sites : int
