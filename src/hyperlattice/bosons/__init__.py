@@ -19,8 +19,9 @@ continuum/ only):
 
 from __future__ import annotations
 
+from .gp import BogoliubovSpectrum, GPState, bogoliubov, gp_ground_state
 from .meanfield import (GutzwillerState, MottLobe, MottLobeTable, gutzwiller, largest_adjacency_eigenvalue,
                         lobe_boundary, lobe_tip, mott_lobe, mott_lobes)
 
-__all__: list[str] = ["GutzwillerState", "MottLobe", "MottLobeTable", "gutzwiller", "largest_adjacency_eigenvalue",
+__all__: list[str] = ["BogoliubovSpectrum", "GPState", "bogoliubov", "gp_ground_state", "GutzwillerState", "MottLobe", "MottLobeTable", "gutzwiller", "largest_adjacency_eigenvalue",
                       "lobe_boundary", "lobe_tip", "mott_lobe", "mott_lobes"]

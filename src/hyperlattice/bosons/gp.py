@@ -47,6 +47,9 @@ __all__ = ["GPState", "gp_ground_state", "BogoliubovSpectrum", "bogoliubov"]
 
 #: relative GP residual below which the ground state is accepted without a warning
 _RESIDUAL_TOL = 1e-8
+#: largest U / t accepted (the GP equation is a weak-coupling theory; beyond this the optimiser
+#: works with numbers that mean nothing physically)
+_MAX_COUPLING = 1e6
 #: sites up to which the Bogoliubov problem is solved densely
 _DENSE_SITES = 3000
 
@@ -129,6 +132,9 @@ def gp_ground_state(system, particles: float, U: float, t: float = 1.0, *, tol: 
     N = _validate.positive_real("particles", particles)
     U = _validate.real("U", U, minimum=0.0)
     t = _validate.positive_real("t", t)
+    if U > _MAX_COUPLING * t:
+        raise ValueError(f"U = {U:g} is more than {_MAX_COUPLING:g} t: far outside the weak-coupling regime of the "
+                         "Gross-Pitaevskii equation (use exact diagonalisation, hyperlattice.bosons.ed).")
     tol = _validate.positive_real("tol", tol)
     max_iter = _validate.integer("max_iter", max_iter, minimum=1, maximum=10**7)
     _validate.require_memory("the GP minimisation", 8.0 * n * 40 + 12.0 * a.nnz)

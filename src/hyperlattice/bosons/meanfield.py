@@ -606,7 +606,7 @@ def mott_lobes(p: int = 7, q: int = 3, rings=(3, 4, 5, 6, 8, 10, 12), *, filling
 
     for ell in ells:
         lam = largest_adjacency_eigenvalue(ring_lattice(p, q, ell))
-        lobes.append(mott_lobe(lam, filling, points, label=f"flake l = {ell}"))
+        lobes.append(mott_lobe(lam, filling, points, label=f"flake ℓ = {ell}"))
         kinds.append("flake")
         ring_col.append(ell)
         if continuum:
@@ -614,7 +614,7 @@ def mott_lobes(p: int = 7, q: int = 3, rings=(3, 4, 5, 6, 8, 10, 12), *, filling
 
             e0 = float(continuum_levels(p, q, rings=ell, levels=1).energies[0])
             if -e0 > 0:
-                lobes.append(mott_lobe(-e0, filling, points, label=f"continuum l = {ell}"))
+                lobes.append(mott_lobe(-e0, filling, points, label=f"continuum ℓ = {ell}"))
                 kinds.append("continuum")
                 ring_col.append(ell)
     for name in names:
@@ -633,7 +633,7 @@ def mott_lobes(p: int = 7, q: int = 3, rings=(3, 4, 5, 6, 8, 10, 12), *, filling
         except ValueError:
             rho = None
         if rho is not None:
-            lobes.append(mott_lobe(rho, filling, points, label=f"infinite lattice (rho = {rho:.5f})"))
+            lobes.append(mott_lobe(rho, filling, points, label=f"infinite lattice (ρ = {rho:.5f})"))
             kinds.append("infinite")
             ring_col.append(None)
     return MottLobeTable(p=p, q=q, filling=_filling(filling), lobes=lobes, kinds=kinds, rings=ring_col)

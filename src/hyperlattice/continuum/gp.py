@@ -129,6 +129,9 @@ def _check(radius, t_prime, U_prime, particles, winding):
     up = _validate.real("U_prime", U_prime, minimum=0.0)
     N = _validate.positive_real("particles", particles)
     m = _validate.integer("winding", winding, minimum=-1000, maximum=1000)
+    if up > 1e8 * tp:
+        raise ValueError(f"U_prime = {up:g} is more than 1e8 t_prime: far outside the weak-coupling regime of the "
+                         "Gross-Pitaevskii equation.")
     return L, tp, up, N, m
 
 
@@ -333,11 +336,15 @@ def disk_bogoliubov(state: DiskGPState, modes: int = 6, *, max_j: int | None = N
 
     For each angular momentum j the radial operators :math:`\mathcal A_j = -t'\Delta_j +
     U'f^2 - \mu_c` and :math:`\mathcal B_j = -t'\Delta_j + 3U'f^2 - \mu_c` on the state's own
-    grid; :math:`\omega^2 = \mathrm{eig}(\mathcal B_j^{1/2}\mathcal A_j\mathcal B_j^{1/2})` (dense).
+    grid; :math:`\omega^2 = \mathrm{eig}(U\mathcal A_jU^T)` with :math:`\mathcal B_j = U^TU` (a
+    bidiagonal Cholesky factor, so the matrix is pentadiagonal: LAPACK's banded eigensolver).
     j runs until its lowest frequency exceeds the K-th found (or up to ``max_j``).
     """
     if not isinstance(state, DiskGPState) or state.method != "fv" or state.winding != 0:
         raise ValueError("state must be a winding-0 DiskGPState from disk_gp() (finite volumes).")
+    from scipy.linalg import cholesky_banded, eigvals_banded
+    import scipy.sparse as sp
+
     k = _validate.integer("modes", modes, minimum=2, maximum=10_000)
     cells = state.rho.shape[0]
     jmax = cells if max_j is None else _validate.integer("max_j", max_j, minimum=0, maximum=10**5)
@@ -346,16 +353,25 @@ def disk_bogoliubov(state: DiskGPState, modes: int = 6, *, max_j: int | None = N
     for j in range(0, jmax + 1):
         diag, off, vol, _ = _stiffness(state.rho_max, cells, j)
         sv = np.sqrt(vol)
-        K = np.diag(diag / vol) + np.diag(off / (sv[:-1] * sv[1:]), 1) + np.diag(off / (sv[:-1] * sv[1:]), -1)
-        K *= state.t_prime
+        kd = state.t_prime * diag / vol
+        ko = state.t_prime * off / (sv[:-1] * sv[1:])
         dens = state.f**2
-        A = K + np.diag(state.U_prime * dens - state.mu_c)
-        B = K + np.diag(3.0 * state.U_prime * dens - state.mu_c)
-        wb, vb = np.linalg.eigh(B)
-        if wb[0] <= 0:
-            raise ConvergenceError("B_j is not positive definite: the state is not the GP ground state.")
-        root = (vb * np.sqrt(wb)) @ vb.T
-        w2 = np.linalg.eigvalsh(root @ A @ root)[:k]
+        a_diag = kd + state.U_prime * dens - state.mu_c
+        b_diag = kd + 3.0 * state.U_prime * dens - state.mu_c
+        # omega^2 = eig(A B) = eig(L^T A L) with B = L L^T (tridiagonal Cholesky: L is bidiagonal),
+        # so L^T A L is a symmetric pentadiagonal matrix: LAPACK's banded solver gives its lowest k
+        try:
+            chol = cholesky_banded(np.vstack([np.concatenate([[0.0], ko]), b_diag]), lower=False)
+        except np.linalg.LinAlgError:
+            raise ConvergenceError("B_j is not positive definite: the state is not the GP ground state.") from None
+        upper = sp.diags([chol[1], chol[0, 1:]], [0, 1], format="csr")      # B = U^T U, U upper bidiagonal
+        amat = sp.diags([ko, a_diag, ko], [-1, 0, 1], format="csr")
+        c = (upper @ amat @ upper.T).todia()                                  # U A U^T ~ A B
+        bands = np.zeros((3, cells))
+        for off_, data in zip(c.offsets, c.data):
+            if off_ >= 0:
+                bands[2 - off_, off_:] = data[off_:]
+        w2 = eigvals_banded(bands, lower=False, select="i", select_range=(0, min(k, cells) - 1))
         if j == 0:
             zero = math.sqrt(abs(float(w2[0])))
         w = np.sqrt(np.clip(w2, 0.0, None))

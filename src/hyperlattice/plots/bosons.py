@@ -12,8 +12,9 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
     from ..bosons.meanfield import GutzwillerState, MottLobeTable
+    from ..compare.bosons import GPComparison
 
-__all__ = ["plot_mott_lobes", "plot_lobe_tips", "plot_order_parameter", "meanfield_figure"]
+__all__ = ["plot_mott_lobes", "plot_lobe_tips", "plot_order_parameter", "meanfield_figure", "gp_comparison_figure"]
 
 _STYLE = {"flake": "-", "continuum": "--", "cluster": ":", "infinite": "-"}
 
@@ -39,7 +40,7 @@ def plot_mott_lobes(table: MottLobeTable, ax: Axes | None = None) -> Axes:
     ax.set_ylabel("μ / U")
     ax.set_xlim(left=0.0)
     ax.set_title(f"{{{table.p},{table.q}}} Mott lobe n = {table.filling} (mean field)", fontsize=10)
-    ax.legend(fontsize=8, frameon=False, loc="upper right")
+    ax.legend(fontsize=8, frameon=False, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     return ax
 
 
@@ -82,11 +83,60 @@ def meanfield_figure(table: MottLobeTable, path=None):
     """Two panels, (a) the lobes and (b) the tips against l; saved to ``path`` when given. Returns the figure."""
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, 2, figsize=(10.0, 4.0), layout="constrained")
+    fig, axes = plt.subplots(1, 2, figsize=(12.0, 4.2), layout="constrained", width_ratios=(1.35, 1.0))
     plot_mott_lobes(table, ax=axes[0])
     plot_lobe_tips(table, ax=axes[1])
     for ax, letter in zip(axes, "ab"):
         ax.text(-0.12, 1.02, f"({letter})", transform=ax.transAxes, fontsize=11, fontweight="bold")
+    if path is not None:
+        from .. import _validate
+
+        fig.savefig(_validate.output_path("path", path), dpi=130)
+    return fig
+
+
+def gp_comparison_figure(cmp: GPComparison, axes=None, path=None):
+    """Three panels: (a) μ against ℓ, graph and continuum; (b) the density per site against the
+    geodesic radius for the largest ℓ; (c) the lowest Bogoliubov frequencies against ℓ. Returns the figure."""
+    import matplotlib.pyplot as plt
+
+    if axes is None:
+        fig, axes = plt.subplots(1, 3, figsize=(13.0, 3.9), layout="constrained")
+    else:
+        axes = list(axes)
+        if len(axes) != 3:
+            raise ValueError("axes must be three matplotlib Axes.")
+        fig = axes[0].figure
+    ell = np.array([r["rings"] for r in cmp.rows])
+    ax = axes[0]
+    ax.plot(ell, [r["mu_graph"] for r in cmp.rows], "o", label="flake (discrete GP)")
+    ax.plot(ell, [r["mu_continuum"] for r in cmp.rows], "s--", mfc="none", label="disk (continuum GP)")
+    ax.set_xlabel("rings ℓ")
+    ax.set_ylabel("μ / t")
+    ax.xaxis.get_major_locator().set_params(integer=True)
+    ax.legend(fontsize=8, frameon=False)
+    ax.set_title(f"n = {cmp.filling:g}, U = {cmp.U:g} t", fontsize=9)
+    ax = axes[1]
+    prof = cmp.profiles[-1]
+    ax.plot(prof["rho"], prof["graph"], "o", label=f"flake ℓ = {prof['rings']}, mean per ring")
+    ax.plot(prof["rho"], prof["continuum"], "s--", mfc="none", label="disk, A|φ|² (A = area per site)")
+    ax.axvline(prof["rho_max"], color="0.6", lw=0.8, ls=":", label="Dirichlet edge")
+    ax.set_xlabel("geodesic radius ρ")
+    ax.set_ylabel("bosons per site")
+    ax.legend(fontsize=8, frameon=False)
+    ax = axes[2]
+    for r in cmp.rows:
+        g, c = r["bogoliubov_graph"][1:], r["bogoliubov_continuum"][1:]
+        ax.plot([r["rings"]] * len(g), g, "o", color="C0", ms=4, label="flake" if r is cmp.rows[0] else None)
+        ax.plot([r["rings"] + 0.15] * len(c), c, "s", mfc="none", color="C1", ms=4,
+                label="disk" if r is cmp.rows[0] else None)
+    ax.set_yscale("log")
+    ax.set_xlabel("rings ℓ")
+    ax.set_ylabel("Bogoliubov ω / t (Goldstone mode omitted)")
+    ax.xaxis.get_major_locator().set_params(integer=True)
+    ax.legend(fontsize=8, frameon=False)
+    for ax, letter in zip(axes, "abc"):
+        ax.text(-0.14, 1.02, f"({letter})", transform=ax.transAxes, fontsize=11, fontweight="bold")
     if path is not None:
         from .. import _validate
 
