@@ -59,6 +59,7 @@ def reproduce(out_dir: str | Path = "reproduction", max_rings: int = 10, *, cach
 
     from . import sections as sec
     from .below_band import holography_section, qubits_section
+    from .bosons import bosons_section
     from .disorder import disorder_section
     from .infinite import infinite_section
     from .limits import limits_section
@@ -87,6 +88,7 @@ def reproduce(out_dir: str | Path = "reproduction", max_rings: int = 10, *, cach
     sections.append(holography_section(out, progress))
     sections.append(qubits_section(out, progress))
     sections.append(disorder_section(out, progress))
+    sections.append(bosons_section(out, progress))
 
     header = ["# Reproduction of Boettcher, Bienias, Belyansky, Kollár, Gorshkov, PRA 102, 032208 (2020)", "",
               f"Computed by hyperlattice {__version__} with max_rings = {max_rings}. Every number below is computed "

@@ -1,0 +1,105 @@
+"""Report section "Beyond the paper: interacting bosons": the Bose–Hubbard model of the paper's Eq. (13)
+at mean-field level on the graph and, through the dictionary, in the continuum of its Eq. (14)
+(a few seconds)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Callable
+
+from .writers import Section, Table, fmt as _fmt, save_figure as _save_figure
+
+__all__ = ["bosons_section"]
+
+#: what the section computes (small on purpose)
+LOBE_RINGS = (3, 4, 5, 6, 8, 10)
+LOBE_CLUSTERS = ("klein",)
+GP_RINGS = (3, 4, 5)
+GP_COUPLINGS = (0.05, 0.5)
+GP_CELLS = 400
+
+
+def bosons_section(out: Path, progress: Callable[[str], None]) -> Section:
+    """Beyond the paper: Mott lobes (Gutzwiller mean field) of flakes, their continuum disks, a periodic
+    cluster and the infinite lattice; the Gross–Pitaevskii condensate and its Bogoliubov spectrum on
+    flakes against the continuum disk."""
+    import matplotlib.pyplot as plt
+
+    from ..bosons.meanfield import mott_lobes
+    from ..compare.bosons import gp_comparison
+    from ..plots.bosons import gp_comparison_figure, meanfield_figure
+
+    progress("beyond the paper: interacting bosons")
+    table = mott_lobes(7, 3, rings=LOBE_RINGS, clusters=LOBE_CLUSTERS)
+    fig = meanfield_figure(table)
+    figs = [_save_figure(fig, out, "bosons_lobes", "(a) Mean-field Mott lobe n = 1 of the {7,3} Bose–Hubbard model "
+                         "for flakes of ℓ rings (solid, light to dark), the continuum disk of the largest flake "
+                         "(dashed), the Klein-quartic cluster (dotted) and the infinite lattice (black, ρ from the "
+                         "band-bottom extrapolation); (b) the lobe tips against ℓ.")]
+    rows = table.rows()
+    lobe_rows = [[r["label"], _fmt(r["lambda_max"], 6), _fmt(r["tip_mu_over_U"], 4), _fmt(r["tip_t_over_U"], 6)]
+                 for r in rows]
+    lobe_table = Table("bosons_lobes", ["system", "lambda_max", "tip_mu_over_U", "tip_t_c_over_U"], lobe_rows,
+                       "Mott lobe n = 1: largest adjacency eigenvalue λ_max (flakes −E0(ℓ), continuum −E0 of the "
+                       "Dirichlet disk through the paper's dictionary, q for a periodic cluster, ρ for the infinite "
+                       "lattice) and the lobe tip λ_max t_c/U = 3 − 2√2 at μ/U = √2 − 1.")
+    progress("beyond the paper: interacting bosons (Gross-Pitaevskii)")
+    cmps = [gp_comparison(7, 3, GP_RINGS, filling=1.0, U=u, cells=GP_CELLS, modes=3) for u in GP_COUPLINGS]
+    fig = gp_comparison_figure(cmps[0])
+    figs.append(_save_figure(fig, out, "bosons_gp", f"Gross–Pitaevskii condensate at one boson per site, U = "
+                             f"{GP_COUPLINGS[0]:g} t: (a) μ of the flake (discrete GP) and of its continuum disk "
+                             f"(μ_c − 3t); (b) bosons per site against the geodesic radius for ℓ = {GP_RINGS[-1]} "
+                             "(flake: mean of each ring; disk: A|φ|²); (c) the lowest Bogoliubov frequencies "
+                             "(Goldstone mode omitted)."))
+    plt.close("all")
+    gp_rows = []
+    for cmp in cmps:
+        for r in cmp.rows:
+            gp_rows.append([_fmt(cmp.U, 2), str(r["rings"]), str(r["sites"]), _fmt(r["mu_graph"], 5),
+                            _fmt(r["mu_continuum"], 5), f"{r['mu_rel_diff']:+.4f}", _fmt(r["xi_over_d0"], 2),
+                            _fmt(r["bogoliubov_graph"][1], 4), _fmt(r["bogoliubov_continuum"][1], 4)])
+    gp_table = Table("bosons_gp", ["U", "rings", "sites", "mu_graph", "mu_continuum", "mu_rel_diff", "xi_over_d0",
+                                   "omega1_graph", "omega1_continuum"], gp_rows,
+                     "Gross–Pitaevskii at n = 1: chemical potential of the flake and of its continuum disk, their "
+                     "relative difference, the healing length ξ in units of d0, and the lowest non-zero "
+                     "Bogoliubov frequency on both sides.")
+    from ..continuum.spectrum import continuum_levels
+    from ..graph.lattice import ring_lattice
+    from ..graph.spectrum import lowest_levels
+
+    ell = GP_RINGS[-1]
+    eg = lowest_levels(ring_lattice(7, 3, ell), 2).energies
+    ec = continuum_levels(7, 3, rings=ell, levels=2).energies
+    gap_diff = abs((ec[1] - ec[0]) / (eg[1] - eg[0]) - 1)
+    w_diff = abs(cmps[0].rows[-1]["bogoliubov_continuum"][1] / cmps[0].rows[-1]["bogoliubov_graph"][1] - 1)
+    tip = {(r["kind"], r["rings"]): r["tip_t_over_U"] for r in rows}
+    inf = next(r for r in rows if r["kind"] == "infinite")
+    big = LOBE_RINGS[-1]
+    weak, strong = cmps[0].rows[-1], cmps[1].rows[-1]
+    text = [
+        "The paper's first application of its dictionary (Eqs. (13)-(14)) is the Bose–Hubbard model; here at "
+        "mean-field level. Site-decoupled (Gutzwiller) mean field puts the Mott lobe of filling n where "
+        "t λ_max g_n(μ) = 1, with λ_max the largest eigenvalue of the adjacency matrix: for a flake its −E0(ℓ), "
+        f"which tends to the spectral radius ρ = {inf['lambda_max']:.5f} of the infinite lattice, not to the "
+        f"coordination 3 that a homogeneous mean field would use (tip t_c/U = {inf['tip_t_over_U']:.5f} against "
+        f"{tip[('cluster', None)]:.5f} for the 3-regular Klein quartic). The continuum disk reproduces the flakes' "
+        f"lobes to {abs(tip[('continuum', big)] / tip[('flake', big)] - 1):.1e} at ℓ = {big}: λ_max is the "
+        "dictionary's E0, accurate to the paper's band-bottom error.",
+        f"The condensate (discrete vs continuum Gross–Pitaevskii, n = 1): at U = {GP_COUPLINGS[0]:g} t the healing "
+        f"length is ξ = {weak['xi_over_d0']:.2f} d0 and the continuum's μ is within "
+        f"{abs(weak['mu_rel_diff']):.1%} of the flake's at ℓ = {weak['rings']}; at U = {GP_COUPLINGS[1]:g} t, "
+        f"ξ = {strong['xi_over_d0']:.2f} d0 and the difference grows to {abs(strong['mu_rel_diff']):.1%}. The "
+        "continuum is a gradient expansion on the scale d0: it holds while the condensate varies slowly on the "
+        "lattice scale (ξ ≫ d0) and stops when the interaction squeezes ξ to a lattice spacing. The lowest "
+        f"Bogoliubov frequency differs by {w_diff:.0%} at U = {GP_COUPLINGS[0]:g} t and ℓ = {ell}: at weak coupling "
+        "it is set by the single-particle gap E1 − E0, which the dictionary misses by "
+        f"{gap_diff:.0%} on the same flake (the known error of the paper's map on the excited levels).",
+    ]
+    return Section("Beyond the paper: interacting bosons", "Eqs. (13)-(14); issue 22", text,
+                   [lobe_table, gp_table], figs)
+
+
+# every public function above checks its annotated argument types at the door (issue 19)
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())
