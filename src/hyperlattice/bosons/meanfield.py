@@ -281,7 +281,7 @@ def _local_kernel(parallel: bool = False):
     import numba
 
     @numba.njit(cache=True, parallel=parallel)
-    def local_states(phi, U, mu, nmax, psi_out, dens_out, e_out):  # pragma: no cover - compiled
+    def local_states(phi, phi_prev, U, mu, nmax, psi_out, dens_out, e_out):  # pragma: no cover - compiled
         m = nmax + 1
         n = phi.shape[0]
         chunks = max(1, min(n, 256))
@@ -310,6 +310,30 @@ def _local_kernel(parallel: bool = False):
                 for k in range(1, m):
                     hi = min(hi, d[k])
                 scale = max(abs(lo), abs(hi), U)
+                # warm start: the lowest level moves by at most |d phi| ||a + a^dag|| <= 2 sqrt(nmax) |d phi|
+                # (Weyl); the bracket is used only when the Sturm counts confirm it
+                if phi_prev[i] == phi_prev[i]:
+                    width = 2.0 * sq[m - 1] * abs(f - phi_prev[i]) + 1e-12 * scale
+                    wlo = e_out[i] - width
+                    whi = e_out[i] + width
+                    if wlo > lo and whi < hi:
+                        ok = True
+                        for trial in range(2):
+                            x = wlo if trial == 0 else whi
+                            piv = d[0] - x
+                            below = piv < 0.0
+                            k = 1
+                            while k < m and not below:
+                                if piv == 0.0:
+                                    piv = 1e-300
+                                piv = d[k] - x - e[k] * e[k] / piv
+                                below = piv < 0.0
+                                k += 1
+                            if (trial == 0 and below) or (trial == 1 and not below):
+                                ok = False
+                        if ok:
+                            lo = wlo
+                            hi = whi
                 while hi - lo > 1e-10 * scale:
                     x = 0.5 * (lo + hi)
                     piv = d[0] - x
@@ -460,11 +484,13 @@ def gutzwiller(system, t: float, mu: float, U: float = 1.0, *, nmax: int | None 
     new = np.empty(n_sites)
     dens = np.empty(n_sites)
     eps = np.empty(n_sites)
+    phi_prev = np.full(n_sites, np.nan)      # no warm start in the first sweep
     residual = math.inf
     it = 0
     for it in range(1, max_iter + 1):
         phi = t * (a @ psi)
-        kernel(phi, U, mu, nmax, new, dens, eps)
+        kernel(phi, phi_prev, U, mu, nmax, new, dens, eps)
+        phi_prev = phi
         residual = float(np.max(np.abs(new - psi)))
         psi, new = new, psi
         if residual <= tol:
@@ -475,7 +501,7 @@ def gutzwiller(system, t: float, mu: float, U: float = 1.0, *, nmax: int | None 
                       f"{tol:.1e} (close to a lobe boundary the iteration slows down).", ConvergenceWarning,
                       stacklevel=2)
     phi = t * (a @ psi)
-    kernel(phi, U, mu, nmax, new, dens, eps)
+    kernel(phi, phi_prev, U, mu, nmax, new, dens, eps)
     energy = float(np.sum(eps) + np.dot(phi, psi))
     # weight of the top occupation: from the local ground states at the final field
     top = _top_weight(phi, U, mu, nmax)
