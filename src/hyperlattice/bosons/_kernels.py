@@ -15,27 +15,49 @@ from numba import prange
 
 
 @numba.njit(cache=True, inline="always")
-def moved_rank(occ, rem, weights, s, i, j):  # pragma: no cover - jitted
-    """Rank of the state :math:`a_i^\\dagger a_j |s\\rangle` (i != j, occ[j] > 0, occ[i] < nmax)."""
+def moved_rank(occ, rem, weights, s, i, j, pos, npos):  # pragma: no cover - jitted
+    """Rank of the state :math:`a_i^\\dagger a_j |s\\rangle` (i != j, occ[j] > 0, occ[i] < nmax).
+
+    Only the occupied sites strictly between i and j (``pos[:npos]``, ascending) contribute
+    besides i and j themselves: :math:`W_k(r, 0) = 0` for every r, so an empty site's term is 0
+    before and after the move. The cost is O(occupied sites), not O(|i - j|).
+    """
     if i < j:
         d = weights[i, rem[i], occ[i] + 1] - weights[i, rem[i], occ[i]]
-        for k in range(i + 1, j):
+        for a in range(npos):
+            k = pos[a]
+            if k <= i:
+                continue
+            if k >= j:
+                break
             d += weights[k, rem[k] - 1, occ[k]] - weights[k, rem[k], occ[k]]
         d += weights[j, rem[j] - 1, occ[j] - 1] - weights[j, rem[j], occ[j]]
     else:
         d = weights[j, rem[j], occ[j] - 1] - weights[j, rem[j], occ[j]]
-        for k in range(j + 1, i):
+        for a in range(npos):
+            k = pos[a]
+            if k <= j:
+                continue
+            if k >= i:
+                break
             d += weights[k, rem[k] + 1, occ[k]] - weights[k, rem[k], occ[k]]
         d += weights[i, rem[i] + 1, occ[i] + 1] - weights[i, rem[i], occ[i]]
     return s + d
 
 
 @numba.njit(cache=True, inline="always")
-def fill_rem(occ, n, rem):  # pragma: no cover - jitted
+def fill_rem(occ, n, rem, pos):  # pragma: no cover - jitted
+    """rem[k] = bosons on sites >= k; pos = occupied sites ascending; returns their number."""
     r = n
+    npos = 0
     for k in range(occ.shape[0]):
         rem[k] = r
-        r -= occ[k]
+        v = occ[k]
+        r -= v
+        if v != 0:
+            pos[npos] = k
+            npos += 1
+    return npos
 
 
 def _chunks(dim):
@@ -61,20 +83,20 @@ def matvec(states, weights, n, c, ptr, nbr, diag, t, sq, x, y, nchunks):  # prag
     step = (dim + nchunks - 1) // nchunks
     for ch in prange(nchunks):
         rem = np.empty(m + 1, dtype=np.int64)
+        pos = np.empty(m, dtype=np.int64)
         for s in range(ch * step, min(dim, (ch + 1) * step)):
             occ = states[s]
-            fill_rem(occ, n, rem)
+            npos = fill_rem(occ, n, rem, pos)
             acc = diag[s] * x[s]
-            for j in range(m):
+            for aj in range(npos):
+                j = pos[aj]
                 nj = occ[j]
-                if nj == 0:
-                    continue
                 for e in range(ptr[j], ptr[j + 1]):
                     i = nbr[e]
                     ni = occ[i]
                     if ni >= c:
                         continue
-                    tgt = moved_rank(occ, rem, weights, s, i, j)
+                    tgt = moved_rank(occ, rem, weights, s, i, j, pos, npos)
                     acc -= t * sq[nj] * sq[ni + 1] * x[tgt]
             y[s] = acc
     return 0
@@ -104,23 +126,23 @@ def csr_fill(states, weights, n, c, ptr, nbr, diag, t, sq, indptr, indices, data
     step = (dim + nchunks - 1) // nchunks
     for ch in prange(nchunks):
         rem = np.empty(m + 1, dtype=np.int64)
+        pos = np.empty(m, dtype=np.int64)
         for s in range(ch * step, min(dim, (ch + 1) * step)):
             occ = states[s]
-            fill_rem(occ, n, rem)
+            npos = fill_rem(occ, n, rem, pos)
             k = indptr[s]
             indices[k] = s
             data[k] = diag[s]
             k += 1
-            for j in range(m):
+            for aj in range(npos):
+                j = pos[aj]
                 nj = occ[j]
-                if nj == 0:
-                    continue
                 for e in range(ptr[j], ptr[j + 1]):
                     i = nbr[e]
                     ni = occ[i]
                     if ni >= c:
                         continue
-                    indices[k] = moved_rank(occ, rem, weights, s, i, j)
+                    indices[k] = moved_rank(occ, rem, weights, s, i, j, pos, npos)
                     data[k] = -t * sq[nj] * sq[ni + 1]
                     k += 1
     return 0
@@ -198,10 +220,11 @@ def sector_fill(states, weights, n, c, ptr, nbr, diag, t, sq, reps, rep, shift, 
     step = (nr + nchunks - 1) // nchunks
     for ch in prange(nchunks):
         rem = np.empty(m + 1, dtype=np.int64)
+        pos = np.empty(m, dtype=np.int64)
         for a in range(ch * step, min(nr, (ch + 1) * step)):
             s = reps[a]
             occ = states[s]
-            fill_rem(occ, n, rem)
+            npos = fill_rem(occ, n, rem, pos)
             k = offsets[a]
             rows[k] = a
             cols[k] = a
@@ -209,16 +232,15 @@ def sector_fill(states, weights, n, c, ptr, nbr, diag, t, sq, reps, rep, shift, 
             im[k] = 0.0
             k += 1
             ls = float(period[s])
-            for j in range(m):
+            for aj in range(npos):
+                j = pos[aj]
                 nj = occ[j]
-                if nj == 0:
-                    continue
                 for e in range(ptr[j], ptr[j + 1]):
                     i = nbr[e]
                     ni = occ[i]
                     if ni >= c:
                         continue
-                    tgt = moved_rank(occ, rem, weights, s, i, j)
+                    tgt = moved_rank(occ, rem, weights, s, i, j, pos, npos)
                     r = rep[tgt]
                     b = index[r]
                     if b < 0:
@@ -244,18 +266,18 @@ def one_body(states, weights, n, c, sq, psi_re, psi_im, out_re, out_im, nchunks)
     step = (dim + nchunks - 1) // nchunks
     for ch in prange(nchunks):
         rem = np.empty(m + 1, dtype=np.int64)
+        pos = np.empty(m, dtype=np.int64)
         for s in range(ch * step, min(dim, (ch + 1) * step)):
             xr = psi_re[s]
             xi = psi_im[s]
             if xr == 0.0 and xi == 0.0:
                 continue
             occ = states[s]
-            fill_rem(occ, n, rem)
+            npos = fill_rem(occ, n, rem, pos)
             w = xr * xr + xi * xi
-            for j in range(m):
+            for aj in range(npos):
+                j = pos[aj]
                 nj = occ[j]
-                if nj == 0:
-                    continue
                 out_re[ch, j, j] += w * nj
                 for i in range(m):
                     if i == j:
@@ -263,7 +285,7 @@ def one_body(states, weights, n, c, sq, psi_re, psi_im, out_re, out_im, nchunks)
                     ni = occ[i]
                     if ni >= c:
                         continue
-                    tgt = moved_rank(occ, rem, weights, s, i, j)
+                    tgt = moved_rank(occ, rem, weights, s, i, j, pos, npos)
                     amp = sq[nj] * sq[ni + 1]
                     # conj(psi[tgt]) * psi[s]
                     yr = psi_re[tgt]

@@ -258,7 +258,7 @@ def boson_basis(sites: int, particles: int, nmax: int, *, max_states: int | None
         raise ValueError(f"{n} bosons do not fit on {m} sites with at most {c} per site.")
     dim = _dimension(m, n, c)
     if dim > MAX_DIM:
-        raise ValueError(f"the basis of {n} bosons on {m} sites (cutoff {c}) has {dim:.3e} states, "
+        raise ValueError(f"the basis of {n} bosons on {m} sites (cutoff {c}) has about 10^{len(str(dim)) - 1} states, "
                          f"beyond the {MAX_DIM:.1e} that int64 ranks can number.")
     if max_states is not None and dim > max_states:
         raise ValueError(f"the basis has {dim:,} states, more than max_states = {max_states:,}.")
