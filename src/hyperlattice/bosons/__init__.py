@@ -20,3 +20,10 @@ continuum/ only):
 from __future__ import annotations
 
 __all__: list[str] = []
+
+# exact diagonalisation (issue 22, item 1)
+from .basis import BosonBasis, basis_dimension, boson_basis  # noqa: E402
+from .ed import BoseHubbardLevels, ChargeGap, bose_hubbard, charge_gap  # noqa: E402
+
+__all__ += ["BosonBasis", "basis_dimension", "boson_basis", "BoseHubbardLevels", "ChargeGap", "bose_hubbard",
+            "charge_gap"]
