@@ -78,7 +78,7 @@ __all__ = [
 METHODS = ("auto", "sectors", "csr", "matrix-free", "dense")
 
 #: blocks up to this size are diagonalised densely (LAPACK eigh): exact and faster than Lanczos
-DENSE_MAX = 1500
+DENSE_MAX = 800
 #: "auto" uses sectors for bases up to this size (the orbit tables cost 24 bytes per state)
 SECTORS_MAX = 20_000_000
 
@@ -534,6 +534,25 @@ def lift_sector_vector(sectors: FockSectors, m: int, phi) -> np.ndarray:
 # eigensolvers
 # ----------------------------------------------------------------------------
 
+#: above this dimension the Krylov space is kept small (memory: ncv vectors of 8 or 16 bytes per state)
+_WIDE_MAX = 1_000_000
+
+
+def _krylov(n: int, k: int) -> tuple[int, int]:
+    """(levels asked of ARPACK, Krylov dimension ncv) for k wanted levels of an n x n matrix.
+
+    A few levels more than asked and a wide Krylov space: Lanczos from one start vector can miss
+    copies of an exactly degenerate level (measured: a 4-fold level of the Bolza cluster, N = 5,
+    found once with k = 3, ncv = 20); the sector route resolves +-m pairs exactly. Above
+    :data:`_WIDE_MAX` states memory wins: no extra levels and ncv = 2k + 8.
+    """
+    if n <= _WIDE_MAX:
+        kk = min(k + 3, n - 2)
+        return kk, min(n - 1, max(2 * kk + 1, 30))
+    kk = min(k, n - 2)
+    return kk, min(n - 1, 2 * kk + 8)
+
+
 def _lowest(op, k: int, tol: float, hermitian_complex: bool = False):
     """Lowest k eigenpairs of a Hermitian matrix/operator; dense below DENSE_MAX."""
     n = op.shape[0]
@@ -546,12 +565,8 @@ def _lowest(op, k: int, tol: float, hermitian_complex: bool = False):
         a = op.toarray() if sp.issparse(op) else op @ np.eye(n)
         w, v = sla.eigh(a)
         return w[:k], v[:, :k]
-    # a few levels more than asked and a wide Krylov space: Lanczos from one start vector can
-    # miss copies of an exactly degenerate level (measured: a 4-fold level of the Bolza cluster,
-    # N = 5, found once with k = 3, ncv = 20); the sector route resolves +-m pairs exactly
     k_ask = k
-    k = min(k + 3, n - 2)
-    ncv = min(n - 1, max(2 * k + 1, 30))
+    k, ncv = _krylov(n, k)
     rng = np.random.default_rng(12345)
     v0 = rng.standard_normal(n)
     if hermitian_complex:
@@ -861,7 +876,7 @@ def bose_hubbard(lattice, particles: int, nmax: int, U: float, *, t: float = 1.0
     if route == "dense":
         _validate.require_memory(f"a dense {dim:,} x {dim:,} Bose-Hubbard matrix", 3 * 8.0 * dim * dim)
     if route in ("matrix-free", "csr"):
-        ncv = max(2 * k + 1, 20)
+        ncv = _krylov(dim, k)[1] if dim > 2 else 2
         _validate.require_memory(f"Lanczos on {dim:,} states ({ncv} vectors)",
                                  basis_memory(g.sites, n, c) + 8.0 * dim * (ncv + 4))
     b = boson_basis(g.sites, n, c)
