@@ -681,9 +681,9 @@ class BoseHubbardLevels(Result):
 def _one_body(b: BosonBasis, psi: np.ndarray) -> np.ndarray:
     from . import _kernels as K
 
-    nch = max(1, min(b.dim, 4 * _nchunks(1) if b.dim else 1))
     import numba
 
+    # one (M, M) accumulator per chunk: few chunks, so the sum over them stays cheap
     nch = max(1, min(b.dim, 2 * numba.get_num_threads()))
     out_re = np.zeros((nch, b.sites, b.sites))
     out_im = np.zeros((nch, b.sites, b.sites))
