@@ -103,11 +103,11 @@ class BoseHubbardGraph:
         Number of rings of a flake (None for a cluster).
     cluster : str or None
         Name of a periodic cluster (None for a flake).
-    distance : ndarray of float, shape (sites, sites)
-        Hyperbolic distance :math:`d(z_i, z_j)` (flake) or graph distance times :math:`d_0`
-        (cluster), in the metric of the package (curvature -4).
+    z : ndarray of complex128, shape (sites,), or None
+        Site coordinates in the Poincaré disk (flakes; None for a cluster).
     distance_kind : str
-        ``"hyperbolic"`` or ``"graph x d0"``.
+        ``"hyperbolic"`` (flake: :math:`d(z_i, z_j)`, curvature -4) or ``"graph x d0"``
+        (cluster: graph distance times :math:`d_0`); see :meth:`pair_distances`.
     """
 
     sites: int
@@ -118,8 +118,21 @@ class BoseHubbardGraph:
     q: int
     rings: int | None
     cluster: str | None
-    distance: np.ndarray
+    z: np.ndarray | None
     distance_kind: str
+
+    def pair_distances(self) -> np.ndarray:
+        """The (sites, sites) matrix of pair distances (:attr:`distance_kind`), refused if too big."""
+        from .. import geometry
+
+        n = self.sites
+        _validate.require_memory(f"the {n:,} x {n:,} matrix of pair distances", 24.0 * n * n)
+        if self.z is not None:
+            return np.asarray(geometry.distance(self.z[:, None], self.z[None, :], check=False), dtype=float)
+        from scipy.sparse.csgraph import shortest_path
+
+        adj = sp.csr_matrix((np.ones(self.nbr.shape[0]), self.nbr, self.ptr), shape=(n, n))
+        return shortest_path(adj, unweighted=True) * geometry.d0(self.p, self.q)
 
     @property
     def max_degree(self) -> int:
@@ -201,8 +214,6 @@ def bose_hubbard_graph(lattice) -> BoseHubbardGraph:
     -------
     BoseHubbardGraph
     """
-    from .. import geometry
-
     if _is_cluster(lattice):
         c = lattice
         n = c.sites
@@ -210,23 +221,16 @@ def bose_hubbard_graph(lattice) -> BoseHubbardGraph:
         ptr = np.arange(0, n * c.q + 1, c.q, dtype=np.int64)
         nbr = nb.ravel().copy()
         rot = _face_rotation(nb, np.asarray(c.faces), c.p)
-        # graph distances by breadth-first search from every site (clusters here are small)
-        adj = c.adjacency()
-        from scipy.sparse.csgraph import shortest_path
-
-        dist = shortest_path(adj, unweighted=True) * geometry.d0(c.p, c.q)
         return BoseHubbardGraph(sites=n, ptr=ptr, nbr=nbr, rotation=rot, p=c.p, q=c.q, rings=None,
-                                cluster=str(c.name), distance=dist, distance_kind="graph x d0")
+                                cluster=str(c.name), z=None, distance_kind="graph x d0")
     lat = _validate.lattice(lattice, kind="sites")
     from ..graph.operators import adjacency
 
     a = adjacency(lat).tocsr()
     a.sort_indices()
-    z = np.asarray(lat.z)
-    dist = geometry.distance(z[:, None], z[None, :], check=False)
     return BoseHubbardGraph(sites=lat.sites, ptr=a.indptr.astype(np.int64), nbr=a.indices.astype(np.int64),
                             rotation=np.asarray(lat.rotation, dtype=np.int64), p=int(lat.p), q=int(lat.q),
-                            rings=int(lat.rings), cluster=None, distance=np.asarray(dist, dtype=float),
+                            rings=int(lat.rings), cluster=None, z=np.asarray(lat.z, dtype=complex),
                             distance_kind="hyperbolic")
 
 
@@ -871,6 +875,9 @@ def bose_hubbard(lattice, particles: int, nmax: int, U: float, *, t: float = 1.0
     if n > g.sites * c:
         raise ValueError(f"{n} bosons do not fit on {g.sites} sites with at most {c} per site.")
     dim = basis_dimension(g.sites, n, c)
+    if observables:
+        # the density matrix, its per-thread accumulators and the pair distances are M x M each
+        _validate.require_memory(f"the ground-state observables of {g.sites:,} sites", 8.0 * g.sites**2 * 12)
     hops = min(n, g.sites) * g.max_degree
     route = _choose(method, g, dim, dim * (1 + hops))
     if route == "dense":
@@ -958,7 +965,7 @@ def bose_hubbard(lattice, particles: int, nmax: int, U: float, *, t: float = 1.0
             raise HyperlatticeError("the ground-state one-body density matrix is not real: the multiplet "
                                     "was cut (ask for more levels).")
         width = geometry.d0(g.p, g.q)
-        centres, corr, _ = correlation_vs_distance(rho, g.distance, width)
+        centres, corr, _ = correlation_vs_distance(rho, g.pair_distances(), width)
         extra = dict(density=np.diag(rho).copy(), density_matrix=rho,
                      condensate_fraction=condensate_fraction(rho, n), distance_bins=centres,
                      correlation=corr, distance_kind=g.distance_kind)
