@@ -265,8 +265,9 @@ def test_hard_core_particle_hole(lat):
 def test_t_to_minus_t_only_on_bipartite_graphs():
     # a_i -> -a_i on one sublattice maps t onto -t: holds on bipartite graphs ({8,3} flakes; Bolza is
     # bipartite too), fails on the heptagon (odd cycle)
-    assert _bipartite(OCTAGON) and _bipartite(ring_lattice(8, 3, 2)) and not _bipartite(HEPTAGON)
-    for lat, n, c in [(OCTAGON, 4, 3), (ring_lattice(8, 3, 2), 2, 2)] + ([(BOLZA, 3, 2)] if _bipartite(BOLZA) else []):
+    assert _bipartite(OCTAGON) and _bipartite(ring_lattice(8, 3, 2)) and _bipartite(BOLZA)
+    assert not _bipartite(HEPTAGON) and not _bipartite(pbc_cluster(7, 3, "klein"))
+    for lat, n, c in [(OCTAGON, 4, 3), (ring_lattice(8, 3, 2), 2, 2), (BOLZA, 3, 2)]:
         e_plus = ed.bose_hubbard(lat, n, c, 3.0, t=1.0, levels=5, observables=False).energies
         e_minus = ed.bose_hubbard(lat, n, c, 3.0, t=-1.0, levels=5, observables=False).energies
         assert np.abs(e_plus - e_minus).max() < TOL
@@ -354,3 +355,25 @@ def test_refusals():
         ed.bose_hubbard(ring_lattice(7, 3, 3), 40, 2, 1.0)
     with pytest.raises(ValueError, match="sites"):
         ed.hamiltonian(boson_basis(5, 2, 2), HEPTAGON, 1.0)
+
+
+def test_degenerate_ground_multiplet_is_averaged():
+    # t = -1 on the heptagon: H = +A, whose lowest level 2 cos(6 pi / 7) is the m = +-3 pair; the
+    # observables of the equal-weight mixture are rotation invariant and real
+    res = ed.bose_hubbard(HEPTAGON, 1, 1, 0.0, t=-1.0, levels=2)
+    assert abs(res.energies[0] - 2 * math.cos(6 * math.pi / 7)) < TOL
+    assert list(res.m) == [3, -3]
+    assert np.abs(res.density - 1 / 7).max() < TOL
+    assert res.density_matrix.dtype == np.float64
+
+
+def test_correlation_bins_and_condensate_fraction_refusals():
+    rho = np.array([[1.0, 0.5, 0.2], [0.5, 1.0, 0.4], [0.2, 0.4, 1.0]])
+    d = np.array([[0.0, 1.0, 2.0], [1.0, 0.0, 1.0], [2.0, 1.0, 0.0]])
+    centres, mean, count = ed.correlation_vs_distance(rho, d, 1.0)
+    assert np.allclose(centres, [1.0, 2.0]) and np.allclose(mean, [0.45, 0.2]) and list(count) == [4, 2]
+    assert abs(ed.condensate_fraction(rho, 3) - np.linalg.eigvalsh(rho)[-1] / 3) < 1e-14
+    with pytest.raises(ValueError, match="Hermitian"):
+        ed.condensate_fraction(np.array([[1.0, 1.0], [0.0, 1.0]]), 2)
+    with pytest.raises(ValueError, match="normalised"):
+        ed.one_body_density_matrix(boson_basis(3, 1, 1), [1.0, 1.0, 1.0])
