@@ -220,6 +220,8 @@ def test_sectors_add_up_to_the_full_problem(lat, n, c):
         blk = ed.sector_block(b, g, sec, m, 2.5).toarray()
         assert blk.shape == (sec.dim(m),) * 2
         assert np.abs(blk - blk.conj().T).max(initial=0.0) < 1e-13
+        if m == 0 or 2 * m == g.p:
+            assert not np.any(blk.imag)          # integer phases +-1: exactly real blocks
         parts.append(np.linalg.eigvalsh(blk))
     union = np.sort(np.concatenate(parts))
     assert np.abs(union - full).max() < TOL

@@ -503,10 +503,16 @@ def sector_block(basis: BosonBasis, lattice, sectors: FockSectors, m: int, U: fl
     cols = np.empty(nnz, dtype=np.int64)
     re = np.empty(nnz)
     im = np.empty(nnz)
-    ang = -2.0 * np.pi * m * np.arange(p) / p
+    # omega^(-m t) from the integer j = m t mod p: exactly +-1 where 2j = 0 mod p, so that the
+    # blocks m = 0 and m = p/2 come out exactly real
+    j = (m * np.arange(p)) % p
+    ang = -2.0 * np.pi * j / p
+    ph_re, ph_im = np.cos(ang), np.sin(ang)
+    ph_re[j == 0], ph_im[j == 0] = 1.0, 0.0
+    ph_re[2 * j == p], ph_im[2 * j == p] = -1.0, 0.0
     if nr:
         K.sector_fill(b.states, b.weights, b.particles, b.nmax, g.ptr, g.nbr, _diag(b, U, mu), t, _sq(b.nmax),
-                      reps, sec.rep, sec.shift, sec.period, index, np.cos(ang), np.sin(ang), offsets,
+                      reps, sec.rep, sec.shift, sec.period, index, ph_re, ph_im, offsets,
                       rows, cols, re, im, nch)
     mat = sp.coo_matrix((re + 1j * im, (rows, cols)), shape=(nr, nr)).tocsr()
     mat.sum_duplicates()
@@ -904,8 +910,11 @@ def bose_hubbard(lattice, particles: int, nmax: int, U: float, *, t: float = 1.0
             if d == 0:
                 continue
             blk = sector_block(b, g, sec, m, U, t, mu)
+            real = m == 0 or 2 * m == p
+            if real:  # exactly real (integer phases): half the work in real arithmetic
+                blk = blk.real.tocsr()
             kk = min(k, d)
-            w, v = _lowest(blk, kk, tol, hermitian_complex=True)
+            w, v = _lowest(blk, kk, tol, hermitian_complex=not real)
             res = _residuals(blk, w, v)
             for a in range(kk):
                 pair = [m] if (m == 0 or 2 * m == p) else [m, -m]
