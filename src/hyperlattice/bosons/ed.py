@@ -567,6 +567,16 @@ def _krylov(n: int, k: int, extra: int = 3) -> tuple[int, int]:
 
 def _lowest(op, k: int, tol: float, hermitian_complex: bool = False, extra: int = 3):
     """Lowest k eigenpairs of a Hermitian matrix/operator; dense below DENSE_MAX."""
+    from ..graph.solvers import single_threaded_blas
+
+    # BLAS on one thread for the dense eigh of small blocks and for ARPACK's many small calls:
+    # on a loaded 2-core machine waking OpenBLAS threads costs more than the arithmetic
+    # (measured 5.5 s -> 1.2 s on a 65,018-state Klein-quartic block)
+    with single_threaded_blas():
+        return _lowest_inner(op, k, tol, hermitian_complex, extra)
+
+
+def _lowest_inner(op, k: int, tol: float, hermitian_complex: bool, extra: int):
     n = op.shape[0]
     k = min(k, n)
     if n <= DENSE_MAX:
@@ -583,12 +593,7 @@ def _lowest(op, k: int, tol: float, hermitian_complex: bool = False, extra: int 
     v0 = rng.standard_normal(n)
     if hermitian_complex:
         v0 = v0 + 1j * rng.standard_normal(n)
-    from ..graph.solvers import single_threaded_blas
-
-    # ARPACK's many small BLAS calls on one thread: measured 5.5 s -> 1.2 s on a 65,018-state
-    # Klein-quartic block of a loaded 2-core machine (waking OpenBLAS threads costs more)
-    with single_threaded_blas():
-        w, v = spla.eigsh(op, k=k, which="SA", tol=tol, ncv=ncv, v0=v0)
+    w, v = spla.eigsh(op, k=k, which="SA", tol=tol, ncv=ncv, v0=v0)
     order = np.argsort(w, kind="stable")[:k_ask]
     return w[order], v[:, order]
 
