@@ -17,7 +17,7 @@ QuSpin is optional (``pip install quspin``, in its own environment if it would c
 without it, parts 2 and 3 compare against a plain scipy CSR build of the same matrix instead
 (COO triplets from vectorised numpy, ranks by ``np.searchsorted`` on the state codes).
 
-Usage: ``python benchmarks/bench_bosons.py [--skip-lanczos] [--repeat 3]``.
+Usage: ``python benchmarks/bench_bosons.py [--skip-lanczos] [--repeat 3] [--small]``.
 """
 
 from __future__ import annotations
@@ -101,6 +101,8 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--skip-lanczos", action="store_true", help="only the product comparisons")
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--small", action="store_true",
+                    help="a quick check of the script (N = 5 and 3 instead of 7 and 5), not the benchmark")
     args = ap.parse_args(argv)
 
     import numba
@@ -118,7 +120,7 @@ def main(argv=None):
     m = dyck.sites
 
     # --- 1. Lanczos on >= 1e7 states ---------------------------------------------------
-    n, c = 7, 2
+    n, c = (5, 2) if args.small else (7, 2)
     if not args.skip_lanczos:
         rss0 = _rss_mb()
         t0 = time.perf_counter()
@@ -155,7 +157,7 @@ def main(argv=None):
     del op, x, b
 
     # --- 3. CSR build and product, mid-size -----------------------------------------------
-    n3 = 5
+    n3 = 3 if args.small else 5
     b = boson_basis(m, n3, c)
     t0 = time.perf_counter()
     h = ed.hamiltonian(b, dyck, U)
