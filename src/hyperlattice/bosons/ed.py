@@ -285,7 +285,7 @@ def _norm_bound(basis: BosonBasis, g: BoseHubbardGraph, U: float, t: float, mu: 
 
 
 def _csr_bytes(nnz: int, dim: int) -> int:
-    return 12 * nnz + 8 * (dim + 1)
+    return 20 * nnz + 16 * (dim + 1)   # int64 indices and float64 data, then the int32 copies
 
 
 def hamiltonian(basis: BosonBasis, lattice, U: float, t: float = 1.0, mu: float = 0.0) -> sp.csr_matrix:
