@@ -69,6 +69,22 @@ GOOD = {
     "flag": "--out", "obj": 1.0,
 }
 
+
+def _bosons():
+    from hyperlattice.bosons.basis import boson_basis
+    from hyperlattice.bosons.ed import fock_sectors
+    from hyperlattice.graph.lattice import ring_lattice
+
+    hept = ring_lattice(7, 3, 1)
+    basis = boson_basis(7, 2, 2)
+    psi = np.full(basis.dim, basis.dim ** -0.5)
+    return hept, basis, fock_sectors(basis, hept), psi
+
+
+HEPT, BB, BSEC, BPSI = _bosons()
+_BB = dict(sites=7, particles=2, nmax=2)
+_BED = "hyperlattice.bosons.ed."
+
 #: working calls that must stay cheap (small sizes), by qualified name, and probes they skip
 #: because the bad value is a legitimate one there (a string is a path)
 CALLS = {
@@ -84,6 +100,24 @@ CALLS = {
     "hyperlattice.graph.factor.lowest_eigenpairs": (dict(mat=H, k=2), set()),
     "hyperlattice.graph.factor.shift_invert_lowest": (dict(mat=H, k=2, factor=FACTOR, tol=1e-10, label="H"), set()),
     "hyperlattice.cli.main": (dict(argv=["geometry"]), {("argv", "none")}),  # None: the process's own argv
+    # issue 22, Bose-Hubbard ED: a 7-site heptagon with 2 bosons (28 states)
+    "hyperlattice.bosons.basis.basis_dimension": (_BB, set()),
+    "hyperlattice.bosons.basis.basis_memory": (_BB, set()),
+    "hyperlattice.bosons.basis.boson_basis": (_BB, set()),
+    "hyperlattice.bosons.basis.rank_states": (dict(basis=BB, occupations=[1, 1, 0, 0, 0, 0, 0]), set()),
+    "hyperlattice.bosons.basis.unrank_states": (dict(basis=BB, indices=[0, 3]), set()),
+    _BED + "bose_hubbard_graph": (dict(lattice=HEPT), set()),
+    _BED + "hamiltonian": (dict(basis=BB, lattice=HEPT, U=2.0), set()),
+    _BED + "hamiltonian_operator": (dict(basis=BB, lattice=HEPT, U=2.0), set()),
+    _BED + "fock_sectors": (dict(basis=BB, lattice=HEPT), set()),
+    _BED + "sector_block": (dict(basis=BB, lattice=HEPT, sectors=BSEC, m=1, U=2.0), set()),
+    _BED + "lift_sector_vector": (dict(sectors=BSEC, m=1, phi=np.ones(BSEC.dim(1))), set()),
+    _BED + "bose_hubbard": (dict(lattice=HEPT, particles=2, nmax=2, U=2.0, levels=2), set()),
+    _BED + "charge_gap": (dict(lattice=HEPT, particles=2, nmax=2, U=2.0), set()),
+    _BED + "density_profile": (dict(basis=BB, psi=BPSI), set()),
+    _BED + "one_body_density_matrix": (dict(basis=BB, psi=BPSI), set()),
+    _BED + "condensate_fraction": (dict(rho=np.eye(7) * 2 / 7, particles=2), set()),
+    _BED + "correlation_vs_distance": (dict(rho=np.eye(7), distance=np.ones((7, 7)), width=0.5), set()),
 }
 
 

@@ -19,9 +19,18 @@ continuum/ only):
 
 from __future__ import annotations
 
+from .basis import BosonBasis, basis_dimension, boson_basis
+from .ed import BoseHubbardLevels, ChargeGap, bose_hubbard, charge_gap
 from .gp import BogoliubovSpectrum, GPState, bogoliubov, gp_ground_state
 from .meanfield import (GutzwillerState, MottLobe, MottLobeTable, gutzwiller, largest_adjacency_eigenvalue,
                         lobe_boundary, lobe_tip, mott_lobe, mott_lobes)
 
-__all__: list[str] = ["BogoliubovSpectrum", "GPState", "bogoliubov", "gp_ground_state", "GutzwillerState", "MottLobe", "MottLobeTable", "gutzwiller", "largest_adjacency_eigenvalue",
-                      "lobe_boundary", "lobe_tip", "mott_lobe", "mott_lobes"]
+__all__: list[str] = [
+    # exact diagonalisation (issue 22, item 1)
+    "BosonBasis", "basis_dimension", "boson_basis", "BoseHubbardLevels", "ChargeGap", "bose_hubbard", "charge_gap",
+    # Gross-Pitaevskii and Bogoliubov (item 3)
+    "BogoliubovSpectrum", "GPState", "bogoliubov", "gp_ground_state",
+    # mean field (item 2)
+    "GutzwillerState", "MottLobe", "MottLobeTable", "gutzwiller", "largest_adjacency_eigenvalue", "lobe_boundary",
+    "lobe_tip", "mott_lobe", "mott_lobes",
+]
