@@ -167,3 +167,32 @@ def test_selfconsistent_state_is_a_fixed_point_of_an_independent_local_solver():
         # error is of that order too
         assert abs(abs(np.sum(np.sqrt(k[1:]) * v0[:-1] * v0[1:])) - st.psi[i]) < 1e-8
         assert abs(np.sum(k * v0**2) - st.density[i]) < 1e-8
+
+
+def test_mean_field_gap_closes_at_the_lobe_tip():
+    from hyperlattice.compare.bosons import mean_field_gap
+
+    lam = 3.0
+    tip = mf.lobe_tip(lam, 1)[1]
+    assert mean_field_gap(lam, 0.0) == 1.0
+    assert mean_field_gap(lam, 0.999 * tip) > 0 and mean_field_gap(lam, 1.001 * tip) == 0.0
+    # the gap is the distance between the two lobe boundaries at that t
+    t = 0.5 * tip
+    gap = mean_field_gap(lam, t)
+    mu = np.linspace(1e-9, 1 - 1e-9, 400_001)
+    inside = mu[mf.lobe_boundary(lam, mu) > t]
+    assert gap == pytest.approx(inside[-1] - inside[0], abs=1e-5)   # grid spacing 2.5e-6
+
+
+def test_ed_charge_gap_against_mean_field_on_the_heptagon():
+    from hyperlattice.compare.bosons import mott_gap_comparison
+
+    cmp = mott_gap_comparison(hl.ring_lattice(7, 3, 1), (0.0, 0.02, 0.1))
+    assert cmp.lambda_max == pytest.approx(2.0, abs=1e-12)   # the 7-cycle
+    assert cmp.nmax == 8                                     # N + 1: no truncation
+    assert cmp.gap_ed[0] == pytest.approx(1.0, abs=1e-10)   # atomic limit: U
+    assert cmp.gap_mean_field[0] == 1.0
+    # weak hopping: both close to the atomic gap; beyond the mean-field tip (t/U = 0.0858 for
+    # lambda_max = 2) the finite system keeps a gap that mean field does not have
+    assert abs(cmp.gap_ed[1] - cmp.gap_mean_field[1]) < 0.02
+    assert cmp.gap_mean_field[2] == 0.0 and cmp.gap_ed[2] > 0.4
