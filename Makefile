@@ -6,7 +6,7 @@ VENV   ?= .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: run test setup bench clean
+.PHONY: run test setup bench docs clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -27,8 +27,15 @@ run: $(STAMP)
 test: $(STAMP)
 	$(BIN)/python -m pytest --blas-threads 2
 
+# the documentation site (docs/_build/html): the docs pages and the API reference from the
+# docstrings, warnings as errors
+docs: $(STAMP)
+	$(BIN)/pip install --quiet -e ".[docs]"
+	rm -rf docs/_build docs/generated
+	$(BIN)/python -m sphinx -W --keep-going -q -b html docs docs/_build/html
+
 bench: $(STAMP)
 	for b in benchmarks/bench_*.py; do $(BIN)/python $$b || exit 1; done
 
 clean:
-	rm -rf $(VENV) reproduction .pytest_cache
+	rm -rf $(VENV) reproduction .pytest_cache docs/_build docs/generated

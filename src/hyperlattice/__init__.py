@@ -4,8 +4,8 @@ Implements the computational system of Boettcher, Bienias, Belyansky, Kollár an
 "Quantum simulation of hyperbolic space with circuit QED: from graphs to geometry",
 Phys. Rev. A 102, 032208 (2020).
 
-Conventions: metric ds^2 = (dx^2+dy^2)/(1-|z|^2)^2 (curvature -4); h = tanh(d0);
-Delta_g = (1-|z|^2)^2 (d_x^2 + d_y^2); H = -t A (t = 1 unless given); sites are indexed
+Conventions: metric ``ds^2 = (dx^2+dy^2)/(1-|z|^2)^2`` (curvature -4); h = tanh(d0);
+``Delta_g = (1-|z|^2)^2 (d_x^2 + d_y^2)``; H = -t A (t = 1 unless given); sites are indexed
 0-based, ring by ring, each ring counterclockwise from the smallest polar angle >= 0.
 
 Public names are imported lazily so that ``import hyperlattice`` stays cheap.

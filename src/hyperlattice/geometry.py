@@ -99,7 +99,7 @@ def distance(z1, z2, *, check: bool = True) -> np.ndarray | float:
     Evaluated in the equivalent form
     :math:`d = \mathrm{arcsinh}\bigl(|z-z'|/\sqrt{(1-|z|^2)(1-|z'|^2)}\bigr)`, which keeps
     full relative accuracy for nearby points (no ``arcosh`` near 1) and, with
-    :func:`one_minus_abs2`, near the boundary |z| -> 1. Broadcasts over numpy arrays.
+    :func:`one_minus_abs2`, near the boundary ``|z| -> 1``. Broadcasts over numpy arrays.
 
     ``check=False`` skips the input check (points known to lie in the open disk).
     """

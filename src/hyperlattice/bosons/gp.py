@@ -64,7 +64,7 @@ class GPState(Result):
     t, U : float
         Hopping and interaction (one energy unit).
     particles : float
-        N = Σ|ψ_i|².
+        :math:`N = \sum_i |\psi_i|^2`.
     psi : ndarray
         Real, non-negative condensate amplitude per site.
     mu : float
@@ -88,7 +88,7 @@ class GPState(Result):
 
     @property
     def density(self) -> np.ndarray:
-        """|ψ_i|², bosons per site."""
+        """:math:`|\psi_i|^2`, bosons per site."""
         return self.psi**2
 
     def summary(self) -> dict:

@@ -14,7 +14,7 @@ the propagator of the whole disk (default ``"whole"``: :math:`L = 1`, :math:`\fr
 or of the Dirichlet disk of the dictionary radius :math:`L` (``eq12``) at the site positions
 (``"dirichlet"``; NaN for the 8–19 % of sites beyond L) or with the ring moved onto the circle of its
 mean depth (``"mapped"``). Measured at ℓ = 5, 6 the Dirichlet disk at the sites is closest to the lattice
-(relative L2 0.14–0.25 against 0.26–0.50 for L = 1), but its ``green36`` series needs ~1/(1 - |z||z'|/L²)
+(relative L2 0.14–0.25 against 0.26–0.50 for L = 1), but its ``green36`` series needs ~1/(1 - ``|z||z'|``/L²)
 orders and is refused beyond 10⁴ (ℓ ≥ 7 for {7,3}); hence the default. Beyond the continuum BF bound
 (:math:`\omega > E_\infty`, :math:`\lambda > 1`) the :math:`L = 1` propagator does not exist: ``continuum``
 and ``delta_continuum`` are NaN there.

@@ -263,7 +263,7 @@ def _pool(p, q, rings, kind, sites, model, strength, seed, realizations, omega0,
 def disorder_ensemble(lattice: Lattice, strength: float = 1.0, realizations: int = 10, *, seed: int = 0,
                       model: str = "box", omega0: float | None = None, windows=None, dos_bins: int = 60,
                       ipr: bool = True, rows: list[dict] | None = None) -> DisorderEnsemble:
-    r"""Average :func:`realization_observables` over realizations ``0 .. realizations-1`` of ``seed``.
+    r"""Average :func:`realization_observables` over realizations ``range(realizations)`` of ``seed``.
 
     Parameters
     ----------
@@ -352,7 +352,7 @@ class RScan(Result):
 
 def r_scan(lattice: Lattice, strengths, realizations: int = 10, *, seed: int = 0, model: str = "box",
            window=(-1.0, 1.0)) -> RScan:
-    r""":math:`\langle r\rangle` against W, ratios whose middle level lies in ``window``.
+    r"""Mean spacing ratio :math:`\langle r\rangle` against W (ratios whose middle level lies in ``window``).
 
     The default :math:`|E| < 1` is the band centre, away from the band edges and the tails of
     boundary states, for weak disorder; ``window=None`` takes the whole spectrum (needed at strong
@@ -415,7 +415,7 @@ class DisorderGreen(Result):
     err: np.ndarray = field(repr=False)
 
     def plot(self, ax=None) -> Axes:
-        """|<G_ij>| and |G_ij(W = 0)| against distance (:func:`hyperlattice.plots.disorder.plot_green_distance`)."""
+        """``|<G_ij>|`` and ``|G_ij(W = 0)|`` against distance (:func:`hyperlattice.plots.disorder.plot_green_distance`)."""
         from ..plots.disorder import plot_green_distance
 
         return plot_green_distance(self, ax=ax)

@@ -900,7 +900,7 @@ class DictionaryComparison(Result):
     improved_limit_error: float
 
     def gain(self, rings: int | None = None) -> dict:
-        """``{"E0", "E1"}``: |paper error| / |improved error| at ``rings`` (default: the largest l)."""
+        """``{"E0", "E1"}``: ``|paper error| / |improved error|`` at ``rings`` (default: the largest l)."""
         i = -1 if rings is None else int(np.nonzero(self.rings == rings)[0][0]) if rings in self.rings else None
         if i is None:
             raise ValueError(f"l = {rings} is not in the comparison.")
@@ -920,7 +920,7 @@ class DictionaryComparison(Result):
                 "improved_limit": self.improved_limit, "improved_limit_error": self.improved_limit_error}
 
     def plot(self, ax=None) -> Axes:
-        """|relative error| of both maps against l (log scale); returns the axes."""
+        """``|relative error|`` of both maps against l (log scale); returns the axes."""
         from ..plots.limits import plot_dictionaries
 
         return plot_dictionaries(self, ax=ax)

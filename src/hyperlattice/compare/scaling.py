@@ -257,7 +257,7 @@ class RadialProfile(Result):
 
 def radial_profile(z: np.ndarray, values: np.ndarray, *, rtol: float = 1e-9,
                    value_tol: float = 1e-8) -> RadialProfile:
-    """Average ``values`` over sites of equal radius |z| (radii equal to ``rtol``).
+    """Average ``values`` over sites of equal radius ``|z|`` (radii equal to ``rtol``).
 
     ``value_tol`` decides when the sites of one radius disagree (non-unique map r -> value).
     """

@@ -48,7 +48,7 @@ __all__ = [
     "MAX_SLOPE",
 ]
 
-#: Largest |slope| accepted by :func:`fit_counting`: the geometric slope pi/(2A) of every
+#: Largest ``|slope|`` accepted by :func:`fit_counting`: the geometric slope pi/(2A) of every
 #: hyperbolic {p,q} is at most 14 ({7,3}); beyond 1e6 the fitted intercept is round-off of s rho.
 MAX_SLOPE = 1e6
 

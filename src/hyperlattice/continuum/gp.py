@@ -83,11 +83,11 @@ class DiskGPState(Result):
         L (Euclidean radius in the Poincaré disk); ``rho_max`` = artanh L.
     t_prime, U_prime : float
     particles : float
-        N = ∫|φ|² dV.
+        :math:`N = \int |\varphi|^2 dV_g`.
     winding : int
         m.
     rho, f : ndarray
-        Geodesic radius of the grid and the real radial amplitude (per unit area: |φ|² = f²).
+        Geodesic radius of the grid and the real radial amplitude (per unit area: :math:`|\varphi|^2 = f^2`).
     mu_c : float
         Continuum chemical potential μ_c (the lattice's μ is μ_c − q t).
     energy : float
@@ -112,7 +112,7 @@ class DiskGPState(Result):
 
     @property
     def density(self) -> np.ndarray:
-        """|φ|² per unit area at ``rho``."""
+        """:math:`|\varphi|^2` per unit area at ``rho``."""
         return self.f**2
 
     def summary(self) -> dict:
@@ -317,7 +317,7 @@ class DiskBogoliubov(Result):
     frequencies : ndarray
         The K lowest ω >= 0 ascending, each j ≠ 0 mode listed twice (±j), Goldstone mode first.
     angular_momenta : ndarray
-        |j| of each frequency.
+        :math:`|j|` of each frequency.
     zero_mode : float
         The computed Goldstone frequency (j = 0).
     """

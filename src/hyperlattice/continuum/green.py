@@ -38,7 +38,7 @@ that *decays* as :math:`x\to\infty` (:math:`|Q_\nu| \sim x^{-\operatorname{Re}\n
 both :math:`\mathcal G_0` and :math:`\delta\mathcal G` change, their difference does not.
 
 The coefficient :math:`C_m` and the convention of :math:`Q_\nu^m`
----------------------------------------------------------------
+-----------------------------------------------------------------
 The jump condition of ``green22`` with :math:`G_m = C_m u_m(\rho_>)v_m(\rho_<)` gives
 :math:`C_m = 1/[(1-\rho^2)\,W\{P_\nu^m, Q_\nu^m\}]` (the Wronskian times :math:`p(\rho)` is
 constant). :mod:`hyperlattice.special` uses DLMF/mpmath type-3 :math:`Q_\nu^m`, which carries

@@ -147,7 +147,7 @@ _MAX_TERMS = 4000
 _MAX_STEPS = 100_000
 _TOL = 1e-17
 _TOLERANCES = {"xatol": 1e-15, "xrtol": 4.0 * np.finfo(float).eps, "fatol": 0.0, "frtol": 0.0}
-#: largest |field| accepted (the series and step counts grow like |B|)
+#: largest ``|field|`` accepted (the series and step counts grow like ``|B|``)
 MAX_FIELD = 1e4
 #: largest number of levels accepted (about half a minute on one core at 16 ms per level)
 MAX_LEVELS = 2_000
@@ -334,7 +334,7 @@ def _field(B) -> float:
     return _validate.real("the field B", B, minimum=-MAX_FIELD, maximum=MAX_FIELD)
 
 
-#: the largest |kappa| radial_function accepts (the 2F1 continuation takes ~sqrt(kappa) steps)
+#: the largest ``|kappa|`` radial_function accepts (the 2F1 continuation takes ~sqrt(kappa) steps)
 KAPPA_MAX = 1e10
 
 

@@ -101,7 +101,7 @@ __all__ = [
     "bulk_to_boundary_kernel",
 ]
 
-#: AdS radius of the paper's metric |dz|^2/(1-|z|^2)^2 (curvature -1/R^2 = -4)
+#: AdS radius of the paper's metric ``|dz|^2/(1-|z|^2)^2`` (curvature -1/R^2 = -4)
 ADS_RADIUS = 0.5
 #: Breitenlohner-Freedman bound m^2 R^2 = -1/4 in the paper's units: m^2 = -1 (lambda = 1)
 BF_MASS2 = -1.0 / (4.0 * ADS_RADIUS**2)

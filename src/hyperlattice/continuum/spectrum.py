@@ -109,7 +109,7 @@ GOLDEN = (1.0 + math.sqrt(5.0)) / 2.0
 _CHUNK = 1 << 13
 #: evaluations of P^m_nu one request may spend (about 30 s on one core); more is refused
 MAX_EVALUATIONS = 4_000_000
-#: largest order |m| accepted (the Legendre module is validated to m = 30 and works well beyond)
+#: largest order ``|m|`` accepted (the Legendre module is validated to m = 30 and works well beyond)
 MAX_ORDER = 1000
 #: relative rounding of x = (1+L^2)/(1-L^2) as computed from L or from a ring count
 _X_ROUNDING = 4.0 * np.finfo(float).eps
@@ -592,9 +592,10 @@ class ContinuumSpectrum(Levels):
     Labels follow the graph ``spectrum`` command: ``n`` is the radial index within
     :math:`|m|`, ``m`` is signed and a level with :math:`m\ne0` appears twice, first as
     :math:`+m`, then as :math:`-m`. ``errors`` bounds each energy's error (module docstring).
+    The attributes below come in addition to those of :class:`Levels`.
 
-    Attributes (besides those of :class:`Levels`)
-    ---------------------------------------------
+    Attributes
+    ----------
     rings : int or None
         Ring count the disk was derived from (``eq12``), or None for a given radius.
     radius, x : float

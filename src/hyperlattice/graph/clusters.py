@@ -135,7 +135,7 @@ class Cluster(Result):
     systole_exact : bool
         Whether ``systole`` is exact.
     group : str
-        The rotation group :math:`G = \Delta(2,q,p)/N` (|G| = q V darts).
+        The rotation group :math:`G = \Delta(2,q,p)/N` (:math:`|G| = qV` darts).
     source : str
         Where the cluster comes from (citation, or the construction of the family).
 

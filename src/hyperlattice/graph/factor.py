@@ -19,6 +19,7 @@ Backends
     the row and column permutations agree, the diagonal of :math:`U` is :math:`D` and its signs
     give the inertia (checked every time; otherwise no count is claimed). The column order of the
     first factorisation is kept and reused at every further shift.
+
 ``"auto"`` takes CHOLMOD when it is importable, else SuperLU, silently (the environment variable
 ``HYPERLATTICE_FACTOR_BACKEND=superlu`` hides CHOLMOD, as if it were not installed: the
 SuperLU-only configuration of CI and the benchmarks); an explicit

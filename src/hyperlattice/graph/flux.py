@@ -68,8 +68,8 @@ __all__ = ["pgon_area", "field_strength", "triangle_area", "edge_phases", "faces
            "face_fluxes", "check_face_fluxes", "Butterfly", "butterfly", "MAX_FLUX"]
 
 
-#: Largest |f| accepted: the phases are B x area with B = 2 pi f / A_p, so beyond about 1e6
-#: flux quanta per p-gon their absolute rounding error (|theta| x 1e-16) exceeds 1e-9.
+#: Largest ``|f|`` accepted: the phases are B x area with B = 2 pi f / A_p, so beyond about 1e6
+#: flux quanta per p-gon their absolute rounding error (``|theta|`` x 1e-16) exceeds 1e-9.
 MAX_FLUX = 1e6
 
 

@@ -486,7 +486,7 @@ def psl2_dart_tables(x, y, r: int) -> tuple[np.ndarray, np.ndarray]:
 
     Returns
     -------
-    (X, Y) : int32 arrays of length |PSL(2, r)|, ``X[i]`` the index of element i times x.
+    (X, Y) : int32 arrays of length ``|PSL(2, r)|``, ``X[i]`` the index of element i times x.
     """
     r = _psl2_check_prime(r)
     x, y = _matrix("x", x, r), _matrix("y", y, r)
@@ -508,7 +508,7 @@ def psl2_map(x, y, r: int, q: int) -> np.ndarray:
 
     Returns
     -------
-    ndarray of int32, shape (|G|/q, q): ``nb[v, j]`` is the head of the dart
+    ndarray of int32, shape ``(|G|/q, q)``: ``nb[v, j]`` is the head of the dart
     :math:`d_v y^j`, :math:`d_v` the smallest dart of vertex v.
     """
     r = _psl2_check_prime(r)

@@ -425,7 +425,7 @@ class BoundState(Result):
         return {k: getattr(self, k) for k in keys}
 
     def plot(self, ax=None) -> Axes:
-        """|photon| (exact) and the leading-order profile against hyperbolic distance, log scale."""
+        """``|photon|`` (exact) and the leading-order profile against hyperbolic distance, log scale."""
         import matplotlib.pyplot as plt
 
         if ax is None:

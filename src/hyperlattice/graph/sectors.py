@@ -597,7 +597,7 @@ def lowest_sector_levels(p: int = 7, q: int = 3, rings: int = 3, levels: int = 2
     factorisation itself: :mod:`hyperlattice.graph.factor`). How many levels each block holds is
     first guessed from short Lanczos runs (their Ritz values are upper bounds of the levels), then
     **proved**: every block is factorised at :math:`x = E_{K} - \delta` (the K-th state, δ = twice
-    its residual plus 1e-10 |E|) and Sylvester's law of inertia counts its eigenvalues below x;
+    its residual plus ``1e-10 |E|``) and Sylvester's law of inertia counts its eigenvalues below x;
     a block holding more than were computed is solved again for all of them, until the counts
     agree. So no level below :math:`E_K - \delta` is missed. All blocks of one kind share one
     symbolic analysis (the real forms of m = 1..p/2 have one sparsity pattern).

@@ -53,7 +53,7 @@ def plot_r_scan(scan: RScan, ax: Axes | None = None, **kwargs) -> Axes:
 
 
 def plot_green_distance(ens: DisorderGreen, ax: Axes | None = None, *, bins: int = 12, clean: bool = True) -> Axes:
-    """|<G_ij>| (and |G_ij(W=0)| if ``clean``) against the hyperbolic distance (binned means), source excluded."""
+    """``|<G_ij>|`` (and ``|G_ij(W=0)|`` if ``clean``) against the hyperbolic distance (binned means), source excluded."""
     ax = _axes(ax)
     keep = np.arange(ens.distance.size) != ens.source
     d = ens.distance[keep]

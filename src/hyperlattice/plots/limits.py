@@ -101,7 +101,7 @@ def plot_plateau(plateau: PlateauAnalysis, ax: Axes | None = None) -> Axes:
 
 
 def plot_dictionaries(comparison: DictionaryComparison, ax: Axes | None = None) -> Axes:
-    """|relative error| of E0 and E1 with the paper's and the improved map against l (log scale),
+    """``|relative error|`` of E0 and E1 with the paper's and the improved map against l (log scale),
     and the improved map's l -> infinity limit; returns the axes."""
     ax = new_axes(ax)
     ell = np.asarray(comparison.rings, dtype=float)
