@@ -232,12 +232,14 @@ sys.exit(main(sys.argv[1:]))
 
 
 def test_available_memory_honours_rlimit_as_and_the_cli_refuses_in_one_line(tmp_path):
+    # l = 13 line graph: 2.9 million sites, about 1 GB, twice the 512 MB left under the limit (l = 12
+    # fits since the CLI imports only the command it runs)
     import os
     import subprocess
     import sys
 
     env = dict(os.environ, HYPERLATTICE_CACHE=str(tmp_path / "cache"))
-    res = subprocess.run([sys.executable, "-c", _RLIMIT_SCRIPT, "lattice", "--rings", "12", "--line-graph"],
+    res = subprocess.run([sys.executable, "-c", _RLIMIT_SCRIPT, "lattice", "--rings", "13", "--line-graph"],
                          capture_output=True, text=True, timeout=120, env=env, cwd=tmp_path)
     assert res.returncode == 2, res.stderr
     lines = [line for line in res.stderr.splitlines() if line.strip()]

@@ -115,6 +115,9 @@ def _factories():
         "ConvergenceStudy": lambda: scaling.convergence_study(ring_lattice(7, 3, 3), scaling.SmoothFunction.exp_x()),
         "CountingFit": lambda: sums.fit_counting(ring_lattice(7, 3, 4)),
         "MagneticComparison": _magnetic_comparison,
+        # a table of lobes: its list holds MottLobe results, which annotations cannot say
+        "MottLobeTable": lambda: __import__("hyperlattice.bosons.meanfield", fromlist=["x"]).mott_lobes(
+            7, 3, rings=(3,), clusters=("klein",), points=5),
         **_beyond_factories(),
         "SumCheck": lambda: sums.SumCheck(p=7, q=3, rings=2, sites=77, radius=0.9, function="f",
                                           lattice_sum=1.5 + 1e-3j, integral=complex(1.49, 0.0)),

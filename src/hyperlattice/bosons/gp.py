@@ -88,7 +88,7 @@ class GPState(Result):
 
     @property
     def density(self) -> np.ndarray:
-        """:math:`|\psi_i|^2`, bosons per site."""
+        r""":math:`|\psi_i|^2`, bosons per site."""
         return self.psi**2
 
     def summary(self) -> dict:

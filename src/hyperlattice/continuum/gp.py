@@ -112,7 +112,7 @@ class DiskGPState(Result):
 
     @property
     def density(self) -> np.ndarray:
-        """:math:`|\varphi|^2` per unit area at ``rho``."""
+        r""":math:`|\varphi|^2` per unit area at ``rho``."""
         return self.f**2
 
     def summary(self) -> dict:

@@ -66,7 +66,7 @@ def plot_lobe_tips(table: MottLobeTable, ax: Axes | None = None) -> Axes:
 
 
 def plot_order_parameter(state: GutzwillerState, lattice, ax: Axes | None = None) -> Axes:
-    """:math:`|\psi_i|` of a Gutzwiller state against the ring of each site of a flake (one point per site)."""
+    r""":math:`|\psi_i|` of a Gutzwiller state against the ring of each site of a flake (one point per site)."""
     ax = new_axes(ax, size=(5.0, 3.6))
     ring = np.asarray(lattice.ring)
     if ring.shape[0] != state.psi.shape[0]:
