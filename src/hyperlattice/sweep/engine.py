@@ -356,7 +356,9 @@ def _client_for(scheduler, workers: int | None, timeout: float | None = None):
     if scheduler in (None, "local", "threads"):
         n = _local_workers(workers)
         processes = scheduler != "threads"
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=processes, dashboard_address=None,
+        # dashboard_address=":0": a free port. None still binds Dask's default 8787 and, when another
+        # cluster (or another user's notebook) holds it, warns and moves; ":0" never collides.
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=processes, dashboard_address=":0",
                                silence_logs=logging.CRITICAL)
         try:
             client = Client(cluster)
