@@ -227,6 +227,7 @@ def sector_lattice(p: int = 7, q: int = 3, rings: int = 3, *, coordinates: bool 
 
     Examples
     --------
+    >>> from hyperlattice.graph.sectors import sector_lattice
     >>> s = sector_lattice(7, 3, 3)
     >>> s.sites, s.size
     (112, 16)

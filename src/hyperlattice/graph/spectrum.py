@@ -301,7 +301,7 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
 
     Examples
     --------
-    >>> from hyperlattice import ring_lattice
+    >>> from hyperlattice import lowest_levels, ring_lattice
     >>> spec = lowest_levels(ring_lattice(7, 3, 1), 3)
     >>> [round(float(e), 6) for e in spec.energies], spec.m.tolist()
     ([-2.0, -1.24698, -1.24698], [0, 1, -1])
