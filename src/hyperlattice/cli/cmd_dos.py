@@ -6,7 +6,7 @@ import csv
 import math
 
 from .. import _validate
-from ._common import Progress, add_pq, plot_file, positive_int, print_json
+from ._common import add_pq, plot_file, positive_int, print_json
 
 NAME = "dos"
 ORDER = 46
@@ -77,39 +77,33 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError("--exclude applies to a flake (--rings), not to a cluster.")
     if args.cluster is None and args.keep_uniform:
         raise ValueError("--keep-uniform applies to a cluster (--cluster); a flake has no uniform state.")
-    with Progress("dos") as progress:
-        if args.cluster is not None:
-            from ..graph.clusters import pbc_cluster
+    if args.cluster is not None:
+        from ..graph.clusters import pbc_cluster
 
-            progress.update(f"building cluster {args.cluster}")
-            graph = pbc_cluster(p, q, args.cluster)
-        else:
-            rings = 8 if args.rings is None else args.rings
-            progress.update(f"building the {rings}-ring flake")
-            graph = ring_lattice(p, q, rings)
-            if args.exclude is not None:
-                _validate.integer("--exclude", args.exclude, minimum=1, maximum=max(rings - 1, 1))
-        if args.site is not None:
-            site = _validate.site_index("--site", args.site, int(graph.sites))
-            result = local_dos(graph, site, 512 if moments is None else moments)
-        elif args.cluster is not None:
-            result = kpm_dos(graph, 512 if moments is None else moments, vectors=vectors, seed=seed,
-                             kind=args.kind, deflate=not args.keep_uniform,
-                             progress=lambda m: progress.update(m))
-        else:
-            result = bulk_dos(graph, moments, exclude=args.exclude, vectors=vectors, seed=seed, kind=args.kind,
-                              progress=lambda m: progress.update(m))
-        if out is not None:
-            progress.update("writing the table")
-            _write_csv(out, result, points)
-        if fig is not None:
-            import matplotlib
+        graph = pbc_cluster(p, q, args.cluster)
+    else:
+        rings = 8 if args.rings is None else args.rings
+        graph = ring_lattice(p, q, rings)
+        if args.exclude is not None:
+            _validate.integer("--exclude", args.exclude, minimum=1, maximum=max(rings - 1, 1))
+    # the KPM loops show a bar over the random vectors (--progress / --no-progress)
+    if args.site is not None:
+        site = _validate.site_index("--site", args.site, int(graph.sites))
+        result = local_dos(graph, site, 512 if moments is None else moments)
+    elif args.cluster is not None:
+        result = kpm_dos(graph, 512 if moments is None else moments, vectors=vectors, seed=seed,
+                         kind=args.kind, deflate=not args.keep_uniform)
+    else:
+        result = bulk_dos(graph, moments, exclude=args.exclude, vectors=vectors, seed=seed, kind=args.kind)
+    if out is not None:
+        _write_csv(out, result, points)
+    if fig is not None:
+        import matplotlib
 
-            matplotlib.use("Agg")
-            from ..plots.dos import dos_figure
+        matplotlib.use("Agg")
+        from ..plots.dos import dos_figure
 
-            progress.update("drawing")
-            dos_figure(result, path=fig)
+        dos_figure(result, path=fig)
     summary = result.summary()
     if args.json:
         print_json(summary)

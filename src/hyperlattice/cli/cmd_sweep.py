@@ -132,7 +132,7 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError("give the sweep directory (--out DIR or \"out\" in CONFIG).")
     retries = args.retries if args.retries is not None else cfg.get("retries", 2)
     timeout = args.timeout if args.timeout is not None else cfg.get("timeout")
-    progress = sys.stderr.isatty() if args.progress is None else args.progress
+    progress = args.progress  # None: bars when stderr is a terminal (hyperlattice._progress)
     scheduler = args.scheduler if args.scheduler is not None else cfg.get("scheduler")
     rep = run_sweep(task, grid, out, scheduler=scheduler,
                     workers=args.workers or cfg.get("workers"), retries=retries, progress=progress,

@@ -715,6 +715,8 @@ def _stochastic(op: GraphOperator, moments: int, vectors: int, seed: int, kind: 
                 deflate: list[np.ndarray] | None = None) -> tuple[np.ndarray, float]:
     import time
 
+    from .._progress import progress_bar
+
     itemsize = 8 if kind == "rademacher" else 16
     width = _check_memory(op.sites, itemsize, min(BLOCK, vectors))
     scale = op.bound / (1.0 - EPS)
@@ -723,24 +725,25 @@ def _stochastic(op: GraphOperator, moments: int, vectors: int, seed: int, kind: 
     t0 = time.perf_counter()
     # R vectors in blocks of ``width`` columns of one row-major (N, width) array: a pass over the graph
     # then serves all of them, and each random gather fetches a whole cache line of useful numbers
-    for start in range(0, vectors, width):
-        nv = min(width, vectors - start)
-        x = np.empty((op.sites, nv), dtype=np.float64 if kind == "rademacher" else np.complex128)
-        for j in range(nv):
-            r = start + j
-            if progress is not None:
-                progress(f"random vector {r + 1}/{vectors}")
-            v = _random_vector(kind, op.sites, seed, r, support)
-            if op.perm is not None:  # the same vector in the operator's numbering: results do not depend on it
-                w = np.empty_like(v)
-                w[op.perm] = v
-                v = w
-            for u in deflate or ():
-                v -= np.dot(u, v) * u  # trace of (1 - P) T_n(H) (1 - P): the state u is left out
-            x[:, j] = v
-            del v
-        per[start:start + nv] = _chebyshev_moments_block(op, x, moments, scale, parallel) / ns
-        del x
+    with progress_bar(vectors, "KPM moments", unit="vector", progress=progress) as bar:
+        for start in range(0, vectors, width):
+            nv = min(width, vectors - start)
+            x = np.empty((op.sites, nv), dtype=np.float64 if kind == "rademacher" else np.complex128)
+            for j in range(nv):
+                r = start + j
+                bar.note(f"random vector {r + 1}/{vectors}")
+                v = _random_vector(kind, op.sites, seed, r, support)
+                if op.perm is not None:  # the same vector in the operator's numbering: results do not depend on it
+                    w = np.empty_like(v)
+                    w[op.perm] = v
+                    v = w
+                for u in deflate or ():
+                    v -= np.dot(u, v) * u  # trace of (1 - P) T_n(H) (1 - P): the state u is left out
+                x[:, j] = v
+                del v
+            per[start:start + nv] = _chebyshev_moments_block(op, x, moments, scale, parallel) / ns
+            del x
+            bar.update(nv)
     return per, time.perf_counter() - t0
 
 
@@ -761,7 +764,7 @@ def _finish(op, method, per, elapsed, *, kind, seed, vectors, traced, site=None,
 
 def kpm_dos(graph, moments: int = 512, *, vectors: int = 16, seed: int = 0, kind: str = "rademacher",
             deflate: bool = False, parallel: bool = False,
-            progress: Callable[[str], None] | None = None) -> KPMDos:
+            progress=None) -> KPMDos:
     r"""Density of states per site of :math:`H = -A` by KPM with a stochastic trace over all sites.
 
     Parameters
@@ -788,6 +791,10 @@ def kpm_dos(graph, moments: int = 512, *, vectors: int = 16, seed: int = 0, kind
         28 ms against 17 ms serial per product at 1.27 million sites, load average 5); see
         benchmarks/bench_kpm.py.
 
+    progress : bool, None or callable
+        A bar over the random vectors on stderr (:mod:`hyperlattice._progress`; None: when stderr is
+        a terminal), or a function receiving one-line messages.
+
     Returns
     -------
     KPMDos
@@ -795,6 +802,7 @@ def kpm_dos(graph, moments: int = 512, *, vectors: int = 16, seed: int = 0, kind
     op = graph_operator(graph)
     moments, vectors, seed, kind = _common_args(moments, vectors, seed, kind)
     states = _extreme_states(op) if _validate.flag("deflate", deflate) else []
+    progress = _validate.progress("progress", progress)
     per, elapsed = _stochastic(op, moments, vectors, seed, kind, None, parallel, progress, states)
     return _finish(op, "stochastic", per, elapsed, kind=kind, seed=seed, vectors=vectors, traced=op.sites,
                    deflated=len(states))
@@ -837,7 +845,7 @@ def default_exclusion(rings: int) -> int:
 
 def bulk_dos(lattice, moments: int | None = None, *, exclude: int | None = None, vectors: int = 16,
              seed: int = 0, kind: str = "rademacher", parallel: bool = False,
-             progress: Callable[[str], None] | None = None) -> KPMDos:
+             progress=None) -> KPMDos:
     r"""Bulk density of states of a flake: the stochastic trace over its *interior* sites only.
 
     Which sites, and why: a flake of R rings is the induced subgraph of the infinite lattice on its
@@ -862,7 +870,7 @@ def bulk_dos(lattice, moments: int | None = None, *, exclude: int | None = None,
         Number of moments (default: ``exact_moments``).
     exclude : int, optional
         Outer rings to drop, 1 <= K < R (default ``R // 2``, at least 1).
-    vectors, seed, kind, parallel : see :func:`kpm_dos`.
+    vectors, seed, kind, parallel, progress : see :func:`kpm_dos`.
     """
     from .lattice import Lattice
 
@@ -881,6 +889,7 @@ def bulk_dos(lattice, moments: int | None = None, *, exclude: int | None = None,
     moments = exact if moments is None else moments
     moments, vectors, seed, kind = _common_args(moments, vectors, seed, kind)
     op = graph_operator(lattice)
+    progress = _validate.progress("progress", progress)
     per, elapsed = _stochastic(op, moments, vectors, seed, kind, support, parallel, progress)
     return _finish(op, "bulk", per, elapsed, kind=kind, seed=seed, vectors=vectors, traced=int(support.shape[0]),
                    exact=exact, excluded=k,
