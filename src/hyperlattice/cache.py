@@ -253,9 +253,10 @@ class Cache:
         value = compute()
         if not isinstance(value, (dict, Result)):
             raise ValueError(f"a cached computation must return a dict or a Result, got {type(value).__name__}.")
-        self.misses += 1
         if self.enabled:
             self.put(name, inputs, value)
+        # counted once stored: a run stopped (Ctrl-C) during the write reports only what is on disk
+        self.misses += 1
         return value
 
     def put(self, name: str, inputs: dict, value: dict | Result) -> None:
