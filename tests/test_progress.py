@@ -292,3 +292,35 @@ def test_a_signal_stops_the_command_with_one_line_and_keeps_the_points(tmp_path,
     # file is there and the count one short), never the other way round
     assert 1 <= said <= kept <= said + 1 < 2000
     assert out == ""
+
+
+def test_reproduce_counts_its_stages_on_stderr(no_delay, tmp_path, monkeypatch, capsys):
+    import hyperlattice.report as report
+
+    def fake(out_dir, max_rings, *, cache, progress):
+        for stage in ("Fig1", "Fig2", "Fig3"):  # the report announces each stage as it starts
+            progress(stage)
+        return {"out_dir": str(out_dir), "sections": [], "seconds": 0.0, "cache_hits": 0, "cache_misses": 0}
+
+    monkeypatch.setattr(report, "reproduce", fake)  # the bar, not the paper, is under test
+    args = ["reproduce", "--out", str(tmp_path / "r"), "--max-rings", "2", "--no-cache"]
+    assert main(args + ["--progress"]) == 0
+    out, err = capsys.readouterr()
+    assert "reproduce" in err and "3stage" in err.replace(" ", "") and "Fig3" in err
+    assert "reproduce" not in out.split("wrote")[0]
+    assert main(args) == 0
+    assert capsys.readouterr().err == ""
+
+
+def test_a_read_only_checkpoint_is_refused_before_any_work(tmp_path, monkeypatch, capsys):
+    from hyperlattice.compare import magnetic
+
+    if os.geteuid() == 0:
+        pytest.skip("root can write into read-only folders")
+    locked = tmp_path / "locked"
+    locked.mkdir()
+    locked.chmod(0o500)
+    count = _interrupt_after(monkeypatch, magnetic, "_point", 10**6)
+    assert main(FLUXMAP + ["--checkpoint", str(locked)]) == 2
+    assert "not writable" in _one_line(capsys.readouterr().err)
+    assert count == []
