@@ -324,3 +324,18 @@ def test_a_read_only_checkpoint_is_refused_before_any_work(tmp_path, monkeypatch
     assert main(FLUXMAP + ["--checkpoint", str(locked)]) == 2
     assert "not writable" in _one_line(capsys.readouterr().err)
     assert count == []
+
+
+def test_a_sweep_task_draws_no_bar_even_on_a_terminal(no_delay, monkeypatch):
+    from hyperlattice.sweep import tasks
+
+    tty = _Tty()
+    monkeypatch.setattr(sys, "stderr", tty)
+    monkeypatch.delenv(_progress.ENV, raising=False)
+    seen = []
+    import dataclasses
+
+    task = dataclasses.replace(tasks.TASKS["probe"], run=lambda **kw: seen.append(_progress.enabled()) or {})
+    monkeypatch.setitem(tasks.TASKS, "probe", task)
+    tasks.execute("probe", {})
+    assert seen == [False] and tty.text == ""
