@@ -339,3 +339,28 @@ def test_a_sweep_task_draws_no_bar_even_on_a_terminal(no_delay, monkeypatch):
     monkeypatch.setitem(tasks.TASKS, "probe", task)
     tasks.execute("probe", {})
     assert seen == [False] and tty.text == ""
+
+
+def test_an_interrupted_sweep_says_where_its_rows_are(tmp_path, monkeypatch, capsys):
+    import dataclasses
+
+    from hyperlattice.sweep import tasks
+
+    calls, stop = [], [True]
+
+    def probe(x=0.0, sleep=0.0):
+        if stop[0] and len(calls) == 2:  # Ctrl-C during the third task
+            raise KeyboardInterrupt
+        calls.append(x)
+        return {"y": x * x}
+
+    monkeypatch.setitem(tasks.TASKS, "probe", dataclasses.replace(tasks.TASKS["probe"], run=probe))
+    out = tmp_path / "sw"
+    words = ["sweep", "--task", "probe", "--grid", "x=1,2,3,4", "--out", str(out), "--scheduler", "serial"]
+    assert main(words) == 130
+    assert _one_line(capsys.readouterr().err) == (f"hyperlattice sweep: interrupted: the finished tasks are kept in "
+                                                  f"{out}; rerun the same command to resume")
+    stop[0] = False
+    assert main(words + ["--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert (summary["skipped"], summary["completed"]) == (2, 2)
