@@ -364,3 +364,48 @@ def test_an_interrupted_sweep_says_where_its_rows_are(tmp_path, monkeypatch, cap
     assert main(words + ["--json"]) == 0
     summary = json.loads(capsys.readouterr().out)
     assert (summary["skipped"], summary["completed"]) == (2, 2)
+
+
+DOS = ["dos", "--rings", "6", "--vectors", "20", "--moments", "64"]
+
+
+def test_dos_resumes_to_the_same_table(tmp_path, monkeypatch, capsys):
+    from hyperlattice.graph import kpm
+    from hyperlattice.graph.lattice import ring_lattice
+
+    assert kpm.block_width(ring_lattice(7, 3, 6).sites, 20) == 8
+    plain = tmp_path / "plain.csv"
+    assert main(DOS + ["--out", str(plain)]) == 0
+    capsys.readouterr()
+
+    ck, table = tmp_path / "ck", tmp_path / "resumed.csv"
+    with monkeypatch.context() as mp:
+        _interrupt_after(mp, kpm, "_chebyshev_moments_block", 2)   # blocks of 8, 8, 4 vectors
+        code = main(DOS + ["--out", str(table), "--checkpoint", str(ck)])
+    line = _one_line(capsys.readouterr().err)
+    assert code == 130
+    assert line == (f"hyperlattice dos: interrupted: 2 of 3 blocks of random vectors kept in {ck}; "
+                    "rerun the same command to resume")
+    assert len(list(ck.glob("*/kpm-block-*.json"))) == 2
+
+    count = _interrupt_after(monkeypatch, kpm, "_chebyshev_moments_block", 10**6)
+    assert main(DOS + ["--out", str(table), "--checkpoint", str(ck)]) == 0
+    assert len(count) == 1                             # only the last block
+    assert table.read_bytes() == plain.read_bytes()
+
+
+def test_a_dos_checkpoint_serves_only_its_own_operator(tmp_path):
+    from hyperlattice.graph.kpm import bulk_dos, kpm_dos
+    from hyperlattice.graph.lattice import ring_lattice
+
+    a = bulk_dos(ring_lattice(7, 3, 5), 32, vectors=3, checkpoint=tmp_path)
+    b = kpm_dos(ring_lattice(7, 3, 5), 32, vectors=3, checkpoint=tmp_path)   # all sites: another trace
+    c = bulk_dos(ring_lattice(7, 3, 5), 32, vectors=3, seed=1, checkpoint=tmp_path)
+    assert len(list(tmp_path.glob("*/kpm-block-*.json"))) == 3
+    assert np.array_equal(b.mu, kpm_dos(ring_lattice(7, 3, 5), 32, vectors=3).mu)
+    assert not np.array_equal(a.mu, b.mu) and not np.array_equal(a.mu, c.mu)
+
+
+def test_dos_site_takes_no_checkpoint(tmp_path, capsys):
+    assert main(["dos", "--rings", "4", "--site", "0", "--checkpoint", str(tmp_path)]) == 2
+    assert "--checkpoint" in _one_line(capsys.readouterr().err)
