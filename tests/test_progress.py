@@ -112,17 +112,32 @@ def test_a_forced_bar_writes_to_stderr_only(no_delay, capsys):
 # the command line
 # ---------------------------------------------------------------------------------------------
 
-def _subparsers():
-    parser = build_parser()
-    action = next(a for a in parser._actions if a.dest == "command")
-    return action.choices
+def _commands(parser, words=()):
+    """Every (words, parser) of the command line, nested subcommands (``bosons ed``) included."""
+    import argparse
+
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for name, sub in action.choices.items():
+                yield words + (name,), sub
+                yield from _commands(sub, words + (name,))
 
 
 def test_every_command_takes_progress_and_no_progress():
-    for name, sub in _subparsers().items():
+    found = list(_commands(build_parser()))
+    assert len(found) > 20 and ("bosons", "ed") in [w for w, _ in found]
+    for words, sub in found:
         for flag in ("--progress", "--no-progress"):
-            assert flag in sub._option_string_actions, (name, flag)
-        assert sub._option_string_actions["--no-progress"].dest == "progress", name
+            assert flag in sub._option_string_actions, (words, flag)
+        assert sub._option_string_actions["--no-progress"].dest == "progress", words
+
+
+@pytest.mark.parametrize("tail,expected", [([], None), (["--no-progress"], False), (["--progress"], True)])
+def test_the_flag_counts_after_a_nested_subcommand(tail, expected):
+    args = build_parser().parse_args(["scaling", "angles", "--rings", "2"] + tail)
+    assert args.progress is expected
+    args = build_parser().parse_args(["scaling", "--progress", "angles", "--rings", "2"] + tail)
+    assert args.progress is (True if expected is None else expected)
 
 
 def test_no_bar_when_stderr_is_not_a_terminal(no_delay, capsys, tmp_path, monkeypatch):

@@ -78,12 +78,23 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
     for mod in _commands(only):
         p = sub.add_parser(mod.NAME, help=mod.HELP, description=getattr(mod, "DESCRIPTION", mod.HELP))
         mod.add_arguments(p)
-        if "--no-progress" not in p._option_string_actions:
-            p.add_argument("--progress", dest="progress", action="store_true", default=None,
-                           help="progress bars on stderr (default: only when stderr is a terminal)")
-            p.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bars")
+        _add_progress(p, None)
         p.set_defaults(_run=mod.run)
     return parser
+
+
+def _add_progress(parser: argparse.ArgumentParser, default) -> None:
+    """``--progress`` / ``--no-progress`` on a command and on its own subcommands (``bosons ed``), so
+    the flags work after any word; a subcommand leaves the value alone unless the flag is given there."""
+    if "--no-progress" not in parser._option_string_actions:
+        parser.add_argument("--progress", dest="progress", action="store_true", default=default,
+                            help="progress bars on stderr (default: only when stderr is a terminal)")
+        parser.add_argument("--no-progress", dest="progress", action="store_false", default=default,
+                            help="no progress bars")
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in action.choices.values():
+                _add_progress(sub, argparse.SUPPRESS)
 
 
 def _one_line(text: str) -> str:
