@@ -39,6 +39,7 @@ __all__ = [
     "choice",
     "flag",
     "function",
+    "progress",
     "lattice",
     "site_index",
     "site_indices",
@@ -192,6 +193,15 @@ def flag(name: str, value) -> bool:
     if not isinstance(value, (bool, np.bool_)):
         raise ValueError(f"{name} must be True or False, got {_shown(value)}.")
     return bool(value)
+
+
+def progress(name: str, value):
+    """A ``progress`` argument: True, False, None (auto) or a function receiving one-line messages."""
+    if value is None or callable(value):
+        return value
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    raise ValueError(f"{name} must be True, False, None or a function, got {_shown(value)}.")
 
 
 def function(name: str, value) -> Callable:
