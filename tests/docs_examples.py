@@ -6,7 +6,8 @@ of one page in order with one namespace per page, and each ``Example`` evaluates
 evaluator its ``Region`` carries. This module adds only what is particular to this project:
 which fences are examples, what the comments mean, how a shell line runs, and how a quoted
 output is compared with a tolerance. ``tests/test_docs_examples.py`` turns the examples into
-parametrized pytest items (so markers and ids are ordinary pytest ones).
+parametrized pytest items (so markers, ids and ``-k`` are ordinary pytest ones, and the pages
+need no conftest at the repository root, which Sybil's own pytest plugin would).
 
 Which fences run
     ```python                          Python, in a fresh namespace (a reader pasting this block alone)
@@ -27,6 +28,13 @@ Comments placed directly before a fence (only blank lines between; several may s
                                           prints (stdout), numbers compared within the tolerances,
                                           all other text word for word (whitespace runs equal)
 
+Inside a Python block, a top-level expression whose line ends in ``# => QUOTED`` is checked: the
+numbers of QUOTED (words between them are labels and are ignored) must equal, in order and in
+number, the numbers of the expression's value (tuples, lists, dicts' values and arrays
+flattened), each within one unit of its last quoted digit (``0.283128...`` or ``0.283128`` both
+mean |x - 0.283128| <= 1e-6); a quoted integer must match exactly. A ``;`` ends QUOTED: what
+follows is a remark, never checked (``# => b = -9.0954; N(r) ~ 14 rho + b``).
+
 A comment that is not followed by a fence, or an unknown word, fails the page's collection:
 a typo must not silently switch a check off.
 
@@ -36,16 +44,19 @@ by a later one, as in a reader's shell session), created for the test run.
 
 from __future__ import annotations
 
+import ast
 import contextlib
 import io
+import math
 import os
 import re
 import subprocess
 import sys
+import tokenize
 from dataclasses import dataclass
 from pathlib import Path
 
-from sybil import Document, Region, Sybil
+from sybil import Document, Region
 from sybil.parsers.markdown.lexers import DirectiveInHTMLCommentLexer, RawFencedCodeBlockLexer
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -198,10 +209,6 @@ def parse_markdown(document: Document):
     return [region for region, _ in specs]
 
 
-def sybil(path: Path = ROOT, patterns=("README.md", "docs/*.md")) -> Sybil:
-    return Sybil(parsers=[parse_markdown], patterns=list(patterns), path=str(path))
-
-
 def parse_file(path: Path) -> Document:
     return Document.parse(str(path), parse_markdown)
 
@@ -244,6 +251,61 @@ def _state(namespace: dict) -> dict:
     return namespace.setdefault("_doctest", {"python_ns": None})
 
 
+_QUOTED = re.compile(r"(?<![\w.^])[-−+]?\d+(?:,\d{3})*(?:\.\d+)?(?:[eE][-+]?\d+)?")
+
+
+def _flatten(value) -> list[float]:
+    """The numbers of an expression's value, in reading order."""
+    import numpy as np  # noqa: PLC0415
+
+    if isinstance(value, bool) or value is None or isinstance(value, str):
+        return []
+    if isinstance(value, (int, float, np.integer, np.floating)):
+        return [float(value)]
+    if isinstance(value, (complex, np.complexfloating)):
+        return [float(value.real), float(value.imag)]
+    if isinstance(value, np.ndarray):
+        return [x for v in value.ravel().tolist() for x in _flatten(v)]
+    if isinstance(value, dict):
+        return [x for v in value.values() for x in _flatten(v)]
+    if isinstance(value, (tuple, list)):
+        return [x for v in value for x in _flatten(v)]
+    raise TypeError(f"cannot read numbers from a {type(value).__name__}.")
+
+
+def check_quoted(quoted: str, value) -> str | None:
+    """None if ``value`` carries the numbers quoted in ``quoted`` (see the module docstring)."""
+    expected = _QUOTED.findall(quoted)
+    got = _flatten(value)
+    if len(expected) != len(got):
+        return f"quoted {len(expected)} numbers ({quoted!r}), the value has {len(got)}: {value!r}"
+    for token, y in zip(expected, got):
+        mantissa, _, exponent = token.replace("−", "-").lower().partition("e")
+        x = float(mantissa.replace(",", "")) * 10.0 ** int(exponent or 0)
+        if "." not in mantissa:
+            tol = 0.0 if not exponent else 10.0 ** int(exponent)
+        else:
+            tol = 10.0 ** (int(exponent or 0) - len(mantissa.split(".")[1]))
+        if not (abs(x - y) <= tol * (1 + 1e-9) or (math.isnan(x) and math.isnan(y))):
+            return f"quoted {token}, the value has {y!r} (tolerance {tol:g}): {quoted!r}"
+    return None
+
+
+def _instrument(source: str, filename: str):
+    """Compile ``source``, wrapping every ``expr  # => QUOTED`` in a check of its value."""
+    tree = ast.parse(source, filename)
+    comments = {tok.start[0]: tok.string for tok in tokenize.generate_tokens(io.StringIO(source).readline)
+                if tok.type == tokenize.COMMENT}
+    for node in tree.body:
+        comment = comments.get(node.end_lineno, "").lstrip("#").strip()
+        if isinstance(node, ast.Expr) and comment.startswith("=>"):
+            quoted = comment[2:].split(";", 1)[0].strip()
+            node.value = ast.Call(func=ast.Name("__doctest_quoted__", ast.Load()),
+                                  args=[ast.Constant(node.end_lineno), ast.Constant(quoted),
+                                        node.value], keywords=[])
+    return compile(ast.fix_missing_locations(tree), filename, "exec")
+
+
 def _run_python(spec: Spec, state: dict) -> str:
     if spec.options.cont:
         if state["python_ns"] is None:
@@ -254,7 +316,15 @@ def _run_python(spec: Spec, state: dict) -> str:
         namespace = {"__name__": "__main__"}
     state["python_ns"] = namespace
     # line numbers of tracebacks are the page's own
-    code = compile("\n" * (spec.line - 1) + spec.source, spec.path, "exec")
+    code = _instrument("\n" * (spec.line - 1) + spec.source, spec.path)
+
+    def quoted_check(line, quoted, value):
+        message = check_quoted(quoted, value)
+        if message is not None:
+            raise AssertionError(f"{spec.path}:{line}: {message}")
+        return value
+
+    namespace["__doctest_quoted__"] = quoted_check
     out = io.StringIO()
     with contextlib.redirect_stdout(out):
         exec(code, namespace)

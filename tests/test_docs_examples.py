@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from docs_examples import ROOT, DocExampleError, compare_output, parse_file, sybil
+from docs_examples import ROOT, DocExampleError, compare_output, parse_file
 
 PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
 
@@ -181,7 +181,19 @@ def test_compare_output(expected, actual, rtol, ok):
     assert (compare_output(expected, actual, rtol, 0.0) is None) is ok
 
 
-def test_every_page_is_collected():
-    # the Sybil configuration names the same pages as the parametrization above
-    s = sybil()
-    assert sorted(p for p in PAGES if s.should_parse(p)) == sorted(PAGES)
+@pytest.mark.parametrize("source, ok", [
+    ("(2240, [7, 28])  # => 2240, [7, 28]", True),
+    ("(2240, [7, 28])  # => 2241, [7, 28]", False),                 # integers exactly
+    ("0.2831281  # => 0.283128...", True),                          # one unit of the last digit
+    ("0.2831301  # => 0.283128...", False),
+    ("(1.0, 2.0)  # => E0 = 1.0", False),                           # every number is quoted
+    ("[-2.8941971, 1]  # => [-2.894197], n = 1", True),
+    ("{'E0': 187.2}  # => {'E0': 187}", False),
+    ("2.5e-14  # => 3e-14", True),
+    ("5e-13  # => 3e-14", False),
+    ("1.0  # a comment with 7 in it, not checked", True),
+    ("-9.09541  # => b = -9.0954; N(r) ~ 14 rho + b", True),       # after ';' a remark
+])
+def test_quoted_values(tmp_path, source, ok):
+    results = _run_page(tmp_path, f"```python\n{source}\n```\n")
+    assert (results[0][0] == "passed") is ok, results
