@@ -197,3 +197,20 @@ def test_compare_output(expected, actual, rtol, ok):
 def test_quoted_values(tmp_path, source, ok):
     results = _run_page(tmp_path, f"```python\n{source}\n```\n")
     assert (results[0][0] == "passed") is ok, results
+
+
+def test_console_blocks_compare_their_output(tmp_path):
+    page = textwrap.dedent("""\
+        ```console
+        $ echo 146 2
+        146 2
+        ```
+
+        ```console
+        $ echo 146 2
+        148 2
+        ```
+        """)
+    results = _run_page(tmp_path, page)
+    assert [r[0] for r in results] == ["passed", "failed"]
+    assert "expected output\n148 2\ngot\n146 2" in str(results[1][1])
