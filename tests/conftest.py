@@ -27,6 +27,9 @@ def pytest_addoption(parser):
     group.addoption("--superlu-only", action="store_true", default=False,
                     help="hide CHOLMOD (HYPERLATTICE_FACTOR_BACKEND=superlu, inherited by CLI subprocesses): "
                          "every factorisation runs SciPy's SuperLU, the CHOLMOD-only tests skip")
+    group.addoption("--run-heavy", action="store_true", default=False,
+                    help="also run the tests marked heavy (docs examples of minutes or GBs: ell = 16/17 "
+                         "flakes, 10^7-site clusters); deselected by default")
 
 
 def pytest_configure(config):
@@ -78,6 +81,11 @@ def pytest_collection_modifyitems(config, items):
     for item in items:
         if item.path.name in MACHINE_INDEPENDENCE_FILES:
             item.add_marker(mark)
+    if not config.getoption("--run-heavy"):
+        heavy = [item for item in items if item.get_closest_marker("heavy") is not None]
+        if heavy:
+            config.hook.pytest_deselected(items=heavy)
+            items[:] = [item for item in items if item.get_closest_marker("heavy") is None]
 
 
 def pytest_report_header(config):

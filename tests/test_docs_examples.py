@@ -1,0 +1,216 @@
+"""Every fenced Python and shell example of README.md and docs/*.md runs, as written (issue 21).
+
+The collector and the annotation syntax are in ``tests/docs_examples.py``. One pytest item per
+example, in page order; a page's examples share one working directory and, where a block says
+``<!-- doctest: continue -->``, the previous block's namespace, so run a page's items together
+(``-k docs/sweeps.md``), not one from its middle. ``slow`` and ``heavy`` come from the page's
+comments; ``heavy`` items are deselected unless ``--run-heavy`` is given.
+"""
+
+import os
+import textwrap
+from pathlib import Path
+
+import pytest
+
+from docs_examples import ROOT, DocExampleError, compare_output, parse_file
+
+PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+
+
+def _examples():
+    params = []
+    for page in PAGES:
+        document = parse_file(page)
+        for example in document.examples():
+            spec = example.parsed
+            marks = [getattr(pytest.mark, m) for m in spec.options.markers()]
+            if spec.options.skip:
+                marks.append(pytest.mark.skip(reason=spec.options.skip))
+            rel = page.relative_to(ROOT)
+            params.append(pytest.param(example, id=f"{rel}:{example.line}-{spec.kind}", marks=marks))
+    return params
+
+
+@pytest.fixture(scope="module")
+def page_dirs(tmp_path_factory):
+    """One working directory per page, and a private cache, so the user's is never touched."""
+    cache = tmp_path_factory.mktemp("doc-cache")
+    old = os.environ.get("HYPERLATTICE_CACHE")
+    os.environ["HYPERLATTICE_CACHE"] = str(cache)
+    dirs = {}
+    yield lambda name: dirs.setdefault(name, tmp_path_factory.mktemp(Path(name).stem))
+    if old is None:
+        del os.environ["HYPERLATTICE_CACHE"]
+    else:
+        os.environ["HYPERLATTICE_CACHE"] = old
+
+
+@pytest.mark.parametrize("example", _examples())
+def test_doc_example(example, page_dirs):
+    example.namespace.setdefault("_doctest", {"python_ns": None})["cwd"] = page_dirs(example.path)
+    example.evaluate()
+
+
+# ------------------------------------------------------------------------------------------------
+# the collector itself: a broken example must fail
+# ------------------------------------------------------------------------------------------------
+
+BROKEN = """\
+# A page with three broken examples
+
+```python
+import math
+print(math.sqrt(2.0))
+```
+
+<!-- doctest: output rtol=1e-6 -->
+```text
+1.5
+```
+
+```python
+print(undefined_name)
+```
+
+```bash
+hyperlattice lattice -p 7 -q 3 --rings 0 --json
+```
+
+```text
+never runs
+```
+
+```{toctree}
+:maxdepth: 1
+not-an-example
+```
+
+<!-- doctest: continue -->
+```python
+import math
+print(round(math.sqrt(2.0), 6))
+```
+
+<!-- doctest: output rtol=1e-6 -->
+```text
+1.414214
+```
+
+<!-- doctest: skip needs a cluster -->
+```sh
+hyperlattice sweep sweep.json --scheduler tcp://head-node:8786
+```
+"""
+
+
+def _run_page(tmp_path, text):
+    page = tmp_path / "page.md"
+    page.write_text(text)
+    document = parse_file(page)
+    results = []
+    for example in document.examples():
+        example.namespace.setdefault("_doctest", {"python_ns": None})["cwd"] = tmp_path
+        if example.parsed.options.skip:
+            results.append(("skipped", example))
+            continue
+        try:
+            example.evaluate()
+        except Exception as exc:  # noqa: BLE001 - the outcome is what is asserted
+            results.append(("failed", exc))
+        else:
+            results.append(("passed", example))
+    return results
+
+
+def test_broken_examples_fail(tmp_path):
+    results = _run_page(tmp_path, BROKEN)
+    outcomes = [r[0] for r in results]
+    # wrong quoted output, NameError, failing command; the good continued block; the skip
+    assert outcomes == ["failed", "failed", "failed", "passed", "skipped"]
+    assert "number 1 of the output: expected 1.5, got 1.41421" in str(results[0][1])
+    assert isinstance(results[1][1], NameError)
+    assert "exited with 2" in str(results[2][1]) and "--rings 0" in str(results[2][1])
+
+
+def test_fresh_namespace_unless_continued(tmp_path):
+    page = textwrap.dedent("""\
+        ```python
+        x = 1
+        ```
+
+        ```python
+        print(x)
+        ```
+
+        <!-- doctest: continue -->
+        ```python
+        print(x)
+        ```
+        """)
+    results = _run_page(tmp_path, page)
+    assert [r[0] for r in results] == ["passed", "failed", "failed"]
+    assert isinstance(results[1][1], NameError)
+
+
+@pytest.mark.parametrize("page", [
+    "<!-- doctest: skip -->\n```python\npass\n```\n",              # skip without a reason
+    "<!-- doctest: sometimes -->\n```python\npass\n```\n",         # unknown word
+    "<!-- doctest: slow -->\n\nsome prose\n\n```python\npass\n```\n",  # not before its fence
+    "<!-- doctest: output rtol=1e-3 -->\n```text\n1\n```\n",       # output of nothing
+    "<!-- doctest: output tol=1 -->\n```python\npass\n```\n",      # not a tolerance
+    "```python\npass\n```\n<!-- doctest: slow -->\n",              # dangling at the end
+])
+def test_bad_annotations_are_refused(tmp_path, page):
+    path = tmp_path / "page.md"
+    path.write_text(page)
+    with pytest.raises(DocExampleError):
+        parse_file(path)
+
+
+@pytest.mark.parametrize("expected, actual, rtol, ok", [
+    ("0.519 ± 0.004", "0.5191 ± 0.0040", 1e-3, True),
+    ("0.519 ± 0.004", "0.516 ± 0.005", 1e-3, False),
+    ("146 2", "146 2\n", 0.0, True),
+    ("146 2", "148 2", 0.0, False),
+    ("E = -2.894197", "E = −2.894197", 0.0, True),
+    ("[1.0, 2.0]", "[1.0 2.0]", 0.0, False),
+    ("a 1", "b 1", 1.0, False),
+])
+def test_compare_output(expected, actual, rtol, ok):
+    assert (compare_output(expected, actual, rtol, 0.0) is None) is ok
+
+
+@pytest.mark.parametrize("source, ok", [
+    ("(2240, [7, 28])  # => 2240, [7, 28]", True),
+    ("(2240, [7, 28])  # => 2241, [7, 28]", False),                 # integers exactly
+    ("0.2831281  # => 0.283128...", True),                          # one unit of the last digit
+    ("0.2831301  # => 0.283128...", False),
+    ("(1.0, 2.0)  # => E0 = 1.0", False),                           # every number is quoted
+    ("[-2.8941971, 1]  # => [-2.894197], n = 1", True),
+    ("{'E0': 187.2}  # => {'E0': 187}", False),
+    ("2.5e-14  # => 3e-14", True),
+    ("5e-13  # => 3e-14", False),
+    ("1.0  # a comment with 7 in it, not checked", True),
+    ("-9.09541  # => b = -9.0954; N(r) ~ 14 rho + b", True),       # after ';' a remark
+])
+def test_quoted_values(tmp_path, source, ok):
+    results = _run_page(tmp_path, f"```python\n{source}\n```\n")
+    assert (results[0][0] == "passed") is ok, results
+
+
+def test_console_blocks_compare_their_output(tmp_path):
+    page = textwrap.dedent("""\
+        ```console
+        $ echo 146 2
+        146 2
+        ```
+
+        ```console
+        $ echo 146 2
+        148 2
+        ```
+        """)
+    results = _run_page(tmp_path, page)
+    assert [r[0] for r in results] == ["passed", "failed"]
+    assert "expected output\n148 2\ngot\n146 2" in str(results[1][1])
