@@ -274,10 +274,12 @@ def pq(p, q, *, allow_infinite_p: bool = False) -> tuple:
 
 
 def lattice(value, *, kind: str | None = None) -> Lattice:
-    """A :class:`~hyperlattice.graph.lattice.Lattice` (``kind`` "sites" or "line_graph" if given)."""
-    from .graph.lattice import Lattice
+    """A :class:`~hyperlattice.graph.lattice.Lattice` (``kind`` "sites" or "line_graph" if given).
 
-    if not isinstance(value, Lattice):
+    Recognised by the class marker ``__hyperlattice_lattice__`` that :class:`Lattice` (and any
+    subclass) carries: this module is the bottom layer and does not import ``graph/``.
+    """
+    if getattr(type(value), "__hyperlattice_lattice__", False) is not True:
         raise ValueError(f"expected a Lattice (from ring_lattice or line_graph), got {type(value).__name__}.")
     if kind is not None and value.kind != kind:
         hint = (" (the continuum dictionary is derived for the {p,q} lattice itself, not its line graph)"

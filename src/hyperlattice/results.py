@@ -14,7 +14,7 @@ a fit) is a :class:`Result`:
 * :meth:`Result.summary` is the short JSON view the CLI prints (a stable contract; by default
   the plain view of :func:`to_jsonable`);
 * :meth:`Result.plot` draws it on a matplotlib ``ax`` and returns the axes, where a plot makes
-  sense.
+  sense (see "Figures" below).
 
 :class:`Levels` is the shared shape of a list of energy levels, on the graph and in the
 continuum alike: ``energies``, ``n``, ``m``, ``degeneracy``, ``errors`` (a residual or an error
@@ -34,26 +34,39 @@ that JSON cannot hold exactly are written as one-key objects whose key starts wi
   ``{"__dict__": [[key, value], ...]}``, a path ``{"__path__": "..."}``;
 * a nested result: its own ``as_dict()`` (recognised by its ``"type"``).
 
-This module imports only numpy (matplotlib only inside ``plot``): every layer may use it.
+Figures
+-------
+Result types do not import the plotting layer, and :mod:`hyperlattice.plots` does not hand
+drawings back through methods: ``plots`` registers one function per result type with
+:func:`register_plotter` (a decorator next to each drawing), and :meth:`Result.plot` looks the
+function up by the result's ``TYPE`` (nearest base class first). When ``plots`` was never
+imported, the look-up imports it by name (:func:`importlib.import_module`), once: imports run
+one way, from ``plots`` down to the results, and ``import hyperlattice.graph.lattice`` never
+loads matplotlib. See ``docs/architecture.md`` for the layer rule.
+
+This module imports only numpy: every layer may use it.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import hashlib
+import importlib
 import json
 import math
+import sys
 import typing
 import zipfile
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import TYPE_CHECKING, Any, Callable, ClassVar
 
 import numpy as np
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-__all__ = ["Result", "Levels", "load_result", "to_jsonable", "from_jsonable", "result_types"]
+__all__ = ["Result", "Levels", "load_result", "to_jsonable", "from_jsonable", "result_types",
+           "register_plotter", "plotter"]
 
 _REGISTRY: dict[str, type] = {}
 
@@ -61,6 +74,47 @@ _REGISTRY: dict[str, type] = {}
 def result_types() -> dict[str, type]:
     """Every registered result class by its ``type`` tag (for :func:`load_result`)."""
     return dict(_REGISTRY)
+
+
+# ----------------------------------------------------------------------------
+# figures: plots/ registers a drawing per result type; Result.plot asks here
+# ----------------------------------------------------------------------------
+
+#: drawing function of each result type tag, filled by hyperlattice.plots when it is imported
+_PLOTTERS: dict[str, Callable] = {}
+_PLOTS_PACKAGE = "hyperlattice.plots"
+
+
+def register_plotter(kind) -> Callable:
+    """Decorator: the function draws results of ``kind`` (a result class or its ``TYPE`` tag).
+
+    The function is called as ``func(result, ax=ax, **kwargs)`` by :meth:`Result.plot` and
+    returns the axes. Only :mod:`hyperlattice.plots` registers; a subclass without a drawing of
+    its own uses the one of its nearest registered base class.
+    """
+    tag = kind.TYPE if isinstance(kind, type) and issubclass(kind, Result) else kind
+    if not isinstance(tag, str) or not tag:
+        raise ValueError(f"a plotter is registered for a result class or its type tag, got {kind!r}.")
+
+    def register(func: Callable) -> Callable:
+        _PLOTTERS[tag] = func
+        return func
+
+    return register
+
+
+def plotter(kind: type) -> Callable | None:
+    """The drawing registered for result class ``kind`` (or its nearest base), or None.
+
+    The first look-up imports :mod:`hyperlattice.plots` by name (:func:`importlib.import_module`),
+    which registers every drawing: result modules never import the plotting layer themselves.
+    """
+    if sys.modules.get(_PLOTS_PACKAGE) is None:
+        importlib.import_module(_PLOTS_PACKAGE)
+    for klass in kind.__mro__:
+        if klass is not Result and issubclass(klass, Result) and klass.TYPE in _PLOTTERS:
+            return _PLOTTERS[klass.TYPE]
+    return None
 
 
 # ----------------------------------------------------------------------------
@@ -466,9 +520,21 @@ class Result:
         return None
 
     # -- figures -----------------------------------------------------------------------
-    def plot(self, ax=None) -> Axes:
-        """Draw the result on ``ax`` (a new figure if None) and return the axes."""
-        raise NotImplementedError(f"{type(self).__name__} has no standard plot.")
+    def plot(self, ax=None, **kwargs) -> Axes:
+        """Draw the result on ``ax`` (a new figure if None) and return the axes.
+
+        The drawing is the function :mod:`hyperlattice.plots` registered for this result type
+        (:func:`register_plotter`); ``kwargs`` go to it. See "Figures" in the module docstring.
+
+        Raises
+        ------
+        NotImplementedError
+            If no figure is registered for this result type.
+        """
+        func = plotter(type(self))
+        if func is None:
+            raise NotImplementedError(f"{type(self).__name__} has no standard plot.")
+        return func(self, ax=ax, **kwargs)
 
 
 #: Smallest valid value of integer fields of these names, wherever they occur.
@@ -709,18 +775,6 @@ class Levels(Result):
         m = [None] * len(self) if self.m is None else self.m.tolist()
         return [{"energy": float(e), "n": int(n), "m": mm, "degeneracy": int(g), "error": float(r)}
                 for e, n, mm, g, r in zip(self.energies, self.n, m, self.degeneracy, self.errors)]
-
-    def plot(self, ax=None, *, label: str | None = None, marker: str = "_", **kwargs) -> Axes:
-        """Levels against m (the angular momentum), one marker per state; returns the axes."""
-        from .plots import new_axes
-
-        ax = new_axes(ax)
-        x = np.zeros(len(self)) if self.m is None else self.m
-        ax.plot(x, self.energies, linestyle="none", marker=marker, markersize=14,
-                label=label or self.method, **kwargs)
-        ax.set_xlabel("angular momentum m")
-        ax.set_ylabel("energy E / t")
-        return ax
 
 
 def compare_levels(graph: Levels, continuum: Levels) -> dict:

@@ -222,16 +222,6 @@ class MottLobe(Result):
                 "mu_over_U": self.mu_over_U.tolist(), "t_c_over_U": self.t_c_over_U.tolist(),
                 "tip_mu_over_U": self.tip_mu_over_U, "tip_t_over_U": self.tip_t_over_U}
 
-    def plot(self, ax=None):
-        """The lobe boundary (t/U horizontal, μ/U vertical, the usual orientation)."""
-        from ..plots import new_axes
-
-        ax = new_axes(ax, size=(4.5, 3.5))
-        ax.plot(self.t_c_over_U, self.mu_over_U, label=self.label)
-        ax.set_xlabel("t / U")
-        ax.set_ylabel("μ / U")
-        return ax
-
 
 def mott_lobe(lambda_max: float, filling: int = 1, points: int = 201, *, label: str = "") -> MottLobe:
     r"""The mean-field Mott lobe of filling n for a graph with largest adjacency eigenvalue :math:`\lambda_{\max}`.
@@ -589,11 +579,6 @@ class MottLobeTable(Result):
 
     def summary(self) -> dict:
         return {"p": self.p, "q": self.q, "filling": self.filling, "rows": self.rows()}
-
-    def plot(self, ax=None):
-        from ..plots.bosons import plot_mott_lobes
-
-        return plot_mott_lobes(self, ax=ax)
 
 
 def mott_lobes(p: int = 7, q: int = 3, rings=(3, 4, 5, 6, 8, 10, 12), *, filling: int = 1, clusters=(),

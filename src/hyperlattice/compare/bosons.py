@@ -62,11 +62,6 @@ class GPComparison(Result):
         return {"p": self.p, "q": self.q, "filling": self.filling, "U": self.U, "t": self.t, "d0": self.d0,
                 "rows": self.rows}
 
-    def plot(self, axes=None):
-        from ..plots.bosons import gp_comparison_figure
-
-        return gp_comparison_figure(self, axes=axes)
-
 
 def gp_comparison(p: int = 7, q: int = 3, rings=(3, 4, 5, 6, 7), *, filling: float = 1.0, U: float = 0.5,
                   t: float = 1.0, modes: int = 5, cells: int = 800) -> GPComparison:

@@ -15,7 +15,6 @@ distance alone). Conformal (automorphism) invariance emerges as :math:`S\to 0` f
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -24,8 +23,6 @@ from ..geometry import d0, distance
 from ..graph.lattice import Lattice
 from ..results import Result
 
-if TYPE_CHECKING:
-    from matplotlib.axes import Axes
 
 __all__ = ["correlation_pairs", "sorted_pairs", "bin_by_distance", "BinnedCorrelation", "collapse_measure"]
 
@@ -90,12 +87,6 @@ class BinnedCorrelation(Result):
     std: np.ndarray
     count: np.ndarray
     edge_ties: int = 0
-
-    def plot(self, ax=None, **kwargs) -> Axes:
-        """Mean ± standard deviation (real part) against the bin centre; returns the axes."""
-        from ..plots.green import plot_binned
-
-        return plot_binned(self, ax=ax, **kwargs)
 
 
 def _values(name: str, values, shape) -> np.ndarray:

@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.linalg as sla
@@ -36,8 +35,6 @@ from ..graph.disorder import MODELS, _system, disorder, disordered_hamiltonian, 
 from ..graph.lattice import Lattice
 from ..results import Result
 
-if TYPE_CHECKING:
-    from matplotlib.axes import Axes
 
 __all__ = ["GOE_R", "POISSON_R", "spacing_ratios", "inverse_participation", "default_windows",
            "realization_observables", "DisorderEnsemble", "disorder_ensemble", "RScan", "r_scan",
@@ -227,12 +224,6 @@ class DisorderEnsemble(Result):
                 "r_window": self.r_window.tolist(),
                 "ipr_window": self.ipr_window.tolist()}
 
-    def plot(self, ax=None) -> Axes:
-        """The averaged density of states (:func:`hyperlattice.plots.disorder.plot_dos`)."""
-        from ..plots.disorder import plot_dos
-
-        return plot_dos(self, ax=ax)
-
 
 def _pool(p, q, rings, kind, sites, model, strength, seed, realizations, omega0, rows, windows, dos_edges):
     r_sum = np.array([row["r_sum"] for row in rows])
@@ -343,12 +334,6 @@ class RScan(Result):
     r_mean: np.ndarray
     r_err: np.ndarray
 
-    def plot(self, ax=None) -> Axes:
-        """<r> against W with the GOE and Poisson lines (:func:`hyperlattice.plots.disorder.plot_r_scan`)."""
-        from ..plots.disorder import plot_r_scan
-
-        return plot_r_scan(self, ax=ax)
-
 
 def r_scan(lattice: Lattice, strengths, realizations: int = 10, *, seed: int = 0, model: str = "box",
            window=(-1.0, 1.0)) -> RScan:
@@ -413,12 +398,6 @@ class DisorderGreen(Result):
     clean: np.ndarray = field(repr=False)
     mean: np.ndarray = field(repr=False)
     err: np.ndarray = field(repr=False)
-
-    def plot(self, ax=None) -> Axes:
-        """``|<G_ij>|`` and ``|G_ij(W = 0)|`` against distance (:func:`hyperlattice.plots.disorder.plot_green_distance`)."""
-        from ..plots.disorder import plot_green_distance
-
-        return plot_green_distance(self, ax=ax)
 
 
 def _omega_upper(omega) -> complex:
@@ -555,12 +534,6 @@ class SCBAComparison(Result):
                  "rel_continuum_scba": float(self.rel_continuum_scba[i]), "rel_noise": float(self.rel_noise[i]),
                  "born_ratio": float(self.born_ratio[i]), "sigma_graph": complex(self.sigma_graph[i]),
                  "sigma_continuum": complex(self.sigma_continuum[i])} for i in range(self.W.size)]
-
-    def plot(self, ax=None) -> Axes:
-        """Relative distances against W (:func:`hyperlattice.plots.disorder.plot_scba_comparison`)."""
-        from ..plots.disorder import plot_scba_comparison
-
-        return plot_scba_comparison(self, ax=ax)
 
 
 def _rel(a: np.ndarray, b: np.ndarray, keep: np.ndarray) -> float:

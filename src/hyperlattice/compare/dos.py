@@ -53,7 +53,7 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Callable
+from typing import Callable
 
 import numpy as np
 
@@ -61,8 +61,6 @@ from .. import _validate, dictionary, geometry
 from .._ties import monotone_tolerance
 from ..results import Result
 
-if TYPE_CHECKING:
-    from matplotlib.axes import Axes
 
 __all__ = ["continuum_dos", "continuum_integrated_dos", "jackson_density", "DosComparison", "dos_comparison",
            "quantile_energy", "DEFAULT_CLUSTERS"]
@@ -444,12 +442,6 @@ class DosComparison(Result):
                 "quantile_lattice_err": self.quantile_lattice_err.tolist(),
                 "quantile_continuum": self.quantile_continuum.tolist(),
                 "notes": list(self.notes)}
-
-    def plot(self, ax=None, *, window: tuple[float, float] | None = None) -> Axes:
-        """All densities (clusters, flakes, Abelian), the exact reference and the continuum."""
-        from ..plots.dos import comparison_axes
-
-        return comparison_axes(self, ax=ax, window=window)
 
 
 def _default_rings(p: int, q: int, max_sites: int = 300_000) -> tuple[int, ...]:

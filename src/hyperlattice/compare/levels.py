@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -24,8 +23,6 @@ from .. import _validate
 from .._ties import classify, stable_order
 from ..results import Levels, Result, compare_levels
 
-if TYPE_CHECKING:
-    from matplotlib.axes import Axes
 
 __all__ = [
     "LevelComparison",
@@ -82,12 +79,6 @@ class LevelComparison(Result):
         return {"p": self.graph.p, "q": self.graph.q, "graph_method": self.graph.method,
                 "continuum_method": self.continuum.method, "graph_error_kind": self.graph.error_kind,
                 "continuum_error_kind": self.continuum.error_kind, "levels": self.table()}
-
-    def plot(self, ax=None) -> Axes:
-        """Both level lists against the level index (graph filled, continuum open); returns the axes."""
-        from ..plots.paper import plot_level_comparison
-
-        return plot_level_comparison(self, ax=ax)
 
 
 def levels_side_by_side(graph: Levels, continuum: Levels) -> LevelComparison:
@@ -181,12 +172,6 @@ class RelativeErrorTrend(Result):
     def summary(self) -> dict:
         """All fields as plain JSON (lists, no type tags)."""
         return super().summary()
-
-    def plot(self, ax=None) -> Axes:
-        """The relative error against l, the sign change and the Aitken limit marked; returns the axes."""
-        from ..plots.paper import plot_relative_error
-
-        return plot_relative_error(self, ax=ax)
 
 
 def relative_error_trend(rings, graph, continuum, *, level: str = "E0") -> RelativeErrorTrend:
@@ -335,12 +320,6 @@ class LevelCount(Result):
         return -b * e0 + np.log((self.degeneracy[None, :] *
                                  np.exp(-b[:, None] * (self.energies[None, :] - e0))).sum(axis=1))
 
-    def plot(self, ax=None, **kwargs) -> Axes:
-        r"""The counting function :math:`\mathcal N(E)` as a staircase; returns the axes."""
-        from ..plots.paper import plot_level_counting
-
-        return plot_level_counting(self, ax=ax, **kwargs)
-
 
 def _check_beta(beta) -> np.ndarray:
     b = _validate.real_array("beta", beta, ndim=(0, 1))
@@ -464,12 +443,6 @@ class PartitionComparison(Result):
     continuum_states: int
     graph_zero_modes: int = 0
     graph_tolerance: float = 0.0
-
-    def plot(self, ax=None) -> Axes:
-        r""":math:`\ln Z` against :math:`\beta`, graph and disk, with the asymptote :math:`-\beta E_0`."""
-        from ..plots.paper import plot_partition
-
-        return plot_partition(self.beta, self.z_graph, self.z_continuum, self.e0_graph, ax=ax)
 
 
 def partition_functions(graph: LevelCount, continuum: LevelCount, beta) -> PartitionComparison:

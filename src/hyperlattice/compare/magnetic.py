@@ -25,15 +25,12 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .. import _validate
 from ..results import Result
 
-if TYPE_CHECKING:
-    from matplotlib.axes import Axes
 
 __all__ = ["MagneticComparison", "magnetic_comparison"]
 
@@ -146,13 +143,6 @@ class MagneticComparison(Result):
                 "max_relative_error": float(np.nanmax(self.relative_error)),
                 "agreement_limit": [None if math.isnan(v) else float(v) for v in self.agreement_limit()],
                 "statement": self.statement()}
-
-    def plot(self, ax=None) -> Axes:
-        """log10 of the worst relative error over the (f, l) plane, the 1e-3 contour in white."""
-        from ..plots.magnetic import error_map
-
-        return error_map(self.fluxes, self.rings, self.worst(), ax=ax,
-                         title=f"{{{self.p},{self.q}}}: graph vs continuum, {self.graph.shape[2]} lowest levels")
 
 
 def magnetic_comparison(p: int = 7, q: int = 3, *, rings=(3, 4, 5, 6, 7), fluxes=None,

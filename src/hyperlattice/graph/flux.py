@@ -51,7 +51,6 @@ from __future__ import annotations
 import numbers
 import time
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.linalg as sla
@@ -61,8 +60,6 @@ from ..dictionary import field_from_flux
 from ..results import Result
 from .lattice import Lattice
 
-if TYPE_CHECKING:
-    from matplotlib.axes import Axes
 
 __all__ = ["pgon_area", "field_strength", "triangle_area", "edge_phases", "faces", "face_areas",
            "face_fluxes", "check_face_fluxes", "Butterfly", "butterfly", "MAX_FLUX"]
@@ -312,19 +309,6 @@ class Butterfly(Result):
                 "method": self.method, "fluxes": int(self.fluxes.shape[0]),
                 "flux_min": float(np.min(self.fluxes)), "flux_max": float(np.max(self.fluxes)),
                 "energy_min": float(np.min(self.energies)), "energy_max": float(np.max(self.energies))}
-
-    def plot(self, ax=None, *, color: str = "k", size: float = 0.3, **kwargs) -> Axes:
-        """Every level as a dot against the flux; returns the axes."""
-        from ..plots import new_axes
-
-        ax = new_axes(ax)
-        n = self.energies.shape[1]
-        ax.scatter(np.repeat(self.fluxes, n), self.energies.ravel(), s=size, c=color, linewidths=0,
-                   rasterized=True, **kwargs)
-        ax.set_xlabel("flux f per p-gon")
-        ax.set_ylabel("energy E / t")
-        ax.set_title(f"{{{self.p},{self.q}}} flake, {self.rings} rings, {self.sites:,} sites")
-        return ax
 
 
 def butterfly(lattice: Lattice, fluxes, *, t: float = 1.0, onsite=None, max_sites: int = 50_000) -> Butterfly:

@@ -48,15 +48,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Callable
+from typing import Callable
 
 import numpy as np
 
 from .. import _validate
 from ..results import Result
 
-if TYPE_CHECKING:
-    from matplotlib.axes import Axes
 
 __all__ = ["KPMDos", "kpm_dos", "local_dos", "bulk_dos", "jackson_kernel", "spectral_bound",
            "graph_operator", "GraphOperator", "VECTOR_KINDS"]
@@ -613,19 +611,6 @@ class KPMDos(Result):
                 "deflated": self.deflated,
                 "mu": self.mu[:8].tolist(), "mu_err": [None if math.isnan(v) else v for v in self.mu_err[:8].tolist()],
                 "time": float(self.timings.get("total", 0.0))}
-
-    def plot(self, ax=None, *, label: str | None = None, errors: bool = True, **kwargs) -> Axes:
-        """Draw the density (with a band of +-1 standard error) and return the axes."""
-        from ..plots import new_axes
-
-        ax = new_axes(ax)
-        e, rho, err = self.density()
-        (line,) = ax.plot(e, rho, label=label if label is not None else self.label, **kwargs)
-        if errors and np.any(err > 0):
-            ax.fill_between(e, rho - err, rho + err, color=line.get_color(), alpha=0.25, lw=0)
-        ax.set_xlabel("E / t")
-        ax.set_ylabel("density of states per site")
-        return ax
 
 
 # ----------------------------------------------------------------------------
