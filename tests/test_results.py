@@ -85,6 +85,13 @@ def _factories():
 
         return lowest_levels(ring_lattice(7, 3, 2), levels=3)
 
+    def matrix_spectrum():
+        from hyperlattice.graph.operators import hamiltonian
+        from hyperlattice.graph.spectrum import lowest_levels
+
+        # complex Hermitian H: complex eigenvectors go through the stored form too
+        return lowest_levels(hamiltonian(ring_lattice(7, 3, 2), flux=0.1), 3, eigenvectors=True)
+
     def green():
         from hyperlattice.compare.green import compare_green
 
@@ -101,6 +108,7 @@ def _factories():
         "Lattice": lambda: ring_lattice(7, 3, 2),
         "tests.LineGraph": lambda: line_graph(ring_lattice(7, 3, 2)),
         "Spectrum": spectrum,
+        "MatrixSpectrum": matrix_spectrum,
         # Levels are checked when read back (integer n, ascending energies): real data, not samples
         "ContinuumSpectrum": lambda: __import__("hyperlattice.continuum.spectrum", fromlist=["x"]).continuum_levels(
             7, 3, rings=3, levels=3),
