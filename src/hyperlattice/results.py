@@ -66,7 +66,7 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
 __all__ = ["Result", "Levels", "load_result", "to_jsonable", "from_jsonable", "result_types",
-           "register_plotter", "plotter"]
+           "register_plotter", "plotter", "Column", "Grid", "INDEX"]
 
 _REGISTRY: dict[str, type] = {}
 
@@ -115,6 +115,48 @@ def plotter(kind: type) -> Callable | None:
         if klass is not Result and issubclass(klass, Result) and klass.TYPE in _PLOTTERS:
             return _PLOTTERS[klass.TYPE]
     return None
+
+
+# ----------------------------------------------------------------------------
+# tables and grids: declared on the class, exported to pandas / xarray
+# ----------------------------------------------------------------------------
+
+#: the ``source`` of a grid coordinate that is just the position 0, 1, 2, ... along its axis
+INDEX = ""
+
+
+@dataclasses.dataclass(frozen=True)
+class Column:
+    """One column of a result's table (or one variable or coordinate of its grid).
+
+    ``name`` is the column's name in the table, ``source`` the attribute of the result that holds
+    its values (a field or a property; :data:`INDEX` for a grid coordinate 0, 1, 2, ...), ``unit``
+    its unit in words (``"t"``: the hopping, the energy unit of every Hamiltonian here; ``"1"``:
+    a pure number). ``dims`` names the grid axes of a grid variable (empty in a table).
+    """
+
+    name: str
+    source: str
+    unit: str
+    dims: tuple[str, ...] = ()
+
+
+@dataclasses.dataclass(frozen=True)
+class Grid:
+    """The grid of a result: ``coords`` (one :class:`Column` per axis, in order) and ``variables``
+    (each :class:`Column` names its axes in ``dims``)."""
+
+    coords: tuple[Column, ...]
+    variables: tuple[Column, ...]
+
+
+def _optional(module: str, extra: str):
+    """Import an optional dependency, or say in one sentence which extra installs it."""
+    try:
+        return importlib.import_module(module)
+    except ImportError:
+        raise ImportError(f"this export needs {module}, which is not installed: "
+                          f'pip install "hyperlattice[{extra}]".') from None
 
 
 # ----------------------------------------------------------------------------
@@ -377,6 +419,11 @@ class Result:
     TYPE: ClassVar[str] = ""
     #: fields left out of as_dict() (e.g. derived caches); eigenvectors are kept
     _TRANSIENT: ClassVar[tuple[str, ...]] = ()
+    #: the table of this result type (:meth:`to_dataframe`): 1-d columns of equal length;
+    #: empty for a result that is not a table
+    COLUMNS: ClassVar[tuple[Column, ...]] = ()
+    #: the grid of this result type (:meth:`to_xarray`), or None
+    GRID: ClassVar[Grid | None] = None
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
@@ -518,6 +565,99 @@ class Result:
                 if low is not None and v < low:
                     return f"{f.name} = {v} (it must be at least {low})"
         return None
+
+    # -- tables and grids ----------------------------------------------------------------
+    def table_columns(self) -> dict[str, np.ndarray]:
+        """The declared table (:attr:`COLUMNS`) as ``{name: 1-d array}``; a column whose attribute is
+        None (e.g. ``m`` when the rotation is broken) is left out.
+
+        Raises
+        ------
+        NotImplementedError
+            If this result type declares no table.
+        ValueError
+            If the columns differ in length (a result built by hand with inconsistent arrays).
+        """
+        if not self.COLUMNS:
+            raise NotImplementedError(f"{type(self).__name__} is not a table (it declares no COLUMNS).")
+        out = {}
+        for col in self.COLUMNS:
+            v = getattr(self, col.source)
+            if v is not None:
+                out[col.name] = np.asarray(v)
+        lengths = {name: a.shape for name, a in out.items()}
+        if any(len(shape) != 1 for shape in lengths.values()) or len({sh[0] for sh in lengths.values()}) > 1:
+            raise ValueError(f"the columns of this {type(self).__name__} are not 1-d arrays of one length: {lengths}.")
+        return out
+
+    def to_dataframe(self):
+        """The declared table as a :class:`pandas.DataFrame` (pandas: ``pip install "hyperlattice[pandas]"``).
+
+        One column per entry of :attr:`COLUMNS` (:meth:`table_columns`), values copied; ``df.attrs``
+        holds ``"type"`` (the result's tag) and ``"units"`` (``{column: unit}``).
+
+        Raises
+        ------
+        NotImplementedError
+            If this result type declares no table.
+        ImportError
+            If pandas is not installed (the message names the extra).
+        """
+        columns = self.table_columns()
+        pd = _optional("pandas", "pandas")
+        df = pd.DataFrame({name: np.array(a) for name, a in columns.items()})
+        df.attrs["type"] = self.TYPE
+        df.attrs["units"] = {c.name: c.unit for c in self.COLUMNS if c.name in columns}
+        return df
+
+    def grid_arrays(self) -> tuple[dict[str, np.ndarray], dict[str, tuple[tuple[str, ...], np.ndarray]]]:
+        """The declared grid (:attr:`GRID`): ``({axis: coordinates}, {variable: (axes, values)})``.
+
+        Raises
+        ------
+        NotImplementedError
+            If this result type declares no grid.
+        ValueError
+            If a variable's shape does not match its axes.
+        """
+        if self.GRID is None:
+            raise NotImplementedError(f"{type(self).__name__} is not a grid (it declares no GRID).")
+        variables = {v.name: (v.dims, np.asarray(getattr(self, v.source))) for v in self.GRID.variables}
+        sizes: dict[str, int] = {}
+        for name, (dims, a) in variables.items():
+            if a.ndim != len(dims):
+                raise ValueError(f"{type(self).__name__}.{name} has {a.ndim} axes, the grid says {dims}.")
+            for d, n in zip(dims, a.shape):
+                if sizes.setdefault(d, n) != n:
+                    raise ValueError(f"the axis {d!r} of this {type(self).__name__} has lengths {sizes[d]} and {n}.")
+        coords = {}
+        for c in self.GRID.coords:
+            values = np.arange(sizes[c.name]) if c.source == INDEX else np.asarray(getattr(self, c.source))
+            if values.shape != (sizes.get(c.name, values.shape[0]),):
+                raise ValueError(f"the coordinates {c.name!r} of this {type(self).__name__} do not match the grid.")
+            coords[c.name] = values
+        return coords, variables
+
+    def to_xarray(self):
+        """The declared grid as an :class:`xarray.Dataset` (``pip install "hyperlattice[xarray]"``).
+
+        Coordinates and variables carry their unit in ``.attrs["units"]``; the dataset's
+        ``attrs["type"]`` is the result's tag.
+
+        Raises
+        ------
+        NotImplementedError
+            If this result type declares no grid.
+        ImportError
+            If xarray is not installed (the message names the extra).
+        """
+        coords, variables = self.grid_arrays()
+        xr = _optional("xarray", "xarray")
+        units = {c.name: c.unit for c in self.GRID.coords + self.GRID.variables}
+        ds = xr.Dataset({name: (dims, np.array(a), {"units": units[name]}) for name, (dims, a) in variables.items()},
+                        coords={name: (name, np.array(a), {"units": units[name]}) for name, a in coords.items()})
+        ds.attrs["type"] = self.TYPE
+        return ds
 
     # -- figures -----------------------------------------------------------------------
     def plot(self, ax=None, **kwargs) -> Axes:
@@ -715,6 +855,9 @@ class Levels(Result):
     p, q : int
         Schläfli symbol.
     """
+
+    COLUMNS = (Column("energy", "energies", "t"), Column("n", "n", "1"), Column("m", "m", "1"),
+               Column("degeneracy", "degeneracy", "1"), Column("error", "errors", "t"))
 
     energies: np.ndarray
     n: np.ndarray

@@ -57,7 +57,7 @@ import scipy.sparse as sp
 
 from .. import _validate
 from ..errors import ConvergenceWarning
-from ..results import Result
+from ..results import Column, Result
 
 __all__ = ["atomic_susceptibility", "lobe_boundary", "lobe_tip", "largest_adjacency_eigenvalue", "MottLobe",
            "mott_lobe", "GutzwillerState", "gutzwiller", "selfconsistent_boundary", "MottLobeTable",
@@ -208,6 +208,8 @@ class MottLobe(Result):
     tip_mu_over_U, tip_t_over_U : float
         The lobe tip (closed form, :func:`lobe_tip`).
     """
+
+    COLUMNS = (Column("t_over_U", "t_c_over_U", "1"), Column("mu_over_U", "mu_over_U", "1"))
 
     label: str
     lambda_max: float

@@ -24,7 +24,7 @@ import math
 import numpy as np
 
 from .. import _validate
-from ..results import Result
+from ..results import Column, Result
 
 __all__ = ["GPComparison", "gp_comparison", "MottGapComparison", "mott_gap_comparison", "mean_field_gap"]
 
@@ -156,6 +156,9 @@ class MottGapComparison(Result):
     t_over_U, gap_ed, gap_mean_field, gap_continuum : ndarray
         Gaps in units of U (the continuum column NaN for a cluster).
     """
+
+    COLUMNS = (Column("t_over_U", "t_over_U", "1"), Column("gap_ed", "gap_ed", "U"),
+               Column("gap_mean_field", "gap_mean_field", "U"), Column("gap_continuum", "gap_continuum", "U"))
 
     label: str
     sites: int

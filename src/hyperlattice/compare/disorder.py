@@ -33,7 +33,7 @@ from ..dictionary import dictionary_parameters
 from ..geometry import distance
 from ..graph.disorder import MODELS, _system, disorder, disordered_hamiltonian, onsite_variance
 from ..graph.lattice import Lattice
-from ..results import Result
+from ..results import Column, Result
 
 
 __all__ = ["GOE_R", "POISSON_R", "spacing_ratios", "inverse_participation", "default_windows",
@@ -191,6 +191,11 @@ class DisorderEnsemble(Result):
     (edges); ``dos`` is the density of states per site and unit energy on ``dos_edges``.
     """
 
+    #: one row per energy window; an open end of the outer windows is -inf / inf here (null in JSON)
+    COLUMNS = (Column("window_low", "window_low", "t"), Column("window_high", "window_high", "t"),
+               Column("r", "r_window", "1"), Column("r_count", "r_window_count", "1"),
+               Column("ipr", "ipr_window", "1"))
+
     p: int
     q: int
     rings: int
@@ -211,6 +216,16 @@ class DisorderEnsemble(Result):
     dos_edges: np.ndarray = field(repr=False)
     dos: np.ndarray = field(repr=False)
     r_realization: np.ndarray = field(repr=False)
+
+    @property
+    def window_low(self) -> np.ndarray:
+        """Lower edge of each energy window (-inf for the first)."""
+        return self.windows[:-1]
+
+    @property
+    def window_high(self) -> np.ndarray:
+        """Upper edge of each energy window (inf for the last)."""
+        return self.windows[1:]
 
     def summary(self) -> dict:
         """The ``disorder`` command's JSON: W, realizations, seed, r_mean, r_err (the contract) and more."""
@@ -321,6 +336,8 @@ def _rows(rows, realizations: int) -> list:
 @dataclass(frozen=True, eq=False, kw_only=True)
 class RScan(Result):
     """Mean spacing ratio against the disorder strength (one ensemble per strength)."""
+
+    COLUMNS = (Column("W", "W", "t"), Column("r_mean", "r_mean", "1"), Column("r_err", "r_err", "1"))
 
     p: int
     q: int
@@ -508,6 +525,12 @@ class SCBAComparison(Result):
     ``sigma_continuum``; ``born_ratio``: :math:`\|\langle G\rangle - G_0\|/\|w^2 G_0 \mathrm{diag}(G_0) G_0\|`
     projected on the latter (1 in the weak-disorder limit).
     """
+
+    COLUMNS = (Column("W", "W", "t"), Column("variance", "variance", "t^2"),
+               Column("rel_clean", "rel_clean", "1"), Column("rel_graph_scba", "rel_graph_scba", "1"),
+               Column("rel_continuum_scba", "rel_continuum_scba", "1"), Column("rel_noise", "rel_noise", "1"),
+               Column("born_ratio", "born_ratio", "1"), Column("sigma_graph", "sigma_graph", "t"),
+               Column("sigma_continuum", "sigma_continuum", "t"))
 
     p: int
     q: int

@@ -21,7 +21,7 @@ import numpy as np
 
 from .. import _validate
 from .._ties import classify, stable_order
-from ..results import Levels, Result, compare_levels
+from ..results import Column, Levels, Result, compare_levels
 
 
 __all__ = [
@@ -270,6 +270,9 @@ class LevelCount(Result):
         full_spectrum_tolerance`; continuum: the Dirichlet roots' energy error bounds).
     """
 
+    COLUMNS = (Column("energy", "energies", "t"), Column("degeneracy", "degeneracy", "1"),
+               Column("n", "n", "1"), Column("m", "m", "1"))
+
     side: str
     p: int
     q: int
@@ -433,6 +436,9 @@ class PartitionComparison(Result):
     ``graph_zero_modes`` counts the graph states within ``graph_tolerance`` (the eigensolver's
     error bound) of the cutoff: left out of Z and reported, never sorted by the sign of rounding.
     """
+
+    COLUMNS = (Column("beta", "beta", "1/t"), Column("z_graph", "z_graph", "1"),
+               Column("z_continuum", "z_continuum", "1"))
 
     rings: int | None
     beta: np.ndarray

@@ -86,7 +86,7 @@ from ..dictionary import (
     improved_energy_from_lambda,
 )
 from ..geometry import lattice_h
-from ..results import Result
+from ..results import Column, Result
 
 if TYPE_CHECKING:
     from ..cache import Cache
@@ -865,6 +865,11 @@ class DictionaryComparison(Result):
         :math:`(-\rho - E_\infty^{\rm impr})/\rho`, the l -> infinity limit of the improved
         relative error (NaN without a band bottom), with ``improved_limit_error``.
     """
+
+    COLUMNS = (Column("rings", "rings", "1"), Column("graph_E0", "graph_E0", "t"),
+               Column("graph_E1", "graph_E1", "t"), Column("paper_E0", "paper_E0", "1"),
+               Column("paper_E1", "paper_E1", "1"), Column("improved_E0", "improved_E0", "1"),
+               Column("improved_E1", "improved_E1", "1"))
 
     p: int
     q: int

@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import _validate
-from ..results import Result
+from ..results import INDEX, Column, Grid, Result
 
 
 __all__ = ["MagneticComparison", "magnetic_comparison"]
@@ -63,6 +63,14 @@ class MagneticComparison(Result):
         :math:`1/\sqrt{|B|}` (inf at f = 0).
     timings : dict
     """
+
+    GRID = Grid(coords=(Column("rings", "rings", "1"), Column("flux", "fluxes", "flux quanta per p-gon"),
+                        Column("state", INDEX, "1")),
+                variables=tuple(Column(name, name, unit, ("rings", "flux", "state"))
+                                for name, unit in (("graph", "t"), ("continuum", "t"), ("relative_error", "1"),
+                                                   ("n", "1"), ("m", "1")))
+                + (Column("disk_radius", "disk_radius", "1 (hyperbolic)", ("rings",)),
+                   Column("magnetic_length", "magnetic_length", "1 (hyperbolic)", ("flux",))))
 
     p: int
     q: int

@@ -59,7 +59,7 @@ from .. import geometry
 from ..dictionary import laplacian_coefficient
 from ..errors import ConvergenceWarning
 from ..graph.lattice import Lattice
-from ..results import Result
+from ..results import Column, Result
 
 
 __all__ = [
@@ -226,6 +226,10 @@ class RadialProfile(Result):
     ``unique`` is False where the sites at one radius do not share one value (the
     red "error bars" of Fig. FigScos3delta).
     """
+
+    COLUMNS = (Column("r", "r", "1 (Poincare-disk radius)"), Column("mean", "mean", "of the values"),
+               Column("min", "min", "of the values"), Column("max", "max", "of the values"),
+               Column("count", "count", "1"), Column("unique", "unique", "1"))
 
     r: np.ndarray
     mean: np.ndarray

@@ -35,7 +35,7 @@ import numpy as np
 
 from .. import _validate
 from ..errors import HyperlatticeError
-from ..results import Result
+from ..results import Column, Result
 from .clusters import Cluster, _finish
 from .solvers import _single_threaded_blas
 
@@ -387,6 +387,9 @@ class AbelianDOS(Result):
         ``"uniform-random-k"``.
     name, p, q, genus : cell
     """
+
+    COLUMNS = (Column("energy", "energies", "t"), Column("density", "density", "1/t per site"),
+               Column("error", "errors", "1/t per site"))
 
     energies: np.ndarray
     density: np.ndarray

@@ -57,7 +57,7 @@ import scipy.linalg as sla
 
 from .. import _validate
 from ..dictionary import field_from_flux
-from ..results import Result
+from ..results import INDEX, Column, Grid, Result
 from .lattice import Lattice
 
 
@@ -283,6 +283,10 @@ class Butterfly(Result):
     timings : dict
         Wall-clock seconds (``"total"``).
     """
+
+    GRID = Grid(coords=(Column("flux", "fluxes", "flux quanta per p-gon"), Column("state", INDEX, "1")),
+                variables=(Column("energy", "energies", "t", ("flux", "state")),
+                           Column("m", "m", "1", ("flux", "state"))))
 
     fluxes: np.ndarray
     energies: np.ndarray

@@ -52,7 +52,7 @@ import scipy.linalg as sla
 from .. import _validate
 from .._ties import classify, eigenvalue_tolerance
 from ..errors import ConvergenceError
-from ..results import Levels, Result
+from ..results import Column, Levels, Result
 from .factor import lowest_eigenpairs
 from .flux import _flux
 from .lattice import Lattice
@@ -182,6 +182,8 @@ class MatrixSpectrum(Result):
     eigenvectors : ndarray, shape (N, K), or None
         Normalised states, column k belonging to ``energies[k]``.
     """
+
+    COLUMNS = (Column("energy", "energies", "units of H"), Column("error", "errors", "units of H"))
 
     energies: np.ndarray
     errors: np.ndarray
