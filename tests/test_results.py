@@ -113,6 +113,8 @@ def _factories():
         # tables and grids whose columns have lengths the annotations cannot say
         "DisorderEnsemble": lambda: __import__("hyperlattice.compare.disorder", fromlist=["x"]).disorder_ensemble(
             ring_lattice(7, 3, 2), 1.0, realizations=2, seed=1),
+        "DirichletTable": lambda: __import__("hyperlattice.continuum.spectrum", fromlist=["x"]).dirichlet_levels(
+            7, 3, rings=3, n_max=2, m_max=3),
         "Butterfly": lambda: __import__("hyperlattice.graph.flux", fromlist=["x"]).butterfly(
             ring_lattice(7, 3, 2), [0.0, 0.1, 0.25]),
         # Levels are checked when read back (integer n, ascending energies): real data, not samples
@@ -492,8 +494,8 @@ def test_the_tabular_results_are_declared():
     """The tables issue 21 asks for (levels, comparisons, disorder, Mott lobes, ...) declare a schema."""
     assert {"Levels", "Spectrum", "ContinuumSpectrum", "MagneticSpectrum", "MatrixSpectrum", "LevelCount",
             "DisorderEnsemble", "RScan", "SCBAComparison", "MottLobe", "MottGapComparison",
-            "DictionaryComparison", "AbelianDOS"} <= set(TABLES)
-    assert {"Butterfly", "MagneticComparison"} <= set(GRIDS)
+            "DictionaryComparison", "AbelianDOS", "LevelComparison"} <= set(TABLES)
+    assert {"Butterfly", "MagneticComparison", "DirichletTable"} <= set(GRIDS)
     for tag in TABLES:
         names = [c.name for c in result_types()[tag].COLUMNS]
         assert len(names) == len(set(names)) and all(c.unit for c in result_types()[tag].COLUMNS), tag

@@ -61,8 +61,30 @@ class LevelComparison(Result):
     relative_difference: np.ndarray
     labels_agree: np.ndarray | None
 
+    COLUMNS = (Column("E_graph", "E_graph", "t"), Column("E_continuum", "E_continuum", "t"),
+               Column("relative_difference", "relative_difference", "1"),
+               Column("n_graph", "n_graph", "1"), Column("m_graph", "m_graph", "1"),
+               Column("n_continuum", "n_continuum", "1"), Column("m_continuum", "m_continuum", "1"),
+               Column("labels_agree", "labels_agree", "1"),
+               Column("graph_error", "graph_error", "t"), Column("continuum_error", "continuum_error", "t"))
+
     def __len__(self) -> int:
         return int(self.relative_difference.shape[0])
+
+    def _first(self, side: Levels, name: str) -> np.ndarray | None:
+        # the first K levels of one side (the columns of the table)
+        a = getattr(side, name)
+        return None if a is None else a[:len(self)]
+
+    E_graph = property(lambda self: self._first(self.graph, "energies"), doc="Graph energies of the K levels.")
+    E_continuum = property(lambda self: self._first(self.continuum, "energies"),
+                           doc="Continuum energies of the K levels.")
+    n_graph = property(lambda self: self._first(self.graph, "n"), doc="Graph radial indices.")
+    m_graph = property(lambda self: self._first(self.graph, "m"), doc="Graph angular momenta (None without).")
+    n_continuum = property(lambda self: self._first(self.continuum, "n"), doc="Continuum radial indices.")
+    m_continuum = property(lambda self: self._first(self.continuum, "m"), doc="Continuum angular momenta.")
+    graph_error = property(lambda self: self._first(self.graph, "errors"), doc="Graph errors (residuals).")
+    continuum_error = property(lambda self: self._first(self.continuum, "errors"), doc="Continuum error bounds.")
 
     def table(self) -> list[dict]:
         """One dict per level: energies, (n, m) labels and errors of both sides, relative difference."""

@@ -78,7 +78,7 @@ from ..dictionary import (
 from .._ties import stable_order
 from ..errors import ConvergenceError
 from ..geometry import lattice_h, one_minus_abs2
-from ..results import Levels, Result
+from ..results import INDEX, Column, Grid, Levels, Result
 from .special import check_order, evaluate_checked, legendre_p, legendre_p_log_parts
 
 __all__ = [
@@ -538,6 +538,16 @@ class DirichletTable(Result):
         ``k[n - 1, m]``, the energies ``spec1`` and a bound on each energy's error (see the
         module docstring).
     """
+
+    GRID = Grid(coords=(Column("n", "radial_index", "1"), Column("abs_m", INDEX, "1")),
+                variables=(Column("energy", "energies", "t", ("n", "abs_m")),
+                           Column("error", "errors", "t", ("n", "abs_m")),
+                           Column("k", "k", "1", ("n", "abs_m"))))
+
+    @property
+    def radial_index(self) -> np.ndarray:
+        """n = 1..n_max, the rows of the table."""
+        return np.arange(1, self.energies.shape[0] + 1)
 
     p: int
     q: int
