@@ -59,7 +59,7 @@ import numpy as np
 
 from .. import _validate, dictionary, geometry
 from .._ties import monotone_tolerance
-from ..results import Result
+from ..results import Column, Grid, Result
 
 
 __all__ = ["continuum_dos", "continuum_integrated_dos", "jackson_density", "DosComparison", "dos_comparison",
@@ -303,6 +303,27 @@ class DosComparison(Result):
     notes : list of str
         What was left out and why (e.g. the Abelian DOS when graph/bands.py is absent).
     """
+
+    #: one row per curve (cluster, flake or Abelian): its size and its measured distance and band edges
+    COLUMNS = (Column("label", "curve", "text"), Column("kind", "curve_kind", "text"), Column("sites", "sites", "1"),
+               Column("distance", "distance", "1"), Column("distance_err", "distance_err", "1"),
+               Column("exact_moments", "exact_moments", "1"), Column("bottom", "bottom", "t"),
+               Column("bottom_err", "bottom_err", "t"), Column("top", "top", "t"), Column("top_err", "top_err", "t"))
+    #: the densities on the (curve, energy) grid, with the exact infinite-lattice reference
+    GRID = Grid(coords=(Column("curve", "curve", "text"), Column("energy", "energies", "t")),
+                variables=(Column("density", "density", "1/t per site", ("curve", "energy")),
+                           Column("density_err", "density_err", "1/t per site", ("curve", "energy")),
+                           Column("reference", "reference", "1/t per site", ("energy",))))
+
+    @property
+    def curve(self) -> np.ndarray:
+        """The curves' labels as an array (the rows of the table)."""
+        return np.array(self.labels, dtype=str)
+
+    @property
+    def curve_kind(self) -> np.ndarray:
+        """Each curve's kind: "cluster", "flake" or "abelian"."""
+        return np.array(self.kinds, dtype=str)
 
     p: int
     q: int
