@@ -54,7 +54,7 @@ from ..dictionary import green_prefactor, lambda_from_energy
 from ..geometry import distance, one_minus_abs2
 from ..graph.lattice import Lattice
 from ..graph.qubits import BelowBandResolvent, _real_omega
-from ..results import Result
+from ..results import Column, Result
 
 
 __all__ = [
@@ -513,6 +513,10 @@ class DeltaCurve(Result):
         Wall time of the whole curve.
     """
 
+    COLUMNS = (Column("omega", "omegas", "t"), Column("mass2", "mass2", "curvature units"),
+               Column("delta_continuum", "delta_continuum", "1"), Column("delta_lattice", "delta_lattice", "1"),
+               Column("delta_lattice_err", "delta_lattice_err", "1"))
+
     p: int
     q: int
     rings: int
@@ -569,6 +573,8 @@ class LatticeBFBound(Result):
     omega_continuum, mass2_continuum : float
         :math:`E_\infty` and :math:`-1`.
     """
+
+    COLUMNS = (Column("rings", "rings", "1"), Column("e0", "e0", "t"), Column("mass2", "mass2", "curvature units"))
 
     p: int
     q: int

@@ -21,7 +21,7 @@ import numpy as np
 from .. import _validate
 from ..geometry import d0, distance
 from ..graph.lattice import Lattice
-from ..results import Result
+from ..results import Column, Result
 
 
 __all__ = ["correlation_pairs", "sorted_pairs", "bin_by_distance", "BinnedCorrelation", "collapse_measure"]
@@ -80,6 +80,9 @@ class BinnedCorrelation(Result):
         bins are centred on the multiples of :math:`d_0/2`, where the lattice's exact distances
         (0, :math:`d_0`, ...) lie, so that this is 0 for the default bins on a lattice.
     """
+
+    COLUMNS = (Column("centre", "centre", "hyperbolic distance"), Column("mean", "mean", "of F"), Column("std", "std", "of F"),
+               Column("count", "count", "1"))
 
     edges: np.ndarray
     centre: np.ndarray

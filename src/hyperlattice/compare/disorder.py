@@ -401,6 +401,9 @@ class DisorderGreen(Result):
     ``err`` is the standard error of the mean over pairs. ``clean`` is the W = 0 column.
     """
 
+    COLUMNS = (Column("distance", "distance", "hyperbolic distance"), Column("clean", "clean", "1/t"),
+               Column("mean", "mean", "1/t"), Column("err", "err", "1/t"))
+
     p: int
     q: int
     rings: int

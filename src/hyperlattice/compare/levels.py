@@ -176,6 +176,8 @@ class RelativeErrorTrend(Result):
         Whether :math:`|{\rm error}|` decreases strictly over the whole range.
     """
 
+    COLUMNS = (Column("rings", "rings", "1"), Column("relative_error", "relative_error", "1"))
+
     level: str
     rings: np.ndarray
     relative_error: np.ndarray

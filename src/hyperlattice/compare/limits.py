@@ -758,6 +758,9 @@ class PlateauAnalysis(Result):
         its share of the total.
     """
 
+    COLUMNS = (Column("rings", "rings", "1"), Column("relative_E0", "relative_E0", "1"),
+               Column("relative_E1", "relative_E1", "1"))
+
     p: int
     q: int
     rings: np.ndarray

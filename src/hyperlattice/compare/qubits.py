@@ -41,7 +41,7 @@ from ..dictionary import dictionary_parameters
 from ..geometry import distance
 from ..graph.lattice import Lattice
 from ..graph.qubits import BelowBandResolvent, _decay_length, _real_omega, bound_state
-from ..results import Result
+from ..results import Column, Result
 
 
 __all__ = ["ExchangeComparison", "exchange_comparison", "BoundStateSizes", "bound_state_sizes"]
@@ -208,6 +208,11 @@ class BoundStateSizes(Result):
     decay_length_asymptotic : ndarray
         :math:`1/(2\Delta(\omega_q))` of the continuum (NaN beyond the continuum BF bound).
     """
+
+    COLUMNS = (Column("omega_q", "omega_q", "t"), Column("detuning", "detuning", "t"), Column("energy", "energy", "t"),
+               Column("size_graph", "size_graph", "hyperbolic distance"), Column("size_continuum", "size_continuum", "hyperbolic distance"),
+               Column("decay_length_graph", "decay_length_graph", "hyperbolic distance"),
+               Column("decay_length_asymptotic", "decay_length_asymptotic", "hyperbolic distance"))
 
     p: int
     q: int
