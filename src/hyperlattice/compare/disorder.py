@@ -351,6 +351,13 @@ class RScan(Result):
     r_mean: np.ndarray
     r_err: np.ndarray
 
+    def summary(self) -> dict:
+        """Every field in the plain JSON view, with ``window`` as ``[low, high]`` and null for an open
+        end (``window=None``: the whole spectrum), the convention of :meth:`DisorderEnsemble.summary`."""
+        out = super().summary()
+        out["window"] = [None if np.isinf(v) else float(v) for v in self.window]
+        return out
+
 
 def r_scan(lattice: Lattice, strengths, realizations: int = 10, *, seed: int = 0, model: str = "box",
            window=(-1.0, 1.0)) -> RScan:
