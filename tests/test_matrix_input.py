@@ -107,3 +107,17 @@ def test_a_dense_identity_is_a_matrix_not_a_bad_lattice():
     res = lowest_levels(np.eye(3), 2)
     np.testing.assert_array_equal(res.energies, [1.0, 1.0])
     np.testing.assert_array_equal(full_spectrum(np.eye(3)), [1.0, 1.0, 1.0])
+
+
+def test_kpm_takes_any_sparse_format_and_checks_symmetry_with_a_tolerance(lat):
+    from hyperlattice.graph.kpm import graph_operator
+
+    a = adjacency(lat).tolil()
+    a[0, 1] = a[0, 1] * (1 + 1e-15)          # rounding: accepted (an exact check refused this)
+    op = graph_operator(a.tocoo())
+    assert op.sites == lat.sites and op.label == f"matrix, {lat.sites} rows"
+    a[0, 1] = 0.5
+    with pytest.raises(ValueError, match="^the matrix must be symmetric"):
+        graph_operator(a.tocsc())
+    with pytest.raises(ValueError, match="^the matrix must be real"):
+        graph_operator(hamiltonian(lat, flux=0.1))

@@ -196,16 +196,11 @@ def graph_operator(graph) -> GraphOperator:
     except ImportError:  # pragma: no cover - scipy is a dependency
         sp = None
     if sp is not None and sp.issparse(graph):
-        a = sp.csr_matrix(graph)
-        if a.shape[0] != a.shape[1] or a.shape[0] == 0:
-            raise ValueError(f"the matrix must be square and non-empty, got shape {a.shape}.")
-        if a.dtype.kind not in "biuf":
+        # the one door for matrices: square, finite, symmetric up to rounding (then symmetrised)
+        a = _validate.hermitian_matrix("the matrix", graph)
+        if a.dtype.kind == "c":
             raise ValueError("the matrix must be real (H = -A with A real symmetric).")
         data = np.asarray(a.data, dtype=np.float64)
-        if not np.all(np.isfinite(data)):
-            raise ValueError("the matrix has non-finite entries.")
-        if abs(a - a.T).max() if a.nnz else 0.0:
-            raise ValueError("the matrix must be symmetric.")
         a.sort_indices()
         rowsum = np.zeros(a.shape[0])
         np.add.at(rowsum, np.repeat(np.arange(a.shape[0]), np.diff(a.indptr)), np.abs(data))
