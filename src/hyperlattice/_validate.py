@@ -257,7 +257,8 @@ def hermitian_matrix(name: str, value, *, rtol: float = HERMITIAN_RTOL):
     """A real symmetric or complex Hermitian matrix as scipy CSR (float64, or complex128 when an
     entry has a nonzero imaginary part), symmetrised as (H + H^+)/2.
 
-    Takes a scipy.sparse matrix of any format (csr, csc, coo, ...) or a 2-d array. Refused: a
+    Takes a scipy.sparse matrix of any format (csr, csc, coo, ...) or a 2-d array (nested lists
+    too). Refused: a
     non-square or empty matrix, entries that are not finite numbers, and a matrix farther from
     Hermitian than ``rtol`` times its largest entry.
     """
@@ -268,9 +269,8 @@ def hermitian_matrix(name: str, value, *, rtol: float = HERMITIAN_RTOL):
             raise ValueError(f"{name} must hold numbers, got a sparse matrix of dtype {value.dtype}.")
         h = sp.csr_matrix(value)
     else:
-        if not (isinstance(value, np.ndarray) and value.ndim == 2):
-            raise ValueError(f"{name} must be a square matrix (scipy.sparse or a 2-d array), got {_shown(value)}.")
-        h = sp.csr_matrix(complex_array(name, value) if value.dtype.kind == "c" else real_array(name, value))
+        arr = complex_array(name, value, ndim=2)      # also nested lists; NaN, strings, shapes refused
+        h = sp.csr_matrix(arr if np.any(arr.imag) else arr.real)
     if h.shape[0] != h.shape[1] or h.shape[0] == 0:
         raise ValueError(f"{name} must be a non-empty square matrix, got shape {h.shape}.")
     if not np.all(np.isfinite(h.data)):
