@@ -327,7 +327,7 @@ BAD = [None, float("nan"), True, "2", [1, 2]]
 # (argument, message) and the values from BAD that are valid for it
 ARGUMENTS = [("levels", "levels", ()), ("t", "hopping t", ()), ("tol", "tol", ()), ("method", "method", ()),
              ("sector", "sector m", (None,)), ("eigenvectors", "eigenvectors", (True,)),
-             ("progress", "progress", (None,))]
+             ("progress", "progress", (None, True))]  # True: a bar on stderr
 
 
 @pytest.mark.parametrize("name,match,bad", [(n, m, b) for n, m, ok in ARGUMENTS for b in BAD if b not in ok],

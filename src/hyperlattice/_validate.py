@@ -40,6 +40,7 @@ __all__ = [
     "choice",
     "flag",
     "function",
+    "progress",
     "lattice",
     "is_matrix",
     "hermitian_matrix",
@@ -195,6 +196,15 @@ def flag(name: str, value) -> bool:
     if not isinstance(value, (bool, np.bool_)):
         raise ValueError(f"{name} must be True or False, got {_shown(value)}.")
     return bool(value)
+
+
+def progress(name: str, value):
+    """A ``progress`` argument: True, False, None (auto) or a function receiving one-line messages."""
+    if value is None or callable(value):
+        return value
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    raise ValueError(f"{name} must be True, False, None or a function, got {_shown(value)}.")
 
 
 def function(name: str, value) -> Callable:

@@ -268,7 +268,7 @@ def _pool(p, q, rings, kind, sites, model, strength, seed, realizations, omega0,
 
 def disorder_ensemble(lattice: Lattice, strength: float = 1.0, realizations: int = 10, *, seed: int = 0,
                       model: str = "box", omega0: float | None = None, windows=None, dos_bins: int = 60,
-                      ipr: bool = True, rows: list[dict] | None = None) -> DisorderEnsemble:
+                      ipr: bool = True, rows: list[dict] | None = None, progress=None) -> DisorderEnsemble:
     r"""Average :func:`realization_observables` over realizations ``range(realizations)`` of ``seed``.
 
     Parameters
@@ -286,6 +286,9 @@ def disorder_ensemble(lattice: Lattice, strength: float = 1.0, realizations: int
         Compute eigenvectors for the inverse participation ratios (about 2x the time).
     rows : list of dict, optional
         Precomputed per-realization results (e.g. read from a sweep table) instead of computing.
+    progress : bool, None or callable
+        A bar over the realizations on stderr (:mod:`hyperlattice._progress`; None: when stderr is a
+        terminal), or a function receiving one-line messages.
 
     Returns
     -------
@@ -298,9 +301,16 @@ def disorder_ensemble(lattice: Lattice, strength: float = 1.0, realizations: int
     win = default_windows(lattice.q) if windows is None else _edges("windows", windows)
     dos_bins = _validate.positive_int("dos_bins", dos_bins, maximum=100_000)
     dis0 = disorder(lattice, model, strength, seed=seed, realization=0, omega0=omega0)  # validates all
+    progress = _validate.progress("progress", progress)
     if rows is None:
-        rows = [realization_observables(lattice, model, strength, seed=seed, realization=k, omega0=omega0,
-                                        windows=win, dos_bins=dos_bins, ipr=ipr) for k in range(realizations)]
+        from .._progress import progress_bar
+
+        rows = []
+        with progress_bar(realizations, "disorder", unit="realization", progress=progress) as bar:
+            for k in range(realizations):
+                rows.append(realization_observables(lattice, model, strength, seed=seed, realization=k,
+                                                    omega0=omega0, windows=win, dos_bins=dos_bins, ipr=ipr))
+                bar.update()
     else:
         rows = _rows(rows, realizations)
     spread = dis0.strength if model != "resonator" else 2.0 * dis0.strength * dis0.omega0

@@ -918,6 +918,7 @@ def ring_lattice(p: int = 7, q: int = 3, rings: int = 3, *, max_sites: int | Non
 
     Examples
     --------
+    >>> from hyperlattice import ring_lattice
     >>> lat = ring_lattice(7, 3, 3)
     >>> lat.sites, lat.sites_per_ring.tolist()
     (112, [7, 28, 77])

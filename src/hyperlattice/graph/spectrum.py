@@ -344,8 +344,9 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
         :class:`~hyperlattice.errors.ConvergenceError` is raised (a
         :class:`~hyperlattice.errors.ConvergenceWarning` if within a factor 100). The
         eigenvalue error is at most the residual (and typically its square over the gap).
-    progress : callable, optional
-        Called with short status strings during long runs.
+    progress : bool, None or callable
+        A bar over the sectors (or block solves) on stderr (:mod:`hyperlattice._progress`; None: when
+        stderr is a terminal), or a function receiving short status strings.
     flux : float
         Flux quanta f per p-gon face of a uniform magnetic field (Peierls phases in the
         rotation-symmetric gauge of :mod:`hyperlattice.graph.flux`; positive = counterclockwise).
@@ -369,7 +370,7 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
 
     Examples
     --------
-    >>> from hyperlattice import ring_lattice
+    >>> from hyperlattice import lowest_levels, ring_lattice
     >>> spec = lowest_levels(ring_lattice(7, 3, 1), 3)
     >>> [round(float(e), 6) for e in spec.energies], spec.m.tolist()
     ([-2.0, -1.24698, -1.24698], [0, 1, -1])
@@ -386,8 +387,7 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
     t = _validate.real("the hopping t", t)
     eigenvectors = _validate.flag("eigenvectors", eigenvectors)
     flux = _flux(flux)
-    if progress is not None:
-        _validate.function("progress", progress)
+    progress = _validate.progress("progress", progress)
     if levels > lattice.sites:
         # refused for every method: a silently shorter list would look like a complete answer
         raise ValueError(f"levels = {levels:,} exceeds the {lattice.sites:,} states of this lattice.")
@@ -547,36 +547,39 @@ def _sector_levels(lattice, levels, t, onsite, sector, want_vecs, tol, progress,
     backends = set()
     analyses = {}
     found = []  # (energy, m, n, residual, vector or None)
-    for m, k_m in wanted.items():
-        t0 = time.perf_counter()
-        k_m = min(k_m, size)
-        table = sector_table(lattice, m, t, onsite, orbits=orbits, flux=flux)
-        if size <= DENSE_MAX or size < 2 * k_m + 3:  # ARPACK needs a basis larger than k + 1
-            e, v = _dense_lowest(table, k_m)
-            per_method.add("dense")
-        elif _SHIFT_INVERT_BLOCKS:
-            # shift-invert through the one factorisation layer, with its inertia check; the
-            # blocks of one lattice share a sparsity pattern (hence one symbolic analysis) per type
-            mat = table.to_csr()
-            kind = "complex" if np.iscomplexobj(mat.data) else "real"
-            e, v, _, info = lowest_eigenpairs(mat, k_m, tol=tol, label=f"sector m={m}",
-                                              analysis=analyses.get((kind, mat.nnz)))
-            analyses[(kind, mat.nnz)] = info["analysis"]
-            backends.add(info["backend"])
-            per_method.add("shift-invert")
-            if progress is not None:
-                progress(f"sector m={m}: {e.tolist()} after {info['solves']} solves")
-        else:
-            e, v, _ = _chebyshev_lowest(table, k_m, tol, progress, f"sector m={m}")
-            per_method.add("sparse")
-        res = _residuals(table, v, e)
-        _check_residuals(res, tol, f"sector m={m}")
-        timings[f"sector {m}"] = time.perf_counter() - t0
-        for idx in range(e.shape[0]):
-            vec = v[:, idx] if want_vecs else None
-            found.append((float(e[idx]), m, idx + 1, float(res[idx]), vec))
-            if (2 * m) % p and sector is None and flux == 0.0:
-                found.append((float(e[idx]), -m, idx + 1, float(res[idx]), None if vec is None else vec.conj()))
+    from .._progress import progress_bar
+
+    with progress_bar(len(wanted), "sectors", unit="sector", progress=progress) as bar:
+        for m, k_m in wanted.items():
+            t0 = time.perf_counter()
+            k_m = min(k_m, size)
+            table = sector_table(lattice, m, t, onsite, orbits=orbits, flux=flux)
+            if size <= DENSE_MAX or size < 2 * k_m + 3:  # ARPACK needs a basis larger than k + 1
+                e, v = _dense_lowest(table, k_m)
+                per_method.add("dense")
+            elif _SHIFT_INVERT_BLOCKS:
+                # shift-invert through the one factorisation layer, with its inertia check; the
+                # blocks of one lattice share a sparsity pattern (hence one symbolic analysis) per type
+                mat = table.to_csr()
+                kind = "complex" if np.iscomplexobj(mat.data) else "real"
+                e, v, _, info = lowest_eigenpairs(mat, k_m, tol=tol, label=f"sector m={m}",
+                                                  analysis=analyses.get((kind, mat.nnz)))
+                analyses[(kind, mat.nnz)] = info["analysis"]
+                backends.add(info["backend"])
+                per_method.add("shift-invert")
+                bar.note(f"sector m={m}: {e.tolist()} after {info['solves']} solves")
+            else:
+                e, v, _ = _chebyshev_lowest(table, k_m, tol, bar.note, f"sector m={m}")
+                per_method.add("sparse")
+            res = _residuals(table, v, e)
+            _check_residuals(res, tol, f"sector m={m}")
+            timings[f"sector {m}"] = time.perf_counter() - t0
+            for idx in range(e.shape[0]):
+                vec = v[:, idx] if want_vecs else None
+                found.append((float(e[idx]), m, idx + 1, float(res[idx]), vec))
+                if (2 * m) % p and sector is None and flux == 0.0:
+                    found.append((float(e[idx]), -m, idx + 1, float(res[idx]), None if vec is None else vec.conj()))
+            bar.update()
     # ascending energy; degenerate partners share the energy exactly: keep +m before -m
     found.sort(key=lambda r: (r[0], abs(r[1]), -r[1]))
     found = found[:levels]
@@ -610,6 +613,7 @@ def _sector_levels(lattice, levels, t, onsite, sector, want_vecs, tol, progress,
 
 def _full_levels(lattice, levels, t, onsite, method, symmetric, want_vecs, tol, progress, t_start,
                  flux=0.0) -> Spectrum:
+    progress = progress if callable(progress) else None  # one solve: messages, no bar
     n_sites = lattice.sites
     h = hamiltonian(lattice, t=t, onsite=onsite, flux=flux)
     if flux == 0.0 and np.iscomplexobj(h.data):
