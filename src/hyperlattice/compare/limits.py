@@ -86,11 +86,9 @@ from ..dictionary import (
     improved_energy_from_lambda,
 )
 from ..geometry import lattice_h
-from ..results import Result
+from ..results import Column, Result
 
 if TYPE_CHECKING:
-    from matplotlib.axes import Axes
-
     from ..cache import Cache
 
 __all__ = [
@@ -349,12 +347,6 @@ class BandBottomFit(Result):
         return {"p": self.p, "q": self.q, "level": self.level, "model": self.model,
                 "rings": self.rings.tolist(), "band_bottom": self.band_bottom, "params": self.params.tolist(),
                 "max_residual": float(np.max(np.abs(self.residuals)))}
-
-    def plot(self, ax=None) -> Axes:
-        """Level minus the fitted band bottom against l (log scale), with the fit; returns the axes."""
-        from ..plots.limits import plot_band_fit
-
-        return plot_band_fit(self, ax=ax)
 
 
 def fit_band_bottom(rings, energies, *, p: int = 7, q: int = 3, level: int = 0,
@@ -665,13 +657,6 @@ class BandBottom(Result):
                 "improved_edge": self.improved_edge, "band_mass": self.band_mass,
                 "paper_mass": self.paper_edge + self.q, "schur": self.schur, "variants": self.variants}
 
-    def plot(self, ax=None) -> Axes:
-        """E0 of the flakes, the extrapolated band bottom with its error bar, the rigorous interval
-        and both maps' edges against l; returns the axes."""
-        from ..plots.limits import plot_band_bottom
-
-        return plot_band_bottom(self, ax=ax)
-
 
 def _band_from(ell, e0, e1, p, q) -> tuple[float, float, list, float]:
     fits = _variants(ell, e0, e1, p, q)
@@ -773,6 +758,9 @@ class PlateauAnalysis(Result):
         its share of the total.
     """
 
+    COLUMNS = (Column("rings", "rings", "1"), Column("relative_E0", "relative_E0", "1"),
+               Column("relative_E1", "relative_E1", "1"))
+
     p: int
     q: int
     rings: np.ndarray
@@ -791,12 +779,6 @@ class PlateauAnalysis(Result):
     def summary(self) -> dict:
         """All fields as plain JSON."""
         return super().summary()
-
-    def plot(self, ax=None) -> Axes:
-        """The relative error against l, the fitted curve continued to large l and the limit band."""
-        from ..plots.limits import plot_plateau
-
-        return plot_plateau(self, ax=ax)
 
 
 def plateau_analysis(band: BandBottom, rings=None, E0=None, E1=None) -> PlateauAnalysis:
@@ -887,6 +869,11 @@ class DictionaryComparison(Result):
         relative error (NaN without a band bottom), with ``improved_limit_error``.
     """
 
+    COLUMNS = (Column("rings", "rings", "1"), Column("graph_E0", "graph_E0", "t"),
+               Column("graph_E1", "graph_E1", "t"), Column("paper_E0", "paper_E0", "1"),
+               Column("paper_E1", "paper_E1", "1"), Column("improved_E0", "improved_E0", "1"),
+               Column("improved_E1", "improved_E1", "1"))
+
     p: int
     q: int
     rings: np.ndarray
@@ -918,12 +905,6 @@ class DictionaryComparison(Result):
         """The table, the gain at the largest l and the improved map's limit."""
         return {"p": self.p, "q": self.q, "table": self.table(), "gain": self.gain(),
                 "improved_limit": self.improved_limit, "improved_limit_error": self.improved_limit_error}
-
-    def plot(self, ax=None) -> Axes:
-        """``|relative error|`` of both maps against l (log scale); returns the axes."""
-        from ..plots.limits import plot_dictionaries
-
-        return plot_dictionaries(self, ax=ax)
 
 
 def compare_dictionaries(rings=None, E0=None, E1=None, *, p: int = 7, q: int = 3,

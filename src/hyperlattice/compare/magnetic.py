@@ -26,16 +26,13 @@ import math
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .. import _validate
 from ..cache import Cache, checkpoint_cache
-from ..results import Result
+from ..results import INDEX, Column, Grid, Result
 
-if TYPE_CHECKING:
-    from matplotlib.axes import Axes
 
 __all__ = ["MagneticComparison", "magnetic_comparison"]
 
@@ -68,6 +65,14 @@ class MagneticComparison(Result):
         :math:`1/\sqrt{|B|}` (inf at f = 0).
     timings : dict
     """
+
+    GRID = Grid(coords=(Column("rings", "rings", "1"), Column("flux", "fluxes", "flux quanta per p-gon"),
+                        Column("state", INDEX, "1")),
+                variables=tuple(Column(name, name, unit, ("rings", "flux", "state"))
+                                for name, unit in (("graph", "t"), ("continuum", "t"), ("relative_error", "1"),
+                                                   ("n", "1"), ("m", "1")))
+                + (Column("disk_radius", "disk_radius", "1 (hyperbolic)", ("rings",)),
+                   Column("magnetic_length", "magnetic_length", "1 (hyperbolic)", ("flux",))))
 
     p: int
     q: int
@@ -148,13 +153,6 @@ class MagneticComparison(Result):
                 "max_relative_error": float(np.nanmax(self.relative_error)),
                 "agreement_limit": [None if math.isnan(v) else float(v) for v in self.agreement_limit()],
                 "statement": self.statement()}
-
-    def plot(self, ax=None) -> Axes:
-        """log10 of the worst relative error over the (f, l) plane, the 1e-3 contour in white."""
-        from ..plots.magnetic import error_map
-
-        return error_map(self.fluxes, self.rings, self.worst(), ax=ax,
-                         title=f"{{{self.p},{self.q}}}: graph vs continuum, {self.graph.shape[2]} lowest levels")
 
 
 def _point(p: int, q: int, ell: int, lattice, flux: float, K: int) -> dict:

@@ -61,7 +61,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy import special as sc
@@ -79,11 +78,8 @@ from ..dictionary import (
 from .._ties import stable_order
 from ..errors import ConvergenceError
 from ..geometry import lattice_h, one_minus_abs2
-from ..results import Levels, Result
+from ..results import INDEX, Column, Grid, Levels, Result
 from .special import check_order, evaluate_checked, legendre_p, legendre_p_log_parts
-
-if TYPE_CHECKING:  # matplotlib is imported only inside plot()
-    from matplotlib.axes import Axes
 
 __all__ = [
     "disk_argument",
@@ -543,6 +539,16 @@ class DirichletTable(Result):
         module docstring).
     """
 
+    GRID = Grid(coords=(Column("n", "radial_index", "1"), Column("abs_m", INDEX, "1")),
+                variables=(Column("energy", "energies", "t", ("n", "abs_m")),
+                           Column("error", "errors", "t", ("n", "abs_m")),
+                           Column("k", "k", "1", ("n", "abs_m"))))
+
+    @property
+    def radial_index(self) -> np.ndarray:
+        """n = 1..n_max, the rows of the table."""
+        return np.arange(1, self.energies.shape[0] + 1)
+
     p: int
     q: int
     radius: float
@@ -551,19 +557,6 @@ class DirichletTable(Result):
     k: np.ndarray
     energies: np.ndarray
     errors: np.ndarray
-
-    def plot(self, ax=None, **kwargs) -> Axes:
-        """Energies against m, one line per radial index n; returns the axes."""
-        from ..plots import new_axes
-
-        ax = new_axes(ax)
-        m = np.arange(self.energies.shape[1])
-        for n, row in enumerate(self.energies, start=1):
-            ax.plot(m, row, marker="o", label=f"n = {n}", **kwargs)
-        ax.set_xlabel("angular momentum |m|")
-        ax.set_ylabel("energy E / t")
-        ax.legend(fontsize="small")
-        return ax
 
 
 def dirichlet_levels(p=7, q=3, radius=None, rings=None, n_max: int = 5, m_max: int = 10,

@@ -52,7 +52,6 @@ import numbers
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.linalg as sla
@@ -60,11 +59,9 @@ import scipy.linalg as sla
 from .. import _validate
 from ..cache import Cache, checkpoint_cache
 from ..dictionary import field_from_flux
-from ..results import Result
+from ..results import INDEX, Column, Grid, Result
 from .lattice import Lattice
 
-if TYPE_CHECKING:
-    from matplotlib.axes import Axes
 
 __all__ = ["pgon_area", "field_strength", "triangle_area", "edge_phases", "faces", "face_areas",
            "face_fluxes", "check_face_fluxes", "Butterfly", "butterfly", "MAX_FLUX"]
@@ -289,6 +286,10 @@ class Butterfly(Result):
         Wall-clock seconds (``"total"``).
     """
 
+    GRID = Grid(coords=(Column("flux", "fluxes", "flux quanta per p-gon"), Column("state", INDEX, "1")),
+                variables=(Column("energy", "energies", "t", ("flux", "state")),
+                           Column("m", "m", "1", ("flux", "state"))))
+
     fluxes: np.ndarray
     energies: np.ndarray
     m: np.ndarray
@@ -314,19 +315,6 @@ class Butterfly(Result):
                 "method": self.method, "fluxes": int(self.fluxes.shape[0]),
                 "flux_min": float(np.min(self.fluxes)), "flux_max": float(np.max(self.fluxes)),
                 "energy_min": float(np.min(self.energies)), "energy_max": float(np.max(self.energies))}
-
-    def plot(self, ax=None, *, color: str = "k", size: float = 0.3, **kwargs) -> Axes:
-        """Every level as a dot against the flux; returns the axes."""
-        from ..plots import new_axes
-
-        ax = new_axes(ax)
-        n = self.energies.shape[1]
-        ax.scatter(np.repeat(self.fluxes, n), self.energies.ravel(), s=size, c=color, linewidths=0,
-                   rasterized=True, **kwargs)
-        ax.set_xlabel("flux f per p-gon")
-        ax.set_ylabel("energy E / t")
-        ax.set_title(f"{{{self.p},{self.q}}} flake, {self.rings} rings, {self.sites:,} sites")
-        return ax
 
 
 def _lattice_key(lattice: Lattice, onsite) -> dict:

@@ -58,8 +58,6 @@ from ..results import Result
 if TYPE_CHECKING:
     from pathlib import Path
 
-    from matplotlib.axes import Axes
-
     from ..cache import Cache
 
 __all__ = ["KPMDos", "kpm_dos", "local_dos", "bulk_dos", "block_width", "jackson_kernel", "spectral_bound",
@@ -202,16 +200,11 @@ def graph_operator(graph) -> GraphOperator:
     except ImportError:  # pragma: no cover - scipy is a dependency
         sp = None
     if sp is not None and sp.issparse(graph):
-        a = sp.csr_matrix(graph)
-        if a.shape[0] != a.shape[1] or a.shape[0] == 0:
-            raise ValueError(f"the matrix must be square and non-empty, got shape {a.shape}.")
-        if a.dtype.kind not in "biuf":
+        # the one door for matrices: square, finite, symmetric up to rounding (then symmetrised)
+        a = _validate.hermitian_matrix("the matrix", graph)
+        if a.dtype.kind == "c":
             raise ValueError("the matrix must be real (H = -A with A real symmetric).")
         data = np.asarray(a.data, dtype=np.float64)
-        if not np.all(np.isfinite(data)):
-            raise ValueError("the matrix has non-finite entries.")
-        if abs(a - a.T).max() if a.nnz else 0.0:
-            raise ValueError("the matrix must be symmetric.")
         a.sort_indices()
         rowsum = np.zeros(a.shape[0])
         np.add.at(rowsum, np.repeat(np.arange(a.shape[0]), np.diff(a.indptr)), np.abs(data))
@@ -617,19 +610,6 @@ class KPMDos(Result):
                 "deflated": self.deflated,
                 "mu": self.mu[:8].tolist(), "mu_err": [None if math.isnan(v) else v for v in self.mu_err[:8].tolist()],
                 "time": float(self.timings.get("total", 0.0))}
-
-    def plot(self, ax=None, *, label: str | None = None, errors: bool = True, **kwargs) -> Axes:
-        """Draw the density (with a band of +-1 standard error) and return the axes."""
-        from ..plots import new_axes
-
-        ax = new_axes(ax)
-        e, rho, err = self.density()
-        (line,) = ax.plot(e, rho, label=label if label is not None else self.label, **kwargs)
-        if errors and np.any(err > 0):
-            ax.fill_between(e, rho - err, rho + err, color=line.get_color(), alpha=0.25, lw=0)
-        ax.set_xlabel("E / t")
-        ax.set_ylabel("density of states per site")
-        return ax
 
 
 # ----------------------------------------------------------------------------
