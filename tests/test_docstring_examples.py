@@ -27,6 +27,8 @@ FLAGS = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE
 COMPLETE: tuple[str, ...] = (
     "hyperlattice.continuum.green",
     "hyperlattice.continuum.magnetic",
+    "hyperlattice.continuum.massive",
+    "hyperlattice.continuum.scba",
     "hyperlattice.continuum.special",
     "hyperlattice.continuum.spectrum",
     "hyperlattice.dictionary",
