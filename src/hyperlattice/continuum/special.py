@@ -1385,7 +1385,8 @@ def legendre_wronskian(nu, m, x) -> complex | np.ndarray:
     Raises
     ------
     ValueError
-        As for :func:`legendre_q` (also at a pole of :math:`Q_\nu^m`).
+        If ``m`` or ``x`` is invalid (as for :func:`legendre_q`), or the shapes do not
+        broadcast.
 
     References
     ----------
