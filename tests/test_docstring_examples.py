@@ -24,7 +24,17 @@ import hyperlattice
 FLAGS = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE
 
 # modules whose every public function has Parameters (if it takes any), Returns and Examples
-COMPLETE: tuple[str, ...] = ()
+COMPLETE: tuple[str, ...] = (
+    "hyperlattice.continuum.gp",
+    "hyperlattice.continuum.green",
+    "hyperlattice.continuum.magnetic",
+    "hyperlattice.continuum.massive",
+    "hyperlattice.continuum.scba",
+    "hyperlattice.continuum.special",
+    "hyperlattice.continuum.spectrum",
+    "hyperlattice.dictionary",
+    "hyperlattice.geometry",
+)
 
 
 def _public_modules() -> list[str]:
