@@ -46,6 +46,10 @@ def plot_r_scan(scan: RScan, ax: Axes | None = None, **kwargs) -> Axes:
     ax.axhline(POISSON_R, color="C2", ls=":", lw=1, label=f"Poisson {POISSON_R:.4f}")
     if np.all(w > 0):
         ax.set_xscale("log")
+    # room above GOE and below Poisson: the reference lines must not sit on the frame
+    lo = min(POISSON_R, float(np.min(np.asarray(scan.r_mean) - np.asarray(scan.r_err))))
+    hi = max(GOE_R, float(np.max(np.asarray(scan.r_mean) + np.asarray(scan.r_err))))
+    ax.set_ylim(lo - 0.08 * (hi - lo), hi + 0.08 * (hi - lo))
     ax.set_xlabel("W / t")
     ax.set_ylabel(r"$\langle r\rangle$")
     ax.legend(fontsize=8)

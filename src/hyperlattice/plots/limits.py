@@ -119,15 +119,19 @@ def plot_dictionaries(comparison: DictionaryComparison, ax: Axes | None = None) 
 
 
 def limits_figure(band: BandBottom, plateau: PlateauAnalysis, comparison: DictionaryComparison, path=None):
-    """The four panels side by side (band bottom, the fits' residuals, plateau, dictionaries); saved to
-    ``path`` if given. Returns the figure."""
+    """The four panels in a 2 x 2 grid, (a) band bottom, (b) the fits' residuals, (c) plateau,
+    (d) dictionaries (a row of four was unreadable once shrunk to a page width); saved to ``path``
+    if given. Returns the figure."""
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, 4, figsize=(21.0, 4.6), layout="constrained")
+    fig, axes = plt.subplots(2, 2, figsize=(12.0, 8.6), layout="constrained")
+    axes = axes.ravel()
     plot_band_bottom(band, ax=axes[0])
     plot_band_residuals(band, ax=axes[1])
     plot_plateau(plateau, ax=axes[2])
     plot_dictionaries(comparison, ax=axes[3])
+    for letter, ax in zip("abcd", axes):
+        ax.text(-0.1, 1.02, f"({letter})", transform=ax.transAxes, fontsize=12, fontweight="bold")
     if path is not None:
         fig.savefig(path)
     return fig
