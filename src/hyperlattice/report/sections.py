@@ -219,7 +219,7 @@ def spectrum_section(cache: Cache, max_rings: int, timings: dict,
             f"{sorted({r['m_E1'] for r in records})}), the ground state in m = 0, as for the continuum "
             "levels (n, m) = (1, 0) and (1, ±1)."]
     for ell, key, printed, value, flag, note in notes:
-        text.append(f"Flagged {key} at ℓ = {ell}: printed {printed}, computed {value:.6f} ({note}).")
+        text.append(f"Flagged {key} at ℓ = {ell}: printed {printed}, computed {value:.6f} ({note.rstrip('.')}).")
     worst = max(r["residual_max"] for r in records) if records[-1]["rings"] >= 10 else None
     text += open_question_text(trends, worst)
     return Section("Ground state and first excited state: graph vs continuum",
