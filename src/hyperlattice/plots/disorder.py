@@ -7,6 +7,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..paper_labels import cite
+
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
@@ -81,9 +83,9 @@ def plot_scba_comparison(cmp: SCBAComparison, ax: Axes | None = None) -> Axes:
     w = np.asarray(cmp.W, float)
     ax.loglog(w, cmp.rel_clean, "o-", label="clean G0(omega)")
     ax.loglog(w, cmp.rel_graph_scba, "s-", label="graph SCBA")
-    ax.loglog(w, cmp.rel_continuum_scba, "^-", label="continuum SCBA (eq21 at shifted omega)")
+    ax.loglog(w, cmp.rel_continuum_scba, "^-", label=f"continuum SCBA ({cite('eq21')} at shifted $\\omega$)")
     ax.loglog(w, cmp.rel_noise, ":", color="0.5", label="statistical error")
-    ax.axhline(cmp.continuum_floor, color="0.6", lw=0.8, ls="--", label="clean graph vs eq21")
+    ax.axhline(cmp.continuum_floor, color="0.6", lw=0.8, ls="--", label=f"clean graph vs {cite('eq21')}")
     ax.set_xlabel("W / t")
     ax.set_ylabel("relative L2 distance from the ensemble average")
     ax.legend(fontsize=7)

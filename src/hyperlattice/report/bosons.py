@@ -117,8 +117,16 @@ def bosons_section(out: Path, progress: Callable[[str], None]) -> Section:
                 "and site-decoupled mean field, which drops the fluctuations that such small systems are made of, "
                 "fails there. Its continuum version is worse still on a 7-site flake (the disk's λ_max = "
                 f"{gaps.lambda_max_continuum:.3f} against 2: the dictionary needs ℓ ≳ 4).")
+    from ..compare.limits import REFERENCE_DATE, REFERENCE_LEVELS, reference_command
+
+    stored = sorted(REFERENCE_LEVELS[(7, 3)])
+    provenance = [f"ρ of the infinite lattice (the row “{inf['label']}” of the lobe table and the tip quoted below) "
+                  "is the band-bottom extrapolation of the stored {7,3} flake levels "
+                  f"(REFERENCE_LEVELS in src/hyperlattice/compare/limits.py, ℓ = {stored[0]}–{stored[-1]}, stored "
+                  f"{REFERENCE_DATE}; regenerate with `{reference_command(7, 3, stored)}`); everything else in this "
+                  "section is computed by this run."]
     return Section("Interacting bosons", ("eq13", "eq14"), text, [lobe_table, gap_table, gp_table], figs,
-                   anchor="bosons", part="beyond")
+                   anchor="bosons", part="beyond", provenance=provenance)
 
 
 # every public function above checks its annotated argument types at the door (issue 19)

@@ -228,8 +228,8 @@ def limits_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[
             f"{{{pq[0]},{pq[1]}}}: -rho = {bands[pq].estimate:.5f} ± {bands[pq].error:.0e}, E_inf = "
             f"{bands[pq].paper_edge:.5f} (paper), {bands[pq].improved_edge:.5f} (improved), "
             f"{100 * abs((bands[pq].estimate - bands[pq].improved_edge) / (bands[pq].estimate - bands[pq].paper_edge)):.0f}% left"
-            for pq, _ in LIMITS_LATTICES) + ". The band bottom rises with p toward the tree value -2 sqrt(2) of "
-        "{inf,3}; the anisotropic remainder grows quickly with h (0.276, 0.348, 0.388, 0.413 for p = 7..10), so "
+            for pq, _ in LIMITS_LATTICES) + ". The band bottom rises with p toward the tree value −2√2 of "
+        "{∞,3}; the anisotropic remainder grows quickly with h (0.276, 0.348, 0.388, 0.413 for p = 7..10), so "
         "the isotropic sum helps most for {7,3}; for q = 4 the anisotropic orders are m = ±4.",
     ]
     stored = [int(x) for x, s in zip(ell, source) if s == "stored"]

@@ -379,7 +379,13 @@ def magnetic_section(out: Path, progress: Callable[[str], None], cache: Cache | 
                          "pixel); white = no level: the gaps), with the 4 lowest continuum Dirichlet levels of the "
                          f"same disk (magnetic_levels, {cite('spec2')} with B = 2πf/A₇) in red for f ≤ 0.3.")]
     # l = 3..7: the 1e-3 contour first appears at l = 6 (docs/magnetic.md has l = 3..12)
-    cmp = magnetic_comparison(7, 3, rings=MAGNETIC_RINGS, fluxes=[0.0, 0.1, 0.2, 0.3], levels=2)
+    from ..compare.magnetic import MagneticComparison
+
+    fluxes = [0.0, 0.1, 0.2, 0.3]
+    make_cmp = lambda: magnetic_comparison(7, 3, rings=MAGNETIC_RINGS, fluxes=fluxes, levels=2)  # noqa: E731
+    cmp = (cache.get("magnetic_comparison", {"p": 7, "q": 3, "rings": list(MAGNETIC_RINGS), "fluxes": fluxes,
+                                             "levels": 2}, make_cmp, expect=MagneticComparison)
+           if cache is not None else make_cmp())
     fig, ax = plt.subplots(figsize=(6.0, 4.2), layout="constrained")
     cmp.plot(ax=ax)
     lim = cmp.agreement_limit(1e-3)
