@@ -43,7 +43,8 @@ def run(args: argparse.Namespace) -> int:
         summary = reproduce(args.out, args.max_rings, cache=cache, progress=stage)
         bar.update()
     print(f"wrote {summary['out_dir']}/report.html and report.md ({len(summary['sections'])} sections) in "
-          f"{summary['seconds']:.1f} s (cache: {summary['cache_hits']} hits, {summary['cache_misses']} computed)")
+          f"{summary['seconds']:.1f} s (cache: {summary['cache_hits']} read from earlier runs, "
+          f"{summary['cache_misses']} computed, {summary['cache_reused']} reused within this run)")
     return 0
 
 

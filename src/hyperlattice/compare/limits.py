@@ -94,6 +94,8 @@ if TYPE_CHECKING:
 __all__ = [
     "REFERENCE_LEVELS",
     "REFERENCE_COMMAND",
+    "REFERENCE_DATE",
+    "reference_command",
     "reference_levels",
     "flake_levels",
     "BandBottomFit",
@@ -108,9 +110,29 @@ __all__ = [
     "compare_dictionaries",
 ]
 
-#: How :data:`REFERENCE_LEVELS` were computed (one flake per line; ~1 min for {7,3} up to l = 14).
-REFERENCE_COMMAND = ("python -c \"from hyperlattice import ring_lattice, lowest_levels; "
-                     "print([lowest_levels(ring_lattice(p, q, l), 2).energies for l in range(1, lmax + 1)])\"")
+def reference_command(p: int = 7, q: int = 3, rings=range(1, 15)) -> str:
+    """The shell command that recomputes the :data:`REFERENCE_LEVELS` of {p,q} for ``rings``, runnable as written.
+
+    Flakes up to l = 14 go through ``lowest_levels`` (one Python call printing ``(l, E0, E1)``
+    tuples); l >= 15 through ``hyperlattice spectrum --method pair`` (the sector-only solver,
+    which never builds the 13M+ site lattice), one command per flake.
+    """
+    p, q = _validate.pq(p, q)
+    rings = _validate.int_list("rings", rings, minimum=1, maximum=17)
+    small = [r for r in rings if r <= 14]
+    parts = []
+    if small:
+        parts.append("python -c \"from hyperlattice import ring_lattice, lowest_levels; "
+                     f"print([(l, *lowest_levels(ring_lattice({p}, {q}, l), 2).energies.tolist()) "
+                     f"for l in {tuple(small)!r}])\"")
+    parts += [f"hyperlattice spectrum -p {p} -q {q} --rings {r} --method pair" for r in rings if r > 14]
+    return "; ".join(parts)
+
+
+#: How :data:`REFERENCE_LEVELS` of {7,3} up to l = 14 were computed (~1 min; :func:`reference_command`).
+REFERENCE_COMMAND = reference_command(7, 3, range(1, 15))
+#: When :data:`REFERENCE_LEVELS` were computed and stored (l = 15, 16 of {7,3} the same day).
+REFERENCE_DATE = "2026-11-22"
 
 #: E0, E1 of the l-ring {p,q} flakes (H = -A), by (p, q) and l: lowest_levels, residuals <= 4e-13
 #: (REFERENCE_COMMAND); {7,3} l = 15, 16 (13.0M, 34.1M sites) from the sector-only shift-invert solver
