@@ -315,7 +315,8 @@ def test_reproduce_counts_its_stages_on_stderr(no_delay, tmp_path, monkeypatch, 
     def fake(out_dir, max_rings, *, cache, progress):
         for stage in ("Fig1", "Fig2", "Fig3"):  # the report announces each stage as it starts
             progress(stage)
-        return {"out_dir": str(out_dir), "sections": [], "seconds": 0.0, "cache_hits": 0, "cache_misses": 0}
+        return {"out_dir": str(out_dir), "sections": [], "seconds": 0.0, "cache_hits": 0, "cache_misses": 0,
+                "cache_reused": 0}
 
     monkeypatch.setattr(report, "reproduce", fake)  # the bar, not the paper, is under test
     args = ["reproduce", "--out", str(tmp_path / "r"), "--max-rings", "2", "--no-cache"]
