@@ -27,6 +27,7 @@ FLAGS = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE
 COMPLETE: tuple[str, ...] = (
     "hyperlattice.graph.lattice",
     "hyperlattice.graph.operators",
+    "hyperlattice.graph.sectors",
     "hyperlattice.graph.spectrum",
 )
 
