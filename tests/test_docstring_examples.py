@@ -32,6 +32,7 @@ COMPLETE: tuple[str, ...] = (
     "hyperlattice.graph.kpm",
     "hyperlattice.graph.lattice",
     "hyperlattice.graph.operators",
+    "hyperlattice.graph.qubits",
     "hyperlattice.graph.sectors",
     "hyperlattice.graph.spectrum",
 )
