@@ -27,6 +27,7 @@ FLAGS = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE
 COMPLETE: tuple[str, ...] = (
     "hyperlattice.graph.bands",
     "hyperlattice.graph.clusters",
+    "hyperlattice.graph.disorder",
     "hyperlattice.graph.flux",
     "hyperlattice.graph.green",
     "hyperlattice.graph.kpm",
