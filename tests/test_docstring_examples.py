@@ -36,6 +36,7 @@ COMPLETE: tuple[str, ...] = (
     "hyperlattice.graph.qubits",
     "hyperlattice.graph.sectors",
     "hyperlattice.graph.spectrum",
+    "hyperlattice.graph.symmetry",
     "hyperlattice.graph.walks",
 )
 
