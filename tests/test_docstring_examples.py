@@ -28,6 +28,7 @@ COMPLETE: tuple[str, ...] = (
     "hyperlattice.graph.bands",
     "hyperlattice.graph.clusters",
     "hyperlattice.graph.disorder",
+    "hyperlattice.graph.factor",
     "hyperlattice.graph.flux",
     "hyperlattice.graph.green",
     "hyperlattice.graph.kpm",
