@@ -80,9 +80,9 @@ MAX_LENGTH = 200
 
 
 def exact_depth(rings: int, ring: int) -> int:
-    r"""Largest n for which the closed-walk count from a site on ring ``ring`` of an R-ring flake equals the infinite lattice's.
+    r"""Largest n for which closed-walk counts on ring ``ring`` of an R-ring flake are exact.
 
-    The bound is :math:`2(R - r) + 1`: a closed walk of length n reaches at most
+    Exact means equal to the infinite lattice's count from a site on that ring. The bound is :math:`2(R - r) + 1`: a closed walk of length n reaches at most
     :math:`\lfloor n/2 \rfloor` rings outwards (see the module docstring for the proof).
 
     Parameters
