@@ -34,6 +34,22 @@ COMPLETE: tuple[str, ...] = (
     "hyperlattice.continuum.spectrum",
     "hyperlattice.dictionary",
     "hyperlattice.geometry",
+    "hyperlattice.graph.bands",
+    "hyperlattice.graph.clusters",
+    "hyperlattice.graph.disorder",
+    "hyperlattice.graph.factor",
+    "hyperlattice.graph.flux",
+    "hyperlattice.graph.green",
+    "hyperlattice.graph.groups",
+    "hyperlattice.graph.kpm",
+    "hyperlattice.graph.lattice",
+    "hyperlattice.graph.operators",
+    "hyperlattice.graph.qubits",
+    "hyperlattice.graph.sectors",
+    "hyperlattice.graph.solvers",
+    "hyperlattice.graph.spectrum",
+    "hyperlattice.graph.symmetry",
+    "hyperlattice.graph.walks",
 )
 
 

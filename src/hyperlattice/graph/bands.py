@@ -97,19 +97,42 @@ class Windings(Result):
 def edge_windings(cluster: Cluster) -> Windings:
     """Homology windings of the edges by a tree–cotree decomposition (see the module docstring).
 
+    A spanning tree of the cluster gets windings 0, a spanning tree of the dual graph among the
+    remaining edges is fixed by requiring every face boundary to sum to zero, and the 2g
+    leftover edges carry the unit windings of the homology basis.
+
     Parameters
     ----------
     cluster : Cluster
-        The unit cell.
+        The unit cell, e.g. from :func:`~hyperlattice.graph.clusters.pbc_cluster`.
 
     Returns
     -------
     Windings
+        ``edges`` (E, 2), ``windings`` (E, 2g) of the directed edges i -> j, ``basis_edges``
+        (2g,) whose windings are the identity matrix, ``genus`` and ``name``.
 
     Raises
     ------
     ValueError
         If the cluster is not a Cluster.
+
+    See Also
+    --------
+    bloch_hamiltonian
+
+    References
+    ----------
+    .. [1] D. Eppstein, "Dynamic generators of topologically embedded graphs", Proc. SODA
+       (2003) (tree–cotree decomposition).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.bands import edge_windings
+    >>> w = edge_windings(hl.pbc_cluster(8, 3, "bolza"))
+    >>> w.genus, w.windings.shape, w.windings[w.basis_edges].tolist()
+    (2, (24, 4), [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]])
     """
     c = _cluster(cluster)
     n, q, p = c.sites, c.q, c.p
@@ -199,20 +222,49 @@ def _momentum(k, two_g: int) -> np.ndarray:
 def bloch_hamiltonian(cluster: Cluster, k, *, windings: Windings | None = None, t: float = 1.0) -> np.ndarray:
     r"""The Abelian Bloch Hamiltonian :math:`H(k) = -t \sum_e e^{i k\cdot w_e}|i\rangle\langle j| + h.c.`
 
+    The sum runs over the edges e = (i, j) of the cell with their homology windings
+    :math:`w_e \in \mathbb Z^{2g}` (:func:`edge_windings`); at k = 0 it is :math:`H = -tA`
+    of the periodic cluster.
+
     Parameters
     ----------
     cluster : Cluster
-        The unit cell (at most :data:`MAX_CELL_SITES` sites: the matrix is dense).
+        The unit cell (at most :data:`MAX_CELL_SITES` = 20,000 sites: the matrix is dense).
     k : array_like, shape (2g,)
-        Crystal momentum on the 2g-torus, in the basis of :attr:`Windings.basis_edges`.
+        Crystal momentum on the 2g-torus :math:`[-\pi, \pi)^{2g}` (radians), in the basis of
+        :attr:`Windings.basis_edges`.
     windings : Windings, optional
-        From :func:`edge_windings` (computed when omitted).
-    t : float
-        Hopping (H = -tA at k = 0).
+        From :func:`edge_windings` of this cluster (computed when omitted).
+    t : float, optional
+        Hopping amplitude, the energy unit (H = -tA at k = 0); default 1.
 
     Returns
     -------
-    ndarray of complex128, shape (sites, sites), Hermitian.
+    numpy.ndarray of complex128, shape (sites, sites)
+        The Hermitian matrix H(k).
+
+    Raises
+    ------
+    ValueError
+        If the cell has more than 20,000 sites, ``windings`` do not belong to this cluster, or
+        ``k`` is not one vector of 2g real numbers.
+
+    See Also
+    --------
+    edge_windings, band_structure, abelian_dos
+
+    References
+    ----------
+    .. [1] J. Maciejko and S. Rayan, "Hyperbolic band theory", Sci. Adv. 7, eabe9170 (2021).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import hyperlattice as hl
+    >>> cell = hl.pbc_cluster(8, 3, "bolza")
+    >>> H = hl.bloch_hamiltonian(cell, [np.pi / 2, 0.0, 0.0, 0.0])
+    >>> H.shape, round(float(np.linalg.eigvalsh(H)[0]), 6)
+    ((16, 16), -2.90027)
     """
     c = _cluster(cluster)
     if c.sites > MAX_CELL_SITES:
@@ -239,12 +291,36 @@ def abelian_cover(cluster: Cluster, n: int) -> Cluster:
     Site (v, m), :math:`m \in \mathbb Z_n^{2g}`, is numbered :math:`v + V \sum_i m_i n^i`; the
     edge from v to u with winding w joins (v, m) to (u, m + w mod n). Its genus is
     :math:`1 + (g-1) n^{2g}`; its systole is measured as for any cluster (the cover is a regular
-    map, see the module docstring).
+    map, see the module docstring). Its spectrum is the union of the spectra of H(k) over
+    :math:`k \in (2\pi/n)\mathbb Z^{2g}`, an exact check of :func:`bloch_hamiltonian`.
+
+    Parameters
+    ----------
+    cluster : Cluster
+        The unit cell, with V sites and genus g.
+    n : int
+        Order of the cyclic factors, 2 <= n <= 1000.
+
+    Returns
+    -------
+    Cluster
+        The cover, named ``"<cell>-Z<n>^<2g>"``.
 
     Raises
     ------
     ValueError
-        For n < 2 or a cover above 2 million sites (refused before building).
+        For n < 2 (or above 1000) or a cover above 2 million sites (refused before building).
+
+    See Also
+    --------
+    bloch_hamiltonian, hyperlattice.graph.clusters.pbc_cluster
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> cover = hl.abelian_cover(hl.pbc_cluster(8, 3, "bolza"), 2)
+    >>> cover.sites, cover.genus
+    (256, 17)
     """
     c = _cluster(cluster)
     n = _validate.integer("n", n, minimum=2, maximum=1000)
@@ -308,14 +384,36 @@ def k_path(genus: int, corners=None, *, points: int = 50) -> tuple[np.ndarray, n
     genus : int
         g >= 1; momenta have 2g components.
     corners : sequence of (label, k) pairs, optional
-        Default: :math:`\Gamma = 0 \to X_1 = \pi e_1 \to M = \pi(e_1 + e_2) \to \Gamma \to
-        Y = \pi(1, \dots, 1) \to \Gamma`.
-    points : int
-        Points per straight segment (endpoints shared).
+        Default: :math:`\Gamma = 0 \to X = \pi e_1 \to M = \pi(e_1 + e_2) \to \Gamma \to
+        R = \pi(1, \dots, 1) \to \Gamma`.
+    points : int, optional
+        Points per straight segment (endpoints shared), 2 to 100,000; default 50.
 
     Returns
     -------
-    (k, ticks, labels): momenta (K, 2g), the indices of the corners in k, and their labels.
+    k : numpy.ndarray of float64, shape (K, 2g)
+        The momenta (radians).
+    ticks : numpy.ndarray of int
+        The indices of the corners in k.
+    labels : list of str
+        Their labels.
+
+    Raises
+    ------
+    ValueError
+        For an invalid genus or ``points``, or corners that are not (label, k) pairs with k of
+        2g numbers (at least two of them).
+
+    See Also
+    --------
+    band_structure
+
+    Examples
+    --------
+    >>> from hyperlattice.graph.bands import k_path
+    >>> k, ticks, labels = k_path(2, points=5)
+    >>> k.shape, ticks.tolist(), labels
+    ((21, 4), [0, 4, 8, 12, 16, 20], ['Γ', 'X', 'M', 'Γ', 'R', 'Γ'])
     """
     g = _validate.positive_int("genus", genus, maximum=10_000)
     points = _validate.integer("points", points, minimum=2, maximum=100_000)
@@ -345,9 +443,34 @@ def band_structure(cluster: Cluster, k=None, *, labels=None, ticks=None, points:
     cluster : Cluster
         The unit cell.
     k : array_like, shape (K, 2g), optional
-        The momenta; default the path of :func:`k_path` with ``points`` per segment.
+        The momenta (radians); default the path of :func:`k_path` with ``points`` per segment.
     labels, ticks : optional
-        Corner labels and their indices in k (given with k).
+        Corner labels (sequence of str) and their indices in k (sequence of int), given with
+        k; default ``["start", "end"]`` at the two ends.
+    points : int, optional
+        Points per straight segment of the default path; default 50.
+
+    Returns
+    -------
+    Bands
+        ``k`` (K, 2g), ``distance`` along the path, ``energies`` (K, sites) ascending at each
+        k in units of t, ``ticks`` and ``tick_labels`` of the corners; ``.plot(ax)`` draws it.
+
+    Raises
+    ------
+    ValueError
+        For an invalid cluster (or one above 20,000 sites) or momenta of the wrong shape.
+
+    See Also
+    --------
+    bloch_hamiltonian, k_path, abelian_dos
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> bands = hl.band_structure(hl.pbc_cluster(8, 3, "bolza"), points=5)
+    >>> bands.energies.shape, round(float(bands.energies[0, 0]), 6), bands.tick_labels
+    ((21, 16), -3.0, ['Γ', 'X', 'M', 'Γ', 'R', 'Γ'])
     """
     c = _cluster(cluster)
     if k is None:
@@ -405,21 +528,49 @@ class AbelianDOS(Result):
 
 def abelian_dos(cluster: Cluster, *, samples: int = 400, bins: int = 200, seed: int = 0,
                 batches: int = 8) -> AbelianDOS:
-    """Abelian density of states: histogram of the eigenvalues of H(k), k uniform on the torus.
+    r"""Abelian density of states: histogram of the eigenvalues of H(k), k uniform on the torus.
 
     Parameters
     ----------
     cluster : Cluster
         The unit cell.
-    samples : int
-        Number of random momenta (uniform on :math:`[-\\pi, \\pi)^{2g}`).
-    bins : int
-        Histogram bins on :math:`[-q, q]`.
-    seed : int
-        Seed of the random momenta (numpy default_rng).
-    batches : int
-        The momenta are split into this many batches; the standard error of each bin is their
-        spread divided by sqrt(batches).
+    samples : int, optional
+        Number of random momenta (uniform on :math:`[-\pi, \pi)^{2g}`), at most 1e7; default 400.
+    bins : int, optional
+        Histogram bins on :math:`[-q, q]` (units of t); default 200.
+    seed : int, optional
+        Seed of the random momenta (numpy default_rng), >= 0; default 0.
+    batches : int, optional
+        The momenta are split into this many batches (2 to ``samples``); the standard error of
+        each bin is their spread divided by sqrt(batches). Default 8.
+
+    Returns
+    -------
+    AbelianDOS
+        ``energies`` (bin centres, units of t), ``density`` (states per site per unit energy,
+        integrating to 1), ``errors``, ``bin_edges``, ``samples``, ``method ==
+        "uniform-random-k"``.
+
+    Raises
+    ------
+    ValueError
+        For invalid arguments, including ``samples`` below ``batches``.
+
+    See Also
+    --------
+    band_structure, hyperlattice.graph.kpm.kpm_dos
+
+    References
+    ----------
+    .. [1] J. Maciejko and S. Rayan, "Hyperbolic band theory", Sci. Adv. 7, eabe9170 (2021).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import hyperlattice as hl
+    >>> dos = hl.abelian_dos(hl.pbc_cluster(8, 3, "bolza"), samples=40, bins=20, batches=4)
+    >>> dos.density.shape, round(float(np.sum(dos.density * np.diff(dos.bin_edges))), 6)
+    ((20,), 1.0)
     """
     c = _cluster(cluster)
     samples = _validate.positive_int("samples", samples, maximum=10**7)

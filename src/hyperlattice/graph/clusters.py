@@ -452,14 +452,29 @@ def lattice_ball_counts(p: int, q: int, radius: int) -> tuple[np.ndarray, np.nda
     Computed by breadth-first search from a site of the central face of a ring lattice with
     enough rings that the balls stay two steps away from its boundary.
 
+    Parameters
+    ----------
+    p, q : int
+        Schläfli symbol.
+    radius : int
+        Largest graph distance R >= 0.
+
     Returns
     -------
-    (vertices, edges) : int arrays of length radius + 1 (cumulative: in the ball B_R).
+    vertices, edges : numpy.ndarray of int, shape (radius + 1,)
+        Cumulative counts: sites and edges in the ball :math:`B_R` of each radius.
 
     Raises
     ------
     ValueError
-        When the flake needed exceeds 4 million sites.
+        When the flake needed exceeds 2.5 million sites, or for invalid input.
+
+    Examples
+    --------
+    >>> from hyperlattice.graph.clusters import lattice_ball_counts
+    >>> v, e = lattice_ball_counts(7, 3, 3)
+    >>> v.tolist(), e.tolist()
+    ([1, 4, 10, 22], [0, 3, 9, 24])
     """
     from .lattice import site_count
 
@@ -522,7 +537,11 @@ def _check_fits(darts: int, what: str) -> None:
 
 def cluster_from_relators(p: int, q: int, relators, *, name: str = "custom", source: str = "",
                           group: str = "", max_cosets: int = 1_000_000) -> Cluster:
-    """The {p,q} cluster of :math:`\\Delta(2,q,p)` with extra relators, by Todd–Coxeter.
+    r"""The {p,q} cluster of :math:`\Delta(2,q,p)` with extra relators, by Todd–Coxeter.
+
+    The group :math:`\langle x, y \mid x^2, y^q, (xy)^p, \text{relators} \rangle` is enumerated
+    on the cosets of :math:`\langle x \rangle` (:func:`hyperlattice.graph.groups.coset_table`);
+    its darts form the map.
 
     Parameters
     ----------
@@ -530,15 +549,33 @@ def cluster_from_relators(p: int, q: int, relators, *, name: str = "custom", sou
         Schläfli symbol.
     relators : sequence of str or words
         Extra relators in x, y (``"(x Y x y)^4"``; capitals are inverses).
-    name, source, group : str
-        Labels stored in the result.
-    max_cosets : int
-        Limit of the enumeration (the group order must stay below it).
+    name, source, group : str, optional
+        Labels stored in the result; defaults ``"custom"``, a description of the enumeration,
+        and the group order.
+    max_cosets : int, optional
+        Limit of the enumeration (the group order must stay below it); default 1,000,000.
+
+    Returns
+    -------
+    Cluster
+        The quotient map.
 
     Raises
     ------
     ValueError
-        Bad input, or a quotient that is not torsion-free or not a closed hyperbolic surface.
+        Bad input, an enumeration above ``max_cosets``, or a quotient that is not torsion-free
+        or not a closed hyperbolic surface.
+
+    See Also
+    --------
+    pbc_cluster, hyperlattice.graph.groups.coset_table
+
+    Examples
+    --------
+    >>> from hyperlattice.graph.clusters import cluster_from_relators
+    >>> c = cluster_from_relators(8, 3, ["(x y x Y)^4"], name="example")
+    >>> c.name, c.sites, c.genus
+    ('example', 112, 8)
     """
     p, q = _validate.pq(p, q)
     relators = groups._sequence("relators", relators)
@@ -566,7 +603,35 @@ def _finish(name, p, q, nb, order, group, source) -> Cluster:
 
 
 def psl2_primes(p: int, q: int, r_max: int = _R_MAX) -> list[int]:
-    """Odd primes r <= r_max for which PSL(2, r) is a torsion-free quotient of Δ(2, q, p)."""
+    """Odd primes r <= r_max for which PSL(2, r) is a torsion-free quotient of Δ(2, q, p).
+
+    Parameters
+    ----------
+    p, q : int
+        Schläfli symbol.
+    r_max : int, optional
+        Largest prime tried, 5 to 2000; default 2000.
+
+    Returns
+    -------
+    list of int
+        The primes, ascending.
+
+    Raises
+    ------
+    ValueError
+        For an invalid {p,q} or ``r_max``.
+
+    See Also
+    --------
+    psl2_cluster
+
+    Examples
+    --------
+    >>> from hyperlattice.graph.clusters import psl2_primes
+    >>> psl2_primes(7, 3, 50)
+    [7, 13, 29, 41, 43]
+    """
     p, q = _validate.pq(p, q)
     r_max = _validate.integer("r_max", r_max, minimum=5, maximum=_R_MAX)
     return [r for r in range(5, r_max + 1) if groups.is_prime(r) and _psl2_triple(p, q, r) is not None]
@@ -586,13 +651,41 @@ def psl2_cluster(p: int, q: int, r: int) -> Cluster:
 
     Sites :math:`r(r^2-1)/(2q)`. The generating triple (traces 0, t_y, t_z) is chosen by
     :func:`hyperlattice.graph.groups.psl2_triple`; for {7,3} these are Macbeath's Hurwitz
-    surfaces (A. M. Macbeath, Proc. Glasgow Math. Assoc. 5, 90 (1961)).
+    surfaces.
+
+    Parameters
+    ----------
+    p, q : int
+        Schläfli symbol.
+    r : int
+        An odd prime, 5 <= r <= 2000, for which PSL(2, r) is a torsion-free quotient of
+        :math:`\Delta(2,q,p)` (see :func:`psl2_primes`).
+
+    Returns
+    -------
+    Cluster
+        Named ``"PSL(2,r)"``.
 
     Raises
     ------
     ValueError
         If r is not a prime for which PSL(2, r) is such a quotient, or the cluster would not fit
         in memory (checked before allocating).
+
+    See Also
+    --------
+    psl2_primes, pbc_cluster
+
+    References
+    ----------
+    .. [1] A. M. Macbeath, "On a theorem of Hurwitz", Proc. Glasgow Math. Assoc. 5, 90 (1961).
+
+    Examples
+    --------
+    >>> from hyperlattice.graph.clusters import psl2_cluster
+    >>> c = psl2_cluster(7, 3, 13)
+    >>> c.sites, c.genus
+    (364, 14)
     """
     p, q = _validate.pq(p, q)
     r = _validate.integer("r", r, minimum=5, maximum=_R_MAX)
@@ -657,12 +750,16 @@ def _lookup(p: int, q: int, name: str) -> Cluster:
 
 
 def pbc_cluster(p: int, q: int, name: str | None = None, *, min_sites: int | None = None) -> Cluster:
-    """A periodic {p,q} cluster (a {p,q} map on a closed surface).
+    r"""A periodic {p,q} cluster (a {p,q} map on a closed surface).
+
+    The cluster is the unit cell of the infinite {p,q} lattice under a torsion-free normal
+    subgroup N of the triangle group :math:`\Delta(2,q,p)`: every site has q neighbours and
+    every face is a p-gon, with no boundary.
 
     Parameters
     ----------
     p, q : int
-        Schläfli symbol, (p-2)(q-2) > 4.
+        Schläfli symbol, :math:`(p-2)(q-2) > 4`.
     name : str, optional
         A name from :func:`list_clusters` (``"klein"``, ``"bolza"``, ``"PSL(2,13)"``, ...);
         any ``"PSL(2,r)"`` of the family is accepted, listed or not.
@@ -673,11 +770,27 @@ def pbc_cluster(p: int, q: int, name: str | None = None, *, min_sites: int | Non
     Returns
     -------
     Cluster
+        ``name``, ``p``, ``q``, ``neighbours`` (sites, q) in counterclockwise order (0-based),
+        ``genus``, ``systole``, ``group`` and ``source``.
 
     Raises
     ------
     ValueError
-        Unknown name, no cluster of that size, or a cluster that would not fit in memory.
+        Unknown name, both name and min_sites given, no cluster of that size, or a cluster that
+        would not fit in memory.
+
+    See Also
+    --------
+    list_clusters, psl2_cluster, cluster_from_relators, hyperlattice.graph.bands.bloch_hamiltonian
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> c = hl.pbc_cluster(7, 3, "klein")
+    >>> c.sites, c.genus, c.systole
+    (56, 3, 8)
+    >>> hl.pbc_cluster(7, 3, min_sites=300).name
+    'PSL(2,13)'
     """
     p, q = _validate.pq(p, q)
     if name is not None and min_sites is not None:
@@ -704,9 +817,36 @@ def pbc_cluster(p: int, q: int, name: str | None = None, *, min_sites: int | Non
 def list_clusters(p: int, q: int, *, max_sites: int = 100_000) -> list[dict]:
     """The available {p,q} clusters with at most ``max_sites`` sites, smallest first.
 
-    Each is a dict with the keys ``name, p, q, sites, edges, faces, genus, systole``: the known
-    quotients of the table and their duals, then the PSL(2, r) family (every cluster listed is
-    built once to measure its systole, and kept in memory).
+    The known quotients of the table and their duals come first, then the PSL(2, r) family
+    (every cluster listed is built once to measure its systole, and kept in memory).
+
+    Parameters
+    ----------
+    p, q : int
+        Schläfli symbol, :math:`(p-2)(q-2) > 4`.
+    max_sites : int, optional
+        Largest number of sites listed, at most 1e7; default 100,000.
+
+    Returns
+    -------
+    list of dict
+        One dict per cluster with the keys ``name, p, q, sites, edges, faces, genus, systole``;
+        at equal size the cited table entries come before the family members.
+
+    Raises
+    ------
+    ValueError
+        For an invalid {p,q} or ``max_sites``.
+
+    See Also
+    --------
+    pbc_cluster
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> [(c["name"], c["sites"], c["genus"]) for c in hl.list_clusters(7, 3, max_sites=100)]
+    [('klein', 56, 3), ('PSL(2,7)', 56, 3)]
     """
     p, q = _validate.pq(p, q)
     # every listed cluster is built: beyond 10^7 sites use pbc_cluster(min_sites=...) directly
@@ -738,6 +878,37 @@ def map_code(cluster: Cluster, vertex: int = 0, slot: int = 0) -> np.ndarray:
     the order they are met and the renamed neighbour table, rows in that order and each row
     starting at the parent, is the code. Two maps are isomorphic (by an orientation-preserving
     map sending the first dart to the second) exactly when their codes are equal.
+
+    Parameters
+    ----------
+    cluster : Cluster
+        The map.
+    vertex : int, optional
+        Start site (0-based); default 0.
+    slot : int, optional
+        Start slot in ``cluster.neighbours[vertex]``, 0 to q - 1; default 0.
+
+    Returns
+    -------
+    numpy.ndarray of int64, shape (sites, q)
+        The code.
+
+    Raises
+    ------
+    ValueError
+        If ``cluster`` is not a Cluster, or ``vertex``/``slot`` is out of range.
+
+    See Also
+    --------
+    same_map
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.clusters import map_code
+    >>> code = map_code(hl.pbc_cluster(7, 3, "klein"))
+    >>> code.shape, code[0].tolist()
+    ((56, 3), [1, 2, 3])
     """
     if not isinstance(cluster, Cluster):
         raise ValueError(f"expected a Cluster, got {type(cluster).__name__}.")
@@ -769,6 +940,34 @@ def same_map(a: Cluster, b: Cluster, *, regular: bool = True) -> bool:
 
     With ``regular=True`` (every cluster built here is a regular map: all darts are alike)
     one code of each suffices; otherwise b is tried from every dart (cost V q times larger).
+
+    Parameters
+    ----------
+    a, b : Cluster
+        The two maps.
+    regular : bool, optional
+        Assume b is a regular map; default True.
+
+    Returns
+    -------
+    bool
+        True if a and b have the same {p,q}, size and :func:`map_code` from some dart of b.
+
+    Raises
+    ------
+    ValueError
+        If a or b is not a Cluster.
+
+    See Also
+    --------
+    map_code
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.clusters import same_map
+    >>> same_map(hl.pbc_cluster(7, 3, "klein"), hl.pbc_cluster(7, 3, "PSL(2,7)"))
+    True
     """
     if not isinstance(a, Cluster) or not isinstance(b, Cluster):
         raise ValueError("same_map compares two Cluster results.")

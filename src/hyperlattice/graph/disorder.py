@@ -85,7 +85,39 @@ def _system(value):
 
 
 def realization_rng(seed: int, realization: int) -> np.random.Generator:
-    """The random generator of realization ``realization`` of ``seed`` (independent of any other draw)."""
+    """The random generator of realization ``realization`` of ``seed`` (independent of any other draw).
+
+    It is ``numpy.random.default_rng(SeedSequence(seed, spawn_key=(realization,)))``, the
+    ``realization``-th child of ``SeedSequence(seed)``: any realization can be recomputed alone,
+    on any machine, in any order.
+
+    Parameters
+    ----------
+    seed : int
+        Non-negative seed.
+    realization : int
+        Non-negative realization index.
+
+    Returns
+    -------
+    numpy.random.Generator
+        A fresh generator.
+
+    Raises
+    ------
+    ValueError
+        If ``seed`` or ``realization`` is negative, too large or not an integer.
+
+    See Also
+    --------
+    disorder
+
+    Examples
+    --------
+    >>> from hyperlattice.graph.disorder import realization_rng
+    >>> round(realization_rng(1, 3).random(), 6) == round(realization_rng(1, 3).random(), 6)
+    True
+    """
     return np.random.default_rng(np.random.SeedSequence(_seed(seed), spawn_key=(_realization(realization),)))
 
 
@@ -94,10 +126,37 @@ def onsite_variance(model: str, strength: float, *, omega0: float | None = None)
 
     :math:`W^2/12` for ``box`` and ``gaussian``, :math:`(\omega_0\sigma)^2` for ``resonator``.
 
+    Parameters
+    ----------
+    model : {"box", "gaussian", "resonator"}
+        The disorder model (``"hopping"`` has no on-site term).
+    strength : float
+        W >= 0 in units of t, or the relative spread sigma of ``"resonator"``.
+    omega0 : float, optional
+        :math:`\omega_0/t`, required for ``"resonator"``.
+
+    Returns
+    -------
+    float
+        The variance in units of :math:`t^2`.
+
     Raises
     ------
     ValueError
-        For ``hopping`` (off-diagonal disorder has no on-site variance) or a resonator without omega0.
+        For ``hopping`` (off-diagonal disorder has no on-site variance), a resonator without
+        omega0, an unknown model or an invalid strength.
+
+    See Also
+    --------
+    disorder, hyperlattice.continuum.scba.scba
+
+    Examples
+    --------
+    >>> from hyperlattice.graph.disorder import onsite_variance
+    >>> round(onsite_variance("box", 2.0), 6)
+    0.333333
+    >>> round(onsite_variance("resonator", 1e-3, omega0=100.0), 6)
+    0.01
     """
     model = _validate.choice("model", model, MODELS)
     s = _strength(model, strength)
@@ -156,24 +215,55 @@ def disorder(lattice: Lattice, model: str = "box", strength: float = 1.0, *, see
              realization: int = 0, omega0: float | None = None) -> Disorder:
     r"""Draw realization ``realization`` of a disorder model on ``lattice``.
 
+    The models (module docstring): ``"box"`` on-site :math:`V_i` uniform in
+    :math:`[-W/2, W/2]`; ``"gaussian"`` on-site with the same variance :math:`W^2/12`;
+    ``"hopping"`` :math:`t_{ij} = t(1 + \delta_{ij})`, :math:`\delta_{ij}` uniform in
+    :math:`[-W/2, W/2]`; ``"resonator"`` :math:`V_e = (\omega_0/t)\,\sigma\,\xi_e` on the line
+    graph, :math:`\xi_e` standard normal.
+
     Parameters
     ----------
     lattice : Lattice or Cluster
         A flake, a periodic cluster (:mod:`hyperlattice.graph.clusters`) or (required for
         ``"resonator"``) a line graph.
-    model : {"box", "gaussian", "hopping", "resonator"}
-        See the module docstring.
-    strength : float
-        W >= 0 (box width; Gaussian of the same variance; relative hopping spread), or the relative
-        frequency spread sigma >= 0 of the resonator model. 0 gives the clean lattice exactly.
-    seed, realization : int
-        The draw is a pure function of ``(seed, realization)`` (SeedSequence spawn key).
+    model : {"box", "gaussian", "hopping", "resonator"}, optional
+        See the module docstring; default ``"box"``.
+    strength : float, optional
+        W >= 0 in units of t (box width; Gaussian of the same variance; relative hopping
+        spread), or the relative frequency spread sigma >= 0 of the resonator model. 0 gives the
+        clean lattice exactly. Default 1.
+    seed, realization : int, optional
+        Non-negative; the draw is a pure function of ``(seed, realization)`` (SeedSequence
+        spawn key, see :func:`realization_rng`). Defaults 0.
     omega0 : float, optional
-        :math:`\omega_0/t`, required by the resonator model only.
+        :math:`\omega_0/t`, required by the resonator model only (no default: it depends on
+        the device).
 
     Returns
     -------
     Disorder
+        ``model``, ``strength``, ``seed``, ``realization``, ``onsite`` (N,) the potentials
+        :math:`V_i` in units of t, ``hopping`` (E,) the relative hoppings :math:`t_{ij}/t` of
+        ``lattice.edges``, and ``omega0``.
+
+    Raises
+    ------
+    ValueError
+        For an unknown model, a negative or too large strength, a negative seed or
+        realization, ``"resonator"`` without ``omega0`` or on a lattice that is not a line
+        graph, or ``omega0`` given to another model.
+
+    See Also
+    --------
+    disordered_hamiltonian, onsite_variance, hyperlattice.compare.disorder.disorder_ensemble
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.disorder import disorder
+    >>> d = disorder(hl.ring_lattice(7, 3, 2), "box", 2.0, seed=1, realization=3)
+    >>> d.onsite.shape, round(float(d.onsite[0]), 6), d.hopping[:2].tolist()
+    ((35,), -0.771751, [1.0, 1.0])
     """
     lattice = _system(lattice)
     model = _validate.choice("model", model, MODELS)
@@ -207,7 +297,43 @@ def disordered_hamiltonian(lattice: Lattice, dis: Disorder, *, t: float = 1.0) -
     r""":math:`H = -\sum t\,t_{ij}(|i\rangle\langle j| + \mathrm{h.c.}) + \mathrm{diag}(V)` as sorted CSR (float64).
 
     With ``strength = 0`` this is exactly :func:`~hyperlattice.graph.operators.hamiltonian` of the
-    clean lattice (same entries, same order).
+    clean lattice (same entries, same order). Disorder breaks the p-fold rotation: pass the
+    matrix to a solver that does not use sectors (module docstring).
+
+    Parameters
+    ----------
+    lattice : Lattice or Cluster
+        The lattice ``dis`` was drawn for.
+    dis : Disorder
+        A realization from :func:`disorder`.
+    t : float, optional
+        Hopping amplitude, the energy unit; default 1.
+
+    Returns
+    -------
+    scipy.sparse.csr_matrix
+        The N x N real symmetric Hamiltonian, float64, sorted indices.
+
+    Raises
+    ------
+    ValueError
+        If ``dis`` is not a Disorder, was drawn for a lattice of other sizes, or ``t`` is not
+        a finite real number.
+
+    See Also
+    --------
+    disorder, hyperlattice.graph.operators.hamiltonian
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.disorder import disorder
+    >>> lat = hl.ring_lattice(7, 3, 2)
+    >>> H = hl.disordered_hamiltonian(lat, disorder(lat, "box", 2.0, seed=1, realization=3))
+    >>> H.shape, round(float(H[0, 0]), 6), float(H[0, 1])
+    ((35, 35), -0.771751, -1.0)
+    >>> (hl.disordered_hamiltonian(lat, disorder(lat, "box", 0.0)) != hl.hamiltonian(lat)).nnz
+    0
     """
     lattice = _system(lattice)
     if not isinstance(dis, Disorder):

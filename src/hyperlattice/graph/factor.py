@@ -127,7 +127,23 @@ def _cholmod():
 
 
 def cholmod_available() -> bool:
-    """True when CHOLMOD (scikit-sparse) can be imported."""
+    """True when CHOLMOD (scikit-sparse) can be imported.
+
+    Returns
+    -------
+    bool
+        Whether the ``"cholmod"`` backend can run.
+
+    See Also
+    --------
+    resolve_backend
+
+    Examples
+    --------
+    >>> from hyperlattice.graph.factor import cholmod_available
+    >>> isinstance(cholmod_available(), bool)
+    True
+    """
     return _cholmod() is not None
 
 
@@ -135,7 +151,39 @@ def resolve_backend(backend: str = "auto") -> str:
     """The backend that will run for ``backend`` ("auto", "cholmod", "superlu"; "splu" = "superlu").
 
     An explicit ``"cholmod"`` without scikit-sparse warns once (:class:`SolverFallbackWarning`)
-    and returns ``"superlu"``.
+    and returns ``"superlu"``; ``"auto"`` takes CHOLMOD when it is installed.
+
+    Parameters
+    ----------
+    backend : {"auto", "cholmod", "superlu", "splu"}, optional
+        The backend asked for; default ``"auto"``.
+
+    Returns
+    -------
+    str
+        ``"cholmod"`` or ``"superlu"``.
+
+    Raises
+    ------
+    ValueError
+        For an unknown backend name.
+
+    Warns
+    -----
+    SolverFallbackWarning
+        When ``"cholmod"`` is asked for but scikit-sparse is not installed.
+
+    See Also
+    --------
+    cholmod_available, factorize
+
+    Examples
+    --------
+    >>> from hyperlattice.graph.factor import cholmod_available, resolve_backend
+    >>> resolve_backend("splu")
+    'superlu'
+    >>> resolve_backend("auto") == ("cholmod" if cholmod_available() else "superlu")
+    True
     """
     if backend == "splu":
         backend = "superlu"
@@ -564,27 +612,48 @@ class Factor:
 
 
 def analyze(mat, *, backend: str = "auto", what: str = "H - sigma", max_bytes: int | None = None) -> SymbolicAnalysis:
-    r"""The symbolic analysis of a real symmetric or complex Hermitian sparse matrix H (shift-independent).
+    """The symbolic analysis of a real symmetric or complex Hermitian sparse matrix H (shift-independent).
+
+    The fill-reducing ordering and the size of the factor depend on the sparsity pattern only,
+    so one analysis serves every shift σ (:meth:`SymbolicAnalysis.factor`) and every block of
+    the same pattern.
 
     Parameters
     ----------
     mat : sparse matrix, shape (n, n)
         H (only its pattern and values are used; symmetric/Hermitian is assumed, not checked).
-    backend : {"auto", "cholmod", "superlu"}
-        See the module docstring.
-    what : str
-        How the matrix is named in error messages.
+    backend : {"auto", "cholmod", "superlu"}, optional
+        See the module docstring and :func:`resolve_backend`; default ``"auto"``.
+    what : str, optional
+        How the matrix is named in error messages; default ``"H - sigma"``.
     max_bytes : int, optional
-        Budget; default the memory available to the process (:func:`available_memory`).
+        Budget in bytes; default the memory available to the process (:func:`available_memory`).
 
     Returns
     -------
     SymbolicAnalysis
+        ``backend``, ``n``, ``complex``, ``factor_entries``, ``bytes_needed`` and ``exact``.
 
     Raises
     ------
+    ValueError
+        For a matrix that is not square and sparse-convertible, or an unknown backend.
     FactorMemoryError
         When the estimated factor will not fit (one sentence with the needed and available bytes).
+
+    See Also
+    --------
+    factorize
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.factor import analyze
+    >>> a = analyze(hl.hamiltonian(hl.ring_lattice(7, 3, 3)), backend="superlu")
+    >>> a.backend, a.n, a.complex
+    ('superlu', 112, False)
+    >>> a.factor(-2.0).negatives      # levels of H below -2
+    12
     """
     what = _text("what", what)
     if max_bytes is not None:
@@ -597,37 +666,62 @@ def factorize(mat, sigma=0.0, *, backend: str = "auto", analysis: SymbolicAnalys
               max_bytes: int | None = None) -> Factor:
     r"""Factorise :math:`H - \sigma` once, for solves and the inertia count.
 
+    By Sylvester's law of inertia, the signs of the pivots of an :math:`LDL^T` (or the
+    success of a Cholesky :math:`LL^T`) count the eigenvalues of H below σ.
+
     Parameters
     ----------
     mat : sparse matrix
         H, real symmetric or complex Hermitian (ignored when ``analysis`` is given).
-    sigma : float or complex
-        Shift. A complex σ (with nonzero imaginary part) gives a plain LU with pivoting (SuperLU;
-        no inertia).
-    backend : {"auto", "cholmod", "superlu"}
+    sigma : float or complex, optional
+        Shift, in the units of H; default 0. A complex σ (with nonzero imaginary part) gives a
+        plain LU with pivoting (SuperLU; no inertia).
+    backend : {"auto", "cholmod", "superlu"}, optional
+        See :func:`resolve_backend`; default ``"auto"``.
     analysis : SymbolicAnalysis, optional
         Reuse a previous analysis of the same pattern (a new shift costs the numeric part only).
-    positive : bool
+    positive : bool, optional
         σ is expected below the spectrum: CHOLMOD tries a supernodal :math:`LL^T` first, whose
         success proves it (``factor.positive_definite``); on failure the :math:`LDL^T` counts.
-    pivoting : bool
+        Default False.
+    pivoting : bool, optional
         A plain LU with partial pivoting (SuperLU) even for a real shift: stable inside the
-        spectrum, where an :math:`LDL^T` without pivoting may not be; no inertia.
-    what : str
-        Name of the matrix in error messages.
+        spectrum, where an :math:`LDL^T` without pivoting may not be; no inertia. Default False.
+    what : str, optional
+        Name of the matrix in error messages; default ``"H - sigma"``.
     max_bytes : int, optional
-        Memory budget (default: :func:`available_memory`).
+        Memory budget in bytes (default: :func:`available_memory`).
 
     Returns
     -------
     Factor
+        ``backend``, ``sigma``, ``kind`` (``"LL^T"``, ``"LDL^T"`` or ``"LU"``), ``negatives``
+        (eigenvalues below σ, or None), ``proved``, ``positive_definite``; ``solve(b)`` solves
+        :math:`(H - \sigma)x = b`.
 
     Raises
     ------
+    ValueError
+        For invalid input.
     FactorMemoryError
         The factor will not fit (refused before work), or a backend ran out of memory.
     FactorizationError
         Zero pivot (σ an eigenvalue to working precision) or another backend failure.
+
+    See Also
+    --------
+    analyze, lowest_eigenpairs, shift_invert_lowest
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.factor import factorize
+    >>> H = hl.hamiltonian(hl.ring_lattice(7, 3, 3))
+    >>> f = factorize(H, -3.0, backend="superlu", positive=True)
+    >>> f.negatives, f.positive_definite       # E0 = -2.7867 lies above -3
+    (0, True)
+    >>> factorize(H, -2.0, backend="superlu").negatives
+    12
     """
     sigma = _shift(sigma)
     positive = _validate.flag("positive", positive)
@@ -649,8 +743,55 @@ def shift_invert_lowest(mat, k: int, factor: Factor, tol: float, label: str):
     r"""The k lowest eigenpairs of a Hermitian matrix above the shift of ``factor``, by Lanczos on :math:`(H - \sigma)^{-1}`.
 
     ``factor`` must show no eigenvalue below its shift (then the largest eigenvalues of the
-    inverse are the lowest of H). Energies are Rayleigh quotients with H itself; returns
-    ``(energies, vectors, residuals, solves)``; real vectors for a real H.
+    inverse are the lowest of H). Energies are Rayleigh quotients with H itself.
+
+    Parameters
+    ----------
+    mat : sparse matrix, shape (n, n)
+        H, real symmetric or complex Hermitian.
+    k : int
+        Number of eigenpairs, 1 <= k <= n - 2.
+    factor : Factor
+        A factorisation of :math:`H - \sigma` from :func:`factorize` with σ below the wanted
+        levels.
+    tol : float
+        Residual target :math:`\|H\psi - E\psi\|`, in the units of H; ARPACK is run again more
+        tightly when a residual exceeds tol / 10.
+    label : str
+        Name of the matrix in messages.
+
+    Returns
+    -------
+    energies : numpy.ndarray of float64, shape (k,)
+        Ascending.
+    vectors : numpy.ndarray, shape (n, k)
+        Normalised eigenvectors; real for a real H.
+    residuals : numpy.ndarray of float64, shape (k,)
+        :math:`\|H\psi - E\psi\|` of each.
+    solves : int
+        Number of solves with the factor.
+
+    Raises
+    ------
+    ValueError
+        If ``factor`` is not a Factor or belongs to a matrix of another size, or for invalid
+        k, tol or label.
+    ConvergenceError
+        If ARPACK does not converge.
+
+    See Also
+    --------
+    lowest_eigenpairs, factorize
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.factor import factorize, shift_invert_lowest
+    >>> H = hl.hamiltonian(hl.ring_lattice(7, 3, 3))
+    >>> f = factorize(H, -3.0, backend="superlu", positive=True)
+    >>> e, v, res, solves = shift_invert_lowest(H, 2, f, 1e-10, "flake")
+    >>> [round(float(x), 6) for x in e], v.shape, bool(res.max() < 1e-10)
+    ([-2.786702, -2.626896], (112, 2), True)
     """
     from ..errors import ConvergenceError
 
@@ -701,10 +842,55 @@ def lowest_eigenpairs(mat, k: int, *, tol: float = 1e-10, backend: str = "auto",
     :math:`(H - \sigma)^{-1}` gives the k lowest; a last factorisation just above the k-th level
     counts the levels below it (Sylvester), and a level ARPACK missed is fetched by a second run.
 
+    Parameters
+    ----------
+    mat : sparse matrix, shape (n, n)
+        H, real symmetric or complex Hermitian, n >= 3.
+    k : int
+        Number of eigenpairs, 1 <= k <= n - 2.
+    tol : float, optional
+        Residual target, in the units of H; default 1e-10.
+    backend : {"auto", "cholmod", "superlu"}, optional
+        See :func:`resolve_backend`; default ``"auto"``.
+    label : str, optional
+        Name of the matrix in messages; default ``"block"``.
+    max_bytes : int, optional
+        Memory budget in bytes (default: :func:`available_memory`).
+    analysis : SymbolicAnalysis, optional
+        Reuse an analysis of the same pattern.
+
     Returns
     -------
-    energies, vectors, residuals, info
-        ``info``: ``{"backend", "sigma", "solves", "proved", "analysis"}``.
+    energies : numpy.ndarray of float64, shape (k,)
+        Ascending.
+    vectors : numpy.ndarray, shape (n, k)
+        Normalised eigenvectors.
+    residuals : numpy.ndarray of float64, shape (k,)
+        :math:`\|H\psi - E\psi\|`.
+    info : dict
+        ``{"backend", "sigma", "solves", "proved", "analysis"}``.
+
+    Raises
+    ------
+    ValueError
+        For invalid input (fewer than 3 rows, k out of range, an analysis of another kind).
+    FactorMemoryError
+        If a factorisation will not fit.
+    ConvergenceError
+        If no shift below the lowest level is found or ARPACK does not converge.
+
+    See Also
+    --------
+    shift_invert_lowest, hyperlattice.graph.sectors.lowest_sector_levels
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.factor import lowest_eigenpairs
+    >>> H = hl.hamiltonian(hl.ring_lattice(7, 3, 3))
+    >>> e, v, res, info = lowest_eigenpairs(H, 3, backend="superlu")
+    >>> [round(float(x), 6) for x in e], info["proved"]
+    ([-2.786702, -2.626896, -2.626896], True)
     """
     from ..errors import ConvergenceError
     from .solvers import _lanczos_ritz

@@ -82,9 +82,37 @@ def _flux(value) -> float:
 
 
 def pgon_area(p: int, q: int) -> float:
-    r"""Hyperbolic area of one p-gon face of the {p,q} tiling, :math:`((p-2)\pi - 2\pi p/q)/4`.
+    r"""Hyperbolic area of one p-gon face of the {p,q} tiling.
 
-    In the paper's metric (curvature -4, hence the 1/4 of the Gauss-Bonnet angle defect).
+    .. math:: A_p = \frac{(p-2)\pi - 2\pi p/q}{4}
+
+    in the paper's metric :math:`ds^2 = (dx^2+dy^2)/(1-|z|^2)^2` (curvature -4, hence the 1/4
+    of the Gauss-Bonnet angle defect).
+
+    Parameters
+    ----------
+    p, q : int
+        Hyperbolic Schläfli symbol, :math:`(p-2)(q-2) > 4`.
+
+    Returns
+    -------
+    float
+        The area :math:`A_p` in units of the metric (dimensionless, curvature -4).
+
+    Raises
+    ------
+    ValueError
+        For a non-hyperbolic or non-integer {p,q}.
+
+    See Also
+    --------
+    field_strength, face_areas
+
+    Examples
+    --------
+    >>> from hyperlattice.graph.flux import pgon_area
+    >>> round(pgon_area(7, 3), 6)   # pi/12
+    0.261799
     """
     p, q = _validate.pq(p, q)
     return ((p - 2) * np.pi - 2 * np.pi * p / q) / 4.0
@@ -95,6 +123,34 @@ def field_strength(flux, p: int, q: int) -> float:
 
     The map itself is the dictionary's (:func:`hyperlattice.dictionary.field_from_flux`); this
     adds the flux range check of this module.
+
+    Parameters
+    ----------
+    flux : float
+        Flux quanta f through one p-gon face (positive = counterclockwise), at most 1e6 in
+        magnitude.
+    p, q : int
+        Hyperbolic Schläfli symbol.
+
+    Returns
+    -------
+    float
+        B per unit area of the metric (curvature -4), with flux quantum :math:`2\pi`.
+
+    Raises
+    ------
+    ValueError
+        If ``flux`` is not a finite real number of magnitude at most 1e6, or {p,q} is invalid.
+
+    See Also
+    --------
+    pgon_area, hyperlattice.dictionary.field_from_flux
+
+    Examples
+    --------
+    >>> from hyperlattice.graph.flux import field_strength
+    >>> round(field_strength(0.1, 7, 3), 6)
+    2.4
     """
     return float(field_from_flux(_flux(flux), p, q))
 
@@ -102,7 +158,33 @@ def field_strength(flux, p: int, q: int) -> float:
 def triangle_area(a, b) -> np.ndarray:
     r"""Signed hyperbolic area :math:`\tfrac12\arg(1 - a\bar b)` of the geodesic triangle (0, a, b).
 
-    Counterclockwise (0 -> a -> b) positive; curvature -4 metric. Vectorised over a and b.
+    Counterclockwise (0 -> a -> b) positive; curvature -4 metric. The value lies in
+    :math:`(-\pi/4, \pi/4)`. Vectorised over a and b (broadcast).
+
+    Parameters
+    ----------
+    a, b : complex or array_like of complex
+        Points of the Poincaré disk, :math:`|z| < 1`.
+
+    Returns
+    -------
+    numpy.ndarray of float64
+        The signed areas (0-d for scalar input).
+
+    Raises
+    ------
+    ValueError
+        If a point is not finite or lies outside the open unit disk.
+
+    See Also
+    --------
+    edge_phases, face_areas
+
+    Examples
+    --------
+    >>> from hyperlattice.graph.flux import triangle_area
+    >>> round(float(triangle_area(0.3, 0.3j)), 6), round(float(triangle_area(0.3j, 0.3)), 6)
+    (0.044879, -0.044879)
     """
     a = _validate.disk_points("a", a)
     b = _validate.disk_points("b", b)
@@ -125,7 +207,37 @@ def _cycles(n: int, cycles) -> list[np.ndarray]:
 def edge_phases(lattice: Lattice, flux) -> np.ndarray:
     r"""Peierls phases :math:`\theta_{ij} = \int_{z_j}^{z_i} A` for the rows (i, j) of ``lattice.edges``.
 
-    Returns float64 of shape (E,); the phase of the reverse hop j <- i is the negative.
+    The integral runs along the geodesic edge in the rotation-symmetric gauge of this module;
+    it equals B times the signed area of the triangle (0, z_j, z_i) (:func:`triangle_area`).
+
+    Parameters
+    ----------
+    lattice : Lattice
+        A site lattice or a line graph.
+    flux : float
+        Flux quanta f through one p-gon face (positive = counterclockwise).
+
+    Returns
+    -------
+    numpy.ndarray of float64, shape (E,)
+        :math:`\theta_{ij}` of the hop j -> i for edge ``(i, j)``; the phase of the reverse hop
+        is the negative.
+
+    Raises
+    ------
+    ValueError
+        For an invalid lattice or flux (``|f|`` above 1e6).
+
+    See Also
+    --------
+    hyperlattice.graph.operators.hamiltonian, face_fluxes
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.flux import edge_phases
+    >>> edge_phases(hl.ring_lattice(7, 3, 2), 0.1).shape
+    (42,)
     """
     _validate.lattice(lattice)
     b = field_strength(flux, lattice.p, lattice.q)
@@ -149,11 +261,33 @@ def faces(lattice: Lattice) -> list[np.ndarray]:
     neighbour of v clockwise after u traces the face on its left. The one clockwise cycle
     (the outer face) is dropped.
 
+    Parameters
+    ----------
+    lattice : Lattice
+        A site lattice, or a line graph whose drawing is plane (q = 3).
+
+    Returns
+    -------
+    list of numpy.ndarray of int64
+        One array of 0-based site indices per bounded face, in counterclockwise order.
+
     Raises
     ------
     ValueError
         If the drawing is not a plane graph (Euler's formula fails), as for the line graph of
         a {p,q} flake with q > 3, where the q edges at a vertex form a complete graph.
+
+    See Also
+    --------
+    face_areas, face_fluxes
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.flux import faces
+    >>> cycles = faces(hl.ring_lattice(7, 3, 2))
+    >>> len(cycles), sorted({len(c) for c in cycles})
+    (8, [7])
     """
     _validate.lattice(lattice)
     z = np.asarray(lattice.z, dtype=np.complex128)
@@ -201,6 +335,35 @@ def face_areas(lattice: Lattice, cycles: list[np.ndarray]) -> np.ndarray:
 
     Independent of :func:`triangle_area` (Gauss-Bonnet with the interior angles measured by
     Möbius maps), so it checks the phases.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        Anything with an array ``z`` of Poincaré-disk site positions.
+    cycles : list of array_like of int
+        Polygons as counterclockwise cycles of 0-based site indices (e.g. from :func:`faces`).
+
+    Returns
+    -------
+    numpy.ndarray of float64, shape (len(cycles),)
+        The areas in the curvature -4 metric.
+
+    Raises
+    ------
+    ValueError
+        If ``lattice`` has no valid site positions or a cycle holds invalid site indices.
+
+    See Also
+    --------
+    faces, pgon_area
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.flux import face_areas, faces
+    >>> lat = hl.ring_lattice(7, 3, 2)
+    >>> [round(a, 6) for a in face_areas(lat, faces(lat))[:2].tolist()]   # pgon_area(7, 3)
+    [0.261799, 0.261799]
     """
     # only the positions are read (duck-typed: anything with a ``z`` array of disk points)
     if not hasattr(lattice, "z") or isinstance(lattice, (str, bytes, numbers.Number)):
@@ -217,7 +380,42 @@ def face_areas(lattice: Lattice, cycles: list[np.ndarray]) -> np.ndarray:
 
 def face_fluxes(lattice: Lattice, flux, cycles: list[np.ndarray] | None = None,
                 phases: np.ndarray | None = None) -> np.ndarray:
-    """Sum of the Peierls phases counterclockwise around each bounded face (not reduced mod 2 pi)."""
+    r"""Sum of the Peierls phases counterclockwise around each bounded face (not reduced mod 2 pi).
+
+    Parameters
+    ----------
+    lattice : Lattice
+        A site lattice (or a plane line graph).
+    flux : float
+        Flux quanta f per p-gon face; used when ``phases`` is not given.
+    cycles : list of array_like of int, optional
+        Face cycles (counterclockwise, 0-based site indices); default :func:`faces`.
+    phases : array_like of float, shape (E,), optional
+        Phases of ``lattice.edges``; default :func:`edge_phases` at ``flux``.
+
+    Returns
+    -------
+    numpy.ndarray of float64, shape (len(cycles),)
+        The flux through each face in radians (:math:`2\pi f` for a p-gon).
+
+    Raises
+    ------
+    ValueError
+        For invalid input, phases of the wrong shape, or a cycle stepping between sites that
+        are not neighbours.
+
+    See Also
+    --------
+    check_face_fluxes, faces
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.flux import face_fluxes
+    >>> ff = face_fluxes(hl.ring_lattice(7, 3, 2), 0.1)
+    >>> round(float(ff[0]), 6)   # 2 pi x 0.1
+    0.628319
+    """
     _validate.lattice(lattice)
     cycles = faces(lattice) if cycles is None else _cycles(lattice.sites, cycles)
     if phases is None:
@@ -245,7 +443,39 @@ def face_fluxes(lattice: Lattice, flux, cycles: list[np.ndarray] | None = None,
 def check_face_fluxes(lattice: Lattice, flux, tol: float = 1e-12) -> float:
     r"""Largest deviation of a face flux from :math:`2\pi f \times` area / p-gon area.
 
-    Raises ValueError if it exceeds ``tol`` (relative to :math:`\max(1, 2\pi|f|)`).
+    The sanity check of the gauge: the Peierls phases summed counterclockwise around every
+    bounded face (:func:`face_fluxes`) must equal :math:`2\pi f` times the face's area
+    (measured independently by its angles, :func:`face_areas`) over :func:`pgon_area`.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        A site lattice (or a plane line graph).
+    flux : float
+        Flux quanta f per p-gon face (positive = counterclockwise).
+    tol : float, optional
+        Accepted deviation relative to :math:`\max(1, 2\pi|f|)`; default 1e-12.
+
+    Returns
+    -------
+    float
+        The largest absolute deviation in radians (0.0 for a lattice without bounded faces).
+
+    Raises
+    ------
+    ValueError
+        If the deviation exceeds ``tol``, or for invalid input (including a non-plane
+        drawing, see :func:`faces`).
+
+    See Also
+    --------
+    face_fluxes, face_areas
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> hl.check_face_fluxes(hl.ring_lattice(7, 3, 2), 0.1) < 1e-12
+    True
     """
     f = _flux(flux)
     tol = _validate.positive_real("tol", tol)
@@ -336,7 +566,7 @@ def _lattice_key(lattice: Lattice, onsite) -> dict:
 
 def butterfly(lattice: Lattice, fluxes, *, t: float = 1.0, onsite=None, max_sites: int = 50_000,
               progress=None, checkpoint: Cache | Path | None = None) -> Butterfly:
-    r"""All levels of a flake at each flux, sector by sector (the hyperbolic Hofstadter butterfly).
+    """All levels of a flake at each flux, sector by sector (the hyperbolic Hofstadter butterfly).
 
     At each flux f the p angular-momentum blocks :math:`H_m` (size N/p; the gauge of this
     module keeps the rotation symmetry) are diagonalised densely: about :math:`p^2` less work
@@ -347,14 +577,15 @@ def butterfly(lattice: Lattice, fluxes, *, t: float = 1.0, onsite=None, max_site
     lattice : Lattice
         Site lattice or line graph.
     fluxes : array of float
-        Flux quanta per p-gon (positive = counterclockwise, see the module docstring).
-    t : float
-        Hopping amplitude.
-    onsite : optional
-        Rotation-invariant on-site term.
-    max_sites : int
-        Largest N accepted (a dense computation per sector).
-    progress : bool, None or callable
+        Flux quanta per p-gon (positive = counterclockwise, see the module docstring); at
+        least one value, each at most 1e6 in magnitude.
+    t : float, optional
+        Hopping amplitude, the energy unit; default 1.
+    onsite : scalar, array or callable, optional
+        Rotation-invariant on-site term in units of t; default None.
+    max_sites : int, optional
+        Largest N accepted (a dense computation per sector); default 50,000.
+    progress : bool, None or callable, optional
         A bar over the flux values on stderr (:mod:`hyperlattice._progress`; None: when stderr is a
         terminal), or a function receiving one-line messages.
     checkpoint : path or Cache, optional
@@ -366,12 +597,27 @@ def butterfly(lattice: Lattice, fluxes, *, t: float = 1.0, onsite=None, max_site
     Returns
     -------
     Butterfly
+        ``fluxes`` (F,), ``energies`` (F, N) ascending along each row in units of t, ``m``
+        (F, N) the signed angular momentum of each level, ``method == "sector-dense"``.
 
     Raises
     ------
     ValueError
         Bad input, N above ``max_sites``, a rotation-breaking on-site term, or a result
         (flux values x N levels) above 2e8 numbers.
+
+    See Also
+    --------
+    hyperlattice.graph.spectrum.full_spectrum, hyperlattice.continuum.magnetic.magnetic_levels
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> b = hl.butterfly(hl.ring_lattice(7, 3, 2), [0.0, 0.25])
+    >>> b.energies.shape
+    (2, 35)
+    >>> [round(e, 6) for e in b.energies[:, 0].tolist()], b.m[:, 0].tolist()
+    ([-2.636405, -2.558476], [0, 0])
     """
     # symmetry.py imports this module (for edge_phases): import it here, not at the top
     from .._progress import progress_bar

@@ -202,34 +202,71 @@ class GraphResolvent:
 
 def graph_green(lattice, omega, source=None, targets=None, *, t: float = 1.0, onsite=None,
                 method: str = "auto") -> np.ndarray:
-    r"""Graph Green function ``eq20``, :math:`G_{ij}(\omega) = [(H-\omega)^{-1}]_{ij}`, :math:`H=-tA`.
+    r"""Graph Green function :math:`G_{ij}(\omega) = [(H-\omega)^{-1}]_{ij}` of :math:`H = -tA + V`.
+
+    This is the paper's Eq. (20) (``eq20``),
+
+    .. math:: G_{ij}(\omega) = \sum_{n=1}^N \frac{\psi_n(i)\psi_n^*(j)}{E_n-\omega},
+
+    evaluated by a sparse factorisation of :math:`H - \omega` or, for many :math:`\omega`
+    on small lattices, from one dense eigendecomposition (:class:`GraphResolvent`). Below the
+    band, :math:`\omega < E_0`, it is compared with the continuum Green function through the
+    dictionary :math:`\lambda = 4(\omega + q)/(q h^2)` (Eq. (21)).
 
     Parameters
     ----------
     lattice : Lattice or matrix
-        The lattice (or :math:`H` itself).
+        The lattice (then :math:`H` = :func:`~hyperlattice.graph.operators.hamiltonian`) or a
+        real symmetric :math:`H` itself (sparse or dense).
     omega : complex or 1-d array_like
-        Frequency; real values must not lie on the spectrum. Several values reuse one
-        eigendecomposition when ``method="dense"`` (worth it for many :math:`\omega` and
-        :math:`N \lesssim 4000`).
-    source : int, sequence of int, or None
-        Source site(s) j (0-based). ``None``: the full matrix (small lattices only).
+        Frequency :math:`\omega`, in units of t; real values must not lie on the spectrum.
+        Several values reuse one eigendecomposition when ``method="dense"`` (worth it for many
+        :math:`\omega` and :math:`N \lesssim 4000`).
+    source : int, sequence of int, or None, optional
+        Source site(s) j (0-based, ring 1 first, each ring counterclockwise). ``None``
+        (default): the full matrix (small lattices only, N <= 4000).
     targets : int or sequence of int, optional
-        Restrict the result to these target sites i.
-    t, onsite, method
-        See :class:`GraphResolvent`.
+        Restrict the result to these target sites i (0-based); default: all sites.
+    t : float, optional
+        Hopping amplitude (lattice input only); default 1.
+    onsite : scalar, array or callable, optional
+        On-site term V in units of t (lattice input only); default None.
+    method : {"auto", "dense", "sparse"}, optional
+        See :class:`GraphResolvent`; ``"auto"`` (default) picks sparse.
 
     Returns
     -------
-    ndarray of complex
+    numpy.ndarray of complex128
         Shape ``(N,)`` for one source, ``(N, k)`` for k sources, ``(N, N)`` for ``source=None``
         (first axis restricted to ``targets`` if given); a leading axis of length
-        ``len(omega)`` if ``omega`` is an array.
+        ``len(omega)`` if ``omega`` is an array. Units of 1/t.
 
     Raises
     ------
     ValueError
-        Bad site index, NaN omega, omega on the spectrum, too large for a full matrix.
+        Bad site index, NaN omega, omega on the spectrum (to within rounding), a non-symmetric
+        or complex matrix, ``t``/``onsite`` given with a matrix, or a lattice too large for a
+        full matrix or the dense method (more than 4000 sites).
+
+    See Also
+    --------
+    GraphResolvent, hyperlattice.continuum.green.continuum_green,
+    hyperlattice.compare.green.compare_green
+
+    References
+    ----------
+    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eqs. (20) and (21).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> lat = hl.ring_lattice(7, 3, 2)
+    >>> g = hl.graph_green(lat, -3.5, source=0)
+    >>> g.shape, round(float(g[0].real), 6), round(float(g[1].real), 6)
+    ((35,), 0.412092, 0.14892)
+    >>> G = hl.graph_green(lat, [-3.5, -4.0], source=0, targets=[0, 1])
+    >>> G.shape
+    (2, 2)
     """
     res = lattice if isinstance(lattice, GraphResolvent) else GraphResolvent(
         lattice, t=t, onsite=onsite, method=method)

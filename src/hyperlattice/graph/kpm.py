@@ -176,6 +176,27 @@ def graph_operator(graph) -> GraphOperator:
     Returns
     -------
     GraphOperator
+        The adjacency in the layout the kernels stream: a neighbour ``table`` for a regular
+        graph, else CSR arrays; ``bound`` is the exact Gershgorin bound, ``ring`` and ``rings``
+        are set for a flake.
+
+    Raises
+    ------
+    ValueError
+        For a matrix that is not square, real, finite and symmetric, or an object of another
+        kind.
+
+    See Also
+    --------
+    spectral_bound, kpm_dos
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.kpm import graph_operator
+    >>> op = graph_operator(hl.ring_lattice(7, 3, 4))
+    >>> op.sites, op.bound, op.rings
+    (315, 3.0, 4)
     """
     from .lattice import Lattice
 
@@ -220,8 +241,33 @@ def graph_operator(graph) -> GraphOperator:
 
 
 def spectral_bound(graph) -> float:
-    r"""The exact bound :math:`\|H\| \le \max_i\sum_j |A_{ij}|` (Gershgorin): q for a q-regular
-    cluster, the largest degree for a flake. No Lanczos estimate is involved."""
+    r"""The exact bound :math:`\|H\| \le \max_i\sum_j |A_{ij}|` (Gershgorin) of a graph.
+
+    q for a q-regular cluster, the largest degree for a flake. No Lanczos estimate is
+    involved.
+
+    Parameters
+    ----------
+    graph : Lattice, Cluster, sparse matrix or neighbour table
+        See :func:`graph_operator`.
+
+    Returns
+    -------
+    float
+        The bound, in units of t.
+
+    Raises
+    ------
+    ValueError
+        If ``graph`` is not one of the accepted kinds (see :func:`graph_operator`).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.kpm import spectral_bound
+    >>> spectral_bound(hl.ring_lattice(7, 3, 3))
+    3.0
+    """
     return graph_operator(graph).bound
 
 
@@ -462,7 +508,36 @@ def _chebyshev_moments_block(op: GraphOperator, x: np.ndarray, moments: int, sca
 # ----------------------------------------------------------------------------
 
 def jackson_kernel(moments: int) -> np.ndarray:
-    r"""Jackson damping factors :math:`g_n`, n = 0..M-1 (Weiße et al. 2006, Eq. 71)."""
+    r"""Jackson damping factors :math:`g_n`, n = 0..M-1.
+
+    .. math:: g_n = \frac{(M - n + 1)\cos\frac{\pi n}{M+1}
+              + \sin\frac{\pi n}{M+1}\cot\frac{\pi}{M+1}}{M+1}
+
+    Parameters
+    ----------
+    moments : int
+        Number of moments M (1 to 1,000,000).
+
+    Returns
+    -------
+    numpy.ndarray of float64, shape (M,)
+        The factors, :math:`g_0 = 1`, decreasing towards 0.
+
+    Raises
+    ------
+    ValueError
+        If ``moments`` is not a positive integer up to 1,000,000.
+
+    References
+    ----------
+    .. [1] A. Weiße et al., Rev. Mod. Phys. 78, 275 (2006), Eq. (71).
+
+    Examples
+    --------
+    >>> from hyperlattice.graph.kpm import jackson_kernel
+    >>> [round(g, 6) for g in jackson_kernel(4).tolist()]
+    [1.0, 0.809017, 0.447214, 0.138197]
+    """
     m = _validate.positive_int("moments", moments, maximum=MAX_MOMENTS)
     n = np.arange(m)
     x = math.pi / (m + 1)
@@ -695,8 +770,41 @@ def _extreme_states(op: GraphOperator) -> list[np.ndarray]:
 
 
 def block_width(sites: int, vectors: int, kind: str = "rademacher") -> int:
-    """Random vectors per block of the stochastic trace (:data:`BLOCK`, fewer when memory is short):
-    a checkpoint keeps whole blocks."""
+    """Random vectors per block of the stochastic trace.
+
+    At most :data:`BLOCK` (8), fewer when memory is short; a checkpoint keeps whole blocks.
+
+    Parameters
+    ----------
+    sites : int
+        Number of sites N of the graph.
+    vectors : int
+        Number R of random vectors asked for (at most 100,000).
+    kind : {"rademacher", "phase"}, optional
+        Kind of random vector (real: 8 bytes per entry, complex: 16); default ``"rademacher"``.
+
+    Returns
+    -------
+    int
+        Vectors per block, between 1 and ``min(BLOCK, vectors)``.
+
+    Raises
+    ------
+    ValueError
+        For invalid arguments, or if not even one vector's work arrays fit in memory.
+
+    See Also
+    --------
+    kpm_dos
+
+    Examples
+    --------
+    >>> from hyperlattice.graph.kpm import block_width
+    >>> block_width(1000, 16)
+    8
+    >>> block_width(1000, 3)
+    3
+    """
     sites = _validate.positive_int("sites", sites)
     vectors = _validate.positive_int("vectors", vectors, maximum=MAX_VECTORS)
     kind = _validate.choice("kind", kind, VECTOR_KINDS)
@@ -787,42 +895,79 @@ def kpm_dos(graph, moments: int = 512, *, vectors: int = 16, seed: int = 0, kind
             progress=None, checkpoint: Cache | Path | None = None) -> KPMDos:
     r"""Density of states per site of :math:`H = -A` by KPM with a stochastic trace over all sites.
 
+    The kernel polynomial method expands the density of states in Chebyshev polynomials of
+    :math:`H/a` (a just above the exact Gershgorin bound of :math:`\|H\|`); the moments
+    :math:`\mu_n = \frac1N \mathrm{Tr}\, T_n(H/a)` are estimated with R random vectors and
+    damped by the Jackson kernel (:func:`jackson_kernel`) when the density is evaluated
+    (:meth:`KPMDos.density`). Energies are in units of t (t = 1).
+
     Parameters
     ----------
     graph : Lattice, Cluster, sparse matrix or neighbour table
         See :func:`graph_operator`.
-    moments : int
-        Number of Chebyshev moments M (>= 2); resolution about :math:`\pi a/M`.
-    vectors : int
-        Number R of random vectors; error bars need R >= 2 (R = 1 gives NaN errors).
-    seed : int
-        Seed; vector r comes from ``default_rng([seed, r])``.
-    kind : {"rademacher", "phase"}
-        Real :math:`\pm 1` entries, or complex unit-modulus random phases.
-    deflate : bool
+    moments : int, optional
+        Number of Chebyshev moments M (>= 2, at most 1,000,000); resolution about
+        :math:`\pi a/M`. Default 512.
+    vectors : int, optional
+        Number R of random vectors (at most 100,000); error bars need R >= 2 (R = 1 gives NaN
+        errors). Default 16.
+    seed : int, optional
+        Seed; vector r comes from ``default_rng([seed, r])``. Default 0.
+    kind : {"rademacher", "phase"}, optional
+        Real :math:`\pm 1` entries (default), or complex unit-modulus random phases.
+    deflate : bool, optional
         Leave out the states at :math:`E = \mp q` of a q-regular graph (a periodic cluster): the
         uniform state and, if the graph is bipartite, the staggered one. They are not in the
         spectrum of the infinite lattice (whose band is :math:`[-\rho, \dots]` with
         :math:`\rho < q`) and carry weight 1/N each. The density then integrates to
         (N - deflated)/N; ``deflated`` records how many. No effect on flakes (none exist).
-    parallel : bool
+        Default False.
+    parallel : bool, optional
         Use the numba-parallel kernel (threads over chunks of rows; same moments as serial). Off by
         default: on a shared 2-core machine a parallel loop waits for descheduled threads (measured
         28 ms against 17 ms serial per product at 1.27 million sites, load average 5); see
         benchmarks/bench_kpm.py.
-
-    progress : bool, None or callable
-        A bar over the random vectors on stderr (:mod:`hyperlattice._progress`; None: when stderr is
-        a terminal), or a function receiving one-line messages.
+    progress : bool, None or callable, optional
+        A bar over the random vectors on stderr (:mod:`hyperlattice._progress`; None, the
+        default: when stderr is a terminal), or a function receiving one-line messages.
     checkpoint : path or Cache, optional
         Keep the moments of every finished block of random vectors (:func:`block_width` of them) in
         this directory (a :class:`~hyperlattice.cache.Cache`, keyed on a digest of the operator, the
         moments, kind, seed and the block); blocks already there are read, not recomputed, so a run
-        stopped by Ctrl-C resumes with the same moments, bit for bit.
+        stopped by Ctrl-C resumes with the same moments, bit for bit. Default None.
 
     Returns
     -------
     KPMDos
+        ``method == "stochastic"``; the moments ``mu`` (mean over vectors), their standard
+        errors ``mu_err``, the moments of each vector ``mu_vectors``, the scale ``scale`` =
+        a, ``sites`` = ``traced_sites`` = N, ``deflated``, and ``timings``. Evaluate with
+        :meth:`KPMDos.density` or :meth:`KPMDos.integrated`.
+
+    Raises
+    ------
+    ValueError
+        For an invalid graph or argument, ``deflate=True`` on a disconnected graph, work vectors
+        that do not fit in the available memory, or a checkpoint entry of the wrong shape.
+
+    See Also
+    --------
+    bulk_dos, local_dos, hyperlattice.graph.bands.abelian_dos, hyperlattice.compare.dos.dos_comparison
+
+    References
+    ----------
+    .. [1] A. Weiße, G. Wellein, A. Alvermann and H. Fehske, "The kernel polynomial method",
+       Rev. Mod. Phys. 78, 275 (2006).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> dos = hl.kpm_dos(hl.ring_lattice(7, 3, 4), 64, vectors=4, seed=1)
+    >>> dos.method, dos.moments, dos.sites, float(dos.mu[0])
+    ('stochastic', 64, 315, 1.0)
+    >>> E, rho, err = dos.density([-2.0, 0.0])
+    >>> [round(float(r), 3) for r in rho]
+    [0.177, 0.185]
     """
     op = graph_operator(graph)
     moments, vectors, seed, kind = _common_args(moments, vectors, seed, kind)
@@ -836,11 +981,46 @@ def kpm_dos(graph, moments: int = 512, *, vectors: int = 16, seed: int = 0, kind
 def local_dos(graph, site: int = 0, moments: int = 512, *, parallel: bool = False) -> KPMDos:
     r"""Exact KPM moments of the local density of states at ``site`` (start vector :math:`|i\rangle`).
 
-    On a flake, :math:`\mu_n` equals the infinite lattice's for :math:`n \le 2d_b + 1`, :math:`d_b` the
-    graph distance from the site to the nearest boundary site of degree < q (at least
-    :math:`2(R - r) + 1` for a site on ring r of R; :mod:`hyperlattice.graph.walks`); recorded as
-    ``exact_moments`` = :math:`2d_b + 2`. On a periodic cluster the moments are the lattice's below
-    its systole.
+    The moments are :math:`\mu_n = \langle i|T_n(H/a)|i\rangle` with :math:`H = -A`; no random
+    vectors are involved. On a flake, :math:`\mu_n` equals the infinite lattice's for
+    :math:`n \le 2d_b + 1`, :math:`d_b` the graph distance from the site to the nearest boundary
+    site of degree < q (at least :math:`2(R - r) + 1` for a site on ring r of R;
+    :mod:`hyperlattice.graph.walks`); recorded as ``exact_moments`` = :math:`2d_b + 2`. On a
+    periodic cluster the moments are the lattice's below its systole.
+
+    Parameters
+    ----------
+    graph : Lattice, Cluster, sparse matrix or neighbour table
+        See :func:`graph_operator`.
+    site : int, optional
+        The site i (0-based, ring 1 first); default 0, a site of the central p-gon.
+    moments : int, optional
+        Number of Chebyshev moments M (2 to 1,000,000); default 512.
+    parallel : bool, optional
+        Use the numba-parallel kernel; default False (see :func:`kpm_dos`).
+
+    Returns
+    -------
+    KPMDos
+        ``method == "local"``, ``site``, the exact moments ``mu`` (``mu_err`` = 0) and, for a
+        flake, ``exact_moments``.
+
+    Raises
+    ------
+    ValueError
+        For an invalid graph, site index or number of moments, or work vectors that do not fit
+        in the available memory.
+
+    See Also
+    --------
+    kpm_dos, bulk_dos, hyperlattice.graph.walks.boundary_distance
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> ldos = hl.local_dos(hl.ring_lattice(7, 3, 4), site=0, moments=16)
+    >>> ldos.method, ldos.exact_moments, round(float(ldos.mu[2]), 6)
+    ('local', 14, -0.3466)
     """
     import time
 
@@ -890,12 +1070,37 @@ def bulk_dos(lattice, moments: int | None = None, *, exclude: int | None = None,
     Parameters
     ----------
     lattice : Lattice
-        A flake from :func:`~hyperlattice.graph.lattice.ring_lattice` (kind ``"sites"``).
+        A flake from :func:`~hyperlattice.graph.lattice.ring_lattice` (kind ``"sites"``), with
+        at least 2 rings.
     moments : int, optional
         Number of moments (default: ``exact_moments``).
     exclude : int, optional
         Outer rings to drop, 1 <= K < R (default ``R // 2``, at least 1).
-    vectors, seed, kind, parallel, progress, checkpoint : see :func:`kpm_dos`.
+    vectors, seed, kind, parallel, progress, checkpoint
+        As in :func:`kpm_dos` (defaults 16, 0, ``"rademacher"``, False, None, None).
+
+    Returns
+    -------
+    KPMDos
+        ``method == "bulk"``, with ``traced_sites`` the interior sites traced,
+        ``excluded_rings`` = K and ``exact_moments``.
+
+    Raises
+    ------
+    ValueError
+        If ``lattice`` is not a site flake or has fewer than 2 rings, ``exclude`` is out of
+        range, or as :func:`kpm_dos`.
+
+    See Also
+    --------
+    kpm_dos, local_dos
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> dos = hl.bulk_dos(hl.ring_lattice(7, 3, 4), vectors=4)
+    >>> dos.method, dos.excluded_rings, dos.traced_sites, dos.exact_moments, dos.moments
+    ('bulk', 2, 35, 10, 10)
     """
     from .lattice import Lattice
 

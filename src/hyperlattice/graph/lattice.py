@@ -422,18 +422,44 @@ def _csr_sorted(rows: np.ndarray, cols: np.ndarray, n: int) -> tuple[np.ndarray,
 
 
 def lattice_from_networkx(graph) -> Lattice:
-    """The :class:`Lattice` a :meth:`Lattice.to_networkx` graph describes (also after a GraphML round trip).
+    """Rebuild a :class:`Lattice` from a :meth:`Lattice.to_networkx` graph.
 
-    The graph must carry the attributes ``to_networkx`` writes (graph: ``p``, ``q``, ``rings``,
-    ``kind``; nodes ``0..N-1``, as ints or their strings, with ``x`` and ``y``). The lattice is
-    rebuilt from (p, q, rings, kind) and the graph is checked against it: the same sites at the
-    same positions (to 1e-12) and the same edges; anything else is refused, since a solver would
-    otherwise trust a rotation table the graph does not have.
+    The graph may also come back from a GraphML round trip. It must carry the attributes
+    ``to_networkx`` writes (graph: ``p``, ``q``, ``rings``, ``kind``; nodes ``0..N-1``, as ints
+    or their strings, with ``x`` and ``y``). The lattice is rebuilt from (p, q, rings, kind) and
+    the graph is checked against it: the same sites at the same positions (to 1e-12) and the
+    same edges; anything else is refused, since a solver would otherwise trust a rotation table
+    the graph does not have.
+
+    Parameters
+    ----------
+    graph : networkx.Graph
+        A graph written by :meth:`Lattice.to_networkx` (or read back from GraphML). Node
+        positions ``x``, ``y`` are Poincaré-disk coordinates; node labels are the 0-based
+        site indices.
+
+    Returns
+    -------
+    Lattice
+        The lattice (``kind`` ``"sites"`` or ``"line_graph"``) the graph names, with the same
+        site order as the graph's node labels.
 
     Raises
     ------
     ValueError
         If the graph is not such a lattice graph or differs from the lattice it names.
+
+    See Also
+    --------
+    ring_lattice, load_lattice
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> g = hl.ring_lattice(7, 3, 2).to_networkx()
+    >>> lat = hl.lattice_from_networkx(g)
+    >>> lat.p, lat.q, lat.rings, lat.sites
+    (7, 3, 2, 35)
     """
     if not (hasattr(graph, "graph") and hasattr(graph, "nodes") and hasattr(graph, "edges")):
         raise ValueError(f"lattice_from_networkx takes a networkx graph, got {type(graph).__name__}.")
@@ -476,20 +502,44 @@ def lattice_from_networkx(graph) -> Lattice:
 
 
 def load_lattice(path) -> Lattice:
-    """Read a lattice written by :meth:`Lattice.save` (``.npz``, also from earlier versions, or ``.json``).
+    """Read a lattice written by :meth:`Lattice.save`.
 
-    What is read back is checked, never trusted: a file written by this version carries the
-    sha256 of its contents, and a mismatch (an edited or damaged file) is refused; every file,
-    also one without a checksum, must hold the lattice its p, q, rings and kind describe (ring
-    sizes, edge count, no self-loop or repeated edge, degrees, every edge of length d0 within the
-    coordinates' rounding, counterclockwise rings, and a rotation table that maps sites to their
-    rotated positions and edges onto edges -- the sector solver relies on it).
+    Reads ``.npz`` (also from earlier versions) or ``.json``. What is read back is checked,
+    never trusted: a file written by this version carries the sha256 of its contents, and a
+    mismatch (an edited or damaged file) is refused; every file, also one without a checksum,
+    must hold the lattice its p, q, rings and kind describe (ring sizes, edge count, no
+    self-loop or repeated edge, degrees, every edge of length d0 within the coordinates'
+    rounding, counterclockwise rings, and a rotation table that maps sites to their rotated
+    positions and edges onto edges -- the sector solver relies on it).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file; its suffix (``.json`` or else ``.npz``) selects the format.
+
+    Returns
+    -------
+    Lattice
+        The lattice as saved.
 
     Raises
     ------
     ValueError
         If the file does not exist, cannot be read, fails its checksum or does not hold a
         consistent lattice; the message names the file.
+
+    See Also
+    --------
+    Lattice.save, lattice_from_networkx
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import hyperlattice as hl
+    >>> path = os.path.join(tempfile.mkdtemp(), "lat.npz")
+    >>> _ = hl.ring_lattice(7, 3, 2).save(path)
+    >>> hl.load_lattice(path).sites
+    35
     """
     path = _validate.input_path("path", path)
     where = repr(str(path))
@@ -714,16 +764,40 @@ def _check_pq(p, q) -> tuple[int, int]:
 
 
 def ring_sizes(p: int, q: int, rings: int) -> np.ndarray:
-    """Number of sites on each ring 1..rings (e.g. 7, 28, 77, 203, ... for {7,3}).
+    r"""Number of sites on each ring 1..rings of the {p,q} lattice.
 
     Exact and O(rings): the vertices of a new ring are of two types whose counts obey a
     linear recursion (derived for each family p = 3, q = 3 and p, q >= 4, and cross-checked
-    against the explicit layer construction of the first rings).
+    against the explicit layer construction of the first rings). For {7,3} the sizes are
+    7, 28, 77, 203, ...
+
+    Parameters
+    ----------
+    p, q : int
+        Schläfli symbol, hyperbolic: :math:`(p-2)(q-2) > 4`, each at most 2**31 - 1.
+    rings : int
+        Number of rings :math:`\ell \ge 1` (ring 1 is the central p-gon).
+
+    Returns
+    -------
+    numpy.ndarray of int64, shape (rings,)
+        Entry k is the number of sites on ring k + 1.
 
     Raises
     ------
     ValueError
-        If the total exceeds 2**63 - 1 sites (about 43 rings of {7,3}), which no int64 holds.
+        For a non-hyperbolic or non-integer {p,q}, ``rings < 1``, or if the total exceeds
+        2**63 - 1 sites (about 43 rings of {7,3}), which no int64 holds.
+
+    See Also
+    --------
+    site_count, edge_count, site_count_float
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> hl.ring_sizes(7, 3, 4).tolist()
+    [7, 28, 77, 203]
     """
     p, q = _check_pq(p, q)
     rings = _validate.positive_int("rings", rings)
@@ -735,20 +809,73 @@ def ring_sizes(p: int, q: int, rings: int) -> np.ndarray:
 
 
 def site_count(p: int, q: int, rings: int) -> int:
-    """Total number of sites N of the ``rings``-ring {p,q} lattice (exact; see :func:`ring_sizes`)."""
-    return int(ring_sizes(p, q, rings).sum())
+    r"""Total number of sites N of the ``rings``-ring {p,q} lattice, exact.
 
+    Parameters
+    ----------
+    p, q : int
+        Schläfli symbol, hyperbolic: :math:`(p-2)(q-2) > 4`.
+    rings : int
+        Number of rings :math:`\ell \ge 1`.
 
-def site_count_float(p: int, q: int, rings: int) -> float:
-    """N of the ``rings``-ring {p,q} lattice as a float, for rings beyond what int64 holds.
-
-    The count is exact in Python integers and rounded once; what uses it is the disk radius of
-    ``eq12`` for huge disks (:func:`hyperlattice.dictionary.disk_radius_for_rings`).
+    Returns
+    -------
+    int
+        The sum of :func:`ring_sizes`.
 
     Raises
     ------
     ValueError
-        Beyond 1e308 sites (about 737 rings of {7,3}), where a float overflows.
+        For invalid p, q or rings, or more than 2**63 - 1 sites (see :func:`ring_sizes`).
+
+    See Also
+    --------
+    ring_sizes, edge_count, site_count_float
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> hl.site_count(7, 3, 3)
+    112
+    """
+    return int(ring_sizes(p, q, rings).sum())
+
+
+def site_count_float(p: int, q: int, rings: int) -> float:
+    r"""N of the ``rings``-ring {p,q} lattice as a float, for rings beyond what int64 holds.
+
+    The count is exact in Python integers and rounded once; what uses it is the disk radius of
+    ``eq12`` for huge disks (:func:`hyperlattice.dictionary.disk_radius_for_rings`).
+
+    Parameters
+    ----------
+    p, q : int
+        Schläfli symbol, hyperbolic: :math:`(p-2)(q-2) > 4`.
+    rings : int
+        Number of rings :math:`\ell \ge 1`.
+
+    Returns
+    -------
+    float
+        The number of sites, correctly rounded.
+
+    Raises
+    ------
+    ValueError
+        For invalid p, q or rings, or beyond 1e308 sites (about 737 rings of {7,3}), where a
+        float overflows.
+
+    See Also
+    --------
+    site_count
+
+    Examples
+    --------
+    >>> from hyperlattice.graph.lattice import site_count_float
+    >>> site_count_float(7, 3, 3)
+    112.0
+    >>> f"{site_count_float(7, 3, 100):.4e}"
+    '4.3916e+42'
     """
     p, q = _check_pq(p, q)
     rings = _validate.positive_int("rings", rings)
@@ -762,9 +889,36 @@ def site_count_float(p: int, q: int, rings: int) -> float:
 
 
 def edge_count(p: int, q: int, rings: int) -> int:
-    """Number of edges of the ``rings``-ring {p,q} lattice (= sites of its line graph), exact.
+    r"""Number of edges of the ``rings``-ring {p,q} lattice (= sites of its line graph), exact.
 
     Each ring adds its own cycle and one spoke edge per outward spoke of the previous ring.
+
+    Parameters
+    ----------
+    p, q : int
+        Schläfli symbol, hyperbolic: :math:`(p-2)(q-2) > 4`.
+    rings : int
+        Number of rings :math:`\ell \ge 1`.
+
+    Returns
+    -------
+    int
+        The number of edges (nearest-neighbour bonds).
+
+    Raises
+    ------
+    ValueError
+        For invalid p, q or rings, or more than 2**63 - 1 edges.
+
+    See Also
+    --------
+    site_count, line_graph
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> hl.edge_count(7, 3, 3)
+    140
     """
     p, q = _check_pq(p, q)
     rings = _validate.positive_int("rings", rings)
@@ -980,7 +1134,7 @@ def _ring_rotation(ring_starts, p: int) -> np.ndarray:
 # ----------------------------------------------------------------------------
 
 def line_graph(lattice: Lattice, *, max_sites: int | None = None) -> Lattice:
-    r"""The line graph of a lattice: the layout of circuit-QED resonator arrays.
+    """The line graph of a lattice: the layout of circuit-QED resonator arrays.
 
     Each edge of ``lattice`` becomes a site placed at the hyperbolic midpoint of the edge;
     two such sites are neighbours when their edges share a site. For q = 3 the adjacency
@@ -1002,7 +1156,28 @@ def line_graph(lattice: Lattice, *, max_sites: int | None = None) -> Lattice:
     Returns
     -------
     Lattice
-        ``kind == "line_graph"``, with ``parent_edges[k]`` the parent edge of site k.
+        ``kind == "line_graph"``, with ``parent_edges[k]`` the parent edge (a pair of 0-based
+        site indices of ``lattice``) of site k.
+
+    Raises
+    ------
+    ValueError
+        If ``lattice`` is not a site lattice (e.g. already a line graph), or the line graph
+        has more sites than ``max_sites`` or than fit in the available memory.
+
+    See Also
+    --------
+    ring_lattice, edge_count, incidence
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> lat = hl.ring_lattice(7, 3, 2)
+    >>> lg = hl.line_graph(lat)
+    >>> lg.kind, lg.sites, len(lat.edges)
+    ('line_graph', 42, 42)
+    >>> lg.parent_edges[0].tolist()
+    [0, 1]
     """
     _validate.lattice(lattice)
     if lattice.kind != "sites":

@@ -35,7 +35,42 @@ def _numeric_dtype(dtype) -> np.dtype:
 
 
 def adjacency(lattice: Lattice, dtype=np.float64) -> sp.csr_matrix:
-    """Adjacency matrix A (N x N, symmetric, entries 1) in CSR format with sorted indices."""
+    """Adjacency matrix A of a lattice as a sparse CSR matrix.
+
+    :math:`A_{ij} = 1` if sites i and j are nearest neighbours, else 0; A is N x N and
+    symmetric, with sorted column indices. Sites are indexed 0-based, ring 1 first, each ring
+    counterclockwise.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        A site lattice or a line graph (e.g. from :func:`ring_lattice` or :func:`line_graph`).
+    dtype : numpy dtype, optional
+        A numeric dtype (integer, float or complex) of the entries; default float64.
+
+    Returns
+    -------
+    scipy.sparse.csr_matrix
+        The N x N adjacency matrix.
+
+    Raises
+    ------
+    ValueError
+        If ``lattice`` is not a :class:`Lattice` or ``dtype`` is not a numeric type.
+
+    See Also
+    --------
+    hamiltonian, incidence
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> A = hl.adjacency(hl.ring_lattice(7, 3, 2))
+    >>> A.shape, A.nnz
+    ((35, 35), 84)
+    >>> sorted(set(A.sum(axis=1).A1.astype(int).tolist()))   # degrees: boundary 2, interior q = 3
+    [2, 3]
+    """
     _validate.lattice(lattice)
     dtype = _numeric_dtype(dtype)
     indptr, indices = lattice.neighbours()
@@ -47,12 +82,45 @@ def adjacency(lattice: Lattice, dtype=np.float64) -> sp.csr_matrix:
 
 
 def onsite_values(lattice: Lattice, onsite: OnSite) -> np.ndarray | None:
-    """Evaluate an on-site term: a scalar, an array of length N, or an array-first
-    callable ``onsite(z, ring) -> array`` (as in pybinding's modifiers).
+    """Evaluate an on-site term to one real value per site.
 
-    Returns None for ``onsite=None``, else one finite real value per site (float64). The
-    term must be real, since :math:`H` is Hermitian (complex values with zero imaginary part
-    are accepted); ``True``/``False`` are not potentials and are refused.
+    The term is a scalar, an array of length N, or an array-first callable
+    ``onsite(z, ring) -> array`` (as in pybinding's modifiers). The term must be real, since
+    :math:`H` is Hermitian (complex values with zero imaginary part are accepted);
+    ``True``/``False`` are not potentials and are refused.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        The lattice whose sites the term lives on.
+    onsite : None, scalar, array of length N, or callable ``(z, ring) -> array``
+        The on-site potential :math:`V_i` in units of the energy (t). A callable receives the
+        complex Poincaré-disk positions ``lattice.z`` and the 1-based ring numbers
+        ``lattice.ring`` and returns one value per site (or a scalar).
+
+    Returns
+    -------
+    numpy.ndarray of float64, shape (N,), or None
+        None for ``onsite=None``, else one finite real value per site.
+
+    Raises
+    ------
+    ValueError
+        If the term is not numeric, complex with a nonzero imaginary part, of the wrong
+        shape, or contains NaN or infinite values.
+
+    See Also
+    --------
+    hamiltonian
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.operators import onsite_values
+    >>> lat = hl.ring_lattice(7, 3, 2)
+    >>> v = onsite_values(lat, lambda z, ring: 1.0 * (ring == 1))
+    >>> v.shape, v[:8].tolist()
+    ((35,), [1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 0.0])
     """
     _validate.lattice(lattice)
     if onsite is None:
@@ -80,24 +148,57 @@ def onsite_values(lattice: Lattice, onsite: OnSite) -> np.ndarray | None:
 def hamiltonian(lattice: Lattice, t: float = 1.0, onsite: OnSite = None, flux: float = 0.0) -> sp.csr_matrix:
     r"""Hopping Hamiltonian :math:`H = -tA + \mathrm{diag}(V)` as CSR, optionally with a uniform field.
 
+    This is the tight-binding Hamiltonian of the paper's Eq. (1) with an optional on-site
+    term,
+
+    .. math:: H = -t \sum_{\langle ij \rangle} (a_i^\dagger a_j + \mathrm{h.c.}) + \sum_i V_i n_i .
+
     Parameters
     ----------
     lattice : Lattice
         A site lattice or a line graph.
-    t : float
-        Hopping amplitude (energy unit); the paper's choice is t = 1.
+    t : float, optional
+        Hopping amplitude (energy unit); default 1, the paper's choice.
     onsite : scalar, array of length N, or callable ``(z, ring) -> array``, optional
-        Real on-site potential :math:`V_i` (e.g. ``-mu`` or disorder).
-    flux : float
+        Real on-site potential :math:`V_i` in the energy unit (e.g. ``-mu`` or disorder); a
+        callable receives the complex site positions ``z`` and the 1-based ring numbers.
+        Default None: no on-site term. See :func:`onsite_values`.
+    flux : float, optional
         Flux quanta f through each p-gon face of a uniform field (see
         :mod:`hyperlattice.graph.flux` for the gauge and the sign convention): the hops get
         Peierls phases, :math:`H_{ij} = -t e^{i\theta_{ij}}`, and H is complex Hermitian.
-        At f = 0 (default) H is real as without the argument.
+        At f = 0 (default) H is real as without the argument. At most 1e6 in magnitude.
 
     Returns
     -------
     scipy.sparse.csr_matrix
-        Sorted indices; float64 at zero flux, complex128 otherwise.
+        The N x N Hamiltonian with sorted indices; float64 at zero flux, complex128 otherwise.
+
+    Raises
+    ------
+    ValueError
+        If ``t`` or ``flux`` is not a finite real number, ``|f|`` exceeds 1e6, or the on-site
+        term is not real, finite, and one value per site.
+
+    See Also
+    --------
+    adjacency, onsite_values, hyperlattice.graph.disorder.disordered_hamiltonian,
+    hyperlattice.graph.spectrum.lowest_levels
+
+    References
+    ----------
+    .. [1] I. Boettcher et al., "Quantum simulation of hyperbolic space with circuit QED: from
+       graphs to geometry", Phys. Rev. A 102, 032208 (2020), Eq. (1).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> lat = hl.ring_lattice(7, 3, 2)
+    >>> H = hl.hamiltonian(lat, t=1.0, onsite=-0.5)
+    >>> H.shape, H.dtype, float(H[0, 0]), float(H[0, 1])
+    ((35, 35), dtype('float64'), -0.5, -1.0)
+    >>> hl.hamiltonian(lat, flux=0.1).dtype
+    dtype('complex128')
     """
     t = _validate.real("the hopping t", t)
     flux = _flux(flux)
@@ -126,9 +227,37 @@ def _peierls(lattice: Lattice, t: float, flux: float) -> sp.csr_matrix:
 
 
 def incidence(lattice: Lattice) -> sp.csr_matrix:
-    """Site-edge incidence matrix B (N x E), :math:`B_{ie} = 1` if site i is an end of edge e.
+    """Site-edge incidence matrix B (N x E) of a lattice.
 
-    For q = 3 the line graph's adjacency is :math:`B^T B - 2I`.
+    :math:`B_{ie} = 1` if site i is an end of edge e (edge e is ``lattice.edges[e]``), else 0.
+    For q = 3 the line graph's adjacency is :math:`B^T B - 2I` (up to the order of the line
+    graph's sites).
+
+    Parameters
+    ----------
+    lattice : Lattice
+        A site lattice (or a line graph, whose own edges are then used).
+
+    Returns
+    -------
+    scipy.sparse.csr_matrix
+        The N x E float64 incidence matrix; every column has two entries 1.
+
+    Raises
+    ------
+    ValueError
+        If ``lattice`` is not a :class:`Lattice`.
+
+    See Also
+    --------
+    adjacency, line_graph
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> B = hl.incidence(hl.ring_lattice(7, 3, 2))
+    >>> B.shape, sorted(set(B.sum(axis=0).A1.tolist()))
+    ((35, 42), [2.0])
     """
     _validate.lattice(lattice)
     e = lattice.edges

@@ -347,8 +347,49 @@ def _sites(lat: Lattice, sites) -> np.ndarray:
 
 
 def qubit_hamiltonian(lattice: Lattice, sites, omega_q, g, *, t: float = 1.0) -> sp.csr_matrix:
-    r"""The single-excitation Hamiltonian :math:`\begin{pmatrix} H & gB\\ gB^T & \omega_q\end{pmatrix}`
-    (module docstring), sparse, shape ``(N + K, N + K)``; photons first, then the K qubits."""
+    r"""The single-excitation Hamiltonian of K qubits coupled to a lattice of resonators.
+
+    .. math:: \mathcal H = \begin{pmatrix} H & gB\\ gB^T & \omega_q \mathbb 1_K\end{pmatrix},
+              \qquad H = -tA,\quad B_{j_k k} = 1
+
+    (module docstring): the rotating-wave Jaynes–Cummings lattice with one excitation.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        Sites or line graph (the resonators).
+    sites : int or sequence of int
+        The sites :math:`j_k` (0-based) the K qubits couple to, distinct.
+    omega_q : float
+        Qubit frequency, in units of t.
+    g : float
+        Qubit-photon coupling, in units of t.
+    t : float, optional
+        Hopping amplitude, positive; default 1.
+
+    Returns
+    -------
+    scipy.sparse.csr_matrix
+        Shape ``(N + K, N + K)``: photons first (rows 0..N-1), then the K qubits.
+
+    Raises
+    ------
+    ValueError
+        For an invalid lattice, bad or repeated sites, non-finite ``omega_q`` or ``g``, or
+        :math:`t \le 0`.
+
+    See Also
+    --------
+    bound_state, spin_model
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.qubits import qubit_hamiltonian
+    >>> H = qubit_hamiltonian(hl.ring_lattice(7, 3, 3), [0, 3], -3.5, 0.2)
+    >>> H.shape, float(H[112, 0]), float(H[112, 112])
+    ((114, 114), 0.2, -3.5)
+    """
     lat = _validate.lattice(lattice)
     idx = _sites(lat, sites)
     omega_q = _validate.real("omega_q", omega_q)
@@ -437,26 +478,35 @@ def bound_state(lattice: Lattice, site: int, omega_q, g, *, t: float = 1.0,
                 resolvent: BelowBandResolvent | None = None, tol: float = 1e-13) -> BoundState:
     r"""The single-excitation bound state of one qubit on ``site``, exact and to leading order.
 
+    The energy :math:`E_b` solves :math:`E - \omega_q + g^2 G_{j_0j_0}(E) = 0` below the band
+    bottom :math:`E_0` (Newton's method from :math:`\omega_q`), with :math:`G(E) = (H-E)^{-1}`
+    the graph Green function (the paper's Eq. (20)); the photon profile is
+    :math:`\phi = g\,G(E_b)e_{j_0}`. To leading order in g,
+    :math:`E_b \approx \omega_q - g^2G_{j_0j_0}(\omega_q)`.
+
     Parameters
     ----------
     lattice : Lattice
         Sites or line graph (the resonators).
     site : int
-        The qubit's site.
+        The qubit's site :math:`j_0` (0-based).
     omega_q : float
-        Qubit frequency, below the band (:math:`\omega_q < E_0`).
+        Qubit frequency in units of t, below the band (:math:`\omega_q < E_0`).
     g : float
-        Coupling, :math:`g \ne 0`.
-    t : float
-        Hopping.
+        Coupling in units of t, :math:`g \ne 0`.
+    t : float, optional
+        Hopping amplitude, positive; default 1.
     resolvent : BelowBandResolvent, optional
         Reuse a resolvent of the same lattice.
-    tol : float
-        Relative tolerance of the Newton iteration for :math:`E_b`.
+    tol : float, optional
+        Relative tolerance of the Newton iteration for :math:`E_b`; default 1e-13.
 
     Returns
     -------
     BoundState
+        ``energy`` (:math:`E_b`), ``energy_leading``, ``qubit_weight``, ``photon`` and
+        ``leading`` profiles (unit norm), ``profile_error``, ``residual``, ``distance`` of each
+        site from the qubit, ``size`` and ``decay_length``.
 
     Raises
     ------
@@ -465,6 +515,22 @@ def bound_state(lattice: Lattice, site: int, omega_q, g, *, t: float = 1.0,
     ConvergenceError
         If the Newton iteration for :math:`E_b` does not converge (not expected: the secular
         function is increasing and convex, so Newton from :math:`\omega_q` converges monotonically).
+
+    See Also
+    --------
+    spin_model, hyperlattice.graph.green.graph_green
+
+    References
+    ----------
+    .. [1] P. Bienias, I. Boettcher, R. Belyansky, A. J. Kollár and A. V. Gorshkov, Phys. Rev.
+       Lett. 128, 013601 (2022).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> b = hl.bound_state(hl.ring_lattice(7, 3, 3), 0, -3.5, 0.2)
+    >>> round(b.energy, 6), round(b.energy_leading, 6), round(b.qubit_weight, 6)
+    (-3.516434, -3.516608, 0.989664)
     """
     lat = _validate.lattice(lattice)
     site = _validate.site_index("site", site, lat.sites)
@@ -577,12 +643,56 @@ def spin_model(lattice: Lattice, sites, omega_q, g, *, t: float = 1.0,
                resolvent: BelowBandResolvent | None = None) -> SpinModel:
     r"""Effective exchange :math:`J_{kl} = g^2G_{j_kj_l}(\omega_q)` and Lamb shifts of qubits on ``sites``.
 
-    One factorization and K solves (each column gives a row of J).
+    To order :math:`g^2`,
+    :math:`H_{\rm spin} = \sum_{kl} h_{kl}\sigma_k^+\sigma_l^-` with
+    :math:`h = \omega_q\mathbb 1 - g^2 B^TG(\omega_q)B`: Lamb shifts
+    :math:`-g^2G_{j_kj_k}(\omega_q)` and exchange :math:`-J_{kl}`. One factorization and K
+    solves (each column gives a row of J).
+
+    Parameters
+    ----------
+    lattice : Lattice
+        Sites or line graph (the resonators).
+    sites : sequence of int
+        The qubits' sites :math:`j_k` (0-based), distinct; at most :data:`MAX_QUBITS` (20,000).
+    omega_q : float
+        Qubit frequency in units of t, below the band (:math:`\omega_q < E_0`).
+    g : float
+        Coupling in units of t.
+    t : float, optional
+        Hopping amplitude, positive; default 1.
+    resolvent : BelowBandResolvent, optional
+        Reuse a resolvent of the same lattice.
+
+    Returns
+    -------
+    SpinModel
+        ``sites``, ``couplings`` (K, K) :math:`J_{kl}` with zero diagonal (units of t),
+        ``lamb_shift`` (K,), ``distance`` (K, K) hyperbolic distances between the qubits;
+        ``.matrix()`` gives h as a sparse matrix.
 
     Raises
     ------
     ValueError
         Bad or repeated sites, :math:`\omega_q` not below the band, more than :data:`MAX_QUBITS`.
+
+    See Also
+    --------
+    bound_state, hyperlattice.compare.qubits.exchange_comparison
+
+    References
+    ----------
+    .. [1] P. Bienias, I. Boettcher, R. Belyansky, A. J. Kollár and A. V. Gorshkov, Phys. Rev.
+       Lett. 128, 013601 (2022).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> s = hl.spin_model(hl.ring_lattice(7, 3, 3), [0, 1, 3], -3.5, 0.2)
+    >>> [round(j, 6) for j in s.couplings[0].tolist()]
+    [0.0, 0.006046, 0.001074]
+    >>> [round(x, 6) for x in s.lamb_shift.tolist()]
+    [-0.016608, -0.016608, -0.016608]
     """
     lat = _validate.lattice(lattice)
     idx = _sites(lat, sites)

@@ -108,7 +108,38 @@ class SectorLattice:
 
 
 def flake_memory(p: int, q: int, rings: int) -> int:
-    """Estimated peak bytes of :func:`lowest_pair` for the ``rings``-ring {p,q} flake (before allocating)."""
+    r"""Estimated peak bytes of :func:`lowest_pair` for the ``rings``-ring {p,q} flake.
+
+    Counted before anything is allocated, from the exact site count and a fixed number of
+    bytes per site of the sector build and solve.
+
+    Parameters
+    ----------
+    p, q : int
+        Hyperbolic Schläfli symbol.
+    rings : int
+        Number of rings :math:`\ell \ge 1`.
+
+    Returns
+    -------
+    int
+        Estimated peak memory in bytes.
+
+    Raises
+    ------
+    ValueError
+        For an invalid {p,q} or ``rings``.
+
+    See Also
+    --------
+    lowest_pair, sector_lattice
+
+    Examples
+    --------
+    >>> from hyperlattice.graph.sectors import flake_memory
+    >>> flake_memory(7, 3, 3)
+    14560
+    """
     p, q = _check_pq(p, q)
     rings = _validate.positive_int("rings", rings)
     counts, _ = _type_counts(p, q, rings, stop_above=2**62)
@@ -207,15 +238,20 @@ def sector_lattice(p: int = 7, q: int = 3, rings: int = 3, *, coordinates: bool 
                    max_bytes: int | None = None) -> SectorLattice:
     r"""Build the rotation orbits of the ``rings``-ring {p,q} lattice without the lattice itself.
 
+    The p-fold rotation about the centre maps the flake onto itself; one representative per
+    orbit (N/p of them) and the orbit-to-orbit hops with their rotation shifts are all the
+    sector blocks :func:`sector_block` need, so flakes far too big to build as a
+    :class:`~hyperlattice.graph.lattice.Lattice` can be solved.
+
     Parameters
     ----------
-    p, q : int
-        Hyperbolic Schläfli symbol.
-    rings : int
-        Number of rings :math:`\ell \ge 1`.
-    coordinates : bool
+    p, q : int, optional
+        Hyperbolic Schläfli symbol, :math:`(p-2)(q-2) > 4`; default {7,3}.
+    rings : int, optional
+        Number of rings :math:`\ell \ge 1`; default 3.
+    coordinates : bool, optional
         Keep the coordinates of the orbit representatives (they are computed anyway, to order
-        each ring as :func:`~hyperlattice.graph.lattice.ring_lattice` does).
+        each ring as :func:`~hyperlattice.graph.lattice.ring_lattice` does); default False.
     max_bytes : int, optional
         Refuse (``ValueError``) before allocating when the estimated peak memory of the build
         and of :func:`lowest_pair` exceeds it; default: the memory available now.
@@ -223,7 +259,19 @@ def sector_lattice(p: int = 7, q: int = 3, rings: int = 3, *, coordinates: bool 
     Returns
     -------
     SectorLattice
-        Orbits ordered as the representatives of ``rotation_orbits(ring_lattice(p, q, rings))``.
+        Orbits ordered as the representatives of ``rotation_orbits(ring_lattice(p, q, rings))``;
+        ``sites`` is N, ``size`` the number N/p of orbits, ``rows``/``cols``/``shifts`` the
+        orbit hops.
+
+    Raises
+    ------
+    ValueError
+        For an invalid {p,q} or ``rings``, or a build that would exceed ``max_bytes`` (or the
+        available memory), or more than 2**31 - 1 orbits.
+
+    See Also
+    --------
+    sector_block, lowest_pair, hyperlattice.graph.symmetry.rotation_orbits
 
     Examples
     --------
@@ -500,23 +548,49 @@ def sector_block(slat: SectorLattice, m: int, *, mirror: str | None = None, t: f
     Parameters
     ----------
     slat : SectorLattice
+        From :func:`sector_lattice`.
     m : int
-        Sector, signed or in ``range(p)``.
-    mirror : {None, "real", "even", "odd"}
-        None: :math:`H_m` in the orbit basis, exactly ``sector_hamiltonian(ring_lattice(...), m)``.
-        ``"real"``: an orthogonally equivalent real symmetric form of :math:`H_m` (same size,
-        same spectrum; its sparsity pattern is the same for every m). ``"even"`` / ``"odd"``
-        (m = 0 only): the mirror-even / -odd half of the block.
-    t : float
-        Hopping amplitude.
-    shift : float
-        Subtracted on the diagonal.
+        Sector (angular momentum), signed or in ``range(p)``.
+    mirror : {None, "real", "even", "odd"}, optional
+        None (default): :math:`H_m` in the orbit basis, exactly
+        ``sector_hamiltonian(ring_lattice(...), m)``. ``"real"``: an orthogonally equivalent
+        real symmetric form of :math:`H_m` (same size, same spectrum; its sparsity pattern is
+        the same for every m). ``"even"`` / ``"odd"`` (m = 0 only): the mirror-even / -odd
+        half of the block.
+    t : float, optional
+        Hopping amplitude, the energy unit; default 1.
+    shift : float, optional
+        Subtracted on the diagonal (units of t); default 0.
 
     Returns
     -------
     scipy.sparse.csr_matrix
         Sorted indices, duplicates summed (zeros from cancelling terms are kept, so that the
         pattern does not depend on m); real unless ``mirror`` is None and the block is complex.
+        N/p square, or smaller for ``"even"``/``"odd"``.
+
+    Raises
+    ------
+    ValueError
+        If ``slat`` is not a SectorLattice, ``m`` is not a sector of p, ``mirror`` is unknown,
+        or ``"even"``/``"odd"`` is asked for m != 0.
+
+    See Also
+    --------
+    sector_lattice, hyperlattice.graph.symmetry.sector_hamiltonian
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from hyperlattice.graph.sectors import sector_block, sector_lattice
+    >>> slat = sector_lattice(7, 3, 3)
+    >>> b = sector_block(slat, 1)
+    >>> b.shape, b.dtype
+    ((16, 16), dtype('complex128'))
+    >>> sector_block(slat, 1, mirror="real").dtype
+    dtype('float64')
+    >>> round(float(np.linalg.eigvalsh(sector_block(slat, 0).toarray())[0]), 6)   # E0
+    -2.786702
     """
     from .symmetry import signed_sector
 
@@ -567,14 +641,57 @@ def lowest_pair(p: int = 7, q: int = 3, rings: int = 3, *, t: float = 1.0, tol: 
                 progress=None):
     r"""E0 and E1 of :math:`H = -tA` on the ``rings``-ring {p,q} flake, from sector blocks only.
 
-    :func:`lowest_sector_levels` with ``levels=2`` (see there for the method and the proof).
+    :func:`lowest_sector_levels` with ``levels=2`` (see there for the method and the proof
+    that no level was missed). The lattice is never built, so flakes of millions of sites fit.
+
+    Parameters
+    ----------
+    p, q : int, optional
+        Hyperbolic Schläfli symbol; default {7,3}.
+    rings : int, optional
+        Number of rings :math:`\ell \ge 1`; default 3.
+    t : float, optional
+        Hopping amplitude, positive (energy unit); default 1.
+    tol : float, optional
+        Largest accepted residual, in units of t; default 1e-10.
+    backend : {"auto", "cholmod", "superlu"}, optional
+        Sparse factorisation (:func:`hyperlattice.graph.factor.resolve_backend`); default
+        ``"auto"``.
+    sectors : SectorLattice, optional
+        A prebuilt :func:`sector_lattice` of the same flake (saves the build).
+    max_bytes : int, optional
+        Memory budget in bytes; default: the memory available.
+    progress : bool, None or callable, optional
+        A progress bar on stderr (None: when stderr is a terminal), or a function receiving
+        short status strings.
 
     Returns
     -------
     Spectrum
-        Two levels, ascending, with (n, m) labels and residuals; ``method`` is
-        ``"sector-shift-invert"``; ``timings`` has ``"build"``, ``"solve"``, ``"total"`` and one
-        entry per block; ``description`` names the factorisation backend; no eigenvectors.
+        Two levels :math:`E_0 < E_1`, ascending, in units of t, with (n, m) labels and
+        residuals; ``method`` is ``"sector-shift-invert"``; ``timings`` has ``"build"``,
+        ``"solve"``, ``"total"`` and one entry per block; ``description`` names the
+        factorisation backend; no eigenvectors.
+
+    Raises
+    ------
+    ValueError
+        Bad input, or a flake that will not fit.
+    FactorMemoryError
+        The factorisation of a block will not fit (refused before work).
+    ConvergenceError
+        A residual above 100 tol, or levels the inertia counts contradict.
+
+    See Also
+    --------
+    lowest_sector_levels, hyperlattice.graph.spectrum.lowest_levels, flake_memory
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> spec = hl.lowest_pair(7, 3, 3)
+    >>> [round(float(e), 6) for e in spec.energies], spec.m.tolist(), spec.method
+    ([-2.786702, -2.626896], [0, 1], 'sector-shift-invert')
     """
     return lowest_sector_levels(p, q, rings, 2, t=t, tol=tol, backend=backend, sectors=sectors,
                                 max_bytes=max_bytes, progress=progress)
@@ -605,41 +722,57 @@ def lowest_sector_levels(p: int = 7, q: int = 3, rings: int = 3, levels: int = 2
 
     Parameters
     ----------
-    p, q, rings : int
-        The flake.
-    levels : int
-        Number K of lowest states (a ±m pair counts twice).
-    t : float
-        Hopping amplitude, positive.
-    tol : float
-        Largest accepted residual :math:`\|H\psi - E\psi\|` (a ConvergenceError above 100 tol, a
-        ConvergenceWarning between tol and 100 tol).
-    backend : {"auto", "cholmod", "superlu"}
+    p, q, rings : int, optional
+        The flake: hyperbolic Schläfli symbol and number of rings; default {7,3} with 3 rings.
+        Ignored when ``sectors`` is given.
+    levels : int, optional
+        Number K of lowest states (a ±m pair counts twice); default 2.
+    t : float, optional
+        Hopping amplitude, positive; default 1. The blocks are solved at t = 1 and the levels
+        scaled by t.
+    tol : float, optional
+        Largest accepted residual :math:`\|H\psi - E\psi\|`, in units of t (a ConvergenceError
+        above 100 tol, a ConvergenceWarning between tol and 100 tol); default 1e-10.
+    backend : {"auto", "cholmod", "superlu"}, optional
         Sparse factorisation (:func:`hyperlattice.graph.factor.resolve_backend`; "splu" is accepted
-        for "superlu").
+        for "superlu"); default ``"auto"``.
     sectors : SectorLattice, optional
         A prebuilt :func:`sector_lattice` of the same flake (saves the build).
     max_bytes : int, optional
-        Memory budget; refused before allocating when the estimate (the build, and the
+        Memory budget in bytes; refused before allocating when the estimate (the build, and the
         factorisation fill from the symbolic analysis) exceeds it (default: the memory available).
-    progress : bool, None or callable
+    progress : bool, None or callable, optional
         A bar over the block solves on stderr (:mod:`hyperlattice._progress`; None: when stderr is a
         terminal), or a function receiving short status strings.
 
     Returns
     -------
     Spectrum
-        K levels ascending, labels (n, m) (+m before -m), residuals; ``method`` is
+        K levels ascending (units of t), labels (n, m) (+m before -m), residuals; ``method`` is
         ``"sector-shift-invert"``; ``timings`` per stage and block; no eigenvectors.
 
     Raises
     ------
     ValueError
-        Bad input, or a flake that will not fit.
+        Bad input (including ``levels`` above N, or a t that makes the energies overflow), or a
+        flake that will not fit.
     FactorMemoryError
         The factorisation of a block will not fit (one sentence; refused before work).
     ConvergenceError
         A residual above 100 tol, or levels the inertia counts contradict.
+
+    See Also
+    --------
+    lowest_pair, sector_block, hyperlattice.graph.spectrum.lowest_levels
+
+    Examples
+    --------
+    >>> from hyperlattice.graph.sectors import lowest_sector_levels
+    >>> spec = lowest_sector_levels(7, 3, 3, 4)
+    >>> [round(float(e), 6) for e in spec.energies]
+    [-2.786702, -2.626896, -2.626896, -2.48208]
+    >>> spec.n.tolist(), spec.m.tolist()
+    ([1, 1, 1, 1], [0, 1, -1, 2])
     """
     from . import factor as fct
     from .solvers import _check_residuals, _lanczos_ritz, _single_threaded_blas

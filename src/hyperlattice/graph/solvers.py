@@ -141,6 +141,42 @@ def full_table(lattice: Lattice, t: float = 1.0, onsite: OnSite = None, flux: fl
     """The whole Hamiltonian :math:`H = -tA + V` as a fixed-width table (``m`` is None).
 
     With a nonzero ``flux`` the hops carry the Peierls phases of :mod:`hyperlattice.graph.flux`.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        Site lattice or line graph.
+    t : float, optional
+        Hopping amplitude, the energy unit; default 1.
+    onsite : scalar, array or callable, optional
+        On-site term V in units of t; default None.
+    flux : float, optional
+        Flux quanta f per p-gon face; default 0.
+
+    Returns
+    -------
+    SectorTable
+        ``m`` None, ``cols`` and ``weights`` (N, width) with unused slots pointing at the row
+        itself with weight 0, ``diag`` (N,); complex weights for nonzero flux.
+
+    Raises
+    ------
+    ValueError
+        For an invalid lattice, t, flux or on-site term.
+
+    See Also
+    --------
+    hyperlattice.graph.symmetry.sector_table, hyperlattice.graph.operators.hamiltonian
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.solvers import full_table
+    >>> table = full_table(hl.ring_lattice(7, 3, 2))
+    >>> table.m, table.size, table.cols.shape, table.is_complex
+    (None, 35, (35, 3), False)
+    >>> full_table(hl.ring_lattice(7, 3, 2), flux=0.1).is_complex
+    True
     """
     _validate.lattice(lattice)
     t = _validate.real("the hopping t", t)

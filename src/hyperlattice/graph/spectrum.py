@@ -309,6 +309,10 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
 
     .. math:: H = -t \sum_{\langle ij \rangle} (|i\rangle\langle j| + |j\rangle\langle i|) + \sum_i V_i |i\rangle\langle i|
 
+    Each state is labelled by its angular momentum m (the sector of the p-fold rotation,
+    :math:`m \in (-p/2, p/2]`) and its radial index n = 1, 2, ... within that sector, as the
+    continuum levels are.
+
     Parameters
     ----------
     lattice : Lattice, or a matrix H
@@ -319,54 +323,76 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
         rotation, so ``t``, ``onsite``, ``sector`` and ``flux`` are refused; ``method="auto"``
         is dense eigh up to ``DENSE_MAX`` rows, else shift-invert (``"sparse"`` means the
         same), and the result is a :class:`MatrixSpectrum` whose ``method`` names the route.
-    levels : int
-        Number K of lowest states returned (each state of a degenerate pair counts once).
-    t : float
-        Hopping amplitude (t = 1 in the paper).
+    levels : int, optional
+        Number K of lowest states returned (each state of a degenerate pair counts once);
+        default 2, the pair :math:`E_0 < E_1`.
+    t : float, optional
+        Hopping amplitude, the energy unit; default 1 (as in the paper).
     onsite : scalar, array or callable ``(z, ring) -> array``, optional
-        On-site term V. A rotation-breaking V rules out ``method="sector"``.
-    method : {"auto", "sector", "dense", "sparse", "shift-invert"}
-        ``"auto"`` takes the fastest route for the request: for the plain flake (no on-site term,
-        no flux, no single sector, no eigenvectors) with blocks above 400 orbits, shift-invert on
-        the real mirror-reduced sector blocks built without the lattice, with an inertia proof
-        that no level was missed (:func:`~hyperlattice.graph.sectors.lowest_sector_levels`,
-        ``"sector-shift-invert"``); otherwise sectors when V is rotation invariant (each block
-        dense when small, else shift-invert through :mod:`hyperlattice.graph.factor`), else dense
-        for N <= DENSE_MAX and sparse above. ``"shift-invert"`` asks for the sector-only route
-        whenever it applies. The method that ran is reported in :attr:`Spectrum.method`, the
-        factorisation backend in :attr:`Spectrum.backend`.
+        On-site term V in units of t (see :func:`~hyperlattice.graph.operators.onsite_values`).
+        A rotation-breaking V rules out ``method="sector"``. Default None.
+    method : {"auto", "sector", "dense", "sparse", "shift-invert"}, optional
+        ``"auto"`` (default) takes the fastest route for the request: for the plain flake (no
+        on-site term, no flux, no single sector, no eigenvectors) with blocks above 400 orbits,
+        shift-invert on the real mirror-reduced sector blocks built without the lattice, with an
+        inertia proof that no level was missed
+        (:func:`~hyperlattice.graph.sectors.lowest_sector_levels`, ``"sector-shift-invert"``);
+        otherwise sectors when V is rotation invariant (each block dense when small, else
+        shift-invert through :mod:`hyperlattice.graph.factor`), else dense for N <= DENSE_MAX
+        and sparse above. ``"shift-invert"`` asks for the sector-only route whenever it
+        applies. The method that ran is reported in :attr:`Spectrum.method`, the factorisation
+        backend in :attr:`Spectrum.backend`.
     sector : int, optional
         Restrict to one sector m (``range(p)`` or signed); then K levels of that sector.
-    eigenvectors : bool
-        Return the normalised states (``Spectrum.eigenvectors``, shape (N, K)).
-    tol : float
-        Largest acceptable residual :math:`\|H\psi - E\psi\|`; above it a
+        Default None: all sectors.
+    eigenvectors : bool, optional
+        Return the normalised states (``Spectrum.eigenvectors``, shape (N, K)); default False.
+    tol : float, optional
+        Largest acceptable residual :math:`\|H\psi - E\psi\|`, in units of
+        :math:`\max(|t|, \max_i |V_i|)`; default 1e-10. Above it a
         :class:`~hyperlattice.errors.ConvergenceError` is raised (a
         :class:`~hyperlattice.errors.ConvergenceWarning` if within a factor 100). The
         eigenvalue error is at most the residual (and typically its square over the gap).
-    progress : bool, None or callable
-        A bar over the sectors (or block solves) on stderr (:mod:`hyperlattice._progress`; None: when
-        stderr is a terminal), or a function receiving short status strings.
-    flux : float
+    progress : bool, None or callable, optional
+        A bar over the sectors (or block solves) on stderr (:mod:`hyperlattice._progress`;
+        None, the default: when stderr is a terminal), or a function receiving short status
+        strings.
+    flux : float, optional
         Flux quanta f per p-gon face of a uniform magnetic field (Peierls phases in the
         rotation-symmetric gauge of :mod:`hyperlattice.graph.flux`; positive = counterclockwise).
-        With f != 0 all p sectors are solved and +-m are no longer degenerate.
+        With f != 0 all p sectors are solved and +-m are no longer degenerate. Default 0.
 
     Returns
     -------
     Spectrum or MatrixSpectrum
-        Energies ascending with labels (n, m), residuals, method and timings. The continuum
-        counterpart lists (n, m) = (1, 0), (1, 1), (1, -1), (1, 2), ... in the same way.
-        For a matrix H: energies, residuals and the route, without labels.
+        Energies ascending (``energies``, units of t) with labels (``n``, ``m``),
+        ``residuals``, ``method``, ``backend``, ``timings`` and, if asked for,
+        ``eigenvectors``. The continuum counterpart lists (n, m) = (1, 0), (1, 1), (1, -1),
+        (1, 2), ... in the same way. For a matrix H: a :class:`MatrixSpectrum` with energies,
+        residuals and the route, without labels.
 
     Raises
     ------
     ValueError
         Bad input, including ``levels`` above the number N of states (or, with ``sector``,
         above the N/p states of that sector), a rotation-breaking V with ``method="sector"``,
-        or more than (N - 3)/2 levels with ``method="sparse"``.
+        ``sector`` with a method other than ``"sector"``/``"auto"``, or more than (N - 3)/2
+        levels with ``method="sparse"``.
+    MemoryError
+        With ``method="dense"``, if the dense matrix and LAPACK's work space (about
+        :math:`3N^2` numbers) do not fit in the available memory.
     ConvergenceError
         If a residual exceeds 100 ``tol``.
+
+    See Also
+    --------
+    full_spectrum : all N eigenvalues.
+    hyperlattice.graph.sectors.lowest_pair : :math:`E_0, E_1` of flakes too big to build.
+    hyperlattice.continuum.spectrum.dirichlet_levels : the continuum counterpart.
+
+    References
+    ----------
+    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (1) and Sec. III.
 
     Examples
     --------
@@ -374,6 +400,11 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
     >>> spec = lowest_levels(ring_lattice(7, 3, 1), 3)
     >>> [round(float(e), 6) for e in spec.energies], spec.m.tolist()
     ([-2.0, -1.24698, -1.24698], [0, 1, -1])
+    >>> spec = lowest_levels(ring_lattice(7, 3, 2), 4)
+    >>> [round(float(e), 6) for e in spec.energies]
+    [-2.636405, -2.283335, -2.283335, -1.928138]
+    >>> spec.n.tolist(), spec.m.tolist()
+    ([1, 1, 1, 1], [0, 1, -1, 2])
     """
     t_start = time.perf_counter()
     if _validate.is_matrix(lattice):
@@ -667,26 +698,39 @@ def full_spectrum(lattice: Lattice, *, t: float = 1.0, onsite: OnSite = None,
     Parameters
     ----------
     lattice : Lattice, or a matrix H
-        A lattice, or H itself as a scipy.sparse matrix or 2-d array (real symmetric or complex
-        Hermitian, see :func:`lowest_levels`; then ``t``, ``onsite`` and ``flux`` are refused).
-    t : float
-        Hopping amplitude.
-    onsite : scalar, array or callable, optional
-        On-site term V.
-    max_sites : int
-        Largest N accepted (the full spectrum is a dense computation).
-    flux : float
+        A site lattice or a line graph, or H itself as a scipy.sparse matrix or 2-d array (real
+        symmetric or complex Hermitian, see :func:`lowest_levels`; then ``t``, ``onsite`` and
+        ``flux`` are refused).
+    t : float, optional
+        Hopping amplitude, the energy unit; default 1.
+    onsite : scalar, array or callable ``(z, ring) -> array``, optional
+        On-site term V in units of t; default None.
+    max_sites : int, optional
+        Largest N accepted (the full spectrum is a dense computation); default 50,000.
+    flux : float, optional
         Flux quanta per p-gon of a uniform field (:mod:`hyperlattice.graph.flux`); all p
-        sectors are solved in either case.
+        sectors are solved in either case. Default 0.
 
     Returns
     -------
-    ndarray, shape (N,)
+    numpy.ndarray of float64, shape (N,)
+        The eigenvalues, ascending, in units of t.
 
     Raises
     ------
     ValueError
-        If N exceeds ``max_sites``.
+        If N exceeds ``max_sites``, or for invalid t, onsite or flux.
+
+    See Also
+    --------
+    full_spectrum_tolerance, lowest_levels, partition_function
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> e = hl.full_spectrum(hl.ring_lattice(7, 3, 2))
+    >>> e.shape, round(float(e[0]), 6), round(float(e[-1]), 6)
+    ((35,), -2.636405, 2.431568)
     """
     return _full_spectrum(lattice, t=t, onsite=onsite, max_sites=max_sites, flux=flux)[0]
 
@@ -702,12 +746,33 @@ def full_spectrum_tolerance(lattice: Lattice, *, t: float = 1.0, onsite: OnSite 
     kernels and thread counts (the two exact zero modes of the {7,3} flake with l = 4 come out
     as :math:`\pm 5\times 10^{-16}`).
 
+    Parameters
+    ----------
+    lattice, t, onsite, max_sites, flux
+        As in :func:`full_spectrum`.
+
     Returns
     -------
-    energies : ndarray, shape (N,)
-        Ascending.
+    energies : numpy.ndarray of float64, shape (N,)
+        Ascending, in units of t.
     tolerance : float
         Absolute error bound of every eigenvalue (about 1e-13 for N of a few hundred).
+
+    Raises
+    ------
+    ValueError
+        As :func:`full_spectrum`.
+
+    See Also
+    --------
+    full_spectrum
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> energies, tol = hl.full_spectrum_tolerance(hl.ring_lattice(7, 3, 2))
+    >>> len(energies), tol < 1e-12
+    (35, True)
     """
     return _full_spectrum(lattice, t=t, onsite=onsite, max_sites=max_sites, flux=flux)
 
@@ -808,15 +873,17 @@ def partition_function(system, beta, *, t: float = 1.0, onsite: OnSite = None) -
     ----------
     system : Lattice, sparse matrix H, Levels (e.g. a Spectrum) or array of energies
         A lattice or a scipy.sparse Hamiltonian (its full spectrum is computed, see
-        :func:`full_spectrum`) or given levels.
+        :func:`full_spectrum`) or given levels in units of t. Plain numbers are taken as exact;
+        a :class:`~hyperlattice.results.Levels` with ``errors`` uses them as the zero-mode bound.
     beta : float or array
-        Inverse temperature(s) :math:`\beta \ge 0`.
+        Inverse temperature(s) :math:`\beta \ge 0`, in units of 1/t.
     t, onsite
-        Hamiltonian parameters when ``system`` is a lattice.
+        Hamiltonian parameters when ``system`` is a lattice (defaults t = 1, no on-site term);
+        ignored otherwise.
 
     Returns
     -------
-    float or ndarray
+    float or numpy.ndarray
         Z for each beta (the shape of ``beta``). Levels with :math:`E_n \ge 0` are left out,
         as in the paper, to cut off energies outside the continuum approximation (Z = 0 if
         no level is negative); so are zero modes, levels within their error bound of 0
@@ -825,8 +892,27 @@ def partition_function(system, beta, *, t: float = 1.0, onsite: OnSite = None) -
     Raises
     ------
     ValueError
-        If Z exceeds the float range (about 1.8e308) for some beta; then use
-        :func:`log_partition_function`.
+        If beta is negative, the energies are not finite, or Z exceeds the float range (about
+        1.8e308) for some beta; then use :func:`log_partition_function`.
+
+    See Also
+    --------
+    log_partition_function, full_spectrum
+
+    References
+    ----------
+    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020), Fig. 2 (inset).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> lat = hl.ring_lattice(7, 3, 2)
+    >>> round(hl.partition_function(lat, 1.0), 6)
+    86.231052
+    >>> [round(z, 6) for z in hl.partition_function(lat, [0.0, 2.0]).tolist()]  # Z(0) counts E < 0
+    [16.0, 639.577029]
+    >>> round(hl.partition_function([-1.0, -0.5, 0.3], 2.0), 6)
+    10.107338
     """
     neg, b = _negative_levels(system, beta, t, onsite)
     if neg.size == 0:
@@ -859,14 +945,30 @@ def log_partition_function(system, beta, *, t: float = 1.0, onsite: OnSite = Non
 
     Returns
     -------
-    float or ndarray
+    float or numpy.ndarray
         :math:`\ln Z` for each beta (the shape of ``beta``).
 
     Raises
     ------
     ValueError
-        If no level is negative (then Z = 0 and its logarithm is :math:`-\infty`), or if
-        :math:`\beta |E_0|` itself exceeds the float range.
+        If no level is negative (then Z = 0 and its logarithm is :math:`-\infty`), if
+        :math:`\beta |E_0|` itself exceeds the float range, or for invalid input as in
+        :func:`partition_function`.
+
+    See Also
+    --------
+    partition_function
+
+    References
+    ----------
+    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020), Fig. 2 (inset).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> lat = hl.ring_lattice(7, 3, 2)
+    >>> round(hl.log_partition_function(lat, 1000.0), 6)   # -beta E0 with E0 = -2.636405
+    2636.404937
     """
     neg, b = _negative_levels(system, beta, t, onsite)
     if neg.size == 0:

@@ -82,11 +82,37 @@ def rotation_orbits(lattice: Lattice) -> RotationOrbits:
     Works from the permutation itself (not from an assumed site layout), so it serves the
     line graph as well. Cost O(pN) in vectorised numpy.
 
+    Parameters
+    ----------
+    lattice : Lattice
+        Site lattice or line graph; its rotation must act freely.
+
+    Returns
+    -------
+    RotationOrbits
+        ``p``, ``representatives`` (N/p,) the smallest site of each orbit, ``orbit`` (N,) the
+        orbit index of every site, ``shift`` (N,) the power s with
+        ``site == R^s(representatives[orbit[site]])``, and ``size`` = N/p.
+
     Raises
     ------
     ValueError
         If the permutation is not of order p or fixes a site under some power
         :math:`R^s`, 0 < s < p (then the sector blocks would not all have size N/p).
+
+    See Also
+    --------
+    sector_hamiltonian, lift
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.symmetry import rotation_orbits
+    >>> orbits = rotation_orbits(hl.ring_lattice(7, 3, 2))
+    >>> orbits.size, orbits.representatives.tolist()
+    (5, [0, 7, 8, 9, 10])
+    >>> orbits.shift[:9].tolist()
+    [0, 1, 2, 3, 4, 5, 6, 0, 0]
     """
     _validate.lattice(lattice)
     p = int(lattice.p)
@@ -124,10 +150,33 @@ def _check_orbits(orbits, lattice: Lattice | None = None) -> None:
 
 
 def signed_sector(m, p: int) -> int:
-    """Normalise a sector label to the signed form ``m in (-p/2, p/2]``.
+    r"""Normalise a sector label to the signed form ``m in (-p/2, p/2]``.
 
-    Accepts ``0 <= m < p`` (Bloch phase :math:`e^{2\\pi i m/p}`) or an already signed value
+    Accepts ``0 <= m < p`` (Bloch phase :math:`e^{2\pi i m/p}`) or an already signed value
     ``-p/2 < m <= p/2``; sector p - m is reported as -m.
+
+    Parameters
+    ----------
+    m : int
+        The sector (angular momentum) label.
+    p : int
+        Order of the rotation, p >= 3.
+
+    Returns
+    -------
+    int
+        The signed sector in :math:`(-p/2, p/2]`.
+
+    Raises
+    ------
+    ValueError
+        If m is neither in ``range(p)`` nor a signed value in :math:`(-p/2, p/2]`.
+
+    Examples
+    --------
+    >>> from hyperlattice.graph.symmetry import signed_sector
+    >>> signed_sector(6, 7), signed_sector(-3, 7), signed_sector(3, 6)
+    (-1, -3, 3)
     """
     p = _validate.integer("p", p, minimum=3, maximum=_validate.PQ_MAX)
     m = _validate.integer("sector m", m)
@@ -139,7 +188,39 @@ def signed_sector(m, p: int) -> int:
 
 
 def rotation_invariant(lattice: Lattice, onsite: OnSite = None) -> bool:
-    """True if the on-site term is invariant under the p-fold rotation (to 1e-12 relative)."""
+    r"""True if the on-site term is invariant under the p-fold rotation (to 1e-12 relative).
+
+    Parameters
+    ----------
+    lattice : Lattice
+        Site lattice or line graph.
+    onsite : scalar, array or callable ``(z, ring) -> array``, optional
+        The on-site term V (see :func:`~hyperlattice.graph.operators.onsite_values`); None
+        (default) is invariant.
+
+    Returns
+    -------
+    bool
+        Whether :math:`V_{R(i)} = V_i` for every site to within
+        :math:`10^{-12}\max(1, \max|V|)`.
+
+    Raises
+    ------
+    ValueError
+        For an invalid lattice or on-site term.
+
+    See Also
+    --------
+    sector_hamiltonian
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.symmetry import rotation_invariant
+    >>> lat = hl.ring_lattice(7, 3, 2)
+    >>> rotation_invariant(lat, lambda z, ring: 1.0 * ring), rotation_invariant(lat, lambda z, ring: z.real)
+    (True, False)
+    """
     _validate.lattice(lattice)
     v = _real_onsite(lattice, onsite)
     if v is None:
@@ -155,17 +236,42 @@ def sector_table(lattice: Lattice, m: int, t: float = 1.0, onsite: OnSite = None
     Parameters
     ----------
     lattice : Lattice
+        Site lattice or line graph; its rotation must act freely.
     m : int
         Sector, signed or in ``range(p)`` (see :func:`signed_sector`).
-    t : float
-        Hopping amplitude.
-    onsite : optional
-        Rotation-invariant on-site term (checked).
+    t : float, optional
+        Hopping amplitude, the energy unit; default 1.
+    onsite : scalar, array or callable, optional
+        Rotation-invariant on-site term in units of t (checked); default None.
     orbits : RotationOrbits, optional
         Precomputed orbits (saves O(pN) when several sectors are built).
-    flux : float
+    flux : float, optional
         Flux quanta per p-gon of a uniform field (:mod:`hyperlattice.graph.flux`); the block
-        is complex for any nonzero flux.
+        is complex for any nonzero flux. Default 0.
+
+    Returns
+    -------
+    SectorTable
+        ``m`` (signed), ``cols`` and ``weights`` (N/p, width) and ``diag`` (N/p,);
+        ``to_csr()`` gives the block as a sparse matrix.
+
+    Raises
+    ------
+    ValueError
+        For an invalid sector, t or flux, orbits of another lattice, or an on-site term that
+        is not rotation invariant.
+
+    See Also
+    --------
+    sector_hamiltonian
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.symmetry import sector_table
+    >>> table = sector_table(hl.ring_lattice(7, 3, 2), 1)
+    >>> table.m, table.cols.shape, table.is_complex
+    (1, (5, 3), True)
     """
     _validate.lattice(lattice)
     p = int(lattice.p)
@@ -211,18 +317,22 @@ def sector_hamiltonian(lattice: Lattice, m: int, t: float = 1.0, onsite: OnSite 
                        flux: float = 0.0) -> sp.csr_matrix:
     r"""The angular-momentum block :math:`H_m` of :math:`H = -tA + V` as CSR.
 
+    With the Bloch ansatz :math:`\psi(R^s r_o) = e^{2\pi i m s/p}\phi_o/\sqrt p` over the
+    orbits of the p-fold rotation R, H splits into p blocks of size N/p.
+
     Parameters
     ----------
     lattice : Lattice
         Site lattice or line graph; its rotation must act freely.
     m : int
         Sector: ``0 <= m < p`` or signed ``-p/2 < m <= p/2`` (Bloch phase :math:`e^{2\pi i m/p}`).
-    t : float
-        Hopping amplitude (t = 1 in the paper).
+    t : float, optional
+        Hopping amplitude (t = 1 in the paper, the default).
     onsite : scalar, array or callable, optional
-        On-site term; must be invariant under the rotation.
-    flux : float
-        Flux quanta per p-gon of a uniform field (complex block for any nonzero flux).
+        On-site term in units of t; must be invariant under the rotation. Default None.
+    flux : float, optional
+        Flux quanta per p-gon of a uniform field (complex block for any nonzero flux);
+        default 0.
 
     Returns
     -------
@@ -232,13 +342,26 @@ def sector_hamiltonian(lattice: Lattice, m: int, t: float = 1.0, onsite: OnSite 
         belong to the orbit of ``rotation_orbits(lattice).representatives[o]``; the union of
         the spectra over the p sectors is the spectrum of H.
 
+    Raises
+    ------
+    ValueError
+        For an invalid sector, t or flux, a rotation that does not act freely, or an on-site
+        term that is not rotation invariant.
+
+    See Also
+    --------
+    rotation_orbits, lift, hyperlattice.graph.spectrum.lowest_levels
+
     Examples
     --------
+    >>> import numpy as np
     >>> from hyperlattice import ring_lattice
     >>> from hyperlattice.graph.symmetry import sector_hamiltonian
-    >>> h0 = sector_hamiltonian(ring_lattice(7, 3, 1), 0)
-    >>> h0.toarray()
-    array([[-2.]])
+    >>> sector_hamiltonian(ring_lattice(7, 3, 1), 0).toarray().tolist()
+    [[-2.0]]
+    >>> h1 = sector_hamiltonian(ring_lattice(7, 3, 2), 1)
+    >>> h1.shape, h1.dtype, round(float(np.linalg.eigvalsh(h1.toarray())[0]), 6)
+    ((5, 5), dtype('complex128'), -2.283335)
     """
     return sector_table(lattice, m, t, onsite, flux=flux).to_csr()
 
@@ -246,8 +369,47 @@ def sector_hamiltonian(lattice: Lattice, m: int, t: float = 1.0, onsite: OnSite 
 def lift(orbits: RotationOrbits, m: int, phi: np.ndarray) -> np.ndarray:
     r"""Lift sector vectors :math:`\phi` (shape (N/p,) or (N/p, k)) to full-lattice vectors.
 
-    :math:`\psi(R^s r_o) = \omega^{m s}\phi_o/\sqrt{p}`, so a normalised :math:`\phi` gives a
-    normalised :math:`\psi` with :math:`\psi(R i) = \omega^m \psi(i)`.
+    :math:`\psi(R^s r_o) = \omega^{m s}\phi_o/\sqrt{p}` with :math:`\omega = e^{2\pi i/p}`, so a
+    normalised :math:`\phi` gives a normalised :math:`\psi`; it is an eigenvector of H when
+    :math:`\phi` is one of :math:`H_m`.
+
+    Parameters
+    ----------
+    orbits : RotationOrbits
+        From :func:`rotation_orbits` of the lattice.
+    m : int
+        The sector of :math:`\phi`, signed or in ``range(p)``.
+    phi : array_like, shape (N/p,) or (N/p, k)
+        Sector vector(s), one row per orbit.
+
+    Returns
+    -------
+    numpy.ndarray, shape (N,) or (N, k)
+        The lattice vectors (0-based site order); real for real :math:`\phi` in sectors 0 and
+        p/2, complex otherwise.
+
+    Raises
+    ------
+    ValueError
+        If ``orbits`` is not a RotationOrbits, m is not a sector, or ``phi`` has not one row
+        per orbit.
+
+    See Also
+    --------
+    rotation_orbits, sector_hamiltonian
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.symmetry import lift, rotation_orbits
+    >>> lat = hl.ring_lattice(7, 3, 2)
+    >>> e, v = np.linalg.eigh(hl.sector_hamiltonian(lat, 1).toarray())
+    >>> psi = lift(rotation_orbits(lat), 1, v[:, 0])
+    >>> psi.shape, round(float(np.linalg.norm(psi)), 6)
+    ((35,), 1.0)
+    >>> bool(np.linalg.norm(hl.hamiltonian(lat) @ psi - e[0] * psi) < 1e-12)
+    True
     """
     _check_orbits(orbits)
     p = orbits.p

@@ -80,18 +80,79 @@ MAX_LENGTH = 200
 
 
 def exact_depth(rings: int, ring: int) -> int:
-    r"""Largest n for which the closed-walk count from a site on ring ``ring`` of an R-ring flake equals
-    the infinite lattice's: :math:`2(R - r) + 1` (see the module docstring for the proof)."""
+    r"""Largest n for which closed-walk counts on ring ``ring`` of an R-ring flake are exact.
+
+    Exact means equal to the infinite lattice's count from a site on that ring. The bound is :math:`2(R - r) + 1`: a closed walk of length n reaches at most
+    :math:`\lfloor n/2 \rfloor` rings outwards (see the module docstring for the proof).
+
+    Parameters
+    ----------
+    rings : int
+        Number of rings R >= 1 of the flake.
+    ring : int
+        The site's ring r, 1 <= r <= R.
+
+    Returns
+    -------
+    int
+        :math:`2(R - r) + 1`.
+
+    Raises
+    ------
+    ValueError
+        If ``rings`` or ``ring`` is out of range.
+
+    See Also
+    --------
+    exact_depths, boundary_distance
+
+    Examples
+    --------
+    >>> from hyperlattice.graph.walks import exact_depth
+    >>> exact_depth(4, 2)
+    5
+    """
     rings = _validate.positive_int("rings", rings)
     ring = _validate.integer("ring", ring, minimum=1, maximum=rings)
     return 2 * (rings - ring) + 1
 
 
 def boundary_distance(lattice, *, site: int | None = None) -> np.ndarray | int:
-    """Graph distance of every site of a flake to the nearest deficient site (degree below the
-    lattice's coordination, i.e. a site with a neighbour outside the flake); int64, -1 if none.
-    With ``site``: that one site's distance only (a search from it that stops at the first
-    deficient site), an int."""
+    """Graph distance of every site of a flake to the nearest deficient site.
+
+    A deficient site has a degree below the lattice's coordination, i.e. a neighbour outside
+    the flake. With ``site``: that one site's distance only (a search from it that stops at the
+    first deficient site).
+
+    Parameters
+    ----------
+    lattice : Lattice
+        A flake or line graph.
+    site : int, optional
+        One site (0-based); default None: all sites.
+
+    Returns
+    -------
+    numpy.ndarray of int64, shape (N,), or int
+        The distances in edges, -1 where no deficient site is reachable; an int with ``site``.
+
+    Raises
+    ------
+    ValueError
+        For an invalid lattice or site index.
+
+    See Also
+    --------
+    exact_depths, hyperlattice.graph.kpm.bulk_dos
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.walks import boundary_distance
+    >>> lat = hl.ring_lattice(7, 3, 3)
+    >>> boundary_distance(lat)[[0, 7, 40]].tolist(), boundary_distance(lat, site=0)
+    ([4, 3, 1], 4)
+    """
     _validate.lattice(lattice)
     indptr, indices = lattice.neighbours()
     deficient = np.diff(indptr) < lattice.coordination
@@ -136,16 +197,75 @@ def _neighbours_of(indptr, indices, sites) -> np.ndarray:
 
 
 def exact_depths(lattice) -> np.ndarray:
-    r"""Per site of a flake, the largest n with :math:`\langle i|A^n|i\rangle` equal to the infinite
-    lattice's: :math:`2 d_b(i) + 1`, :math:`d_b` from :func:`boundary_distance` (proof in the module
-    docstring). Only for the {p,q} lattice itself (``kind == "sites"``)."""
+    r"""Per site of a flake, the largest n with :math:`\langle i|A^n|i\rangle` equal to the infinite lattice's.
+
+    The depth is :math:`2 d_b(i) + 1`, :math:`d_b` from :func:`boundary_distance` (proof in the
+    module docstring); it is at least :func:`exact_depth` of the site's ring.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        A flake of the {p,q} lattice itself (``kind == "sites"``).
+
+    Returns
+    -------
+    numpy.ndarray of int64, shape (N,)
+        The depth of every site (0-based site order).
+
+    Raises
+    ------
+    ValueError
+        If ``lattice`` is not a site lattice.
+
+    See Also
+    --------
+    boundary_distance, exact_depth
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.walks import exact_depths
+    >>> exact_depths(hl.ring_lattice(7, 3, 3))[:8].tolist()
+    [9, 9, 9, 9, 9, 9, 9, 7]
+    """
     _validate.lattice(lattice, kind="sites")
     return 2 * boundary_distance(lattice) + 1
 
 
 def rings_for_walks(p: int, q: int, n_max: int, *, max_sites: int | None = None) -> int:
-    """Fewest rings of a {p,q} flake whose site 0 has exact closed walks up to length ``n_max``
-    (:func:`exact_depths`, checked on each flake built: 2, 3, ... rings)."""
+    """Fewest rings of a {p,q} flake whose site 0 has exact closed walks up to length ``n_max``.
+
+    Checked with :func:`exact_depths` on each flake built: 2, 3, ... rings.
+
+    Parameters
+    ----------
+    p, q : int
+        Hyperbolic Schläfli symbol.
+    n_max : int
+        Longest walk, 0 to 200.
+    max_sites : int, optional
+        Refuse flakes with more sites (default: what fits in memory).
+
+    Returns
+    -------
+    int
+        The number of rings.
+
+    Raises
+    ------
+    ValueError
+        For invalid input, or a flake above ``max_sites`` (or the available memory).
+
+    See Also
+    --------
+    closed_walks
+
+    Examples
+    --------
+    >>> from hyperlattice.graph.walks import rings_for_walks
+    >>> rings_for_walks(7, 3, 8)
+    3
+    """
     p, q = _validate.pq(p, q)
     n_max = _validate.integer("n_max", n_max, minimum=0, maximum=MAX_LENGTH)
     return _flake_for(p, q, n_max, max_sites).rings
@@ -218,11 +338,11 @@ def _exact_dot(a: np.ndarray, b: np.ndarray) -> int:
 
 
 def closed_walks(p: int, q: int, n_max: int, *, max_sites: int | None = None) -> np.ndarray:
-    r"""Exact numbers :math:`W_n`, n = 0..n_max, of closed walks of length n from a site of the
-    infinite {p,q} lattice.
+    r"""Exact numbers :math:`W_n`, n = 0..n_max, of closed walks of length n from a site of the infinite {p,q} lattice.
 
-    Counted from site 0 of the smallest flake on which :func:`exact_depths` proves them exact
-    (module docstring; 13 rings for {7,3} up to n = 49). Cached in-process.
+    :math:`W_n = \langle i|A^n|i\rangle` on the infinite lattice (every site is alike). Counted
+    from site 0 of the smallest flake on which :func:`exact_depths` proves them exact (module
+    docstring; 13 rings for {7,3} up to n = 49). Cached in-process.
 
     Parameters
     ----------
@@ -236,9 +356,19 @@ def closed_walks(p: int, q: int, n_max: int, *, max_sites: int | None = None) ->
 
     Returns
     -------
-    ndarray
+    numpy.ndarray
         int64 when :math:`q^{n_{\max}} < 2^{63}` (then nothing can overflow), else an object array of
         Python ints; length n_max + 1.
+
+    Raises
+    ------
+    ValueError
+        For an invalid {p,q} or ``n_max``, or a flake above ``max_sites`` (or the available
+        memory).
+
+    See Also
+    --------
+    spectral_radius, chebyshev_from_walks, rings_for_walks
 
     Examples
     --------
@@ -271,12 +401,45 @@ def _walk_list(walks) -> list[int]:
 
 
 def chebyshev_from_walks(walks, scale: float, *, sign: int = -1) -> np.ndarray:
-    r"""Chebyshev moments :math:`\mu_n = \sum_k c_{nk}\,(s/a)^k W_k` of :math:`T_n(sA/a)`, n <= len-1,
-    computed exactly in rational arithmetic from the integer moments :math:`W_k` (``sign`` s = -1 for
-    :math:`H = -A`), rounded once to float64 at the end.
+    r"""Chebyshev moments :math:`\mu_n` of :math:`T_n(sA/a)` from exact closed-walk counts.
 
-    ``scale`` a is the float used by KPM (taken as the exact rational it is), so the result is the
-    exact value of what KPM computes in floating point.
+    :math:`\mu_n = \sum_k c_{nk}\,(s/a)^k W_k` for n <= len - 1, with :math:`c_{nk}` the
+    coefficients of :math:`T_n`, computed exactly in rational arithmetic from the integer
+    moments :math:`W_k` and rounded once to float64 at the end. ``scale`` a is the float used
+    by KPM (taken as the exact rational it is), so the result is the exact value of what KPM
+    computes in floating point.
+
+    Parameters
+    ----------
+    walks : sequence of int
+        Closed-walk counts :math:`W_0, W_1, \dots` (non-negative integers), e.g. from
+        :func:`closed_walks`.
+    scale : float
+        The KPM scale a > 0 (:attr:`~hyperlattice.graph.kpm.KPMDos.scale`).
+    sign : {-1, 1}, optional
+        s = -1 (default) for :math:`H = -A`.
+
+    Returns
+    -------
+    numpy.ndarray of float64, shape (len(walks),)
+        The moments :math:`\mu_n`.
+
+    Raises
+    ------
+    ValueError
+        If ``walks`` is not a non-empty sequence of non-negative integers, ``scale`` is not
+        positive, or ``sign`` is not -1 or 1.
+
+    See Also
+    --------
+    closed_walks, hyperlattice.graph.kpm.kpm_dos
+
+    Examples
+    --------
+    >>> from hyperlattice.graph.walks import chebyshev_from_walks, closed_walks
+    >>> mu = chebyshev_from_walks(closed_walks(7, 3, 8), 3.0)
+    >>> [round(m, 6) for m in mu[:5].tolist()]
+    [1.0, 0.0, -0.333333, 0.0, -0.185185]
     """
     w = _walk_list(walks)
     a = _validate.positive_real("scale", scale)
@@ -303,8 +466,45 @@ def chebyshev_from_walks(walks, scale: float, *, sign: int = -1) -> np.ndarray:
 
 
 def isoperimetric_upper_bound(p: int, q: int) -> float:
-    r""":math:`\sqrt{q^2 - i_E^2}` with :math:`i_E = (q-2)\sqrt{1-4/((p-2)(q-2))}`: an upper bound on
-    :math:`\rho` (Mohar 1988 with the exact constant of Häggström–Jonasson–Lyons 2002; cited)."""
+    r"""An upper bound :math:`\sqrt{q^2 - i_E^2}` on :math:`\rho` of the {p,q} lattice.
+
+    Here :math:`i_E = (q-2)\sqrt{1-4/((p-2)(q-2))}` is the exact edge isoperimetric constant
+    (Häggström–Jonasson–Lyons 2002), and the bound is Mohar's (1988).
+
+    Parameters
+    ----------
+    p : int or float
+        Face size; ``math.inf`` gives the q-regular tree.
+    q : int
+        Coordination number.
+
+    Returns
+    -------
+    float
+        The bound on :math:`\rho`, in units of t.
+
+    Raises
+    ------
+    ValueError
+        For a non-hyperbolic {p,q}.
+
+    See Also
+    --------
+    spectral_radius
+
+    References
+    ----------
+    .. [1] B. Mohar, "Isoperimetric inequalities, growth, and the spectrum of graphs", Linear
+       Algebra Appl. 103, 119 (1988).
+    .. [2] O. Häggström, J. Jonasson and R. Lyons, "Explicit isoperimetric constants and phase
+       transitions in the random-cluster model", Ann. Probab. 30, 443 (2002).
+
+    Examples
+    --------
+    >>> from hyperlattice.graph.walks import isoperimetric_upper_bound
+    >>> round(isoperimetric_upper_bound(7, 3), 6)
+    2.966479
+    """
     p, q = _validate.pq(p, q, allow_infinite_p=True)
     frac = 0.0 if math.isinf(p) else 4.0 / ((p - 2) * (q - 2))
     i_e = (q - 2) * math.sqrt(1.0 - frac)
@@ -344,8 +544,37 @@ class SpectralRadius(Result):
 
 
 def spectral_radius_bounds(walks) -> tuple[float, float]:
-    r"""``(max_n W_2n^(1/2n), max_n sqrt(W_2n / W_2n-2))``: proven lower bounds on :math:`\rho` from exact
-    closed-walk counts (float64 logarithms of exact integers; the last digit is rounding)."""
+    r"""Proven lower bounds on :math:`\rho` from exact closed-walk counts.
+
+    They are :math:`\max_n W_{2n}^{1/2n}` and :math:`\max_n \sqrt{W_{2n}/W_{2n-2}}` (float64
+    logarithms of exact integers; the last digit is rounding).
+
+    Parameters
+    ----------
+    walks : sequence of int
+        Closed-walk counts :math:`W_0, W_1, \dots` (non-negative integers).
+
+    Returns
+    -------
+    root, ratio : float
+        The two lower bounds (0.0 when no even count is available).
+
+    Raises
+    ------
+    ValueError
+        If ``walks`` is not a non-empty sequence of non-negative integers.
+
+    See Also
+    --------
+    spectral_radius
+
+    Examples
+    --------
+    >>> from hyperlattice.graph.walks import closed_walks, spectral_radius_bounds
+    >>> root, ratio = spectral_radius_bounds(closed_walks(7, 3, 8))
+    >>> round(root, 6), round(ratio, 6)
+    (2.197101, 2.498275)
+    """
     w = _walk_list(walks)
     evens = [(n, w[2 * n]) for n in range(1, len(w) // 2 + (len(w) % 2)) if 2 * n < len(w)]
     root = max((math.exp(math.log(c) / (2 * n)) for n, c in evens if c > 0), default=0.0)
@@ -355,6 +584,43 @@ def spectral_radius_bounds(walks) -> tuple[float, float]:
 
 def spectral_radius(p: int, q: int, n_max: int = 22, *, max_sites: int | None = None) -> SpectralRadius:
     r"""Proven bounds on :math:`\rho(p,q)` from the exact closed walks up to ``n_max`` (module docstring).
+
+    :math:`\rho = \|A\|` of the infinite {p,q} lattice; the band bottom of :math:`H = -A` is
+    :math:`-\rho`, in units of t.
+
+    Parameters
+    ----------
+    p, q : int
+        Hyperbolic Schläfli symbol.
+    n_max : int, optional
+        Longest walk, 6 to 200; default 22.
+    max_sites : int, optional
+        Refuse flakes with more sites (default: what fits in memory).
+
+    Returns
+    -------
+    SpectralRadius
+        ``lower_root``, ``lower_ratio`` (proven lower bounds), ``upper`` (the isoperimetric
+        bound, at most q), ``ratios``, and the property ``lower`` and method
+        ``band_bottom_interval()``.
+
+    Raises
+    ------
+    ValueError
+        For invalid input, or a flake above ``max_sites`` (or the available memory).
+
+    See Also
+    --------
+    closed_walks, isoperimetric_upper_bound
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> s = hl.spectral_radius(7, 3, 12)
+    >>> round(s.lower, 6), round(s.upper, 6)
+    (2.828427, 2.966479)
+    >>> [round(x, 6) for x in s.band_bottom_interval()]
+    [-2.966479, -2.828427]
     """
     p, q = _validate.pq(p, q)
     n_max = _validate.integer("n_max", n_max, minimum=6, maximum=MAX_LENGTH)
