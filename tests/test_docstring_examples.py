@@ -24,7 +24,9 @@ import hyperlattice
 FLAGS = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE
 
 # modules whose every public function has Parameters (if it takes any), Returns and Examples
-COMPLETE: tuple[str, ...] = ()
+COMPLETE: tuple[str, ...] = (
+    "hyperlattice.compare.limits",
+)
 
 
 def _public_modules() -> list[str]:
