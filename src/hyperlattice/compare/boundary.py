@@ -458,10 +458,39 @@ def boundary_correlator(lattice: Lattice, omega, source: int | None = None, *, d
         to the lattice where it can be summed, ℓ ≤ 6-8, see ``docs/below-band.md``), or the Dirichlet disk
         with the ring mapped onto the circle of its mean depth. Does not change the fit.
 
+    Returns
+    -------
+    BoundaryCorrelator
+        The outer-ring ``sites`` (counterclockwise), their angles ``theta`` to the source, the
+        graph column ``graph`` (:math:`G_{ij}(\omega)`, units of 1/t) and the ``continuum`` column,
+        the fitted ``delta_lattice`` with ``delta_lattice_err``, and ``delta_continuum``
+        (:math:`\frac12 + \frac12\sqrt{1-\lambda}`, NaN beyond the continuum BF bound).
+
     Raises
     ------
     ValueError
-        Bad input, a source off the outer ring, omega not below the band, too few pairs.
+        Bad input, a line-graph lattice, a source off the outer ring, omega not below the band,
+        too few rings for the window (``depth + 1``) or too few pairs.
+
+    See Also
+    --------
+    delta_curve : the fitted Δ for many frequencies at once.
+    hyperlattice.continuum.massive.conformal_two_point : the continuum boundary form.
+
+    References
+    ----------
+    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020): the graph Green function
+       (source label ``eq20``) and its continuum limit, Eq. (16) (label ``eq21``).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> lat = hl.ring_lattice(7, 3, 5)
+    >>> bc = hl.boundary_correlator(lat, -3.5)
+    >>> bc.source, bc.pairs
+    (315, 483)
+    >>> print(f"{bc.delta_lattice:.3f} {bc.delta_continuum:.3f}")
+    2.030 2.062
     """
     lat = _site_lattice(lattice)
     omega = _real_omega("omega", omega)
@@ -547,6 +576,45 @@ def delta_curve(lattice: Lattice, omegas, *, source: int | None = None, depth: i
 
     One fill-reducing order per lattice (about 1 s at :math:`\ell = 10`), then per frequency one
     numeric :math:`LDL^T` (about 0.1 s) and the fits (about 0.1 s); :class:`~hyperlattice.graph.qubits.BelowBandResolvent`.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        A {p,q} ring lattice (site lattice, not a line graph) with more than ``depth`` rings.
+    omegas : array_like of float
+        Real frequencies (units of t), each below the band (:math:`\omega < E_0(\ell)`);
+        1 to 1000 of them.
+    source : int, optional
+        A site of the outer ring (0-based; default: its first site).
+    depth : int, optional
+        Window depth in rings (module docstring). Default 2.
+
+    Returns
+    -------
+    DeltaCurve
+        ``omegas``, ``mass2`` (:math:`m^2 = -\lambda(\omega)`), ``delta_lattice`` with
+        ``delta_lattice_err``, ``delta_continuum`` (NaN beyond the BF bound), the continuum BF
+        bound ``omega_bf`` and the wall time ``seconds``.
+
+    Raises
+    ------
+    ValueError
+        Bad input, a line-graph lattice, no or more than 1000 frequencies, a frequency not below
+        the band, a source off the outer ring or too few rings for the window.
+
+    See Also
+    --------
+    boundary_correlator : one frequency, with the correlators themselves.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> lat = hl.ring_lattice(7, 3, 5)
+    >>> dc = hl.delta_curve(lat, [-3.5, -4.0])
+    >>> [round(float(d), 3) for d in dc.delta_lattice]
+    [2.03, 2.578]
+    >>> [round(float(d), 3) for d in dc.delta_continuum]
+    [2.062, 2.652]
     """
     lat = _site_lattice(lattice)
     om = _validate.real_array("omegas", omegas, ndim=1)
