@@ -29,6 +29,7 @@ COMPLETE: tuple[str, ...] = (
     "hyperlattice.compare.dos",
     "hyperlattice.compare.green",
     "hyperlattice.compare.limits",
+    "hyperlattice.compare.sums",
 )
 
 
