@@ -29,6 +29,8 @@ COMPLETE: tuple[str, ...] = (
     "hyperlattice.compare.dos",
     "hyperlattice.compare.green",
     "hyperlattice.compare.limits",
+    "hyperlattice.compare.magnetic",
+    "hyperlattice.compare.qubits",
     "hyperlattice.compare.sums",
 )
 
