@@ -32,6 +32,7 @@ COMPLETE: tuple[str, ...] = (
     "hyperlattice.compare.magnetic",
     "hyperlattice.compare.qubits",
     "hyperlattice.compare.sums",
+    "hyperlattice.results",
 )
 
 

@@ -182,17 +182,43 @@ def frame_angles(lattice: Lattice, *, tol: float = STAR_TOL) -> FrameAngles:
     ----------
     lattice : Lattice
         A {p,q} lattice of ``kind == "sites"`` (the line graph has no regular star).
-    tol : float
-        Largest accepted distance of a mapped neighbour from its ideal star point.
+    tol : float, optional
+        Largest accepted distance of a mapped neighbour from its ideal star point (Euclidean, in
+        the Poincaré disk). Default :data:`STAR_TOL` (1e-10).
 
     Returns
     -------
     FrameAngles
+        Per site: ``chi`` :math:`\chi_i \in [0, 2\pi/q)` (NaN for isolated sites), ``delta``
+        :math:`\delta_i`, ``full`` (full coordination q) and the star ``residual``; with the
+        lattice's ``h`` = tanh(d0) and the coordinates ``z``.
+
+    Raises
+    ------
+    ValueError
+        If ``lattice`` is not a site lattice or ``tol`` is out of range.
 
     Warns
     -----
     ConvergenceWarning
         If some fully coordinated site misses the ideal star by more than ``tol``.
+
+    References
+    ----------
+    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020), App. "Derivation of Eq. (7)
+       and corrections" (source labels ``adj2``, ``adj7``--``adj9``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import hyperlattice as hl
+    >>> fa = hl.frame_angles(hl.ring_lattice(7, 3, 3))
+    >>> fa.chi.shape, int(fa.full.sum())
+    ((112,), 56)
+    >>> print(f"{fa.h:.6f} {fa.chi[0]:.6f}")
+    0.275798 1.047198
+    >>> bool(np.max(fa.residual) < 1e-12)
+    True
     """
     if not isinstance(lattice, Lattice):
         raise ValueError("frame_angles needs a Lattice from ring_lattice().")
