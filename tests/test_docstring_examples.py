@@ -33,6 +33,9 @@ COMPLETE: tuple[str, ...] = (
     "hyperlattice.compare.qubits",
     "hyperlattice.compare.sums",
     "hyperlattice.results",
+    "hyperlattice.sweep.engine",
+    "hyperlattice.sweep.store",
+    "hyperlattice.sweep.tasks",
 )
 
 
