@@ -33,6 +33,7 @@ COMPLETE: tuple[str, ...] = (
     "hyperlattice.compare.limits",
     "hyperlattice.compare.magnetic",
     "hyperlattice.compare.qubits",
+    "hyperlattice.compare.scaling",
     "hyperlattice.compare.sums",
     "hyperlattice.results",
     "hyperlattice.sweep.engine",
