@@ -30,6 +30,7 @@ COMPLETE: tuple[str, ...] = (
     "hyperlattice.compare.disorder",
     "hyperlattice.compare.dos",
     "hyperlattice.compare.green",
+    "hyperlattice.compare.levels",
     "hyperlattice.compare.limits",
     "hyperlattice.compare.magnetic",
     "hyperlattice.compare.qubits",
