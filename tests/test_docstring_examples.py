@@ -27,6 +27,7 @@ FLAGS = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE
 COMPLETE: tuple[str, ...] = (
     "hyperlattice.bosons.ed",
     "hyperlattice.compare.boundary",
+    "hyperlattice.compare.correlation",
     "hyperlattice.compare.disorder",
     "hyperlattice.compare.dos",
     "hyperlattice.compare.green",
