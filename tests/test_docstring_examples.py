@@ -26,6 +26,7 @@ FLAGS = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE
 # modules whose every public function has Parameters (if it takes any), Returns and Examples
 COMPLETE: tuple[str, ...] = (
     "hyperlattice.bosons.ed",
+    "hyperlattice.cache",
     "hyperlattice.compare.bosons",
     "hyperlattice.compare.boundary",
     "hyperlattice.compare.correlation",
