@@ -25,6 +25,7 @@ FLAGS = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE
 
 # modules whose every public function has Parameters (if it takes any), Returns and Examples
 COMPLETE: tuple[str, ...] = (
+    "hyperlattice.bosons.basis",
     "hyperlattice.bosons.ed",
     "hyperlattice.cache",
     "hyperlattice.compare.bosons",
