@@ -27,6 +27,7 @@ FLAGS = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE
 COMPLETE: tuple[str, ...] = (
     "hyperlattice.bosons.basis",
     "hyperlattice.bosons.ed",
+    "hyperlattice.bosons.gp",
     "hyperlattice.bosons.meanfield",
     "hyperlattice.cache",
     "hyperlattice.compare.bosons",
