@@ -25,6 +25,23 @@ FLAGS = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE
 
 # modules whose every public function has Parameters (if it takes any), Returns and Examples
 COMPLETE: tuple[str, ...] = (
+    "hyperlattice.bosons.basis",
+    "hyperlattice.bosons.ed",
+    "hyperlattice.bosons.gp",
+    "hyperlattice.bosons.meanfield",
+    "hyperlattice.cache",
+    "hyperlattice.compare.bosons",
+    "hyperlattice.compare.boundary",
+    "hyperlattice.compare.correlation",
+    "hyperlattice.compare.disorder",
+    "hyperlattice.compare.dos",
+    "hyperlattice.compare.green",
+    "hyperlattice.compare.levels",
+    "hyperlattice.compare.limits",
+    "hyperlattice.compare.magnetic",
+    "hyperlattice.compare.qubits",
+    "hyperlattice.compare.scaling",
+    "hyperlattice.compare.sums",
     "hyperlattice.continuum.gp",
     "hyperlattice.continuum.green",
     "hyperlattice.continuum.magnetic",
@@ -50,6 +67,10 @@ COMPLETE: tuple[str, ...] = (
     "hyperlattice.graph.spectrum",
     "hyperlattice.graph.symmetry",
     "hyperlattice.graph.walks",
+    "hyperlattice.results",
+    "hyperlattice.sweep.engine",
+    "hyperlattice.sweep.store",
+    "hyperlattice.sweep.tasks",
 )
 
 

@@ -67,7 +67,22 @@ class CacheWarning(UserWarning):
 
 
 def default_cache_dir() -> Path:
-    """``$HYPERLATTICE_CACHE``, else ``$XDG_CACHE_HOME/hyperlattice``, else ``~/.cache/hyperlattice``."""
+    """``$HYPERLATTICE_CACHE``, else ``$XDG_CACHE_HOME/hyperlattice``, else ``~/.cache/hyperlattice``.
+
+    Returns
+    -------
+    pathlib.Path
+        The directory a :class:`Cache` uses when none is given (not created here).
+
+    Examples
+    --------
+    >>> import os
+    >>> from unittest import mock
+    >>> from hyperlattice.cache import default_cache_dir
+    >>> with mock.patch.dict(os.environ, {"HYPERLATTICE_CACHE": "/tmp/hl-cache"}):
+    ...     print(default_cache_dir())
+    /tmp/hl-cache
+    """
     env = os.environ.get("HYPERLATTICE_CACHE")
     if env:
         return Path(env)
@@ -330,7 +345,31 @@ def checkpoint_cache(checkpoint) -> Cache | None:
     """The cache that keeps the finished points of a long multi-point run (``checkpoint=`` of
     :func:`~hyperlattice.compare.magnetic.magnetic_comparison` and
     :func:`~hyperlattice.graph.flux.butterfly`): ``checkpoint`` itself if it is a :class:`Cache`,
-    a new one in the directory it names, or None (nothing kept)."""
+    a new one in the directory it names, or None (nothing kept).
+
+    Parameters
+    ----------
+    checkpoint : Cache, str, path-like or None
+        A cache, a directory (created if missing), or None.
+
+    Returns
+    -------
+    Cache or None
+        The cache to keep the points in, or None when ``checkpoint`` is None.
+
+    Raises
+    ------
+    ValueError
+        If ``checkpoint`` is of another type or names an unusable directory.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from hyperlattice.cache import Cache, checkpoint_cache
+    >>> cache = checkpoint_cache(tempfile.mkdtemp())
+    >>> isinstance(cache, Cache), checkpoint_cache(cache) is cache, checkpoint_cache(None)
+    (True, True, None)
+    """
     if checkpoint is None or isinstance(checkpoint, Cache):
         return checkpoint
     if isinstance(checkpoint, (str, os.PathLike)) and not isinstance(checkpoint, bool):

@@ -72,7 +72,26 @@ _REGISTRY: dict[str, type] = {}
 
 
 def result_types() -> dict[str, type]:
-    """Every registered result class by its ``type`` tag (for :func:`load_result`)."""
+    """Every registered result class by its ``type`` tag (for :func:`load_result`).
+
+    A class registers itself when its module is imported, so the table grows as more of the
+    package is used.
+
+    Returns
+    -------
+    dict of str to type
+        A copy of the registry: ``type`` tag (the class name) to :class:`Result` subclass.
+
+    See Also
+    --------
+    load_result : uses the tag stored in a file to pick the class.
+
+    Examples
+    --------
+    >>> from hyperlattice.results import Levels, result_types
+    >>> result_types()["Levels"] is Levels
+    True
+    """
     return dict(_REGISTRY)
 
 
@@ -192,6 +211,29 @@ def to_jsonable(obj) -> Any:
     lists (complex arrays ``{"re": [...], "im": [...]}``); a result becomes its
     :meth:`Result.summary`. Not exactly invertible (dtypes, tuples and int keys are lost): the
     exact form is :meth:`Result.as_dict`, which keeps NaN as ``{"__float__": "nan"}``.
+
+    Parameters
+    ----------
+    obj : object
+        A number, numpy scalar or array, list, tuple, dict, :class:`~pathlib.Path`,
+        :class:`Result` or any JSON-ready value (returned as it is).
+
+    Returns
+    -------
+    object
+        The same data in plain JSON types (dict, list, str, int, float, bool, None).
+
+    See Also
+    --------
+    from_jsonable : back to numbers.
+    Result.as_dict : the exact, invertible form.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from hyperlattice.results import to_jsonable
+    >>> to_jsonable({"E": np.array([1.0, np.nan]), "z": 1 + 2j, "x": float("inf")})
+    {'E': [1.0, None], 'z': {'re': 1.0, 'im': 2.0}, 'x': 'inf'}
     """
     if isinstance(obj, Result):
         return obj.summary()
@@ -225,7 +267,32 @@ def _number(x):
 
 
 def from_jsonable(obj) -> Any:
-    """Inverse of :func:`to_jsonable` for scalars: ``null`` (NaN), ``"inf"`` and ``{"re", "im"}`` back to numbers."""
+    """Inverse of :func:`to_jsonable` for scalars: ``null`` (NaN), ``"inf"`` and ``{"re", "im"}`` back to numbers.
+
+    Parameters
+    ----------
+    obj : object
+        Plain JSON data (as from :func:`to_jsonable` or :func:`json.loads`); lists and dicts are
+        walked recursively.
+
+    Returns
+    -------
+    object
+        The same structure with ``None`` as NaN, ``"inf"``/``"-inf"``/``"nan"`` as floats and
+        ``{"re": x, "im": y}`` (scalars) as complex numbers. Arrays stay lists.
+
+    See Also
+    --------
+    to_jsonable
+
+    Examples
+    --------
+    >>> from hyperlattice.results import from_jsonable
+    >>> from_jsonable(["inf", None, 2])
+    [inf, nan, 2]
+    >>> from_jsonable({"re": 1.0, "im": 0.5})
+    (1+0.5j)
+    """
     if isinstance(obj, dict):
         if set(obj) == {"re", "im"} and not isinstance(obj["re"], list):
             return complex(_number(obj["re"]), _number(obj["im"]))
@@ -762,11 +829,38 @@ def load_result(path) -> Result:
     are numeric), counts not negative, and the result's own invariants (:class:`Levels`: finite,
     ascending energies with one ``n``, ``m`` and error per level; a lattice: its structure).
 
+    Parameters
+    ----------
+    path : str or path-like
+        A ``.json`` or ``.npz`` file written by :meth:`Result.save`.
+
+    Returns
+    -------
+    Result
+        The stored result, of the class named by its ``type`` tag (:func:`result_types`), with
+        read-only arrays.
+
     Raises
     ------
     ValueError
         If the file is missing, unreadable, fails its checksum or does not hold a valid saved
         result; the message (one sentence) names the file.
+
+    See Also
+    --------
+    Result.save, result_types
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import hyperlattice as hl
+    >>> levels = hl.lowest_levels(hl.ring_lattice(7, 3, 2), 2)
+    >>> path = levels.save(os.path.join(tempfile.mkdtemp(), "levels.npz"))
+    >>> back = hl.load_result(path)
+    >>> type(back).__name__, back.m.tolist()
+    ('Spectrum', [0, 1])
+    >>> [round(float(e), 6) for e in back.energies]
+    [-2.636405, -2.283335]
     """
     from . import _validate
 
@@ -921,10 +1015,42 @@ class Levels(Result):
 
 
 def compare_levels(graph: Levels, continuum: Levels) -> dict:
-    """Field-by-field comparison of two level lists of equal length.
+    r"""Field-by-field comparison of two level lists of equal length.
 
     Returns the relative differences :math:`(E_g - E_c)/|E_g|`, whether the (n, m) labels agree
     level by level, and both error columns.
+
+    Parameters
+    ----------
+    graph : Levels
+        Graph levels (e.g. from ``lowest_levels``), units of t.
+    continuum : Levels
+        Continuum levels (e.g. from ``continuum_levels``), units of t. Only the first
+        ``min(len(graph), len(continuum))`` levels of each are compared.
+
+    Returns
+    -------
+    dict
+        ``"levels"`` (the number K compared), ``"relative_difference"`` (ndarray (K,),
+        :math:`(E_g - E_c)/|E_g|`), ``"labels_agree"`` (bool, or None when either side has no
+        m labels), ``"graph_errors"`` and ``"continuum_errors"`` (ndarray (K,)).
+
+    Raises
+    ------
+    ValueError
+        If either argument is not a :class:`Levels`.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.results import compare_levels
+    >>> graph = hl.lowest_levels(hl.ring_lattice(7, 3, 2), 2)
+    >>> cont = hl.continuum_levels(7, 3, rings=2, levels=2)
+    >>> out = compare_levels(graph, cont)
+    >>> out["levels"], out["labels_agree"]
+    (2, True)
+    >>> [round(float(x), 4) for x in out["relative_difference"]]
+    [-0.0251, -0.0871]
     """
     if not isinstance(graph, Levels) or not isinstance(continuum, Levels):
         raise ValueError("compare_levels takes two Levels results (a graph and a continuum spectrum).")

@@ -63,6 +63,21 @@ def basis_dimension(sites: int, particles: int, nmax: int) -> int:
     -------
     int
         The number of occupation vectors; 0 when ``particles > sites * nmax``.
+
+    Raises
+    ------
+    ValueError
+        If an argument is not an integer in its range (at most 4096 sites, cutoff at most 255).
+
+    See Also
+    --------
+    basis_memory, boson_basis
+
+    Examples
+    --------
+    >>> from hyperlattice.bosons.basis import basis_dimension
+    >>> basis_dimension(7, 3, 3), basis_dimension(4, 2, 1), basis_dimension(2, 5, 2)
+    (84, 6, 0)
     """
     m = _validate.integer("sites", sites, minimum=1, maximum=MAX_SITES)
     n = _validate.integer("particles", particles, minimum=0, maximum=MAX_SITES * MAX_NMAX)
@@ -78,7 +93,33 @@ def _dimension(m: int, n: int, c: int) -> int:
 
 
 def basis_memory(sites: int, particles: int, nmax: int) -> int:
-    """Bytes of a :class:`BosonBasis` (its occupation table and rank tables), before building it."""
+    """Bytes of a :class:`BosonBasis` (its occupation table and rank tables), before building it.
+
+    Parameters
+    ----------
+    sites : int
+        Number of sites M, 1 to 4096.
+    particles : int
+        Number of bosons N >= 0.
+    nmax : int
+        Occupation cutoff per site, 1 to 255.
+
+    Returns
+    -------
+    int
+        The bytes :func:`boson_basis` would allocate for these arguments.
+
+    Raises
+    ------
+    ValueError
+        If an argument is not an integer in its range.
+
+    Examples
+    --------
+    >>> from hyperlattice.bosons.basis import basis_memory
+    >>> basis_memory(7, 3, 3)
+    1964
+    """
     m = _validate.integer("sites", sites, minimum=1, maximum=MAX_SITES)
     n = _validate.integer("particles", particles, minimum=0, maximum=MAX_SITES * MAX_NMAX)
     c = _validate.integer("nmax", nmax, minimum=1, maximum=MAX_NMAX)
@@ -240,6 +281,8 @@ def boson_basis(sites: int, particles: int, nmax: int, *, max_states: int | None
     Returns
     -------
     BosonBasis
+        ``dim`` states, their occupations ``states`` (uint8, shape (D, M), rank order:
+        lexicographic with site 0 most significant) and the rank tables.
 
     Raises
     ------
@@ -248,6 +291,19 @@ def boson_basis(sites: int, particles: int, nmax: int, *, max_states: int | None
     MemoryError
         When the occupation table would not fit in the memory this process may use (checked
         from the exact dimension before anything is allocated).
+
+    See Also
+    --------
+    basis_dimension, rank_states, unrank_states
+
+    Examples
+    --------
+    >>> from hyperlattice.bosons.basis import boson_basis
+    >>> basis = boson_basis(3, 2, 2)
+    >>> basis.dim
+    6
+    >>> basis.states.tolist()
+    [[0, 0, 2], [0, 1, 1], [0, 2, 0], [1, 0, 1], [1, 1, 0], [2, 0, 0]]
     """
     m = _validate.integer("sites", sites, minimum=1, maximum=MAX_SITES)
     n = _validate.integer("particles", particles, minimum=0, maximum=MAX_SITES * MAX_NMAX)
@@ -284,12 +340,31 @@ def rank_states(basis: BosonBasis, occupations) -> np.ndarray:
     Parameters
     ----------
     basis : BosonBasis
+        From :func:`boson_basis`.
     occupations : array of int, shape (M,) or (K, M)
         Occupation vectors; each must have N bosons in total and none above the cutoff.
 
     Returns
     -------
     ndarray of int64, shape () or (K,)
+        The 0-based rank of each vector in ``basis``.
+
+    Raises
+    ------
+    ValueError
+        If ``basis`` is not a BosonBasis, or a vector has the wrong length, an occupation
+        outside ``0..nmax`` or not N bosons.
+
+    See Also
+    --------
+    unrank_states : the inverse.
+
+    Examples
+    --------
+    >>> from hyperlattice.bosons.basis import boson_basis, rank_states
+    >>> basis = boson_basis(3, 2, 2)
+    >>> rank_states(basis, [0, 1, 1]).tolist(), rank_states(basis, [[2, 0, 0], [0, 0, 2]]).tolist()
+    (1, [5, 0])
     """
     b = _check_basis(basis)
     occ = _validate.real_array("occupations", occupations)
@@ -313,11 +388,30 @@ def unrank_states(basis: BosonBasis, indices) -> np.ndarray:
     Parameters
     ----------
     basis : BosonBasis
-    indices : int or array of int in ``range(basis.dim)``
+        From :func:`boson_basis`.
+    indices : int or array of int
+        Ranks in ``range(basis.dim)``.
 
     Returns
     -------
     ndarray of int64, shape (M,) or (K, M)
+        The occupation vector of each index.
+
+    Raises
+    ------
+    ValueError
+        If ``basis`` is not a BosonBasis or an index is not an integer in ``range(basis.dim)``.
+
+    See Also
+    --------
+    rank_states : the inverse.
+
+    Examples
+    --------
+    >>> from hyperlattice.bosons.basis import boson_basis, unrank_states
+    >>> basis = boson_basis(3, 2, 2)
+    >>> unrank_states(basis, 3).tolist(), unrank_states(basis, [0, 5]).tolist()
+    ([1, 0, 1], [[0, 0, 2], [2, 0, 0]])
     """
     b = _check_basis(basis)
     idx = _validate.real_array("indices", indices)

@@ -213,6 +213,22 @@ def bose_hubbard_graph(lattice) -> BoseHubbardGraph:
     Returns
     -------
     BoseHubbardGraph
+        ``sites``, the neighbour lists ``ptr``, ``nbr`` (CSR form), the rotation R of order p
+        (None if none is known), p, q, ``rings`` or ``cluster``, the coordinates ``z`` (flakes)
+        and ``distance_kind``.
+
+    Raises
+    ------
+    ValueError
+        If ``lattice`` is neither a site flake nor a periodic cluster.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons.ed import bose_hubbard_graph
+    >>> g = bose_hubbard_graph(hl.ring_lattice(7, 3, 1))
+    >>> g.sites, g.max_degree, g.rotation is not None
+    (7, 2, True)
     """
     if _is_cluster(lattice):
         c = lattice
@@ -296,17 +312,52 @@ def hamiltonian(basis: BosonBasis, lattice, U: float, t: float = 1.0, mu: float 
     basis : BosonBasis
         From :func:`~hyperlattice.bosons.basis.boson_basis` with ``sites == lattice.sites``.
     lattice : Lattice, Cluster or BoseHubbardGraph
-    U, t, mu : float
-        On-site interaction, hopping and chemical potential (H as in the module docstring).
+        A site flake (``ring_lattice``), a periodic cluster, or their graph data.
+    U : float
+        On-site interaction (units of t).
+    t : float, optional
+        Hopping amplitude. Default 1.
+    mu : float, optional
+        Chemical potential (units of t). Default 0.
 
     Returns
     -------
     scipy.sparse.csr_matrix, shape (D, D)
+        Real symmetric float64 matrix of
+        :math:`H = -t\sum_{\langle ij\rangle}(a_i^\dagger a_j + {\rm h.c.})
+        + \frac U2\sum_i n_i(n_i-1) - \mu\sum_i n_i` in the order of ``basis``, D its dimension.
 
     Raises
     ------
+    ValueError
+        For bad input, or a basis whose number of sites differs from the lattice's.
     MemoryError
         When the matrix would not fit (checked after counting its entries, before allocating them).
+
+    See Also
+    --------
+    hamiltonian_operator : the same H without storing it.
+    sector_block : one angular-momentum block.
+    bose_hubbard : lowest levels and observables.
+
+    References
+    ----------
+    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020): the Bose–Hubbard model on
+       the hyperbolic graph (source label ``eq13``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons.basis import boson_basis
+    >>> lat = hl.ring_lattice(7, 3, 1)            # one heptagon, 7 sites
+    >>> basis = boson_basis(7, 3, 3)              # 3 bosons, at most 3 per site
+    >>> from hyperlattice.bosons.ed import hamiltonian
+    >>> H = hamiltonian(basis, lat, U=4.0)
+    >>> H.shape, H.nnz
+    ((84, 84), 476)
+    >>> print(f"{np.linalg.eigvalsh(H.toarray())[0]:.6f}")
+    -5.169517
     """
     from . import _kernels as K
 
@@ -344,13 +395,43 @@ def hamiltonian_operator(basis: BosonBasis, lattice, U: float, t: float = 1.0,
 
     Parameters
     ----------
-    basis, lattice, U, t, mu
+    basis : BosonBasis
+        From :func:`~hyperlattice.bosons.basis.boson_basis` with ``sites == lattice.sites``.
+    lattice : Lattice, Cluster or BoseHubbardGraph
         As in :func:`hamiltonian`.
+    U : float
+        On-site interaction (units of t).
+    t : float, optional
+        Hopping amplitude. Default 1.
+    mu : float, optional
+        Chemical potential (units of t). Default 0.
 
     Returns
     -------
     scipy.sparse.linalg.LinearOperator
         Real symmetric, float64, shape (D, D).
+
+    Raises
+    ------
+    ValueError
+        For bad input, or a basis whose number of sites differs from the lattice's.
+
+    See Also
+    --------
+    hamiltonian : the stored CSR matrix.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons.basis import boson_basis
+    >>> lat = hl.ring_lattice(7, 3, 1)            # one heptagon, 7 sites
+    >>> basis = boson_basis(7, 3, 3)              # 3 bosons, at most 3 per site
+    >>> from hyperlattice.bosons.ed import hamiltonian, hamiltonian_operator
+    >>> op = hamiltonian_operator(basis, lat, U=4.0)
+    >>> v = np.ones(basis.dim)
+    >>> op.shape, bool(np.allclose(op @ v, hamiltonian(basis, lat, U=4.0) @ v))
+    ((84, 84), True)
     """
     from . import _kernels as K
 
@@ -416,12 +497,35 @@ def fock_sectors(basis: BosonBasis, lattice) -> FockSectors:
     Parameters
     ----------
     basis : BosonBasis
+        From :func:`~hyperlattice.bosons.basis.boson_basis` with ``sites == lattice.sites``.
     lattice : Lattice, Cluster or BoseHubbardGraph
         Must have a rotation (every flake has; a cluster when its face rotation was found).
 
     Returns
     -------
     FockSectors
+        For every Fock state its orbit representative ``rep``, ``shift`` and orbit length
+        ``period``; ``dims[m % p]`` the dimension of sector m (``dim(m)`` gives it too).
+
+    Raises
+    ------
+    ValueError
+        For bad input, a basis of another size, or a lattice without a rotation symmetry.
+
+    See Also
+    --------
+    sector_block, lift_sector_vector
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons.basis import boson_basis
+    >>> lat = hl.ring_lattice(7, 3, 1)            # one heptagon, 7 sites
+    >>> basis = boson_basis(7, 3, 3)              # 3 bosons, at most 3 per site
+    >>> from hyperlattice.bosons.ed import fock_sectors
+    >>> sectors = fock_sectors(basis, lat)
+    >>> [sectors.dim(m) for m in range(7)]
+    [12, 12, 12, 12, 12, 12, 12]
     """
     from . import _kernels as K
 
@@ -467,16 +571,49 @@ def sector_block(basis: BosonBasis, lattice, sectors: FockSectors, m: int, U: fl
 
     Parameters
     ----------
-    basis, lattice, U, t, mu
+    basis : BosonBasis
+        From :func:`~hyperlattice.bosons.basis.boson_basis` with ``sites == lattice.sites``.
+    lattice : Lattice, Cluster or BoseHubbardGraph
         As in :func:`hamiltonian`.
     sectors : FockSectors
         From :func:`fock_sectors` of the same basis and lattice.
     m : int
         Sector, in ``range(p)`` or signed in :math:`(-p/2, p/2]`.
+    U : float
+        On-site interaction (units of t).
+    t : float, optional
+        Hopping amplitude. Default 1.
+    mu : float, optional
+        Chemical potential (units of t). Default 0.
 
     Returns
     -------
     scipy.sparse.csr_matrix of complex128, shape (sectors.dim(m),) * 2
+        The Hermitian block :math:`H_m` in the basis :math:`|r, m\rangle` of the module
+        docstring.
+
+    Raises
+    ------
+    ValueError
+        For bad input, sectors of another basis, or m out of range.
+
+    See Also
+    --------
+    fock_sectors, lift_sector_vector, hamiltonian
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons.basis import boson_basis
+    >>> lat = hl.ring_lattice(7, 3, 1)            # one heptagon, 7 sites
+    >>> basis = boson_basis(7, 3, 3)              # 3 bosons, at most 3 per site
+    >>> from hyperlattice.bosons.ed import fock_sectors, sector_block
+    >>> block = sector_block(basis, lat, fock_sectors(basis, lat), 0, U=4.0)
+    >>> block.shape
+    (12, 12)
+    >>> print(f"{np.linalg.eigvalsh(block.toarray())[0]:.6f}")
+    -5.169517
     """
     from . import _kernels as K
 
@@ -523,6 +660,41 @@ def lift_sector_vector(sectors: FockSectors, m: int, phi) -> np.ndarray:
     r"""A sector-m vector (coefficients of :math:`|r, m\rangle`) as a vector of the full Fock basis.
 
     :math:`\psi(R^s r) = \omega^{ms}\,\phi_r / \sqrt{L_r}`.
+
+    Parameters
+    ----------
+    sectors : FockSectors
+        From :func:`fock_sectors`.
+    m : int
+        The sector of ``phi``.
+    phi : array_like of complex, shape (sectors.dim(m),)
+        Coefficients of :math:`|r, m\rangle`, one per orbit of the sector (as from an
+        eigenvector of :func:`sector_block`).
+
+    Returns
+    -------
+    ndarray of complex128, shape (D,)
+        The same state in the full Fock basis (normalised when ``phi`` is).
+
+    Raises
+    ------
+    ValueError
+        If ``sectors`` is not a FockSectors or ``phi`` has the wrong length.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons.basis import boson_basis
+    >>> lat = hl.ring_lattice(7, 3, 1)            # one heptagon, 7 sites
+    >>> basis = boson_basis(7, 3, 3)              # 3 bosons, at most 3 per site
+    >>> from hyperlattice.bosons.ed import fock_sectors, hamiltonian, lift_sector_vector, sector_block
+    >>> sectors = fock_sectors(basis, lat)
+    >>> w, v = np.linalg.eigh(sector_block(basis, lat, sectors, 0, U=4.0).toarray())
+    >>> psi = lift_sector_vector(sectors, 0, v[:, 0])
+    >>> H = hamiltonian(basis, lat, U=4.0)
+    >>> psi.shape, bool(np.allclose(H @ psi, w[0] * psi))
+    ((84,), True)
     """
     sec = sectors
     if not isinstance(sec, FockSectors):
@@ -715,6 +887,7 @@ def one_body_density_matrix(basis: BosonBasis, psi) -> np.ndarray:
     Parameters
     ----------
     basis : BosonBasis
+        The Fock basis of ``psi`` (M sites, N bosons).
     psi : array, shape (D,) or (D, k)
         A normalised state, or k orthonormal states (then the equal-weight mixture
         :math:`\frac1k\sum_l \langle\psi_l|\cdot|\psi_l\rangle`).
@@ -724,6 +897,30 @@ def one_body_density_matrix(basis: BosonBasis, psi) -> np.ndarray:
     ndarray, shape (M, M)
         Hermitian; real (float64) when its imaginary part vanishes to rounding. Its diagonal is
         the density :math:`\langle n_i\rangle` and its trace N.
+
+    Raises
+    ------
+    ValueError
+        If ``psi`` does not have one entry per basis state or is not normalised.
+
+    See Also
+    --------
+    condensate_fraction, correlation_vs_distance
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons.basis import boson_basis
+    >>> lat = hl.ring_lattice(7, 3, 1)            # one heptagon, 7 sites
+    >>> basis = boson_basis(7, 3, 3)              # 3 bosons, at most 3 per site
+    >>> from hyperlattice.bosons.ed import hamiltonian, one_body_density_matrix
+    >>> psi0 = np.linalg.eigh(hamiltonian(basis, lat, U=4.0).toarray())[1][:, 0]
+    >>> rho = one_body_density_matrix(basis, psi0)
+    >>> rho.shape, round(float(np.trace(rho)), 6)
+    ((7, 7), 3.0)
+    >>> print(f"{rho[0, 1]:.6f}")
+    0.397753
     """
     b = _check_basis(basis)
     v = _validate.complex_array("psi", psi)
@@ -748,11 +945,31 @@ def density_profile(basis: BosonBasis, psi) -> np.ndarray:
     Parameters
     ----------
     basis : BosonBasis
+        The Fock basis of ``psi`` (M sites).
     psi : array, shape (D,) or (D, k)
+        A normalised state, or k orthonormal states (then their mean).
 
     Returns
     -------
     ndarray of float, shape (M,)
+        :math:`\langle n_i\rangle` per site (0-based site order of the lattice); sums to N.
+
+    Raises
+    ------
+    ValueError
+        If ``psi`` does not have one entry per basis state.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons.basis import boson_basis
+    >>> lat = hl.ring_lattice(7, 3, 1)            # one heptagon, 7 sites
+    >>> basis = boson_basis(7, 3, 3)              # 3 bosons, at most 3 per site
+    >>> from hyperlattice.bosons.ed import density_profile, hamiltonian
+    >>> psi0 = np.linalg.eigh(hamiltonian(basis, lat, U=4.0).toarray())[1][:, 0]
+    >>> [round(float(n), 6) for n in density_profile(basis, psi0)][:3]
+    [0.428571, 0.428571, 0.428571]
     """
     b = _check_basis(basis)
     v = _validate.complex_array("psi", psi)
@@ -778,6 +995,24 @@ def condensate_fraction(rho, particles: int) -> float:
     -------
     float
         In [1/M, 1] for a physical state (1 for a single orbital, N/M... for a Mott state).
+
+    Raises
+    ------
+    ValueError
+        If ``rho`` is not square and Hermitian, or N < 1.
+
+    References
+    ----------
+    .. [1] O. Penrose and L. Onsager, Phys. Rev. 104, 576 (1956).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from hyperlattice.bosons.ed import condensate_fraction
+    >>> round(condensate_fraction(np.full((4, 4), 0.5), 2), 6)   # all bosons in one orbital
+    1.0
+    >>> round(condensate_fraction(0.5 * np.eye(4), 2), 6)        # no coherence between sites
+    0.25
     """
     r = _validate.complex_array("rho", rho, ndim=2)
     n = _validate.positive_int("particles", particles)
@@ -802,7 +1037,24 @@ def correlation_vs_distance(rho, distance, width: float) -> tuple[np.ndarray, np
     Returns
     -------
     centres, mean, count : ndarray
-        Only the bins that hold at least one pair.
+        Bin centres k w (units of the distance), the mean of :math:`\mathrm{Re}\,\rho_{ij}` in
+        each bin and the number of ordered pairs (int64); only the bins that hold at least one
+        pair.
+
+    Raises
+    ------
+    ValueError
+        If the arrays are not square of one shape or ``width`` is not positive.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from hyperlattice.bosons.ed import correlation_vs_distance
+    >>> rho = np.array([[1.0, 0.5, 0.1], [0.5, 1.0, 0.5], [0.1, 0.5, 1.0]])
+    >>> d = np.array([[0.0, 1.0, 2.0], [1.0, 0.0, 1.0], [2.0, 1.0, 0.0]])
+    >>> centres, mean, count = correlation_vs_distance(rho, d, 1.0)
+    >>> centres.tolist(), mean.tolist(), count.tolist()
+    ([1.0, 2.0], [0.5, 0.1], [4, 2])
     """
     r = _validate.complex_array("rho", rho, ndim=2)
     d = _validate.real_array("distance", distance, ndim=2)
@@ -872,6 +1124,50 @@ def bose_hubbard(lattice, particles: int, nmax: int, U: float, *, t: float = 1.0
     Returns
     -------
     BoseHubbardLevels
+        The K lowest ``energies`` (units of t) with their sector labels ``m``, ``residuals``,
+        ``tolerance`` and the ``method`` used; with ``observables`` the ground-state ``density``,
+        ``density_matrix``, ``condensate_fraction`` and ``correlation`` on ``distance_bins``.
+
+    Raises
+    ------
+    ValueError
+        For bad input, ``"sectors"`` on a lattice without a rotation, or more bosons than
+        ``sites * nmax``.
+    MemoryError
+        When the chosen route (dense matrix, CSR matrix or Lanczos vectors) or the observables
+        would not fit in the memory available (checked before allocating).
+    hyperlattice.errors.HyperlatticeError
+        If the ground-state one-body density matrix comes out complex (a multiplet that is not
+        closed under the rotation).
+
+    Warns
+    -----
+    ConvergenceWarning
+        If a level's residual exceeds ``max(tol, 1e-9)`` times the norm bound of H.
+
+    See Also
+    --------
+    hamiltonian, charge_gap
+    hyperlattice.bosons.meanfield.mott_lobe : the mean-field phase boundary.
+
+    References
+    ----------
+    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020): the Bose–Hubbard model on
+       the hyperbolic graph (source label ``eq13``).
+
+    Examples
+    --------
+    Three bosons on one heptagon, at most three per site:
+
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons.ed import bose_hubbard
+    >>> res = bose_hubbard(hl.ring_lattice(7, 3, 1), 3, 3, 4.0, levels=3)
+    >>> res.method, res.m.tolist()
+    ('sectors', [0, 1, -1])
+    >>> [round(float(e), 6) for e in res.energies]
+    [-5.169517, -3.817032, -3.817032]
+    >>> print(f"{res.condensate_fraction:.6f}")
+    0.879296
     """
     from .. import geometry
 
@@ -1034,14 +1330,47 @@ def charge_gap(lattice, particles: int, nmax: int, U: float, *, t: float = 1.0,
     Parameters
     ----------
     lattice : Lattice or Cluster
+        A site flake (``ring_lattice``) or a periodic cluster.
     particles : int
         N >= 1, with N + 1 <= sites * nmax.
-    nmax, U, t, method, tol
-        As in :func:`bose_hubbard`.
+    nmax : int
+        Occupation cutoff (1 = hard-core).
+    U : float
+        On-site interaction (units of t).
+    t : float, optional
+        Hopping amplitude. Default 1.
+    method : str, optional
+        Route of :func:`bose_hubbard`. Default ``"auto"``.
+    tol : float, optional
+        Lanczos tolerance, as in :func:`bose_hubbard`. Default 1e-10.
 
     Returns
     -------
     ChargeGap
+        ``energies`` :math:`E_0(N-1), E_0(N), E_0(N+1)` (units of t), the ``gap``
+        :math:`\Delta_c` and its error bound ``tolerance``.
+
+    Raises
+    ------
+    ValueError
+        For bad input, N < 1 or N + 1 > ``sites * nmax``.
+    MemoryError
+        When one of the three diagonalisations would not fit.
+
+    See Also
+    --------
+    bose_hubbard
+    hyperlattice.compare.bosons.mott_gap_comparison : against mean field and the continuum.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons.ed import charge_gap
+    >>> cg = charge_gap(hl.ring_lattice(7, 3, 1), 3, 3, 4.0)
+    >>> [round(float(e), 6) for e in cg.energies]
+    [-3.752579, -5.169517, -6.200382]
+    >>> print(f"{cg.gap:.6f}")
+    0.386073
     """
     g = _graph(lattice)
     c = _validate.integer("nmax", nmax, minimum=1, maximum=255)

@@ -105,25 +105,56 @@ def gp_ground_state(system, particles: float, U: float, t: float = 1.0, *, tol: 
     Parameters
     ----------
     system : Lattice, Cluster or sparse matrix
+        A flake or line graph, a periodic cluster, or a symmetric adjacency matrix.
     particles : float
         N > 0 (a real number: the condensate's norm).
     U : float
         On-site interaction, >= 0 (U = 0 gives :math:`\sqrt N` times the single-particle ground
         state and μ = E0).
-    t : float
-        Hopping > 0.
-    tol : float
+    t : float, optional
+        Hopping > 0. Default 1.
+    tol : float, optional
         Target relative residual of the GP equation (the optimiser's gradient tolerance is set
         from it); a :class:`~hyperlattice.errors.ConvergenceWarning` states the residual reached
-        when it stays above ``max(tol, 1e-8)``.
-    max_iter : int
-        L-BFGS iteration cap.
+        when it stays above ``max(tol, 1e-8)``. Default 1e-10.
+    max_iter : int, optional
+        L-BFGS iteration cap. Default 20 000.
     psi0 : array, optional
-        Starting amplitudes (default: uniform).
+        Starting amplitudes, one per site, not all zero (default: uniform).
 
     Returns
     -------
     GPState
+        The amplitudes ``psi`` (real, >= 0, :math:`\sum_i\psi_i^2 = N`), the chemical potential
+        ``mu`` and ``energy`` (units of t), the GP ``residual`` and ``iterations``.
+
+    Raises
+    ------
+    ValueError
+        For bad input: N <= 0, U < 0 or U > 1e6 t (far outside the weak-coupling regime),
+        t <= 0, a zero ``psi0`` or a bad system.
+
+    Warns
+    -----
+    ConvergenceWarning
+        If the residual stays above ``max(tol, 1e-8)``.
+
+    See Also
+    --------
+    bogoliubov : the excitations of the state.
+    hyperlattice.continuum.gp.disk_gp : the continuum counterpart.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons.gp import gp_ground_state
+    >>> lat = hl.ring_lattice(7, 3, 2)
+    >>> state = gp_ground_state(lat, 35.0, 0.5)
+    >>> print(f"{state.mu:.6f} {float(np.sum(state.psi ** 2)):.6f}")
+    -1.953974 35.000000
+    >>> print(f"{gp_ground_state(lat, 35.0, 0.0).mu:.6f}")   # U = 0: mu = E0
+    -2.636405
     """
     from scipy.optimize import minimize
 
@@ -265,8 +296,39 @@ def bogoliubov(state: GPState, system, modes: int = 6) -> BogoliubovSpectrum:
     state : GPState
         From :func:`gp_ground_state` on the same ``system``.
     system : Lattice, Cluster or sparse matrix
-    modes : int
-        K >= 2.
+        The graph the state lives on.
+    modes : int, optional
+        K >= 2. Default 6.
+
+    Returns
+    -------
+    BogoliubovSpectrum
+        The K lowest ``frequencies`` :math:`\omega \ge 0` (units of t), the computed Goldstone
+        frequency ``zero_mode``, the ``tolerance`` below which a mode counts as zero, and the
+        ``method`` (``"dense"`` up to 3000 sites, else ``"shift-invert"``).
+
+    Raises
+    ------
+    ValueError
+        If ``state`` is not a GPState or has another number of sites than ``system``.
+    hyperlattice.errors.ConvergenceError
+        If the Bogoliubov matrix :math:`\mathcal B` is not positive definite (the state is not
+        a GP ground state).
+
+    References
+    ----------
+    .. [1] C. J. Pethick and H. Smith, *Bose–Einstein Condensation in Dilute Gases*, Ch. 8.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons.gp import bogoliubov, gp_ground_state
+    >>> lat = hl.ring_lattice(7, 3, 2)
+    >>> spec = bogoliubov(gp_ground_state(lat, 35.0, 0.5), lat, modes=3)
+    >>> spec.method, bool(spec.frequencies[0] < spec.tolerance)
+    ('dense', True)
+    >>> [round(float(w), 4) for w in spec.frequencies[1:]]
+    [0.4868, 0.4868]
     """
     if not isinstance(state, GPState):
         raise ValueError(f"state must be a GPState from gp_ground_state(), got {_validate._shown(state)}.")

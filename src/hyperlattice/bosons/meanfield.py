@@ -87,6 +87,24 @@ def atomic_susceptibility(mu_over_U, filling: int = 1) -> float | np.ndarray:
     -------
     float or ndarray
         :math:`(n+1)/(n - \mu/U) + n/(\mu/U - n + 1)`; NaN outside the open interval.
+
+    Raises
+    ------
+    ValueError
+        If ``mu_over_U`` is not finite or ``filling`` is not an integer >= 1.
+
+    References
+    ----------
+    .. [1] M. P. A. Fisher, P. B. Weichman, G. Grinstein and D. S. Fisher, Phys. Rev. B 40, 546
+       (1989).
+    .. [2] D. van Oosten, P. van der Straten and H. T. C. Stoof, Phys. Rev. A 63, 053601 (2001),
+       Eq. (9).
+
+    Examples
+    --------
+    >>> from hyperlattice.bosons.meanfield import atomic_susceptibility
+    >>> [round(float(g), 6) for g in atomic_susceptibility([0.25, 0.5, 1.5])]
+    [6.666667, 6.0, nan]
     """
     n = _filling(filling)
     x = _validate.real_array("mu_over_U", mu_over_U) if np.ndim(mu_over_U) else np.asarray(
@@ -106,7 +124,35 @@ def lobe_boundary(lambda_max: float, mu_over_U, filling: int = 1) -> float | np.
         Largest eigenvalue of the adjacency matrix (> 0).
     mu_over_U : float or array
         Chemical potentials in units of U; NaN outside :math:`(n-1, n)`.
-    filling : int
+    filling : int, optional
+        n >= 1. Default 1.
+
+    Returns
+    -------
+    float or ndarray
+        :math:`t_c/U` at each :math:`\mu/U` (NaN outside the lobe's interval).
+
+    Raises
+    ------
+    ValueError
+        If ``lambda_max`` is not positive, ``mu_over_U`` not finite or ``filling`` < 1.
+
+    See Also
+    --------
+    mott_lobe : the whole boundary with its tip.
+
+    References
+    ----------
+    .. [1] M. P. A. Fisher, P. B. Weichman, G. Grinstein and D. S. Fisher, Phys. Rev. B 40, 546
+       (1989).
+    .. [2] D. van Oosten, P. van der Straten and H. T. C. Stoof, Phys. Rev. A 63, 053601 (2001),
+       Eq. (9).
+
+    Examples
+    --------
+    >>> from hyperlattice.bosons.meanfield import lobe_boundary
+    >>> [round(float(x), 6) for x in lobe_boundary(3.0, [0.0, 0.5, 0.9])]
+    [nan, 0.055556, 0.015789]
     """
     lam = _validate.positive_real("lambda_max", lambda_max)
     g = np.asarray(atomic_susceptibility(mu_over_U, filling))
@@ -118,6 +164,36 @@ def lobe_tip(lambda_max: float, filling: int = 1) -> tuple[float, float]:
     r"""The tip of the Mott lobe of filling n: :math:`(\mu/U, t_c/U)` in closed form.
 
     :math:`\mu/U = n - 1 + \sqrt{n(n+1)} - n` and :math:`\lambda_{\max} t_c/U = (\sqrt{n+1} - \sqrt n)^2`.
+
+    Parameters
+    ----------
+    lambda_max : float
+        Largest eigenvalue of the adjacency matrix (> 0).
+    filling : int, optional
+        n >= 1. Default 1.
+
+    Returns
+    -------
+    mu_over_U, t_c_over_U : float
+        The tip's chemical potential and hopping, both in units of U.
+
+    Raises
+    ------
+    ValueError
+        If ``lambda_max`` is not positive or ``filling`` < 1.
+
+    References
+    ----------
+    .. [1] M. P. A. Fisher, P. B. Weichman, G. Grinstein and D. S. Fisher, Phys. Rev. B 40, 546
+       (1989).
+    .. [2] D. van Oosten, P. van der Straten and H. T. C. Stoof, Phys. Rev. A 63, 053601 (2001),
+       Eq. (9).
+
+    Examples
+    --------
+    >>> from hyperlattice.bosons.meanfield import lobe_tip
+    >>> [round(x, 6) for x in lobe_tip(3.0)], [round(x, 6) for x in lobe_tip(3.0, 2)]
+    ([0.414214, 0.057191], [1.44949, 0.033674])
     """
     lam = _validate.positive_real("lambda_max", lambda_max)
     n = _filling(filling)
@@ -164,6 +240,30 @@ def largest_adjacency_eigenvalue(system) -> float:
     :func:`hyperlattice.lowest_levels` (its rotation sectors); a q-regular graph (a periodic
     cluster) has :math:`\lambda_{\max} = q` exactly (Perron–Frobenius: the constant vector) and
     returns the integer; any other graph gets a Lanczos estimate with its residual checked.
+
+    Parameters
+    ----------
+    system : Lattice, Cluster or sparse matrix
+        A flake or line graph, a periodic cluster, or a square symmetric adjacency matrix with
+        finite non-negative entries.
+
+    Returns
+    -------
+    float
+        :math:`\lambda_{\max}` (an int for a q-regular cluster).
+
+    Raises
+    ------
+    ValueError
+        If ``system`` is of another type, or the matrix is not square, non-empty, symmetric with
+        finite non-negative entries.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons.meanfield import largest_adjacency_eigenvalue
+    >>> round(largest_adjacency_eigenvalue(hl.ring_lattice(7, 3, 2)), 6)
+    2.636405
     """
     if hasattr(system, "ring_offsets"):
         from ..graph.spectrum import lowest_levels
@@ -233,12 +333,46 @@ def mott_lobe(lambda_max: float, filling: int = 1, points: int = 201, *, label: 
     lambda_max : float
         From :func:`largest_adjacency_eigenvalue` (a flake's :math:`-E_0/t`, q for a periodic
         cluster, :math:`\rho` for the infinite lattice).
-    filling : int
-        n >= 1.
-    points : int
-        Grid points in :math:`\mu/U`; the end points :math:`n-1, n` (where :math:`t_c = 0`) included.
-    label : str
+    filling : int, optional
+        n >= 1. Default 1.
+    points : int, optional
+        Grid points in :math:`\mu/U`; the end points :math:`n-1, n` (where :math:`t_c = 0`)
+        included. Default 201.
+    label : str, optional
         Name of the system, carried by the result.
+
+    Returns
+    -------
+    MottLobe
+        ``mu_over_U`` (grid on :math:`[n-1, n]`) and ``t_c_over_U`` (the boundary, from
+        :func:`lobe_boundary`, 0 at the ends), the tip ``tip_mu_over_U``, ``tip_t_over_U``,
+        ``lambda_max``, ``filling`` and ``label``.
+
+    Raises
+    ------
+    ValueError
+        If ``lambda_max`` is not positive, ``filling`` < 1, ``points`` out of range or ``label``
+        not a string.
+
+    See Also
+    --------
+    mott_lobes : lobes of many systems.
+
+    References
+    ----------
+    .. [1] M. P. A. Fisher, P. B. Weichman, G. Grinstein and D. S. Fisher, Phys. Rev. B 40, 546
+       (1989).
+    .. [2] D. van Oosten, P. van der Straten and H. T. C. Stoof, Phys. Rev. A 63, 053601 (2001),
+       Eq. (9).
+
+    Examples
+    --------
+    >>> from hyperlattice.bosons.meanfield import mott_lobe
+    >>> lobe = mott_lobe(3.0, points=5)
+    >>> lobe.mu_over_U.tolist()
+    [0.0, 0.25, 0.5, 0.75, 1.0]
+    >>> [round(float(t), 6) for t in lobe.t_c_over_U], round(lobe.tip_t_over_U, 6)
+    ([0.0, 0.05, 0.055556, 0.035714, 0.0], 0.057191)
     """
     lam = _validate.positive_real("lambda_max", lambda_max)
     n = _filling(filling)
@@ -456,6 +590,44 @@ def gutzwiller(system, t: float, mu: float, U: float = 1.0, *, nmax: int | None 
     Returns
     -------
     GutzwillerState
+        The order parameter ``psi`` and ``density`` per site, the mean-field ``energy``,
+        ``iterations``, ``residual``, ``converged`` and ``cutoff_weight``.
+
+    Raises
+    ------
+    ValueError
+        For bad input (t < 0, U <= 0, a bad ``psi0`` or system).
+
+    Warns
+    -----
+    ConvergenceWarning
+        If ``max_iter`` is reached before ``tol`` (the residual is stated).
+
+    See Also
+    --------
+    mott_lobe : where :math:`\psi = 0` becomes unstable.
+
+    References
+    ----------
+    .. [1] M. P. A. Fisher, P. B. Weichman, G. Grinstein and D. S. Fisher, Phys. Rev. B 40, 546
+       (1989).
+    .. [2] D. van Oosten, P. van der Straten and H. T. C. Stoof, Phys. Rev. A 63, 053601 (2001),
+       Eq. (9).
+
+    Examples
+    --------
+    Beyond the lobe (superfluid) and inside it (Mott, :math:`\psi = 0`, one boson per site):
+
+    >>> import numpy as np
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons.meanfield import gutzwiller
+    >>> lat = hl.ring_lattice(7, 3, 2)
+    >>> sf = gutzwiller(lat, 0.1, 0.5)
+    >>> sf.converged, round(float(np.max(sf.psi)), 6)
+    (True, 0.822718)
+    >>> mott = gutzwiller(lat, 0.01, 0.5)
+    >>> bool(np.max(mott.psi) < 1e-8), round(float(np.mean(mott.density)), 6)
+    (True, 1.0)
     """
     a = _adjacency(system)
     n_sites = a.shape[0]
@@ -525,6 +697,40 @@ def selfconsistent_boundary(system, mu_over_U: float, *, tol: float = 1e-8, t_to
     order parameter grows as :math:`\sqrt{t - t_c}` past the boundary, so the threshold
     resolves t - t_c to about tol). Used to check :func:`lobe_boundary`; as tol and t_tol shrink
     the two agree (the test suite measures it).
+
+    Parameters
+    ----------
+    system : Lattice, Cluster or sparse matrix
+        The graph, as in :func:`gutzwiller`.
+    mu_over_U : float
+        Chemical potential in units of U, inside the lobe of filling 1 (0 < mu/U < 1).
+    tol : float, optional
+        Tolerance of each :func:`gutzwiller` run (> 0); the superfluid threshold is
+        :math:`\sqrt{\mathrm{tol}}`. Default 1e-8.
+    t_tol : float, optional
+        Relative width (> 0) of the final bisection interval. Default 1e-4.
+    nmax : int, optional
+        Occupation cutoff of the mean-field runs (default as in :func:`gutzwiller`).
+    max_iter : int, optional
+        Iteration cap of each run. Default 200 000.
+
+    Returns
+    -------
+    float
+        :math:`t_c/U`.
+
+    Raises
+    ------
+    ValueError
+        For bad input or a :math:`\mu/U` outside (0, 1).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons.meanfield import lobe_boundary, selfconsistent_boundary
+    >>> tc = selfconsistent_boundary(hl.ring_lattice(7, 3, 1), 0.5, tol=1e-6, t_tol=1e-3)
+    >>> round(tc, 4), round(float(lobe_boundary(2.0, 0.5)), 4)
+    (0.0832, 0.0833)
     """
     mu_over_U = _validate.real("mu_over_U", mu_over_U)
     tol = _validate.positive_real("tol", tol)
@@ -589,11 +795,13 @@ def mott_lobes(p: int = 7, q: int = 3, rings=(3, 4, 5, 6, 8, 10, 12), *, filling
 
     Parameters
     ----------
-    p, q : int
-    rings : sequence of int
+    p, q : int, optional
+        Schläfli symbol, :math:`(p-2)(q-2) > 4`. Default {7,3}.
+    rings : sequence of int, optional
         Flakes; :math:`\lambda_{\max} = -E_0(\ell)` from :func:`hyperlattice.lowest_levels`.
-    filling : int
-    clusters : sequence of str
+    filling : int, optional
+        n >= 1. Default 1.
+    clusters : sequence of str, optional
         Names from :func:`hyperlattice.list_clusters` (:math:`\lambda_{\max} = q`).
     infinite : bool
         Add the infinite lattice, :math:`\lambda_{\max} = \rho` (the extrapolated band bottom of
@@ -604,6 +812,31 @@ def mott_lobes(p: int = 7, q: int = 3, rings=(3, 4, 5, 6, 8, 10, 12), *, filling
         from :func:`hyperlattice.continuum_levels` (the paper's dictionary on the Dirichlet disk).
     points : int
         Grid of each lobe.
+
+    Returns
+    -------
+    MottLobeTable
+        ``lobes`` (one :class:`MottLobe` each) with their ``kinds`` and ``rings``; ``rows()``
+        gives label, kind, l, lambda_max and the tip of each.
+
+    Raises
+    ------
+    ValueError
+        If {p,q} is not hyperbolic, ``clusters`` is not a list of names, or an argument is out
+        of range.
+
+    See Also
+    --------
+    mott_lobe, largest_adjacency_eigenvalue
+
+    Examples
+    --------
+    >>> from hyperlattice.bosons.meanfield import mott_lobes
+    >>> table = mott_lobes(7, 3, rings=(2,), infinite=False, points=21)
+    >>> table.kinds, table.rings
+    (['flake', 'continuum'], [2, 2])
+    >>> [round(row["tip_t_over_U"], 6) for row in table.rows()]
+    [0.065078, 0.066752]
     """
     p, q = _validate.pq(p, q)
     ells = _validate.int_list("rings", rings, minimum=1, maximum=40)

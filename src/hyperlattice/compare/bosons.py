@@ -69,17 +69,57 @@ def gp_comparison(p: int = 7, q: int = 3, rings=(3, 4, 5, 6, 7), *, filling: flo
 
     Parameters
     ----------
-    p, q : int
-    rings : sequence of int
-        Flakes (Bogoliubov on the graph: dense up to 3000 sites, shift-invert above).
-    filling : float
-        n = N/sites > 0.
-    U, t : float
-        Interaction (>= 0) and hopping (> 0).
-    modes : int
-        Bogoliubov frequencies compared (Goldstone mode included).
-    cells : int
+    p, q : int, optional
+        Schläfli symbol, :math:`(p-2)(q-2) > 4`. Default {7,3}.
+    rings : sequence of int, optional
+        Flakes, 1 to 14 rings each (Bogoliubov on the graph: dense up to 3000 sites,
+        shift-invert above). Default ``(3, 4, 5, 6, 7)``.
+    filling : float, optional
+        n = N/sites > 0. Default 1.
+    U : float, optional
+        Interaction (>= 0, in the energy units of ``t``). Default 0.5.
+    t : float, optional
+        Hopping (> 0). Default 1.
+    modes : int, optional
+        Bogoliubov frequencies compared (Goldstone mode included), 2 to 50. Default 5.
+    cells : int, optional
         Radial cells of the continuum solution (error ~ cells⁻², 1e-6 relative in μ at 800).
+        Default 800.
+
+    Returns
+    -------
+    GPComparison
+        ``rows`` (one dict per ℓ: ``mu_graph``, ``mu_continuum``, ``mu_rel_diff``, the healing
+        length ``xi`` and ``xi_over_d0``, the Bogoliubov frequencies of both sides, residuals)
+        and ``profiles`` (density against geodesic radius, both sides), with ``d0``.
+
+    Raises
+    ------
+    ValueError
+        If {p,q} is not hyperbolic or an argument is out of its range.
+    hyperlattice.errors.ConvergenceError
+        If a graph Bogoliubov matrix is not positive definite (the state found is not a GP
+        ground state).
+
+    See Also
+    --------
+    hyperlattice.bosons.gp.gp_ground_state, hyperlattice.bosons.gp.bogoliubov
+    hyperlattice.continuum.gp.disk_gp
+
+    References
+    ----------
+    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020): the continuum Bose–Hubbard
+       model and its parameters :math:`t'`, :math:`U'` (source labels ``eq13``, ``eq14``).
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.bosons import gp_comparison
+    >>> cmp = gp_comparison(7, 3, rings=(2,), U=0.5, modes=3, cells=200)
+    >>> row = cmp.rows[0]
+    >>> row["sites"], [round(float(w), 4) for w in row["bogoliubov_graph"]]
+    (35, [0.0, 0.4868, 0.4868])
+    >>> print(f"{row['mu_graph']:.4f} {row['mu_continuum']:.4f}")
+    -1.9540 -1.6160
     """
     from ..bosons.gp import bogoliubov, gp_ground_state
     from ..continuum.gp import disk_bogoliubov, disk_gp, healing_length
@@ -129,6 +169,35 @@ def mean_field_gap(lambda_max: float, t_over_U, filling: int = 1) -> float | np.
 
     The width in :math:`\mu/U` of the lobe of filling n at hopping t (the two roots of
     :math:`t\lambda_{\max} g_n(\mu) = 1`); 0 beyond the tip.
+
+    Parameters
+    ----------
+    lambda_max : float
+        Largest adjacency eigenvalue of the graph (> 0).
+    t_over_U : float or array_like of float
+        Hopping over interaction, >= 0.
+    filling : int, optional
+        Lobe filling n >= 1. Default 1.
+
+    Returns
+    -------
+    float or ndarray
+        :math:`\Delta/U`, of the shape of ``t_over_U``; 1 at t = 0, 0 beyond the lobe tip.
+
+    Raises
+    ------
+    ValueError
+        If ``lambda_max`` is not positive, ``filling`` < 1 or a ``t_over_U`` is negative.
+
+    See Also
+    --------
+    hyperlattice.bosons.meanfield.mott_lobe
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.bosons import mean_field_gap
+    >>> [round(float(g), 6) for g in mean_field_gap(3.0, [0.0, 0.02, 0.2])]
+    [1.0, 0.802247, 0.0]
     """
     lam = _validate.positive_real("lambda_max", lambda_max)
     n = _validate.integer("filling", filling, minimum=1, maximum=10**6)
@@ -190,11 +259,41 @@ def mott_gap_comparison(system, t_over_U=(0.0, 0.02, 0.04, 0.06, 0.08, 0.1, 0.15
     system : Lattice or Cluster
         Small: the basis of N + 1 bosons must fit (the heptagon ``ring_lattice(7, 3, 1)`` is exact
         with the default nmax).
-    t_over_U : sequence of float
-        Hopping values (U = 1).
-    filling : int
+    t_over_U : sequence of float, optional
+        Hopping values (U = 1), each >= 0. Default ``(0, 0.02, ..., 0.2)``.
+    filling : int, optional
+        Filling n, 1 to 100. Default 1.
     nmax : int, optional
-        Occupation cutoff; default N + 1 (no truncation).
+        Occupation cutoff, 1 to N + 1; default N + 1 (no truncation).
+
+    Returns
+    -------
+    MottGapComparison
+        ``t_over_U`` and the gaps in units of U: ``gap_ed`` (exact), ``gap_mean_field`` (graph
+        mean field with ``lambda_max``) and ``gap_continuum`` (mean field with the continuum
+        disk's ``lambda_max_continuum``; NaN for a cluster).
+
+    Raises
+    ------
+    ValueError
+        If ``system`` is not a Lattice or Cluster, ``t_over_U`` is empty or negative, or an
+        argument is out of range.
+    MemoryError
+        When the basis of N + 1 bosons would not fit.
+
+    See Also
+    --------
+    hyperlattice.bosons.ed.charge_gap, mean_field_gap
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.bosons import mott_gap_comparison
+    >>> cmp = mott_gap_comparison(hl.ring_lattice(7, 3, 1), [0.0, 0.05])
+    >>> cmp.particles, cmp.nmax
+    (7, 8)
+    >>> [round(float(g), 4) for g in cmp.gap_ed], [round(float(g), 4) for g in cmp.gap_mean_field]
+    ([1.0, 0.7134], [1.0, 0.6403])
     """
     from ..bosons.ed import charge_gap
     from ..bosons.meanfield import _system_label, largest_adjacency_eigenvalue

@@ -85,7 +85,31 @@ def _site_lattice(lattice) -> Lattice:
 
 
 def outer_ring(lattice: Lattice) -> np.ndarray:
-    """Indices of the sites of the outermost ring (counterclockwise)."""
+    """Indices of the sites of the outermost ring (counterclockwise).
+
+    Parameters
+    ----------
+    lattice : Lattice
+        A {p,q} flake (sites or line graph).
+
+    Returns
+    -------
+    ndarray of int
+        The 0-based site indices of ring ``lattice.rings``, in counterclockwise order.
+
+    Raises
+    ------
+    ValueError
+        If ``lattice`` is not a Lattice.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.boundary import outer_ring
+    >>> ring = outer_ring(hl.ring_lattice(7, 3, 5))
+    >>> ring[:3].tolist(), ring.size
+    ([315, 316, 317], 532)
+    """
     lat = _validate.lattice(lattice)
     off = lat.ring_offsets
     return np.arange(off[-2], off[-1])
@@ -101,10 +125,30 @@ def fit_window(lattice: Lattice, depth: int = 2) -> float:
     Pairs with :math:`\theta \ge \theta_{\min}` are joined by a geodesic that reaches at least
     ``depth`` rings inside the outer ring.
 
+    Parameters
+    ----------
+    lattice : Lattice
+        A {p,q} site lattice (not a line graph).
+    depth : int, optional
+        Window depth in rings, 1 to 100. Default 2.
+
+    Returns
+    -------
+    float
+        :math:`\theta_{\min}` in radians, at most :math:`\pi`.
+
     Raises
     ------
     ValueError
-        If the lattice has fewer than ``depth + 1`` rings.
+        If the lattice is a line graph or has fewer than ``depth + 1`` rings.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.boundary import fit_window
+    >>> lat = hl.ring_lattice(7, 3, 5)
+    >>> round(fit_window(lat), 6), round(fit_window(lat, depth=3), 6)
+    (0.304826, 0.812853)
     """
     lat = _site_lattice(lattice)
     depth = _depth(depth)
@@ -143,6 +187,18 @@ def fit_delta(theta, values, eps, theta_min) -> tuple[float, float, int, float, 
     ------
     ValueError
         Mismatched arrays, non-positive values in the window, fewer than 10 pairs.
+
+    Examples
+    --------
+    Exact data :math:`G = 2\,[\sin(\theta/2)]^{-3}\epsilon^{1/2}` give Δ = 1.5, β = 0.5:
+
+    >>> import numpy as np
+    >>> from hyperlattice.compare.boundary import fit_delta
+    >>> theta = np.linspace(0.5, 3.0, 20)
+    >>> eps = np.linspace(0.01, 0.02, 20)
+    >>> values = 2.0 * np.sin(theta / 2) ** -3.0 * eps ** 0.5
+    >>> [round(float(x), 6) for x in fit_delta(theta, values, eps, 0.4)]
+    [1.5, 0.0, 20.0, 2.0, 0.5]
     """
     th = _validate.real_array("theta", theta, ndim=1)
     v = _validate.real_array("values", values, ndim=1)
@@ -180,8 +236,14 @@ def continuum_boundary_column(lattice: Lattice, omega, source: int, targets, *, 
 
     Parameters
     ----------
-    lattice, omega, source, targets
-        As in :func:`boundary_correlator`; ``targets`` any sites.
+    lattice : Lattice
+        A {p,q} site lattice.
+    omega : float
+        Real frequency (units of t), below the band.
+    source : int
+        Source site j (0-based).
+    targets : array_like of int
+        Any sites i (0-based).
     disk : {"whole", "dirichlet", "mapped"}
         ``"whole"`` (default): the whole-disk propagator :math:`\frac1{2\pi}Q_\nu(y)` (L = 1) at the site
         positions; NaN beyond the continuum BF bound :math:`\lambda \ge 1`. ``"dirichlet"``: the Dirichlet
@@ -197,8 +259,32 @@ def continuum_boundary_column(lattice: Lattice, omega, source: int, targets, *, 
 
     Returns
     -------
-    ndarray
-        inf at the source itself, NaN where the model has no value.
+    ndarray of float
+        One value per target (units of 1/t): inf at the source itself, NaN where the model has
+        no value.
+
+    Raises
+    ------
+    ValueError
+        Bad input, a line-graph lattice, or a Dirichlet series that would need more than 10,000
+        orders.
+
+    See Also
+    --------
+    boundary_correlator, hyperlattice.compare.green.continuum_column
+
+    References
+    ----------
+    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (16) (source label ``eq21``).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.boundary import continuum_boundary_column
+    >>> lat = hl.ring_lattice(7, 3, 5)
+    >>> col = continuum_boundary_column(lat, -3.5, 315, [315, 316, 317])
+    >>> float(col[0]), [round(float(x), 6) for x in col[1:]]
+    (inf, [0.148693, 0.056158])
     """
     from ..continuum.green import continuum_green
     from ..dictionary import disk_radius_for_rings
@@ -449,10 +535,39 @@ def boundary_correlator(lattice: Lattice, omega, source: int | None = None, *, d
         to the lattice where it can be summed, ℓ ≤ 6-8, see ``docs/below-band.md``), or the Dirichlet disk
         with the ring mapped onto the circle of its mean depth. Does not change the fit.
 
+    Returns
+    -------
+    BoundaryCorrelator
+        The outer-ring ``sites`` (counterclockwise), their angles ``theta`` to the source, the
+        graph column ``graph`` (:math:`G_{ij}(\omega)`, units of 1/t) and the ``continuum`` column,
+        the fitted ``delta_lattice`` with ``delta_lattice_err``, and ``delta_continuum``
+        (:math:`\frac12 + \frac12\sqrt{1-\lambda}`, NaN beyond the continuum BF bound).
+
     Raises
     ------
     ValueError
-        Bad input, a source off the outer ring, omega not below the band, too few pairs.
+        Bad input, a line-graph lattice, a source off the outer ring, omega not below the band,
+        too few rings for the window (``depth + 1``) or too few pairs.
+
+    See Also
+    --------
+    delta_curve : the fitted Δ for many frequencies at once.
+    hyperlattice.continuum.massive.conformal_two_point : the continuum boundary form.
+
+    References
+    ----------
+    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020): the graph Green function
+       (source label ``eq20``) and its continuum limit, Eq. (16) (label ``eq21``).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> lat = hl.ring_lattice(7, 3, 5)
+    >>> bc = hl.boundary_correlator(lat, -3.5)
+    >>> bc.source, bc.pairs
+    (315, 483)
+    >>> print(f"{bc.delta_lattice:.3f} {bc.delta_continuum:.3f}")
+    2.030 2.062
     """
     lat = _site_lattice(lattice)
     omega = _real_omega("omega", omega)
@@ -536,6 +651,45 @@ def delta_curve(lattice: Lattice, omegas, *, source: int | None = None, depth: i
 
     One fill-reducing order per lattice (about 1 s at :math:`\ell = 10`), then per frequency one
     numeric :math:`LDL^T` (about 0.1 s) and the fits (about 0.1 s); :class:`~hyperlattice.graph.qubits.BelowBandResolvent`.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        A {p,q} ring lattice (site lattice, not a line graph) with more than ``depth`` rings.
+    omegas : array_like of float
+        Real frequencies (units of t), each below the band (:math:`\omega < E_0(\ell)`);
+        1 to 1000 of them.
+    source : int, optional
+        A site of the outer ring (0-based; default: its first site).
+    depth : int, optional
+        Window depth in rings (module docstring). Default 2.
+
+    Returns
+    -------
+    DeltaCurve
+        ``omegas``, ``mass2`` (:math:`m^2 = -\lambda(\omega)`), ``delta_lattice`` with
+        ``delta_lattice_err``, ``delta_continuum`` (NaN beyond the BF bound), the continuum BF
+        bound ``omega_bf`` and the wall time ``seconds``.
+
+    Raises
+    ------
+    ValueError
+        Bad input, a line-graph lattice, no or more than 1000 frequencies, a frequency not below
+        the band, a source off the outer ring or too few rings for the window.
+
+    See Also
+    --------
+    boundary_correlator : one frequency, with the correlators themselves.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> lat = hl.ring_lattice(7, 3, 5)
+    >>> dc = hl.delta_curve(lat, [-3.5, -4.0])
+    >>> [round(float(d), 3) for d in dc.delta_lattice]
+    [2.03, 2.578]
+    >>> [round(float(d), 3) for d in dc.delta_continuum]
+    [2.062, 2.652]
     """
     lat = _site_lattice(lattice)
     om = _validate.real_array("omegas", omegas, ndim=1)
@@ -598,7 +752,34 @@ class LatticeBFBound(Result):
 
 
 def lattice_bf_bound(p: int = 7, q: int = 3, rings=(3, 4, 5, 6, 7, 8)) -> LatticeBFBound:
-    """:math:`E_0(\\ell)` of the {p,q} flakes (:func:`hyperlattice.graph.spectrum.lowest_levels`) and the continuum bound."""
+    """:math:`E_0(\\ell)` of the {p,q} flakes (:func:`hyperlattice.graph.spectrum.lowest_levels`) and the continuum bound.
+
+    Parameters
+    ----------
+    p, q : int, optional
+        Schläfli symbol of the lattice, :math:`(p-2)(q-2) > 4`. Default {7,3}.
+    rings : int or sequence of int, optional
+        Flake sizes l, 1 to 14 each. Default ``(3, 4, 5, 6, 7, 8)``.
+
+    Returns
+    -------
+    LatticeBFBound
+        ``e0`` (lowest level of :math:`H = -A` per l, units of t), ``mass2``
+        (:math:`m^2 = -\\lambda(E_0)`), and the continuum bound ``omega_continuum``
+        (:math:`E_\\infty`) with ``mass2_continuum`` (-1).
+
+    Raises
+    ------
+    ValueError
+        If {p,q} is not hyperbolic or ``rings`` is empty or out of range.
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.boundary import lattice_bf_bound
+    >>> bf = lattice_bf_bound(7, 3, rings=(3, 4))
+    >>> [round(float(e), 6) for e in bf.e0], round(bf.omega_continuum, 6)
+    ([-2.786702, -2.846633], -2.942952)
+    """
     from ..graph.lattice import ring_lattice
     from ..graph.spectrum import lowest_levels
 
@@ -661,7 +842,47 @@ class BulkToBoundary(Result):
 
 def bulk_to_boundary(lattice: Lattice, omega, source: int | None = None, *,
                      resolvent: BelowBandResolvent | None = None) -> BulkToBoundary:
-    r"""The column :math:`G_{\cdot j}(\omega)` of an outer-ring source j against :math:`K_\Delta` and ``eq21``."""
+    r"""The column :math:`G_{\cdot j}(\omega)` of an outer-ring source j against :math:`K_\Delta` and ``eq21``.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        A {p,q} site lattice with at least 4 rings.
+    omega : float
+        Real frequency (units of t), below the band (:math:`\omega < E_0(\ell)`).
+    source : int, optional
+        A site of the outer ring (0-based; default: its first site).
+    resolvent : BelowBandResolvent, optional
+        Reuse a factorization (several sources at one omega).
+
+    Returns
+    -------
+    BulkToBoundary
+        The fitted ``delta_fit`` with ``delta_fit_err`` against ``delta_continuum``, the
+        distances ``rel_l2`` and ``kernel_rel_l2``, and the columns ``graph``, ``continuum``,
+        ``kernel`` with the ``bulk`` mask of the sites fitted.
+
+    Raises
+    ------
+    ValueError
+        Bad input, a line-graph lattice, a source off the outer ring, fewer than 4 rings, omega
+        not below the band, or too few bulk sites.
+
+    See Also
+    --------
+    boundary_correlator : source and probes on the outer ring.
+    hyperlattice.continuum.massive.bulk_to_boundary_kernel
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.boundary import bulk_to_boundary
+    >>> b2b = bulk_to_boundary(hl.ring_lattice(7, 3, 5), -3.5)
+    >>> b2b.source, int(b2b.bulk.sum())
+    (315, 112)
+    >>> print(f"{b2b.delta_fit:.3f} {b2b.delta_continuum:.3f}")
+    2.023 2.062
+    """
     from ..continuum.massive import bulk_to_boundary_kernel
 
     lat = _site_lattice(lattice)

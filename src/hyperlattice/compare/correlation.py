@@ -32,7 +32,43 @@ __all__ = ["correlation_pairs", "sorted_pairs", "bin_by_distance", "BinnedCorrel
 # ----------------------------------------------------------------------------
 
 def correlation_pairs(lattice: Lattice, source: int, values) -> tuple[np.ndarray, np.ndarray]:
-    r"""The list of pairs :math:`(d_{ij}, F_j)` for source i, all j except i, sorted by distance."""
+    r"""The list of pairs :math:`(d_{ij}, F_j)` for source i, all j except i, sorted by distance.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        A {p,q} lattice embedded in the Poincaré disk.
+    source : int
+        Source site i (0-based).
+    values : array_like, shape (N,)
+        One value :math:`F_j` per site (real or complex).
+
+    Returns
+    -------
+    dist : ndarray of float, shape (N - 1,)
+        Hyperbolic distances :math:`d(z_i, z_j)` (``eq4``, curvature -4), ascending (stable).
+    values : ndarray, shape (N - 1,)
+        The values in the same order.
+
+    Raises
+    ------
+    ValueError
+        If ``source`` is out of range or ``values`` does not have one entry per site.
+
+    See Also
+    --------
+    sorted_pairs, bin_by_distance
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.correlation import correlation_pairs
+    >>> lat = hl.ring_lattice(7, 3, 2)
+    >>> dist, vals = correlation_pairs(lat, 0, np.arange(35.0))
+    >>> dist.shape, round(float(dist[0]), 6), vals[:3].tolist()
+    ((34,), 0.283128, [1.0, 6.0, 7.0])
+    """
     _validate.lattice(lattice)
     source = _validate.site_index("source", source, lattice.sites)
     v = np.asarray(values)
@@ -46,6 +82,32 @@ def sorted_pairs(dist, values, exclude: int | None = None) -> tuple[np.ndarray, 
 
     The distances to a source are given (e.g. :attr:`GreenComparison.distance
     <hyperlattice.compare.green.GreenComparison>`), so no lattice is needed.
+
+    Parameters
+    ----------
+    dist : array_like of float, shape (K,)
+        Distances to the source.
+    values : array_like, shape (K,)
+        One value per site.
+    exclude : int, optional
+        Index left out (the source itself). Default None.
+
+    Returns
+    -------
+    dist, values : ndarray
+        Both sorted by distance (stable), without ``exclude``.
+
+    Raises
+    ------
+    ValueError
+        If the arrays differ in shape or ``exclude`` is out of range.
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.correlation import sorted_pairs
+    >>> dist, vals = sorted_pairs([0.0, 2.0, 1.0, 1.0], [10, 20, 30, 40], exclude=0)
+    >>> dist.tolist(), vals.tolist()
+    ([1.0, 1.0, 2.0], [30, 40, 20])
     """
     d = _validate.real_array("distances", dist, ndim=1)
     v = np.asarray(values)
@@ -118,6 +180,29 @@ def bin_by_distance(dist, values, width: float | None = None, edges=None) -> Bin
         half-integer multiples); ignored when ``edges`` is given.
     edges : array, optional
         Strictly increasing bin edges; distances outside fall into the first or last bin.
+
+    Returns
+    -------
+    BinnedCorrelation
+        ``edges``, and for the non-empty bins their ``centre``, ``mean``, ``std`` and ``count``;
+        ``edge_ties`` counts distances that lie on an interior edge to rounding.
+
+    Raises
+    ------
+    ValueError
+        If the arrays are empty, not finite or of different shapes, a distance is negative, or
+        ``edges`` are not at least two strictly increasing numbers.
+
+    See Also
+    --------
+    collapse_measure
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.correlation import bin_by_distance
+    >>> b = bin_by_distance([0.4, 0.6, 1.5], [1.0, 3.0, 5.0], width=1.0)
+    >>> b.centre.tolist(), b.mean.tolist(), b.std.tolist(), b.count.tolist()
+    ([0.5, 1.5], [2.0, 5.0], [1.0, 0.0], [2, 1])
     """
     d = _validate.real_array("distances", dist, ndim=1)
     if d.size == 0:
@@ -172,6 +257,33 @@ def collapse_measure(dist, values, width: float | None = None) -> float:
 
     0 when F is a function of distance alone (up to the bin width), larger when sites at
     equal distance disagree.
+
+    Parameters
+    ----------
+    dist : array_like of float, shape (K,)
+        Distances (finite, non-negative).
+    values : array_like, shape (K,)
+        Real or complex values F, finite, not all zero.
+    width : float, optional
+        Bin width (default: the bins of :func:`bin_by_distance`).
+
+    Returns
+    -------
+    float
+        S >= 0 (dimensionless).
+
+    Raises
+    ------
+    ValueError
+        For bad arrays (as in :func:`bin_by_distance`) or values that vanish identically.
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.correlation import collapse_measure
+    >>> round(collapse_measure([0.4, 0.6, 1.5], [1.0, 3.0, 5.0], width=1.0), 6)
+    0.246183
+    >>> collapse_measure([0.4, 0.6, 1.5], [2.0, 2.0, 5.0], width=1.0)
+    0.0
     """
     b = bin_by_distance(dist, values, width=width)
     den = float(np.sum(b.count * np.abs(b.mean) ** 2))

@@ -72,7 +72,24 @@ def spacing_ratios(energies, *, window=None) -> tuple[np.ndarray, np.ndarray]:
     r, e_mid : ndarray
         Ratios in [0, 1] and the middle energies. Triples with both spacings below
         ``1e-9`` times the mean spacing (exact degeneracies, e.g. the clean flake's m, p - m pairs
-        and the line graph's flat band) are left out: their ratio is 0/0.
+        and the line graph's flat band) are left out: their ratio is 0/0. Fewer than three
+        levels give empty arrays.
+
+    Raises
+    ------
+    ValueError
+        If ``energies`` is not a finite 1-d array or ``window`` is not two numbers.
+
+    References
+    ----------
+    .. [1] V. Oganesyan and D. A. Huse, Phys. Rev. B 75, 155111 (2007).
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.disorder import spacing_ratios
+    >>> r, e_mid = spacing_ratios([0.0, 1.0, 3.0, 4.0])
+    >>> r.tolist(), e_mid.tolist()
+    ([0.5, 0.5], [1.0, 3.0])
     """
     e = np.sort(_validate.real_array("energies", energies, ndim=1))
     if e.size < 3:
@@ -91,7 +108,34 @@ def spacing_ratios(energies, *, window=None) -> tuple[np.ndarray, np.ndarray]:
 
 
 def inverse_participation(vectors) -> np.ndarray:
-    r""":math:`\sum_i |\psi_i|^4` of each column of ``vectors`` (normalised eigenvectors)."""
+    r"""Inverse participation ratio :math:`\sum_i |\psi_i|^4` of each column of ``vectors``.
+
+    About 1/N for a state extended over N sites, of order 1 for a localized one.
+
+    Parameters
+    ----------
+    vectors : array_like, shape (N, K)
+        Normalised eigenvectors, one per column (real or complex).
+
+    Returns
+    -------
+    ndarray of float, shape (K,)
+        The inverse participation ratio of each column.
+
+    Raises
+    ------
+    ValueError
+        If ``vectors`` is not a 2-d array.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from hyperlattice.compare.disorder import inverse_participation
+    >>> inverse_participation(np.eye(3)).tolist()
+    [1.0, 1.0, 1.0]
+    >>> inverse_participation(np.full((4, 1), 0.5)).tolist()
+    [0.25]
+    """
     v = np.asarray(vectors)
     if v.ndim != 2:
         raise ValueError(f"vectors must be a 2-d array (one eigenvector per column), got shape {v.shape}.")
@@ -100,7 +144,30 @@ def inverse_participation(vectors) -> np.ndarray:
 
 
 def default_windows(q: int) -> np.ndarray:
-    """Energy window edges ``[-inf, -2q/3, -q/3, 0, q/3, 2q/3, inf]`` (six windows, all levels counted)."""
+    """Energy window edges ``[-inf, -2q/3, -q/3, 0, q/3, 2q/3, inf]`` (six windows, all levels counted).
+
+    Parameters
+    ----------
+    q : int
+        Coordination number of the lattice (>= 3); the clean band lies in :math:`[-q, q]`
+        (units of t).
+
+    Returns
+    -------
+    ndarray of float, shape (7,)
+        The window edges, increasing, with infinite outer ends.
+
+    Raises
+    ------
+    ValueError
+        If ``q`` is not an integer in the allowed range.
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.disorder import default_windows
+    >>> default_windows(3).tolist()
+    [-inf, -2.0, -1.0, 0.0, 1.0, 2.0, inf]
+    """
     q = _validate.integer("q", q, minimum=3, maximum=_validate.PQ_MAX)
     inner = np.linspace(-q, q, 7)[1:-1]
     return np.concatenate([[-np.inf], inner, [np.inf]])
@@ -138,6 +205,31 @@ def realization_observables(lattice: Lattice, model: str = "box", strength: floa
                             dos_bins: int = 60, ipr: bool = True) -> dict:
     r"""All spectral observables of one disorder realization (the unit of work of a sweep).
 
+    Parameters
+    ----------
+    lattice : Lattice or Cluster
+        A flake (``ring_lattice``, sites or line graph) or a periodic cluster, at most
+        :data:`DENSE_MAX` sites (each realization is one dense diagonalisation).
+    model : str, optional
+        Disorder model of :func:`hyperlattice.graph.disorder.disorder` (``"box"``, ...).
+        Default ``"box"``.
+    strength : float, optional
+        W (or sigma for the resonator model), units of t. Default 1.
+    seed : int, optional
+        Seed of the ensemble. Default 0.
+    realization : int, optional
+        Index of the realization within the ensemble of ``seed`` (0-based). Default 0.
+    omega0 : float, optional
+        Resonator frequency of the resonator model (see
+        :func:`hyperlattice.graph.disorder.disorder`).
+    windows : array_like, optional
+        Energy window edges, increasing (default :func:`default_windows`).
+    dos_bins : int, optional
+        Number of histogram bins of the density of states. Default 60.
+    ipr : bool, optional
+        Compute eigenvectors for the inverse participation ratios (about 2x the time).
+        Default True.
+
     Returns
     -------
     dict
@@ -146,6 +238,25 @@ def realization_observables(lattice: Lattice, model: str = "box", strength: floa
         (per window, eigenstates counted by energy; zeros if ``ipr`` is False), ``dos_counts``
         (histogram over :func:`_dos_edges`), ``e_min``, ``e_max``. Sums and counts, so that
         realizations pool exactly.
+
+    Raises
+    ------
+    ValueError
+        For bad input, or a lattice of more than :data:`DENSE_MAX` sites.
+
+    See Also
+    --------
+    disorder_ensemble : pools these rows over realizations.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.disorder import realization_observables
+    >>> row = realization_observables(hl.ring_lattice(7, 3, 3), "box", 1.0, seed=1)
+    >>> row["r_count"]
+    110
+    >>> print(f"{row['r_mean']:.4f}")
+    0.5292
     """
     lattice = _system(lattice)
     _check_size(lattice)
@@ -273,17 +384,29 @@ def disorder_ensemble(lattice: Lattice, strength: float = 1.0, realizations: int
 
     Parameters
     ----------
-    lattice : Lattice
-    strength : float
-        W (or sigma for the resonator model), see :func:`hyperlattice.graph.disorder.disorder`.
-    realizations : int
-    seed : int
-    model, omega0 : see :func:`hyperlattice.graph.disorder.disorder`
+    lattice : Lattice or Cluster
+        A flake (``ring_lattice``, sites or line graph) or a periodic cluster, at most
+        :data:`DENSE_MAX` sites (each realization is one dense diagonalisation).
+    strength : float, optional
+        W (or sigma for the resonator model), units of t, see
+        :func:`hyperlattice.graph.disorder.disorder`. Default 1.
+    realizations : int, optional
+        Number of realizations, 1 to 1 000 000. Default 10.
+    seed : int, optional
+        Seed of the ensemble (realization k is the same in any process). Default 0.
+    model : str, optional
+        Disorder model (``"box"``, ``"gaussian"``, ``"resonator"``, ...), see
+        :func:`hyperlattice.graph.disorder.disorder`. Default ``"box"``.
+    omega0 : float, optional
+        Resonator frequency of the resonator model, see
+        :func:`hyperlattice.graph.disorder.disorder`.
     windows : array_like, optional
         Energy window edges (default :func:`default_windows`).
-    dos_bins : int
-    ipr : bool
+    dos_bins : int, optional
+        Number of histogram bins of the density of states. Default 60.
+    ipr : bool, optional
         Compute eigenvectors for the inverse participation ratios (about 2x the time).
+        Default True.
     rows : list of dict, optional
         Precomputed per-realization results (e.g. read from a sweep table) instead of computing.
     progress : bool, None or callable
@@ -293,6 +416,31 @@ def disorder_ensemble(lattice: Lattice, strength: float = 1.0, realizations: int
     Returns
     -------
     DisorderEnsemble
+        ``r_mean`` (all ratios pooled) with ``r_err``, the per-window ``r_window`` and
+        ``ipr_window`` on ``windows``, the density of states per site ``dos`` on ``dos_edges``,
+        and the per-realization means ``r_realization``.
+
+    Raises
+    ------
+    ValueError
+        For bad input, a lattice of more than :data:`DENSE_MAX` sites, or ``rows`` that are not
+        ``realizations`` rows of :func:`realization_observables` for this lattice, windows and
+        ``dos_bins``.
+
+    See Also
+    --------
+    realization_observables : one realization.
+    r_scan : the mean ratio against W.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> lat = hl.ring_lattice(7, 3, 3)
+    >>> ens = hl.disorder_ensemble(lat, 2.0, realizations=3, seed=1)
+    >>> ens.r_count
+    330
+    >>> print(f"{ens.r_mean:.4f} +- {ens.r_err:.4f}")
+    0.5434 +- 0.0136
     """
     lattice = _system(lattice)
     _check_size(lattice)
@@ -377,6 +525,48 @@ def r_scan(lattice: Lattice, strengths, realizations: int = 10, *, seed: int = 0
     boundary states, for weak disorder; ``window=None`` takes the whole spectrum (needed at strong
     disorder, where the levels spread over :math:`[-W/2, W/2]`). ``r_err`` is the standard error of
     the per-realization window means.
+
+    Parameters
+    ----------
+    lattice : Lattice or Cluster
+        A flake (``ring_lattice``, sites or line graph) or a periodic cluster, at most
+        :data:`DENSE_MAX` sites (each realization is one dense diagonalisation).
+    strengths : array_like of float
+        Disorder strengths W >= 0 (units of t), one ensemble each.
+    realizations : int, optional
+        Realizations per strength, 1 to 1 000 000. Default 10.
+    seed : int, optional
+        Seed of the ensembles. Default 0.
+    model : str, optional
+        Disorder model, see :func:`hyperlattice.graph.disorder.disorder`. Default ``"box"``.
+    window : (float, float) or None, optional
+        ``(lo, hi)`` with lo < hi, units of t: keep ratios whose middle level lies in
+        ``[lo, hi)``. Default ``(-1, 1)``; None for the whole spectrum.
+
+    Returns
+    -------
+    RScan
+        ``W``, ``r_mean`` and ``r_err`` (arrays over the strengths; NaN where no ratio fell in
+        the window or fewer than two realizations contributed), and the ``window`` edges.
+
+    Raises
+    ------
+    ValueError
+        For bad input, an empty or negative list of strengths, a window with lo >= hi, or a
+        lattice of more than :data:`DENSE_MAX` sites.
+
+    See Also
+    --------
+    disorder_ensemble : all observables at one strength.
+    GOE_R, POISSON_R : the two limits of the mean ratio.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> lat = hl.ring_lattice(7, 3, 3)
+    >>> scan = hl.r_scan(lat, [0.5, 4.0], realizations=2, window=None)
+    >>> [round(float(r), 4) for r in scan.r_mean]
+    [0.3959, 0.4593]
     """
     lattice = _system(lattice)
     _check_size(lattice)
@@ -463,12 +653,43 @@ def green_ensemble(lattice: Lattice, omega, strength: float, realizations: int =
     lattice : Lattice
         A flake (sites kind: the distances are those of the Poincaré disk).
     omega : complex
-        Frequency with Im omega > 0.
+        Frequency (units of t) with Im omega > 0 (retarded, off the spectrum).
     strength : float
-        W of the on-site model (box or gaussian).
-    realizations : int
-        Number of pairs (2 x realizations solves).
-    seed, source, model
+        W of the on-site model (box or gaussian), units of t.
+    realizations : int, optional
+        Number of pairs (2 x realizations solves). Default 20.
+    seed : int, optional
+        Seed of the ensemble. Default 0.
+    source : int, optional
+        Source site j (0-based). Default 0.
+    model : {"box", "gaussian"}, optional
+        The on-site distribution. Default ``"box"``.
+
+    Returns
+    -------
+    DisorderGreen
+        ``mean`` (the averaged column :math:`\langle G_{ij}(\omega)\rangle`, units of 1/t) with
+        its standard error ``err`` (NaN for one pair), the clean column ``clean``, the hyperbolic
+        ``distance`` of each site to the source and the on-site ``variance``.
+
+    Raises
+    ------
+    ValueError
+        For bad input, a line-graph or cluster lattice, Im omega <= 0, or more than
+        :data:`DENSE_MAX` sites.
+
+    See Also
+    --------
+    compare_scba : the average against the SCBA.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.disorder import green_ensemble
+    >>> lat = hl.ring_lattice(7, 3, 3)
+    >>> ge = green_ensemble(lat, -2.9 + 0.2j, 1.0, realizations=4)
+    >>> print(f"{abs(ge.mean[0]):.4f} {abs(ge.clean[0]):.4f}")
+    0.6640 0.6660
     """
     _validate.lattice(lattice, kind="sites")
     _check_size(lattice)
@@ -500,14 +721,56 @@ def graph_scba(lattice: Lattice, omega, variance: float, *, tol: float = 1e-12, 
 
     Plain fixed-point iteration (``damping = 1``) converges in 6-40 steps for w^2 <= 1.3 at
     :math:`\omega = -2.9 + 0.2i` (the map contracts by about :math:`w^2|G|^2`); lower ``damping``
-    for stronger disorder. Returns ``(sigma, iterations)``. Its first order, :math:`\Sigma_i = w^2 G^{(0)}_{ii}(\omega)`,
+    for stronger disorder. Its first order, :math:`\Sigma_i = w^2 G^{(0)}_{ii}(\omega)`,
     is exact second-order perturbation theory; :math:`(H_0-\omega-\Sigma)^{-1}` then predicts
     :math:`\langle G\rangle`.
 
+    Parameters
+    ----------
+    lattice : Lattice or Cluster
+        A flake (``ring_lattice``, sites or line graph) or a periodic cluster, at most
+        :data:`DENSE_MAX` sites (each realization is one dense diagonalisation).
+    omega : complex
+        Frequency (units of t) with Im omega > 0.
+    variance : float
+        On-site variance :math:`w^2 \ge 0` (units of :math:`t^2`; :math:`W^2/12` for the box
+        model).
+    tol : float, optional
+        Stop when the update is below ``tol`` times ``max(1, max |Sigma|)``; 1e-15 to 1e-2.
+        Default 1e-12.
+    max_iter : int, optional
+        Largest number of iterations. Default 2000.
+    damping : float, optional
+        Mixing of the new self-energy, in (0, 1]. Default 1 (plain iteration).
+
+    Returns
+    -------
+    sigma : ndarray of complex, shape (N,)
+        The self-energy :math:`\Sigma_i` of every site (units of t).
+    iterations : int
+        Iterations used.
+
     Raises
     ------
-    ConvergenceError
+    ValueError
+        For bad input, Im omega <= 0, or more than :data:`DENSE_MAX` sites.
+    hyperlattice.errors.ConvergenceError
         If the damped fixed-point iteration does not reach ``tol`` (the residual is stated).
+
+    See Also
+    --------
+    hyperlattice.continuum.scba.scba : the continuum SCBA.
+    compare_scba
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.disorder import graph_scba
+    >>> sigma, iterations = graph_scba(hl.ring_lattice(7, 3, 3), -2.9 + 0.2j, 1 / 12)
+    >>> iterations
+    11
+    >>> print(f"{sigma[0].real:.5f} {sigma[0].imag:.5f}")
+    0.04691 0.02732
     """
     from ..errors import ConvergenceError
 
@@ -591,6 +854,53 @@ def compare_scba(lattice: Lattice, omega, strengths, realizations: int = 20, *, 
     with :math:`\tilde\omega` from :func:`hyperlattice.continuum.scba.scba`; ``continuum_floor``
     is the same distance at W = 0 (clean graph against ``eq21``), the part of the disagreement
     that is the clean dictionary's and not the SCBA's.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        A flake (sites kind), at most :data:`DENSE_MAX` sites.
+    omega : complex
+        Frequency (units of t) with Im omega > 0.
+    strengths : array_like of float
+        Box widths W > 0 (units of t), one ensemble each.
+    realizations : int, optional
+        Antithetic pairs per strength (:func:`green_ensemble`). Default 20.
+    seed : int, optional
+        Seed of the ensembles. Default 0.
+    source : int, optional
+        Source site j (0-based). Default 0.
+
+    Returns
+    -------
+    SCBAComparison
+        Arrays over W: ``variance``, the relative distances ``rel_clean``, ``rel_graph_scba``,
+        ``rel_continuum_scba`` and ``rel_noise``, ``born_ratio``, ``sigma_graph`` and
+        ``sigma_continuum``; and ``continuum_floor``.
+
+    Raises
+    ------
+    ValueError
+        For bad input, a line-graph or cluster lattice, Im omega <= 0, an empty list of
+        strengths or one <= 0, or more than :data:`DENSE_MAX` sites.
+    hyperlattice.errors.ConvergenceError
+        If the graph or continuum SCBA does not converge.
+
+    See Also
+    --------
+    green_ensemble, graph_scba, hyperlattice.continuum.scba.scba
+
+    References
+    ----------
+    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (16) (source label
+       ``eq21``) for the continuum column.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> lat = hl.ring_lattice(7, 3, 3)
+    >>> cmp = hl.compare_scba(lat, -2.9 + 0.2j, [1.0], realizations=4)
+    >>> print(f"{cmp.rel_clean[0]:.4f} {cmp.rel_graph_scba[0]:.4f} {cmp.born_ratio[0]:.3f}")
+    0.1926 0.0567 0.829
     """
     from ..continuum.green import continuum_green
     from ..continuum.scba import scba

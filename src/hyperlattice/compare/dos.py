@@ -138,7 +138,41 @@ def _lambda_at_quantile(nu: float, p: int, q: int) -> float:
 
 def continuum_integrated_dos(energies, p: int = 7, q: int = 3, *, dictionary_name: str = "paper") -> np.ndarray:
     r"""Continuum states per site below E: :math:`\frac{\mathcal A}{4\pi}F(k(E))` (module docstring),
-    zero below the continuum's band bottom. ``dictionary_name``: "paper" or "improved"."""
+    zero below the continuum's band bottom.
+
+    Parameters
+    ----------
+    energies : array_like of float, shape (K,)
+        Lattice energies E (units of t).
+    p, q : int, optional
+        Schläfli symbol of the lattice, :math:`(p-2)(q-2) > 4`. Default {7,3}.
+    dictionary_name : {"paper", "improved"}, optional
+        The map between lattice energy and :math:`\lambda`: the paper's
+        :math:`E = -q + \frac q4 h^2\lambda` or the improved one
+        (:mod:`hyperlattice.dictionary`). Default ``"paper"``.
+
+    Returns
+    -------
+    ndarray of float, shape (K,)
+        The integrated density of states per site of :math:`-\Delta_g` (Plancherel measure,
+        :math:`\lambda = 1 + k^2`) below each E, :math:`\mathcal A` the area per site.
+
+    Raises
+    ------
+    ValueError
+        If {p,q} is not hyperbolic, ``energies`` is not a finite 1-d array or the dictionary is
+        unknown.
+
+    See Also
+    --------
+    continuum_dos : its derivative in E.
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.dos import continuum_integrated_dos
+    >>> [round(float(n), 6) for n in continuum_integrated_dos([-3.0, -2.5, -2.0], 7, 3)]
+    [0.0, 0.066355, 0.144604]
+    """
     p, q = _validate.pq(p, q)
     which = _validate.choice("dictionary_name", dictionary_name, dictionary.DICTIONARIES)
     e = _validate.real_array("energies", energies, ndim=1)
@@ -150,7 +184,43 @@ def continuum_integrated_dos(energies, p: int = 7, q: int = 3, *, dictionary_nam
 def continuum_dos(energies, p: int = 7, q: int = 3, *, dictionary_name: str = "paper") -> np.ndarray:
     r"""Continuum density of states per site :math:`\frac{\mathcal A}{4\pi}\tanh(\pi k/2)\,d\lambda/dE`
     at the lattice energies ``energies`` (paper's map: :math:`d\lambda/dE = 4/(qh^2)`; improved map:
-    numerical derivative); zero below the continuum band bottom."""
+    numerical derivative); zero below the continuum band bottom.
+
+    Parameters
+    ----------
+    energies : array_like of float, shape (K,)
+        Lattice energies E (units of t).
+    p, q : int, optional
+        Schläfli symbol of the lattice, :math:`(p-2)(q-2) > 4`. Default {7,3}.
+    dictionary_name : {"paper", "improved"}, optional
+        The map between lattice energy and :math:`\lambda`: the paper's
+        :math:`E = -q + \frac q4 h^2\lambda` or the improved one
+        (:mod:`hyperlattice.dictionary`). Default ``"paper"``.
+
+    Returns
+    -------
+    ndarray of float, shape (K,)
+        Density of states per site and unit energy (units of 1/t), :math:`\mathcal A` the area
+        per site, :math:`\lambda = 1 + k^2`.
+
+    Raises
+    ------
+    ValueError
+        If {p,q} is not hyperbolic, ``energies`` is not a finite 1-d array or the dictionary is
+        unknown.
+
+    See Also
+    --------
+    continuum_integrated_dos : the states below E.
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.dos import continuum_dos
+    >>> [round(float(r), 6) for r in continuum_dos([-3.0, -2.5, -2.0], 7, 3)]
+    [0.0, 0.15646, 0.156508]
+    >>> round(float(continuum_dos([-2.5], dictionary_name="improved")[0]), 6)
+    0.164462
+    """
     p, q = _validate.pq(p, q)
     which = _validate.choice("dictionary_name", dictionary_name, dictionary.DICTIONARIES)
     e = _validate.real_array("energies", energies, ndim=1)
@@ -170,7 +240,43 @@ def continuum_dos(energies, p: int = 7, q: int = 3, *, dictionary_name: str = "p
 
 def jackson_density(mu, scale: float, energies) -> np.ndarray:
     r"""The Jackson-smoothed density of states :math:`\rho(E)` of the Chebyshev moments ``mu`` of
-    :math:`H/a` (``scale`` a), at ``energies`` (zero outside :math:`|E| < a`)."""
+    :math:`H/a` (``scale`` a), at ``energies`` (zero outside :math:`|E| < a`).
+
+    .. math:: \rho(E) = \frac{1}{\pi\sqrt{a^2 - E^2}}\Bigl[g_0\mu_0
+              + 2\sum_{n\ge1} g_n\mu_n T_n(E/a)\Bigr],
+
+    :math:`g_n` the Jackson kernel of ``len(mu)`` moments.
+
+    Parameters
+    ----------
+    mu : array_like of float, shape (M,)
+        Chebyshev moments :math:`\mu_n = \mathrm{tr}\,T_n(H/a)/N`.
+    scale : float
+        The scale a > 0 (units of t), larger than the spectral radius of H.
+    energies : array_like of float, shape (K,)
+        Where to evaluate (units of t).
+
+    Returns
+    -------
+    ndarray of float, shape (K,)
+        Density of states per site and unit energy (units of 1/t).
+
+    Raises
+    ------
+    ValueError
+        If ``mu`` or ``energies`` is not a finite 1-d array or ``scale`` is not positive.
+
+    See Also
+    --------
+    hyperlattice.graph.kpm.jackson_kernel
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.dos import jackson_density
+    >>> rho = jackson_density([1.0, 0.0, 0.0, 0.0], 1.0, [0.0])
+    >>> round(float(rho[0]), 6)   # 1/pi: the arcsine density at its centre
+    0.31831
+    """
     from ..graph.kpm import jackson_kernel
 
     mu = _validate.real_array("mu", mu, ndim=1)
@@ -186,8 +292,38 @@ def jackson_density(mu, scale: float, energies) -> np.ndarray:
 
 
 def quantile_energy(energies, integrated, quantile: float) -> float:
-    """The lowest energy at which the (non-decreasing in the mean) integrated DOS reaches ``quantile``,
-    linearly interpolated between grid points; NaN if it never does."""
+    r"""The lowest energy at which the (non-decreasing in the mean) integrated DOS reaches ``quantile``,
+    linearly interpolated between grid points; NaN if it never does.
+
+    Parameters
+    ----------
+    energies : array_like of float, shape (K,)
+        Increasing energy grid (units of t), not empty.
+    integrated : array_like of float, shape (K,)
+        Integrated density of states per site on that grid (its running maximum is used, so
+        rounding wiggles do not matter).
+    quantile : float
+        The fraction of states :math:`\nu`.
+
+    Returns
+    -------
+    float
+        :math:`E(\nu)` (units of t): the first grid energy if ``integrated`` already reaches
+        ``quantile`` there, NaN if it never does.
+
+    Raises
+    ------
+    ValueError
+        If the arrays are not finite, of different shapes or empty.
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.dos import quantile_energy
+    >>> quantile_energy([0.0, 1.0, 2.0], [0.0, 0.5, 1.0], 0.25)
+    0.5
+    >>> quantile_energy([0.0, 1.0, 2.0], [0.0, 0.5, 1.0], 2.0)
+    nan
+    """
     e = _validate.real_array("energies", energies, ndim=1)
     n = _validate.real_array("integrated", integrated, shape=e.shape)
     quantile = _validate.real("quantile", quantile)
@@ -509,32 +645,74 @@ def dos_comparison(p: int = 7, q: int = 3, *, clusters=None, rings=None, moments
 
     Parameters
     ----------
-    p, q : int
-        Schläfli symbol.
+    p, q : int, optional
+        Schläfli symbol, :math:`(p-2)(q-2) > 4`. Default {7,3}.
     clusters : sequence of str, optional
         Cluster names for :func:`hyperlattice.graph.clusters.pbc_cluster`, smallest first (default
         :data:`DEFAULT_CLUSTERS`, or none for other {p,q}).
     rings : sequence of int, optional
         Flake sizes for the interior DOS (default: the three largest even ring counts with at most
         300,000 sites).
-    moments : int
-        KPM moments of the densities shown (resolution about :math:`\pi q/M`).
-    resolution : int
-        Moments of the exact comparison (closed walks up to length ``resolution - 1``).
-    vectors, seed : int
-        Random vectors of the stochastic traces.
-    quantile : float
-        The band edges are the energies below which (above which) this fraction of states lies.
-    abelian : bool
+    moments : int, optional
+        KPM moments of the densities shown (resolution about :math:`\pi q/M`, units of t),
+        8 to 100 000. Default 256.
+    resolution : int, optional
+        Moments of the exact comparison (closed walks up to length ``resolution - 1``), 4 to
+        ``min(moments, 200)``. Default 40.
+    vectors : int, optional
+        Random vectors of the stochastic traces (at least 3, for the jackknife). Default 8.
+    seed : int, optional
+        Seed of the random vectors (>= 0). Default 0.
+    quantile : float, optional
+        The band edges are the energies below which (above which) this fraction of states lies,
+        1e-8 to 0.25. Default 1e-3.
+    abelian : bool, optional
         Include the Abelian DOS of the smallest cluster (needs graph/bands.py; else a note).
-    abelian_samples : int
-        k-points of the Abelian DOS.
+        Default True.
+    abelian_samples : int, optional
+        k-points of the Abelian DOS. Default 200.
     quantile_moments : int, optional
         Moments of a separate, sharper KPM run on the largest cluster for the continuum comparison
         of the quantile energies (default: reuse the ``moments`` run).
-    walk_length : int
+    walk_length : int, optional
         Longest exact closed walk for the proven bounds on :math:`\rho` (at least ``resolution - 1``;
-        45 for {7,3} needs a 12-ring flake, 0.7 s).
+        45 for {7,3} needs a 12-ring flake, 0.7 s), 6 to 200. Default 45.
+    progress : callable, optional
+        Receives one-line messages as the routes run.
+
+    Returns
+    -------
+    DosComparison
+        One curve per cluster, flake and Abelian DOS (``labels``, ``kinds``, ``sites``,
+        ``density`` per site and unit energy on ``energies``), the exact ``reference``, the
+        :math:`L^1` ``distance`` of each curve from it, the quantile band edges ``bottom`` and
+        ``top``, the proven bounds ``rho_lower``, ``rho_upper``, the continuum band bottoms and
+        quantile energies, and ``notes`` on what was left out.
+
+    Raises
+    ------
+    ValueError
+        If {p,q} is not hyperbolic or an argument is out of its range, ``clusters`` is not a list
+        of names or ``rings`` not a list of ring counts.
+
+    See Also
+    --------
+    hyperlattice.graph.kpm.kpm_dos, hyperlattice.graph.kpm.bulk_dos
+    continuum_dos : the continuum side.
+
+    Examples
+    --------
+    A small, fast comparison: the interior of a 3-ring flake against the exact moments.
+
+    >>> import hyperlattice as hl
+    >>> cmp = hl.dos_comparison(7, 3, clusters=[], rings=[3], moments=32, resolution=8,
+    ...                         vectors=3, walk_length=7, abelian=False)
+    >>> cmp.labels
+    ['flake interior, 3 rings (35 of 112 sites)']
+    >>> print(f"{cmp.distance[0]:.4f}")
+    0.3291
+    >>> print(f"{cmp.rho_lower:.4f} {cmp.rho_upper:.4f}")
+    2.8284 2.9665
     """
     import time
 

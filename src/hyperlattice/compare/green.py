@@ -57,7 +57,52 @@ def continuum_column(lattice: Lattice, omega, source: int, *, tol: float = 1e-12
 
     Uses :math:`L` of ``eq12`` (``lattice.radius``); sites beyond :math:`L` get the analytic
     continuation of ``green33`` (``extend=True``). The source entry is ``inf`` (coincident
-    points). Returns ``(values, info)`` with :class:`hyperlattice.continuum.green.GreenInfo`.
+    points).
+
+    Parameters
+    ----------
+    lattice : Lattice
+        A {p,q} site lattice (``ring_lattice``; not a line graph).
+    omega : complex
+        Lattice frequency (units of t); mapped to :math:`\lambda = 4(\omega+q)/(qh^2)`.
+    source : int
+        Source site j (0-based).
+    tol : float, optional
+        Relative tolerance of the continuum series (``continuum_green``). Default 1e-12.
+
+    Returns
+    -------
+    values : ndarray of complex, shape (N,)
+        :math:`\frac{4\mathcal A}{qh^2}G(z_i,z_j,\lambda,L)` for every site i (units of 1/t);
+        ``inf`` at the source.
+    info : hyperlattice.continuum.green.GreenInfo
+        How the continuum Green function was evaluated (method, ``terms``, ``tail_estimate``).
+
+    Raises
+    ------
+    ValueError
+        For a line-graph lattice, a source out of range or a non-finite omega.
+
+    See Also
+    --------
+    compare_green : the same column against the graph Green function.
+    hyperlattice.continuum.green.continuum_green : the continuum Green function.
+
+    References
+    ----------
+    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (16) (source label
+       ``eq21``), here for general {p,q} (module docstring).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.green import continuum_column
+    >>> lat = hl.ring_lattice(7, 3, 3)
+    >>> values, info = continuum_column(lat, -3.5, 0)
+    >>> values.shape, float(values[0].real)
+    ((112,), inf)
+    >>> print(f"{values[1].real:.6f}")
+    0.148490
     """
     from ..continuum.green import continuum_green
 
@@ -83,13 +128,24 @@ def relative_l2(graph, continuum, exclude: int | None = None) -> float:
         The two columns; ``continuum`` may be infinite at ``exclude`` (the source, where the
         continuum Green function diverges) and must be finite elsewhere.
     exclude : int, optional
-        A site left out of both norms.
+        A site left out of both norms (0-based). Default None: all sites.
+
+    Returns
+    -------
+    float
+        The relative L2 distance (dimensionless).
 
     Raises
     ------
     ValueError
         For arrays of different shapes, non-finite entries outside ``exclude``, or a graph
         column that vanishes (the relative distance is undefined).
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.green import relative_l2
+    >>> round(relative_l2([1, 2, 3], [float("inf"), 2, 3.5], exclude=0), 6)
+    0.138675
     """
     g = _validate.complex_array("graph", graph, ndim=1)
     keep = np.ones(g.shape, bool)
@@ -175,7 +231,55 @@ def compare_green(lattice: Lattice, omega, source: int, *, tol: float = 1e-12,
                   resolvent: GraphResolvent | None = None) -> GreenComparison:
     r"""Graph column :math:`G_{\cdot j}(\omega)` against the generalised ``eq21``.
 
+    .. math:: G_{ij}(\omega) \approx \frac{4\mathcal A}{q h^2}\,
+              G\Bigl(z_i, z_j, \lambda = \frac{4(\omega+q)}{qh^2}, L\Bigr)
+
     ``rel_l2`` is the relative L2 distance over all sites except the source.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        A {p,q} site lattice (``ring_lattice``; not a line graph).
+    omega : complex
+        Lattice frequency (units of t); off the spectrum (give it an imaginary part inside the
+        band).
+    source : int
+        Source site j (0-based; ring 1 first, each ring counterclockwise).
+    tol : float, optional
+        Relative tolerance of the continuum series. Default 1e-12.
+    resolvent : GraphResolvent, optional
+        Reuse a factorization of :math:`H - \omega` (several sources at one omega).
+
+    Returns
+    -------
+    GreenComparison
+        ``graph`` (:math:`G_{ij}(\omega)`, ``eq20``) and ``continuum`` (right-hand side of
+        ``eq21``, infinite at the source) columns, the hyperbolic ``distance`` to the source,
+        ``lam``, ``prefactor``, ``radius`` L and ``rel_l2``.
+
+    Raises
+    ------
+    ValueError
+        For a line-graph lattice, a source out of range or a non-finite omega.
+
+    See Also
+    --------
+    continuum_column : the continuum side alone.
+    relative_l2 : the distance used for ``rel_l2``.
+
+    References
+    ----------
+    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020): the graph Green function
+       (label ``eq20``) and its continuum approximation Eq. (16) (label ``eq21``), here for
+       general {p,q} (module docstring).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> lat = hl.ring_lattice(7, 3, 3)
+    >>> cmp = hl.compare_green(lat, -3.5, 0)
+    >>> print(f"{cmp.rel_l2:.4f} {cmp.lam.real:.4f} {cmp.prefactor:.4f}")
+    0.0706 -8.7645 1.9667
     """
     _validate.lattice(lattice, kind="sites")
     source = _validate.site_index("source", source, lattice.sites)

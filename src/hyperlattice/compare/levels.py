@@ -124,6 +124,20 @@ def levels_side_by_side(graph: Levels, continuum: Levels) -> LevelComparison:
     ------
     ValueError
         If either argument is not a :class:`~hyperlattice.results.Levels` or their {p,q} differ.
+
+    See Also
+    --------
+    hyperlattice.results.compare_levels : the same comparison as a plain dict.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.levels import levels_side_by_side
+    >>> graph = hl.lowest_levels(hl.ring_lattice(7, 3, 2), 2)
+    >>> cont = hl.continuum_levels(7, 3, rings=2, levels=2)
+    >>> cmp = levels_side_by_side(graph, cont)
+    >>> [round(float(x), 4) for x in cmp.relative_difference]
+    [-0.0251, -0.0871]
     """
     base = compare_levels(graph, continuum)  # checks both are Levels
     if (graph.p, graph.q) != (continuum.p, continuum.q):
@@ -213,12 +227,34 @@ def relative_error_trend(rings, graph, continuum, *, level: str = "E0") -> Relat
         Numbers of rings l, strictly increasing.
     graph, continuum : array of float
         The level (E0, E1, ...) of the graph and of the continuum disk at each l.
-    level : str
-        Name of the level, carried into the result.
+    level : str, optional
+        Name of the level, carried into the result. Default ``"E0"``.
 
     Returns
     -------
     RelativeErrorTrend
+        ``relative_error`` at each l, the last ``sign_change`` ``[l_a, l_b]`` (None if none) and
+        its direction ``rising``, ``monotone``, the last ``increments`` and ``aitken_limit``.
+
+    Raises
+    ------
+    ValueError
+        If ``rings`` is empty or not strictly increasing integers, the arrays do not match,
+        ``level`` is not a name, or a graph energy is zero.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.levels import relative_error_trend
+    >>> from hyperlattice.compare.limits import reference_levels
+    >>> rings, E0, E1 = reference_levels(7, 3)
+    >>> rings, E0 = rings[:8], E0[:8]
+    >>> cont = [hl.continuum_levels(7, 3, rings=int(x), levels=1).energies[0] for x in rings]
+    >>> trend = relative_error_trend(rings, E0, cont)
+    >>> trend.sign_change.tolist(), trend.rising, trend.monotone
+    ([5, 6], True, True)
+    >>> [round(float(x), 4) for x in trend.relative_error[-3:]]
+    [0.0001, 0.0004, 0.0005]
     """
     ell = _validate.real_array("rings", rings, ndim=1)
     if ell.size == 0:
@@ -362,6 +398,37 @@ def graph_levels_below(lattice, cutoff: float = 0.0) -> LevelCount:
     computation per rotation sector) with each eigenvalue listed once per state. Levels within
     the eigensolver's error bound of the cutoff are not listed but counted in ``at_cutoff``
     (at cutoff 0: the flake's exact zero modes), so the count is the same on every machine.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        A {p,q} site flake (``ring_lattice``).
+    cutoff : float, optional
+        Energy cutoff (units of t). Default 0.
+
+    Returns
+    -------
+    LevelCount
+        ``energies`` below the cutoff (ascending, once per state, ``degeneracy`` 1), the number
+        of ``states``, ``at_cutoff`` (states within ``tolerance`` of the cutoff) and the disk
+        ``radius`` L of the flake.
+
+    Raises
+    ------
+    ValueError
+        For a line-graph lattice or a non-finite cutoff.
+
+    See Also
+    --------
+    continuum_levels_below, partition_functions
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.levels import graph_levels_below
+    >>> below = graph_levels_below(hl.ring_lattice(7, 3, 2))
+    >>> below.states, below.at_cutoff
+    (16, 1)
     """
     from ..graph.spectrum import full_spectrum_tolerance
 
@@ -394,19 +461,42 @@ def continuum_levels_below(p: int = 7, q: int = 3, *, rings=None, radius=None, c
 
     Parameters
     ----------
-    p, q : int
-        Schläfli symbol.
-    rings, radius
-        The disk: the radius L of the ``rings``-ring lattice (``eq12``) or L itself; give one.
-    cutoff : float
-        Energy cutoff (0 in the ``Fig2`` inset: "we limit the sums to negative energies").
-    max_table : int
+    p, q : int, optional
+        Schläfli symbol, :math:`(p-2)(q-2) > 4`. Default {7,3}.
+    rings : int, optional
+        The disk of radius L of the ``rings``-ring lattice (``eq12``).
+    radius : float, optional
+        L itself, 0 < L < 1. Give ``rings`` or ``radius``, not both.
+    cutoff : float, optional
+        Energy cutoff (units of t; 0 in the ``Fig2`` inset: "we limit the sums to negative
+        energies"). Default 0.
+    max_table : int, optional
         Largest number of (n, m) roots computed; a cutoff that needs more is refused.
+
+    Returns
+    -------
+    LevelCount
+        ``energies`` below the cutoff (ascending, a :math:`\pm m` pair once) with their
+        ``degeneracy`` (1 for m = 0, 2 otherwise), the labels ``n`` and ``m`` (:math:`|m|`), and
+        the number of ``states``.
 
     Raises
     ------
     ValueError
         For bad input, or when the levels below the cutoff need a table larger than ``max_table``.
+
+    See Also
+    --------
+    graph_levels_below, partition_functions
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.levels import continuum_levels_below
+    >>> below = continuum_levels_below(7, 3, rings=2)
+    >>> below.states, below.degeneracy[:3].tolist()
+    (10, [1, 2, 2])
+    >>> [round(float(e), 4) for e in below.energies[:3]]
+    [-2.5703, -2.0845, -1.5368]
     """
     from ..continuum.spectrum import dirichlet_levels, disk_argument
     from ..dictionary import lambda_from_energy
@@ -476,7 +566,41 @@ class PartitionComparison(Result):
 
 
 def partition_functions(graph: LevelCount, continuum: LevelCount, beta) -> PartitionComparison:
-    r"""Z and Z' of the ``Fig2`` inset from the levels below the cutoff of both sides."""
+    r"""Z and Z' of the ``Fig2`` inset from the levels below the cutoff of both sides.
+
+    :math:`Z = \sum_n\Theta(-E_n)e^{-\beta E_n}`, each level counted with its degeneracy.
+
+    Parameters
+    ----------
+    graph : LevelCount
+        From :func:`graph_levels_below`, with at least one level.
+    continuum : LevelCount
+        From :func:`continuum_levels_below`.
+    beta : float or array_like of float
+        Inverse temperatures :math:`\beta \ge 0` (units of 1/t).
+
+    Returns
+    -------
+    PartitionComparison
+        ``beta``, ``z_graph`` and ``z_continuum`` (one per beta), the graph ground state
+        ``e0_graph``, the state counts and the graph zero modes left out.
+
+    Raises
+    ------
+    ValueError
+        If an argument is not a LevelCount, the graph has no level below the cutoff, or a beta
+        is negative.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.levels import (continuum_levels_below, graph_levels_below,
+    ...                                          partition_functions)
+    >>> z = partition_functions(graph_levels_below(hl.ring_lattice(7, 3, 2)),
+    ...                         continuum_levels_below(7, 3, rings=2), [0.0, 1.0])
+    >>> [round(float(x), 4) for x in z.z_graph], [round(float(x), 4) for x in z.z_continuum]
+    ([16.0, 86.2311], [10.0, 48.96])
+    """
     if not isinstance(graph, LevelCount) or not isinstance(continuum, LevelCount):
         raise ValueError("partition_functions takes two LevelCount results (graph_levels_below, "
                          "continuum_levels_below).")

@@ -205,7 +205,40 @@ REFERENCE_LEVELS: dict = {
 
 
 def reference_levels(p: int = 7, q: int = 3) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``(rings, E0, E1)`` arrays of :data:`REFERENCE_LEVELS` for {p,q} (ValueError if none stored)."""
+    """The stored lowest two levels of the l-ring {p,q} flakes, as arrays.
+
+    Parameters
+    ----------
+    p, q : int, optional
+        Schläfli symbol of the lattice (p-gon faces, q at each vertex), :math:`(p-2)(q-2) > 4`.
+        Default {7,3}.
+
+    Returns
+    -------
+    rings : ndarray of int64
+        The ring counts l stored for {p,q}, increasing.
+    E0, E1 : ndarray of float
+        The two lowest eigenvalues of :math:`H = -A` (t = 1, energies in units of t) of each
+        flake, from :data:`REFERENCE_LEVELS`.
+
+    Raises
+    ------
+    ValueError
+        If {p,q} is not a hyperbolic lattice or no levels are stored for it.
+
+    See Also
+    --------
+    flake_levels : the same levels computed afresh.
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.limits import reference_levels
+    >>> rings, E0, E1 = reference_levels(7, 3)
+    >>> rings[:3].tolist()
+    [1, 2, 3]
+    >>> print(f"{E0[2]:.6f}")
+    -2.786702
+    """
     p, q = _validate.pq(p, q)
     table = REFERENCE_LEVELS.get((p, q))
     if table is None:
@@ -219,8 +252,43 @@ def flake_levels(p: int = 7, q: int = 3, rings=(1, 2, 3), *, cache: Cache | None
     """E0, E1 and residuals of the l-ring flakes for each l in ``rings`` (``lowest_levels``).
 
     With a :class:`~hyperlattice.cache.Cache` the spectra are stored under the same key as the
-    report's (``graph_levels``), so nothing is computed twice. Returns
-    ``{"rings", "E0", "E1", "residual"}`` (lists).
+    report's (``graph_levels``), so nothing is computed twice.
+
+    Parameters
+    ----------
+    p, q : int, optional
+        Schläfli symbol of the lattice, :math:`(p-2)(q-2) > 4`. Default {7,3}.
+    rings : sequence of int, optional
+        Ring counts l of the flakes, strictly increasing positive integers. Default ``(1, 2, 3)``.
+    cache : hyperlattice.cache.Cache, optional
+        Where spectra are looked up and stored (key ``"graph_levels"``). Default None: compute.
+
+    Returns
+    -------
+    dict
+        ``{"rings", "E0", "E1", "residual"}``, each a list with one entry per flake: the ring
+        count, the two lowest eigenvalues of :math:`H = -A` (units of t) and the largest
+        eigenpair residual.
+
+    Raises
+    ------
+    ValueError
+        If {p,q} is not hyperbolic, ``rings`` is empty or not strictly increasing positive
+        integers, or ``cache`` is not a Cache.
+
+    See Also
+    --------
+    reference_levels : stored levels up to large l, no eigensolver.
+    hyperlattice.lowest_levels : the eigensolver used.
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.limits import flake_levels
+    >>> out = flake_levels(7, 3, rings=(1, 2))
+    >>> out["rings"]
+    [1, 2]
+    >>> [round(e, 6) for e in out["E0"]]
+    [-2.0, -2.636405]
     """
     from ..graph.lattice import ring_lattice
     from ..graph.spectrum import lowest_levels
@@ -373,22 +441,45 @@ class BandBottomFit(Result):
 
 def fit_band_bottom(rings, energies, *, p: int = 7, q: int = 3, level: int = 0,
                     model: str = "disk") -> BandBottomFit:
-    """Fit one flake level against l with the model derived in the module docstring.
+    r"""Fit one flake level against l with the model derived in the module docstring.
 
     Parameters
     ----------
     rings, energies : array
         Ring counts (strictly increasing integers, at least 4 of them; 5 for ``"rational"``)
-        and the level (E0 or E1) of each flake.
-    p, q : int
-        The lattice (the disk model needs its site counts).
-    level : {0, 1}
-        Which level: the disk model uses the m = 0 or m = 1 Dirichlet root.
-    model : {"disk", "rational"}
+        and the level (E0 or E1, units of t) of each flake.
+    p, q : int, optional
+        The lattice (the disk model needs its site counts). Default {7,3}.
+    level : {0, 1}, optional
+        Which level: the disk model uses the m = 0 or m = 1 Dirichlet root. Default 0 (E0).
+    model : {"disk", "rational"}, optional
+        The fit model of the module docstring. Default ``"disk"``.
 
     Returns
     -------
     BandBottomFit
+        The fit: ``params``, ``band_bottom`` (:math:`E_b = -\rho`, units of t) and the
+        ``residuals`` (fit minus data) at the fitted ``rings``.
+
+    Raises
+    ------
+    ValueError
+        If ``rings`` are not strictly increasing positive integers, ``energies`` does not match
+        them, there are too few flakes for the model, or ``level``/``model`` is unknown.
+    hyperlattice.errors.ConvergenceError
+        If the least-squares fit does not converge.
+
+    See Also
+    --------
+    band_bottom : all fit variants together, with an error bar.
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.limits import fit_band_bottom, reference_levels
+    >>> rings, E0, E1 = reference_levels(7, 3)
+    >>> fit = fit_band_bottom(rings[-6:], E0[-6:], p=7, q=3)
+    >>> print(f"{fit.band_bottom:.4f}")
+    -2.9412
     """
     from scipy.optimize import least_squares
 
@@ -554,16 +645,40 @@ def schur_bound(p: int = 7, q: int = 3, *, window: int = 8, rings: int | None = 
 
     Parameters
     ----------
-    p, q : int
-    window : int
-        W >= 0 (module docstring); the bound tightens slowly with W (W = 32: 2.9459 for {7,3}).
+    p, q : int, optional
+        Schläfli symbol of the lattice, :math:`(p-2)(q-2) > 4`. Default {7,3}.
+    window : int, optional
+        W, 0 <= W <= 256 (module docstring); the bound tightens slowly with W (W = 32: 2.9459
+        for {7,3}). Default 8.
     rings : int, optional
-        Flake the patterns are collected from (default: the largest with at most 400 000 sites,
-        at least 7 rings).
+        Flake the patterns are collected from, 5 to 14 rings (default: the largest with at most
+        400 000 sites, at least 7 rings).
 
     Returns
     -------
     SchurBound
+        ``bound`` (the certified c with :math:`\rho \le c`, units of t), the ring factor ``x``,
+        the number of ``patterns`` and ``types``, and ``closed`` (whether the pattern set had
+        stopped growing, which makes the bound hold on the infinite lattice).
+
+    Raises
+    ------
+    ValueError
+        If {p,q} is not hyperbolic, ``window`` or ``rings`` is out of range, or the flake (more
+        than 2 000 000 sites) or its ring words would be too large.
+
+    See Also
+    --------
+    band_bottom : uses this bound as the lower end of its rigorous interval.
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.limits import schur_bound
+    >>> sb = schur_bound(7, 3, window=0, rings=5)
+    >>> print(f"{sb.bound:.4f}")
+    2.8615
+    >>> sb.closed
+    False
     """
     from scipy.optimize import minimize_scalar
 
@@ -700,18 +815,48 @@ def band_bottom(p: int = 7, q: int = 3, rings=None, E0=None, E1=None, *, schur_w
 
     Parameters
     ----------
-    p, q : int
+    p, q : int, optional
+        Schläfli symbol of the lattice, :math:`(p-2)(q-2) > 4`. Default {7,3}.
     rings, E0, E1 : array, optional
-        Flake levels; default :data:`REFERENCE_LEVELS` from l = 3 on (the fits use the last
-        5 to 7 of them: the smallest flakes are far from the asymptotic regime).
-    schur_window : int or None
-        W of :func:`schur_bound` (None: no upper bound on rho, ``lower`` is NaN).
+        Flake levels (ring counts, strictly increasing positive integers, and the two lowest
+        eigenvalues of :math:`H = -A`, units of t; at least 6 flakes); default
+        :data:`REFERENCE_LEVELS` from l = 3 on (the fits use the last 5 to 7 of them: the
+        smallest flakes are far from the asymptotic regime). Give all three or none.
+    schur_window : int or None, optional
+        W of :func:`schur_bound` (None: no upper bound on rho, ``lower`` is NaN). Default 8.
     max_rings : int, optional
         Use only flakes up to this l (to test the extrapolation on larger flakes).
 
     Returns
     -------
     BandBottom
+        ``estimate`` and ``error`` (route (a), units of t), the rigorous interval ``lower``,
+        ``upper`` (route (b)), the fit ``variants``, the two maps' edges ``paper_edge`` and
+        ``improved_edge`` and the band curvature ``band_mass``; ``rho`` is :math:`-E_b`.
+
+    Raises
+    ------
+    ValueError
+        If {p,q} is not hyperbolic or has no stored levels, only some of ``rings, E0, E1`` are
+        given, the rings are not strictly increasing positive integers, fewer than 6 flakes
+        remain, or E1 lies below E0.
+    hyperlattice.errors.ConvergenceError
+        If one of the fits does not converge.
+
+    See Also
+    --------
+    fit_band_bottom : one fit variant.
+    schur_bound : the rigorous upper bound on :math:`\rho`.
+    plateau_analysis : what the band bottom implies for the paper's map.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> band = hl.band_bottom(7, 3, schur_window=None)
+    >>> print(f"{band.estimate:.5f} +- {band.error:.0e}")
+    -2.94116 +- 6e-05
+    >>> print(f"{band.upper:.6f}")
+    -2.932963
     """
     p, q = _validate.pq(p, q)
     if rings is None:
@@ -806,8 +951,54 @@ class PlateauAnalysis(Result):
 def plateau_analysis(band: BandBottom, rings=None, E0=None, E1=None) -> PlateauAnalysis:
     r"""Why the relative error of the paper's map saturates, from a :class:`BandBottom`.
 
-    ``rings, E0, E1`` default to :data:`REFERENCE_LEVELS` of the band's lattice (all flakes from
-    l = 3 on).
+    The graph levels go to :math:`-\rho`, the paper's continuum levels to
+    :math:`E_\infty = -q + \frac q4 h^2`, so the relative error tends to
+    :math:`(-\rho - E_\infty)/\rho`; this splits that difference into the isotropic and
+    anisotropic terms of the star (module docstring, "Why the plateau").
+
+    Parameters
+    ----------
+    band : BandBottom
+        The band bottom of the lattice, from :func:`band_bottom`.
+    rings, E0, E1 : array, optional
+        Flake levels (ring counts, strictly increasing positive integers, and the two lowest
+        eigenvalues of :math:`H = -A`, units of t; at least 6 flakes). Default
+        :data:`REFERENCE_LEVELS` of the band's lattice (all flakes from l = 3 on). Give all
+        three or none.
+
+    Returns
+    -------
+    PlateauAnalysis
+        The relative errors ``relative_E0``, ``relative_E1`` of the paper's map at each flake,
+        their ``limit`` (with ``limit_error``), the fitted curve continued to large l with its
+        ``peak_rings`` and ``peak_value``, and the split ``terms``.
+
+    Raises
+    ------
+    ValueError
+        If ``band`` is not a BandBottom, only some of ``rings, E0, E1`` are given, the rings are
+        not strictly increasing positive integers or fewer than 6 flakes are given.
+
+    See Also
+    --------
+    band_bottom, compare_dictionaries
+
+    References
+    ----------
+    .. [1] I. Boettcher et al., "Quantum simulation of hyperbolic space with circuit quantum
+       electrodynamics: From graphs to geometry", Phys. Rev. A 102, 032208 (2020): Eq. (7)
+       (:math:`A \approx 3 + \frac34 h^2\Delta_g`, source label ``eq10``), which gives
+       :math:`E_\infty`, and the appendix on the :math:`h^3` correction (``adj32``, ``adj33``).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> band = hl.band_bottom(7, 3, schur_window=None)
+    >>> pa = hl.plateau_analysis(band)
+    >>> print(f"{pa.limit:.4f}")
+    0.0006
+    >>> sorted(pa.terms)[:3]
+    ['anisotropic', 'anisotropic_error', 'isotropic_h4']
     """
     from ..continuum.spectrum import continuum_levels
 
@@ -931,10 +1122,50 @@ class DictionaryComparison(Result):
 
 def compare_dictionaries(rings=None, E0=None, E1=None, *, p: int = 7, q: int = 3,
                          band: BandBottom | None = None) -> DictionaryComparison:
-    """Graph levels against the continuum levels of both dictionaries (``continuum_levels``).
+    r"""Graph levels against the continuum levels of both dictionaries (``continuum_levels``).
 
-    ``rings, E0, E1`` default to :data:`REFERENCE_LEVELS` for l = 6..(largest stored); ``band``
-    (a :class:`BandBottom` of the same lattice) adds the improved map's l -> infinity limit.
+    Parameters
+    ----------
+    rings, E0, E1 : array, optional
+        Flake levels: ring counts (strictly increasing positive integers) and the two lowest
+        eigenvalues of :math:`H = -A` (units of t, nonzero). Default :data:`REFERENCE_LEVELS`
+        for l = 6..(largest stored). Give all three or none.
+    p, q : int, optional
+        Schläfli symbol of the lattice, :math:`(p-2)(q-2) > 4`. Default {7,3}.
+    band : BandBottom, optional
+        The band bottom of the same lattice (:func:`band_bottom`); adds the improved map's
+        l -> infinity limit. Default None (``improved_limit`` is NaN).
+
+    Returns
+    -------
+    DictionaryComparison
+        The relative errors :math:`(E_{\rm graph} - E_{\rm cont})/|E_{\rm graph}|` of E0 and E1
+        for the ``paper`` and ``improved`` maps at each l, and ``improved_limit`` (with
+        ``improved_limit_error``); ``gain()`` gives the ratio of the two errors.
+
+    Raises
+    ------
+    ValueError
+        If {p,q} is not hyperbolic or has no stored levels, only some of ``rings, E0, E1`` are
+        given, the rings are not strictly increasing positive integers, a graph energy is zero,
+        or ``band`` belongs to another lattice.
+
+    See Also
+    --------
+    hyperlattice.continuum_levels : the continuum levels, ``dictionary="paper"`` or
+        ``"improved"``.
+    plateau_analysis
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.limits import reference_levels
+    >>> rings, E0, E1 = reference_levels(7, 3)
+    >>> dc = hl.compare_dictionaries(rings[-2:], E0[-2:], E1[-2:], p=7, q=3)
+    >>> dc.rings.tolist()
+    [15, 16]
+    >>> print(f"{dc.paper_E0[-1]:.4f} {dc.gain()['E0']:.1f}")
+    0.0007 47.1
     """
     from ..continuum.spectrum import continuum_levels
 

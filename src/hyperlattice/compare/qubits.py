@@ -143,10 +143,53 @@ def exchange_comparison(lattice: Lattice, omega_q, g, site: int = 0, *,
     r"""Graph :math:`J_{j_0 i} = g^2G_{j_0i}(\omega_q)` against ``eq21`` for all i (line graphs through the
     identity of the module docstring).
 
+    Parameters
+    ----------
+    lattice : Lattice
+        A {p,q} flake (``ring_lattice``) or its line graph (the resonator array).
+    omega_q : float
+        Qubit frequency (units of t), below the band of the lattice
+        (:math:`\omega_q < E_0(\ell)`, checked exactly).
+    g : float
+        Qubit-photon coupling (units of t), nonzero.
+    site : int, optional
+        The first qubit's site :math:`j_0` (0-based; a resonator on a line graph). Default 0.
+    resolvent : BelowBandResolvent, optional
+        Reuse a factorization of :math:`H - \omega_q` (several sites at one frequency).
+
+    Returns
+    -------
+    ExchangeComparison
+        ``graph`` and ``continuum`` exchange :math:`J` (units of t) to every site, the hyperbolic
+        ``distance`` to :math:`j_0`, ``rel_l2``, the binned means ``graph_mean`` and
+        ``continuum_mean`` on ``bins``, and the fitted decay lengths (NaN when the flake is too
+        small for the 2–6 edge-length window).
+
     Raises
     ------
     ValueError
-        Bad input, :math:`\omega_q` not below the band.
+        Bad input, g = 0 or :math:`g^2` overflowing, :math:`\omega_q` not below the band.
+
+    See Also
+    --------
+    bound_state_sizes : the exact bound states and their size.
+    hyperlattice.compare.green.continuum_column : the continuum column.
+
+    References
+    ----------
+    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (16) (source label ``eq21``).
+    .. [2] P. Bienias et al., Phys. Rev. Lett. 128, 013601 (2022).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> lat = hl.ring_lattice(7, 3, 4)
+    >>> ex = hl.exchange_comparison(lat, -3.2, 0.1)
+    >>> print(f"{ex.rel_l2:.4f}")
+    0.0643
+    >>> ex_lg = hl.exchange_comparison(hl.line_graph(hl.ring_lattice(7, 3, 3)), -5.0, 0.1)
+    >>> print(ex_lg.kind, f"{ex_lg.rel_l2:.4f}")
+    line_graph 0.0713
     """
     lat = _validate.lattice(lattice)
     site = _validate.site_index("site", site, lat.sites)
@@ -242,7 +285,50 @@ def _mean_distance(amplitude: np.ndarray, d: np.ndarray) -> float:
 
 
 def bound_state_sizes(lattice: Lattice, omegas_q, g, site: int = 0) -> BoundStateSizes:
-    r"""Exact bound states (:func:`hyperlattice.graph.qubits.bound_state`) for each :math:`\omega_q` and their sizes."""
+    r"""Exact bound states (:func:`hyperlattice.graph.qubits.bound_state`) for each :math:`\omega_q` and their sizes.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        A {p,q} flake or its line graph.
+    omegas_q : array_like of float
+        Qubit frequencies (units of t), each below the band; 1 to 200 of them.
+    g : float
+        Qubit-photon coupling (units of t).
+    site : int, optional
+        The qubit's site (0-based). Default 0.
+
+    Returns
+    -------
+    BoundStateSizes
+        Per frequency: ``detuning`` :math:`E_0 - \omega_q`, the bound-state ``energy``, the mean
+        distance of the photon profile ``size_graph`` and ``size_continuum`` (NaN on line graphs),
+        the fitted ``decay_length_graph`` and the continuum's ``decay_length_asymptotic``
+        :math:`1/(2\Delta)`.
+
+    Raises
+    ------
+    ValueError
+        Bad input, no or too many frequencies, a frequency not below the band.
+
+    See Also
+    --------
+    exchange_comparison
+
+    References
+    ----------
+    .. [1] P. Bienias et al., Phys. Rev. Lett. 128, 013601 (2022), "curvature-limited size".
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.qubits import bound_state_sizes
+    >>> bs = bound_state_sizes(hl.ring_lattice(7, 3, 4), [-3.0, -3.5], 0.1)
+    >>> [round(float(x), 4) for x in bs.detuning]
+    [0.1534, 0.6534]
+    >>> [round(float(x), 4) for x in bs.size_graph]
+    [0.5638, 0.3691]
+    """
     from ..graph.spectrum import lowest_levels
 
     lat = _validate.lattice(lattice)

@@ -173,17 +173,43 @@ def frame_angles(lattice: Lattice, *, tol: float = STAR_TOL) -> FrameAngles:
     ----------
     lattice : Lattice
         A {p,q} lattice of ``kind == "sites"`` (the line graph has no regular star).
-    tol : float
-        Largest accepted distance of a mapped neighbour from its ideal star point.
+    tol : float, optional
+        Largest accepted distance of a mapped neighbour from its ideal star point (Euclidean, in
+        the Poincaré disk). Default :data:`STAR_TOL` (1e-10).
 
     Returns
     -------
     FrameAngles
+        Per site: ``chi`` :math:`\chi_i \in [0, 2\pi/q)` (NaN for isolated sites), ``delta``
+        :math:`\delta_i`, ``full`` (full coordination q) and the star ``residual``; with the
+        lattice's ``h`` = tanh(d0) and the coordinates ``z``.
+
+    Raises
+    ------
+    ValueError
+        If ``lattice`` is not a site lattice or ``tol`` is out of range.
 
     Warns
     -----
     ConvergenceWarning
         If some fully coordinated site misses the ideal star by more than ``tol``.
+
+    References
+    ----------
+    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020), App. "Derivation of Eq. (7)
+       and corrections" (source labels ``adj2``, ``adj7``--``adj9``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import hyperlattice as hl
+    >>> fa = hl.frame_angles(hl.ring_lattice(7, 3, 3))
+    >>> fa.chi.shape, int(fa.full.sum())
+    ((112,), 56)
+    >>> print(f"{fa.h:.6f} {fa.chi[0]:.6f}")
+    0.275798 1.047198
+    >>> bool(np.max(fa.residual) < 1e-12)
+    True
     """
     if not isinstance(lattice, Lattice):
         raise ValueError("frame_angles needs a Lattice from ring_lattice().")
@@ -249,6 +275,39 @@ def radial_profile(z: np.ndarray, values: np.ndarray, *, rtol: float = 1e-9,
     """Average ``values`` over sites of equal radius ``|z|`` (radii equal to ``rtol``).
 
     ``value_tol`` decides when the sites of one radius disagree (non-unique map r -> value).
+
+    Parameters
+    ----------
+    z : ndarray of complex, shape (N,)
+        Site positions in the Poincaré disk, not empty.
+    values : ndarray of float, shape (N,)
+        One real value per site.
+    rtol : float, optional
+        Relative tolerance (>= 0) below which two radii count as one. Default 1e-9.
+    value_tol : float, optional
+        Largest spread (>= 0) of the values at one radius that still counts as one value.
+        Default 1e-8.
+
+    Returns
+    -------
+    RadialProfile
+        Per distinct radius (increasing): ``r``, ``mean``, ``min``, ``max``, ``count`` and
+        ``unique`` (spread at most ``value_tol``); ``distance`` gives :math:`d(r, 0)`.
+
+    Raises
+    ------
+    ValueError
+        If the arrays are empty, of different lengths or not finite, or a tolerance is negative.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from hyperlattice.compare.scaling import radial_profile
+    >>> prof = radial_profile(np.array([0.5, -0.5, 0.5j, 0.8]), np.array([1.0, 1.0, 2.0, 3.0]))
+    >>> prof.r.tolist(), prof.count.tolist(), prof.unique.tolist()
+    ([0.5, 0.8], [3, 1], [False, True])
+    >>> [round(float(v), 6) for v in prof.mean]
+    [1.333333, 3.0]
     """
     z = _validate.complex_array("z", z, ndim=1)
     values = _validate.real_array("values", values, ndim=1)
@@ -278,6 +337,40 @@ def angle_profile(lattice: Lattice | FrameAngles) -> RadialProfile:
     :math:`\delta_i` is defined modulo :math:`2\pi/q`, so :math:`\cos(q\delta_i)` (the
     combination entering ``adj36``) is the quantity with a meaning; sites without neighbours
     (undefined :math:`\delta_i`) are left out. The one place the CLI and the figure get it from.
+
+    Parameters
+    ----------
+    lattice : Lattice or FrameAngles
+        A {p,q} site lattice, or its :func:`frame_angles`.
+
+    Returns
+    -------
+    RadialProfile
+        :math:`\cos(q\delta_i)` per distinct radius: ``mean``, ``min``, ``max``, ``count``,
+        ``unique``.
+
+    Raises
+    ------
+    ValueError
+        If ``lattice`` is neither a Lattice nor FrameAngles, or is not a site lattice.
+
+    See Also
+    --------
+    frame_angles
+
+    References
+    ----------
+    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020), App. "Derivation of Eq. (7)
+       and corrections" and App. "Finite-size scaling limit" (source labels ``adj14``,
+       ``adj26``--``adj36``).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.scaling import angle_profile
+    >>> prof = angle_profile(hl.ring_lattice(7, 3, 3))
+    >>> prof.r.size, [round(float(c), 4) for c in prof.mean[:3]]
+    (10, [-1.0, 1.0, -0.189])
     """
     angles = _angles(lattice)
     sel = np.isfinite(angles.delta)
@@ -514,13 +607,40 @@ def formal_operator(lattice: Lattice | FrameAngles, f: SmoothFunction, h: float 
         Test function.
     h : float, optional
         :math:`0 < h \le \tanh d_0`; default the lattice value.
-    sites : {"full", "all"}, bool mask or index array
+    sites : {"full", "all"}, bool mask or index array, optional
         Where to evaluate; default the fully coordinated sites.
 
     Returns
     -------
     ndarray of complex
         One value per selected site.
+
+    Raises
+    ------
+    ValueError
+        If h is not in :math:`(0, \tanh d_0]`, ``f`` is not callable, or the selection is
+        malformed or holds sites without neighbours.
+
+    See Also
+    --------
+    expansion : its small-h approximations.
+
+    References
+    ----------
+    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020), App. "Derivation of Eq. (7)
+       and corrections" and App. "Finite-size scaling limit" (source labels ``adj14``,
+       ``adj26``--``adj36``).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.scaling import SmoothFunction, formal_operator
+    >>> lat = hl.ring_lattice(7, 3, 3)
+    >>> values = formal_operator(lat, SmoothFunction.cos_distance())
+    >>> values.shape
+    (56,)
+    >>> print(f"{values[0].real:.6f}")
+    0.832996
     """
     angles = _angles(lattice)
     f = _validate.function("f", f)
@@ -544,7 +664,53 @@ def expansion(lattice: Lattice | FrameAngles, f: SmoothFunction, h: float | None
       :math:`\frac{h^4}{6}[e^{4i\chi}\mathcal D_4 f + e^{-4i\chi}\bar{\mathcal D}_4 f]`.
 
     Every derivative is exact (:class:`SmoothFunction`). See the module docstring for the
-    derivation. Parameters as in :func:`formal_operator`.
+    derivation.
+
+    Parameters
+    ----------
+    lattice : Lattice or FrameAngles
+        The lattice (its frame angles are computed) or precomputed :func:`frame_angles`.
+    f : SmoothFunction
+        Test function with exact derivatives.
+    h : float, optional
+        :math:`0 < h \le \tanh d_0`; default the lattice value.
+    order : {2, 3, 4}, optional
+        Last power of h kept. Default 2.
+    sites : {"full", "all"}, bool mask or index array, optional
+        Where to evaluate; default the fully coordinated sites.
+
+    Returns
+    -------
+    ndarray of complex
+        One value per selected site.
+
+    Raises
+    ------
+    ValueError
+        If ``order`` is not 2, 3 or 4, ``f`` is not a SmoothFunction, h is out of range or the
+        selection is malformed.
+
+    See Also
+    --------
+    formal_operator : the exact operator.
+    expected_error_order : how fast the difference vanishes.
+
+    References
+    ----------
+    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020), App. "Derivation of Eq. (7)
+       and corrections" and App. "Finite-size scaling limit" (source labels ``adj14``,
+       ``adj26``--``adj36``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.scaling import SmoothFunction, expansion, formal_operator
+    >>> lat = hl.ring_lattice(7, 3, 3)
+    >>> f = SmoothFunction.cos_distance()
+    >>> exact = formal_operator(lat, f)
+    >>> [f"{np.max(np.abs(exact - expansion(lat, f, order=k))):.2e}" for k in (2, 3)]
+    ['1.36e-01', '2.04e-02']
     """
     if isinstance(order, bool) or not isinstance(order, (int, np.integer)) or order not in (2, 3, 4):
         raise ValueError(f"order must be 2, 3 or 4 (the expansion is derived through h^4), got {order!r}.")
@@ -633,6 +799,31 @@ def operator_profile(lattice: Lattice | FrameAngles, f: SmoothFunction | None = 
     Returns
     -------
     OperatorProfile
+        ``exact``, ``quadratic`` and ``cubic`` :class:`RadialProfile` of the real parts,
+        ``max_error_quadratic``, ``max_error_cubic``, and for a radial f the fine curve
+        ``curve_distance``, ``curve_quadratic``.
+
+    Raises
+    ------
+    ValueError
+        If ``f`` is not a SmoothFunction, h is out of range, or the lattice has no fully
+        coordinated site (one ring).
+
+    References
+    ----------
+    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020), App. "Derivation of Eq. (7)
+       and corrections" and App. "Finite-size scaling limit" (source labels ``adj14``,
+       ``adj26``--``adj36``).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.scaling import operator_profile
+    >>> prof = operator_profile(hl.ring_lattice(7, 3, 3))
+    >>> prof.function
+    'cos(pi d(z,0))'
+    >>> print(f"{prof.max_error_quadratic:.2e} {prof.max_error_cubic:.2e}")
+    1.36e-01 2.04e-02
     """
     angles = _angles(lattice)
     f = _smooth(f if f is not None else SmoothFunction.cos_distance())
@@ -660,6 +851,31 @@ def expected_error_order(q: int, order: int) -> int:
 
     The next non-vanishing order k > ``order``: even k always (isotropic m = n term), odd k
     only for odd q with q <= k (an anisotropic term with m - n = +-q). Generic f assumed.
+
+    Parameters
+    ----------
+    q : int
+        Coordination number, >= 3.
+    order : int
+        Last power of h kept in the approximation, >= 1.
+
+    Returns
+    -------
+    int
+        The power k of the leading error term :math:`O(h^k)`.
+
+    Raises
+    ------
+    ValueError
+        If q < 3 or ``order`` < 1 (or either is not an integer).
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.scaling import expected_error_order
+    >>> [expected_error_order(3, k) for k in (2, 3, 4)]
+    [3, 4, 5]
+    >>> [expected_error_order(4, k) for k in (2, 3, 4)]
+    [4, 4, 6]
     """
     q = _validate.integer("q", q, minimum=3)
     k = _validate.integer("order", order, minimum=1) + 1
@@ -703,11 +919,58 @@ def convergence_study(lattice: Lattice | FrameAngles, f: SmoothFunction, hs=None
     asymptotic regime, large enough that the :math:`h^6` errors of order 4 stay 1000x above
     round-off). The exponent is the slope of a least-squares line in log-log.
 
+    Parameters
+    ----------
+    lattice : Lattice or FrameAngles
+        A {p,q} site lattice with at least 2 rings, or its :func:`frame_angles`.
+    f : SmoothFunction
+        Test function (its higher derivatives must not vanish).
+    hs : array_like of float, optional
+        3 to :data:`MAX_H_VALUES` values :math:`0 < h \le \tanh d_0`; default
+        ``geomspace(0.01, 0.08, 8)``.
+    orders : sequence of int, optional
+        Orders k among 2, 3, 4. Default ``(2, 3, 4)``.
+    tol : float, optional
+        Largest accepted deviation (> 0) of a fitted exponent from the expected one before a
+        warning. Default 0.2.
+
+    Returns
+    -------
+    ConvergenceStudy
+        ``h``, and per order k: ``errors[k]`` (one per h), the fitted ``exponents[k]``, the
+        ``expected[k]`` power and the fit's ``fit_rms[k]``.
+
+    Raises
+    ------
+    ValueError
+        For bad input, fewer than 3 or too many h, an h out of range, bad ``orders``, a lattice
+        without fully coordinated sites, or an error that vanishes identically.
+
     Warns
     -----
     ConvergenceWarning
         If a fitted exponent differs from :func:`expected_error_order` by more than ``tol``
         or the log-log fit is not straight (rms residual > 0.05).
+
+    See Also
+    --------
+    expected_error_order, formal_operator, expansion
+
+    References
+    ----------
+    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020), App. "Derivation of Eq. (7)
+       and corrections" and App. "Finite-size scaling limit" (source labels ``adj14``,
+       ``adj26``--``adj36``).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.scaling import SmoothFunction, convergence_study
+    >>> study = convergence_study(hl.ring_lattice(7, 3, 3), SmoothFunction.exp_x())
+    >>> {k: round(v, 1) for k, v in study.exponents.items()}
+    {2: 3.0, 3: 4.0, 4: 5.0}
+    >>> study.expected
+    {2: 3, 3: 4, 4: 5}
     """
     angles = _angles(lattice)
     _smooth(f)

@@ -85,7 +85,20 @@ _SCALAR = (int, float, str, bool, type(None))
 
 
 def have_dask() -> bool:
-    """True if dask.distributed can be imported."""
+    """True if dask.distributed can be imported.
+
+    Returns
+    -------
+    bool
+        Whether the Dask schedulers of :func:`run_sweep` are available (without them only
+        ``scheduler="serial"`` runs).
+
+    Examples
+    --------
+    >>> from hyperlattice.sweep.engine import have_dask
+    >>> isinstance(have_dask(), bool)
+    True
+    """
     try:
         import distributed  # noqa: F401
     except ImportError:
@@ -118,7 +131,33 @@ def _canonical(value):
 
 
 def task_key(task: str, params: dict) -> str:
-    """``<task>-<sha256 of the sorted parameters, 24 hex digits>``: equal tasks, equal keys."""
+    """``<task>-<sha256 of the sorted parameters, 24 hex digits>``: equal tasks, equal keys.
+
+    Parameters
+    ----------
+    task : str
+        Task name.
+    params : dict
+        Parameter name (str) to value (numbers, strings, booleans, None or lists of them).
+        ``1`` and ``1.0`` give different keys; :func:`expand_grid` makes values canonical.
+
+    Returns
+    -------
+    str
+        The key, the same in every process and on every machine.
+
+    Raises
+    ------
+    ValueError
+        If ``task`` is not a string, ``params`` not a dict with string keys, or a value cannot
+        be written as JSON.
+
+    Examples
+    --------
+    >>> from hyperlattice.sweep.engine import task_key
+    >>> task_key("probe", {"x": 1.0, "sleep": 0.0})
+    'probe-6e621f423fe33c172460a69e'
+    """
     if not isinstance(task, str):
         raise ValueError(f"task must be a task name (a string), got {type(task).__name__}.")
     if not isinstance(params, dict) or not all(isinstance(k, str) for k in params):
@@ -147,6 +186,33 @@ def expand_grid(task: str, grid: dict) -> list[dict]:
 
     Order: the first parameter varies slowest, as in nested loops in the grid's order. Every
     combination is checked (:class:`~hyperlattice.sweep.tasks.Task` ``check``) before anything runs.
+
+    Parameters
+    ----------
+    task : str
+        A registered task (:data:`hyperlattice.sweep.tasks.TASKS`).
+    grid : dict
+        Parameter name to a list of values (or one value). Values must be finite numbers,
+        strings, booleans or None.
+
+    Returns
+    -------
+    list of dict
+        One complete parameter dict per grid point (the task's defaults filled in), each point
+        once even when the grid lists it twice.
+
+    Raises
+    ------
+    ValueError
+        For an unknown task or parameter, an empty value list, a value of the wrong kind, a
+        point the task's check refuses, or more points than :func:`run_sweep` accepts
+        (:data:`MAX_TASKS`, fewer when memory is short).
+
+    Examples
+    --------
+    >>> from hyperlattice.sweep.engine import expand_grid
+    >>> expand_grid("probe", {"x": [1, 2], "sleep": 0.0})
+    [{'x': 1, 'sleep': 0.0}, {'x': 2, 'sleep': 0.0}]
     """
     spec = get_task(task)
     if not isinstance(grid, dict):
@@ -458,23 +524,58 @@ def run_sweep(task: str, grid: dict, path, *, scheduler=None, workers: int | Non
         means serial) is available.
     workers : int, optional
         Workers of the local cluster (default: one per core).
-    retries : int
-        Extra attempts of a task that raises.
-    progress : bool or None
+    retries : int, optional
+        Extra attempts of a task that raises. Default 2.
+    progress : bool or None, optional
         tqdm progress bar on stderr; None: when stderr is a terminal (:mod:`hyperlattice._progress`).
+        Default True.
     timeout : float, optional
         Seconds after which unfinished tasks are cancelled and reported as failed.
     on_row : callable, optional
         Called with each key as its result arrives (e.g. to log, or to stop the run: rows that
         arrived are written before the exception leaves).
-    flush_seconds, flush_rows : float, int
+    flush_seconds, flush_rows : float, int, optional
         Finished rows are written as one part when this many seconds passed since the last write
         or this many rows wait (one file per task would cost a file per row; a driver killed
-        outright loses at most these rows, which the next run recomputes).
+        outright loses at most these rows, which the next run recomputes). Defaults 2.0 s and
+        1000 rows.
 
     Returns
     -------
     SweepReport
+        ``total`` tasks of the grid, ``completed`` (written by this run), ``skipped`` (already
+        on disk), ``failed`` (key, parameters and error of each task that still failed),
+        ``path`` and ``table`` of the sweep, ``scheduler`` used and ``seconds``; ``ok`` is True
+        when every task has its row.
+
+    Raises
+    ------
+    ValueError
+        For an unknown task or parameter, a bad grid or scheduler argument, a grid larger than
+        :data:`MAX_TASKS` (or than memory allows), a Dask scheduler asked for without dask
+        installed, or an unusable sweep directory.
+    hyperlattice.errors.HyperlatticeError
+        If no Dask scheduler answers at the given address (within ``timeout``, at most
+        :data:`CONNECT_TIMEOUT` s).
+
+    See Also
+    --------
+    read_table : the rows written.
+    expand_grid : the points of a grid.
+
+    Examples
+    --------
+    The ``probe`` task (y = x², no physics) in this process:
+
+    >>> import os, tempfile
+    >>> import hyperlattice as hl
+    >>> where = os.path.join(tempfile.mkdtemp(), "probe")
+    >>> report = hl.run_sweep("probe", {"x": [1.0, 2.0, 3.0]}, where, scheduler="serial", progress=False)
+    >>> report.total, report.completed, report.skipped, report.ok
+    (3, 3, 0, True)
+    >>> again = hl.run_sweep("probe", {"x": [1.0, 2.0, 3.0]}, where, scheduler="serial", progress=False)
+    >>> again.completed, again.skipped
+    (0, 3)
     """
     spec = get_task(task)
     retries = _validate.integer("retries", retries, minimum=0, maximum=100)

@@ -74,7 +74,20 @@ _OURS_BEFORE_MANIFEST = {"parts", _LOCK}
 
 
 def have_pyarrow() -> bool:
-    """True if pyarrow (the Parquet backend) can be imported."""
+    """True if pyarrow (the Parquet backend) can be imported.
+
+    Returns
+    -------
+    bool
+        Whether sweep tables can be written and read as Parquet (otherwise the JSON form is
+        used).
+
+    Examples
+    --------
+    >>> from hyperlattice.sweep.store import have_pyarrow
+    >>> isinstance(have_pyarrow(), bool)
+    True
+    """
     try:
         import pyarrow  # noqa: F401
         import pyarrow.parquet  # noqa: F401
@@ -455,6 +468,38 @@ def read_table(path) -> SweepTable:
     """Read a sweep directory's table (all finished rows, sorted by grid position) and its metadata.
 
     Reads the parts, so it also works on a sweep that is still running or was interrupted.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The sweep directory given to :func:`~hyperlattice.sweep.engine.run_sweep`.
+
+    Returns
+    -------
+    SweepTable
+        ``columns`` (name to numpy array for numeric columns, list otherwise; one entry per
+        finished row, with the task's parameters, its results, ``key`` and ``index``) and
+        ``metadata`` (the sweep's manifest); ``rows()`` and ``to_pandas()`` give other views.
+
+    Raises
+    ------
+    ValueError
+        If ``path`` is not an existing sweep directory, its manifest is unreadable, or its
+        Parquet parts need pyarrow, which is not installed.
+
+    See Also
+    --------
+    hyperlattice.sweep.engine.run_sweep
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import hyperlattice as hl
+    >>> where = os.path.join(tempfile.mkdtemp(), "probe")
+    >>> _ = hl.run_sweep("probe", {"x": [1.0, 2.0, 3.0]}, where, scheduler="serial", progress=False)
+    >>> table = hl.read_table(where)
+    >>> len(table), table.columns["y"].tolist()
+    (3, [1.0, 4.0, 9.0])
     """
     p = _validate.directory("the sweep directory", path, create=False)
     if not (p / _MANIFEST).exists():

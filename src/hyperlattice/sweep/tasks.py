@@ -58,6 +58,20 @@ def blas_one_thread() -> Iterator[None]:
     same bits on every worker. The solvers' own guard saves and restores the count per call,
     which races when two worker threads of one process interleave; this process-wide count held
     by every running task sets it once and restores it when the last task ends.
+
+    Yields
+    ------
+    None
+        The body runs with every OpenBLAS of the process on one thread; the previous counts
+        come back when the outermost block ends.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from hyperlattice.sweep.tasks import blas_one_thread
+    >>> with blas_one_thread():
+    ...     print(float(np.linalg.eigvalsh(np.eye(2))[0]))
+    1.0
     """
     global _DEPTH
     with _LOCK:
@@ -168,7 +182,32 @@ TASKS = {t.name: t for t in (Task("disorder", _disorder, _check_disorder), Task(
 
 
 def get_task(name) -> Task:
-    """The registered task called ``name`` (ValueError listing the names otherwise)."""
+    """The registered task called ``name`` (ValueError listing the names otherwise).
+
+    Parameters
+    ----------
+    name : str
+        ``"disorder"``, ``"levels"`` or ``"probe"`` (the keys of :data:`TASKS`).
+
+    Returns
+    -------
+    Task
+        ``name``, ``run(**params) -> dict``, ``check(params)`` and ``defaults`` (every
+        parameter with its default value).
+
+    Raises
+    ------
+    ValueError
+        If no task has that name (the message lists them).
+
+    Examples
+    --------
+    >>> from hyperlattice.sweep.tasks import get_task
+    >>> get_task("probe").defaults
+    {'x': 0.0, 'sleep': 0.0}
+    >>> get_task("levels").defaults
+    {'p': 7, 'q': 3, 'rings': 4, 'line_graph': False, 'flux': 0.0, 'levels': 2}
+    """
     return TASKS[_validate.choice("task", name, tuple(TASKS))]
 
 
