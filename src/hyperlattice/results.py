@@ -110,6 +110,33 @@ def register_plotter(kind) -> Callable:
     The function is called as ``func(result, ax=ax, **kwargs)`` by :meth:`Result.plot` and
     returns the axes. Only :mod:`hyperlattice.plots` registers; a subclass without a drawing of
     its own uses the one of its nearest registered base class.
+
+    Parameters
+    ----------
+    kind : type or str
+        A :class:`Result` subclass or its ``TYPE`` tag.
+
+    Returns
+    -------
+    callable
+        The decorator; it stores the function and returns it unchanged.
+
+    Raises
+    ------
+    ValueError
+        If ``kind`` is neither a Result class nor a non-empty tag.
+
+    See Also
+    --------
+    plotter : the look-up used by :meth:`Result.plot`.
+
+    Examples
+    --------
+    >>> from hyperlattice.results import register_plotter
+    >>> register_plotter(42)
+    Traceback (most recent call last):
+    ...
+    ValueError: a plotter is registered for a result class or its type tag, got 42.
     """
     tag = kind.TYPE if isinstance(kind, type) and issubclass(kind, Result) else kind
     if not isinstance(tag, str) or not tag:
@@ -127,6 +154,28 @@ def plotter(kind: type) -> Callable | None:
 
     The first look-up imports :mod:`hyperlattice.plots` by name (:func:`importlib.import_module`),
     which registers every drawing: result modules never import the plotting layer themselves.
+
+    Parameters
+    ----------
+    kind : type
+        A :class:`Result` subclass.
+
+    Returns
+    -------
+    callable or None
+        ``func(result, ax=None, **kwargs) -> Axes``, or None when no drawing is registered for
+        the class or any of its bases.
+
+    See Also
+    --------
+    register_plotter
+
+    Examples
+    --------
+    >>> from hyperlattice.results import plotter
+    >>> from hyperlattice.graph.spectrum import Spectrum
+    >>> plotter(Spectrum).__name__
+    'plot_levels'
     """
     if sys.modules.get(_PLOTS_PACKAGE) is None:
         importlib.import_module(_PLOTS_PACKAGE)

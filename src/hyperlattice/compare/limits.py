@@ -113,9 +113,35 @@ __all__ = [
 def reference_command(p: int = 7, q: int = 3, rings=range(1, 15)) -> str:
     """The shell command that recomputes the :data:`REFERENCE_LEVELS` of {p,q} for ``rings``, runnable as written.
 
-    Flakes up to l = 14 go through ``lowest_levels`` (one Python call printing ``(l, E0, E1)``
-    tuples); l >= 15 through ``hyperlattice spectrum --method pair`` (the sector-only solver,
+    Flakes up to ℓ = 14 go through ``lowest_levels`` (one Python call printing ``(ℓ, E0, E1)``
+    tuples); ℓ >= 15 through ``hyperlattice spectrum --method pair`` (the sector-only solver,
     which never builds the 13M+ site lattice), one command per flake.
+
+    Parameters
+    ----------
+    p, q : int, optional
+        The tiling {p,q}; default {7,3}.
+    rings : iterable of int, optional
+        The flakes ℓ (1 to 17) whose E0, E1 (units of t, H = -tA with t = 1) the command
+        recomputes; default 1 to 14.
+
+    Returns
+    -------
+    str
+        One shell line (commands joined by ``; ``), printed by the report beside the stored levels.
+
+    Raises
+    ------
+    ValueError
+        If p, q do not make a hyperbolic tiling or a ring count is outside 1 to 17.
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.limits import reference_command
+    >>> print(reference_command(7, 3, [14, 15]))  # doctest: +NORMALIZE_WHITESPACE
+    python -c "from hyperlattice import ring_lattice, lowest_levels; print([(l,
+    *lowest_levels(ring_lattice(7, 3, l), 2).energies.tolist()) for l in (14,)])";
+    hyperlattice spectrum -p 7 -q 3 --rings 15 --method pair
     """
     p, q = _validate.pq(p, q)
     rings = _validate.int_list("rings", rings, minimum=1, maximum=17)
