@@ -41,7 +41,7 @@ def _cluster_sweep(grid: dict, task: str, workers: int, root: Path, run: int = 0
     from distributed import Client, LocalCluster
 
     t0 = time.perf_counter()
-    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
+    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster, \
             Client(cluster) as client:
         # warm the workers (imports, numba) so the sweep time is the work, as in a long sweep
         client.run(lambda: __import__("hyperlattice.compare.disorder"))

@@ -44,7 +44,11 @@ def test_hit_after_miss(tmp_path):
     cache, compute = Cache(tmp_path), Counter()
     assert cache.get("graph_levels", INPUTS, compute) == VALUE
     assert cache.get("graph_levels", INPUTS, compute) == VALUE
-    assert (compute.calls, cache.hits, cache.misses) == (1, 1, 1)
+    # the second read is of an entry this object wrote: reused within the run, not a hit from an earlier run
+    assert (compute.calls, cache.hits, cache.misses, cache.reused) == (1, 0, 1, 1)
+    later = Cache(tmp_path)
+    assert later.get("graph_levels", INPUTS, compute) == VALUE
+    assert (compute.calls, later.hits, later.misses, later.reused) == (1, 1, 0, 0)
     entry = json.loads(_entry(cache).read_text())
     assert entry["schema"] == SCHEMA and entry["type"] == "dict" and entry["inputs"] == INPUTS
     assert entry["version"] == __version__ and entry["sha256"] == _checksum(VALUE)

@@ -96,11 +96,12 @@ def test_report_section(tmp_path):
     from hyperlattice.report.infinite import infinite_section
 
     sec = infinite_section(tmp_path, lambda m: None)
-    assert sec.title == "Beyond the paper: the infinite lattice"
+    assert sec.title == "The infinite lattice: densities of states and band edges" and sec.part == "beyond"
     assert (tmp_path / "fig_dos_infinite.png").stat().st_size > 10_000
     names = [t.name for t in sec.tables]
     assert names == ["dos_routes", "band_edges"]
     edges = sec.tables[1].rows
-    lo, hi = float(edges[0][1]), float(edges[0][2])
+    assert sec.tables[1].columns == ["quantity", "E", "E_error", "interval_lower", "interval_upper", "note"]
+    lo, hi = float(edges[0][3]), float(edges[0][4])
     assert -3 < lo < hi < -2.8  # the proven band-bottom interval
     assert "uniform state" in sec.text[0]

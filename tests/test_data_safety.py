@@ -53,7 +53,7 @@ def test_clear_of_an_unmarked_directory_deletes_nothing(tmp_path):
 def _fake_reproduce(out_dir, max_rings, *, cache, progress):
     cache.get("graph_levels", INPUTS, lambda: {"E0": -2.5})
     return {"out_dir": str(out_dir), "sections": [], "seconds": 0.0,
-            "cache_hits": cache.hits, "cache_misses": cache.misses}
+            "cache_hits": cache.hits, "cache_misses": cache.misses, "cache_reused": cache.reused}
 
 
 @pytest.mark.parametrize("how", ["--cache-dir", "HYPERLATTICE_CACHE", "out-is-cache"])

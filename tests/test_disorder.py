@@ -138,3 +138,17 @@ def test_summary_windows_hold_numbers_and_nulls_only():
     assert w[0][0] is None and w[-1][1] is None and all(len(pair) == 2 for pair in w)
     assert all(v is None or isinstance(v, float) for pair in w for v in pair)
     json.dumps(s["windows"], allow_nan=False)
+
+
+def test_r_scan_window_uses_the_same_convention():
+    """An open window end is null in JSON, never the string "inf" (issue 21 item 5c)."""
+    import json
+
+    from hyperlattice.compare.disorder import r_scan
+    from hyperlattice.graph.lattice import ring_lattice
+
+    lat = ring_lattice(7, 3, 2)
+    whole = r_scan(lat, [1.0], realizations=2, window=None).summary()
+    assert whole["window"] == [None, None]
+    assert r_scan(lat, [1.0], realizations=2).summary()["window"] == [-1.0, 1.0]
+    json.dumps(whole, allow_nan=False)

@@ -57,3 +57,30 @@ def test_cluster_graphml_round_trip(tmp_path):
         nb[a, d["slot_u"]] = b
         nb[b, d["slot_v"]] = a
     np.testing.assert_array_equal(nb, c.neighbours)
+
+
+def test_sweep_table_to_dataframe(monkeypatch):
+    """A sweep's table goes to pandas the same way as a result's (issue 21)."""
+    pd = pytest.importorskip("pandas")
+    from hyperlattice.sweep.store import SweepTable
+
+    table = SweepTable(columns={"W": np.array([1.0, 2.0]), "r_count": np.array([3, 4]), "model": ["box", "box"]},
+                       metadata={"task": "disorder"})
+    df = table.to_dataframe()
+    assert isinstance(df, pd.DataFrame) and list(df.columns) == ["W", "r_count", "model"]
+    np.testing.assert_array_equal(df["W"].to_numpy(), [1.0, 2.0])
+    assert df["model"].tolist() == ["box", "box"] and df.attrs["hyperlattice"] == {"task": "disorder"}
+    assert SweepTable.to_pandas is SweepTable.to_dataframe
+
+    import importlib
+
+    real = importlib.import_module
+
+    def without_pandas(name, *args):
+        if name == "pandas":
+            raise ImportError(f"No module named {name!r}")
+        return real(name, *args)
+
+    monkeypatch.setattr(importlib, "import_module", without_pandas)
+    with pytest.raises(ImportError, match=r'^this export needs pandas, which is not installed: pip install "hyperlattice\[pandas\]"\.$'):
+        table.to_dataframe()

@@ -250,3 +250,26 @@ def test_band_bottom_other_lattices():
         assert abs(b.estimate - b.improved_edge) < abs(b.estimate - b.paper_edge)
     assert est[(8, 3)].estimate < est[(9, 3)].estimate < est[(10, 3)].estimate < -2 * math.sqrt(2)
     assert isinstance(est[(5, 4)], BandBottom)
+
+
+def test_reference_command_runs_as_printed(tmp_path):
+    """The regeneration command the report prints runs as written (here for l = 2, 3) and gives the stored levels."""
+    import ast
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    from hyperlattice.compare.limits import REFERENCE_COMMAND, reference_command
+
+    cmd = reference_command(7, 3, (2, 3))
+    assert "lmax" not in REFERENCE_COMMAND and "(1, 2, 3," in REFERENCE_COMMAND
+    env = dict(os.environ, PATH=str(Path(sys.executable).parent) + os.pathsep + os.environ.get("PATH", ""))
+    done = subprocess.run(["bash", "-c", cmd], capture_output=True, text=True, env=env, cwd=tmp_path, timeout=300)
+    assert done.returncode == 0, done.stderr
+    got = ast.literal_eval(done.stdout.strip())
+    assert [r[0] for r in got] == [2, 3]
+    for ell, e0, e1 in got:
+        assert (e0, e1) == pytest.approx(REFERENCE_LEVELS[(7, 3)][ell], abs=1e-12)
+    # flakes beyond l = 14 go through the sector-only CLI route, one command each
+    assert reference_command(7, 3, (14, 15)).endswith("; hyperlattice spectrum -p 7 -q 3 --rings 15 --method pair")

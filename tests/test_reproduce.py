@@ -2,6 +2,7 @@
 
 import csv
 import json
+import re
 from html.parser import HTMLParser
 
 import numpy as np
@@ -13,6 +14,7 @@ from hyperlattice.compare.levels import relative_error_trend
 from hyperlattice.paper_values import paper_value
 from hyperlattice.report import reproduce
 from hyperlattice.report.sections import open_question_text
+from hyperlattice.report.writers import prose
 
 
 class _Checker(HTMLParser):
@@ -23,10 +25,17 @@ class _Checker(HTMLParser):
     def __init__(self):
         super().__init__()
         self.stack, self.errors, self.external, self.images = [], [], [], 0
+        self.ids, self.links, self.headings = [], [], []
 
     def handle_starttag(self, tag, attrs):
         for name, value in attrs:
-            if name in ("src", "href") and value and not value.startswith("data:"):
+            if name == "id":
+                self.ids.append(value)
+                if tag in ("h2", "h3"):
+                    self.headings.append(value)
+            if name == "href" and value and value.startswith("#"):
+                self.links.append(value[1:])
+            elif name in ("src", "href") and value and not value.startswith("data:"):
                 self.external.append(value)
         if tag == "img":
             self.images += 1
@@ -132,8 +141,10 @@ def test_report_flags_the_known_misprints(repro):
     md = (out / "report" / "report.md").read_text()
     assert "printed -1.274" in md  # E1 of the heptagon
     assert "(1/2) ln 3" in md      # p = inf column
-    for label in ("Tab1", "SuppTab1", "Fig1", "Fig2", "Fig3", "FigS1", "FigScos3delta", "FigSh"):
-        assert label in md
+    # the paper's tables and figures by the numbers it prints (Tab1, SuppTab1, AppFS's table, Fig1..FigS1)
+    for label in ("Table I", "Table II", "Table III", "Table IV", "Fig. 1", "Fig. 3", "Fig. 4", "Fig. 5", "Fig. 6",
+                  "Fig. 7", "Eq. (19)", "Appendix F"):
+        assert label in md, label
 
 
 def test_rerun_uses_cache_and_is_deterministic(repro, tmp_path):
@@ -176,10 +187,11 @@ def test_open_question_sentences_come_from_the_result(repro):
     sentences = open_question_text(trends)
     assert len(sentences) == 2
     for s in sentences:
+        assert prose(s) == s  # written with symbols already
         assert s in md
     # l = 1..4: the graph levels stay below the continuum ones and approach them
     assert trends[0].sign_change is None and trends[0].magnitude_decreasing
-    assert sentences[0].endswith("for l = 1..4. Its magnitude decreases monotonically over the computed range.")
+    assert sentences[0].endswith("for ℓ = 1–4. Its magnitude decreases monotonically over the computed range.")
     with open(out / "report" / "table_graph_vs_continuum.csv") as fh:
         rows = list(csv.DictReader(fh))
     assert [r["rel_err_E0"] for r in rows] == [f"{v:.3e}" for v in trends[0].relative_error]
@@ -197,10 +209,10 @@ def test_open_question_sentences_pinned():
     assert t.aitken_limit == pytest.approx(6.13e-4 + 3.6e-5 ** 2 / 3.0e-5, rel=1e-6)
     text = open_question_text([t], worst_residual=1.8e-14)
     assert text == [
-        "The paper's open question (App. AppSpec): does the relative error between graph and continuum keep "
-        "decreasing as l -> infinity? The computed levels (largest residual ||H psi - E psi|| = 1.8e-14) say:",
-        "E0: (E_graph - E_cont)/|E_graph| = -2.50e-01, -2.51e-02, -5.86e-03, -1.71e-03, -3.85e-04, +1.45e-04, "
-        "+3.89e-04, +5.11e-04, +5.77e-04, +6.13e-04 for l = 1..10. It changes sign between l = 5 and 6 (the graph "
+        "The paper's open question (Appendix F): does the relative error between graph and continuum keep "
+        "decreasing as ℓ → ∞? The computed levels (largest residual ‖Hψ − Eψ‖ = 1.8e-14) say:",
+        "E₀: (E_graph − E_cont)/|E_graph| = -2.50e-01, -2.51e-02, -5.86e-03, -1.71e-03, -3.85e-04, +1.45e-04, "
+        "+3.89e-04, +5.11e-04, +5.77e-04, +6.13e-04 for ℓ = 1–10. It changes sign between ℓ = 5 and 6 (the graph "
         "level moves from below to above the continuum level), then grows monotonically with shrinking increments "
         f"(6.6e-05, 3.6e-05 over the last rings): it saturates (Aitken estimate of the limit {t.aitken_limit:.2e}) "
         "instead of decreasing to zero."]
@@ -264,16 +276,135 @@ def test_magnetic_section(repro):
 
     out, summary = repro
     rep = out / "report"
-    assert "Beyond the paper: magnetic flux" in summary["sections"]
+    assert "Magnetic flux: Hofstadter butterfly and Landau levels" in summary["sections"]
     for name in ("fig_butterfly.png", "fig_butterfly.svg", "fig_magnetic_error.png"):
         assert (rep / name).stat().st_size > 0, name
     with open(rep / "table_magnetic_levels.csv") as fh:
         rows = list(csv.DictReader(fh))
-    assert len(rows) == 3 * 4 * 2
+    assert len(rows) == 5 * 4 * 2  # l = 3..7, four fluxes, two levels
     r = next(r for r in rows if r["rings"] == "4" and r["flux"] == "0.10")
     g = lowest_levels(ring_lattice(7, 3, 4), 2, flux=0.1)
     c = magnetic_levels(7, 3, rings=4, levels=2, flux=0.1)
     assert r["(n,m)"] == f"({g.n[0]},{g.m[0]})"
     assert float(r["E_graph"]) == pytest.approx(g.energies[0], abs=1e-8)
     assert float(r["E_continuum"]) == pytest.approx(c.energies[0], abs=1e-8)
-    assert "magnetic flux" in (rep / "report.md").read_text()
+    assert "Magnetic flux" in (rep / "report.md").read_text()
+
+
+PAPER_ORDER = ["lattice", "sizes", "spectrum", "levels-vs-rings", "green", "scaling", "geometry"]
+BEYOND_ORDER = ["magnetic", "band-bottom", "infinite", "holography", "qubits", "disorder", "bosons"]
+
+
+def _html(repro):
+    out, _ = repro
+    checker = _Checker()
+    checker.feed((out / "report" / "report.html").read_text())
+    return checker
+
+
+def test_table_of_contents_and_anchors(repro):
+    """A linked table of contents; every section, table and figure has a unique id; every link resolves."""
+    out, summary = repro
+    c = _html(repro)
+    assert len(c.ids) == len(set(c.ids)), sorted(i for i in c.ids if c.ids.count(i) > 1)
+    assert c.links and set(c.links) <= set(c.ids)
+    assert {f"sec-{a}" for a in PAPER_ORDER + BEYOND_ORDER} <= set(c.links)
+    tables = [p.name[len("table_"):-len(".csv")] for p in (out / "report").glob("table_*.csv")]
+    for name in tables:
+        assert f"table-{name.lower().replace('_', '-')}" in c.ids, name
+    md = (out / "report" / "report.md").read_text()
+    toc = md[md.index("## Contents"):md.index('<a id="part-paper">')]
+    md_links = re.findall(r"\]\(#([\w-]+)\)", toc)
+    md_ids = re.findall(r'<a id="([\w-]+)"></a>', md)
+    assert len(md_ids) == len(set(md_ids)) and set(md_links) <= set(md_ids)
+    assert set(md_links) == set(c.links)
+
+
+def test_order_paper_then_beyond(repro):
+    c = _html(repro)
+    heads = c.headings
+    assert heads[0] == "part-paper" and "part-beyond" in heads
+    cut = heads.index("part-beyond")
+    assert heads[1:cut] == [f"sec-{a}" for a in PAPER_ORDER]
+    assert heads[cut + 1:] == [f"sec-{a}" for a in BEYOND_ORDER]
+
+
+def _prose_of(md: str) -> str:
+    """The report's sentences and captions: no table rows, no code spans, no file names."""
+    lines = [ln for ln in md.splitlines() if not ln.startswith("|") and not ln.startswith("![")]
+    return re.sub(r"`[^`]*`", "", "\n".join(lines))
+
+
+def test_no_tex_labels_issue_numbers_or_ascii_maths(repro):
+    from hyperlattice.paper_labels import PAPER_LABELS
+
+    out, _ = repro
+    for name in ("report.md", "report.html"):
+        text = (out / "report" / name).read_text()
+        if name.endswith(".html"):
+            text = re.sub(r'src="data:[^"]*"', "", text)
+        words = set(re.findall(r"[A-Za-z][A-Za-z0-9]*", _prose_of(text)))
+        assert not {k for k in PAPER_LABELS if " " not in k} & words, name
+        assert not re.search(r"\bissues? \d", text), name
+    prose_md = _prose_of((out / "report" / "report.md").read_text())
+    for ascii_maths in ("E_inf", "-rho", " rho ", " l = ", " l=", "omega", "sqrt(", " <= ", "->"):
+        assert ascii_maths not in prose_md, ascii_maths
+    for symbol in ("ℓ = ", "E∞", "−ρ", "ω", "Δ"):
+        assert symbol in prose_md, symbol
+
+
+def test_every_label_of_the_report_is_in_the_map(repro):
+    from hyperlattice.paper_labels import PAPER_LABELS
+    from hyperlattice.report.writers import Section
+
+    out, _ = repro
+    md = (out / "report" / "report.md").read_text()
+    printed = set(PAPER_LABELS.values())
+    for ref in re.findall(r"(?:Eq\. \([A-I]?\d+\)|Fig\. \d+|Table [IVX]+|Appendix [A-I])", md):
+        assert ref in printed, ref
+    with pytest.raises(ValueError, match="not a label"):
+        Section("x", ("green99",))
+
+
+def test_provenance_names_stored_levels_and_a_command_that_runs(repro):
+    """The band-bottom section says which levels are stored, where, since when, and prints the command of
+    compare.limits.reference_command for exactly those rings (the command itself is run in test_limits)."""
+    from hyperlattice.compare.limits import REFERENCE_DATE, REFERENCE_LEVELS, reference_command
+
+    out, _ = repro
+    md = (out / "report" / "report.md").read_text()
+    stored = [x for x in sorted(REFERENCE_LEVELS[(7, 3)]) if x > 4]
+    assert f"`{reference_command(7, 3, stored)}`" in md
+    assert "lmax" not in md and REFERENCE_DATE in md
+    assert "src/hyperlattice/compare/limits.py" in md
+    assert f"for ℓ = {stored[0]}–{stored[-1]} (the band-bottom fit" in md
+    assert "Every number below is computed by the package;" not in md
+
+
+def test_cache_counts_on_an_empty_cache(repro):
+    """The first run starts from an empty cache: nothing is read from an earlier run."""
+    _, summary = repro
+    assert summary["cache_hits"] == 0
+    assert summary["cache_misses"] > 0 and summary["cache_reused"] > 0  # the limits section reads graph_levels
+
+
+def test_tables_scroll_instead_of_clipping(repro):
+    out, _ = repro
+    text = (out / "report" / "report.html").read_text()
+    assert ".scroll{overflow-x:auto" in text
+    assert text.count('<div class="scroll"><table>') == text.count("<table>")
+
+
+def test_two_band_bottom_intervals_explained(repro):
+    out, _ = repro
+    md = (out / "report" / "report.md").read_text()
+    m = re.search(r"Two proven intervals for the band bottom −ρ of \{7,3\} appear in this report, "
+                  r"\[(-[\d.]+), (-[\d.]+)\] in the band-bottom section and \[(-[\d.]+), (-[\d.]+)\] here", md)
+    assert m
+    with open(out / "report" / "table_band_edges.csv") as fh:
+        row = next(csv.DictReader(fh))
+    assert float(m.group(3)) == pytest.approx(float(row["interval_lower"]), abs=1e-4)
+    assert float(m.group(4)) == pytest.approx(float(row["interval_upper"]), abs=1e-4)
+    with open(out / "report" / "table_band_bottom.csv") as fh:
+        row = next(r for r in csv.DictReader(fh) if r["lattice"] == "{7,3}")
+    assert float(m.group(1)) == pytest.approx(float(row["rigorous_lower"]), abs=1e-5)

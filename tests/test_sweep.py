@@ -128,7 +128,7 @@ def test_local_cluster_is_bit_identical_to_the_default(serial_table, tmp_path):
     rep = run_sweep("disorder", GRID, tmp_path / "default", workers=2, progress=False, timeout=TIMEOUT)
     assert rep.ok and "local" in rep.scheduler
     default = read_table(tmp_path / "default")
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None) as cluster, \
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=":0") as cluster, \
             Client(cluster) as client:
         rep = run_sweep("disorder", GRID, tmp_path / "cluster", scheduler=client, progress=False, timeout=TIMEOUT)
         assert rep.ok
@@ -138,12 +138,34 @@ def test_local_cluster_is_bit_identical_to_the_default(serial_table, tmp_path):
 
 
 @pytest.mark.slow
+def test_local_cluster_starts_while_port_8787_is_taken(tmp_path):
+    """Dask's default dashboard port held by someone else (another cluster, a notebook, a concurrent
+    test run) must not disturb the default local cluster: no warning (errors here), same rows."""
+    pytest.importorskip("distributed")
+    import socket
+
+    holder = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+    try:
+        try:
+            holder.bind(("", 8787))
+            holder.listen(1)
+        except OSError:
+            pass                                    # already taken by someone else: the same situation
+        rep = run_sweep("probe", {"x": [1.0, 2.0]}, tmp_path, scheduler="threads", workers=2, progress=False,
+                        timeout=TIMEOUT)
+    finally:
+        holder.close()
+    assert rep.ok and rep.completed == 2
+    assert np.array_equal(read_table(tmp_path).columns["y"], np.array([1.0, 4.0]))
+
+
+@pytest.mark.slow
 def test_killed_worker_still_gives_every_row_once(tmp_path):
     pytest.importorskip("distributed")
     from distributed import Client, LocalCluster
 
     n = 16
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster, \
             Client(cluster) as client:
         pids = list(client.run(os.getpid).values())
         rows = []

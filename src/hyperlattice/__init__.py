@@ -41,6 +41,7 @@ _EXPORTS = {
     "incidence": "graph.operators",
     "sector_hamiltonian": "graph.symmetry",
     "Spectrum": "graph.spectrum",
+    "MatrixSpectrum": "graph.spectrum",
     "lowest_levels": "graph.spectrum",
     "full_spectrum": "graph.spectrum",
     "full_spectrum_tolerance": "graph.spectrum",

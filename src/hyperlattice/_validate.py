@@ -17,6 +17,7 @@ from __future__ import annotations
 import math
 import numbers
 import os
+import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable
 
@@ -39,7 +40,10 @@ __all__ = [
     "choice",
     "flag",
     "function",
+    "progress",
     "lattice",
+    "is_matrix",
+    "hermitian_matrix",
     "site_index",
     "site_indices",
     "pq",
@@ -194,6 +198,15 @@ def flag(name: str, value) -> bool:
     return bool(value)
 
 
+def progress(name: str, value):
+    """A ``progress`` argument: True, False, None (auto) or a function receiving one-line messages."""
+    if value is None or callable(value):
+        return value
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    raise ValueError(f"{name} must be True, False, None or a function, got {_shown(value)}.")
+
+
 def function(name: str, value) -> Callable:
     """A callable."""
     if not callable(value):
@@ -236,6 +249,55 @@ def complex_array(name: str, value, *, ndim=None, shape=None) -> np.ndarray:
     return _array(name, value, "c", ndim, shape)
 
 
+def is_matrix(value) -> bool:
+    """Whether ``value`` is offered as a Hamiltonian matrix: any scipy.sparse matrix or array, or a
+    2-d numpy array (what :func:`hermitian_matrix` then checks)."""
+    if isinstance(value, np.ndarray):
+        return value.ndim == 2
+    sparse = sys.modules.get("scipy.sparse")      # a sparse matrix means scipy.sparse is loaded
+    return sparse is not None and sparse.issparse(value)
+
+
+#: relative tolerance of the Hermiticity check: max |H - H^+| <= HERMITIAN_RTOL * max |H_ij|
+#: (rounding of a matrix built by arithmetic passes; a wrong sign or a missing entry does not)
+HERMITIAN_RTOL = 1e-12
+
+
+def hermitian_matrix(name: str, value, *, rtol: float = HERMITIAN_RTOL):
+    """A real symmetric or complex Hermitian matrix as scipy CSR (float64, or complex128 when an
+    entry has a nonzero imaginary part), symmetrised as (H + H^+)/2.
+
+    Takes a scipy.sparse matrix of any format (csr, csc, coo, ...) or a 2-d array (nested lists
+    too). Refused: a
+    non-square or empty matrix, entries that are not finite numbers, and a matrix farther from
+    Hermitian than ``rtol`` times its largest entry.
+    """
+    import scipy.sparse as sp
+
+    if sp.issparse(value):
+        if value.dtype.kind not in "biufc":
+            raise ValueError(f"{name} must hold numbers, got a sparse matrix of dtype {value.dtype}.")
+        h = sp.csr_matrix(value)
+    else:
+        arr = complex_array(name, value, ndim=2)      # also nested lists; NaN, strings, shapes refused
+        h = sp.csr_matrix(arr if np.any(arr.imag) else arr.real)
+    if h.shape[0] != h.shape[1] or h.shape[0] == 0:
+        raise ValueError(f"{name} must be a non-empty square matrix, got shape {h.shape}.")
+    if not np.all(np.isfinite(h.data)):
+        raise ValueError(f"{name} contains NaN or infinite values.")
+    if h.dtype.kind == "c" and not np.any(h.data.imag):
+        h = h.real
+    h = h.astype(np.complex128 if h.dtype.kind == "c" else np.float64)
+    h.sum_duplicates()
+    scale = float(abs(h).max()) if h.nnz else 0.0
+    gap = float(abs(h - h.conj().T).max()) if h.nnz else 0.0
+    if gap > rtol * scale:
+        kind = "Hermitian" if h.dtype.kind == "c" else "symmetric"
+        raise ValueError(f"{name} must be {kind}: max |H - H^+| = {gap:.3g} exceeds {rtol:g} times "
+                         f"the largest entry {scale:.3g}.")
+    return ((h + h.conj().T) * 0.5).tocsr()
+
+
 def disk_points(name: str, value, *, limit: float = 1.0, closed: bool = False) -> np.ndarray:
     """Points of the Poincaré disk as complex128: ``|z| < limit`` (``<=`` when ``closed``)."""
     z = complex_array(name, value)
@@ -274,10 +336,12 @@ def pq(p, q, *, allow_infinite_p: bool = False) -> tuple:
 
 
 def lattice(value, *, kind: str | None = None) -> Lattice:
-    """A :class:`~hyperlattice.graph.lattice.Lattice` (``kind`` "sites" or "line_graph" if given)."""
-    from .graph.lattice import Lattice
+    """A :class:`~hyperlattice.graph.lattice.Lattice` (``kind`` "sites" or "line_graph" if given).
 
-    if not isinstance(value, Lattice):
+    Recognised by the class marker ``__hyperlattice_lattice__`` that :class:`Lattice` (and any
+    subclass) carries: this module is the bottom layer and does not import ``graph/``.
+    """
+    if getattr(type(value), "__hyperlattice_lattice__", False) is not True:
         raise ValueError(f"expected a Lattice (from ring_lattice or line_graph), got {type(value).__name__}.")
     if kind is not None and value.kind != kind:
         hint = (" (the continuum dictionary is derived for the {p,q} lattice itself, not its line graph)"

@@ -52,7 +52,7 @@ from typing import Callable
 from . import __version__, _validate
 from .results import Result
 
-__all__ = ["Cache", "CacheWarning", "default_cache_dir"]
+__all__ = ["Cache", "CacheWarning", "default_cache_dir", "checkpoint_cache"]
 
 #: Written into every entry; an entry with another schema is recomputed.
 SCHEMA = "hyperlattice-cache/1"
@@ -102,8 +102,9 @@ class Cache:
 
     Attributes
     ----------
-    hits, misses : int
-        Entries read, and values computed (including recomputed bad entries).
+    hits, misses, reused : int
+        Entries read that an earlier run (or another Cache object) wrote, values computed
+        (including recomputed bad entries), and entries read again that this object wrote itself.
     """
 
     def __init__(self, directory: str | Path | None = None, *, enabled: bool = True) -> None:
@@ -117,6 +118,8 @@ class Cache:
             self.directory = _validate._as_path("cache directory", directory)
         self.hits = 0
         self.misses = 0
+        self.reused = 0
+        self._written: set[Path] = set()  # entries this object stored: reading them again is no hit
 
     def _path(self, name: str, inputs: dict) -> Path:
         blob = json.dumps({"name": name, "inputs": inputs, "version": __version__}, sort_keys=True)
@@ -248,14 +251,19 @@ class Cache:
         if self.enabled and (path.exists() or path.is_symlink()):
             value = self._read(path, name, inputs, expect)
             if value is not None:
-                self.hits += 1
+                if path in self._written:
+                    self.reused += 1
+                else:
+                    self.hits += 1
                 return value
         value = compute()
         if not isinstance(value, (dict, Result)):
             raise ValueError(f"a cached computation must return a dict or a Result, got {type(value).__name__}.")
-        self.misses += 1
         if self.enabled:
             self.put(name, inputs, value)
+            self._written.add(path)
+        # counted once stored: a run stopped (Ctrl-C) during the write reports only what is on disk
+        self.misses += 1
         return value
 
     def put(self, name: str, inputs: dict, value: dict | Result) -> None:
@@ -316,6 +324,18 @@ class Cache:
                 (sub / MARKER).unlink()
                 sub.rmdir()
         return removed
+
+
+def checkpoint_cache(checkpoint) -> Cache | None:
+    """The cache that keeps the finished points of a long multi-point run (``checkpoint=`` of
+    :func:`~hyperlattice.compare.magnetic.magnetic_comparison` and
+    :func:`~hyperlattice.graph.flux.butterfly`): ``checkpoint`` itself if it is a :class:`Cache`,
+    a new one in the directory it names, or None (nothing kept)."""
+    if checkpoint is None or isinstance(checkpoint, Cache):
+        return checkpoint
+    if isinstance(checkpoint, (str, os.PathLike)) and not isinstance(checkpoint, bool):
+        return Cache(checkpoint)
+    raise ValueError(f"checkpoint must be a directory or a Cache, got {_validate._shown(checkpoint)}.")
 
 
 # every public function above checks its annotated argument types at the door (issue 19)

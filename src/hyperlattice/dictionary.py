@@ -113,11 +113,38 @@ def _value(name: str, value):
 
 
 def laplacian_coefficient(q: int, h) -> float | np.ndarray:
-    r"""The coefficient :math:`\frac q4 h^2` of :math:`\Delta_g` in :math:`A \approx q + \frac q4 h^2\Delta_g`
-    for a q-fold star of neighbours at Euclidean distance h (after a Möbius map to the origin).
+    r"""The coefficient :math:`\frac q4 h^2` of :math:`\Delta_g` in :math:`A \approx q + \frac q4 h^2\Delta_g`.
 
+    For a q-fold star of neighbours at Euclidean distance h (after a Möbius map to the origin).
     The one place this factor is written; :func:`hopping_scale` evaluates it at :math:`h = \tanh d_0`,
     and the h-expansion of :mod:`hyperlattice.compare.scaling` at any h.
+
+    Parameters
+    ----------
+    q : int
+        Number of neighbours in the star (coordination number), at least 3.
+    h : float or array_like of float
+        Euclidean radius of the star (the lattice parameter :math:`h = \tanh d_0` for a lattice).
+
+    Returns
+    -------
+    float or ndarray of float
+        :math:`\frac q4 h^2`, a float for scalar ``h``.
+
+    Raises
+    ------
+    ValueError
+        If ``q`` is not an integer of at least 3, or ``h`` is not finite and real.
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (10) (with 3 replaced by q).
+
+    Examples
+    --------
+    >>> from hyperlattice.dictionary import laplacian_coefficient
+    >>> laplacian_coefficient(3, 0.5)
+    0.1875
     """
     q = _validate.integer("q", q, minimum=3, maximum=_validate.PQ_MAX)
     h = _validate.real_array("h", h)
@@ -126,18 +153,92 @@ def laplacian_coefficient(q: int, h) -> float | np.ndarray:
 
 
 def hopping_scale(p=7, q=3) -> float:
-    r"""The factor :math:`\frac q4 h^2` of :math:`A \approx q + \frac q4 h^2\Delta_g` (``eq10``), :math:`h = \tanh d_0`.
+    r"""The factor :math:`\frac q4 h^2` of :math:`A \approx q + \frac q4 h^2\Delta_g`, at :math:`h = \tanh d_0`.
 
-    It converts continuum eigenvalues into lattice energies (:math:`t'/t`, ``eq14``):
+    It converts continuum eigenvalues into lattice energies (:math:`t'/t`, Eq. (14)):
     :math:`\frac34 h^2 = 0.0570...` for {7,3}.
+
+    Parameters
+    ----------
+    p : int or float, optional
+        Polygon size of the {p,q} lattice (default 7); ``math.inf`` for the limit
+        :math:`p \to \infty`.
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+
+    Returns
+    -------
+    float
+        :math:`t'/t = \frac q4 \tanh^2 d_0`.
+
+    Raises
+    ------
+    ValueError
+        If {p,q} is not a hyperbolic tessellation.
+
+    See Also
+    --------
+    laplacian_coefficient, energy_from_lambda
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eqs. (10) and (14).
+
+    Examples
+    --------
+    >>> from hyperlattice.dictionary import hopping_scale
+    >>> print(f"{hopping_scale(7, 3):.6f}")
+    0.057048
     """
     p, q = _validate.pq(p, q, allow_infinite_p=True)
     return laplacian_coefficient(q, geometry.lattice_h(p, q))
 
 
 def lambda_from_energy(omega, p=7, q=3) -> float | complex | np.ndarray:
-    r""":math:`\lambda = 4(\omega + q)/(q h^2)`: the eigenvalue of :math:`-\Delta_g` that matches the
-    lattice energy (or frequency) :math:`\omega` (``eq21``). Real or complex, scalar or array."""
+    r"""The eigenvalue :math:`\lambda = 4(\omega + q)/(q h^2)` of :math:`-\Delta_g` that matches a lattice energy.
+
+    :math:`\omega` is a lattice energy or frequency (units of t, :math:`H = -tA`); the map is the
+    argument of the continuum Green function in Eq. (21), generalised to {p,q}.
+
+    Parameters
+    ----------
+    omega : float, complex or array_like
+        Lattice energy or frequency in units of t; real or complex, scalar or array.
+    p : int or float, optional
+        Polygon size of the {p,q} lattice (default 7); ``math.inf`` for the limit
+        :math:`p \to \infty`.
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+
+    Returns
+    -------
+    float, complex or ndarray
+        :math:`\lambda`, of the same kind and shape as ``omega``.
+
+    Raises
+    ------
+    ValueError
+        If ``omega`` is not a finite number or numeric array, {p,q} is not a hyperbolic
+        tessellation, or the result overflows.
+
+    See Also
+    --------
+    energy_from_lambda : the inverse map.
+    improved_lambda_from_energy : the improved dictionary.
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (21).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> print(f"{hl.lambda_from_energy(-2.9, 7, 3):.6f}")
+    1.752900
+    >>> lam = hl.lambda_from_energy(-2.9 + 0.01j)
+    >>> print(f"{lam.real:.6f} {lam.imag:.6f}")
+    1.752900 0.175290
+    """
     omega = _value("omega", omega)
     scale = hopping_scale(p, q)
     q = _validate.pq(p, q, allow_infinite_p=True)[1]
@@ -145,7 +246,45 @@ def lambda_from_energy(omega, p=7, q=3) -> float | complex | np.ndarray:
 
 
 def energy_from_lambda(lam, p=7, q=3) -> float | complex | np.ndarray:
-    r""":math:`E = -q + \frac q4 h^2 \lambda`, the inverse of :func:`lambda_from_energy` (``spec2``)."""
+    r"""The lattice energy :math:`E = -q + \frac q4 h^2 \lambda` of an eigenvalue of :math:`-\Delta_g`.
+
+    The inverse of :func:`lambda_from_energy` (the paper's map, Appendix F, ``spec2``).
+
+    Parameters
+    ----------
+    lam : float, complex or array_like
+        Eigenvalue :math:`\lambda` of :math:`-\Delta_g`; real or complex, scalar or array.
+    p : int or float, optional
+        Polygon size of the {p,q} lattice (default 7); ``math.inf`` for the limit
+        :math:`p \to \infty`.
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+
+    Returns
+    -------
+    float, complex or ndarray
+        The energy E in units of t, of the same kind and shape as ``lam``.
+
+    Raises
+    ------
+    ValueError
+        If ``lam`` is not a finite number or numeric array, {p,q} is not a hyperbolic
+        tessellation, or the result overflows.
+
+    See Also
+    --------
+    lambda_from_energy, energy_from_k, improved_energy_from_lambda
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Appendix F (``spec2``) and Eq. (21).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> print(f"{hl.energy_from_lambda(2.0, 7, 3):.6f}")
+    -2.885903
+    """
     lam = _value("lam", lam)
     scale = hopping_scale(p, q)
     q = _validate.pq(p, q, allow_infinite_p=True)[1]
@@ -153,42 +292,222 @@ def energy_from_lambda(lam, p=7, q=3) -> float | complex | np.ndarray:
 
 
 def energy_from_k(k, p=7, q=3) -> float | complex | np.ndarray:
-    r"""Lattice energy of a continuum level with :math:`-\Delta_g\psi = (1 + k^2)\psi` (``spec2``):
-    :math:`E = -q + \frac q4 h^2 (1 + k^2)`. Real k for Dirichlet levels, complex k allowed."""
+    r"""Lattice energy of a continuum level with :math:`-\Delta_g\psi = (1 + k^2)\psi`.
+
+    :math:`E = -q + \frac q4 h^2 (1 + k^2)`, the paper's map.
+
+    Parameters
+    ----------
+    k : float, complex or array_like
+        Wave number k of the level: real for Dirichlet levels; complex k allowed.
+    p : int or float, optional
+        Polygon size of the {p,q} lattice (default 7); ``math.inf`` for the limit
+        :math:`p \to \infty`.
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+
+    Returns
+    -------
+    float, complex or ndarray
+        The energy E in units of t (an ndarray, 0-d for scalar ``k``).
+
+    Raises
+    ------
+    ValueError
+        If ``k`` is not a finite number or numeric array, or {p,q} is not a hyperbolic
+        tessellation.
+
+    See Also
+    --------
+    energy_from_lambda, improved_energy_from_k, map_energy_from_k
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Appendix F (``spec2``).
+
+    Examples
+    --------
+    >>> from hyperlattice.dictionary import energy_from_k
+    >>> print(f"{float(energy_from_k(1.0)):.6f}")
+    -2.885903
+    >>> [round(float(e), 6) for e in energy_from_k([0.0, 1.0])]
+    [-2.942952, -2.885903]
+    """
     k = np.asarray(_value("k", k))
     return energy_from_lambda(1.0 + k * k, p, q)
 
 
 def green_prefactor(p=7, q=3) -> float:
-    r"""The prefactor :math:`4\mathcal A/(q h^2)` of ``eq21`` (:math:`\pi/(21 h^2)` for {7,3})."""
+    r"""The prefactor :math:`4\mathcal A/(q h^2)` of the Green-function map.
+
+    :math:`G_{ij}(\omega) \approx \frac{4\mathcal A}{q h^2} G(z_i, z_j, \lambda, L)`;
+    :math:`\pi/(21 h^2)` for {7,3}.
+
+    Parameters
+    ----------
+    p : int or float, optional
+        Polygon size of the {p,q} lattice (default 7); ``math.inf`` for the limit
+        :math:`p \to \infty`.
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+
+    Returns
+    -------
+    float
+        The prefactor (dimensionless; :math:`\mathcal A` is the area per site).
+
+    Raises
+    ------
+    ValueError
+        If {p,q} is not a hyperbolic tessellation.
+
+    See Also
+    --------
+    dictionary_parameters
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (21).
+
+    Examples
+    --------
+    >>> from hyperlattice.dictionary import green_prefactor
+    >>> print(f"{green_prefactor(7, 3):.6f}")
+    1.966750
+    """
     return geometry.site_area(p, q) / hopping_scale(p, q)
 
 
 def dictionary_parameters(omega, p=7, q=3) -> tuple[complex, float]:
-    r"""``(lambda, prefactor)`` of ``eq21`` for one lattice frequency :math:`\omega` (real or complex)."""
+    r"""The eigenvalue and prefactor of Eq. (21) for one lattice frequency.
+
+    Parameters
+    ----------
+    omega : float or complex
+        Lattice frequency :math:`\omega` in units of t (real or complex).
+    p : int, optional
+        Polygon size of the {p,q} lattice (default 7).
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+
+    Returns
+    -------
+    lam : complex
+        :math:`\lambda = 4(\omega + q)/(q h^2)` (:func:`lambda_from_energy`).
+    prefactor : float
+        :math:`4\mathcal A/(q h^2)` (:func:`green_prefactor`).
+
+    Raises
+    ------
+    ValueError
+        If ``omega`` is not a finite number, or {p,q} is not a hyperbolic tessellation with
+        finite p.
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (21).
+
+    Examples
+    --------
+    >>> from hyperlattice.dictionary import dictionary_parameters
+    >>> lam, pref = dictionary_parameters(-2.9)
+    >>> print(f"{lam.real:.6f} {pref:.6f}")
+    1.752900 1.966750
+    """
     _validate.pq(p, q)  # a lattice's Green function: p finite
     om = _validate.complex_number("omega", omega)
     return complex(lambda_from_energy(om, p, q)), green_prefactor(p, q)
 
 
 def disk_radius(sites, p=7, q=3) -> float:
-    r"""The effective disk radius of ``eq12``, :math:`L = \sqrt{N/(N + \pi/\mathcal A)}`, for N sites.
+    r"""The effective disk radius :math:`L = \sqrt{N/(N + \pi/\mathcal A)}` for N sites.
 
     Same as :func:`hyperlattice.geometry.effective_radius` (kept there for the geometry tables);
     ``sites`` is one positive integer here.
+
+    Parameters
+    ----------
+    sites : int
+        Number of lattice sites N (positive).
+    p : int, optional
+        Polygon size of the {p,q} lattice (default 7).
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+
+    Returns
+    -------
+    float
+        The Euclidean disk radius L in (0, 1).
+
+    Raises
+    ------
+    ValueError
+        If ``sites`` is not a positive integer, or {p,q} is not a hyperbolic tessellation.
+
+    See Also
+    --------
+    disk_radius_for_rings
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (12).
+
+    Examples
+    --------
+    >>> from hyperlattice.dictionary import disk_radius
+    >>> print(f"{disk_radius(35):.6f}")
+    0.745356
     """
     p, q = _validate.pq(p, q)
     return geometry.effective_radius(_validate.positive_int("sites", sites), p, q)
 
 
 def disk_radius_for_rings(rings, p=7, q=3) -> tuple[float, float]:
-    r"""``(L, x_L)`` of the disk that stands for the ``rings``-ring {p,q} lattice (``eq12``).
+    r"""The disk radius ``(L, x_L)`` that stands for the ``rings``-ring {p,q} lattice.
 
-    :math:`L = \sqrt{N/(N + c)}` with the exact site count N and :math:`c = \pi/\mathcal A`, and
-    :math:`x_L = (1 + L^2)/(1 - L^2) = (2N + c)/c` computed from N directly, which keeps full
-    relative precision when :math:`1 - L \sim 10^{-9}` would lose digits in L itself. The site
-    count is the graph side's combinatorics (counted, never built), so this is the one map from
-    the graph to the continuum that needs it; it works up to :math:`N \approx 10^{308}`.
+    :math:`L = \sqrt{N/(N + c)}` (Eq. (12)) with the exact site count N and
+    :math:`c = \pi/\mathcal A`, and :math:`x_L = (1 + L^2)/(1 - L^2) = (2N + c)/c` computed from
+    N directly, which keeps full relative precision when :math:`1 - L \sim 10^{-9}` would lose
+    digits in L itself. The site count is the graph side's combinatorics (counted, never built),
+    so this is the one map from the graph to the continuum that needs it; it works up to
+    :math:`N \approx 10^{308}`.
+
+    Parameters
+    ----------
+    rings : int
+        Number of rings l of the flake (ring 1 is the central p-gon).
+    p : int, optional
+        Polygon size of the {p,q} lattice (default 7).
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+
+    Returns
+    -------
+    L : float
+        The Euclidean disk radius.
+    x_L : float
+        :math:`(1 + L^2)/(1 - L^2) = \cosh 2R`, R the geodesic radius.
+
+    Raises
+    ------
+    ValueError
+        If ``rings`` is not a positive integer, {p,q} is not a hyperbolic tessellation, or
+        the site count overflows float64.
+
+    See Also
+    --------
+    disk_radius, improved_disk_for_rings
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (12).
+
+    Examples
+    --------
+    >>> from hyperlattice.dictionary import disk_radius_for_rings
+    >>> L, x = disk_radius_for_rings(2, 7, 3)
+    >>> print(f"{L:.6f} {x:.6f}")
+    0.745356 3.500000
     """
     from .graph.lattice import site_count_float  # lazy: the continuum side imports this module
 
@@ -211,9 +530,42 @@ def _face_area(p=7, q=3) -> float:
 
 
 def field_from_flux(f, p=7, q=3) -> float | np.ndarray:
-    r"""Uniform field :math:`B = 2\pi f/\mathcal A_p` that puts ``f`` flux quanta through each
-    p-gon face (:math:`\mathcal A_p` = :func:`_face_area`; :math:`\hbar = e = 1`, one quantum is
-    :math:`2\pi`; positive f and B point out of the disk, counterclockwise). Scalar or array."""
+    r"""Uniform field :math:`B = 2\pi f/\mathcal A_p` that puts ``f`` flux quanta through each p-gon face.
+
+    :math:`\mathcal A_p = \frac14[(p-2)\pi - 2\pi p/q]` is the area of one p-gon face in the
+    paper's metric (:math:`\pi/12` for {7,3}, so f = 1 gives B = 24); :math:`\hbar = e = 1`, one
+    quantum is :math:`2\pi`; positive f and B point out of the disk (counterclockwise).
+
+    Parameters
+    ----------
+    f : float or array_like of float
+        Flux in flux quanta through one p-gon face.
+    p : int, optional
+        Polygon size of the {p,q} lattice (default 7).
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+
+    Returns
+    -------
+    float or ndarray of float
+        The field B per unit area of the metric :math:`ds^2 = |dz|^2/(1-|z|^2)^2`.
+
+    Raises
+    ------
+    ValueError
+        If ``f`` is complex or not finite, {p,q} is not a hyperbolic tessellation, or the
+        result overflows.
+
+    See Also
+    --------
+    flux_from_field : the inverse map.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> print(f"{hl.field_from_flux(1.0, 7, 3):.6f}")
+    24.000000
+    """
     f = _value("f", f)
     if np.iscomplexobj(f):
         raise ValueError("the flux f must be real.")
@@ -221,7 +573,37 @@ def field_from_flux(f, p=7, q=3) -> float | np.ndarray:
 
 
 def flux_from_field(B, p=7, q=3) -> float | np.ndarray:
-    r"""Inverse of :func:`field_from_flux`: :math:`f = B\mathcal A_p/(2\pi)`."""
+    r"""Inverse of :func:`field_from_flux`: :math:`f = B\mathcal A_p/(2\pi)`.
+
+    Parameters
+    ----------
+    B : float or array_like of float
+        Field per unit area of the paper's metric (:math:`\hbar = e = 1`).
+    p : int, optional
+        Polygon size of the {p,q} lattice (default 7).
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+
+    Returns
+    -------
+    float or ndarray of float
+        Flux f in flux quanta through one p-gon face.
+
+    Raises
+    ------
+    ValueError
+        If ``B`` is complex or not finite, or {p,q} is not a hyperbolic tessellation.
+
+    See Also
+    --------
+    field_from_flux
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> print(f"{hl.flux_from_field(24.0, 7, 3):.6f}")
+    1.000000
+    """
     B = _value("B", B)
     if np.iscomplexobj(B):
         raise ValueError("the field B must be real.")
@@ -262,10 +644,12 @@ class ContinuumParameters(Result):
 
 
 def continuum_parameters(t: float, mu: float, U: float, p: int = 7, q: int = 3) -> ContinuumParameters:
-    r"""Map the lattice Bose-Hubbard parameters of ``eq13`` to those of ``eq14``.
+    r"""Map the lattice Bose-Hubbard parameters to those of the continuum theory.
 
-    From :math:`A \approx q + \frac q4 h^2\Delta_g` (``eq10`` generalised),
-    :math:`\sum_i \to \frac1{\mathcal A}\int dV_g` (``eq11``) and
+    The lattice model is Eq. (13),
+    :math:`H = -t\sum_{\langle ij\rangle}(a_i^\dagger a_j + \mathrm{h.c.}) - \mu\sum_i n_i + \dots`, the
+    continuum one Eq. (14). From :math:`A \approx q + \frac q4 h^2\Delta_g` (Eq. (10) generalised),
+    :math:`\sum_i \to \frac1{\mathcal A}\int dV_g` (Eq. (11)) and
     :math:`\hat a_i = \sqrt{\mathcal A}\,\hat\alpha(z_i)`:
 
     .. math:: t' = \frac q4 h^2 t,\qquad \mu' = \mu + q t,\qquad U' = \mathcal A\, U,
@@ -274,6 +658,47 @@ def continuum_parameters(t: float, mu: float, U: float, p: int = 7, q: int = 3) 
     {7,3}. The hopping term :math:`-t\,a^\dagger A a` contributes :math:`-qt\,a^\dagger a`,
     which shifts the chemical potential; :math:`(a^\dagger a)^2 = \mathcal A^2(\alpha^\dagger\alpha)^2`
     and the measure :math:`1/\mathcal A` leave one factor :math:`\mathcal A` on U.
+
+    Parameters
+    ----------
+    t : float
+        Lattice hopping amplitude.
+    mu : float
+        Lattice chemical potential (same units as t).
+    U : float
+        Lattice on-site interaction (same units as t).
+    p : int, optional
+        Polygon size of the {p,q} lattice (default 7).
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+
+    Returns
+    -------
+    ContinuumParameters
+        A frozen :class:`~hyperlattice.results.Result` with the lattice ``t``, ``mu``, ``U``, the
+        continuum ``t_prime``, ``mu_prime``, ``U_prime``, ``field_scale``
+        (:math:`1/\sqrt{\mathcal A}`), ``h`` and ``site_area``.
+
+    Raises
+    ------
+    ValueError
+        If a parameter is not a finite real number, {p,q} is not a hyperbolic tessellation,
+        or a continuum parameter overflows.
+
+    See Also
+    --------
+    lattice_parameters : the inverse map.
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eqs. (10)-(14).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> c = hl.continuum_parameters(1.0, 0.0, 1.0, p=7, q=3)
+    >>> print(f"{c.t_prime:.6f} {c.mu_prime:.6f} {c.U_prime:.6f}")
+    0.057048 3.000000 0.112200
     """
     p, q = _validate.pq(p, q)
     t, mu, U = (_validate.real(name, v) for name, v in (("t", t), ("mu", mu), ("U", U)))
@@ -288,7 +713,44 @@ def continuum_parameters(t: float, mu: float, U: float, p: int = 7, q: int = 3) 
 
 def lattice_parameters(t_prime: float, mu_prime: float, U_prime: float, p: int = 7,
                        q: int = 3) -> ContinuumParameters:
-    """Inverse of :func:`continuum_parameters`: the lattice (t, mu, U) giving (t', mu', U')."""
+    r"""Inverse of :func:`continuum_parameters`: the lattice (t, mu, U) giving (t', mu', U').
+
+    Parameters
+    ----------
+    t_prime : float
+        Continuum hopping :math:`t'` (coefficient of :math:`-\Delta_g`).
+    mu_prime : float
+        Continuum chemical potential :math:`\mu'`.
+    U_prime : float
+        Continuum interaction :math:`U'`.
+    p : int, optional
+        Polygon size of the {p,q} lattice (default 7).
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+
+    Returns
+    -------
+    ContinuumParameters
+        The same result as ``continuum_parameters(t, mu, U, p, q)`` for the lattice parameters
+        found (fields ``t``, ``mu``, ``U``, ``t_prime``, ``mu_prime``, ``U_prime``, ...).
+
+    Raises
+    ------
+    ValueError
+        If a parameter is not a finite real number, {p,q} is not a hyperbolic tessellation,
+        or a lattice parameter overflows.
+
+    See Also
+    --------
+    continuum_parameters
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> c = hl.lattice_parameters(0.057048, 3.0, 0.1122)
+    >>> print(f"{c.t:.4f} {c.mu:.4f} {c.U:.4f}")
+    1.0000 0.0000 1.0000
+    """
     p, q = _validate.pq(p, q)
     tp, mp, up = (_validate.real(name, v)
                   for name, v in (("t_prime", t_prime), ("mu_prime", mu_prime), ("U_prime", U_prime)))
@@ -322,8 +784,9 @@ def _check_dictionary(dictionary) -> str:
 
 
 def spherical_function(lam, d) -> float | np.ndarray:
-    r"""The spherical function :math:`\varphi_\lambda(d) = P_\nu(\cosh 2d)` of :math:`-\Delta_g`
-    (eigenvalue :math:`\lambda = 1 + k^2`, :math:`\nu = \frac12(-1 + \mathrm i k)`) at geodesic
+    r"""The spherical function :math:`\varphi_\lambda(d) = P_\nu(\cosh 2d)` of :math:`-\Delta_g`.
+
+    Eigenvalue :math:`\lambda = 1 + k^2`, :math:`\nu = \frac12(-1 + \mathrm i k)`, at geodesic
     distance :math:`d \ge 0` in the paper's metric (curvature -4).
 
     It is the radial eigenfunction with :math:`\varphi(0) = 1`, and the average of any
@@ -336,8 +799,41 @@ def spherical_function(lam, d) -> float | np.ndarray:
 
     with :math:`s = t(1 - w^2)`, which removes the endpoint singularity, and Gauss-Legendre
     quadrature in w (the integrand is then analytic; the node count grows with :math:`\tau t`).
-    :math:`\lambda < 1` (imaginary :math:`\tau`) gives :math:`\cosh`; real :math:`\lambda \ge 0`
-    only. Scalar or array ``lam``; scalar ``d`` (at most 20).
+    :math:`\lambda < 1` (imaginary :math:`\tau`) gives :math:`\cosh`.
+
+    Parameters
+    ----------
+    lam : float or array_like of float
+        Eigenvalue :math:`\lambda \ge 0` of :math:`-\Delta_g` (real only).
+    d : float
+        Geodesic distance, :math:`0 \le d \le 20`, in the paper's metric.
+
+    Returns
+    -------
+    float or ndarray of float
+        :math:`\varphi_\lambda(d)`, a float for scalar ``lam``.
+
+    Raises
+    ------
+    ValueError
+        If ``lam`` is negative or not finite, ``d`` is outside [0, 20], or ``lam`` is too large
+        for the quadrature (more than 200 000 nodes).
+
+    See Also
+    --------
+    spherical_mean_energy, hyperlattice.continuum.special.conical_p
+
+    References
+    ----------
+    DLMF §14.20 (conical functions, Mehler's integral).
+
+    Examples
+    --------
+    >>> from hyperlattice.dictionary import spherical_function
+    >>> print(f"{spherical_function(1.0, 0.5):.6f}")
+    0.940862
+    >>> [round(float(v), 6) for v in spherical_function([0.0, 2.0], 0.3)]
+    [1.0, 0.956153]
     """
     lam = _validate.real_array("lam", lam)
     if np.any(lam < 0):
@@ -365,11 +861,42 @@ def spherical_function(lam, d) -> float | np.ndarray:
 
 
 def spherical_mean_energy(lam, q: int, h) -> float | np.ndarray:
-    r"""The improved map at any star radius h (the analogue of :func:`laplacian_coefficient`):
-    :math:`E = -q\,\varphi_\lambda(\operatorname{artanh} h) = -q P_\nu\bigl(\frac{1+h^2}{1-h^2}\bigr)`.
+    r"""The improved map at any star radius h.
 
-    Its expansion, :math:`-q + \frac q4 h^2\lambda + q(\frac\lambda8 - \frac{\lambda^2}{64})h^4 + O(h^6)`,
+    :math:`E = -q\,\varphi_\lambda(\operatorname{artanh} h) = -q P_\nu\bigl(\frac{1+h^2}{1-h^2}\bigr)`,
+    the analogue of :func:`laplacian_coefficient`. Its expansion,
+    :math:`-q + \frac q4 h^2\lambda + q(\frac\lambda8 - \frac{\lambda^2}{64})h^4 + O(h^6)`,
     starts with the paper's map (``spec2``); the tests check both orders.
+
+    Parameters
+    ----------
+    lam : float or array_like of float
+        Eigenvalue :math:`\lambda \ge 0` of :math:`-\Delta_g`.
+    q : int
+        Number of neighbours of the star, at least 3.
+    h : float
+        Euclidean radius of the star, :math:`0 \le h \le 0.999`.
+
+    Returns
+    -------
+    float or ndarray of float
+        The lattice energy E in units of t.
+
+    Raises
+    ------
+    ValueError
+        If ``q`` is not an integer of at least 3, ``h`` is outside [0, 0.999], or ``lam`` is
+        invalid for :func:`spherical_function`.
+
+    See Also
+    --------
+    improved_energy_from_lambda
+
+    Examples
+    --------
+    >>> from hyperlattice.dictionary import spherical_mean_energy
+    >>> print(f"{spherical_mean_energy(2.0, 3, 0.275798):.6f}")
+    -2.882509
     """
     q = _validate.integer("q", q, minimum=3, maximum=_validate.PQ_MAX)
     h = _validate.real("h", h, minimum=0.0, maximum=0.999)
@@ -377,24 +904,120 @@ def spherical_mean_energy(lam, q: int, h) -> float | np.ndarray:
 
 
 def improved_energy_from_lambda(lam, p=7, q=3) -> float | np.ndarray:
-    r"""Lattice energy of a continuum eigenvalue :math:`\lambda` of :math:`-\Delta_g` with the
-    improved map :math:`E = -q\,\varphi_\lambda(d_0)` (module docstring); real :math:`\lambda \ge 0`.
+    r"""Lattice energy of a continuum eigenvalue with the improved map :math:`E = -q\,\varphi_\lambda(d_0)`.
+
+    See the module docstring for the derivation (the isotropic part of the star summed exactly).
+
+    Parameters
+    ----------
+    lam : float or array_like of float
+        Eigenvalue :math:`\lambda \ge 0` of :math:`-\Delta_g` (real).
+    p : int or float, optional
+        Polygon size of the {p,q} lattice (default 7); ``math.inf`` for the limit
+        :math:`p \to \infty`.
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+
+    Returns
+    -------
+    float or ndarray of float
+        The energy E in units of t.
+
+    Raises
+    ------
+    ValueError
+        If ``lam`` is negative or not finite, or {p,q} is not a hyperbolic tessellation.
+
+    See Also
+    --------
+    energy_from_lambda : the paper's map.
+    improved_lambda_from_energy : the inverse.
+
+    Examples
+    --------
+    >>> from hyperlattice.dictionary import improved_energy_from_lambda
+    >>> print(f"{improved_energy_from_lambda(2.0, 7, 3):.6f}")
+    -2.882509
     """
     p, q = _validate.pq(p, q, allow_infinite_p=True)
     return -q * spherical_function(lam, geometry.d0(p, q))
 
 
 def improved_energy_from_k(k, p=7, q=3) -> float | np.ndarray:
-    r""":func:`improved_energy_from_lambda` at :math:`\lambda = 1 + k^2` (real k)."""
+    r""":func:`improved_energy_from_lambda` at :math:`\lambda = 1 + k^2`.
+
+    Parameters
+    ----------
+    k : float or array_like of float
+        Real wave number k of the level.
+    p : int or float, optional
+        Polygon size of the {p,q} lattice (default 7); ``math.inf`` for the limit
+        :math:`p \to \infty`.
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+
+    Returns
+    -------
+    float or ndarray of float
+        The energy E in units of t, a float for scalar ``k``.
+
+    Raises
+    ------
+    ValueError
+        If ``k`` is not real and finite, or {p,q} is not a hyperbolic tessellation.
+
+    See Also
+    --------
+    energy_from_k : the paper's map.
+
+    Examples
+    --------
+    >>> from hyperlattice.dictionary import improved_energy_from_k
+    >>> print(f"{improved_energy_from_k(1.0):.6f}")
+    -2.882509
+    """
     k = _validate.real_array("k", k)
     out = improved_energy_from_lambda(1.0 + k * k, p, q)
     return float(out) if np.ndim(out) == 0 else out
 
 
 def improved_lambda_from_energy(energy, p=7, q=3) -> float:
-    r"""Inverse of :func:`improved_energy_from_lambda` for one real energy, on the branch
-    :math:`0 \le \lambda \le \lambda_*` where E rises monotonically (:math:`\lambda_*` is the first
-    maximum of :math:`-\varphi_\lambda(d_0)`, beyond the first zero of the conical function).
+    r"""Inverse of :func:`improved_energy_from_lambda` for one real energy.
+
+    On the branch :math:`0 \le \lambda \le \lambda_*` where E rises monotonically
+    (:math:`\lambda_*` is the first maximum of :math:`-\varphi_\lambda(d_0)`, beyond the first
+    zero of the conical function).
+
+    Parameters
+    ----------
+    energy : float
+        Lattice energy E in units of t.
+    p : int or float, optional
+        Polygon size of the {p,q} lattice (default 7); ``math.inf`` for the limit
+        :math:`p \to \infty`.
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+
+    Returns
+    -------
+    float
+        :math:`\lambda \ge 0` with ``improved_energy_from_lambda(lam) == energy``.
+
+    Raises
+    ------
+    ValueError
+        If ``energy`` is not a finite real number or lies outside the range of the improved
+        map on that branch, or {p,q} is not a hyperbolic tessellation.
+
+    See Also
+    --------
+    lambda_from_energy : the paper's map.
+
+    Examples
+    --------
+    >>> from hyperlattice.dictionary import improved_lambda_from_energy
+    >>> print(f"{improved_lambda_from_energy(-2.9):.6f}")
+    1.699711
     """
     from scipy.optimize import brentq
 
@@ -420,9 +1043,35 @@ def improved_lambda_from_energy(energy, p=7, q=3) -> float:
 
 
 def improved_band_bottom(p=7, q=3) -> float:
-    r""":math:`E_\infty` of the improved map: :math:`-q\,\varphi_1(d_0) = -q P_{-1/2}(\cosh 2d_0)`,
-    the :math:`k \to 0` limit (:math:`-2.940961` for {7,3}, against the paper's
-    :math:`-3 + \frac34 h^2 = -2.942952`)."""
+    r""":math:`E_\infty` of the improved map, :math:`-q\,\varphi_1(d_0) = -q P_{-1/2}(\cosh 2d_0)`.
+
+    The :math:`k \to 0` limit (:math:`-2.940961` for {7,3}, against the paper's
+    :math:`-3 + \frac34 h^2 = -2.942952`).
+
+    Parameters
+    ----------
+    p : int or float, optional
+        Polygon size of the {p,q} lattice (default 7); ``math.inf`` for the limit
+        :math:`p \to \infty`.
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+
+    Returns
+    -------
+    float
+        The band bottom in units of t.
+
+    Raises
+    ------
+    ValueError
+        If {p,q} is not a hyperbolic tessellation.
+
+    Examples
+    --------
+    >>> from hyperlattice.dictionary import improved_band_bottom
+    >>> print(f"{improved_band_bottom(7, 3):.6f}")
+    -2.940961
+    """
     return float(improved_energy_from_lambda(1.0, p, q))
 
 
@@ -443,24 +1092,81 @@ def _radius_shift(p: int, q: int) -> float:
 
 
 def dirichlet_radius_shift(p=7, q=3) -> float:
-    r"""How far the Dirichlet wall of a flake lies beyond its area radius (``eq12``), in geodesic
-    distance: half the mean radial length :math:`d(0, z_{\rm out}) - d(0, z_{\rm in})` of the bonds
-    from the outermost ring to the missing next ring (module docstring).
+    r"""How far the Dirichlet wall of a flake lies beyond its area radius, in geodesic distance.
+
+    The area radius is that of Eq. (12); the shift is half the mean radial length
+    :math:`d(0, z_{\rm out}) - d(0, z_{\rm in})` of the bonds from the outermost ring to the
+    missing next ring (module docstring).
 
     Measured on the ring lattice (the graph side's geometry; the mean is the same for every outer
     ring to 1e-8 from ring 6 on, to 1e-4 from ring 3 on): 0.1353749 for {7,3}.
+
+    Parameters
+    ----------
+    p : int, optional
+        Polygon size of the {p,q} lattice (default 7).
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+
+    Returns
+    -------
+    float
+        The geodesic shift :math:`\delta > 0` (cached per {p,q}).
+
+    Raises
+    ------
+    ValueError
+        If {p,q} is not a hyperbolic tessellation with finite p.
+
+    See Also
+    --------
+    improved_disk_for_rings
+
+    Examples
+    --------
+    >>> from hyperlattice.dictionary import dirichlet_radius_shift
+    >>> print(f"{dirichlet_radius_shift(7, 3):.6f}")
+    0.135375
     """
     p, q = _validate.pq(p, q)
     return _radius_shift(p, q)
 
 
 def improved_disk_for_rings(rings, p=7, q=3) -> tuple[float, float]:
-    r"""``(L, x_L)`` of the Dirichlet disk of the improved dictionary for an l-ring flake: the
-    geodesic radius of :func:`disk_radius_for_rings` plus :func:`dirichlet_radius_shift`.
+    r"""The Dirichlet disk ``(L, x_L)`` of the improved dictionary for an l-ring flake.
 
+    The geodesic radius of :func:`disk_radius_for_rings` plus :func:`dirichlet_radius_shift`.
     With :math:`x_A = \cosh 2R_A` from the exact site count and :math:`\delta` the shift,
     :math:`x = x_A\cosh 2\delta + \sqrt{x_A^2 - 1}\,\sinh 2\delta` (no cancellation) and
     :math:`L = \tanh(R_A + \delta)`.
+
+    Parameters
+    ----------
+    rings : int
+        Number of rings l of the flake.
+    p : int, optional
+        Polygon size of the {p,q} lattice (default 7).
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+
+    Returns
+    -------
+    L : float
+        Euclidean radius of the Dirichlet disk.
+    x_L : float
+        :math:`(1 + L^2)/(1 - L^2)`.
+
+    Raises
+    ------
+    ValueError
+        If ``rings`` is not a positive integer, or {p,q} is not a hyperbolic tessellation.
+
+    Examples
+    --------
+    >>> from hyperlattice.dictionary import improved_disk_for_rings
+    >>> L, x = improved_disk_for_rings(2, 7, 3)
+    >>> print(f"{L:.6f} {x:.6f}")
+    0.799707 4.548328
     """
     _, xa = disk_radius_for_rings(rings, p, q)
     delta = dirichlet_radius_shift(p, q)
@@ -470,8 +1176,39 @@ def improved_disk_for_rings(rings, p=7, q=3) -> tuple[float, float]:
 
 
 def map_energy_from_k(k, p=7, q=3, dictionary: str = "paper") -> float | np.ndarray:
-    r"""Lattice energy of the Dirichlet level with :math:`-\Delta_g\psi = (1+k^2)\psi`:
-    :func:`energy_from_k` (``dictionary="paper"``, ``spec2``) or :func:`improved_energy_from_k`."""
+    r"""Lattice energy of the Dirichlet level with :math:`-\Delta_g\psi = (1+k^2)\psi`, either dictionary.
+
+    Parameters
+    ----------
+    k : float or array_like of float
+        Wave number k of the level.
+    p : int or float, optional
+        Polygon size of the {p,q} lattice (default 7); ``math.inf`` for the limit
+        :math:`p \to \infty`.
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+    dictionary : {'paper', 'improved'}, optional
+        ``"paper"`` (default) uses :func:`energy_from_k`; ``"improved"`` uses
+        :func:`improved_energy_from_k`.
+
+    Returns
+    -------
+    float or ndarray of float
+        The energy E in units of t.
+
+    Raises
+    ------
+    ValueError
+        If ``dictionary`` is not one of ``DICTIONARIES``, or the chosen map refuses its input.
+
+    Examples
+    --------
+    >>> from hyperlattice.dictionary import map_energy_from_k
+    >>> print(f"{float(map_energy_from_k(1.0)):.6f}")
+    -2.885903
+    >>> print(f"{float(map_energy_from_k(1.0, dictionary='improved')):.6f}")
+    -2.882509
+    """
     if _check_dictionary(dictionary) == "paper":
         return energy_from_k(k, p, q)
     return improved_energy_from_k(k, p, q)

@@ -36,7 +36,7 @@ EXPLAINED = "≠"
 UNEXPLAINED = "≠?"
 
 #: Note of the graph energies for l >= 8 (``SuppTab1`` caption, App. ``AppSpec``).
-SPARSE_NOTE = "the paper's value for l >= 8 is a ~3-digit sparse Lanczos estimate (SuppTab1 caption)."
+SPARSE_NOTE = "the paper's value for ℓ ≥ 8 is a ~3-digit sparse Lanczos estimate (Table IV caption)."
 
 
 def _decimals(printed: str) -> int:
@@ -139,7 +139,7 @@ _ROWS += _rings_rows("Tab1", "N", ["7", "35", "112", "315", "847", "2240", "5887
 _ROWS += _rings_rows("AppTab1", "N_ring", ["7", "28", "77", "203", "532", "1393", "3647", "9548"])
 _ROWS += _rings_rows("Tab1", "L", ["0.447", "0.745", "0.894", "0.958", "0.984", "0.994", "0.998", "0.9990",
                                    "0.9997", "0.9999"],
-                     {8: "rounding slip: sqrt(15435/15463) = 0.999094 rounds to 0.9991."})
+                     {8: "rounding slip: √(15435/15463) = 0.999094 rounds to 0.9991."})
 # ``SuppTab1`` (its E0 rows are also printed in ``Tab1``)
 _ROWS += _rings_rows("SuppTab1", "E0_graph", ["-2", "-2.636", "-2.787", "-2.847", "-2.877", "-2.894", "-2.905",
                                               "-2.91", "-2.92", "-2.92"], _SPARSE)
@@ -149,8 +149,8 @@ _ROWS += _rings_rows("SuppTab1", "E0_asymptotic", ["-2.535", "-2.738", "-2.820",
                                                    "-2.909", "-2.916", "-2.921", "-2.924"])
 _ROWS += _rings_rows("SuppTab1", "E1_graph", ["-1.274", "-2.283", "-2.627", "-2.762", "-2.827", "-2.863", "-2.884",
                                               "-2.90", "-2.91", "-2.91"],
-                     {1: "misprint: l = 1 is a single heptagon with E1 = -2cos(2pi/7) = -1.2470 exactly "
-                         "(the printed -1.274 transposes two digits).", **_SPARSE})
+                     {1: "misprint: ℓ = 1 is a single heptagon with E₁ = −2 cos(2π/7) = −1.2470 exactly "
+                         "(the printed −1.274 transposes two digits).", **_SPARSE})
 _ROWS += _rings_rows("SuppTab1", "E1_continuum", ["0.620", "-2.085", "-2.578", "-2.746", "-2.821", "-2.861",
                                                   "-2.884", "-2.899", "-2.908", "-2.915"])
 _ROWS += _rings_rows("SuppTab1", "E1_asymptotic", ["15.58", "-1.633", "-2.507", "-2.728", "-2.815", "-2.858",
@@ -163,7 +163,7 @@ for _p, (_d0, _h) in _GEOMETRY.items():
     _ROWS.append(_row(f"AppFS table d0 p={_p}", "geometry_d0", _p, _d0))
     _ROWS.append(_row(f"AppFS table h p={_p}", "geometry_h", _p, _h))
 _ROWS.append(_row("AppFS table d0 p=inf", "geometry_d0", "inf", "1",
-                  "misprint: the p -> inf limit of d0 is (1/2) ln 3 = 0.549306 (the printed h = 1/2 is tanh of "
+                  "misprint: the p → ∞ limit of d₀ is (1/2) ln 3 = 0.549306 (the printed h = 1/2 is tanh of "
                   "that; tanh(1) would be 0.762).", tolerance=5e-7))
 _ROWS.append(_row("AppFS table h p=inf", "geometry_h", "inf", "1/2", tolerance=5e-7))
 # single values

@@ -14,7 +14,7 @@ a fit) is a :class:`Result`:
 * :meth:`Result.summary` is the short JSON view the CLI prints (a stable contract; by default
   the plain view of :func:`to_jsonable`);
 * :meth:`Result.plot` draws it on a matplotlib ``ax`` and returns the axes, where a plot makes
-  sense.
+  sense (see "Figures" below).
 
 :class:`Levels` is the shared shape of a list of energy levels, on the graph and in the
 continuum alike: ``energies``, ``n``, ``m``, ``degeneracy``, ``errors`` (a residual or an error
@@ -34,26 +34,39 @@ that JSON cannot hold exactly are written as one-key objects whose key starts wi
   ``{"__dict__": [[key, value], ...]}``, a path ``{"__path__": "..."}``;
 * a nested result: its own ``as_dict()`` (recognised by its ``"type"``).
 
-This module imports only numpy (matplotlib only inside ``plot``): every layer may use it.
+Figures
+-------
+Result types do not import the plotting layer, and :mod:`hyperlattice.plots` does not hand
+drawings back through methods: ``plots`` registers one function per result type with
+:func:`register_plotter` (a decorator next to each drawing), and :meth:`Result.plot` looks the
+function up by the result's ``TYPE`` (nearest base class first). When ``plots`` was never
+imported, the look-up imports it by name (:func:`importlib.import_module`), once: imports run
+one way, from ``plots`` down to the results, and ``import hyperlattice.graph.lattice`` never
+loads matplotlib. See ``docs/architecture.md`` for the layer rule.
+
+This module imports only numpy: every layer may use it.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import hashlib
+import importlib
 import json
 import math
+import sys
 import typing
 import zipfile
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import TYPE_CHECKING, Any, Callable, ClassVar
 
 import numpy as np
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-__all__ = ["Result", "Levels", "load_result", "to_jsonable", "from_jsonable", "result_types"]
+__all__ = ["Result", "Levels", "load_result", "to_jsonable", "from_jsonable", "result_types",
+           "register_plotter", "plotter", "Column", "Grid", "INDEX"]
 
 _REGISTRY: dict[str, type] = {}
 
@@ -61,6 +74,89 @@ _REGISTRY: dict[str, type] = {}
 def result_types() -> dict[str, type]:
     """Every registered result class by its ``type`` tag (for :func:`load_result`)."""
     return dict(_REGISTRY)
+
+
+# ----------------------------------------------------------------------------
+# figures: plots/ registers a drawing per result type; Result.plot asks here
+# ----------------------------------------------------------------------------
+
+#: drawing function of each result type tag, filled by hyperlattice.plots when it is imported
+_PLOTTERS: dict[str, Callable] = {}
+_PLOTS_PACKAGE = "hyperlattice.plots"
+
+
+def register_plotter(kind) -> Callable:
+    """Decorator: the function draws results of ``kind`` (a result class or its ``TYPE`` tag).
+
+    The function is called as ``func(result, ax=ax, **kwargs)`` by :meth:`Result.plot` and
+    returns the axes. Only :mod:`hyperlattice.plots` registers; a subclass without a drawing of
+    its own uses the one of its nearest registered base class.
+    """
+    tag = kind.TYPE if isinstance(kind, type) and issubclass(kind, Result) else kind
+    if not isinstance(tag, str) or not tag:
+        raise ValueError(f"a plotter is registered for a result class or its type tag, got {kind!r}.")
+
+    def register(func: Callable) -> Callable:
+        _PLOTTERS[tag] = func
+        return func
+
+    return register
+
+
+def plotter(kind: type) -> Callable | None:
+    """The drawing registered for result class ``kind`` (or its nearest base), or None.
+
+    The first look-up imports :mod:`hyperlattice.plots` by name (:func:`importlib.import_module`),
+    which registers every drawing: result modules never import the plotting layer themselves.
+    """
+    if sys.modules.get(_PLOTS_PACKAGE) is None:
+        importlib.import_module(_PLOTS_PACKAGE)
+    for klass in kind.__mro__:
+        if klass is not Result and issubclass(klass, Result) and klass.TYPE in _PLOTTERS:
+            return _PLOTTERS[klass.TYPE]
+    return None
+
+
+# ----------------------------------------------------------------------------
+# tables and grids: declared on the class, exported to pandas / xarray
+# ----------------------------------------------------------------------------
+
+#: the ``source`` of a grid coordinate that is just the position 0, 1, 2, ... along its axis
+INDEX = ""
+
+
+@dataclasses.dataclass(frozen=True)
+class Column:
+    """One column of a result's table (or one variable or coordinate of its grid).
+
+    ``name`` is the column's name in the table, ``source`` the attribute of the result that holds
+    its values (a field or a property; :data:`INDEX` for a grid coordinate 0, 1, 2, ...), ``unit``
+    its unit in words (``"t"``: the hopping, the energy unit of every Hamiltonian here; ``"1"``:
+    a pure number). ``dims`` names the grid axes of a grid variable (empty in a table).
+    """
+
+    name: str
+    source: str
+    unit: str
+    dims: tuple[str, ...] = ()
+
+
+@dataclasses.dataclass(frozen=True)
+class Grid:
+    """The grid of a result: ``coords`` (one :class:`Column` per axis, in order) and ``variables``
+    (each :class:`Column` names its axes in ``dims``)."""
+
+    coords: tuple[Column, ...]
+    variables: tuple[Column, ...]
+
+
+def _optional(module: str, extra: str):
+    """Import an optional dependency, or say in one sentence which extra installs it."""
+    try:
+        return importlib.import_module(module)
+    except ImportError:
+        raise ImportError(f"this export needs {module}, which is not installed: "
+                          f'pip install "hyperlattice[{extra}]".') from None
 
 
 # ----------------------------------------------------------------------------
@@ -323,6 +419,11 @@ class Result:
     TYPE: ClassVar[str] = ""
     #: fields left out of as_dict() (e.g. derived caches); eigenvectors are kept
     _TRANSIENT: ClassVar[tuple[str, ...]] = ()
+    #: the table of this result type (:meth:`to_dataframe`): 1-d columns of equal length;
+    #: empty for a result that is not a table
+    COLUMNS: ClassVar[tuple[Column, ...]] = ()
+    #: the grid of this result type (:meth:`to_xarray`), or None
+    GRID: ClassVar[Grid | None] = None
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
@@ -465,10 +566,115 @@ class Result:
                     return f"{f.name} = {v} (it must be at least {low})"
         return None
 
+    # -- tables and grids ----------------------------------------------------------------
+    def table_columns(self) -> dict[str, np.ndarray]:
+        """The declared table (:attr:`COLUMNS`) as ``{name: 1-d array}``; a column whose attribute is
+        None (e.g. ``m`` when the rotation is broken) is left out.
+
+        Raises
+        ------
+        NotImplementedError
+            If this result type declares no table.
+        ValueError
+            If the columns differ in length (a result built by hand with inconsistent arrays).
+        """
+        if not self.COLUMNS:
+            raise NotImplementedError(f"{type(self).__name__} is not a table (it declares no COLUMNS).")
+        out = {}
+        for col in self.COLUMNS:
+            v = getattr(self, col.source)
+            if v is not None:
+                out[col.name] = np.asarray(v)
+        lengths = {name: a.shape for name, a in out.items()}
+        if any(len(shape) != 1 for shape in lengths.values()) or len({sh[0] for sh in lengths.values()}) > 1:
+            raise ValueError(f"the columns of this {type(self).__name__} are not 1-d arrays of one length: {lengths}.")
+        return out
+
+    def to_dataframe(self):
+        """The declared table as a :class:`pandas.DataFrame` (pandas: ``pip install "hyperlattice[pandas]"``).
+
+        One column per entry of :attr:`COLUMNS` (:meth:`table_columns`), values copied; ``df.attrs``
+        holds ``"type"`` (the result's tag) and ``"units"`` (``{column: unit}``).
+
+        Raises
+        ------
+        NotImplementedError
+            If this result type declares no table.
+        ImportError
+            If pandas is not installed (the message names the extra).
+        """
+        columns = self.table_columns()
+        pd = _optional("pandas", "pandas")
+        df = pd.DataFrame({name: np.array(a) for name, a in columns.items()})
+        df.attrs["type"] = self.TYPE
+        df.attrs["units"] = {c.name: c.unit for c in self.COLUMNS if c.name in columns}
+        return df
+
+    def grid_arrays(self) -> tuple[dict[str, np.ndarray], dict[str, tuple[tuple[str, ...], np.ndarray]]]:
+        """The declared grid (:attr:`GRID`): ``({axis: coordinates}, {variable: (axes, values)})``.
+
+        Raises
+        ------
+        NotImplementedError
+            If this result type declares no grid.
+        ValueError
+            If a variable's shape does not match its axes.
+        """
+        if self.GRID is None:
+            raise NotImplementedError(f"{type(self).__name__} is not a grid (it declares no GRID).")
+        variables = {v.name: (v.dims, np.asarray(getattr(self, v.source))) for v in self.GRID.variables}
+        sizes: dict[str, int] = {}
+        for name, (dims, a) in variables.items():
+            if a.ndim != len(dims):
+                raise ValueError(f"{type(self).__name__}.{name} has {a.ndim} axes, the grid says {dims}.")
+            for d, n in zip(dims, a.shape):
+                if sizes.setdefault(d, n) != n:
+                    raise ValueError(f"the axis {d!r} of this {type(self).__name__} has lengths {sizes[d]} and {n}.")
+        coords = {}
+        for c in self.GRID.coords:
+            values = np.arange(sizes[c.name]) if c.source == INDEX else np.asarray(getattr(self, c.source))
+            if values.shape != (sizes.get(c.name, values.shape[0]),):
+                raise ValueError(f"the coordinates {c.name!r} of this {type(self).__name__} do not match the grid.")
+            coords[c.name] = values
+        return coords, variables
+
+    def to_xarray(self):
+        """The declared grid as an :class:`xarray.Dataset` (``pip install "hyperlattice[xarray]"``).
+
+        Coordinates and variables carry their unit in ``.attrs["units"]``; the dataset's
+        ``attrs["type"]`` is the result's tag.
+
+        Raises
+        ------
+        NotImplementedError
+            If this result type declares no grid.
+        ImportError
+            If xarray is not installed (the message names the extra).
+        """
+        coords, variables = self.grid_arrays()
+        xr = _optional("xarray", "xarray")
+        units = {c.name: c.unit for c in self.GRID.coords + self.GRID.variables}
+        ds = xr.Dataset({name: (dims, np.array(a), {"units": units[name]}) for name, (dims, a) in variables.items()},
+                        coords={name: (name, np.array(a), {"units": units[name]}) for name, a in coords.items()})
+        ds.attrs["type"] = self.TYPE
+        return ds
+
     # -- figures -----------------------------------------------------------------------
-    def plot(self, ax=None) -> Axes:
-        """Draw the result on ``ax`` (a new figure if None) and return the axes."""
-        raise NotImplementedError(f"{type(self).__name__} has no standard plot.")
+    def plot(self, ax=None, **kwargs) -> Axes:
+        """Draw the result on ``ax`` (a new figure if None) and return the axes.
+
+        The drawing is the function :mod:`hyperlattice.plots` registered for this result type
+        (:func:`register_plotter`); ``kwargs`` go to it. See "Figures" in the module docstring.
+
+        Raises
+        ------
+        NotImplementedError
+            If no figure is registered for this result type.
+        """
+        func = plotter(type(self))
+        if func is None:
+            raise NotImplementedError(f"{type(self).__name__} has no standard plot.")
+        return func(self, ax=ax, **kwargs)
 
 
 #: Smallest valid value of integer fields of these names, wherever they occur.
@@ -650,6 +856,9 @@ class Levels(Result):
         Schläfli symbol.
     """
 
+    COLUMNS = (Column("energy", "energies", "t"), Column("n", "n", "1"), Column("m", "m", "1"),
+               Column("degeneracy", "degeneracy", "1"), Column("error", "errors", "t"))
+
     energies: np.ndarray
     n: np.ndarray
     m: np.ndarray | None
@@ -709,18 +918,6 @@ class Levels(Result):
         m = [None] * len(self) if self.m is None else self.m.tolist()
         return [{"energy": float(e), "n": int(n), "m": mm, "degeneracy": int(g), "error": float(r)}
                 for e, n, mm, g, r in zip(self.energies, self.n, m, self.degeneracy, self.errors)]
-
-    def plot(self, ax=None, *, label: str | None = None, marker: str = "_", **kwargs) -> Axes:
-        """Levels against m (the angular momentum), one marker per state; returns the axes."""
-        from .plots import new_axes
-
-        ax = new_axes(ax)
-        x = np.zeros(len(self)) if self.m is None else self.m
-        ax.plot(x, self.energies, linestyle="none", marker=marker, markersize=14,
-                label=label or self.method, **kwargs)
-        ax.set_xlabel("angular momentum m")
-        ax.set_ylabel("energy E / t")
-        return ax
 
 
 def compare_levels(graph: Levels, continuum: Levels) -> dict:

@@ -57,7 +57,7 @@ import scipy.sparse as sp
 
 from .. import _validate
 from ..errors import ConvergenceWarning
-from ..results import Result
+from ..results import Column, Result
 
 __all__ = ["atomic_susceptibility", "lobe_boundary", "lobe_tip", "largest_adjacency_eigenvalue", "MottLobe",
            "mott_lobe", "GutzwillerState", "gutzwiller", "selfconsistent_boundary", "MottLobeTable",
@@ -209,6 +209,8 @@ class MottLobe(Result):
         The lobe tip (closed form, :func:`lobe_tip`).
     """
 
+    COLUMNS = (Column("t_over_U", "t_c_over_U", "1"), Column("mu_over_U", "mu_over_U", "1"))
+
     label: str
     lambda_max: float
     filling: int
@@ -221,16 +223,6 @@ class MottLobe(Result):
         return {"label": self.label, "lambda_max": self.lambda_max, "filling": self.filling,
                 "mu_over_U": self.mu_over_U.tolist(), "t_c_over_U": self.t_c_over_U.tolist(),
                 "tip_mu_over_U": self.tip_mu_over_U, "tip_t_over_U": self.tip_t_over_U}
-
-    def plot(self, ax=None):
-        """The lobe boundary (t/U horizontal, μ/U vertical, the usual orientation)."""
-        from ..plots import new_axes
-
-        ax = new_axes(ax, size=(4.5, 3.5))
-        ax.plot(self.t_c_over_U, self.mu_over_U, label=self.label)
-        ax.set_xlabel("t / U")
-        ax.set_ylabel("μ / U")
-        return ax
 
 
 def mott_lobe(lambda_max: float, filling: int = 1, points: int = 201, *, label: str = "") -> MottLobe:
@@ -589,11 +581,6 @@ class MottLobeTable(Result):
 
     def summary(self) -> dict:
         return {"p": self.p, "q": self.q, "filling": self.filling, "rows": self.rows()}
-
-    def plot(self, ax=None):
-        from ..plots.bosons import plot_mott_lobes
-
-        return plot_mott_lobes(self, ax=ax)
 
 
 def mott_lobes(p: int = 7, q: int = 3, rings=(3, 4, 5, 6, 8, 10, 12), *, filling: int = 1, clusters=(),

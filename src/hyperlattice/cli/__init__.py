@@ -8,7 +8,10 @@ Each subcommand lives in its own module ``hyperlattice.cli.cmd_<name>`` that def
 Modules are discovered automatically, so adding a command touches no shared file.
 Errors raised as :class:`ValueError` (bad input), :class:`hyperlattice.errors.HyperlatticeError`,
 :class:`MemoryError` or :class:`OSError` (a file that cannot be written) become a one-line message
-on stderr and exit code 2. Warnings are printed as one line each. Anything else is a bug of
+on stderr and exit code 2. Warnings are printed as one line each. Ctrl-C (SIGINT) and SIGTERM stop a
+run with one line (what was kept, for commands that checkpoint) and exit code 130 (143 for SIGTERM).
+Every command takes ``--progress`` / ``--no-progress``: bars on stderr, by default only when stderr
+is a terminal (:mod:`hyperlattice._progress`). Anything else is a bug of
 hyperlattice: one line asking for a report and exit code 1 (``HYPERLATTICE_TRACEBACK=1`` shows
 the traceback instead). There is never a traceback for bad input.
 """
@@ -19,14 +22,19 @@ import argparse
 import importlib
 import os
 import pkgutil
+import signal
 import sys
+import threading
 import warnings
 
 from .. import __version__
 from ..errors import HyperlatticeError
+from ._common import Interrupted
 
 EXIT_USAGE = 2
 EXIT_BUG = 1
+EXIT_INTERRUPT = 130
+EXIT_TERMINATED = 143
 
 
 class _OneLineParser(argparse.ArgumentParser):
@@ -70,8 +78,23 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
     for mod in _commands(only):
         p = sub.add_parser(mod.NAME, help=mod.HELP, description=getattr(mod, "DESCRIPTION", mod.HELP))
         mod.add_arguments(p)
+        _add_progress(p, None)
         p.set_defaults(_run=mod.run)
     return parser
+
+
+def _add_progress(parser: argparse.ArgumentParser, default) -> None:
+    """``--progress`` / ``--no-progress`` on a command and on its own subcommands (``bosons ed``), so
+    the flags work after any word; a subcommand leaves the value alone unless the flag is given there."""
+    if "--no-progress" not in parser._option_string_actions:
+        parser.add_argument("--progress", dest="progress", action="store_true", default=default,
+                            help="progress bars on stderr (default: only when stderr is a terminal)")
+        parser.add_argument("--no-progress", dest="progress", action="store_false", default=default,
+                            help="no progress bars")
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in action.choices.values():
+                _add_progress(sub, argparse.SUPPRESS)
 
 
 def _one_line(text: str) -> str:
@@ -93,8 +116,20 @@ def main(argv: list[str] | None = None) -> int:
         # one line per warning, like the errors; the source line of the warn() call means nothing here
         sys.stderr.write(f"{prefix}: warning: {_one_line(message)} ({category.__name__})\n")
 
+    from .._progress import default as progress_default
+
+    terminated = []
+
+    def on_sigterm(signum, frame) -> None:
+        # SIGTERM ends a run like Ctrl-C: finished points stay on disk, one line, no traceback
+        terminated.append(signum)
+        raise KeyboardInterrupt
+
+    installed, old_term = False, None
+    if threading.current_thread() is threading.main_thread():
+        old_term, installed = signal.signal(signal.SIGTERM, on_sigterm), True
     try:
-        with warnings.catch_warnings():
+        with warnings.catch_warnings(), progress_default(getattr(args, "progress", None)):
             warnings.simplefilter("default")
             warnings.showwarning = show_warning
             return int(args._run(args) or 0)
@@ -116,15 +151,20 @@ def main(argv: list[str] | None = None) -> int:
         where = f"{exc.filename!s}: " if getattr(exc, "filename", None) else ""
         sys.stderr.write(f"{prefix}: error: {where}{_one_line(exc.strerror or exc)}.\n")
         return EXIT_USAGE
-    except KeyboardInterrupt:
-        sys.stderr.write("hyperlattice: interrupted\n")
-        return 130
+    except KeyboardInterrupt as exc:
+        # a command that keeps finished work says where (cli._common.Interrupted), in the same line
+        detail = _one_line(exc) if isinstance(exc, Interrupted) else ""
+        sys.stderr.write(f"{prefix}: interrupted{': ' + detail if detail else ''}\n")
+        return EXIT_TERMINATED if terminated else EXIT_INTERRUPT
     except Exception as exc:  # a bug of ours: say so in one line, keep the traceback on request
         if os.environ.get("HYPERLATTICE_TRACEBACK"):
             raise
         sys.stderr.write(f"{prefix}: internal error ({type(exc).__name__}: {_one_line(exc)[:200]}); "
                          "please report it (HYPERLATTICE_TRACEBACK=1 shows the traceback).\n")
         return EXIT_BUG
+    finally:
+        if installed:
+            signal.signal(signal.SIGTERM, signal.SIG_DFL if old_term is None else old_term)
 
 
 if __name__ == "__main__":  # pragma: no cover

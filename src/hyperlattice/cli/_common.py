@@ -1,4 +1,4 @@
-"""Shared helpers for the subcommands: argument types, output paths, JSON output, progress display."""
+"""Shared helpers for the subcommands: argument types, output paths, JSON output, progress and interruption."""
 
 from __future__ import annotations
 
@@ -6,7 +6,6 @@ import argparse
 import json
 import math
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -135,41 +134,33 @@ def print_json(obj) -> None:
     sys.stdout.write("\n")
 
 
-class Progress:
-    """Minimal stderr progress display: silent for the first ``delay`` seconds.
+class Interrupted(KeyboardInterrupt):
+    """Ctrl-C or SIGTERM stopped a run; the message says what was kept and how to resume.
 
-    Only draws when stderr is a terminal or ``force`` is set, so pipes and logs stay clean
-    while long interactive runs still show what they are doing.
+    ``main`` prints it as ``hyperlattice CMD: interrupted: MESSAGE`` (one line, exit code 130).
     """
 
-    def __init__(self, label: str, *, delay: float = 2.0, force: bool | None = None) -> None:
-        self.label = label
-        self.delay = delay
-        self.t0 = time.perf_counter()
-        self.enabled = sys.stderr.isatty() if force is None else force
-        self._shown = False
 
-    def update(self, message: str) -> None:
-        if not self.enabled:
-            return
-        elapsed = time.perf_counter() - self.t0
-        if elapsed < self.delay:
-            return
-        sys.stderr.write(f"\r{self.label}: {message} [{elapsed:6.1f} s]\033[K")
-        sys.stderr.flush()
-        self._shown = True
+def progress_bar(total: int | None, desc: str, *, unit: str = "it"):
+    """The command's own bar (``--progress`` / ``--no-progress`` decide, else whether stderr is a
+    terminal): :func:`hyperlattice._progress.progress_bar` with the auto setting."""
+    from .._progress import progress_bar as bar
 
-    def close(self) -> None:
-        if self._shown:
-            sys.stderr.write("\n")
-            sys.stderr.flush()
+    return bar(total, f"hyperlattice {desc}", unit=unit)
 
-    def __enter__(self) -> "Progress":
-        return self
 
-    def __exit__(self, *exc) -> bool:
-        self.close()
-        return False
+def add_checkpoint(parser: argparse.ArgumentParser, what: str) -> None:
+    """The ``--checkpoint DIR`` flag of a multi-point command."""
+    parser.add_argument("--checkpoint", default=None, metavar="DIR",
+                        help=f"keep every finished {what} in DIR (created); a rerun of the same command "
+                             "reads them back and computes only the missing ones")
+
+
+def interrupted(done: int, total: int, what: str, where) -> Interrupted:
+    """The one-line report of an interrupted multi-point run (raise it from the KeyboardInterrupt)."""
+    if where is None:
+        return Interrupted(f"nothing kept of {total} {what} (--checkpoint DIR keeps the finished ones for a rerun)")
+    return Interrupted(f"{done} of {total} {what} kept in {where}; rerun the same command to resume")
 
 
 # ----------------------------------------------------------------------------

@@ -5,8 +5,8 @@ from __future__ import annotations
 import csv
 
 from .. import _validate
-from ._common import (DENSE_SECONDS_PER_N3, Progress, add_max_seconds, add_pq, check_work, estimate_sites,
-                      plot_file, positive_int, print_json)
+from ._common import (DENSE_SECONDS_PER_N3, add_checkpoint, add_max_seconds, add_pq, check_work, estimate_sites,
+                      interrupted, plot_file, positive_int, print_json)
 
 NAME = "butterfly"
 ORDER = 35
@@ -15,7 +15,8 @@ DESCRIPTION = (
     "All eigenvalues of the Peierls Hamiltonian H = -t sum exp(i theta_ij) c_i^+ c_j (t = 1) of a "
     "{p,q} flake at FLUXES equally spaced flux values f in [0, 1] (f flux quanta per p-gon face, "
     "f > 0 counterclockwise), computed from the p angular-momentum blocks. --out writes the figure "
-    "(format by suffix), --table a CSV with columns flux, m, energy."
+    "(format by suffix), --table a CSV with columns flux, m, energy. --checkpoint DIR keeps the levels of "
+    "every finished flux value in DIR: after Ctrl-C the same command resumes where it stopped."
 )
 
 #: largest number of flux values (the result holds FLUXES x N numbers)
@@ -34,6 +35,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="overlay the continuum Dirichlet levels (magnetic_levels) at small f on the figure")
     parser.add_argument("--json", action="store_true", help="print one JSON object (the summary)")
     add_max_seconds(parser)
+    add_checkpoint(parser, "flux value")
 
 
 def _write_table(path, result) -> None:
@@ -49,6 +51,7 @@ def run(args: argparse.Namespace) -> int:
     """Compute the butterfly and write the figure / table; bad input raises ValueError (exit 2)."""
     import numpy as np
 
+    from ..cache import Cache
     from ..graph.flux import butterfly
     from ..graph.lattice import line_graph, ring_lattice
 
@@ -63,20 +66,21 @@ def run(args: argparse.Namespace) -> int:
     _validate.require_memory(f"the butterfly's {block:,} x {block:,} complex blocks", 3.0 * 16 * block**2)
     check_work("butterfly", nflux * args.p * block**3 * DENSE_SECONDS_PER_N3, args.max_seconds,
                f"{n:,} sites: {nflux * args.p:,} dense blocks of {block:,}")
-    with Progress("butterfly") as progress:
-        progress.update("building the lattice")
-        lattice = ring_lattice(args.p, args.q, args.rings)
-        if args.line_graph:
-            lattice = line_graph(lattice)
-        progress.update(f"diagonalising {nflux} flux values")
-        result = butterfly(lattice, np.linspace(0.0, 1.0, nflux))
-        if out is not None:
-            from ..plots.magnetic import butterfly_figure
+    cache = None if args.checkpoint is None else Cache(_validate.directory("--checkpoint", args.checkpoint))
+    lattice = ring_lattice(args.p, args.q, args.rings)
+    if args.line_graph:
+        lattice = line_graph(lattice)
+    try:
+        result = butterfly(lattice, np.linspace(0.0, 1.0, nflux), checkpoint=cache)
+    except KeyboardInterrupt:
+        done = 0 if cache is None else cache.hits + cache.misses
+        raise interrupted(done, nflux, "flux values", args.checkpoint) from None
+    if out is not None:
+        from ..plots.magnetic import butterfly_figure
 
-            progress.update("drawing")
-            butterfly_figure(result, continuum=args.continuum, path=out)
-        if table is not None:
-            _write_table(table, result)
+        butterfly_figure(result, continuum=args.continuum, path=out)
+    if table is not None:
+        _write_table(table, result)
     summary = result.summary()
     summary["time"] = float(result.timings.get("total", 0.0))
     if args.json:

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from .. import _validate
-from ._common import (DENSE_SECONDS_PER_N3, Progress, add_max_seconds, add_pq, check_work, estimate_sites,
+from ._common import (DENSE_SECONDS_PER_N3, add_max_seconds, add_pq, check_work, estimate_sites,
                       finite_float, plot_file, positive_int, print_json)
 
 NAME = "disorder"
@@ -52,24 +52,21 @@ def run(args: argparse.Namespace) -> int:
     reps = _validate.positive_int("--realizations", args.realizations)
     check_work("disorder", reps * n**3 * DENSE_SECONDS_PER_N3 * (0.5 if args.no_ipr else 1.0), args.max_seconds,
                f"{reps:,} dense eigendecompositions of {n:,} sites")
-    with Progress("disorder") as progress:
-        progress.update("building the lattice")
-        lattice = ring_lattice(args.p, args.q, args.rings)
-        if args.line_graph:
-            lattice = line_graph(lattice)
-        progress.update(f"{args.realizations} realizations of {lattice.sites} sites")
-        ens = disorder_ensemble(lattice, args.W, args.realizations, seed=seed, model=args.model,
-                                omega0=args.omega0, ipr=not args.no_ipr)
-        if out is not None:
-            import matplotlib
+    lattice = ring_lattice(args.p, args.q, args.rings)
+    if args.line_graph:
+        lattice = line_graph(lattice)
+    ens = disorder_ensemble(lattice, args.W, args.realizations, seed=seed, model=args.model,
+                            omega0=args.omega0, ipr=not args.no_ipr)
+    if out is not None:
+        import matplotlib
 
-            matplotlib.use("Agg")
-            import matplotlib.pyplot as plt
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
 
-            fig, ax = plt.subplots(figsize=(5.5, 4.0), layout="constrained")
-            ens.plot(ax=ax)
-            fig.savefig(out)
-            plt.close(fig)
+        fig, ax = plt.subplots(figsize=(5.5, 4.0), layout="constrained")
+        ens.plot(ax=ax)
+        fig.savefig(out)
+        plt.close(fig)
     summary = ens.summary()
     if args.json:
         print_json(summary)

@@ -6,7 +6,7 @@ import csv
 import math
 
 from .. import _validate
-from ._common import Progress, add_pq, plot_file, positive_int, print_json
+from ._common import add_checkpoint, add_pq, interrupted, plot_file, positive_int, print_json
 
 NAME = "dos"
 ORDER = 46
@@ -17,7 +17,8 @@ DESCRIPTION = (
     "--rings R: the interior of an R-ring {p,q} flake (the outer --exclude rings are left out of the "
     "trace; default R // 2), --cluster NAME: a periodic cluster (see 'hyperlattice cluster --list'; its "
     "uniform state at E = -q is left out unless --keep-uniform). --site I: the exact local DOS at site I "
-    "instead. --out writes a CSV (energy, dos, error, integrated), --plot a figure."
+    "instead. --out writes a CSV (energy, dos, error, integrated), --plot a figure. --checkpoint DIR keeps "
+    "the moments of every finished block of random vectors: after Ctrl-C the same command resumes."
 )
 
 #: most energies in the CSV
@@ -45,6 +46,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", default=None, metavar="FILE.csv", help="CSV: energy, dos, error, integrated")
     parser.add_argument("--plot", default=None, metavar="FILE", help="figure (.png, .svg, ...)")
     parser.add_argument("--json", action="store_true", help="print one JSON object (the summary)")
+    add_checkpoint(parser, "block of random vectors")
 
 
 def _write_csv(path, result, points) -> None:
@@ -60,7 +62,8 @@ def _write_csv(path, result, points) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Compute the DOS and write the CSV / figure; bad input raises ValueError (exit 2)."""
-    from ..graph.kpm import MAX_MOMENTS, MAX_VECTORS, bulk_dos, kpm_dos, local_dos
+    from ..cache import Cache
+    from ..graph.kpm import MAX_MOMENTS, MAX_VECTORS, block_width, bulk_dos, kpm_dos, local_dos
     from ..graph.lattice import ring_lattice
 
     # every output and every number is checked before the computation
@@ -77,39 +80,43 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError("--exclude applies to a flake (--rings), not to a cluster.")
     if args.cluster is None and args.keep_uniform:
         raise ValueError("--keep-uniform applies to a cluster (--cluster); a flake has no uniform state.")
-    with Progress("dos") as progress:
-        if args.cluster is not None:
-            from ..graph.clusters import pbc_cluster
+    if args.site is not None and args.checkpoint is not None:
+        raise ValueError("--checkpoint keeps blocks of random vectors; --site computes exact moments without them.")
+    cache = None if args.checkpoint is None else Cache(_validate.directory("--checkpoint", args.checkpoint))
+    if args.cluster is not None:
+        from ..graph.clusters import pbc_cluster
 
-            progress.update(f"building cluster {args.cluster}")
-            graph = pbc_cluster(p, q, args.cluster)
-        else:
-            rings = 8 if args.rings is None else args.rings
-            progress.update(f"building the {rings}-ring flake")
-            graph = ring_lattice(p, q, rings)
-            if args.exclude is not None:
-                _validate.integer("--exclude", args.exclude, minimum=1, maximum=max(rings - 1, 1))
-        if args.site is not None:
-            site = _validate.site_index("--site", args.site, int(graph.sites))
-            result = local_dos(graph, site, 512 if moments is None else moments)
-        elif args.cluster is not None:
-            result = kpm_dos(graph, 512 if moments is None else moments, vectors=vectors, seed=seed,
-                             kind=args.kind, deflate=not args.keep_uniform,
-                             progress=lambda m: progress.update(m))
-        else:
-            result = bulk_dos(graph, moments, exclude=args.exclude, vectors=vectors, seed=seed, kind=args.kind,
-                              progress=lambda m: progress.update(m))
-        if out is not None:
-            progress.update("writing the table")
-            _write_csv(out, result, points)
-        if fig is not None:
-            import matplotlib
+        graph = pbc_cluster(p, q, args.cluster)
+    else:
+        rings = 8 if args.rings is None else args.rings
+        graph = ring_lattice(p, q, rings)
+        if args.exclude is not None:
+            _validate.integer("--exclude", args.exclude, minimum=1, maximum=max(rings - 1, 1))
+    # the KPM loops show a bar over the random vectors (--progress / --no-progress)
+    if args.site is not None:
+        site = _validate.site_index("--site", args.site, int(graph.sites))
+        result = local_dos(graph, site, 512 if moments is None else moments)
+    else:
+        try:
+            if args.cluster is not None:
+                result = kpm_dos(graph, 512 if moments is None else moments, vectors=vectors, seed=seed,
+                                 kind=args.kind, deflate=not args.keep_uniform, checkpoint=cache)
+            else:
+                result = bulk_dos(graph, moments, exclude=args.exclude, vectors=vectors, seed=seed,
+                                  kind=args.kind, checkpoint=cache)
+        except KeyboardInterrupt:
+            done = 0 if cache is None else cache.hits + cache.misses
+            blocks = -(-vectors // block_width(int(graph.sites), vectors, args.kind))
+            raise interrupted(done, blocks, "blocks of random vectors", args.checkpoint) from None
+    if out is not None:
+        _write_csv(out, result, points)
+    if fig is not None:
+        import matplotlib
 
-            matplotlib.use("Agg")
-            from ..plots.dos import dos_figure
+        matplotlib.use("Agg")
+        from ..plots.dos import dos_figure
 
-            progress.update("drawing")
-            dos_figure(result, path=fig)
+        dos_figure(result, path=fig)
     summary = result.summary()
     if args.json:
         print_json(summary)

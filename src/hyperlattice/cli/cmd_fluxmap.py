@@ -5,7 +5,7 @@ from __future__ import annotations
 import csv
 
 from .. import _validate
-from ._common import Progress, add_pq, finite_float, plot_file, positive_int, print_json
+from ._common import add_checkpoint, add_pq, finite_float, interrupted, plot_file, positive_int, print_json
 
 NAME = "fluxmap"
 ORDER = 36
@@ -15,7 +15,8 @@ DESCRIPTION = (
     "Dirichlet levels of the magnetic Laplacian on the flake's disk (field B = 2 pi f / area of one "
     "p-gon), matched by (n, m), at FLUXES equally spaced fluxes f in [0, FMAX]. Prints where the "
     "relative error stays below 1e-3 and why it grows; --out draws the error map (format by "
-    "suffix), --table writes one CSV row per (rings, flux, level)."
+    "suffix), --table writes one CSV row per (rings, flux, level). --checkpoint DIR keeps every finished "
+    "(l, f) point in DIR: after Ctrl-C the same command resumes where it stopped."
 )
 
 #: largest number of flux values and of flakes (each (l, f) is one sector solve on each side)
@@ -55,6 +56,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--table", default=None, metavar="FILE.csv",
                         help="CSV: rings, flux, level, n, m, E_graph, E_continuum, rel_error, lB_over_d0, lB_over_R")
     parser.add_argument("--json", action="store_true", help="print one JSON object (the summary)")
+    add_checkpoint(parser, "(l, f) point")
 
 
 def _write_table(path, result) -> None:
@@ -71,6 +73,7 @@ def run(args: argparse.Namespace) -> int:
     """Compute the comparison and write the figure / table; bad input raises ValueError (exit 2)."""
     import numpy as np
 
+    from ..cache import Cache
     from ..compare.magnetic import magnetic_comparison
 
     out = plot_file("--out", args.out) if args.out is not None else None
@@ -78,20 +81,22 @@ def run(args: argparse.Namespace) -> int:
     rings = _rings(args.rings)
     nflux = _validate.positive_int("--fluxes", args.fluxes, maximum=MAX_FLUXES)
     fmax = _validate.real("--fmax", args.fmax, minimum=0.0, maximum=1.0)
-    with Progress("fluxmap") as progress:
-        progress.update(f"{len(rings)} flakes x {nflux} fluxes")
+    cache = None if args.checkpoint is None else Cache(_validate.directory("--checkpoint", args.checkpoint))
+    try:
         result = magnetic_comparison(args.p, args.q, rings=rings, fluxes=np.linspace(0.0, fmax, nflux),
-                                     levels=args.levels)
-        if out is not None:
-            import matplotlib.pyplot as plt
+                                     levels=args.levels, checkpoint=cache)
+    except KeyboardInterrupt:
+        done = 0 if cache is None else cache.hits + cache.misses
+        raise interrupted(done, len(rings) * nflux, "points", args.checkpoint) from None
+    if out is not None:
+        import matplotlib.pyplot as plt
 
-            progress.update("drawing")
-            fig, ax = plt.subplots(figsize=(6.4, 4.4), layout="constrained")
-            result.plot(ax=ax)
-            fig.savefig(out, dpi=150)
-            plt.close(fig)
-        if table is not None:
-            _write_table(table, result)
+        fig, ax = plt.subplots(figsize=(6.4, 4.4), layout="constrained")
+        result.plot(ax=ax)
+        fig.savefig(out, dpi=150)
+        plt.close(fig)
+    if table is not None:
+        _write_table(table, result)
     summary = result.summary()
     summary["time"] = float(result.timings.get("total", 0.0))
     if args.json:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from .. import _validate
 from ..cache import Cache
-from ._common import Progress
+from ._common import progress_bar
 
 NAME = "reproduce"
 ORDER = 5
@@ -30,10 +30,21 @@ def run(args: argparse.Namespace) -> int:
     cache = Cache(args.cache_dir, enabled=not args.no_cache)
     if args.clear_cache:
         cache.clear()       # only the package's own entries: the directory may hold the user's files
-    with Progress("reproduce", delay=0.0) as bar:
-        summary = reproduce(args.out, args.max_rings, cache=cache, progress=bar.update)
+    with progress_bar(None, "reproduce", unit="stage") as bar:
+        started = [False]
+
+        def stage(message: str) -> None:
+            # the report announces each stage as it starts: the one before it has finished
+            if started[0]:
+                bar.update()
+            started[0] = True
+            bar.note(message)
+
+        summary = reproduce(args.out, args.max_rings, cache=cache, progress=stage)
+        bar.update()
     print(f"wrote {summary['out_dir']}/report.html and report.md ({len(summary['sections'])} sections) in "
-          f"{summary['seconds']:.1f} s (cache: {summary['cache_hits']} hits, {summary['cache_misses']} computed)")
+          f"{summary['seconds']:.1f} s (cache: {summary['cache_hits']} read from earlier runs, "
+          f"{summary['cache_misses']} computed, {summary['cache_reused']} reused within this run)")
     return 0
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 from ..graph.lattice import line_graph, ring_lattice
 from ..graph.spectrum import lowest_levels
 from ..graph.symmetry import signed_sector
-from ._common import Progress, add_pq, estimate_sites, finite_float, positive_int, print_json
+from ._common import add_pq, estimate_sites, finite_float, positive_int, print_json
 
 NAME = "spectrum"
 ORDER = 30
@@ -59,15 +59,12 @@ def run(args: argparse.Namespace) -> int:
         n = estimate_sites(args.p, args.q, args.rings, line_graph=args.line_graph)
         _validate.require_memory(f"method='dense' on {n:,} sites (LAPACK eigh of the full matrix)",
                                  3.0 * n**2 * (16 if args.flux else 8))
-    with Progress("spectrum") as progress:
-        progress.update("building the lattice")
-        lattice = ring_lattice(args.p, args.q, args.rings)
-        if args.line_graph:
-            lattice = line_graph(lattice)
-        progress.update("solving")
-        flux = 0.0 if args.flux is None else args.flux
-        spec = lowest_levels(lattice, args.levels, method=args.method, sector=sector, tol=args.tol,
-                             progress=progress.update, flux=flux)
+    lattice = ring_lattice(args.p, args.q, args.rings)
+    if args.line_graph:
+        lattice = line_graph(lattice)
+    flux = 0.0 if args.flux is None else args.flux
+    # the sector routes show a bar over the sectors (--progress / --no-progress)
+    spec = lowest_levels(lattice, args.levels, method=args.method, sector=sector, tol=args.tol, flux=flux)
     if args.json:
         out = spec.summary()
         if args.flux is not None:
@@ -118,9 +115,7 @@ def _run_pair(args, levels: int | None = None) -> int:
             if bad:
                 raise ValueError(f"--method pair computes E0 and E1 of the flake only; {flag} is not supported "
                                  "with it.")
-    with Progress("spectrum") as progress:
-        spec = lowest_sector_levels(args.p, args.q, args.rings, 2 if levels is None else levels, tol=args.tol,
-                                    progress=progress.update)
+    spec = lowest_sector_levels(args.p, args.q, args.rings, 2 if levels is None else levels, tol=args.tol)
     if args.json:
         out = spec.summary()
         if args.flux is not None:

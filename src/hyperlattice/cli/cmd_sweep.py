@@ -6,7 +6,7 @@ import json
 import sys
 
 from .. import _validate
-from ._common import finite_float, positive_int, print_json
+from ._common import Interrupted, finite_float, positive_int, print_json
 
 NAME = "sweep"
 ORDER = 45
@@ -132,11 +132,15 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError("give the sweep directory (--out DIR or \"out\" in CONFIG).")
     retries = args.retries if args.retries is not None else cfg.get("retries", 2)
     timeout = args.timeout if args.timeout is not None else cfg.get("timeout")
-    progress = sys.stderr.isatty() if args.progress is None else args.progress
+    progress = args.progress  # None: bars when stderr is a terminal (hyperlattice._progress)
     scheduler = args.scheduler if args.scheduler is not None else cfg.get("scheduler")
-    rep = run_sweep(task, grid, out, scheduler=scheduler,
-                    workers=args.workers or cfg.get("workers"), retries=retries, progress=progress,
-                    timeout=timeout)
+    try:
+        rep = run_sweep(task, grid, out, scheduler=scheduler,
+                        workers=args.workers or cfg.get("workers"), retries=retries, progress=progress,
+                        timeout=timeout)
+    except KeyboardInterrupt:
+        # the engine writes the finished rows before the interrupt leaves it
+        raise Interrupted(f"the finished tasks are kept in {out}; rerun the same command to resume") from None
     summary = rep.summary()
     if args.json:
         print_json(summary)

@@ -24,7 +24,7 @@ import math
 import numpy as np
 
 from .. import _validate
-from ..results import Result
+from ..results import Column, Result
 
 __all__ = ["GPComparison", "gp_comparison", "MottGapComparison", "mott_gap_comparison", "mean_field_gap"]
 
@@ -61,11 +61,6 @@ class GPComparison(Result):
     def summary(self) -> dict:
         return {"p": self.p, "q": self.q, "filling": self.filling, "U": self.U, "t": self.t, "d0": self.d0,
                 "rows": self.rows}
-
-    def plot(self, axes=None):
-        from ..plots.bosons import gp_comparison_figure
-
-        return gp_comparison_figure(self, axes=axes)
 
 
 def gp_comparison(p: int = 7, q: int = 3, rings=(3, 4, 5, 6, 7), *, filling: float = 1.0, U: float = 0.5,
@@ -161,6 +156,9 @@ class MottGapComparison(Result):
     t_over_U, gap_ed, gap_mean_field, gap_continuum : ndarray
         Gaps in units of U (the continuum column NaN for a cluster).
     """
+
+    COLUMNS = (Column("t_over_U", "t_over_U", "1"), Column("gap_ed", "gap_ed", "U"),
+               Column("gap_mean_field", "gap_mean_field", "U"), Column("gap_continuum", "gap_continuum", "U"))
 
     label: str
     sites: int

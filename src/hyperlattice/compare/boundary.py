@@ -45,7 +45,6 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -55,10 +54,8 @@ from ..dictionary import green_prefactor, lambda_from_energy
 from ..geometry import distance, one_minus_abs2
 from ..graph.lattice import Lattice
 from ..graph.qubits import BelowBandResolvent, _real_omega
-from ..results import Result
+from ..results import Column, Result
 
-if TYPE_CHECKING:
-    from matplotlib.axes import Axes
 
 __all__ = [
     "outer_ring",
@@ -324,12 +321,6 @@ class BoundaryCorrelator(Result):
                 "mass2": self.mass2, "delta_continuum": self.delta_continuum, "delta_lattice": self.delta_lattice,
                 "delta_lattice_err": self.delta_lattice_err}
 
-    def plot(self, ax=None) -> Axes:
-        """:math:`G_{ij}` against :math:`\\sin(\\theta/2)` (log-log), graph, continuum and the fitted slope."""
-        from ..plots.boundary import plot_boundary_correlator
-
-        return plot_boundary_correlator(self, ax=ax)
-
 
 class _RingFit:
     r"""The omega-independent part of the Δ fits of one source: angles, covariates, window solvers.
@@ -522,6 +513,10 @@ class DeltaCurve(Result):
         Wall time of the whole curve.
     """
 
+    COLUMNS = (Column("omega", "omegas", "t"), Column("mass2", "mass2", "curvature units"),
+               Column("delta_continuum", "delta_continuum", "1"), Column("delta_lattice", "delta_lattice", "1"),
+               Column("delta_lattice_err", "delta_lattice_err", "1"))
+
     p: int
     q: int
     rings: int
@@ -534,12 +529,6 @@ class DeltaCurve(Result):
     delta_lattice_err: np.ndarray
     omega_bf: float
     seconds: float
-
-    def plot(self, ax=None) -> Axes:
-        """Δ against m²: lattice (error bars) and continuum, with the BF bound."""
-        from ..plots.boundary import plot_delta_curve
-
-        return plot_delta_curve([self], ax=ax)
 
 
 def delta_curve(lattice: Lattice, omegas, *, source: int | None = None, depth: int = 2) -> DeltaCurve:
@@ -585,6 +574,8 @@ class LatticeBFBound(Result):
         :math:`E_\infty` and :math:`-1`.
     """
 
+    COLUMNS = (Column("rings", "rings", "1"), Column("e0", "e0", "t"), Column("mass2", "mass2", "curvature units"))
+
     p: int
     q: int
     rings: np.ndarray
@@ -604,12 +595,6 @@ class LatticeBFBound(Result):
                     "propagator exists and decays along the boundary, while the infinite-disk continuum has complex Delta.")
         return (f"E0(l) - E_inf = " + ", ".join(f"{e - self.omega_continuum:+.4f}" for e in self.e0)
                 + f" for l = {r[0]}..{r[-1]}.")
-
-    def plot(self, ax=None) -> Axes:
-        """E0(ℓ) against ℓ with the continuum bound."""
-        from ..plots.boundary import plot_bf_bound
-
-        return plot_bf_bound(self, ax=ax)
 
 
 def lattice_bf_bound(p: int = 7, q: int = 3, rings=(3, 4, 5, 6, 7, 8)) -> LatticeBFBound:

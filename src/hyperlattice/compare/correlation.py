@@ -15,17 +15,14 @@ distance alone). Conformal (automorphism) invariance emerges as :math:`S\to 0` f
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .. import _validate
 from ..geometry import d0, distance
 from ..graph.lattice import Lattice
-from ..results import Result
+from ..results import Column, Result
 
-if TYPE_CHECKING:
-    from matplotlib.axes import Axes
 
 __all__ = ["correlation_pairs", "sorted_pairs", "bin_by_distance", "BinnedCorrelation", "collapse_measure"]
 
@@ -84,18 +81,15 @@ class BinnedCorrelation(Result):
         (0, :math:`d_0`, ...) lie, so that this is 0 for the default bins on a lattice.
     """
 
+    COLUMNS = (Column("centre", "centre", "hyperbolic distance"), Column("mean", "mean", "of F"), Column("std", "std", "of F"),
+               Column("count", "count", "1"))
+
     edges: np.ndarray
     centre: np.ndarray
     mean: np.ndarray
     std: np.ndarray
     count: np.ndarray
     edge_ties: int = 0
-
-    def plot(self, ax=None, **kwargs) -> Axes:
-        """Mean ± standard deviation (real part) against the bin centre; returns the axes."""
-        from ..plots.green import plot_binned
-
-        return plot_binned(self, ax=ax, **kwargs)
 
 
 def _values(name: str, values, shape) -> np.ndarray:

@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.linalg as sla
@@ -34,10 +33,8 @@ from ..dictionary import dictionary_parameters
 from ..geometry import distance
 from ..graph.disorder import MODELS, _system, disorder, disordered_hamiltonian, onsite_variance
 from ..graph.lattice import Lattice
-from ..results import Result
+from ..results import Column, Result
 
-if TYPE_CHECKING:
-    from matplotlib.axes import Axes
 
 __all__ = ["GOE_R", "POISSON_R", "spacing_ratios", "inverse_participation", "default_windows",
            "realization_observables", "DisorderEnsemble", "disorder_ensemble", "RScan", "r_scan",
@@ -194,6 +191,11 @@ class DisorderEnsemble(Result):
     (edges); ``dos`` is the density of states per site and unit energy on ``dos_edges``.
     """
 
+    #: one row per energy window; an open end of the outer windows is -inf / inf here (null in JSON)
+    COLUMNS = (Column("window_low", "window_low", "t"), Column("window_high", "window_high", "t"),
+               Column("r", "r_window", "1"), Column("r_count", "r_window_count", "1"),
+               Column("ipr", "ipr_window", "1"))
+
     p: int
     q: int
     rings: int
@@ -215,6 +217,16 @@ class DisorderEnsemble(Result):
     dos: np.ndarray = field(repr=False)
     r_realization: np.ndarray = field(repr=False)
 
+    @property
+    def window_low(self) -> np.ndarray:
+        """Lower edge of each energy window (-inf for the first)."""
+        return self.windows[:-1]
+
+    @property
+    def window_high(self) -> np.ndarray:
+        """Upper edge of each energy window (inf for the last)."""
+        return self.windows[1:]
+
     def summary(self) -> dict:
         """The ``disorder`` command's JSON: W, realizations, seed, r_mean, r_err (the contract) and more."""
         return {"W": self.W, "realizations": self.realizations, "seed": self.seed, "r_mean": self.r_mean,
@@ -226,12 +238,6 @@ class DisorderEnsemble(Result):
                             for lo, hi in zip(self.windows[:-1], self.windows[1:])],
                 "r_window": self.r_window.tolist(),
                 "ipr_window": self.ipr_window.tolist()}
-
-    def plot(self, ax=None) -> Axes:
-        """The averaged density of states (:func:`hyperlattice.plots.disorder.plot_dos`)."""
-        from ..plots.disorder import plot_dos
-
-        return plot_dos(self, ax=ax)
 
 
 def _pool(p, q, rings, kind, sites, model, strength, seed, realizations, omega0, rows, windows, dos_edges):
@@ -262,7 +268,7 @@ def _pool(p, q, rings, kind, sites, model, strength, seed, realizations, omega0,
 
 def disorder_ensemble(lattice: Lattice, strength: float = 1.0, realizations: int = 10, *, seed: int = 0,
                       model: str = "box", omega0: float | None = None, windows=None, dos_bins: int = 60,
-                      ipr: bool = True, rows: list[dict] | None = None) -> DisorderEnsemble:
+                      ipr: bool = True, rows: list[dict] | None = None, progress=None) -> DisorderEnsemble:
     r"""Average :func:`realization_observables` over realizations ``range(realizations)`` of ``seed``.
 
     Parameters
@@ -280,6 +286,9 @@ def disorder_ensemble(lattice: Lattice, strength: float = 1.0, realizations: int
         Compute eigenvectors for the inverse participation ratios (about 2x the time).
     rows : list of dict, optional
         Precomputed per-realization results (e.g. read from a sweep table) instead of computing.
+    progress : bool, None or callable
+        A bar over the realizations on stderr (:mod:`hyperlattice._progress`; None: when stderr is a
+        terminal), or a function receiving one-line messages.
 
     Returns
     -------
@@ -292,9 +301,16 @@ def disorder_ensemble(lattice: Lattice, strength: float = 1.0, realizations: int
     win = default_windows(lattice.q) if windows is None else _edges("windows", windows)
     dos_bins = _validate.positive_int("dos_bins", dos_bins, maximum=100_000)
     dis0 = disorder(lattice, model, strength, seed=seed, realization=0, omega0=omega0)  # validates all
+    progress = _validate.progress("progress", progress)
     if rows is None:
-        rows = [realization_observables(lattice, model, strength, seed=seed, realization=k, omega0=omega0,
-                                        windows=win, dos_bins=dos_bins, ipr=ipr) for k in range(realizations)]
+        from .._progress import progress_bar
+
+        rows = []
+        with progress_bar(realizations, "disorder", unit="realization", progress=progress) as bar:
+            for k in range(realizations):
+                rows.append(realization_observables(lattice, model, strength, seed=seed, realization=k,
+                                                    omega0=omega0, windows=win, dos_bins=dos_bins, ipr=ipr))
+                bar.update()
     else:
         rows = _rows(rows, realizations)
     spread = dis0.strength if model != "resonator" else 2.0 * dis0.strength * dis0.omega0
@@ -331,6 +347,8 @@ def _rows(rows, realizations: int) -> list:
 class RScan(Result):
     """Mean spacing ratio against the disorder strength (one ensemble per strength)."""
 
+    COLUMNS = (Column("W", "W", "t"), Column("r_mean", "r_mean", "1"), Column("r_err", "r_err", "1"))
+
     p: int
     q: int
     rings: int
@@ -343,11 +361,12 @@ class RScan(Result):
     r_mean: np.ndarray
     r_err: np.ndarray
 
-    def plot(self, ax=None) -> Axes:
-        """<r> against W with the GOE and Poisson lines (:func:`hyperlattice.plots.disorder.plot_r_scan`)."""
-        from ..plots.disorder import plot_r_scan
-
-        return plot_r_scan(self, ax=ax)
+    def summary(self) -> dict:
+        """Every field in the plain JSON view, with ``window`` as ``[low, high]`` and null for an open
+        end (``window=None``: the whole spectrum), the convention of :meth:`DisorderEnsemble.summary`."""
+        out = super().summary()
+        out["window"] = [None if np.isinf(v) else float(v) for v in self.window]
+        return out
 
 
 def r_scan(lattice: Lattice, strengths, realizations: int = 10, *, seed: int = 0, model: str = "box",
@@ -399,6 +418,9 @@ class DisorderGreen(Result):
     ``err`` is the standard error of the mean over pairs. ``clean`` is the W = 0 column.
     """
 
+    COLUMNS = (Column("distance", "distance", "hyperbolic distance"), Column("clean", "clean", "1/t"),
+               Column("mean", "mean", "1/t"), Column("err", "err", "1/t"))
+
     p: int
     q: int
     rings: int
@@ -413,12 +435,6 @@ class DisorderGreen(Result):
     clean: np.ndarray = field(repr=False)
     mean: np.ndarray = field(repr=False)
     err: np.ndarray = field(repr=False)
-
-    def plot(self, ax=None) -> Axes:
-        """``|<G_ij>|`` and ``|G_ij(W = 0)|`` against distance (:func:`hyperlattice.plots.disorder.plot_green_distance`)."""
-        from ..plots.disorder import plot_green_distance
-
-        return plot_green_distance(self, ax=ax)
 
 
 def _omega_upper(omega) -> complex:
@@ -530,6 +546,12 @@ class SCBAComparison(Result):
     projected on the latter (1 in the weak-disorder limit).
     """
 
+    COLUMNS = (Column("W", "W", "t"), Column("variance", "variance", "t^2"),
+               Column("rel_clean", "rel_clean", "1"), Column("rel_graph_scba", "rel_graph_scba", "1"),
+               Column("rel_continuum_scba", "rel_continuum_scba", "1"), Column("rel_noise", "rel_noise", "1"),
+               Column("born_ratio", "born_ratio", "1"), Column("sigma_graph", "sigma_graph", "t"),
+               Column("sigma_continuum", "sigma_continuum", "t"))
+
     p: int
     q: int
     rings: int
@@ -555,12 +577,6 @@ class SCBAComparison(Result):
                  "rel_continuum_scba": float(self.rel_continuum_scba[i]), "rel_noise": float(self.rel_noise[i]),
                  "born_ratio": float(self.born_ratio[i]), "sigma_graph": complex(self.sigma_graph[i]),
                  "sigma_continuum": complex(self.sigma_continuum[i])} for i in range(self.W.size)]
-
-    def plot(self, ax=None) -> Axes:
-        """Relative distances against W (:func:`hyperlattice.plots.disorder.plot_scba_comparison`)."""
-        from ..plots.disorder import plot_scba_comparison
-
-        return plot_scba_comparison(self, ax=ax)
 
 
 def _rel(a: np.ndarray, b: np.ndarray, keep: np.ndarray) -> float:

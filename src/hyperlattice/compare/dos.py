@@ -53,16 +53,14 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Callable
+from typing import Callable
 
 import numpy as np
 
 from .. import _validate, dictionary, geometry
 from .._ties import monotone_tolerance
-from ..results import Result
+from ..results import Column, Grid, Result
 
-if TYPE_CHECKING:
-    from matplotlib.axes import Axes
 
 __all__ = ["continuum_dos", "continuum_integrated_dos", "jackson_density", "DosComparison", "dos_comparison",
            "quantile_energy", "DEFAULT_CLUSTERS"]
@@ -306,6 +304,27 @@ class DosComparison(Result):
         What was left out and why (e.g. the Abelian DOS when graph/bands.py is absent).
     """
 
+    #: one row per curve (cluster, flake or Abelian): its size and its measured distance and band edges
+    COLUMNS = (Column("label", "curve", "text"), Column("kind", "curve_kind", "text"), Column("sites", "sites", "1"),
+               Column("distance", "distance", "1"), Column("distance_err", "distance_err", "1"),
+               Column("exact_moments", "exact_moments", "1"), Column("bottom", "bottom", "t"),
+               Column("bottom_err", "bottom_err", "t"), Column("top", "top", "t"), Column("top_err", "top_err", "t"))
+    #: the densities on the (curve, energy) grid, with the exact infinite-lattice reference
+    GRID = Grid(coords=(Column("curve", "curve", "text"), Column("energy", "energies", "t")),
+                variables=(Column("density", "density", "1/t per site", ("curve", "energy")),
+                           Column("density_err", "density_err", "1/t per site", ("curve", "energy")),
+                           Column("reference", "reference", "1/t per site", ("energy",))))
+
+    @property
+    def curve(self) -> np.ndarray:
+        """The curves' labels as an array (the rows of the table)."""
+        return np.array(self.labels, dtype=str)
+
+    @property
+    def curve_kind(self) -> np.ndarray:
+        """Each curve's kind: "cluster", "flake" or "abelian"."""
+        return np.array(self.kinds, dtype=str)
+
     p: int
     q: int
     moments: int
@@ -444,12 +463,6 @@ class DosComparison(Result):
                 "quantile_lattice_err": self.quantile_lattice_err.tolist(),
                 "quantile_continuum": self.quantile_continuum.tolist(),
                 "notes": list(self.notes)}
-
-    def plot(self, ax=None, *, window: tuple[float, float] | None = None) -> Axes:
-        """All densities (clusters, flakes, Abelian), the exact reference and the continuum."""
-        from ..plots.dos import comparison_axes
-
-        return comparison_axes(self, ax=ax, window=window)
 
 
 def _default_rings(p: int, q: int, max_sites: int = 300_000) -> tuple[int, ...]:

@@ -38,7 +38,6 @@ from ..graph.lattice import Lattice
 from ..results import Result
 
 if TYPE_CHECKING:
-    from matplotlib.axes import Axes
     from ..continuum.green import GreenInfo
 
 __all__ = [
@@ -170,13 +169,6 @@ class GreenComparison(Result):
         keep = np.arange(self.graph.shape[0]) != self.source
         return (collapse_measure(self.distance[keep], self.graph[keep].real, width=width),
                 collapse_measure(self.distance[keep], self.continuum[keep].real, width=width))
-
-    def plot(self, ax=None, *, width: float | None = None) -> Axes:
-        """Binned mean ± std of Re G against hyperbolic distance, graph and continuum (``Fig3``, right);
-        returns the axes (:func:`hyperlattice.plots.green.plot_distance_profile`)."""
-        from ..plots.green import plot_distance_profile
-
-        return plot_distance_profile(self, width=width, ax=ax)
 
 
 def compare_green(lattice: Lattice, omega, source: int, *, tol: float = 1e-12,

@@ -16,16 +16,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .. import _validate
 from .._ties import classify, stable_order
-from ..results import Levels, Result, compare_levels
+from ..results import Column, Levels, Result, compare_levels
 
-if TYPE_CHECKING:
-    from matplotlib.axes import Axes
 
 __all__ = [
     "LevelComparison",
@@ -64,8 +61,30 @@ class LevelComparison(Result):
     relative_difference: np.ndarray
     labels_agree: np.ndarray | None
 
+    COLUMNS = (Column("E_graph", "E_graph", "t"), Column("E_continuum", "E_continuum", "t"),
+               Column("relative_difference", "relative_difference", "1"),
+               Column("n_graph", "n_graph", "1"), Column("m_graph", "m_graph", "1"),
+               Column("n_continuum", "n_continuum", "1"), Column("m_continuum", "m_continuum", "1"),
+               Column("labels_agree", "labels_agree", "1"),
+               Column("graph_error", "graph_error", "t"), Column("continuum_error", "continuum_error", "t"))
+
     def __len__(self) -> int:
         return int(self.relative_difference.shape[0])
+
+    def _first(self, side: Levels, name: str) -> np.ndarray | None:
+        # the first K levels of one side (the columns of the table)
+        a = getattr(side, name)
+        return None if a is None else a[:len(self)]
+
+    E_graph = property(lambda self: self._first(self.graph, "energies"), doc="Graph energies of the K levels.")
+    E_continuum = property(lambda self: self._first(self.continuum, "energies"),
+                           doc="Continuum energies of the K levels.")
+    n_graph = property(lambda self: self._first(self.graph, "n"), doc="Graph radial indices.")
+    m_graph = property(lambda self: self._first(self.graph, "m"), doc="Graph angular momenta (None without).")
+    n_continuum = property(lambda self: self._first(self.continuum, "n"), doc="Continuum radial indices.")
+    m_continuum = property(lambda self: self._first(self.continuum, "m"), doc="Continuum angular momenta.")
+    graph_error = property(lambda self: self._first(self.graph, "errors"), doc="Graph errors (residuals).")
+    continuum_error = property(lambda self: self._first(self.continuum, "errors"), doc="Continuum error bounds.")
 
     def table(self) -> list[dict]:
         """One dict per level: energies, (n, m) labels and errors of both sides, relative difference."""
@@ -82,12 +101,6 @@ class LevelComparison(Result):
         return {"p": self.graph.p, "q": self.graph.q, "graph_method": self.graph.method,
                 "continuum_method": self.continuum.method, "graph_error_kind": self.graph.error_kind,
                 "continuum_error_kind": self.continuum.error_kind, "levels": self.table()}
-
-    def plot(self, ax=None) -> Axes:
-        """Both level lists against the level index (graph filled, continuum open); returns the axes."""
-        from ..plots.paper import plot_level_comparison
-
-        return plot_level_comparison(self, ax=ax)
 
 
 def levels_side_by_side(graph: Levels, continuum: Levels) -> LevelComparison:
@@ -163,6 +176,8 @@ class RelativeErrorTrend(Result):
         Whether :math:`|{\rm error}|` decreases strictly over the whole range.
     """
 
+    COLUMNS = (Column("rings", "rings", "1"), Column("relative_error", "relative_error", "1"))
+
     level: str
     rings: np.ndarray
     relative_error: np.ndarray
@@ -181,12 +196,6 @@ class RelativeErrorTrend(Result):
     def summary(self) -> dict:
         """All fields as plain JSON (lists, no type tags)."""
         return super().summary()
-
-    def plot(self, ax=None) -> Axes:
-        """The relative error against l, the sign change and the Aitken limit marked; returns the axes."""
-        from ..plots.paper import plot_relative_error
-
-        return plot_relative_error(self, ax=ax)
 
 
 def relative_error_trend(rings, graph, continuum, *, level: str = "E0") -> RelativeErrorTrend:
@@ -285,6 +294,9 @@ class LevelCount(Result):
         full_spectrum_tolerance`; continuum: the Dirichlet roots' energy error bounds).
     """
 
+    COLUMNS = (Column("energy", "energies", "t"), Column("degeneracy", "degeneracy", "1"),
+               Column("n", "n", "1"), Column("m", "m", "1"))
+
     side: str
     p: int
     q: int
@@ -334,12 +346,6 @@ class LevelCount(Result):
         e0 = self.energies[0]
         return -b * e0 + np.log((self.degeneracy[None, :] *
                                  np.exp(-b[:, None] * (self.energies[None, :] - e0))).sum(axis=1))
-
-    def plot(self, ax=None, **kwargs) -> Axes:
-        r"""The counting function :math:`\mathcal N(E)` as a staircase; returns the axes."""
-        from ..plots.paper import plot_level_counting
-
-        return plot_level_counting(self, ax=ax, **kwargs)
 
 
 def _check_beta(beta) -> np.ndarray:
@@ -455,6 +461,9 @@ class PartitionComparison(Result):
     error bound) of the cutoff: left out of Z and reported, never sorted by the sign of rounding.
     """
 
+    COLUMNS = (Column("beta", "beta", "1/t"), Column("z_graph", "z_graph", "1"),
+               Column("z_continuum", "z_continuum", "1"))
+
     rings: int | None
     beta: np.ndarray
     z_graph: np.ndarray
@@ -464,12 +473,6 @@ class PartitionComparison(Result):
     continuum_states: int
     graph_zero_modes: int = 0
     graph_tolerance: float = 0.0
-
-    def plot(self, ax=None) -> Axes:
-        r""":math:`\ln Z` against :math:`\beta`, graph and disk, with the asymptote :math:`-\beta E_0`."""
-        from ..plots.paper import plot_partition
-
-        return plot_partition(self.beta, self.z_graph, self.z_continuum, self.e0_graph, ax=ax)
 
 
 def partition_functions(graph: LevelCount, continuum: LevelCount, beta) -> PartitionComparison:

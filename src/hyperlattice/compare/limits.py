@@ -86,16 +86,16 @@ from ..dictionary import (
     improved_energy_from_lambda,
 )
 from ..geometry import lattice_h
-from ..results import Result
+from ..results import Column, Result
 
 if TYPE_CHECKING:
-    from matplotlib.axes import Axes
-
     from ..cache import Cache
 
 __all__ = [
     "REFERENCE_LEVELS",
     "REFERENCE_COMMAND",
+    "REFERENCE_DATE",
+    "reference_command",
     "reference_levels",
     "flake_levels",
     "BandBottomFit",
@@ -110,9 +110,29 @@ __all__ = [
     "compare_dictionaries",
 ]
 
-#: How :data:`REFERENCE_LEVELS` were computed (one flake per line; ~1 min for {7,3} up to l = 14).
-REFERENCE_COMMAND = ("python -c \"from hyperlattice import ring_lattice, lowest_levels; "
-                     "print([lowest_levels(ring_lattice(p, q, l), 2).energies for l in range(1, lmax + 1)])\"")
+def reference_command(p: int = 7, q: int = 3, rings=range(1, 15)) -> str:
+    """The shell command that recomputes the :data:`REFERENCE_LEVELS` of {p,q} for ``rings``, runnable as written.
+
+    Flakes up to l = 14 go through ``lowest_levels`` (one Python call printing ``(l, E0, E1)``
+    tuples); l >= 15 through ``hyperlattice spectrum --method pair`` (the sector-only solver,
+    which never builds the 13M+ site lattice), one command per flake.
+    """
+    p, q = _validate.pq(p, q)
+    rings = _validate.int_list("rings", rings, minimum=1, maximum=17)
+    small = [r for r in rings if r <= 14]
+    parts = []
+    if small:
+        parts.append("python -c \"from hyperlattice import ring_lattice, lowest_levels; "
+                     f"print([(l, *lowest_levels(ring_lattice({p}, {q}, l), 2).energies.tolist()) "
+                     f"for l in {tuple(small)!r}])\"")
+    parts += [f"hyperlattice spectrum -p {p} -q {q} --rings {r} --method pair" for r in rings if r > 14]
+    return "; ".join(parts)
+
+
+#: How :data:`REFERENCE_LEVELS` of {7,3} up to l = 14 were computed (~1 min; :func:`reference_command`).
+REFERENCE_COMMAND = reference_command(7, 3, range(1, 15))
+#: When :data:`REFERENCE_LEVELS` were computed and stored (l = 15, 16 of {7,3} the same day).
+REFERENCE_DATE = "2026-11-22"
 
 #: E0, E1 of the l-ring {p,q} flakes (H = -A), by (p, q) and l: lowest_levels, residuals <= 4e-13
 #: (REFERENCE_COMMAND); {7,3} l = 15, 16 (13.0M, 34.1M sites) from the sector-only shift-invert solver
@@ -349,12 +369,6 @@ class BandBottomFit(Result):
         return {"p": self.p, "q": self.q, "level": self.level, "model": self.model,
                 "rings": self.rings.tolist(), "band_bottom": self.band_bottom, "params": self.params.tolist(),
                 "max_residual": float(np.max(np.abs(self.residuals)))}
-
-    def plot(self, ax=None) -> Axes:
-        """Level minus the fitted band bottom against l (log scale), with the fit; returns the axes."""
-        from ..plots.limits import plot_band_fit
-
-        return plot_band_fit(self, ax=ax)
 
 
 def fit_band_bottom(rings, energies, *, p: int = 7, q: int = 3, level: int = 0,
@@ -665,13 +679,6 @@ class BandBottom(Result):
                 "improved_edge": self.improved_edge, "band_mass": self.band_mass,
                 "paper_mass": self.paper_edge + self.q, "schur": self.schur, "variants": self.variants}
 
-    def plot(self, ax=None) -> Axes:
-        """E0 of the flakes, the extrapolated band bottom with its error bar, the rigorous interval
-        and both maps' edges against l; returns the axes."""
-        from ..plots.limits import plot_band_bottom
-
-        return plot_band_bottom(self, ax=ax)
-
 
 def _band_from(ell, e0, e1, p, q) -> tuple[float, float, list, float]:
     fits = _variants(ell, e0, e1, p, q)
@@ -773,6 +780,9 @@ class PlateauAnalysis(Result):
         its share of the total.
     """
 
+    COLUMNS = (Column("rings", "rings", "1"), Column("relative_E0", "relative_E0", "1"),
+               Column("relative_E1", "relative_E1", "1"))
+
     p: int
     q: int
     rings: np.ndarray
@@ -791,12 +801,6 @@ class PlateauAnalysis(Result):
     def summary(self) -> dict:
         """All fields as plain JSON."""
         return super().summary()
-
-    def plot(self, ax=None) -> Axes:
-        """The relative error against l, the fitted curve continued to large l and the limit band."""
-        from ..plots.limits import plot_plateau
-
-        return plot_plateau(self, ax=ax)
 
 
 def plateau_analysis(band: BandBottom, rings=None, E0=None, E1=None) -> PlateauAnalysis:
@@ -887,6 +891,11 @@ class DictionaryComparison(Result):
         relative error (NaN without a band bottom), with ``improved_limit_error``.
     """
 
+    COLUMNS = (Column("rings", "rings", "1"), Column("graph_E0", "graph_E0", "t"),
+               Column("graph_E1", "graph_E1", "t"), Column("paper_E0", "paper_E0", "1"),
+               Column("paper_E1", "paper_E1", "1"), Column("improved_E0", "improved_E0", "1"),
+               Column("improved_E1", "improved_E1", "1"))
+
     p: int
     q: int
     rings: np.ndarray
@@ -918,12 +927,6 @@ class DictionaryComparison(Result):
         """The table, the gain at the largest l and the improved map's limit."""
         return {"p": self.p, "q": self.q, "table": self.table(), "gain": self.gain(),
                 "improved_limit": self.improved_limit, "improved_limit_error": self.improved_limit_error}
-
-    def plot(self, ax=None) -> Axes:
-        """``|relative error|`` of both maps against l (log scale); returns the axes."""
-        from ..plots.limits import plot_dictionaries
-
-        return plot_dictionaries(self, ax=ax)
 
 
 def compare_dictionaries(rings=None, E0=None, E1=None, *, p: int = 7, q: int = 3,

@@ -25,15 +25,14 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from pathlib import Path
 
 import numpy as np
 
 from .. import _validate
-from ..results import Result
+from ..cache import Cache, checkpoint_cache
+from ..results import INDEX, Column, Grid, Result
 
-if TYPE_CHECKING:
-    from matplotlib.axes import Axes
 
 __all__ = ["MagneticComparison", "magnetic_comparison"]
 
@@ -66,6 +65,14 @@ class MagneticComparison(Result):
         :math:`1/\sqrt{|B|}` (inf at f = 0).
     timings : dict
     """
+
+    GRID = Grid(coords=(Column("rings", "rings", "1"), Column("flux", "fluxes", "flux quanta per p-gon"),
+                        Column("state", INDEX, "1")),
+                variables=tuple(Column(name, name, unit, ("rings", "flux", "state"))
+                                for name, unit in (("graph", "t"), ("continuum", "t"), ("relative_error", "1"),
+                                                   ("n", "1"), ("m", "1")))
+                + (Column("disk_radius", "disk_radius", "1 (hyperbolic)", ("rings",)),
+                   Column("magnetic_length", "magnetic_length", "1 (hyperbolic)", ("flux",))))
 
     p: int
     q: int
@@ -147,16 +154,27 @@ class MagneticComparison(Result):
                 "agreement_limit": [None if math.isnan(v) else float(v) for v in self.agreement_limit()],
                 "statement": self.statement()}
 
-    def plot(self, ax=None) -> Axes:
-        """log10 of the worst relative error over the (f, l) plane, the 1e-3 contour in white."""
-        from ..plots.magnetic import error_map
 
-        return error_map(self.fluxes, self.rings, self.worst(), ax=ax,
-                         title=f"{{{self.p},{self.q}}}: graph vs continuum, {self.graph.shape[2]} lowest levels")
+def _point(p: int, q: int, ell: int, lattice, flux: float, K: int) -> dict:
+    """The K lowest graph levels at one (l, f) and the continuum levels of the same (n, m)."""
+    from ..continuum.magnetic import magnetic_levels
+    from ..graph.spectrum import lowest_levels
+
+    gs = lowest_levels(lattice, K, flux=flux)
+    # a few more continuum levels, so the graph's (n, m) are among them
+    cs = magnetic_levels(p, q, rings=ell, levels=K + 4, flux=flux)
+    lookup = {}
+    for e, nn, mm in zip(cs.energies.tolist(), cs.n.tolist(), cs.m.tolist()):
+        lookup.setdefault((nn, mm), e)
+    n, m = [int(v) for v in gs.n[:K]], [int(v) for v in gs.m[:K]]
+    # None, not NaN, for a label the continuum did not reach: the point is stored as plain JSON
+    return {"n": n, "m": m, "graph": [float(v) for v in gs.energies[:K]],
+            "continuum": [lookup.get((a, b)) for a, b in zip(n, m)]}
 
 
 def magnetic_comparison(p: int = 7, q: int = 3, *, rings=(3, 4, 5, 6, 7), fluxes=None,
-                        levels: int = 2) -> MagneticComparison:
+                        levels: int = 2, progress=None, checkpoint: Cache | Path | None = None
+                        ) -> MagneticComparison:
     r"""Lowest graph and continuum levels with flux on an (f, l) grid, matched by (n, m).
 
     Parameters
@@ -168,16 +186,23 @@ def magnetic_comparison(p: int = 7, q: int = 3, *, rings=(3, 4, 5, 6, 7), fluxes
         Flux quanta per p-gon; default ``linspace(0, 0.3, 7)``.
     levels : int
         K lowest graph states compared.
+    progress : bool, None or callable
+        A bar over the (l, f) points on stderr (:mod:`hyperlattice._progress`; None: when stderr is
+        a terminal), or a function receiving one-line messages.
+    checkpoint : path or Cache, optional
+        Keep every finished (l, f) point in this directory (a :class:`~hyperlattice.cache.Cache`,
+        one JSON entry per point, keyed on p, q, l, f and K); points already there are read, not
+        recomputed. A run stopped by Ctrl-C keeps what finished, and the same call resumes with
+        the same result, bit for bit.
 
     Returns
     -------
     MagneticComparison
     """
-    from ..continuum.magnetic import magnetic_levels
+    from .._progress import progress_bar
     from ..dictionary import disk_radius_for_rings, field_from_flux
     from ..geometry import d0 as edge_length
     from ..graph.lattice import ring_lattice
-    from ..graph.spectrum import lowest_levels
 
     t0 = time.perf_counter()
     p, q = _validate.pq(p, q)
@@ -188,21 +213,31 @@ def magnetic_comparison(p: int = 7, q: int = 3, *, rings=(3, 4, 5, 6, 7), fluxes
     if f.size == 0:
         raise ValueError("fluxes must hold at least one value.")
     K = _validate.positive_int("levels", levels, maximum=20)
+    progress = _validate.progress("progress", progress)
+    cache = checkpoint_cache(checkpoint)
     shape = (ells.size, f.size, K)
     n, m = np.zeros(shape, dtype=np.int64), np.zeros(shape, dtype=np.int64)
     g, c = np.full(shape, np.nan), np.full(shape, np.nan)
-    for i, ell in enumerate(ells.tolist()):
-        lattice = ring_lattice(p, q, ell)
-        for j, fj in enumerate(f.tolist()):
-            gs = lowest_levels(lattice, K, flux=fj)
-            # a few more continuum levels, so the graph's (n, m) are among them
-            cs = magnetic_levels(p, q, rings=ell, levels=K + 4, flux=fj)
-            lookup = {}
-            for e, nn, mm in zip(cs.energies.tolist(), cs.n.tolist(), cs.m.tolist()):
-                lookup.setdefault((nn, mm), e)
-            for k in range(K):
-                n[i, j, k], m[i, j, k], g[i, j, k] = int(gs.n[k]), int(gs.m[k]), float(gs.energies[k])
-                c[i, j, k] = lookup.get((int(gs.n[k]), int(gs.m[k])), np.nan)
+    with progress_bar(ells.size * f.size, "fluxmap", unit="point", progress=progress) as bar:
+        for i, ell in enumerate(ells.tolist()):
+            lattice = None
+            for j, fj in enumerate(f.tolist()):
+                bar.note(f"l={ell} f={fj:.4g}")
+
+                def compute(ell=ell, fj=fj) -> dict:
+                    nonlocal lattice
+                    if lattice is None:  # built only when a point of this flake is missing
+                        lattice = ring_lattice(p, q, ell)
+                    return _point(p, q, ell, lattice, fj, K)
+
+                if cache is None:
+                    point = compute()
+                else:
+                    point = cache.get("fluxmap-point", {"p": p, "q": q, "rings": ell, "flux": fj, "levels": K},
+                                      compute, expect=dict)
+                n[i, j], m[i, j], g[i, j] = point["n"], point["m"], point["graph"]
+                c[i, j] = [np.nan if v is None else v for v in point["continuum"]]
+                bar.update()
     rel = np.abs(g - c) / np.abs(g)
     B = np.abs(np.asarray(field_from_flux(f, p, q), dtype=float))
     with np.errstate(divide="ignore"):

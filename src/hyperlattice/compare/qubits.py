@@ -32,7 +32,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -42,10 +41,8 @@ from ..dictionary import dictionary_parameters
 from ..geometry import distance
 from ..graph.lattice import Lattice
 from ..graph.qubits import BelowBandResolvent, _decay_length, _real_omega, bound_state
-from ..results import Result
+from ..results import Column, Result
 
-if TYPE_CHECKING:
-    from matplotlib.axes import Axes
 
 __all__ = ["ExchangeComparison", "exchange_comparison", "BoundStateSizes", "bound_state_sizes"]
 
@@ -140,12 +137,6 @@ class ExchangeComparison(Result):
                 "decay_length_continuum")
         return {k: getattr(self, k) for k in keys}
 
-    def plot(self, ax=None) -> Axes:
-        """J against hyperbolic distance (log scale), graph points and continuum."""
-        from ..plots.boundary import plot_exchange
-
-        return plot_exchange(self, ax=ax)
-
 
 def exchange_comparison(lattice: Lattice, omega_q, g, site: int = 0, *,
                         resolvent: BelowBandResolvent | None = None) -> ExchangeComparison:
@@ -218,6 +209,11 @@ class BoundStateSizes(Result):
         :math:`1/(2\Delta(\omega_q))` of the continuum (NaN beyond the continuum BF bound).
     """
 
+    COLUMNS = (Column("omega_q", "omega_q", "t"), Column("detuning", "detuning", "t"), Column("energy", "energy", "t"),
+               Column("size_graph", "size_graph", "hyperbolic distance"), Column("size_continuum", "size_continuum", "hyperbolic distance"),
+               Column("decay_length_graph", "decay_length_graph", "hyperbolic distance"),
+               Column("decay_length_asymptotic", "decay_length_asymptotic", "hyperbolic distance"))
+
     p: int
     q: int
     rings: int
@@ -238,12 +234,6 @@ class BoundStateSizes(Result):
         return [[float(v) for v in row] for row in zip(self.omega_q, self.detuning, self.energy, self.size_graph,
                                                         self.size_continuum, self.decay_length_graph,
                                                         self.decay_length_asymptotic)]
-
-    def plot(self, ax=None) -> Axes:
-        """Size and decay length against detuning."""
-        from ..plots.boundary import plot_bound_state_sizes
-
-        return plot_bound_state_sizes(self, ax=ax)
 
 
 def _mean_distance(amplitude: np.ndarray, d: np.ndarray) -> float:

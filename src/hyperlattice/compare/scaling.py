@@ -51,7 +51,6 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -60,10 +59,8 @@ from .. import geometry
 from ..dictionary import laplacian_coefficient
 from ..errors import ConvergenceWarning
 from ..graph.lattice import Lattice
-from ..results import Result
+from ..results import Column, Result
 
-if TYPE_CHECKING:
-    from matplotlib.axes import Axes
 
 __all__ = [
     "FrameAngles",
@@ -146,12 +143,6 @@ class FrameAngles(Result):
     def max_residual(self) -> float:
         """Largest star residual over the fully coordinated sites."""
         return float(np.max(self.residual[self.full])) if np.any(self.full) else 0.0
-
-    def plot(self, ax=None) -> Axes:
-        """Fig. ``FigScos3delta`` for these angles (:func:`hyperlattice.plots.scaling.plot_frame_angles`)."""
-        from ..plots.scaling import plot_frame_angles
-
-        return plot_frame_angles(self, ax=ax)
 
 
 def _mapped_neighbours(lattice: Lattice) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -236,6 +227,10 @@ class RadialProfile(Result):
     red "error bars" of Fig. FigScos3delta).
     """
 
+    COLUMNS = (Column("r", "r", "1 (Poincare-disk radius)"), Column("mean", "mean", "of the values"),
+               Column("min", "min", "of the values"), Column("max", "max", "of the values"),
+               Column("count", "count", "1"), Column("unique", "unique", "1"))
+
     r: np.ndarray
     mean: np.ndarray
     min: np.ndarray
@@ -247,12 +242,6 @@ class RadialProfile(Result):
     def distance(self) -> np.ndarray:
         """Hyperbolic distance :math:`d(r, 0) = \\mathrm{artanh}\\, r` of each radius."""
         return np.arctanh(self.r)
-
-    def plot(self, ax=None, *, label: str = r"mean over sites at equal $r$") -> Axes:
-        """Mean against radius; red bars span min..max where the sites of one radius disagree."""
-        from ..plots.scaling import draw_radial_profile
-
-        return draw_radial_profile(self, ax=ax, label=label)
 
 
 def radial_profile(z: np.ndarray, values: np.ndarray, *, rtol: float = 1e-9,
@@ -618,12 +607,6 @@ class OperatorProfile(Result):
                 "A_h_minus_qf": self.exact.mean, "quadratic_minus_qf": self.quadratic.mean,
                 "cubic_minus_qf": self.cubic.mean}
 
-    def plot(self, ax=None) -> Axes:
-        """Fig. ``FigSh`` for this h (:func:`hyperlattice.plots.scaling.draw_operator_profile`)."""
-        from ..plots.scaling import draw_operator_profile
-
-        return draw_operator_profile(self, ax=ax)
-
 
 def _is_radial(f: SmoothFunction, z: np.ndarray) -> bool:
     """True if f takes equal values on the sites' radii rotated to the real axis."""
@@ -709,12 +692,6 @@ class ConvergenceStudy(Result):
                 "orders": {str(k): {"errors": self.errors[k], "exponent": self.exponents[k],
                                     "expected": self.expected[k], "fit_rms": self.fit_rms[k]}
                            for k in self.errors}}
-
-    def plot(self, ax=None) -> Axes:
-        """Errors against h in log-log, one line per order, with the expected powers dashed."""
-        from ..plots.scaling import plot_convergence
-
-        return plot_convergence(self, ax=ax)
 
 
 def convergence_study(lattice: Lattice | FrameAngles, f: SmoothFunction, hs=None,

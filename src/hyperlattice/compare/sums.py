@@ -24,7 +24,7 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Callable
+from typing import Callable
 
 import numpy as np
 from scipy import integrate
@@ -35,8 +35,6 @@ from ..errors import ConvergenceWarning
 from ..graph.lattice import Lattice
 from ..results import Result
 
-if TYPE_CHECKING:
-    from matplotlib.axes import Axes
 
 __all__ = [
     "counting_function",
@@ -101,12 +99,6 @@ class CountingFit(Result):
         return {"p": self.p, "q": self.q, "rings": self.rings, "slope": self.slope,
                 "intercept": self.intercept, "expected_slope": self.expected_slope,
                 "slope_fixed": self.slope_fixed, "window": self.window, "points": int(self.radii.size), "rms": self.rms}
-
-    def plot(self, ax=None) -> Axes:
-        """Fig. ``FigS1`` from the fitted points (:func:`hyperlattice.plots.scaling.plot_counting`)."""
-        from ..plots.scaling import plot_counting
-
-        return plot_counting(self, ax=ax)
 
 
 def fit_counting(lattice: Lattice, *, slope: float | None = None, window: str = "all",

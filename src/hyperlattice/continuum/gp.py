@@ -139,20 +139,63 @@ def disk_gp(radius: float, t_prime: float, U_prime: float, particles: float, *, 
             cells: int = 800, tol: float = 1e-10) -> DiskGPState:
     r"""The lowest GP state of winding m on the Dirichlet disk of radius L (finite volumes + L-BFGS).
 
+    Minimises :math:`E[\varphi] = \int dV_g [t'|\nabla_g\varphi|^2 + \frac{U'}2|\varphi|^4]` at fixed
+    N (module docstring), then polishes (f, μ_c) by Newton on the discrete equation.
+
     Parameters
     ----------
     radius : float
-        L in (0, 1); a flake of ℓ rings: :func:`hyperlattice.dictionary.disk_radius_for_rings`.
-    t_prime, U_prime : float
-        Continuum hopping (> 0) and interaction (>= 0) of the dictionary.
+        Euclidean disk radius L in (0, 1); for a flake of ℓ rings use
+        :func:`hyperlattice.dictionary.disk_radius_for_rings`.
+    t_prime : float
+        Continuum hopping :math:`t' > 0` of the dictionary (:math:`\frac q4 h^2 t`).
+    U_prime : float
+        Continuum interaction :math:`U' \ge 0` (:math:`\mathcal A U`), at most :math:`10^8 t'`.
     particles : float
-        N > 0.
-    winding : int
-        m (0: the rotationally symmetric ground state; m ≠ 0: a vortex at the centre).
-    cells : int
-        Radial cells (error ~ cells⁻²).
-    tol : float
-        Target relative residual; a ConvergenceWarning states the one reached if above it (or 1e-8).
+        Particle number :math:`N = \int |\varphi|^2 dV_g > 0`.
+    winding : int, optional
+        Winding number m, :math:`|m| \le 1000` (default 0: the rotationally symmetric ground
+        state; m ≠ 0: a vortex at the centre).
+    cells : int, optional
+        Radial cells, 20 to :math:`10^6` (default 800; error ~ cells⁻²).
+    tol : float, optional
+        Target relative residual (default 1e-10); a ConvergenceWarning states the one reached if
+        above it (or 1e-8).
+
+    Returns
+    -------
+    DiskGPState
+        Frozen result with ``rho`` and ``f`` (geodesic radii of the cell centres and the real
+        radial amplitude, :math:`|\varphi|^2 = f^2` per unit area), ``mu_c`` (continuum chemical
+        potential; the lattice μ is :math:`\mu_c - qt`), ``energy``, ``particles``, ``winding``,
+        ``residual`` and ``method = "fv"``.
+
+    Raises
+    ------
+    ValueError
+        If the radius is outside (0, 1), :math:`t' \le 0`, :math:`U' < 0` or
+        :math:`U' > 10^8 t'`, :math:`N \le 0`, or ``winding``, ``cells`` or ``tol`` is invalid.
+
+    Warns
+    -----
+    ConvergenceWarning
+        If the relative residual reached is above ``tol`` (or 1e-8).
+
+    See Also
+    --------
+    disk_gp_shooting : an independent check.
+    disk_bogoliubov, healing_length, hyperlattice.dictionary.continuum_parameters
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (14) (mean-field limit).
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.gp import disk_gp
+    >>> s = disk_gp(0.75, 0.057, 0.112, 20.0, cells=100)
+    >>> print(s.method, f"{s.mu_c:.4f}", f"{s.energy:.4f}", s.rho.shape)
+    fv 1.4624 19.6241 (100,)
     """
     from scipy.optimize import minimize
 
@@ -230,12 +273,51 @@ def disk_gp(radius: float, t_prime: float, U_prime: float, particles: float, *, 
 
 def disk_gp_shooting(radius: float, t_prime: float, U_prime: float, particles: float, *, winding: int = 0,
                      guess: DiskGPState | None = None, points: int = 400) -> DiskGPState:
-    r"""The same state by shooting: the radial ODE from the centre, (amplitude, μ_c) by a root search.
+    r"""The same GP state by shooting: the radial ODE from the centre, (amplitude, μ_c) by a root search.
 
-    An independent check of :func:`disk_gp` (no shared discretisation). ``guess`` (default: a
-    :func:`disk_gp` run with 200 cells) starts the root search; the result holds f at ``points``
-    radii. Suited to disks with artanh L ≲ 4 (the outward integration grows like
-    :math:`e^{2\rho}` away from the solution).
+    An independent check of :func:`disk_gp` (no shared discretisation). Suited to disks with
+    artanh L ≲ 4 (the outward integration grows like :math:`e^{2\rho}` away from the solution).
+
+    Parameters
+    ----------
+    radius : float
+        Euclidean disk radius L in (0, 1); for a flake of ℓ rings use
+        :func:`hyperlattice.dictionary.disk_radius_for_rings`.
+    t_prime : float
+        Continuum hopping :math:`t' > 0` of the dictionary (:math:`\frac q4 h^2 t`).
+    U_prime : float
+        Continuum interaction :math:`U' \ge 0` (:math:`\mathcal A U`), at most :math:`10^8 t'`.
+    particles : float
+        Particle number :math:`N = \int |\varphi|^2 dV_g > 0`.
+    winding : int, optional
+        Winding number m, :math:`|m| \le 1000` (default 0: the rotationally symmetric ground
+        state; m ≠ 0: a vortex at the centre).
+    guess : DiskGPState, optional
+        Starting point of the root search (default: a :func:`disk_gp` run with 200 cells).
+    points : int, optional
+        Number of radii at which the result holds f (10 to :math:`10^6`, default 400).
+
+    Returns
+    -------
+    DiskGPState
+        As for :func:`disk_gp`, with ``method = "shooting"`` and ``residual`` that of the boundary
+        and norm conditions.
+
+    Raises
+    ------
+    ValueError
+        If an argument is invalid (as for :func:`disk_gp`) or ``guess`` is not a
+        :class:`DiskGPState`.
+    ConvergenceError
+        If the root search does not converge.
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.gp import disk_gp, disk_gp_shooting
+    >>> s = disk_gp(0.75, 0.057, 0.112, 20.0, cells=100)
+    >>> s2 = disk_gp_shooting(0.75, 0.057, 0.112, 20.0, guess=s, points=100)
+    >>> print(s2.method, f"{s2.mu_c:.3f}", f"{s2.energy:.3f}")
+    shooting 1.462 19.623
     """
     from scipy.integrate import solve_ivp
     from scipy.optimize import root
@@ -295,10 +377,32 @@ def disk_gp_shooting(radius: float, t_prime: float, U_prime: float, particles: f
 
 
 def healing_length(state: DiskGPState) -> float:
-    r""":math:`\xi = \sqrt{t'/(U' n_0)}` with :math:`n_0` the largest density of the state (geodesic length).
+    r"""The healing length :math:`\xi = \sqrt{t'/(U' n_0)}` of a GP state, a geodesic length.
 
-    The continuum description of the lattice needs ξ ≫ d0 (the lattice spacing); the
-    curvature radius is 1/2 in the paper's metric. Infinite for U' = 0.
+    :math:`n_0` is the largest density of the state. The continuum description of the lattice
+    needs ξ ≫ d0 (the lattice spacing); the curvature radius is 1/2 in the paper's metric.
+
+    Parameters
+    ----------
+    state : DiskGPState
+        A state from :func:`disk_gp` or :func:`disk_gp_shooting`.
+
+    Returns
+    -------
+    float
+        ξ in the paper's metric; ``inf`` for U' = 0.
+
+    Raises
+    ------
+    ValueError
+        If ``state`` is not a :class:`DiskGPState`.
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.gp import disk_gp, healing_length
+    >>> s = disk_gp(0.75, 0.057, 0.112, 20.0, cells=100)
+    >>> print(f"{healing_length(s):.4f}")
+    0.2016
     """
     if not isinstance(state, DiskGPState):
         raise ValueError(f"state must be a DiskGPState, got {_validate._shown(state)}.")
@@ -339,6 +443,38 @@ def disk_bogoliubov(state: DiskGPState, modes: int = 6, *, max_j: int | None = N
     grid; :math:`\omega^2 = \mathrm{eig}(U\mathcal A_jU^T)` with :math:`\mathcal B_j = U^TU` (a
     bidiagonal Cholesky factor, so the matrix is pentadiagonal: LAPACK's banded eigensolver).
     j runs until its lowest frequency exceeds the K-th found (or up to ``max_j``).
+
+    Parameters
+    ----------
+    state : DiskGPState
+        A winding-0 state from :func:`disk_gp` (finite volumes).
+    modes : int, optional
+        Number K of frequencies, at least 2 (default 6); each j ≠ 0 mode counts twice (±j).
+    max_j : int, optional
+        Largest angular momentum scanned (default: the number of cells).
+
+    Returns
+    -------
+    DiskBogoliubov
+        Frozen result with ``frequencies`` (the K lowest ω ≥ 0 ascending, in the units of
+        t' and U', Goldstone mode first), ``angular_momenta`` (:math:`|j|` of each) and
+        ``zero_mode`` (the computed Goldstone frequency, close to 0).
+
+    Raises
+    ------
+    ValueError
+        If ``state`` is not a winding-0 finite-volume :class:`DiskGPState`, or ``modes`` or
+        ``max_j`` is invalid.
+    ConvergenceError
+        If :math:`\mathcal B_j` is not positive definite (the state is not the GP ground state).
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.gp import disk_gp, disk_bogoliubov
+    >>> s = disk_gp(0.75, 0.057, 0.112, 20.0, cells=100)
+    >>> b = disk_bogoliubov(s, 4)
+    >>> [round(float(w), 4) for w in b.frequencies[1:]], b.angular_momenta.tolist()
+    ([0.7306, 0.7306, 1.1985], [0, 1, 1, 2])
     """
     if not isinstance(state, DiskGPState) or state.method != "fv" or state.winding != 0:
         raise ValueError("state must be a winding-0 DiskGPState from disk_gp() (finite volumes).")

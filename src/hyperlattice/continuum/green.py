@@ -216,6 +216,39 @@ def green_nu(lam) -> complex:
 
     The principal-root branch :math:`\nu = -\frac12+\frac12\sqrt{1-\lambda}` (see the module
     docstring for why this root and how it relates to ``green35``).
+
+    Parameters
+    ----------
+    lam : float or complex
+        Helmholtz parameter :math:`\lambda` (eigenvalue variable of :math:`-\Delta_g`).
+
+    Returns
+    -------
+    complex
+        The degree :math:`\nu`; :math:`\nu = \frac12(-1+\mathrm i\sqrt{\lambda-1})` for real
+        :math:`\lambda > 1`.
+
+    Raises
+    ------
+    ValueError
+        If ``lam`` is not a finite number.
+
+    See Also
+    --------
+    hyperlattice.continuum.special.nu_from_lambda
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Appendix H (``green35``).
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.green import green_nu
+    >>> print(f"{green_nu(-8.0).real:.6f}")
+    1.000000
+    >>> nu = green_nu(5.0)
+    >>> print(f"{nu.real:.6f} {nu.imag:.6f}")
+    -0.500000 1.000000
     """
     lam = _check_lambda(lam)
     return complex(nu_from_lambda(lam))
@@ -225,8 +258,35 @@ def coefficient_cm(nu, m) -> complex | np.ndarray:
     r""":math:`C_m` of ``green23`` for the type-3 :math:`Q_\nu^m` of :mod:`hyperlattice.continuum.special`.
 
     :math:`C_m = 1/[(1-x^2)W\{P^m_\nu,Q^m_\nu\}] = (-1)^m\Gamma(\nu-m+1)/\Gamma(\nu+m+1)`
-    (the Wronskian of A&S 8.1.9, :func:`hyperlattice.continuum.special.legendre_wronskian`); the paper's ``green38`` without :math:`(-1)^m` matches a
-    phase-free :math:`Q_\nu^m`.
+    (the Wronskian of A&S 8.1.9, :func:`hyperlattice.continuum.special.legendre_wronskian`);
+    the paper's ``green38`` without :math:`(-1)^m` matches a phase-free :math:`Q_\nu^m`.
+
+    Parameters
+    ----------
+    nu : complex or array_like of complex
+        Degree :math:`\nu`.
+    m : int or array_like of int
+        Non-negative order(s); broadcasts against ``nu``.
+
+    Returns
+    -------
+    complex or ndarray of complex
+        :math:`C_m`.
+
+    Raises
+    ------
+    ValueError
+        If ``nu`` is not numeric and finite, or ``m`` is not a non-negative integer (array).
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Appendix H (``green23``, ``green38``); Abramowitz & Stegun 8.1.9.
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.green import coefficient_cm
+    >>> [round(complex(c).real, 6) for c in coefficient_cm(0.3, [0, 1, 2])]
+    [1.0, -2.564103, -1.59261]
     """
     nu = _validate.complex_array("nu", nu)
     val = legendre_cm(nu, m)          # validates m (non-negative integers)
@@ -249,6 +309,33 @@ def boundary_constant(lam) -> complex:
     :math:`\frac1{2\pi}Q_{-\nu_p-1}(y)`, which has no pole at :math:`\lambda = 0`. This
     function exists so that the printed constant can be checked (tests compare it with
     :math:`\lim_{y\to\infty}Q_{\nu_p}/P_{\nu_p}` and with :math:`\pi\cot\pi\nu_p`).
+
+    Parameters
+    ----------
+    lam : float or complex
+        Helmholtz parameter :math:`\lambda`, off the continuous spectrum :math:`[1, \infty)`.
+
+    Returns
+    -------
+    complex
+        :math:`\mathcal C`, equal to :math:`\pi\cot(\pi\nu_p) - \mathrm i\pi/2`.
+
+    Raises
+    ------
+    ValueError
+        If ``lam`` is not a finite number, lies on :math:`[1, \infty)`, or the printed
+        expression cannot be evaluated in double precision there.
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Appendix H (``AppGreen``).
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.green import boundary_constant
+    >>> c = boundary_constant(0.5)
+    >>> print(f"{c.real:.6f} {c.imag:.6f}")
+    6.339698 -1.570796
     """
     lam = _check_lambda(lam)
     if lam.imag == 0 and lam.real >= 1:
@@ -351,7 +438,35 @@ def _q0_of_ym1(nu: complex, ym1: np.ndarray) -> np.ndarray:
 def fundamental_solution(z, zp, lam) -> complex | np.ndarray:
     r"""Fundamental solution ``green34``: :math:`\mathcal G_0 = \frac1{2\pi}Q_\nu(\cosh 2d(z,z'))`.
 
-    ``inf`` where :math:`z = z'`. Branch of :math:`\nu` as in :func:`green_nu` (decaying).
+    Branch of :math:`\nu` as in :func:`green_nu` (the decaying solution).
+
+    Parameters
+    ----------
+    z, zp : complex or array_like of complex
+        Points of the open unit disk; they broadcast against each other.
+    lam : float or complex
+        Helmholtz parameter :math:`\lambda`, :math:`|\lambda| \le` :data:`MAX_LAMBDA`.
+
+    Returns
+    -------
+    complex or ndarray of complex
+        :math:`\mathcal G_0(z, z')`; ``inf`` where :math:`z = z'`.
+
+    Raises
+    ------
+    ValueError
+        If a point lies outside the unit disk, the shapes do not broadcast (or give more than
+        ``2**25`` pairs), or ``lam`` is not finite or too large.
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Appendix H (``green34``).
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.green import fundamental_solution
+    >>> print(f"{fundamental_solution(0.0, 0.5, 0.5).real:.6f}")
+    0.142675
     """
     lam = _check_lambda(lam, evaluated=True)
     z = _check_points("z", z, 1.0, False)
@@ -372,10 +487,43 @@ def _laplace(z: np.ndarray, zp: np.ndarray, L: float) -> np.ndarray:
 
 
 def green_laplace(z, zp, radius=1.0) -> float | np.ndarray:
-    r"""``eq23``: :math:`G(z,z',0,L) = -\frac1{4\pi}\ln\bigl|\frac{L(z-z')}{L^2-z\bar z'}\bigr|^2` (real).
+    r"""The :math:`\lambda = 0` Green function in closed form (the paper's ``eq23``).
 
-    Points with :math:`L < |z| < 1` are allowed (the continuation of the closed form); ``inf``
-    at coincident points.
+    .. math:: G(z,z',0,L) = -\frac1{4\pi}\ln\Bigl|\frac{L(z-z')}{L^2-z\bar z'}\Bigr|^2.
+
+    Points with :math:`L < |z| < 1` are allowed (the continuation of the closed form).
+
+    Parameters
+    ----------
+    z, zp : complex or array_like of complex
+        Points of the open unit disk; they broadcast against each other.
+    radius : float, optional
+        Disk radius :math:`0 < L \le 1` (default 1).
+
+    Returns
+    -------
+    float or ndarray of float
+        :math:`G(z, z', 0, L)` (real); ``inf`` at coincident points, 0 on :math:`|z| = L`.
+
+    Raises
+    ------
+    ValueError
+        If the radius is outside (0, 1], a point lies outside the unit disk, or the shapes do
+        not broadcast.
+
+    See Also
+    --------
+    continuum_green
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (23).
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.green import green_laplace
+    >>> print(f"{green_laplace(0.0, 0.5, 0.8):.6f}")
+    0.074803
     """
     L = _check_radius(radius)
     z = _check_points("z", z, L, True)
@@ -386,10 +534,43 @@ def green_laplace(z, zp, radius=1.0) -> float | np.ndarray:
 
 
 def green_infinite_disk(z, zp, lam) -> complex | np.ndarray:
-    r""":math:`L = 1`: :math:`G = \frac1{2\pi}Q_\nu(y)` with the decaying root (``green30``).
+    r"""The Green function of the whole disk, :math:`L = 1`: :math:`G = \frac1{2\pi}Q_\nu(y)`.
 
-    Equal to the paper's :math:`\frac1{2\pi}[Q_{\nu_p}(y)-\mathcal C P_{\nu_p}(y)]`; requires
+    :math:`y = \cosh 2d(z,z')`, with the decaying root (``green30``). Equal to the paper's
+    :math:`\frac1{2\pi}[Q_{\nu_p}(y)-\mathcal C P_{\nu_p}(y)]`; requires
     :math:`\lambda\notin[1,\infty)` (there the infinite disk has continuous spectrum).
+
+    Parameters
+    ----------
+    z, zp : complex or array_like of complex
+        Points of the open unit disk; they broadcast against each other.
+    lam : float or complex
+        Helmholtz parameter :math:`\lambda`, not on :math:`[1, \infty)`.
+
+    Returns
+    -------
+    complex or ndarray of complex
+        :math:`G(z, z', \lambda, 1)`; ``inf`` at coincident points.
+
+    Raises
+    ------
+    ValueError
+        If ``lam`` lies on :math:`[1, \infty)`, is not finite or exceeds :data:`MAX_LAMBDA`, or
+        the points are invalid.
+
+    See Also
+    --------
+    continuum_green, fundamental_solution
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Appendix H (``green30``).
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.green import green_infinite_disk
+    >>> print(f"{green_infinite_disk(0.0, 0.5, 0.5).real:.6f}")
+    0.142675
     """
     lam = _check_lambda(lam, evaluated=True)
     if lam.imag == 0 and lam.real >= 1.0:
@@ -790,7 +971,7 @@ def continuum_green(z, zp, lam, radius=1.0, *, tol: float = 1e-12, extend: bool 
     r"""Dirichlet Green function :math:`G(z, z', \lambda, L)` of :math:`\lambda + \Delta_g` (``green1``).
 
     Vectorized over ``z`` and ``zp`` (broadcast against each other). Forms (see module
-    docstring): ``eq23`` for :math:`\lambda = 0`, :math:`\frac1{2\pi}Q_\nu(y)` for :math:`L=1`
+    docstring): Eq. (23) for :math:`\lambda = 0`, :math:`\frac1{2\pi}Q_\nu(y)` for :math:`L=1`
     (``green30``), ``green33`` = ``green34`` - ``green36`` otherwise.
 
     Parameters
@@ -799,25 +980,33 @@ def continuum_green(z, zp, lam, radius=1.0, *, tol: float = 1e-12, extend: bool 
         Points of the disk (:math:`|z| \le L`). At coincident points the value is ``inf``;
         on the circle :math:`|z| = L` it is 0.
     lam : complex
-        Helmholtz parameter :math:`\lambda` (``eq21``: :math:`4(\omega+q)/(qh^2)`).
-    radius : float
-        Disk radius :math:`0 < L \le 1`.
-    tol : float
+        Helmholtz parameter :math:`\lambda` (Eq. (21): :math:`4(\omega+q)/(qh^2)`).
+    radius : float, optional
+        Disk radius :math:`0 < L \le 1` (default 1).
+    tol : float, optional
         Target for the truncation error of the ``green36`` sum, relative to
         :math:`|\mathcal G_0| + |\delta\mathcal G|` at each pair (the size of the terms that
-        cancel near the boundary); ``1e-15 <= tol < 1``.
-    extend : bool
+        cancel near the boundary); ``1e-15 <= tol < 1`` (default 1e-12).
+    extend : bool, optional
         Allow points with :math:`L < |z| < 1` (analytic continuation of ``green33`` across the
         Dirichlet circle, needed to compare with the outermost sites of a lattice, which may lie
-        slightly outside the area-matched radius ``eq12``). Requires :math:`|z||z'| < L^2`.
-    max_terms : int
+        slightly outside the area-matched radius of Eq. (12)). Requires :math:`|z||z'| < L^2`.
+        Default False.
+    max_terms : int, optional
         Cap on the number of Fourier orders (default 4000, at most :data:`MAX_TERMS`).
-    return_info : bool
-        Also return a :class:`GreenInfo` with the truncation order and tail estimate.
+    return_info : bool, optional
+        Also return a :class:`GreenInfo` with the truncation order and tail estimate
+        (default False).
 
     Returns
     -------
-    complex or ndarray of complex (and :class:`GreenInfo` if ``return_info``)
+    G : complex or ndarray of complex
+        :math:`G(z, z', \lambda, L)`, with the broadcast shape of ``z`` and ``zp``. Multiply by
+        :func:`hyperlattice.dictionary.green_prefactor` to compare with the lattice
+        :math:`G_{ij}(\omega)`.
+    info : GreenInfo
+        Only if ``return_info``: ``method``, ``nu``, ``terms``, ``tail_estimate``, ``tol`` and
+        ``rounding_estimate``.
 
     Raises
     ------
@@ -826,11 +1015,34 @@ def continuum_green(z, zp, lam, radius=1.0, *, tol: float = 1e-12, extend: bool 
         :math:`[1,\infty)` for :math:`L=1`, :math:`\lambda` a Dirichlet eigenvalue,
         :math:`|\lambda|` > :data:`MAX_LAMBDA`, more than ``2**25`` pairs, or a disk too small for
         double precision (module docstring).
+    ConvergenceError
+        If the ``green36`` series overflows double precision for points too close to the
+        boundary.
 
     Warns
     -----
     ConvergenceWarning
         If the estimated truncation error exceeds ``tol`` after ``max_terms`` orders.
+
+    See Also
+    --------
+    green_laplace, green_infinite_disk, hyperlattice.graph.green.graph_green,
+    hyperlattice.compare.green.compare_green
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eqs. (21) and (23), Appendices H and I.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> print(f"{hl.continuum_green(0.0, 0.5, 0.5, 0.8).real:.6f}")
+    0.083223
+    >>> g, info = hl.continuum_green(0.1, 0.3j, 2.0, 0.8, return_info=True)
+    >>> print(f"{g.real:.6f}", info.method)
+    0.217139 series
+    >>> print(f"{hl.continuum_green(0.0, 0.5, 0.0, 0.8).real:.6f}")
+    0.074803
     """
     lam = _check_lambda(lam, evaluated=True)
     L = _check_radius(radius)

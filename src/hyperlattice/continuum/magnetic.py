@@ -154,9 +154,41 @@ MAX_LEVELS = 2_000
 
 
 def hypergeometric_parameters(m, B, kappa) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    r"""``(a, b', c, delta)`` of the regular radial solution (module docstring), broadcast.
+    r"""The parameters ``(a, b', c, delta)`` of the regular radial solution, broadcast.
 
-    :math:`\delta = \sqrt{1-\kappa+B^2/4}` (principal root; imaginary above the threshold).
+    :math:`\delta = \sqrt{1-\kappa+B^2/4}` (principal root; imaginary above the threshold),
+    :math:`\beta_- = \frac12(1-\delta)`, :math:`a = \beta_- + \frac12(|m| + m + B/2)`,
+    :math:`b' = \beta_- + \frac12(|m| - m - B/2)`, :math:`c = 1 + |m|` (module docstring).
+
+    Parameters
+    ----------
+    m : int or array_like
+        Angular momentum (order) of :math:`\psi = e^{\mathrm im\phi}R(r)`.
+    B : float or array_like
+        Uniform field per unit area of the paper's metric (:math:`\hbar = e = 1`).
+    kappa : float or array_like
+        Eigenvalue :math:`\kappa` of :math:`-\Delta_B`.
+
+    Returns
+    -------
+    a, b', c, delta : ndarray of complex
+        The Gauss-function parameters and :math:`\delta`, with the broadcast shape.
+
+    Raises
+    ------
+    ValueError
+        If an argument is not real and finite, or the shapes do not broadcast.
+
+    References
+    ----------
+    DLMF 15.10-15.11 (Riemann P-symbol).
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.magnetic import hypergeometric_parameters
+    >>> a, b, c, delta = hypergeometric_parameters(1, 2.0, 3.0)
+    >>> print(complex(a), complex(b), complex(c), complex(delta))
+    (2-0.5j) -0.5j (2+0j) 1j
     """
     m = _validate.real_array("m", m)
     B = _validate.real_array("the field B", B)
@@ -314,8 +346,40 @@ def _kernel():
 def hyp2f1_real_interval(a, b, c, u) -> np.ndarray:
     r"""Gauss :math:`F(a, b; c; u)` (DLMF 15.2.1) for complex a, b, c and real :math:`0\le u<1`.
 
-    Vectorised over a, b, c (broadcast; c not a non-positive integer); u a scalar or an array
-    (one continuation per distinct u). See the module docstring for the method.
+    Vectorised over a, b, c (broadcast); u a scalar or an array (one continuation per distinct
+    u). See the module docstring for the method.
+
+    Parameters
+    ----------
+    a, b : complex or array_like
+        Numerator parameters.
+    c : complex or array_like
+        Denominator parameter, not a non-positive integer.
+    u : float or array_like of float
+        Argument(s), :math:`0 \le u < 1`.
+
+    Returns
+    -------
+    ndarray of complex
+        :math:`F(a, b; c; u)`.
+
+    Raises
+    ------
+    ValueError
+        If c is a non-positive integer, u is outside [0, 1), or an argument is not finite.
+    ConvergenceError
+        If the continuation does not converge.
+
+    References
+    ----------
+    DLMF 15.2.1.
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.magnetic import hyp2f1_real_interval
+    >>> import math
+    >>> print(f"{complex(hyp2f1_real_interval(1.0, 1.0, 2.0, 0.5)).real:.6f}", f"{math.log(4):.6f}")
+    1.386294 1.386294
     """
     a, b, c = (np.asarray(_validate.complex_array(name, v)) for name, v in (("a", a), ("b", b), ("c", c)))
     a, b, c = np.broadcast_arrays(a, b, c)
@@ -339,9 +403,44 @@ KAPPA_MAX = 1e10
 
 
 def radial_function(r, m, B, kappa) -> np.ndarray:
-    r"""Regular radial solution :math:`R(r) = r^{|m|}(1-r^2)^{\beta_-}F(a,b';c;r^2)` (real, module
-    docstring) of :math:`-\Delta_B(e^{\mathrm im\phi}R) = \kappa e^{\mathrm im\phi}R`, at radii
-    :math:`0\le r<1`."""
+    r"""Regular radial solution :math:`R(r) = r^{|m|}(1-r^2)^{\beta_-}F(a,b';c;r^2)` of the magnetic problem.
+
+    The real solution (module docstring) of
+    :math:`-\Delta_B(e^{\mathrm im\phi}R) = \kappa e^{\mathrm im\phi}R`, normalised to
+    :math:`R \sim r^{|m|}` at the origin.
+
+    Parameters
+    ----------
+    r : float or array_like of float
+        Radii, :math:`0\le r<1`.
+    m : int
+        Angular momentum, :math:`|m| \le` ``MAX_ORDER``.
+    B : float
+        Uniform field, flux per unit area of the paper's metric (:math:`\hbar = e = 1`, one
+        quantum is :math:`2\pi`; positive out of the disk), :math:`|B| \le` :data:`MAX_FIELD`.
+    kappa : float
+        Eigenvalue :math:`\kappa` of :math:`-\Delta_B`, :math:`|\kappa| \le` ``KAPPA_MAX``.
+
+    Returns
+    -------
+    ndarray of float
+        :math:`R(r)`, same shape as ``r``.
+
+    Raises
+    ------
+    ValueError
+        If a radius is outside [0, 1), or ``m``, ``B`` or ``kappa`` is invalid or too large.
+    ConvergenceError
+        If the hypergeometric continuation does not converge.
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.magnetic import radial_function
+    >>> print(f"{float(radial_function(0.5, 0, 0.0, 2.0)):.6f}")
+    0.861409
+    >>> [round(float(v), 6) for v in radial_function([0.0, 0.5], 1, 2.0, 3.0)]
+    [0.0, 0.416095]
+    """
     r = _validate.real_array("the radius r", r)
     if np.any(r < 0) or np.any(r >= 1):
         raise ValueError("the radius r must satisfy 0 <= r < 1.")
@@ -370,8 +469,44 @@ def _dfunc(kappa, m, B: float, s: float, *, safety: float = 1.0) -> np.ndarray:
 
 
 def dirichlet_function(kappa, m, B, radius) -> np.ndarray:
-    r"""The function whose roots in :math:`\kappa` are the Dirichlet levels (:math:`R(L)` up to a
-    positive factor), broadcast over ``kappa`` and ``m``."""
+    r"""The function whose roots in :math:`\kappa` are the magnetic Dirichlet levels.
+
+    :math:`R(L)` up to a positive factor, broadcast over ``kappa`` and ``m``.
+
+    Parameters
+    ----------
+    kappa : float or array_like of float
+        Eigenvalue(s) :math:`\kappa` of :math:`-\Delta_B`.
+    m : int or array_like of int
+        Angular momenta, :math:`|m| \le` ``MAX_ORDER``.
+    B : float
+        Uniform field, flux per unit area of the paper's metric (:math:`\hbar = e = 1`, one
+        quantum is :math:`2\pi`; positive out of the disk), :math:`|B| \le` :data:`MAX_FIELD`.
+    radius : float
+        Disk radius :math:`L \in (0, 1)`.
+
+    Returns
+    -------
+    ndarray of float
+        Values with the sign of :math:`R(L)`, broadcast over ``kappa`` and ``m``.
+
+    Raises
+    ------
+    ValueError
+        If ``m`` is not integral or too large, or another argument is invalid.
+
+    See Also
+    --------
+    magnetic_roots
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from hyperlattice.continuum.magnetic import dirichlet_function
+    >>> v = dirichlet_function(np.array([2.0, 30.0]), 0, 0.0, 0.5)
+    >>> np.sign(v).tolist()
+    [1.0, -1.0]
+    """
     kappa = _validate.real_array("kappa", kappa)
     m = np.asarray(_validate.real_array("m", m))
     if np.any(m != np.round(m)) or np.any(np.abs(m) > MAX_ORDER):
@@ -432,8 +567,47 @@ def _roots_below(ms: np.ndarray, B: float, s: float, t: float, kcut: float):
 
 
 def magnetic_roots(m, B, radius, n_roots: int = 1) -> np.ndarray:
-    r"""The ``n_roots`` lowest Dirichlet eigenvalues :math:`\kappa(n, m; B, L)`, n = 1.., of
-    :math:`-\Delta_B` on the disk of radius L for one order m."""
+    r"""The ``n_roots`` lowest Dirichlet eigenvalues :math:`\kappa(n, m; B, L)` of :math:`-\Delta_B` for one order m.
+
+    n = 1, 2, ... on the disk of radius L. At B = 0, :math:`\kappa = 1 + k^2` with the roots k of
+    :func:`hyperlattice.continuum.spectrum.dirichlet_roots`.
+
+    Parameters
+    ----------
+    m : int
+        Angular momentum, :math:`|m| \le` ``MAX_ORDER``.
+    B : float
+        Uniform field, flux per unit area of the paper's metric (:math:`\hbar = e = 1`, one
+        quantum is :math:`2\pi`; positive out of the disk), :math:`|B| \le` :data:`MAX_FIELD`.
+    radius : float
+        Disk radius :math:`L \in (0, 1)`.
+    n_roots : int, optional
+        Number of eigenvalues (default 1, at most :data:`MAX_LEVELS`).
+
+    Returns
+    -------
+    ndarray of float
+        Shape ``(n_roots,)``, increasing.
+
+    Raises
+    ------
+    ValueError
+        If an argument is invalid or the disk is too small for double precision.
+    ConvergenceError
+        If bracketing or refinement of a root fails.
+
+    See Also
+    --------
+    magnetic_levels
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.magnetic import magnetic_roots
+    >>> [round(float(k), 6) for k in magnetic_roots(0, 0.0, 0.5, 2)]
+    [20.483218, 102.296698]
+    >>> [round(float(k), 6) for k in magnetic_roots(0, 2.0, 0.5, 2)]
+    [20.54454, 102.381474]
+    """
     m = _validate.integer("m", m, minimum=-MAX_ORDER, maximum=MAX_ORDER)
     B = _field(B)
     L = _validate.radius("the disk radius L", radius)
@@ -459,15 +633,44 @@ def magnetic_roots(m, B, radius, n_roots: int = 1) -> np.ndarray:
 # ----------------------------------------------------------------------------
 
 def landau_levels(B) -> dict:
-    r"""Discrete hyperbolic Landau levels of :math:`-\Delta_B` on the whole disk (paper's metric)
-    and the threshold of the continuous spectrum (module docstring, from Comtet's curvature
-    :math:`-1` formulas with :math:`b_1 = B/4`, :math:`\Delta_g = 4\Delta_{-1}`).
+    r"""Discrete hyperbolic Landau levels of :math:`-\Delta_B` on the whole disk.
+
+    In the paper's metric, with the threshold of the continuous spectrum (module docstring, from
+    Comtet's curvature :math:`-1` formulas with :math:`b_1 = B/4`, :math:`\Delta_g = 4\Delta_{-1}`):
+    :math:`\kappa_N = (2N+1)|B| - 4N(N+1)` for :math:`0 \le N < |B|/4 - 1/2`.
+
+    Parameters
+    ----------
+    B : float
+        Uniform field, flux per unit area of the paper's metric (:math:`\hbar = e = 1`, one
+        quantum is :math:`2\pi`; positive out of the disk), :math:`|B| \le` :data:`MAX_FIELD`.
 
     Returns
     -------
     dict
-        ``{"kappa": ndarray of kappa_N = (2N+1)|B| - 4N(N+1) for 0 <= N < |B|/4 - 1/2,
-        "threshold": 1 + B^2/4}``.
+        ``{"kappa": ndarray of the kappa_N (empty for |B| <= 2), "threshold": 1 + B^2/4}``.
+
+    Raises
+    ------
+    ValueError
+        If ``B`` is not a finite real number with :math:`|B| \le` :data:`MAX_FIELD`.
+
+    See Also
+    --------
+    hyperlattice.dictionary.field_from_flux
+
+    References
+    ----------
+    A. Comtet, Ann. Phys. 173, 185 (1987).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> d = hl.landau_levels(24.0)
+    >>> d["kappa"].tolist(), d["threshold"]
+    ([24.0, 64.0, 96.0, 120.0, 136.0, 144.0], 145.0)
+    >>> hl.landau_levels(1.0)["kappa"].tolist()
+    []
     """
     B = abs(_field(B))
     nmax = math.ceil(B / 4.0 - 0.5)  # N < B/4 - 1/2
@@ -551,15 +754,58 @@ def _corotating_done(found: list, lowest: dict, K: int, B: float, s: float) -> b
 
 
 def magnetic_levels(p=7, q=3, radius=None, rings=None, levels: int = 4, flux=0.0) -> MagneticSpectrum:
-    r"""The ``levels`` lowest states of :math:`H = -q - \frac q4 h^2\Delta_B` on a Dirichlet disk,
-    with :math:`B` = :func:`~hyperlattice.dictionary.field_from_flux` (``flux`` quanta per p-gon).
+    r"""The ``levels`` lowest states of :math:`H = -q - \frac q4 h^2\Delta_B` on a Dirichlet disk.
 
-    Every order m with a root below a cutoff is scanned (for :math:`B>0`, the lowest root grows
-    with m beyond :math:`m_* = A_\phi(L)` and with :math:`|m|` for m < 0; mirrored for B < 0),
-    the cutoff growing until there are at least ``levels`` states; along the field the scan stops
-    at the first order whose lowest root is not below the K-th level found (module docstring,
-    "Which orders are scanned"). Levels that would need orders beyond
-    :data:`~hyperlattice.continuum.spectrum.MAX_ORDER` are refused (ValueError).
+    The field is :math:`B` = :func:`~hyperlattice.dictionary.field_from_flux` (``flux`` quanta
+    per p-gon). Every order m with a root below a cutoff is scanned (for :math:`B>0`, the lowest
+    root grows with m beyond :math:`m_* = A_\phi(L)` and with :math:`|m|` for m < 0; mirrored for
+    B < 0), the cutoff growing until there are at least ``levels`` states; along the field the
+    scan stops at the first order whose lowest root is not below the K-th level found (module
+    docstring, "Which orders are scanned").
+
+    Parameters
+    ----------
+    p : int, optional
+        Polygon size of the {p,q} lattice (default 7).
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+    radius : float, optional
+        Disk radius :math:`L \in (0, 1)`; give exactly one of ``radius`` and ``rings``.
+    rings : int, optional
+        Number of rings of the {p,q} lattice; L from Eq. (12) with its exact site count.
+    levels : int, optional
+        Number of states (default 4, at most :data:`MAX_LEVELS`).
+    flux : float, optional
+        Flux f in quanta through one p-gon face (default 0; f > 0 counterclockwise).
+
+    Returns
+    -------
+    MagneticSpectrum
+        A :class:`~hyperlattice.results.Levels` with ``energies`` (ascending, units of t),
+        labels ``n`` and signed ``m``, ``errors`` (energy error bounds), ``kappa`` (eigenvalues
+        of :math:`-\Delta_B`), ``flux``, ``field`` (B), ``radius``, ``x``, ``h``.
+
+    Raises
+    ------
+    ValueError
+        If an argument is invalid, the field exceeds :data:`MAX_FIELD`, or the levels need
+        orders beyond :data:`~hyperlattice.continuum.spectrum.MAX_ORDER`.
+    ConvergenceError
+        If bracketing or refinement of a root fails.
+
+    See Also
+    --------
+    hyperlattice.continuum.spectrum.continuum_levels : the same at zero flux.
+    landau_levels
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> s = hl.magnetic_levels(7, 3, rings=2, levels=4, flux=0.1)
+    >>> [round(float(e), 6) for e in s.energies]
+    [-2.556742, -2.168578, -1.960907, -1.708488]
+    >>> s.m.tolist(), round(s.field, 6)
+    ([0, 1, -1, 2], 2.4)
     """
     p, q = _validate.pq(p, q)
     K = _validate.positive_int("levels", levels, maximum=MAX_LEVELS)

@@ -122,33 +122,101 @@ def _out(x):
 
 
 def mass2_from_lambda(lam) -> float | np.ndarray:
-    r""":math:`m^2 = -\lambda`: the mass² whose Klein–Gordon operator :math:`-\Delta_g + m^2` is
-    :math:`-\Delta_g - \lambda` (paper's metric, :math:`R = 1/2`). Real scalar or array."""
+    r"""The mass² :math:`m^2 = -\lambda` of the Klein–Gordon operator :math:`-\Delta_g + m^2 = -\Delta_g - \lambda`.
+
+    In the paper's metric (AdS₂ of radius :math:`R = 1/2`).
+
+    Parameters
+    ----------
+    lam : float or array_like of float
+        Eigenvalue variable :math:`\lambda` of :math:`-\Delta_g` (real).
+
+    Returns
+    -------
+    float or ndarray of float
+        :math:`m^2 = -\lambda`.
+
+    Raises
+    ------
+    ValueError
+        If ``lam`` is complex or not finite.
+
+    See Also
+    --------
+    lambda_from_mass2, mass2_from_omega
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.massive import mass2_from_lambda
+    >>> mass2_from_lambda(0.5)
+    -0.5
+    """
     return _out(-np.asarray(_scalar_or_array("lambda", lam)))
 
 
 def lambda_from_mass2(m2) -> float | np.ndarray:
-    r""":math:`\lambda = -m^2` (inverse of :func:`mass2_from_lambda`)."""
+    r""":math:`\lambda = -m^2`, the inverse of :func:`mass2_from_lambda`.
+
+    Parameters
+    ----------
+    m2 : float or array_like of float
+        Mass² :math:`m^2` in the paper's metric (:math:`R = 1/2`).
+
+    Returns
+    -------
+    float or ndarray of float
+        :math:`\lambda = -m^2`.
+
+    Raises
+    ------
+    ValueError
+        If ``m2`` is complex or not finite.
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.massive import lambda_from_mass2
+    >>> lambda_from_mass2(-0.5)
+    0.5
+    """
     return _out(-np.asarray(_scalar_or_array("mass2", m2)))
 
 
 def delta_from_mass2(m2, *, branch: str = "plus") -> float | np.ndarray:
-    r"""Conformal dimension :math:`\Delta_\pm = \frac12 \pm \frac12\sqrt{1 + m^2}` (:math:`\Delta(\Delta-1) = m^2R^2`, R = 1/2).
+    r"""Conformal dimension :math:`\Delta_\pm = \frac12 \pm \frac12\sqrt{1 + m^2}` of a scalar of mass² :math:`m^2`.
+
+    From :math:`\Delta(\Delta-1) = m^2R^2` with :math:`R = 1/2` (module docstring).
 
     Parameters
     ----------
     m2 : float or array_like
         Mass² in the paper's metric (:math:`m^2 = -\lambda`), at or above the BF bound
         :math:`m^2 = -1`.
-    branch : {"plus", "minus"}
-        :math:`\Delta_+` (standard quantization, the falloff of the Dirichlet/normalizable
-        propagator) or :math:`\Delta_- = 1 - \Delta_+` (alternate quantization, unitary only for
-        :math:`-1 \le m^2 < 3`).
+    branch : {"plus", "minus"}, optional
+        :math:`\Delta_+` (default; standard quantization, the falloff of the
+        Dirichlet/normalizable propagator) or :math:`\Delta_- = 1 - \Delta_+` (alternate
+        quantization, unitary only for :math:`-1 \le m^2 < 3`).
+
+    Returns
+    -------
+    float or ndarray of float
+        :math:`\Delta_\pm` (dimensionless).
 
     Raises
     ------
     ValueError
         Below the BF bound (:math:`m^2 < -1`, Δ complex) or on bad input.
+
+    See Also
+    --------
+    mass2_from_delta, delta_from_omega, bf_bound
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.massive import delta_from_mass2
+    >>> delta_from_mass2(3.0), delta_from_mass2(3.0, branch="minus")
+    (1.5, -0.5)
+    >>> delta_from_mass2(-1.0)
+    0.5
     """
     branch = _validate.choice("branch", branch, ("plus", "minus"))
     m2 = np.asarray(_scalar_or_array("mass2", m2))
@@ -163,32 +231,188 @@ def delta_from_mass2(m2, *, branch: str = "plus") -> float | np.ndarray:
 
 
 def mass2_from_delta(delta) -> float | np.ndarray:
-    r""":math:`m^2 = \Delta(\Delta-1)/R^2 = 4\Delta(\Delta-1)` (either branch maps back)."""
+    r"""The mass² :math:`m^2 = \Delta(\Delta-1)/R^2 = 4\Delta(\Delta-1)` of a conformal dimension.
+
+    Either branch maps back to the same mass².
+
+    Parameters
+    ----------
+    delta : float or array_like of float
+        Conformal dimension :math:`\Delta` (real).
+
+    Returns
+    -------
+    float or ndarray of float
+        :math:`m^2` in the paper's metric.
+
+    Raises
+    ------
+    ValueError
+        If ``delta`` is complex or not finite.
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.massive import mass2_from_delta
+    >>> mass2_from_delta(1.5), mass2_from_delta(-0.5)
+    (3.0, 3.0)
+    """
     d = np.asarray(_scalar_or_array("delta", delta))
     return _out(d * (d - 1.0) / ADS_RADIUS**2)
 
 
 def mass2_from_omega(omega, p: int = 7, q: int = 3) -> float | np.ndarray:
-    r""":math:`m^2 = -\lambda(\omega) = -4(\omega+q)/(qh^2)` (``eq21``). Real ω only (a mass is real)."""
+    r"""The mass² :math:`m^2 = -\lambda(\omega) = -4(\omega+q)/(qh^2)` of a lattice frequency.
+
+    Through the dictionary of Eq. (21); real ω only (a mass is real).
+
+    Parameters
+    ----------
+    omega : float or array_like of float
+        Lattice frequency in units of t.
+    p : int, optional
+        Polygon size of the {p,q} lattice (default 7).
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+
+    Returns
+    -------
+    float or ndarray of float
+        :math:`m^2` in the paper's metric.
+
+    Raises
+    ------
+    ValueError
+        If ``omega`` is complex or not finite, or {p,q} is not a hyperbolic tessellation.
+
+    See Also
+    --------
+    omega_from_mass2, hyperlattice.dictionary.lambda_from_energy
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (21).
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.massive import mass2_from_omega
+    >>> print(f"{mass2_from_omega(-3.5):.6f}")
+    8.764501
+    """
     omega = _scalar_or_array("omega", omega)
     return _out(-np.asarray(lambda_from_energy(omega, p, q)))
 
 
 def omega_from_mass2(m2, p: int = 7, q: int = 3) -> float | np.ndarray:
-    r""":math:`\omega = -q - \frac q4 h^2 m^2` (inverse of :func:`mass2_from_omega`)."""
+    r"""The lattice frequency :math:`\omega = -q - \frac q4 h^2 m^2` of a mass², the inverse of :func:`mass2_from_omega`.
+
+    Parameters
+    ----------
+    m2 : float or array_like of float
+        Mass² in the paper's metric.
+    p : int, optional
+        Polygon size of the {p,q} lattice (default 7).
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+
+    Returns
+    -------
+    float or ndarray of float
+        :math:`\omega` in units of t.
+
+    Raises
+    ------
+    ValueError
+        If ``m2`` is complex or not finite, or {p,q} is not a hyperbolic tessellation.
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.massive import omega_from_mass2
+    >>> print(f"{omega_from_mass2(2.0):.6f}")
+    -3.114097
+    """
     m2 = _scalar_or_array("mass2", m2)
     return _out(energy_from_lambda(-np.asarray(m2) if np.ndim(m2) else -m2, p, q))
 
 
 def delta_from_omega(omega, p: int = 7, q: int = 3, *, branch: str = "plus") -> float | np.ndarray:
-    r"""Continuum Δ of the lattice frequency ω: :math:`\frac12 \pm \frac12\sqrt{1-\lambda(\omega)}`.
+    r"""Continuum conformal dimension Δ of a lattice frequency ω: :math:`\frac12 \pm \frac12\sqrt{1-\lambda(\omega)}`.
 
-    Raises ValueError for :math:`\omega > E_\infty` (beyond the continuum BF bound)."""
+    Below the band the graph propagator is a massive scalar in AdS₂ (module docstring);
+    :math:`\lambda(\omega) = 4(\omega + q)/(qh^2)` is the dictionary of Eq. (21).
+
+    Parameters
+    ----------
+    omega : float or array_like of float
+        Lattice frequency in units of t, at most :math:`E_\infty = -q + \frac q4 h^2`.
+    p : int, optional
+        Polygon size of the {p,q} lattice (default 7).
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+    branch : {"plus", "minus"}, optional
+        :math:`\Delta_+` (default) or :math:`\Delta_- = 1 - \Delta_+`.
+
+    Returns
+    -------
+    float or ndarray of float
+        :math:`\Delta_\pm`.
+
+    Raises
+    ------
+    ValueError
+        For :math:`\omega > E_\infty` (beyond the continuum BF bound), complex or non-finite
+        ``omega``, or an invalid {p,q} or ``branch``.
+
+    See Also
+    --------
+    omega_from_delta, bf_bound, hyperlattice.compare.boundary.delta_curve
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (21).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> print(f"{hl.delta_from_omega(-3.5, 7, 3):.6f}")
+    2.062410
+    >>> print(f"{hl.delta_from_omega(-3.5, branch='minus'):.6f}")
+    -1.062410
+    """
     return delta_from_mass2(mass2_from_omega(omega, p, q), branch=branch)
 
 
 def omega_from_delta(delta, p: int = 7, q: int = 3) -> float | np.ndarray:
-    r"""The lattice frequency whose continuum dimension is Δ (either branch)."""
+    r"""The lattice frequency whose continuum dimension is Δ (either branch).
+
+    Parameters
+    ----------
+    delta : float or array_like of float
+        Conformal dimension :math:`\Delta`.
+    p : int, optional
+        Polygon size of the {p,q} lattice (default 7).
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+
+    Returns
+    -------
+    float or ndarray of float
+        :math:`\omega` in units of t (at most :math:`E_\infty`).
+
+    Raises
+    ------
+    ValueError
+        If ``delta`` is complex or not finite, or {p,q} is not a hyperbolic tessellation.
+
+    See Also
+    --------
+    delta_from_omega
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.massive import omega_from_delta
+    >>> print(f"{omega_from_delta(1.5):.6f}")
+    -3.171145
+    """
     return omega_from_mass2(mass2_from_delta(delta), p, q)
 
 
@@ -218,7 +442,36 @@ class BFBound(Result):
 
 
 def bf_bound(p: int = 7, q: int = 3) -> BFBound:
-    r"""The continuum BF bound: :math:`m^2 = -1`, :math:`\lambda = 1`, :math:`\omega = E_\infty`, :math:`\Delta = 1/2`."""
+    r"""The continuum Breitenlohner–Freedman bound in every unit of the dictionary.
+
+    :math:`m^2 = -1` (:math:`m^2R^2 = -1/4`), :math:`\lambda = 1`, :math:`\omega = E_\infty`,
+    :math:`\Delta = 1/2`.
+
+    Parameters
+    ----------
+    p : int, optional
+        Polygon size of the {p,q} lattice (default 7).
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+
+    Returns
+    -------
+    BFBound
+        A frozen result with fields ``p``, ``q``, ``mass2``, ``lam``, ``omega`` (units of t)
+        and ``delta``.
+
+    Raises
+    ------
+    ValueError
+        If {p,q} is not a hyperbolic tessellation.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> b = hl.bf_bound(7, 3)
+    >>> print(b.mass2, b.lam, f"{b.omega:.6f}", b.delta)
+    -1.0 1.0 -2.942952 0.5
+    """
     p, q = _validate.pq(p, q)
     return BFBound(p=p, q=q, mass2=BF_MASS2, lam=-BF_MASS2, omega=float(energy_from_lambda(-BF_MASS2, p, q)),
                    delta=0.5)
@@ -229,19 +482,68 @@ def _delta(delta) -> float:
 
 
 def conformal_prefactor(delta) -> float:
-    r""":math:`C_\Delta = \Gamma(\Delta)/[2\sqrt\pi\,\Gamma(\Delta+\frac12)]`, the coefficient of the
-    boundary two-point function of :math:`\frac1{2\pi}Q_{\Delta-1}(y)` (module docstring)."""
+    r"""The coefficient :math:`C_\Delta = \Gamma(\Delta)/[2\sqrt\pi\,\Gamma(\Delta+\frac12)]` of the boundary two-point function.
+
+    Of the :math:`L = 1` propagator :math:`\frac1{2\pi}Q_{\Delta-1}(y)` (module docstring).
+
+    Parameters
+    ----------
+    delta : float
+        Conformal dimension :math:`\Delta > 0`.
+
+    Returns
+    -------
+    float
+        :math:`C_\Delta` (computed with log-gamma, finite for large Δ).
+
+    Raises
+    ------
+    ValueError
+        If ``delta`` is not a finite real number above 0.
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.massive import conformal_prefactor
+    >>> print(f"{conformal_prefactor(1.0):.6f}")
+    0.318310
+    """
     d = _delta(delta)
     # log-gamma: Gamma(Delta) alone overflows beyond Delta ~ 171
     return float(np.exp(sc.gammaln(d) - sc.gammaln(d + 0.5)) / (2.0 * math.sqrt(math.pi)))
 
 
 def conformal_two_point(z, zp, delta) -> float | np.ndarray:
-    r"""Leading near-boundary form :math:`C_\Delta[\epsilon\epsilon'/(4|z-z'|^2)]^\Delta` of the
-    :math:`L = 1` propagator :math:`\frac1{2\pi}Q_{\Delta-1}(y)`, :math:`\epsilon = 1-|z|^2`.
+    r"""Leading near-boundary form :math:`C_\Delta[\epsilon\epsilon'/(4|z-z'|^2)]^\Delta` of the :math:`L = 1` propagator.
 
-    Vectorized over ``z``, ``zp`` (broadcast); points inside the unit disk, not coincident.
-    Relative accuracy against the exact propagator: :math:`O(\epsilon\epsilon'/|z-z'|^2)`.
+    The propagator is :math:`\frac1{2\pi}Q_{\Delta-1}(y)`, :math:`\epsilon = 1-|z|^2`. Relative
+    accuracy against the exact propagator: :math:`O(\epsilon\epsilon'/|z-z'|^2)`.
+
+    Parameters
+    ----------
+    z, zp : complex or array_like of complex
+        Points inside the unit disk, not coincident; they broadcast against each other.
+    delta : float
+        Conformal dimension :math:`\Delta > 0`.
+
+    Returns
+    -------
+    float or ndarray of float
+        The conformal two-point function, with the broadcast shape.
+
+    Raises
+    ------
+    ValueError
+        If points coincide, lie outside the disk or do not broadcast, or ``delta`` is invalid.
+
+    See Also
+    --------
+    boundary_two_point, conformal_prefactor
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.massive import conformal_two_point
+    >>> print(f"{float(conformal_two_point(0.99, -0.99, 1.0)):.4e}")
+    8.0383e-06
     """
     d = _delta(delta)
     z = _validate.disk_points("z", z)
@@ -260,11 +562,40 @@ def conformal_two_point(z, zp, delta) -> float | np.ndarray:
 
 
 def boundary_two_point(theta, delta, eps=1.0, eps_prime=None) -> float | np.ndarray:
-    r"""The conformal form :math:`C_\Delta(\epsilon\epsilon'/16)^\Delta[\sin(\theta/2)]^{-2\Delta}`.
+    r"""The conformal form :math:`C_\Delta(\epsilon\epsilon'/16)^\Delta[\sin(\theta/2)]^{-2\Delta}` on the boundary circle.
 
-    ``eps = 1 - r^2`` (and ``eps_prime``, default ``eps``) are the cut-offs of the two points; with
-    the default ``eps = 1`` the function is the bare :math:`C_\Delta 16^{-\Delta}|\sin\theta/2|^{-2\Delta}`.
-    Equals :func:`conformal_two_point` for points on one circle up to the factor :math:`(rr')^{-\Delta}`.
+    Equals :func:`conformal_two_point` for points on one circle up to the factor
+    :math:`(rr')^{-\Delta}`.
+
+    Parameters
+    ----------
+    theta : float or array_like of float
+        Angle between the two points, in radians (not a multiple of :math:`2\pi`).
+    delta : float
+        Conformal dimension :math:`\Delta > 0`.
+    eps : float, optional
+        Cut-off :math:`\epsilon = 1 - r^2` of the first point (default 1: the bare
+        :math:`C_\Delta 16^{-\Delta}|\sin\theta/2|^{-2\Delta}`).
+    eps_prime : float, optional
+        Cut-off of the second point (default ``eps``).
+
+    Returns
+    -------
+    float or ndarray of float
+        The two-point function, same shape as ``theta``.
+
+    Raises
+    ------
+    ValueError
+        If ``theta`` is a multiple of :math:`2\pi`, a cut-off is not positive, or ``delta`` is
+        invalid.
+
+    Examples
+    --------
+    >>> import math
+    >>> from hyperlattice.continuum.massive import boundary_two_point
+    >>> print(f"{boundary_two_point(math.pi, 1.0):.6f}")
+    0.019894
     """
     d = _delta(delta)
     th = np.asarray(_scalar_or_array("theta", theta))
@@ -277,9 +608,36 @@ def boundary_two_point(theta, delta, eps=1.0, eps_prime=None) -> float | np.ndar
 
 
 def bulk_to_boundary_kernel(z, theta, delta) -> float | np.ndarray:
-    r""":math:`K_\Delta(z, \theta) = [(1-|z|^2)/|z - e^{\mathrm i\theta}|^2]^\Delta`, the bulk-to-boundary
-    propagator (up to the normalization :math:`C_\Delta(\epsilon'/4)^\Delta` of a source at cut-off
-    :math:`\epsilon'`). Vectorized over ``z`` and ``theta`` (broadcast)."""
+    r"""The bulk-to-boundary propagator :math:`K_\Delta(z, \theta) = [(1-|z|^2)/|z - e^{\mathrm i\theta}|^2]^\Delta`.
+
+    Up to the normalization :math:`C_\Delta(\epsilon'/4)^\Delta` of a source at cut-off
+    :math:`\epsilon'`.
+
+    Parameters
+    ----------
+    z : complex or array_like of complex
+        Bulk points in the open unit disk.
+    theta : float or array_like of float
+        Boundary angle(s) in radians; broadcasts against ``z``.
+    delta : float
+        Conformal dimension :math:`\Delta > 0`.
+
+    Returns
+    -------
+    float or ndarray of float
+        :math:`K_\Delta(z, \theta)`, with the broadcast shape.
+
+    Raises
+    ------
+    ValueError
+        If a point lies outside the disk, the shapes do not broadcast, or ``delta`` is invalid.
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.massive import bulk_to_boundary_kernel
+    >>> print(f"{bulk_to_boundary_kernel(0.5, 0.0, 1.0):.6f}")
+    3.000000
+    """
     d = _delta(delta)
     z = _validate.disk_points("z", z)
     th = np.asarray(_scalar_or_array("theta", theta))

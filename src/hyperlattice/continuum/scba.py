@@ -65,9 +65,36 @@ _MAX_VARIANCE = 1e12
 
 
 def band_cutoff(p: int = 7, q: int = 3) -> tuple[float, float]:
-    r"""``(lambda_c, E_c)``: the cutoff of the continuum density of states (one state per site).
+    r"""The cutoff ``(lambda_c, E_c)`` of the continuum density of states (one state per site).
 
-    :math:`\lambda_c = 1 + 4\pi/\mathcal A + \tfrac13` and :math:`E_c = E(\lambda_c)` (module docstring).
+    :math:`\lambda_c = 1 + 4\pi/\mathcal A + \tfrac13` and :math:`E_c = E(\lambda_c)` (module
+    docstring; :math:`\mathcal A` is the area per site).
+
+    Parameters
+    ----------
+    p : int, optional
+        Polygon size of the {p,q} lattice (default 7).
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+
+    Returns
+    -------
+    lam_c : float
+        Cutoff eigenvalue of :math:`-\Delta_g`.
+    E_c : float
+        The corresponding lattice energy :math:`-q + \frac q4 h^2\lambda_c` in units of t.
+
+    Raises
+    ------
+    ValueError
+        If {p,q} is not a hyperbolic tessellation.
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.scba import band_cutoff
+    >>> lam_c, e_c = band_cutoff(7, 3)
+    >>> print(f"{lam_c:.6f} {e_c:.6f}")
+    113.333333 3.465475
     """
     p, q = _validate.pq(p, q)
     area = geometry.site_area(p, q)
@@ -78,14 +105,26 @@ def band_cutoff(p: int = 7, q: int = 3) -> tuple[float, float]:
 def continuum_local_green(omega, p: int = 7, q: int = 3, *, tol: float = 1e-11) -> complex:
     r"""The continuum local Green function per site :math:`G_{\rm loc}(\omega)` (module docstring).
 
+    The resolvent of the continuum density of states per site, with the cutoff of
+    :func:`band_cutoff`; convention :math:`G = (H - \omega)^{-1}` (Eq. (20)).
+
     Parameters
     ----------
     omega : complex
-        Lattice frequency; real values must lie outside the continuum band :math:`[E_1, E_c]`
-        (inside it the resolvent needs :math:`\operatorname{Im}\omega \neq 0`).
-    p, q : int
-    tol : float
-        Absolute tolerance of the tail quadrature relative to the size of the result.
+        Lattice frequency in units of t; real values must lie outside the continuum band
+        :math:`[E_1, E_c]` (inside it the resolvent needs :math:`\operatorname{Im}\omega \neq 0`).
+    p : int, optional
+        Polygon size of the {p,q} lattice (default 7).
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+    tol : float, optional
+        Absolute tolerance of the tail quadrature relative to the size of the result
+        (default 1e-11, between 1e-14 and 1e-2).
+
+    Returns
+    -------
+    complex
+        :math:`G_{\rm loc}(\omega)`.
 
     Raises
     ------
@@ -93,6 +132,19 @@ def continuum_local_green(omega, p: int = 7, q: int = 3, *, tol: float = 1e-11) 
         For real omega inside the band, or bad input.
     ConvergenceError
         If the quadrature's error estimate exceeds ``tol``.
+
+    See Also
+    --------
+    scba
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.scba import continuum_local_green
+    >>> print(f"{continuum_local_green(-3.5).real:.6f}")
+    0.390332
+    >>> g = continuum_local_green(-2.5 + 0.1j)
+    >>> print(f"{g.real:.6f} {g.imag:.6f}")
+    0.410094 0.452403
     """
     p, q = _validate.pq(p, q)
     om = _validate.complex_number("omega", omega)
@@ -177,33 +229,63 @@ class SCBAResult(Result):
 
 def scba(omega, variance: float, p: int = 7, q: int = 3, *, local: Callable[[complex], complex] | None = None,
          tol: float = 1e-12, max_iter: int = 2000, damping: float = 0.5) -> SCBAResult:
-    r"""Solve :math:`\tilde\omega = \omega + w^2 G_{\rm loc}(\tilde\omega)` (module docstring).
+    r"""Solve the SCBA fixed point :math:`\tilde\omega = \omega + w^2 G_{\rm loc}(\tilde\omega)` (module docstring).
+
+    The disorder-averaged Green function is then the clean one at :math:`\tilde\omega`.
 
     Parameters
     ----------
     omega : complex
-        Lattice frequency with :math:`\operatorname{Im}\omega \ge 0` (retarded side); real only
-        outside the band.
+        Lattice frequency in units of t with :math:`\operatorname{Im}\omega \ge 0` (retarded
+        side); real only outside the band.
     variance : float
-        :math:`w^2 \ge 0` (:math:`W^2/12` for box disorder of width W).
-    p, q : int
+        On-site disorder variance :math:`w^2 \ge 0` (:math:`W^2/12` for box disorder of width W),
+        in units of :math:`t^2`.
+    p : int, optional
+        Polygon size of the {p,q} lattice (default 7).
+    q : int, optional
+        Coordination number (default 3).
     local : callable, optional
         :math:`G_{\rm loc}(\omega)`; default :func:`continuum_local_green` (the continuum side).
         A graph's site-averaged local Green function may be passed to run the same SCBA on the graph.
-    tol : float
-        Convergence: the residual must fall below ``tol * max(1, |omega~|)``.
-    max_iter : int
-    damping : float
-        Mixing :math:`0 < \alpha \le 1` of the fixed-point update (0.5: robust near band edges).
+    tol : float, optional
+        Convergence: the residual must fall below ``tol * max(1, |omega~|)`` (default 1e-12).
+    max_iter : int, optional
+        Largest number of fixed-point iterations (default 2000).
+    damping : float, optional
+        Mixing :math:`0 < \alpha \le 1` of the fixed-point update (default 0.5: robust near band
+        edges).
 
     Returns
     -------
     SCBAResult
+        Frozen result with ``omega``, ``variance``, ``self_energy`` (:math:`\Sigma`),
+        ``omega_shifted`` (:math:`\tilde\omega`), ``lam`` (:math:`\lambda(\tilde\omega)` of
+        Eq. (21)), ``born`` (first-order :math:`w^2 G_{\rm loc}(\omega)`), ``iterations`` and
+        ``residual``.
 
     Raises
     ------
+    ValueError
+        If :math:`\operatorname{Im}\omega < 0`, the variance is negative or too large, or another
+        argument is invalid.
     ConvergenceError
-        If the fixed point is not reached in ``max_iter`` steps (the residual is stated).
+        If the fixed point is not reached in ``max_iter`` steps (the residual is stated) or is
+        not finite.
+
+    See Also
+    --------
+    continuum_local_green, hyperlattice.compare.disorder.compare_scba
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> r = hl.scba(-3.5, 0.1, 7, 3)
+    >>> print(f"{r.self_energy.real:.6f} {r.born.real:.6f}")
+    0.040075 0.039033
+    >>> r = hl.scba(-2.5 + 0.05j, 0.1)
+    >>> print(f"{r.omega_shifted.real:.6f} {r.omega_shifted.imag:.6f}")
+    -2.460400 0.095699
     """
     p, q = _validate.pq(p, q)
     om = _validate.complex_number("omega", omega)

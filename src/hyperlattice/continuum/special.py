@@ -241,6 +241,14 @@ def check_order(m) -> np.ndarray:
     ------
     ValueError
         With a plain sentence, for anything that is not a valid order.
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.special import check_order
+    >>> check_order(3.0).tolist()
+    3
+    >>> check_order([0, 2]).tolist()
+    [0, 2]
     """
     return _order_array(m)
 
@@ -939,6 +947,7 @@ def legendre_p_log_parts(nu, m, x) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     Parameters
     ----------
     nu : ndarray of complex, shape (n,)
+        Degrees.
     m : ndarray of int64, shape (n,)
         Orders from :func:`check_order`.
     x : ndarray of float, shape (n,)
@@ -949,6 +958,23 @@ def legendre_p_log_parts(nu, m, x) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     log_scale, mantissa, abs_err : ndarray, shape (n,)
         :math:`P = \text{mantissa}\cdot e^{\text{log\_scale}}`, with ``abs_err`` the estimated
         absolute error of the mantissa (same scale).
+
+    Raises
+    ------
+    ValueError
+        If the arrays do not broadcast.
+
+    See Also
+    --------
+    evaluate_checked, legendre_log_p
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from hyperlattice.continuum.special import check_order, legendre_p_log_parts
+    >>> s, mant, err = legendre_p_log_parts(np.array([0.5 + 0j]), check_order([0]), np.array([2.0]))
+    >>> print(f"{(mant * np.exp(s))[0].real:.6f}")
+    1.329138
     """
     # validated like legendre_p (flat copies; cheap next to the evaluation itself)
     nu, m, x, _ = _broadcast(nu, m, x)
@@ -961,7 +987,7 @@ def _nice(v) -> str:
 
 
 def evaluate_checked(func, nu, m, x, *, warn: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Run a low-level evaluator such as :func:`legendre_p_log_parts` and check its result.
+    r"""Run a low-level evaluator such as :func:`legendre_p_log_parts` and check its result.
 
     Evaluates in blocks of a few thousand points (bounded working memory), with floating-point
     warnings silenced (intermediate overflow in tail bounds of diverging early terms is
@@ -981,20 +1007,37 @@ def evaluate_checked(func, nu, m, x, *, warn: bool = True) -> tuple[np.ndarray, 
         ``func(nu, m, x) -> (log_scale, mantissa, abs_err)`` on flat arrays.
     nu, m, x : ndarray, shape (n,)
         Complex degrees, int64 orders (validated by :func:`check_order`), float arguments.
-    warn : bool
+    warn : bool, optional
         Issue :class:`~hyperlattice.errors.ConvergenceWarning` for estimated relative errors
-        above 1e-8.
+        above 1e-8 (default True).
 
     Returns
     -------
     log_scale, mantissa, abs_err : ndarray, shape (n,)
+        As returned by ``func``: the value is ``mantissa * exp(log_scale)``, ``abs_err`` the
+        estimated absolute error of the mantissa.
 
     Raises
     ------
     ValueError
-        If an order exceeds :data:`MAX_ORDER`.
+        If ``func`` is not callable, ``warn`` is not True or False, or an order exceeds
+        :data:`MAX_ORDER`.
     ConvergenceError
         If a value is not finite (outside the supported domain).
+
+    Warns
+    -----
+    ConvergenceWarning
+        If ``warn`` and an estimated relative error exceeds 1e-8.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from hyperlattice.continuum.special import check_order, evaluate_checked, legendre_p_log_parts
+    >>> s, mant, err = evaluate_checked(legendre_p_log_parts, np.array([0.5 + 0j]), check_order([0]),
+    ...                                 np.array([2.0]), warn=False)
+    >>> print(f"{(mant * np.exp(s))[0].real:.6f}")
+    1.329138
     """
     func = _validate.function("func", func)
     warn = _validate.flag("warn", warn)
@@ -1095,6 +1138,22 @@ def legendre_p(nu, m, x) -> complex | np.ndarray:
         strings, or shapes that do not broadcast.
     ConvergenceError
         If a series fails to converge (outside the documented domain).
+
+    See Also
+    --------
+    legendre_q, legendre_log_p, conical_p
+
+    References
+    ----------
+    DLMF §14.3; Boettcher et al., Phys. Rev. A 102, 032208 (2020), ``eq16`` and Appendix F (``spec2``).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> print(f"{hl.legendre_p(0.5, 0, 2.0).real:.6f}")
+    1.329138
+    >>> print(f"{hl.legendre_p(-0.5 + 1j, 1, 3.0).real:.6f}")
+    -0.520666
     """
     nu_f, m_f, x_f, shape = _broadcast(nu, m, x)
     s, mt, _ = _evaluate_checked(_log_p_parts, nu_f, m_f, x_f, warn=False)
@@ -1124,9 +1183,7 @@ def legendre_q(nu, m, x) -> complex | np.ndarray:
     Returns
     -------
     complex or ndarray of complex
-        Broadcast over ``nu``, ``m`` and ``x``. A
-        :class:`~hyperlattice.errors.ConvergenceWarning` states the estimated relative
-        error where it exceeds 1e-8.
+        Broadcast over ``nu``, ``m`` and ``x``.
 
     Raises
     ------
@@ -1135,6 +1192,27 @@ def legendre_q(nu, m, x) -> complex | np.ndarray:
         shapes that do not broadcast, or at a pole.
     ConvergenceError
         If a series fails to converge.
+
+    Warns
+    -----
+    ConvergenceWarning
+        Where the estimated relative error exceeds 1e-8 (it states the estimate).
+
+    See Also
+    --------
+    legendre_p, legendre_log_q, legendre_q_over_p
+
+    References
+    ----------
+    DLMF §14.3 (14.3.10); Boettcher et al., Phys. Rev. A 102, 032208 (2020), Appendix H (``green16``, ``green17``).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> print(f"{hl.legendre_q(0.5, 0, 2.0).real:.6f}")
+    0.224014
+    >>> print(f"{hl.legendre_q(0.5, 1, 2.0).real:.6f}")
+    -0.348896
     """
     nu_f, m_f, x_f, shape = _broadcast(nu, m, x, allow_one=False)
     _check_q_poles(nu_f, m_f)
@@ -1143,12 +1221,45 @@ def legendre_q(nu, m, x) -> complex | np.ndarray:
 
 
 def legendre_log_p(nu, m, x) -> tuple[np.ndarray, np.ndarray]:
-    r"""Scaled :math:`P_\nu^m(x)`: returns ``(log_scale, mantissa)`` with
+    r"""Scaled :math:`P_\nu^m(x)` as ``(log_scale, mantissa)``.
+
     :math:`P = \text{mantissa}\cdot e^{\text{log\_scale}}` (real ``log_scale``), avoiding
     overflow and underflow for large :math:`m`, large real :math:`\nu` or :math:`x \to 1`.
 
-    Arguments and errors as for :func:`legendre_p`; both outputs have the broadcast shape
-    (0-d arrays for scalar input).
+    Parameters
+    ----------
+    nu : complex or array_like
+        Degree, as for :func:`legendre_p`.
+    m : int or array_like of int
+        Order, :math:`0 \le m \le` :data:`MAX_ORDER`.
+    x : float or array_like
+        Argument, :math:`x \ge 1`.
+
+    Returns
+    -------
+    log_scale : ndarray of float
+        Real logarithmic scale, with the broadcast shape (0-d arrays for scalar input).
+    mantissa : ndarray of complex
+        Mantissa of the same shape.
+
+    Raises
+    ------
+    ValueError
+        As for :func:`legendre_p`.
+    ConvergenceError
+        If a series fails to converge.
+
+    See Also
+    --------
+    legendre_p, legendre_log_q
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from hyperlattice.continuum.special import legendre_log_p
+    >>> s, mant = legendre_log_p(0.5, 200, 1e6)
+    >>> print(f"{float(s + np.log(abs(mant))):.3f}")  # ln|P|: P itself overflows float64
+    860.824
     """
     nu_f, m_f, x_f, shape = _broadcast(nu, m, x)
     s, mt, _ = _evaluate_checked(_log_p_parts, nu_f, m_f, x_f, warn=False)
@@ -1158,7 +1269,41 @@ def legendre_log_p(nu, m, x) -> tuple[np.ndarray, np.ndarray]:
 def legendre_log_q(nu, m, x) -> tuple[np.ndarray, np.ndarray]:
     r"""Scaled :math:`Q_\nu^m(x)` as ``(log_scale, mantissa)``; see :func:`legendre_log_p`.
 
-    Arguments, warnings and errors as for :func:`legendre_q`.
+    Parameters
+    ----------
+    nu : complex or array_like
+        Degree, as for :func:`legendre_q`.
+    m : int or array_like of int
+        Order, :math:`0 \le m \le` :data:`MAX_ORDER`.
+    x : float or array_like
+        Argument, :math:`x > 1`.
+
+    Returns
+    -------
+    log_scale : ndarray of float
+        Real logarithmic scale, with the broadcast shape (0-d arrays for scalar input).
+    mantissa : ndarray of complex
+        Mantissa; :math:`Q = \text{mantissa}\cdot e^{\text{log\_scale}}`.
+
+    Raises
+    ------
+    ValueError
+        As for :func:`legendre_q` (also at a pole).
+    ConvergenceError
+        If a series fails to converge.
+
+    Warns
+    -----
+    ConvergenceWarning
+        Where the estimated relative error exceeds 1e-8.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from hyperlattice.continuum.special import legendre_log_q
+    >>> s, mant = legendre_log_q(0.5, 0, 2.0)
+    >>> print(f"{float((mant * np.exp(s)).real):.6f}")
+    0.224014
     """
     nu_f, m_f, x_f, shape = _broadcast(nu, m, x, allow_one=False)
     _check_q_poles(nu_f, m_f)
@@ -1172,8 +1317,38 @@ def legendre_q_over_p(nu, m, x) -> complex | np.ndarray:
     This is the boundary factor :math:`u_m(\rho_L)/v_m(\rho_L)` of ``green31`` (Dirichlet
     correction of the Green function) at :math:`\rho_L = (1+L^2)/(1-L^2)`, which reaches
     :math:`10^{7}` and beyond; both functions are carried as log-scaled pairs so that the
-    ratio stays accurate where the factors would overflow. Infinite where :math:`P = 0`.
-    Arguments and errors as for :func:`legendre_q`.
+    ratio stays accurate where the factors would overflow.
+
+    Parameters
+    ----------
+    nu : complex or array_like
+        Degree, as for :func:`legendre_q`.
+    m : int or array_like of int
+        Order, :math:`0 \le m \le` :data:`MAX_ORDER`.
+    x : float or array_like
+        Argument, :math:`x > 1`.
+
+    Returns
+    -------
+    complex or ndarray of complex
+        :math:`Q_\nu^m(x)/P_\nu^m(x)`, broadcast over the inputs; infinite where :math:`P = 0`.
+
+    Raises
+    ------
+    ValueError
+        As for :func:`legendre_q` (also at a pole).
+    ConvergenceError
+        If a series fails to converge.
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Appendix H (``green31``).
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.special import legendre_q_over_p
+    >>> print(f"{legendre_q_over_p(0.5, 0, 2.0).real:.6f}")
+    0.168541
     """
     nu_f, m_f, x_f, shape = _broadcast(nu, m, x, allow_one=False)
     _check_q_poles(nu_f, m_f)
@@ -1192,6 +1367,36 @@ def legendre_wronskian(nu, m, x) -> complex | np.ndarray:
 
     (A&S 8.1.9 with the duplication formula; equals :math:`-\kappa_m/(1-x^2)\cdot(-1)` of
     ``green25`` up to the sign convention of :math:`u_m, v_m`). Used as an identity test.
+
+    Parameters
+    ----------
+    nu : complex or array_like
+        Degree.
+    m : int or array_like of int
+        Order, :math:`0 \le m \le` :data:`MAX_ORDER`.
+    x : float or array_like
+        Argument, :math:`x > 1`.
+
+    Returns
+    -------
+    complex or ndarray of complex
+        :math:`W`, broadcast over the inputs.
+
+    Raises
+    ------
+    ValueError
+        If ``m`` or ``x`` is invalid (as for :func:`legendre_q`), or the shapes do not
+        broadcast.
+
+    References
+    ----------
+    Abramowitz & Stegun 8.1.9; Boettcher et al., Phys. Rev. A 102, 032208 (2020), Appendix H (``green25``).
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.special import legendre_wronskian
+    >>> print(f"{legendre_wronskian(0.5, 1, 2.0).real:.6f}")
+    0.250000
     """
     nu_f, m_f, x_f, shape = _broadcast(nu, m, x, allow_one=False)
     sign = np.where(m_f % 2 == 0, 1.0, -1.0)
@@ -1211,8 +1416,39 @@ def legendre_cm(nu, m) -> complex | np.ndarray:
                   = \frac{(-1)^m}{\prod_{n=0}^{m-1}[(n+\frac12)^2 + \frac14(\lambda-1)]},
 
     with :math:`\lambda = -4\nu(\nu+1)`; :math:`C_0 = 1`. Computed as the reciprocal of the
-    polynomial :math:`\prod_{j=1-m}^{m}(\nu+j)` (no Gamma functions, no poles); infinite
-    where that polynomial vanishes (integer :math:`0 \le \nu < m`).
+    polynomial :math:`\prod_{j=1-m}^{m}(\nu+j)` (no Gamma functions, no poles).
+
+    Parameters
+    ----------
+    nu : complex or array_like
+        Degree.
+    m : int or array_like of int
+        Order, :math:`0 \le m \le` :data:`MAX_ORDER`; broadcasts against ``nu``.
+
+    Returns
+    -------
+    complex or ndarray of complex
+        :math:`C_m`; infinite where the polynomial vanishes (integer :math:`0 \le \nu < m`).
+
+    Raises
+    ------
+    ValueError
+        If ``nu`` or ``m`` is invalid, the shapes do not broadcast, or they broadcast to too
+        many points.
+
+    See Also
+    --------
+    hyperlattice.continuum.green.coefficient_cm
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Appendix H (``green25b``, ``green26b``).
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.special import legendre_cm
+    >>> [round(complex(c).real, 6) for c in legendre_cm(0.3, [0, 1, 2])]
+    [1.0, 2.564103, -1.59261]
     """
     nu_a = _check_nu(nu)
     m_a = check_order(m)
@@ -1239,6 +1475,34 @@ def nu_from_lambda(lam) -> complex | np.ndarray:
     :math:`\lambda \in [1, \infty)` (the continuous spectrum). It gives :math:`\nu = 0` at
     :math:`\lambda = 0`, makes :math:`Q_\nu^m` the solution decaying as :math:`x\to\infty`, and for
     real :math:`\lambda = 1 + k^2 > 1` gives the paper's :math:`\nu = \tfrac12(-1+\mathrm{i}k)`.
+
+    Parameters
+    ----------
+    lam : float, complex or array_like
+        Helmholtz parameter :math:`\lambda`.
+
+    Returns
+    -------
+    complex or ndarray of complex
+        :math:`\nu`, same shape as ``lam``.
+
+    Raises
+    ------
+    ValueError
+        If ``lam`` is not numeric or not finite.
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Appendix H (``green16``).
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.special import nu_from_lambda
+    >>> nu = nu_from_lambda(5.0)
+    >>> print(f"{nu.real:.6f} {nu.imag:.6f}")
+    -0.500000 1.000000
+    >>> print(f"{nu_from_lambda(0.0).real:.6f}")
+    0.000000
     """
     lam_a = _validate.complex_array("lambda", lam)
     val = -0.5 + 0.5 * np.sqrt(1.0 - lam_a + 0j)
@@ -1251,7 +1515,41 @@ def conical_p(k, m, x) -> float | np.ndarray:
     For :math:`\nu = -\tfrac12 + \mathrm{i}k/2` the function is real for real :math:`x > 1`
     (:math:`P_\nu = P_{-\nu-1} = P_{\bar\nu}`), which is what the Dirichlet condition ``spec2``
     needs. The imaginary part of the complex evaluation (rounding only) is discarded.
-    Arguments and errors as for :func:`legendre_p`, with real ``k``.
+
+    Parameters
+    ----------
+    k : float or array_like of float
+        Real wave number (validated up to 600).
+    m : int or array_like of int
+        Order, :math:`0 \le m \le` :data:`MAX_ORDER`.
+    x : float or array_like
+        Argument, :math:`x \ge 1`.
+
+    Returns
+    -------
+    float or ndarray of float
+        The real conical function, broadcast over the inputs.
+
+    Raises
+    ------
+    ValueError
+        If ``k`` is not real and finite, or as for :func:`legendre_p`.
+    ConvergenceError
+        If a series fails to converge.
+
+    See Also
+    --------
+    legendre_p, hyperlattice.continuum.spectrum.dirichlet_roots
+
+    References
+    ----------
+    DLMF §14.20; Boettcher et al., Phys. Rev. A 102, 032208 (2020), Appendix F (``spec2``).
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.special import conical_p
+    >>> print(f"{conical_p(2.0, 0, 3.0):.6f}")
+    0.315500
     """
     k_a = _validate.real_array("the momentum k", k)
     return np.real(legendre_p(-0.5 + 0.5j * k_a, m, x))

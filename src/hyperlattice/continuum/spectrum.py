@@ -61,7 +61,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy import special as sc
@@ -79,11 +78,8 @@ from ..dictionary import (
 from .._ties import stable_order
 from ..errors import ConvergenceError
 from ..geometry import lattice_h, one_minus_abs2
-from ..results import Levels, Result
+from ..results import INDEX, Column, Grid, Levels, Result
 from .special import check_order, evaluate_checked, legendre_p, legendre_p_log_parts
-
-if TYPE_CHECKING:  # matplotlib is imported only inside plot()
-    from matplotlib.axes import Axes
 
 __all__ = [
     "disk_argument",
@@ -126,14 +122,57 @@ _MAX_RINGS = 1000
 # ----------------------------------------------------------------------------
 
 def disk_argument(radius=None, *, p=7, q=3, rings=None, dictionary: str = "paper") -> tuple[float, float]:
-    r"""Return ``(L, x_L)`` with :math:`x_L = (1+L^2)/(1-L^2)` (the argument in ``spec2``).
+    r"""The disk radius and the argument of the Dirichlet condition, ``(L, x_L)``.
 
-    Either ``radius`` (:math:`0<L<1`) or ``rings`` (the {p,q} ring lattice with N sites,
-    :math:`L=\sqrt{N/(N+c_{pq})}` by :func:`hyperlattice.dictionary.disk_radius_for_rings`, ``eq12``). For
-    rings, :math:`x_L = (2N + c_{pq})/c_{pq}` exactly, which keeps full relative precision even
-    when :math:`1-L \sim 10^{-9}` would lose digits in :math:`L` itself. With
+    :math:`x_L = (1+L^2)/(1-L^2)` is the argument of :math:`P^m_\nu` in ``spec2``. Either
+    ``radius`` (:math:`0<L<1`) or ``rings`` (the {p,q} ring lattice with N sites,
+    :math:`L=\sqrt{N/(N+c_{pq})}` by :func:`hyperlattice.dictionary.disk_radius_for_rings`,
+    Eq. (12)). For rings, :math:`x_L = (2N + c_{pq})/c_{pq}` exactly, which keeps full relative
+    precision even when :math:`1-L \sim 10^{-9}` would lose digits in :math:`L` itself. With
     ``dictionary="improved"`` and rings, the Dirichlet disk of
     :func:`hyperlattice.dictionary.improved_disk_for_rings` (a given radius is used as it is).
+
+    Parameters
+    ----------
+    radius : float, optional
+        Euclidean disk radius :math:`L \in (0, 1)`; give exactly one of ``radius`` and ``rings``.
+    p : int, optional
+        Polygon size of the {p,q} lattice (default 7).
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+    rings : int, optional
+        Number of rings of the {p,q} flake (at most 1000).
+    dictionary : {'paper', 'improved'}, optional
+        The map from Dirichlet roots to lattice energies: the paper's (default, ``spec1``) or the
+        improved one (module docstring; for ``rings`` also its Dirichlet disk).
+
+    Returns
+    -------
+    L : float
+        The Euclidean disk radius.
+    x_L : float
+        :math:`(1+L^2)/(1-L^2) > 1`.
+
+    Raises
+    ------
+    ValueError
+        If both or neither of ``radius`` and ``rings`` are given, the radius is outside (0, 1),
+        ``rings`` is not a positive integer up to 1000, ``dictionary`` is unknown, or {p,q} is
+        not a hyperbolic tessellation.
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (12) and Appendix F (``spec2``).
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.spectrum import disk_argument
+    >>> L, x = disk_argument(0.5)
+    >>> print(f"{L:.6f} {x:.6f}")
+    0.500000 1.666667
+    >>> L, x = disk_argument(rings=2, p=7, q=3)
+    >>> print(f"{L:.6f} {x:.6f}")
+    0.745356 3.500000
     """
     p, q = _validate.pq(p, q)
     dictionary = _check_dictionary(dictionary)
@@ -153,9 +192,9 @@ def disk_argument(radius=None, *, p=7, q=3, rings=None, dictionary: str = "paper
 # ----------------------------------------------------------------------------
 
 def level_energy(k, p=7, q=3, *, dictionary: str = "paper") -> float | np.ndarray:
-    r"""Continuum energy :math:`E = -q + \frac{q}{4}h^2(1+k^2)` of a Dirichlet level (``spec1``).
+    r"""Continuum energy :math:`E = -q + \frac{q}{4}h^2(1+k^2)` of a Dirichlet level.
 
-    Derivation of the :math:`q`-dependence (generalising ``eq10``/``adj15``–``adj26``): move
+    Derivation of the :math:`q`-dependence (generalising Eq. (10) and Appendix B): move
     site :math:`i` to the origin by a Möbius map; its :math:`q` neighbours sit at
     :math:`w_a = h e^{\mathrm{i}(\chi+2\pi a/q)}`, :math:`a=0..q-1`, with :math:`h=\tanh d_0`.
     Expanding :math:`\sum_a f(z(w_a))` to second order in :math:`h` gives
@@ -169,6 +208,40 @@ def level_energy(k, p=7, q=3, *, dictionary: str = "paper") -> float | np.ndarra
     is ``spec1``, :math:`-3 + \frac34 h^2(1+k^2)`. The map itself is
     :func:`hyperlattice.dictionary.energy_from_k`; ``dictionary="improved"`` uses
     :func:`hyperlattice.dictionary.improved_energy_from_k` instead.
+
+    Parameters
+    ----------
+    k : float or array_like of float
+        Dirichlet root(s) :math:`k_{nm}` (real).
+    p : int, optional
+        Polygon size of the {p,q} lattice (default 7).
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+    dictionary : {'paper', 'improved'}, optional
+        The map from k to energies (default ``"paper"``).
+
+    Returns
+    -------
+    float or ndarray of float
+        The energy E in units of t (:math:`H = -tA`), a float for scalar ``k``.
+
+    Raises
+    ------
+    ValueError
+        If ``k`` is not real and finite, {p,q} is not a hyperbolic tessellation, or
+        ``dictionary`` is unknown.
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (10) and Appendix F (``spec1``).
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.spectrum import level_energy
+    >>> print(f"{level_energy(1.0, 7, 3):.6f}")
+    -2.885903
+    >>> print(f"{level_energy(1.0, 7, 3, dictionary='improved'):.6f}")
+    -2.882509
     """
     p, q = _validate.pq(p, q)
     out = map_energy_from_k(_validate.real_array("k", k), p, q, dictionary)
@@ -176,9 +249,42 @@ def level_energy(k, p=7, q=3, *, dictionary: str = "paper") -> float | np.ndarra
 
 
 def energy_infinity(p=7, q=3, *, dictionary: str = "paper") -> float:
-    r""":math:`E_\infty = -q + \frac{q}{4}h^2`, the :math:`k\to 0` limit (main text after ``eq19``;
-    :math:`-2.94295` for {7,3}); with ``dictionary="improved"``
-    :math:`-q P_{-1/2}(\cosh 2d_0)` (:math:`-2.940961` for {7,3})."""
+    r"""The band bottom :math:`E_\infty = -q + \frac{q}{4}h^2`, the :math:`k\to 0` limit.
+
+    Main text after Eq. (19); :math:`-2.94295` for {7,3}. With ``dictionary="improved"``
+    :math:`-q P_{-1/2}(\cosh 2d_0)` (:math:`-2.940961` for {7,3}).
+
+    Parameters
+    ----------
+    p : int, optional
+        Polygon size of the {p,q} lattice (default 7).
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+    dictionary : {'paper', 'improved'}, optional
+        The map from k to energies (default ``"paper"``).
+
+    Returns
+    -------
+    float
+        :math:`E_\infty` in units of t.
+
+    Raises
+    ------
+    ValueError
+        If {p,q} is not a hyperbolic tessellation or ``dictionary`` is unknown.
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (19).
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.spectrum import energy_infinity
+    >>> print(f"{energy_infinity(7, 3):.6f}")
+    -2.942952
+    >>> print(f"{energy_infinity(7, 3, dictionary='improved'):.6f}")
+    -2.940961
+    """
     return level_energy(0.0, p, q, dictionary=dictionary)
 
 
@@ -190,13 +296,77 @@ def _x_array(x) -> np.ndarray:
 
 
 def asymptotic_k0(x) -> float | np.ndarray:
-    r"""``spec10``: :math:`k_0 \sim 2\pi/\ln(8x)` for :math:`x = (1+L^2)/(1-L^2)\to\infty`."""
+    r"""Large-disk asymptote of the lowest Dirichlet root, :math:`k_0 \sim 2\pi/\ln(8x)`.
+
+    Valid for :math:`x = (1+L^2)/(1-L^2)\to\infty` (Appendix F, ``spec10``).
+
+    Parameters
+    ----------
+    x : float or array_like of float
+        :math:`x_L = (1+L^2)/(1-L^2) > 1`.
+
+    Returns
+    -------
+    float or ndarray of float
+        The asymptotic root :math:`k_0`, a float for scalar ``x``.
+
+    Raises
+    ------
+    ValueError
+        If ``x`` is not real and finite, or :math:`x \le 1`.
+
+    See Also
+    --------
+    asymptotic_k1, asymptotic_energies
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Appendix F (``spec10``).
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.spectrum import asymptotic_k0
+    >>> print(f"{asymptotic_k0(100.0):.6f}")
+    0.939948
+    """
     out = 2.0 * np.pi / np.log(8.0 * _x_array(x))
     return float(out) if out.ndim == 0 else out
 
 
 def asymptotic_k1(x) -> float | np.ndarray:
-    r"""``spec16``: :math:`k_1 \sim 2\pi/\ln(8x/e^2)` for :math:`x\to\infty`."""
+    r"""Large-disk asymptote of the second Dirichlet root, :math:`k_1 \sim 2\pi/\ln(8x/e^2)`.
+
+    Valid for :math:`x = (1+L^2)/(1-L^2)\to\infty` (Appendix F, ``spec16``).
+
+    Parameters
+    ----------
+    x : float or array_like of float
+        :math:`x_L = (1+L^2)/(1-L^2) > 1`.
+
+    Returns
+    -------
+    float or ndarray of float
+        The asymptotic root :math:`k_1`, a float for scalar ``x``.
+
+    Raises
+    ------
+    ValueError
+        If ``x`` is not real and finite, or :math:`x \le 1`.
+
+    See Also
+    --------
+    asymptotic_k0, asymptotic_energies
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Appendix F (``spec16``).
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.spectrum import asymptotic_k1
+    >>> print(f"{asymptotic_k1(100.0):.6f}")
+    1.341239
+    """
     out = 2.0 * np.pi / (np.log(8.0 * _x_array(x)) - 2.0)
     return float(out) if out.ndim == 0 else out
 
@@ -204,7 +374,7 @@ def asymptotic_k1(x) -> float | np.ndarray:
 def asymptotic_energies(p=7, q=3, *, radius=None, rings=None, form="auto", dictionary: str = "paper") -> dict:
     r"""Large-disk asymptotics of the two lowest continuum levels.
 
-    ``form="rings"`` (only {7,3} with ``rings``): ``eq19`` with ``spec11``/``spec17``,
+    ``form="rings"`` (only {7,3} with ``rings``): Eq. (19) with ``spec11``/``spec17``,
     :math:`E_{0,1} \sim E_\infty + \frac{3\pi^2h^2}{4}[\ln\varphi\,\ell + c_{0,1}]^{-2}`,
     :math:`c_0=\ln 2`, :math:`c_1 = \ln 2 - 1` — the paper's "asymptotic" rows of ``SuppTab1``
     (they use :math:`N\sim 7\varphi^{2\ell}`; ``rings`` may be any real :math:`\ell \ge 1` here, to
@@ -214,10 +384,52 @@ def asymptotic_energies(p=7, q=3, *, radius=None, rings=None, form="auto", dicti
     ``dictionary="improved"`` (only with ``form="radius"`` or ``"auto"``, which then means
     ``"radius"``) uses the improved map and, for rings, its Dirichlet disk.
 
+    Parameters
+    ----------
+    p : int, optional
+        Polygon size of the {p,q} lattice (default 7).
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+    radius : float, optional
+        Disk radius :math:`L \in (0, 1)`; give exactly one of ``radius`` and ``rings``.
+    rings : int or float, optional
+        Number of rings :math:`\ell` (a real :math:`\ell \ge 1` with ``form="rings"``).
+    form : {'auto', 'rings', 'radius'}, optional
+        Which asymptotic formula (default ``"auto"``, see above).
+    dictionary : {'paper', 'improved'}, optional
+        The map from Dirichlet roots to lattice energies: the paper's (default, ``spec1``) or the
+        improved one (module docstring; for ``rings`` also its Dirichlet disk).
+
     Returns
     -------
     dict
-        ``{"E0", "E1", "E_inf"}`` (floats).
+        ``{"E0", "E1", "E_inf"}`` (floats, units of t): the asymptotic two lowest energies and
+        the band bottom :math:`E_\infty`.
+
+    Raises
+    ------
+    ValueError
+        If the disk is not given by exactly one of ``radius`` and ``rings``, ``form="rings"`` is
+        asked for without rings, for another lattice than {7,3} or with the improved dictionary,
+        or another argument is invalid.
+
+    See Also
+    --------
+    energy_infinity, continuum_levels
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (19) and Appendix F.
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.spectrum import asymptotic_energies
+    >>> a = asymptotic_energies(7, 3, rings=5)
+    >>> print(f"{a['E0']:.6f} {a['E1']:.6f} {a['E_inf']:.6f}")
+    -2.884332 -2.815181 -2.942952
+    >>> a = asymptotic_energies(7, 3, radius=0.9)
+    >>> print(f"{a['E0']:.6f} {a['E1']:.6f}")
+    -2.823022 -2.529345
     """
     p, q = _validate.pq(p, q)
     form = _validate.choice("form", form, ("auto", "rings", "radius"))
@@ -451,31 +663,54 @@ def _check_radial_nodes(k, ms, x, npts: int = 600) -> None:
 def dirichlet_roots(m, radius=None, n_roots: int = 5, *, x=None, check_nodes: bool = False) -> np.ndarray:
     r"""The first ``n_roots`` positive roots :math:`k_{nm}` of ``spec2`` for one or more orders.
 
+    The roots of :math:`P^{m}_{\frac12(-1+\mathrm{i}k)}(x_L) = 0`, :math:`x_L = (1+L^2)/(1-L^2)`.
+
     Parameters
     ----------
     m : int or sequence of int
         Azimuthal quantum number(s); the roots depend on :math:`|m|` only (:math:`|m| \le`
         :data:`MAX_ORDER`).
-    radius : float
-        Disk radius :math:`L \in (0,1)`. Alternatively pass ``x`` :math:`=(1+L^2)/(1-L^2)`.
-    n_roots : int
-        Number of roots per order (n = 1..n_roots).
-    check_nodes : bool
+    radius : float, optional
+        Disk radius :math:`L \in (0,1)`. Alternatively pass ``x``.
+    n_roots : int, optional
+        Number of roots per order (n = 1..n_roots; default 5).
+    x : float, optional
+        :math:`x_L = (1+L^2)/(1-L^2) > 1` instead of ``radius`` (keyword only).
+    check_nodes : bool, optional
         Also verify that the n-th eigenfunction has n-1 radial nodes (costs one extra
-        evaluation on a radial grid).
+        evaluation on a radial grid). Default False.
 
     Returns
     -------
-    ndarray
-        Shape ``(n_roots,)`` for scalar ``m``, else ``(len(m), n_roots)``.
+    ndarray of float
+        Shape ``(n_roots,)`` for scalar ``m``, else ``(len(m), n_roots)``; increasing in n.
 
     Raises
     ------
     ValueError
-        Radius outside (0, 1), bad ``m`` or ``n_roots``, or a request beyond
-        :data:`MAX_EVALUATIONS` evaluations.
+        Radius outside (0, 1), both or neither of ``radius`` and ``x``, bad ``m`` or
+        ``n_roots``, or a request beyond :data:`MAX_EVALUATIONS` evaluations.
     ConvergenceError
         If bracketing, refinement or verification fails.
+
+    See Also
+    --------
+    dirichlet_levels, continuum_levels
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Appendix F (``spec2``).
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.spectrum import dirichlet_roots
+    >>> [round(float(k), 6) for k in dirichlet_roots(0, 0.5, 3)]
+    [4.41398, 10.064626, 15.763755]
+    >>> k = dirichlet_roots([0, 1], 0.5, 2)
+    >>> k.shape
+    (2, 2)
+    >>> print(f"{k[1, 0]:.6f}")
+    6.908863
     """
     if x is None:
         if radius is None:
@@ -543,6 +778,16 @@ class DirichletTable(Result):
         module docstring).
     """
 
+    GRID = Grid(coords=(Column("n", "radial_index", "1"), Column("abs_m", INDEX, "1")),
+                variables=(Column("energy", "energies", "t", ("n", "abs_m")),
+                           Column("error", "errors", "t", ("n", "abs_m")),
+                           Column("k", "k", "1", ("n", "abs_m"))))
+
+    @property
+    def radial_index(self) -> np.ndarray:
+        """n = 1..n_max, the rows of the table."""
+        return np.arange(1, self.energies.shape[0] + 1)
+
     p: int
     q: int
     radius: float
@@ -552,25 +797,66 @@ class DirichletTable(Result):
     energies: np.ndarray
     errors: np.ndarray
 
-    def plot(self, ax=None, **kwargs) -> Axes:
-        """Energies against m, one line per radial index n; returns the axes."""
-        from ..plots import new_axes
-
-        ax = new_axes(ax)
-        m = np.arange(self.energies.shape[1])
-        for n, row in enumerate(self.energies, start=1):
-            ax.plot(m, row, marker="o", label=f"n = {n}", **kwargs)
-        ax.set_xlabel("angular momentum |m|")
-        ax.set_ylabel("energy E / t")
-        ax.legend(fontsize="small")
-        return ax
-
 
 def dirichlet_levels(p=7, q=3, radius=None, rings=None, n_max: int = 5, m_max: int = 10,
                      *, check_nodes: bool = False, dictionary: str = "paper") -> DirichletTable:
-    r"""Table of Dirichlet roots :math:`k_{nm}` (``spec2``) and energies
-    :math:`E_{nm} = -q + \frac{q}{4}h^2(1+k_{nm}^2)` (``spec1``) for n = 1..n_max, m = 0..m_max
-    (``dictionary="improved"``: the improved map and disk, module docstring)."""
+    r"""Table of Dirichlet roots :math:`k_{nm}` and energies on a grid of (n, m).
+
+    The roots of ``spec2`` and the energies :math:`E_{nm} = -q + \frac{q}{4}h^2(1+k_{nm}^2)`
+    (``spec1``) for n = 1..n_max, m = 0..m_max (``dictionary="improved"``: the improved map and
+    disk, module docstring).
+
+    Parameters
+    ----------
+    p : int, optional
+        Polygon size of the {p,q} lattice (default 7).
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+    radius : float, optional
+        Disk radius :math:`L \in (0, 1)`; give exactly one of ``radius`` and ``rings``.
+    rings : int, optional
+        Number of rings of the {p,q} lattice; :math:`L` from Eq. (12) with its exact site count.
+    n_max : int, optional
+        Largest radial index n (default 5).
+    m_max : int, optional
+        Largest order m, at most :data:`MAX_ORDER` (default 10).
+    check_nodes : bool, optional
+        Also verify the number of radial nodes of each eigenfunction (default False).
+    dictionary : {'paper', 'improved'}, optional
+        The map from Dirichlet roots to lattice energies: the paper's (default, ``spec1``) or the
+        improved one (module docstring; for ``rings`` also its Dirichlet disk).
+
+    Returns
+    -------
+    DirichletTable
+        A frozen result with ``k``, ``energies`` (units of t) and ``errors`` (bounds on the
+        energies), each of shape ``(n_max, m_max + 1)`` indexed ``[n - 1, m]``, and ``p``,
+        ``q``, ``radius``, ``x``, ``h``.
+
+    Raises
+    ------
+    ValueError
+        Bad input, or a request beyond :data:`MAX_EVALUATIONS` evaluations.
+    ConvergenceError
+        If bracketing, refinement or verification of a root fails.
+
+    See Also
+    --------
+    continuum_levels : the lowest states, sorted by energy.
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Appendix F (``spec1``, ``spec2``).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> t = hl.dirichlet_levels(7, 3, rings=2, n_max=2, m_max=2)
+    >>> t.energies.shape
+    (2, 3)
+    >>> [round(float(e), 6) for e in t.energies[0]]
+    [-2.570293, -2.084519, -1.536849]
+    """
     p, q = _validate.pq(p, q)
     dictionary = _check_dictionary(dictionary)
     radius, x = disk_argument(radius, p=p, q=q, rings=rings, dictionary=dictionary)
@@ -704,41 +990,63 @@ MAX_LEVELS = 100_000
 
 def continuum_levels(p=7, q=3, radius=None, rings=None, levels: int = 4,
                      *, check_nodes: bool = False, dictionary: str = "paper") -> ContinuumSpectrum:
-    r"""The ``levels`` lowest states of :math:`H^{(\rm cont)} = -q - \frac q4 h^2\Delta_g` on a disk
-    (``spec1``/``spec2``).
+    r"""The ``levels`` lowest states of :math:`H^{(\rm cont)} = -q - \frac q4 h^2\Delta_g` on a disk.
+
+    Dirichlet conditions on the disk of radius L (``spec1``/``spec2``); energies in units of t.
 
     Parameters
     ----------
-    p, q : int
-        Schläfli symbol (hyperbolic: :math:`(p-2)(q-2) > 4`).
+    p, q : int, optional
+        Schläfli symbol (default {7,3}; hyperbolic: :math:`(p-2)(q-2) > 4`).
     radius : float, optional
-        Disk radius :math:`L\in(0,1)`.
+        Disk radius :math:`L\in(0,1)`; give exactly one of ``radius`` and ``rings``.
     rings : int, optional
-        Number of rings of the {p,q} lattice; :math:`L` from ``eq12`` with its exact site count.
-    levels : int
-        Number of states (degenerate :math:`\pm m` levels count twice).
-    check_nodes : bool
-        Also verify the number of radial nodes of each eigenfunction.
-    dictionary : {"paper", "improved"}
+        Number of rings of the {p,q} lattice; :math:`L` from Eq. (12) with its exact site count.
+    levels : int, optional
+        Number of states (degenerate :math:`\pm m` levels count twice; default 4).
+    check_nodes : bool, optional
+        Also verify the number of radial nodes of each eigenfunction (default False).
+    dictionary : {"paper", "improved"}, optional
         The map from Dirichlet roots to lattice energies: the paper's (default, ``spec1``) or
         the improved one (module docstring; for ``rings`` also its Dirichlet disk).
 
     Returns
     -------
     ContinuumSpectrum
-        A :class:`~hyperlattice.results.Levels` with ``errors`` bounding each energy's error.
+        A :class:`~hyperlattice.results.Levels` with ``energies`` (ascending, units of t), labels
+        ``n`` and signed ``m``, ``errors`` bounding each energy's error, the roots ``k``,
+        ``radius``, ``x``, ``h`` and ``asymptotic`` (:func:`asymptotic_energies`).
 
     Raises
     ------
     ValueError
         Bad input, or a request beyond :data:`MAX_EVALUATIONS` evaluations (refused before the
         work is done; memory use is bounded by chunking).
+    ConvergenceError
+        If bracketing, refinement or verification of a root fails.
+
+    See Also
+    --------
+    dirichlet_levels, hyperlattice.graph.spectrum.lowest_levels
 
     Notes
     -----
     Every state with :math:`k` below a cutoff is found, the cutoff growing until there are at
     least ``levels`` of them; :math:`k_{nm}` increases with :math:`n` and :math:`|m|`, so the
     scan over orders stops at the first one without a root below the cutoff.
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Appendix F (``spec1``, ``spec2``).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> s = hl.continuum_levels(7, 3, rings=2, levels=4)
+    >>> [round(float(e), 6) for e in s.energies]
+    [-2.570293, -2.084519, -2.084519, -1.536849]
+    >>> s.m.tolist()
+    [0, 1, -1, 2]
     """
     p, q = _validate.pq(p, q)
     K = _validate.positive_int("levels", levels, maximum=MAX_LEVELS)
@@ -762,12 +1070,48 @@ def continuum_levels(p=7, q=3, radius=None, rings=None, levels: int = 4,
 # ----------------------------------------------------------------------------
 
 def psi_K(z, k, beta=0.0) -> np.ndarray:
-    r"""Eigenfunction ``eig12`` (= ``eq16a``) of :math:`\Delta_g` with eigenvalue :math:`-(1+k^2)`.
+    r"""Plane-wave eigenfunction of :math:`\Delta_g` with eigenvalue :math:`-(1+k^2)`.
+
+    Eq. (13) (= ``eig12``):
 
     .. math:: \psi_K(z) = \Bigl(\frac{1-|z|^2}{|1-z e^{-\mathrm{i}\beta}|^2}\Bigr)^{\frac12(1+\mathrm{i}k)},
               \quad K = k e^{\mathrm{i}\beta}.
 
-    ``z`` is an array of points with :math:`|z|<1` (ValueError otherwise).
+    Parameters
+    ----------
+    z : complex or array_like of complex
+        Points of the open unit disk.
+    k : float
+        Wave number (real).
+    beta : float, optional
+        Direction :math:`\beta` of the wave in radians (default 0).
+
+    Returns
+    -------
+    ndarray of complex
+        :math:`\psi_K(z)`, same shape as ``z`` (0-d for a scalar).
+
+    Raises
+    ------
+    ValueError
+        If a point lies on or outside the unit circle, or ``k`` or ``beta`` is not a finite real
+        number.
+
+    See Also
+    --------
+    radial_g : its partial waves.
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), ``eq16a`` and Appendix E (``eig12``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from hyperlattice.continuum.spectrum import psi_K
+    >>> v = psi_K(np.array([0.0, 0.5]), 1.0)
+    >>> [round(float(a), 6) for a in np.abs(v)]
+    [1.0, 1.732051]
     """
     z = _validate.disk_points("z", z)
     k = _validate.real("k", k)
@@ -788,12 +1132,55 @@ def radial_g(k, m, r, method: str = "closed") -> complex | np.ndarray:
     :math:`g_{km}(r) = \mathrm{i}^{-m}\,P^{|m|}_\nu(\rho)/\prod_{n=0}^{|m|-1}(\nu-n)`,
     :math:`\nu=\frac12(-1+\mathrm{i}k)`, :math:`\rho = (1+r^2)/(1-r^2)`.
 
-    Note on ``eig19``: the paper's closed form omits the factor :math:`\mathrm{i}^{-m}`; as
+    Parameters
+    ----------
+    k : float
+        Wave number (real).
+    m : int
+        Order, :math:`|m| \le` :data:`MAX_ORDER`.
+    r : float or array_like of float
+        Radius (radii), :math:`0 \le r < 1`.
+    method : {'closed', 'integral'}, optional
+        Legendre closed form (default) or the Fourier quadrature.
+
+    Returns
+    -------
+    complex or ndarray of complex
+        :math:`g_{km}(r)`, a complex scalar for scalar ``r``.
+
+    Raises
+    ------
+    ValueError
+        If an argument is invalid, :math:`r` is outside [0, 1), or the quadrature would need
+        more than :math:`2^{20}` nodes.
+    ConvergenceError
+        If the quadrature does not converge.
+
+    See Also
+    --------
+    psi_K
+
+    Notes
+    -----
+    On ``eig19``: the paper's closed form omits the factor :math:`\mathrm{i}^{-m}`; as
     printed it equals the Fourier coefficient :math:`\mathrm{i}^m g_{km}` of ``eig15``, not
     :math:`g_{km}` itself, so it disagrees with ``eig17`` by :math:`\mathrm{i}^{|m|}` (its
     :math:`m<0` rule :math:`g_{k,-m} = (-1)^m g_{k,m}` is consistent with both). With the factor
     included, both methods agree and :math:`g_{km}(r)\to J_m(kr)` in the Euclidean limit, as the
     paper states. The tests check this numerically.
+
+    References
+    ----------
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), ``eq16b``, ``eq16`` and Appendix E (``eig15``-``eig19``).
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.spectrum import radial_g
+    >>> g = radial_g(1.0, 0, 0.5)
+    >>> print(f"{g.real:.6f}")
+    0.861409
+    >>> print(f"{radial_g(1.0, 0, 0.5, method='integral').real:.6f}")
+    0.861409
     """
     k = _validate.real("k", k)
     m = _validate.integer("m", m, minimum=-MAX_ORDER, maximum=MAX_ORDER)

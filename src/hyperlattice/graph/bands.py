@@ -30,18 +30,15 @@ Z^{2g}`.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .. import _validate
 from ..errors import HyperlatticeError
-from ..results import Result
+from ..results import Column, Result
 from .clusters import Cluster, _finish
 from .solvers import _single_threaded_blas
 
-if TYPE_CHECKING:
-    from matplotlib.axes import Axes
 
 __all__ = ["edge_windings", "bloch_hamiltonian", "abelian_cover", "band_structure", "k_path",
            "abelian_dos", "Windings", "Bands", "AbelianDOS"]
@@ -302,20 +299,6 @@ class Bands(Result):
     q: int
     genus: int
 
-    def plot(self, ax=None, *, color: str = "C0", **kwargs) -> Axes:
-        """The bands against the distance along the path; returns the axes."""
-        from ..plots import new_axes
-
-        ax = new_axes(ax)
-        ax.plot(self.distance, self.energies, color=color, linewidth=0.8, **kwargs)
-        ax.set_xticks(self.ticks, self.tick_labels)
-        for x in self.ticks:
-            ax.axvline(x, color="0.8", linewidth=0.5)
-        ax.set_xlim(self.distance[0], self.distance[-1])
-        ax.set_ylabel("energy E / t")
-        ax.set_title(f"Abelian bands of {self.name} ({{{self.p},{self.q}}}, genus {self.genus})")
-        return ax
-
 
 def k_path(genus: int, corners=None, *, points: int = 50) -> tuple[np.ndarray, np.ndarray, list]:
     r"""A piecewise straight path through corners of the 2g-torus.
@@ -405,6 +388,9 @@ class AbelianDOS(Result):
     name, p, q, genus : cell
     """
 
+    COLUMNS = (Column("energy", "energies", "t"), Column("density", "density", "1/t per site"),
+               Column("error", "errors", "1/t per site"))
+
     energies: np.ndarray
     density: np.ndarray
     errors: np.ndarray
@@ -415,18 +401,6 @@ class AbelianDOS(Result):
     p: int
     q: int
     genus: int
-
-    def plot(self, ax=None, *, label: str | None = None, **kwargs) -> Axes:
-        """The DOS with its error band; returns the axes."""
-        from ..plots import new_axes
-
-        ax = new_axes(ax)
-        line, = ax.plot(self.energies, self.density, label=label or f"Abelian DOS, {self.name}", **kwargs)
-        ax.fill_between(self.energies, self.density - self.errors, self.density + self.errors,
-                        color=line.get_color(), alpha=0.3, linewidth=0)
-        ax.set_xlabel("energy E / t")
-        ax.set_ylabel("density of states per site")
-        return ax
 
 
 def abelian_dos(cluster: Cluster, *, samples: int = 400, bins: int = 200, seed: int = 0,

@@ -51,18 +51,17 @@ from __future__ import annotations
 import numbers
 import time
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from pathlib import Path
 
 import numpy as np
 import scipy.linalg as sla
 
 from .. import _validate
+from ..cache import Cache, checkpoint_cache
 from ..dictionary import field_from_flux
-from ..results import Result
+from ..results import INDEX, Column, Grid, Result
 from .lattice import Lattice
 
-if TYPE_CHECKING:
-    from matplotlib.axes import Axes
 
 __all__ = ["pgon_area", "field_strength", "triangle_area", "edge_phases", "faces", "face_areas",
            "face_fluxes", "check_face_fluxes", "Butterfly", "butterfly", "MAX_FLUX"]
@@ -287,6 +286,10 @@ class Butterfly(Result):
         Wall-clock seconds (``"total"``).
     """
 
+    GRID = Grid(coords=(Column("flux", "fluxes", "flux quanta per p-gon"), Column("state", INDEX, "1")),
+                variables=(Column("energy", "energies", "t", ("flux", "state")),
+                           Column("m", "m", "1", ("flux", "state"))))
+
     fluxes: np.ndarray
     energies: np.ndarray
     m: np.ndarray
@@ -313,21 +316,26 @@ class Butterfly(Result):
                 "flux_min": float(np.min(self.fluxes)), "flux_max": float(np.max(self.fluxes)),
                 "energy_min": float(np.min(self.energies)), "energy_max": float(np.max(self.energies))}
 
-    def plot(self, ax=None, *, color: str = "k", size: float = 0.3, **kwargs) -> Axes:
-        """Every level as a dot against the flux; returns the axes."""
-        from ..plots import new_axes
 
-        ax = new_axes(ax)
-        n = self.energies.shape[1]
-        ax.scatter(np.repeat(self.fluxes, n), self.energies.ravel(), s=size, c=color, linewidths=0,
-                   rasterized=True, **kwargs)
-        ax.set_xlabel("flux f per p-gon")
-        ax.set_ylabel("energy E / t")
-        ax.set_title(f"{{{self.p},{self.q}}} flake, {self.rings} rings, {self.sites:,} sites")
-        return ax
+def _lattice_key(lattice: Lattice, onsite) -> dict:
+    """What identifies the operator of a butterfly point on disk: the lattice's arrays (digest) and
+    the on-site values (digest), so a checkpoint entry never serves another lattice."""
+    import hashlib
+
+    from .operators import onsite_values
+
+    h = hashlib.sha256()
+    for a in (np.ascontiguousarray(lattice.z, dtype=np.complex128),
+              np.ascontiguousarray(lattice.edges, dtype=np.int64)):
+        h.update(a.tobytes())
+    v = onsite_values(lattice, onsite)
+    site = None if v is None else hashlib.sha256(np.ascontiguousarray(v, dtype=np.float64).tobytes()).hexdigest()
+    return {"p": int(lattice.p), "q": int(lattice.q), "rings": int(lattice.rings), "kind": str(lattice.kind),
+            "sites": int(lattice.sites), "lattice": h.hexdigest(), "onsite": site}
 
 
-def butterfly(lattice: Lattice, fluxes, *, t: float = 1.0, onsite=None, max_sites: int = 50_000) -> Butterfly:
+def butterfly(lattice: Lattice, fluxes, *, t: float = 1.0, onsite=None, max_sites: int = 50_000,
+              progress=None, checkpoint: Cache | Path | None = None) -> Butterfly:
     r"""All levels of a flake at each flux, sector by sector (the hyperbolic Hofstadter butterfly).
 
     At each flux f the p angular-momentum blocks :math:`H_m` (size N/p; the gauge of this
@@ -346,6 +354,14 @@ def butterfly(lattice: Lattice, fluxes, *, t: float = 1.0, onsite=None, max_site
         Rotation-invariant on-site term.
     max_sites : int
         Largest N accepted (a dense computation per sector).
+    progress : bool, None or callable
+        A bar over the flux values on stderr (:mod:`hyperlattice._progress`; None: when stderr is a
+        terminal), or a function receiving one-line messages.
+    checkpoint : path or Cache, optional
+        Keep the levels of every finished flux value in this directory (a
+        :class:`~hyperlattice.cache.Cache`: one entry per flux, keyed on the lattice's arrays, t,
+        the on-site values and f); values already there are read, not recomputed, so a run stopped
+        by Ctrl-C resumes with the same result, bit for bit.
 
     Returns
     -------
@@ -358,6 +374,7 @@ def butterfly(lattice: Lattice, fluxes, *, t: float = 1.0, onsite=None, max_site
         (flux values x N levels) above 2e8 numbers.
     """
     # symmetry.py imports this module (for edge_phases): import it here, not at the top
+    from .._progress import progress_bar
     from .symmetry import rotation_invariant, rotation_orbits, sector_table
 
     t0 = time.perf_counter()
@@ -369,6 +386,8 @@ def butterfly(lattice: Lattice, fluxes, *, t: float = 1.0, onsite=None, max_site
         _flux(value)
     t = _validate.real("the hopping t", t)
     max_sites = _validate.positive_int("max_sites", max_sites)
+    progress = _validate.progress("progress", progress)
+    cache = checkpoint_cache(checkpoint)
     n = lattice.sites
     if n > max_sites:
         raise ValueError(f"the butterfly of {n:,} sites is a dense computation per sector; "
@@ -383,7 +402,8 @@ def butterfly(lattice: Lattice, fluxes, *, t: float = 1.0, onsite=None, max_site
     energies = np.empty((f.shape[0], n))
     labels = np.empty((f.shape[0], n), dtype=np.int64)
     sectors = [int(m - p) if m > p / 2 else int(m) for m in range(p)]
-    for k, fk in enumerate(f.tolist()):
+
+    def levels(fk: float) -> dict:
         parts, ms = [], []
         for m in sectors:
             block = sector_table(lattice, m, t, onsite, orbits=orbits, flux=fk).to_csr().toarray()
@@ -391,7 +411,20 @@ def butterfly(lattice: Lattice, fluxes, *, t: float = 1.0, onsite=None, max_site
             ms.append(np.full(orbits.size, m, dtype=np.int64))
         e, mm = np.concatenate(parts), np.concatenate(ms)
         order = np.argsort(e, kind="stable")
-        energies[k], labels[k] = e[order], mm[order]
+        return {"energies": e[order].tolist(), "m": mm[order].tolist()}
+
+    key = None if cache is None else dict(_lattice_key(lattice, onsite), t=t)
+    with progress_bar(f.shape[0], "butterfly", unit="flux", progress=progress) as bar:
+        for k, fk in enumerate(f.tolist()):
+            if cache is None:
+                point = levels(fk)
+            else:
+                point = cache.get("butterfly-point", dict(key, flux=fk), lambda fk=fk: levels(fk), expect=dict)
+            if len(point["energies"]) != n or len(point["m"]) != n:
+                raise ValueError(f"the checkpoint entry for f = {fk!r} holds {len(point['energies'])} levels, "
+                                 f"not {n}; delete it or use another checkpoint directory.")
+            energies[k], labels[k] = point["energies"], point["m"]
+            bar.update()
     total = time.perf_counter() - t0
     description = (f"LAPACK eigvalsh of the {p} angular-momentum blocks ({orbits.size:,} x {orbits.size:,}) "
                    f"at each of {f.shape[0]:,} flux values.")

@@ -56,9 +56,11 @@ from .. import _validate
 from ..results import Result
 
 if TYPE_CHECKING:
-    from matplotlib.axes import Axes
+    from pathlib import Path
 
-__all__ = ["KPMDos", "kpm_dos", "local_dos", "bulk_dos", "jackson_kernel", "spectral_bound",
+    from ..cache import Cache
+
+__all__ = ["KPMDos", "kpm_dos", "local_dos", "bulk_dos", "block_width", "jackson_kernel", "spectral_bound",
            "graph_operator", "GraphOperator", "VECTOR_KINDS"]
 
 #: random vectors for the stochastic trace
@@ -198,16 +200,11 @@ def graph_operator(graph) -> GraphOperator:
     except ImportError:  # pragma: no cover - scipy is a dependency
         sp = None
     if sp is not None and sp.issparse(graph):
-        a = sp.csr_matrix(graph)
-        if a.shape[0] != a.shape[1] or a.shape[0] == 0:
-            raise ValueError(f"the matrix must be square and non-empty, got shape {a.shape}.")
-        if a.dtype.kind not in "biuf":
+        # the one door for matrices: square, finite, symmetric up to rounding (then symmetrised)
+        a = _validate.hermitian_matrix("the matrix", graph)
+        if a.dtype.kind == "c":
             raise ValueError("the matrix must be real (H = -A with A real symmetric).")
         data = np.asarray(a.data, dtype=np.float64)
-        if not np.all(np.isfinite(data)):
-            raise ValueError("the matrix has non-finite entries.")
-        if abs(a - a.T).max() if a.nnz else 0.0:
-            raise ValueError("the matrix must be symmetric.")
         a.sort_indices()
         rowsum = np.zeros(a.shape[0])
         np.add.at(rowsum, np.repeat(np.arange(a.shape[0]), np.diff(a.indptr)), np.abs(data))
@@ -614,19 +611,6 @@ class KPMDos(Result):
                 "mu": self.mu[:8].tolist(), "mu_err": [None if math.isnan(v) else v for v in self.mu_err[:8].tolist()],
                 "time": float(self.timings.get("total", 0.0))}
 
-    def plot(self, ax=None, *, label: str | None = None, errors: bool = True, **kwargs) -> Axes:
-        """Draw the density (with a band of +-1 standard error) and return the axes."""
-        from ..plots import new_axes
-
-        ax = new_axes(ax)
-        e, rho, err = self.density()
-        (line,) = ax.plot(e, rho, label=label if label is not None else self.label, **kwargs)
-        if errors and np.any(err > 0):
-            ax.fill_between(e, rho - err, rho + err, color=line.get_color(), alpha=0.25, lw=0)
-        ax.set_xlabel("E / t")
-        ax.set_ylabel("density of states per site")
-        return ax
-
 
 # ----------------------------------------------------------------------------
 # front ends
@@ -710,26 +694,47 @@ def _extreme_states(op: GraphOperator) -> list[np.ndarray]:
     return out
 
 
+def block_width(sites: int, vectors: int, kind: str = "rademacher") -> int:
+    """Random vectors per block of the stochastic trace (:data:`BLOCK`, fewer when memory is short):
+    a checkpoint keeps whole blocks."""
+    sites = _validate.positive_int("sites", sites)
+    vectors = _validate.positive_int("vectors", vectors, maximum=MAX_VECTORS)
+    kind = _validate.choice("kind", kind, VECTOR_KINDS)
+    return _check_memory(sites, 8 if kind == "rademacher" else 16, min(BLOCK, vectors))
+
+
+def _digest(op: GraphOperator, support, deflate) -> str:
+    """What identifies the traced operator on disk (a checkpoint entry never serves another graph)."""
+    import hashlib
+
+    h = hashlib.sha256(f"{op.sites} {op.bound!r}".encode())
+    for a in (op.table, op.indptr, op.indices, op.data, op.perm, support, *(deflate or ())):
+        h.update(b"-" if a is None else np.ascontiguousarray(a).tobytes())
+    return h.hexdigest()
+
+
 def _stochastic(op: GraphOperator, moments: int, vectors: int, seed: int, kind: str,
                 support: np.ndarray | None, parallel, progress,
-                deflate: list[np.ndarray] | None = None) -> tuple[np.ndarray, float]:
+                deflate: list[np.ndarray] | None = None, checkpoint=None) -> tuple[np.ndarray, float]:
     import time
 
-    itemsize = 8 if kind == "rademacher" else 16
-    width = _check_memory(op.sites, itemsize, min(BLOCK, vectors))
+    from .._progress import progress_bar
+    from ..cache import checkpoint_cache
+
+    cache = checkpoint_cache(checkpoint)
+    width = block_width(op.sites, vectors, kind)
     scale = op.bound / (1.0 - EPS)
     ns = op.sites if support is None else support.shape[0]
     per = np.empty((vectors, moments))
     t0 = time.perf_counter()
     # R vectors in blocks of ``width`` columns of one row-major (N, width) array: a pass over the graph
     # then serves all of them, and each random gather fetches a whole cache line of useful numbers
-    for start in range(0, vectors, width):
-        nv = min(width, vectors - start)
+
+    def block(start: int, nv: int) -> np.ndarray:
         x = np.empty((op.sites, nv), dtype=np.float64 if kind == "rademacher" else np.complex128)
         for j in range(nv):
             r = start + j
-            if progress is not None:
-                progress(f"random vector {r + 1}/{vectors}")
+            bar.note(f"random vector {r + 1}/{vectors}")
             v = _random_vector(kind, op.sites, seed, r, support)
             if op.perm is not None:  # the same vector in the operator's numbering: results do not depend on it
                 w = np.empty_like(v)
@@ -739,8 +744,26 @@ def _stochastic(op: GraphOperator, moments: int, vectors: int, seed: int, kind: 
                 v -= np.dot(u, v) * u  # trace of (1 - P) T_n(H) (1 - P): the state u is left out
             x[:, j] = v
             del v
-        per[start:start + nv] = _chebyshev_moments_block(op, x, moments, scale, parallel) / ns
-        del x
+        return _chebyshev_moments_block(op, x, moments, scale, parallel) / ns
+
+    # a block (not a vector) is what a checkpoint keeps: its columns are computed together, and
+    # the same block gives the same bits
+    key = None if cache is None else {"operator": _digest(op, support, deflate), "moments": moments,
+                                      "kind": kind, "seed": seed}  # parallel: the same moments
+    with progress_bar(vectors, "KPM moments", unit="vector", progress=progress) as bar:
+        for start in range(0, vectors, width):
+            nv = min(width, vectors - start)
+            if cache is None:
+                per[start:start + nv] = block(start, nv)
+            else:
+                entry = cache.get("kpm-block", dict(key, start=start, width=nv),
+                                  lambda start=start, nv=nv: {"mu": block(start, nv).tolist()}, expect=dict)
+                rows = np.asarray(entry["mu"], dtype=np.float64)
+                if rows.shape != (nv, moments):
+                    raise ValueError(f"the checkpoint entry of random vectors {start}..{start + nv - 1} has shape "
+                                     f"{rows.shape}, not {(nv, moments)}; delete it or use another directory.")
+                per[start:start + nv] = rows
+            bar.update(nv)
     return per, time.perf_counter() - t0
 
 
@@ -761,7 +784,7 @@ def _finish(op, method, per, elapsed, *, kind, seed, vectors, traced, site=None,
 
 def kpm_dos(graph, moments: int = 512, *, vectors: int = 16, seed: int = 0, kind: str = "rademacher",
             deflate: bool = False, parallel: bool = False,
-            progress: Callable[[str], None] | None = None) -> KPMDos:
+            progress=None, checkpoint: Cache | Path | None = None) -> KPMDos:
     r"""Density of states per site of :math:`H = -A` by KPM with a stochastic trace over all sites.
 
     Parameters
@@ -788,6 +811,15 @@ def kpm_dos(graph, moments: int = 512, *, vectors: int = 16, seed: int = 0, kind
         28 ms against 17 ms serial per product at 1.27 million sites, load average 5); see
         benchmarks/bench_kpm.py.
 
+    progress : bool, None or callable
+        A bar over the random vectors on stderr (:mod:`hyperlattice._progress`; None: when stderr is
+        a terminal), or a function receiving one-line messages.
+    checkpoint : path or Cache, optional
+        Keep the moments of every finished block of random vectors (:func:`block_width` of them) in
+        this directory (a :class:`~hyperlattice.cache.Cache`, keyed on a digest of the operator, the
+        moments, kind, seed and the block); blocks already there are read, not recomputed, so a run
+        stopped by Ctrl-C resumes with the same moments, bit for bit.
+
     Returns
     -------
     KPMDos
@@ -795,7 +827,8 @@ def kpm_dos(graph, moments: int = 512, *, vectors: int = 16, seed: int = 0, kind
     op = graph_operator(graph)
     moments, vectors, seed, kind = _common_args(moments, vectors, seed, kind)
     states = _extreme_states(op) if _validate.flag("deflate", deflate) else []
-    per, elapsed = _stochastic(op, moments, vectors, seed, kind, None, parallel, progress, states)
+    progress = _validate.progress("progress", progress)
+    per, elapsed = _stochastic(op, moments, vectors, seed, kind, None, parallel, progress, states, checkpoint)
     return _finish(op, "stochastic", per, elapsed, kind=kind, seed=seed, vectors=vectors, traced=op.sites,
                    deflated=len(states))
 
@@ -837,7 +870,7 @@ def default_exclusion(rings: int) -> int:
 
 def bulk_dos(lattice, moments: int | None = None, *, exclude: int | None = None, vectors: int = 16,
              seed: int = 0, kind: str = "rademacher", parallel: bool = False,
-             progress: Callable[[str], None] | None = None) -> KPMDos:
+             progress=None, checkpoint: Cache | Path | None = None) -> KPMDos:
     r"""Bulk density of states of a flake: the stochastic trace over its *interior* sites only.
 
     Which sites, and why: a flake of R rings is the induced subgraph of the infinite lattice on its
@@ -862,7 +895,7 @@ def bulk_dos(lattice, moments: int | None = None, *, exclude: int | None = None,
         Number of moments (default: ``exact_moments``).
     exclude : int, optional
         Outer rings to drop, 1 <= K < R (default ``R // 2``, at least 1).
-    vectors, seed, kind, parallel : see :func:`kpm_dos`.
+    vectors, seed, kind, parallel, progress, checkpoint : see :func:`kpm_dos`.
     """
     from .lattice import Lattice
 
@@ -881,7 +914,9 @@ def bulk_dos(lattice, moments: int | None = None, *, exclude: int | None = None,
     moments = exact if moments is None else moments
     moments, vectors, seed, kind = _common_args(moments, vectors, seed, kind)
     op = graph_operator(lattice)
-    per, elapsed = _stochastic(op, moments, vectors, seed, kind, support, parallel, progress)
+    progress = _validate.progress("progress", progress)
+    per, elapsed = _stochastic(op, moments, vectors, seed, kind, support, parallel, progress,
+                               checkpoint=checkpoint)
     return _finish(op, "bulk", per, elapsed, kind=kind, seed=seed, vectors=vectors, traced=int(support.shape[0]),
                    exact=exact, excluded=k,
                    label=f"{{{lattice.p},{lattice.q}}} flake interior (rings 1..{lattice.rings - k} of {lattice.rings})")

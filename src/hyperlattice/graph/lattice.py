@@ -32,7 +32,7 @@ import math
 import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 
@@ -42,7 +42,6 @@ from ..results import Result, _digest, _verify_digest
 
 if TYPE_CHECKING:  # only for annotations: matplotlib and networkx are imported where used
     import networkx
-    from matplotlib.axes import Axes
 
 __all__ = [
     "Lattice",
@@ -121,6 +120,10 @@ class Lattice(Result):
     of earlier versions (``z, ring, edges, rotation, p, q, rings, kind[, parent_edges]``), so
     :func:`load_lattice` reads old and new files alike.
     """
+
+    #: the marker :func:`hyperlattice._validate.lattice` recognises (the input door sits below
+    #: ``graph/`` and does not import this module)
+    __hyperlattice_lattice__: ClassVar[bool] = True
 
     p: int
     q: int
@@ -229,51 +232,6 @@ class Lattice(Result):
     def from_dict(cls, data: dict) -> "Lattice":
         """Rebuild a lattice from :meth:`as_dict` output, checking that its arrays fit together."""
         return _checked(super().from_dict(data), "the stored lattice")
-
-    def plot(self, ax=None, *, geodesic: bool = True, samples: int = 9, color: str = "0.25",
-             linewidth: float | None = None, sites: bool = True, circle: bool = True) -> Axes:
-        """Draw the graph in the Poincaré disk and return the axes.
-
-        Parameters
-        ----------
-        ax : matplotlib axes, optional
-            Where to draw (a new square figure if None).
-        geodesic : bool
-            Draw edges as hyperbolic geodesics (arcs sampled at ``samples`` points) instead of
-            straight chords; both coincide for edges through the centre.
-        color, linewidth : matplotlib style of the edges (line width shrinks with the size).
-        sites : bool
-            Mark the sites, coloured by ring (small lattices only: at most 20,000 sites).
-        circle : bool
-            Draw the unit circle, the boundary of the disk.
-        """
-        from matplotlib.collections import LineCollection
-
-        from ..plots import new_axes
-
-        samples = _validate.integer("samples", samples, minimum=2, maximum=1000)
-        ax = new_axes(ax, size=(5.0, 5.0))
-        t = np.linspace(0.0, 1.0, samples if _validate.flag("geodesic", geodesic) else 2)
-        a = self.z[self.edges[:, 0]][:, None]
-        b = self.z[self.edges[:, 1]][:, None]
-        pts = geometry._geodesic_point(a, b, t[None, :])
-        if linewidth is None:  # thinner lines for bigger graphs, so that they stay legible
-            linewidth = float(np.clip(3.0 / math.sqrt(max(self.sites, 1) / 7.0), 0.1, 1.5))
-        ax.add_collection(LineCollection(np.stack([pts.real, pts.imag], axis=-1), colors=color,
-                                         linewidths=linewidth))
-        if _validate.flag("sites", sites) and self.sites <= 20_000:
-            ax.scatter(self.z.real, self.z.imag, c=self.ring, s=max(4.0, 8 * linewidth), cmap="viridis",
-                       zorder=3, linewidths=0)
-        if _validate.flag("circle", circle):
-            w = np.exp(2j * math.pi * np.linspace(0.0, 1.0, 361))
-            ax.plot(w.real, w.imag, color="0.6", lw=0.8)
-        ax.set_xlim(-1.02, 1.02)
-        ax.set_ylim(-1.02, 1.02)
-        ax.set_aspect("equal")
-        ax.set_axis_off()
-        what = "line graph of " if self.kind == "line_graph" else ""
-        ax.set_title(f"{what}{{{self.p},{self.q}}}, {self.rings} rings, {self.sites} sites")
-        return ax
 
     # -- export --------------------------------------------------------------
     def to_networkx(self, *, pos: bool = True) -> networkx.Graph:
@@ -960,6 +918,7 @@ def ring_lattice(p: int = 7, q: int = 3, rings: int = 3, *, max_sites: int | Non
 
     Examples
     --------
+    >>> from hyperlattice import ring_lattice
     >>> lat = ring_lattice(7, 3, 3)
     >>> lat.sites, lat.sites_per_ring.tolist()
     (112, [7, 28, 77])

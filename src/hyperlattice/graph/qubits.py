@@ -41,7 +41,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.sparse as sp
@@ -53,8 +52,6 @@ from ..results import Result
 from .lattice import Lattice
 from .operators import hamiltonian
 
-if TYPE_CHECKING:
-    from matplotlib.axes import Axes
 
 __all__ = [
     "BelowBandResolvent",
@@ -423,19 +420,6 @@ class BoundState(Result):
         keys = ("p", "q", "rings", "kind", "site", "omega_q", "g", "energy", "energy_leading", "qubit_weight",
                 "profile_error", "residual", "size", "decay_length")
         return {k: getattr(self, k) for k in keys}
-
-    def plot(self, ax=None) -> Axes:
-        """``|photon|`` (exact) and the leading-order profile against hyperbolic distance, log scale."""
-        import matplotlib.pyplot as plt
-
-        if ax is None:
-            _, ax = plt.subplots()
-        ax.semilogy(self.distance, self.photon, ".", ms=3, label="exact bound state")
-        ax.semilogy(self.distance, self.leading, ".", ms=1.5, label=r"$\propto G_{ij_0}(\omega_q)$")
-        ax.set_xlabel("hyperbolic distance from the qubit")
-        ax.set_ylabel("photon amplitude")
-        ax.legend()
-        return ax
 
 
 def _decay_length(lat: Lattice, d: np.ndarray, profile: np.ndarray) -> float:

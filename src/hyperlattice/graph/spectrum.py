@@ -44,6 +44,7 @@ from __future__ import annotations
 import dataclasses
 import time
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
 import scipy.linalg as sla
@@ -51,7 +52,7 @@ import scipy.linalg as sla
 from .. import _validate
 from .._ties import classify, eigenvalue_tolerance
 from ..errors import ConvergenceError
-from ..results import Levels
+from ..results import Column, Levels, Result
 from .factor import lowest_eigenpairs
 from .flux import _flux
 from .lattice import Lattice
@@ -73,7 +74,7 @@ from .symmetry import (
     signed_sector,
 )
 
-__all__ = ["Spectrum", "lowest_levels", "full_spectrum", "full_spectrum_tolerance", "partition_function", "log_partition_function",
+__all__ = ["Spectrum", "MatrixSpectrum", "lowest_levels", "full_spectrum", "full_spectrum_tolerance", "partition_function", "log_partition_function",
            "DENSE_MAX"]
 
 #: Largest matrix (full or sector block) diagonalised densely by ``method="auto"``: eigh of
@@ -153,6 +154,67 @@ class Spectrum(Levels):
         if self.flux != 0.0:
             out["flux"] = float(self.flux)
         return out
+
+
+@dataclass(frozen=True, eq=False, kw_only=True)
+class MatrixSpectrum(Result):
+    r"""Lowest levels of a Hamiltonian given as a matrix H (no lattice, so no (n, m) labels).
+
+    Attributes
+    ----------
+    energies : ndarray, shape (K,)
+        Ascending.
+    errors : ndarray, shape (K,)
+        :math:`\|H\psi - E\psi\|` of each normalised state.
+    method : str
+        The route that ran: ``"dense"`` (LAPACK eigh of the full matrix) or ``"shift-invert"``
+        (Lanczos on :math:`(H-\sigma)^{-1}` with an inertia count, :mod:`hyperlattice.graph.factor`).
+    description : str
+        One sentence on what ran.
+    sites : int
+        The dimension N of H.
+    dtype : str
+        ``"float64"`` (real symmetric H) or ``"complex128"`` (complex Hermitian H).
+    backend : str
+        The sparse factorisation that ran (``"cholmod"`` or ``"superlu"``), or ``""``.
+    timings : dict
+        Wall-clock seconds (``"solve"``, ``"total"``).
+    eigenvectors : ndarray, shape (N, K), or None
+        Normalised states, column k belonging to ``energies[k]``.
+    """
+
+    COLUMNS = (Column("energy", "energies", "units of H"), Column("error", "errors", "units of H"))
+
+    energies: np.ndarray
+    errors: np.ndarray
+    method: str
+    description: str
+    sites: int
+    dtype: str
+    backend: str = ""
+    timings: dict = field(default_factory=dict)
+    eigenvectors: np.ndarray | None = None
+
+    error_kind: ClassVar[str] = "residual"
+
+    def __len__(self) -> int:
+        return int(self.energies.shape[0])
+
+    @property
+    def residuals(self) -> np.ndarray:
+        r""":math:`\|H\psi - E\psi\|` of each normalised state (the same array as ``errors``)."""
+        return self.errors
+
+    def _check_loaded(self) -> str | None:
+        why = super()._check_loaded()
+        if why is not None:
+            return why
+        e, err = self.energies, self.errors
+        if e.ndim != 1 or err.shape != e.shape:
+            return "energies and errors must be 1-d arrays of equal length"
+        if not np.all(np.isfinite(e)) or np.any(np.diff(e) < -(err[:-1] + err[1:] + 1e-12 * max(1.0, float(np.max(np.abs(e), initial=0.0))))):
+            return "the energies must be finite and ascending"
+        return None
 
 
 # ----------------------------------------------------------------------------
@@ -249,9 +311,14 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
 
     Parameters
     ----------
-    lattice : Lattice
+    lattice : Lattice, or a matrix H
         From :func:`~hyperlattice.graph.lattice.ring_lattice` or :func:`~hyperlattice.graph.lattice.line_graph`
-        (the line graph gives the resonator-array Hamiltonian).
+        (the line graph gives the resonator-array Hamiltonian). Or H itself: a scipy.sparse
+        matrix (csr, csc, coo, ...) or a 2-d array, real symmetric or complex Hermitian up to
+        :data:`hyperlattice._validate.HERMITIAN_RTOL` times its largest entry. A matrix has no
+        rotation, so ``t``, ``onsite``, ``sector`` and ``flux`` are refused; ``method="auto"``
+        is dense eigh up to ``DENSE_MAX`` rows, else shift-invert (``"sparse"`` means the
+        same), and the result is a :class:`MatrixSpectrum` whose ``method`` names the route.
     levels : int
         Number K of lowest states returned (each state of a degenerate pair counts once).
     t : float
@@ -277,8 +344,9 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
         :class:`~hyperlattice.errors.ConvergenceError` is raised (a
         :class:`~hyperlattice.errors.ConvergenceWarning` if within a factor 100). The
         eigenvalue error is at most the residual (and typically its square over the gap).
-    progress : callable, optional
-        Called with short status strings during long runs.
+    progress : bool, None or callable
+        A bar over the sectors (or block solves) on stderr (:mod:`hyperlattice._progress`; None: when
+        stderr is a terminal), or a function receiving short status strings.
     flux : float
         Flux quanta f per p-gon face of a uniform magnetic field (Peierls phases in the
         rotation-symmetric gauge of :mod:`hyperlattice.graph.flux`; positive = counterclockwise).
@@ -286,9 +354,10 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
 
     Returns
     -------
-    Spectrum
+    Spectrum or MatrixSpectrum
         Energies ascending with labels (n, m), residuals, method and timings. The continuum
         counterpart lists (n, m) = (1, 0), (1, 1), (1, -1), (1, 2), ... in the same way.
+        For a matrix H: energies, residuals and the route, without labels.
 
     Raises
     ------
@@ -301,12 +370,16 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
 
     Examples
     --------
-    >>> from hyperlattice import ring_lattice
+    >>> from hyperlattice import lowest_levels, ring_lattice
     >>> spec = lowest_levels(ring_lattice(7, 3, 1), 3)
     >>> [round(float(e), 6) for e in spec.energies], spec.m.tolist()
     ([-2.0, -1.24698, -1.24698], [0, 1, -1])
     """
     t_start = time.perf_counter()
+    if _validate.is_matrix(lattice):
+        _matrix_only(t=t, onsite=onsite, sector=sector, flux=flux)
+        return _matrix_levels(lattice, levels, method=method, eigenvectors=eigenvectors, tol=tol,
+                              t_start=t_start)
     _validate.lattice(lattice)
     levels = _validate.positive_int("levels", levels)
     method = _validate.choice("method", method, _METHODS)
@@ -314,8 +387,7 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
     t = _validate.real("the hopping t", t)
     eigenvectors = _validate.flag("eigenvectors", eigenvectors)
     flux = _flux(flux)
-    if progress is not None:
-        _validate.function("progress", progress)
+    progress = _validate.progress("progress", progress)
     if levels > lattice.sites:
         # refused for every method: a silently shorter list would look like a complete answer
         raise ValueError(f"levels = {levels:,} exceeds the {lattice.sites:,} states of this lattice.")
@@ -350,6 +422,63 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
             return _sector_levels(lattice, levels, t, onsite, sector, eigenvectors, tol, progress, t_start, flux)
         return _full_levels(lattice, levels, t, onsite, method, symmetric, eigenvectors, tol, progress, t_start,
                             flux)
+
+
+def _matrix_only(*, t=1.0, onsite=None, sector=None, flux=0.0) -> None:
+    """Refuse the lattice-only options with a matrix H (they are part of H already)."""
+    given = [name for name, v, default in (("t", t, 1.0), ("onsite", onsite, None), ("sector", sector, None),
+                                           ("flux", flux, 0.0))
+             if not (v is default or (default is not None and isinstance(v, (int, float)) and v == default))]
+    if given:
+        one = len(given) == 1
+        raise ValueError(f"{', '.join(given)} {'is' if one else 'are'} for a lattice Hamiltonian; a matrix H "
+                         f"already holds {'it' if one else 'them'}, so leave {'it' if one else 'them'} out.")
+
+
+def _matrix_levels(matrix, levels, *, method, eigenvectors, tol, t_start) -> MatrixSpectrum:
+    """The ``levels`` lowest eigenpairs of a Hermitian matrix: dense eigh up to DENSE_MAX rows (or
+    when asked), else shift-invert through graph/factor, the package's one sparse solver layer."""
+    h = _validate.hermitian_matrix("H", matrix)
+    n = h.shape[0]
+    levels = _validate.positive_int("levels", levels)
+    method = _validate.choice("method", method, _METHODS)
+    tol = _validate.positive_real("tol", tol)
+    eigenvectors = _validate.flag("eigenvectors", eigenvectors)
+    if levels > n:
+        raise ValueError(f"levels = {levels:,} exceeds the {n:,} states of this matrix.")
+    if method == "sector":
+        raise ValueError("method='sector' needs a lattice (its rotation); a matrix H takes 'auto', 'dense', "
+                         "'sparse' or 'shift-invert'.")
+    if method == "auto":
+        method = "dense" if n <= DENSE_MAX or levels > n - 2 else "shift-invert"
+    elif method == "sparse":
+        method = "shift-invert"   # the sparse route for a general H (Chebyshev needs a lattice's table)
+    if method == "shift-invert" and levels > n - 2:
+        raise ValueError(f"method='shift-invert' needs at most N - 2 = {n - 2} levels; use 'dense'.")
+    scale = float(abs(h).max()) if h.nnz else 0.0
+    tol = tol * max(scale, 1.0)     # residuals relative to the size of H, as for a lattice
+    backend = ""
+    t0 = time.perf_counter()
+    with _single_threaded_blas():
+        if method == "dense":
+            _validate.require_memory(f"method='dense' on a {n:,} x {n:,} matrix (LAPACK eigh)",
+                                     3.0 * n**2 * h.dtype.itemsize)
+            e, v = sla.eigh(h.toarray(), subset_by_index=[0, levels - 1])
+            how = f"Dense LAPACK eigh of the {n:,} x {n:,} matrix H"
+        else:
+            e, v, _, info = lowest_eigenpairs(h, levels, tol=tol, label="H")
+            backend = info["backend"]
+            how = (f"Shift-invert Lanczos on (H - sigma)^-1 of the {n:,} x {n:,} sparse matrix H ({backend}), "
+                   + ("with an inertia count proving no level was missed" if info["proved"]
+                      else "without an inertia proof"))
+    solve = time.perf_counter() - t0
+    res = np.linalg.norm(h @ v - v * e[None, :], axis=0)
+    _check_residuals(res, tol, f"{method} eigensolver")
+    kind = "complex Hermitian" if h.dtype.kind == "c" else "real symmetric"
+    return MatrixSpectrum(energies=np.asarray(e, dtype=float), errors=res, method=method,
+                          description=f"{how}; {kind}, no lattice labels.", sites=n, dtype=h.dtype.name,
+                          backend=backend, timings={"solve": solve, "total": time.perf_counter() - t_start},
+                          eigenvectors=v if eigenvectors else None)
 
 
 def _energy_scale(lattice, t: float, onsite) -> float:
@@ -418,36 +547,39 @@ def _sector_levels(lattice, levels, t, onsite, sector, want_vecs, tol, progress,
     backends = set()
     analyses = {}
     found = []  # (energy, m, n, residual, vector or None)
-    for m, k_m in wanted.items():
-        t0 = time.perf_counter()
-        k_m = min(k_m, size)
-        table = sector_table(lattice, m, t, onsite, orbits=orbits, flux=flux)
-        if size <= DENSE_MAX or size < 2 * k_m + 3:  # ARPACK needs a basis larger than k + 1
-            e, v = _dense_lowest(table, k_m)
-            per_method.add("dense")
-        elif _SHIFT_INVERT_BLOCKS:
-            # shift-invert through the one factorisation layer, with its inertia check; the
-            # blocks of one lattice share a sparsity pattern (hence one symbolic analysis) per type
-            mat = table.to_csr()
-            kind = "complex" if np.iscomplexobj(mat.data) else "real"
-            e, v, _, info = lowest_eigenpairs(mat, k_m, tol=tol, label=f"sector m={m}",
-                                              analysis=analyses.get((kind, mat.nnz)))
-            analyses[(kind, mat.nnz)] = info["analysis"]
-            backends.add(info["backend"])
-            per_method.add("shift-invert")
-            if progress is not None:
-                progress(f"sector m={m}: {e.tolist()} after {info['solves']} solves")
-        else:
-            e, v, _ = _chebyshev_lowest(table, k_m, tol, progress, f"sector m={m}")
-            per_method.add("sparse")
-        res = _residuals(table, v, e)
-        _check_residuals(res, tol, f"sector m={m}")
-        timings[f"sector {m}"] = time.perf_counter() - t0
-        for idx in range(e.shape[0]):
-            vec = v[:, idx] if want_vecs else None
-            found.append((float(e[idx]), m, idx + 1, float(res[idx]), vec))
-            if (2 * m) % p and sector is None and flux == 0.0:
-                found.append((float(e[idx]), -m, idx + 1, float(res[idx]), None if vec is None else vec.conj()))
+    from .._progress import progress_bar
+
+    with progress_bar(len(wanted), "sectors", unit="sector", progress=progress) as bar:
+        for m, k_m in wanted.items():
+            t0 = time.perf_counter()
+            k_m = min(k_m, size)
+            table = sector_table(lattice, m, t, onsite, orbits=orbits, flux=flux)
+            if size <= DENSE_MAX or size < 2 * k_m + 3:  # ARPACK needs a basis larger than k + 1
+                e, v = _dense_lowest(table, k_m)
+                per_method.add("dense")
+            elif _SHIFT_INVERT_BLOCKS:
+                # shift-invert through the one factorisation layer, with its inertia check; the
+                # blocks of one lattice share a sparsity pattern (hence one symbolic analysis) per type
+                mat = table.to_csr()
+                kind = "complex" if np.iscomplexobj(mat.data) else "real"
+                e, v, _, info = lowest_eigenpairs(mat, k_m, tol=tol, label=f"sector m={m}",
+                                                  analysis=analyses.get((kind, mat.nnz)))
+                analyses[(kind, mat.nnz)] = info["analysis"]
+                backends.add(info["backend"])
+                per_method.add("shift-invert")
+                bar.note(f"sector m={m}: {e.tolist()} after {info['solves']} solves")
+            else:
+                e, v, _ = _chebyshev_lowest(table, k_m, tol, bar.note, f"sector m={m}")
+                per_method.add("sparse")
+            res = _residuals(table, v, e)
+            _check_residuals(res, tol, f"sector m={m}")
+            timings[f"sector {m}"] = time.perf_counter() - t0
+            for idx in range(e.shape[0]):
+                vec = v[:, idx] if want_vecs else None
+                found.append((float(e[idx]), m, idx + 1, float(res[idx]), vec))
+                if (2 * m) % p and sector is None and flux == 0.0:
+                    found.append((float(e[idx]), -m, idx + 1, float(res[idx]), None if vec is None else vec.conj()))
+            bar.update()
     # ascending energy; degenerate partners share the energy exactly: keep +m before -m
     found.sort(key=lambda r: (r[0], abs(r[1]), -r[1]))
     found = found[:levels]
@@ -481,6 +613,7 @@ def _sector_levels(lattice, levels, t, onsite, sector, want_vecs, tol, progress,
 
 def _full_levels(lattice, levels, t, onsite, method, symmetric, want_vecs, tol, progress, t_start,
                  flux=0.0) -> Spectrum:
+    progress = progress if callable(progress) else None  # one solve: messages, no bar
     n_sites = lattice.sites
     h = hamiltonian(lattice, t=t, onsite=onsite, flux=flux)
     if flux == 0.0 and np.iscomplexobj(h.data):
@@ -533,7 +666,9 @@ def full_spectrum(lattice: Lattice, *, t: float = 1.0, onsite: OnSite = None,
 
     Parameters
     ----------
-    lattice : Lattice
+    lattice : Lattice, or a matrix H
+        A lattice, or H itself as a scipy.sparse matrix or 2-d array (real symmetric or complex
+        Hermitian, see :func:`lowest_levels`; then ``t``, ``onsite`` and ``flux`` are refused).
     t : float
         Hopping amplitude.
     onsite : scalar, array or callable, optional
@@ -579,6 +714,20 @@ def full_spectrum_tolerance(lattice: Lattice, *, t: float = 1.0, onsite: OnSite 
 
 def _full_spectrum(lattice: Lattice, *, t: float, onsite: OnSite, max_sites: int,
                    flux: float) -> tuple[np.ndarray, float]:
+    if _validate.is_matrix(lattice):
+        _matrix_only(t=t, onsite=onsite, flux=flux)
+        h = _validate.hermitian_matrix("H", lattice)
+        max_sites = _validate.positive_int("max_sites", max_sites)
+        n = h.shape[0]
+        if n > max_sites:
+            raise ValueError(f"the full spectrum of a {n:,} x {n:,} matrix is a dense computation; "
+                             f"raise max_sites (now {max_sites:,}) if that is intended.")
+        _validate.require_memory(f"the full spectrum of a {n:,} x {n:,} matrix (dense eigh)",
+                                 3.0 * n**2 * h.dtype.itemsize)
+        norm = float(abs(h).sum(axis=1).max()) if h.nnz else 0.0     # the largest absolute row sum
+        with _single_threaded_blas():
+            e = sla.eigvalsh(h.toarray())
+        return e, eigenvalue_tolerance(norm, n)
     _validate.lattice(lattice)
     t = _validate.real("the hopping t", t)
     max_sites = _validate.positive_int("max_sites", max_sites)
@@ -613,7 +762,8 @@ def _negative_levels(system, beta, t: float, onsite: OnSite) -> tuple[np.ndarray
     :func:`full_spectrum_tolerance`'s, for a :class:`~hyperlattice.results.Levels` its
     ``errors`` when they bound the energies, and for plain numbers none (they are taken as exact).
     """
-    if isinstance(system, Lattice):
+    if isinstance(system, Lattice) or (_validate.is_matrix(system) and not isinstance(system, np.ndarray)):
+        # a lattice, or a sparse matrix H (a 2-d numpy array stays a table of energies)
         energies, tol = full_spectrum_tolerance(system, t=t, onsite=onsite)
     elif isinstance(system, Levels):
         energies = np.asarray(system.energies, dtype=float)
@@ -656,8 +806,9 @@ def partition_function(system, beta, *, t: float = 1.0, onsite: OnSite = None) -
 
     Parameters
     ----------
-    system : Lattice, Levels (e.g. a Spectrum) or array of energies
-        A lattice (its full spectrum is computed, see :func:`full_spectrum`) or given levels.
+    system : Lattice, sparse matrix H, Levels (e.g. a Spectrum) or array of energies
+        A lattice or a scipy.sparse Hamiltonian (its full spectrum is computed, see
+        :func:`full_spectrum`) or given levels.
     beta : float or array
         Inverse temperature(s) :math:`\beta \ge 0`.
     t, onsite

@@ -235,6 +235,7 @@ def sector_hamiltonian(lattice: Lattice, m: int, t: float = 1.0, onsite: OnSite 
     Examples
     --------
     >>> from hyperlattice import ring_lattice
+    >>> from hyperlattice.graph.symmetry import sector_hamiltonian
     >>> h0 = sector_hamiltonian(ring_lattice(7, 3, 1), 0)
     >>> h0.toarray()
     array([[-2.]])

@@ -242,6 +242,7 @@ def closed_walks(p: int, q: int, n_max: int, *, max_sites: int | None = None) ->
 
     Examples
     --------
+    >>> from hyperlattice.graph.walks import closed_walks
     >>> closed_walks(7, 3, 8).tolist()
     [1, 0, 3, 0, 15, 0, 87, 6, 543]
     """

@@ -32,3 +32,7 @@ def new_axes(ax: Axes | None = None, size=(6.0, 4.2)) -> Axes:
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())
+
+# fills the registry behind Result.plot (hyperlattice.results.register_plotter): importing the
+# plotting layer is what makes every drawing available, whoever imports it first
+from . import registry  # noqa: E402,F401

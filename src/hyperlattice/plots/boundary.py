@@ -31,6 +31,8 @@ def plot_boundary_correlator(bc: BoundaryCorrelator, ax: Axes | None = None) -> 
     r""":math:`G_{ij}` on the outer ring against :math:`\sin(\theta/2)` (log-log): graph, continuum
     (``eq21`` on the disk named by ``bc.continuum_disk``) and the fitted conformal slope
     :math:`-2\Delta` over the window."""
+    from ..paper_labels import cite
+
     ax = _axes(ax)
     keep = np.asarray(bc.sites) != bc.source
     s = np.abs(np.sin(0.5 * np.asarray(bc.theta)[keep]))
@@ -40,7 +42,7 @@ def plot_boundary_correlator(bc: BoundaryCorrelator, ax: Axes | None = None) -> 
     if np.any(np.isfinite(c)):
         disk = {"whole": "L = 1", "dirichlet": "Dirichlet disk of radius L",
                 "mapped": "radius L, sites at the mean depth"}[bc.continuum_disk]
-        ax.loglog(s, c, ".", ms=1.5, color="k", alpha=0.4, label=f"continuum (eq21, {disk})")
+        ax.loglog(s, c, ".", ms=1.5, color="k", alpha=0.4, label=f"continuum ({cite('eq21')}, {disk})")
     s_min = np.sin(0.5 * bc.theta_min)
     ax.axvline(s_min, color="0.5", ls=":", lw=1, label=r"window edge $\theta_{\min}$")
     xs = np.geomspace(max(s_min, s.min()), 1.0, 20)
@@ -88,15 +90,32 @@ def plot_bf_bound(bf: LatticeBFBound, ax: Axes | None = None) -> Axes:
 
 
 def plot_exchange(ex: ExchangeComparison, ax: Axes | None = None) -> Axes:
-    """J against hyperbolic distance: graph points, binned means, and the continuum."""
+    """|J| against hyperbolic distance (log axis): graph points, binned means, and the continuum.
+
+    J can change sign (the continuum's does near the disk edge): |J| is drawn, negative values with
+    open markers (graph) or a dashed line (continuum), so that nothing drops off the log axis unseen.
+    """
+    from ..paper_labels import cite
+
     ax = _axes(ax)
     keep = np.isfinite(np.asarray(ex.continuum))
-    ax.semilogy(np.asarray(ex.distance)[keep], np.asarray(ex.graph)[keep], ".", ms=2, color="tab:red", alpha=0.4,
-                label="graph $g^2 G_{ij}$")
-    ax.semilogy(ex.bins, ex.graph_mean, "o", ms=3, color="tab:red", label="graph (binned mean)")
-    ax.semilogy(ex.bins, ex.continuum_mean, "k-", lw=1.2, label="continuum (eq21, binned mean)")
+    d, g = np.asarray(ex.distance)[keep], np.asarray(ex.graph)[keep]
+    pos = g > 0
+    ax.semilogy(d[pos], g[pos], ".", ms=2, color="tab:red", alpha=0.4, label="graph $g^2 G_{ij}$")
+    if np.any(~pos):
+        ax.semilogy(d[~pos], -g[~pos], "o", ms=3, mfc="none", color="tab:red", alpha=0.6, label="graph, $J < 0$")
+    bins = np.asarray(ex.bins)
+    gm, cm = np.asarray(ex.graph_mean), np.asarray(ex.continuum_mean)
+    ax.semilogy(bins[gm > 0], gm[gm > 0], "o", ms=3, color="tab:red", label="graph (binned mean)")
+    if np.any(gm < 0):
+        ax.semilogy(bins[gm < 0], -gm[gm < 0], "o", ms=4, mfc="none", color="tab:red", label="graph mean, $J < 0$")
+    pos_c = np.where(cm > 0, cm, np.nan)
+    neg_c = np.where(cm < 0, -cm, np.nan)
+    ax.semilogy(bins, pos_c, "k-", lw=1.2, label=f"continuum ({cite('eq21')}, binned mean)")
+    if np.any(cm < 0):
+        ax.semilogy(bins, neg_c, "k--", lw=1.2, label="continuum, $J < 0$ ($|J|$ shown)")
     ax.set_xlabel("hyperbolic distance")
-    ax.set_ylabel(r"$J$")
+    ax.set_ylabel(r"$|J|$")
     ax.set_title(fr"{ex.kind}, $\ell = {ex.rings}$, $\omega_q = {ex.omega_q:g}$", fontsize=10)
     ax.legend(fontsize=8)
     return ax

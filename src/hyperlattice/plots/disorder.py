@@ -7,6 +7,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..paper_labels import cite
+
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
@@ -46,6 +48,10 @@ def plot_r_scan(scan: RScan, ax: Axes | None = None, **kwargs) -> Axes:
     ax.axhline(POISSON_R, color="C2", ls=":", lw=1, label=f"Poisson {POISSON_R:.4f}")
     if np.all(w > 0):
         ax.set_xscale("log")
+    # room above GOE and below Poisson: the reference lines must not sit on the frame
+    lo = min(POISSON_R, float(np.min(np.asarray(scan.r_mean) - np.asarray(scan.r_err))))
+    hi = max(GOE_R, float(np.max(np.asarray(scan.r_mean) + np.asarray(scan.r_err))))
+    ax.set_ylim(lo - 0.08 * (hi - lo), hi + 0.08 * (hi - lo))
     ax.set_xlabel("W / t")
     ax.set_ylabel(r"$\langle r\rangle$")
     ax.legend(fontsize=8)
@@ -77,9 +83,9 @@ def plot_scba_comparison(cmp: SCBAComparison, ax: Axes | None = None) -> Axes:
     w = np.asarray(cmp.W, float)
     ax.loglog(w, cmp.rel_clean, "o-", label="clean G0(omega)")
     ax.loglog(w, cmp.rel_graph_scba, "s-", label="graph SCBA")
-    ax.loglog(w, cmp.rel_continuum_scba, "^-", label="continuum SCBA (eq21 at shifted omega)")
+    ax.loglog(w, cmp.rel_continuum_scba, "^-", label=f"continuum SCBA ({cite('eq21')} at shifted $\\omega$)")
     ax.loglog(w, cmp.rel_noise, ":", color="0.5", label="statistical error")
-    ax.axhline(cmp.continuum_floor, color="0.6", lw=0.8, ls="--", label="clean graph vs eq21")
+    ax.axhline(cmp.continuum_floor, color="0.6", lw=0.8, ls="--", label=f"clean graph vs {cite('eq21')}")
     ax.set_xlabel("W / t")
     ax.set_ylabel("relative L2 distance from the ensemble average")
     ax.legend(fontsize=7)

@@ -127,14 +127,19 @@ def bottom_axes(cmp: DosComparison, ax: Axes | None = None) -> Axes:
 
 
 def comparison_figure(cmp: DosComparison, *, path=None):
-    """Three panels: the densities, the convergence with size, the band bottom against the continuum."""
+    """Three panels: (a) the densities (full width, top), (b) the convergence with size and (c) the band
+    bottom against the continuum (bottom row): a row of three was unreadable at page width."""
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, 3, figsize=(15.0, 4.6), layout="constrained",
-                             gridspec_kw={"width_ratios": [1.5, 1.0, 1.0]})
+    fig = plt.figure(figsize=(11.0, 8.4), layout="constrained")
+    grid = fig.add_gridspec(2, 2, height_ratios=[1.1, 1.0])
+    axes = [fig.add_subplot(grid[0, :]), fig.add_subplot(grid[1, 0]), fig.add_subplot(grid[1, 1])]
     comparison_axes(cmp, ax=axes[0])
     convergence_axes(cmp, ax=axes[1])
     bottom_axes(cmp, ax=axes[2])
+    for letter, ax in zip("abc", axes):
+        ax.text(-0.06 if letter == "a" else -0.12, 1.02, f"({letter})", transform=ax.transAxes, fontsize=12,
+                fontweight="bold")
     if path is not None:
         fig.savefig(path, dpi=110)
     return fig

@@ -15,6 +15,7 @@ from . import new_axes
 from ..compare.correlation import BinnedCorrelation, bin_by_distance, sorted_pairs
 from ..compare.green import GreenComparison
 from ..graph.lattice import Lattice
+from ..paper_labels import cite
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -73,7 +74,7 @@ def plot_distance_profile(comparison: GreenComparison, lattice: Lattice | None =
         raise ValueError(f"the lattice has {lattice.sites} sites, the comparison {comparison.distance.shape[0]}.")
     ax = _axes(ax, size=(5.2, 3.8))
     for vals, colour, label, shift in ((comparison.graph, "tab:red", "graph $G_{ij}$", -0.01),
-                                       (comparison.continuum, "black", "continuum (eq21)", 0.01)):
+                                       (comparison.continuum, "black", f"continuum ({cite('eq21')})", 0.01)):
         d, f = sorted_pairs(comparison.distance, np.real(vals), comparison.source)
         b = bin_by_distance(d, f, width=width)
         ax.errorbar(b.centre + shift, b.mean, yerr=b.std, fmt="o", ms=3.5, color=colour, capsize=2,

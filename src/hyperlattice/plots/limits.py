@@ -27,7 +27,7 @@ def plot_band_fit(fit: BandBottomFit, ax: Axes | None = None) -> Axes:
     grid = np.linspace(ell[0], ell[-1] + 4.0, 200)
     ax.semilogy(ell, fit.energies - fit.band_bottom, "o", label=f"E{fit.level} of the flakes")
     ax.semilogy(grid, fit.predict(grid) - fit.band_bottom, "-", label=f"{fit.model} fit")
-    ax.set_xlabel("rings l")
+    ax.set_xlabel(r"rings $\ell$")
     ax.set_ylabel(f"E{fit.level} - E_b  (E_b = {fit.band_bottom:.7f})")
     twin = ax.twinx()
     twin.plot(ell, fit.residuals, "x", color="C3", label="residual")
@@ -50,7 +50,7 @@ def plot_band_residuals(band: BandBottom, ax: Axes | None = None) -> Axes:
             ax.plot(v["fit_rings"], v["residuals"], marker, color=color, mfc="none" if v["model"] == "rational" else None,
                     label=f"E{v['level']}, {v['model']} model")
     ax.axhline(0.0, color="0.5", linewidth=0.6)
-    ax.set_xlabel("rings l")
+    ax.set_xlabel(r"rings $\ell$")
     ax.set_ylabel("fit - flake level")
     ax.legend(fontsize="x-small")
     return ax
@@ -67,14 +67,14 @@ def plot_band_bottom(band: BandBottom, ax: Axes | None = None) -> Axes:
     ax.fill_between(grid, value - err, value + err, color="C0", alpha=0.2)
     ax.plot(ell, band.predict(ell)[0], "o", color="C0", markersize=3)
     ax.axhspan(band.estimate - band.error, band.estimate + band.error, color="C2", alpha=0.3,
-               label=f"-rho = {band.estimate:.6f} ± {band.error:.1e}")
-    ax.axhline(band.paper_edge, color="C1", linestyle="--", label=f"paper E_inf = {band.paper_edge:.6f}")
-    ax.axhline(band.improved_edge, color="C4", linestyle=":", label=f"improved E_inf = {band.improved_edge:.6f}")
-    ax.axhline(band.upper, color="0.4", linewidth=0.8, label=f"rigorous: -rho <= {band.upper:.5f}")
+               label=rf"$-\rho$ = {band.estimate:.6f} ± {band.error:.1e}")
+    ax.axhline(band.paper_edge, color="C1", linestyle="--", label=rf"paper $E_\infty$ = {band.paper_edge:.6f}")
+    ax.axhline(band.improved_edge, color="C4", linestyle=":", label=rf"improved $E_\infty$ = {band.improved_edge:.6f}")
+    ax.axhline(band.upper, color="0.4", linewidth=0.8, label=rf"rigorous: $-\rho \leq$ {band.upper:.5f}")
     if np.isfinite(band.lower):
         ax.axhline(band.lower, color="0.4", linewidth=0.8, linestyle="-.",
-                   label=f"rigorous: -rho >= {band.lower:.5f}")
-    ax.set_xlabel("rings l")
+                   label=rf"rigorous: $-\rho \geq$ {band.lower:.5f}")
+    ax.set_xlabel(r"rings $\ell$")
     ax.set_ylabel("energy E / t")
     low = band.lower if np.isfinite(band.lower) else band.estimate
     ax.set_ylim(min(low, band.paper_edge) - 0.002, band.upper + 0.006)
@@ -90,11 +90,11 @@ def plot_plateau(plateau: PlateauAnalysis, ax: Axes | None = None) -> Axes:
     ax.plot(ell, plateau.relative_E0, "o-", label="E0")
     ax.plot(ell, plateau.relative_E1, "s-", label="E1")
     ax.axhspan(plateau.limit - plateau.limit_error, plateau.limit + plateau.limit_error, color="C2", alpha=0.3,
-               label=f"(-rho - E_inf)/rho = {plateau.limit:.2e}")
+               label=rf"$(-\rho - E_\infty)/\rho$ = {plateau.limit:.2e}")
     ax.plot(plateau.curve_rings, plateau.curve, "-", color="C0", linewidth=0.8,
-            label=f"E0 fit continued (peak {plateau.peak_value:.2e} at l = {plateau.peak_rings:.0f})")
+            label=rf"E0 fit continued (peak {plateau.peak_value:.2e} at $\ell$ = {plateau.peak_rings:.0f})")
     ax.set_ylim(-2e-4, 1e-3)
-    ax.set_xlabel("rings l")
+    ax.set_xlabel(r"rings $\ell$")
     ax.set_ylabel("(E_graph - E_cont)/|E_graph|, paper map")
     ax.legend(fontsize="small")
     return ax
@@ -111,23 +111,27 @@ def plot_dictionaries(comparison: DictionaryComparison, ax: Axes | None = None) 
     ax.semilogy(ell, np.abs(comparison.improved_E1), "s--", color="C1", mfc="none", label="E1, improved map")
     if np.isfinite(comparison.improved_limit):
         ax.axhline(abs(comparison.improved_limit), color="C2", linestyle=":",
-                   label=f"improved, l -> inf: |{comparison.improved_limit:.1e}|")
-    ax.set_xlabel("rings l")
+                   label=rf"improved, $\ell \to \infty$: |{comparison.improved_limit:.1e}|")
+    ax.set_xlabel(r"rings $\ell$")
     ax.set_ylabel("|E_graph - E_cont| / |E_graph|")
     ax.legend(fontsize="x-small")
     return ax
 
 
 def limits_figure(band: BandBottom, plateau: PlateauAnalysis, comparison: DictionaryComparison, path=None):
-    """The four panels side by side (band bottom, the fits' residuals, plateau, dictionaries); saved to
-    ``path`` if given. Returns the figure."""
+    """The four panels in a 2 x 2 grid, (a) band bottom, (b) the fits' residuals, (c) plateau,
+    (d) dictionaries (a row of four was unreadable once shrunk to a page width); saved to ``path``
+    if given. Returns the figure."""
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, 4, figsize=(21.0, 4.6), layout="constrained")
+    fig, axes = plt.subplots(2, 2, figsize=(12.0, 8.6), layout="constrained")
+    axes = axes.ravel()
     plot_band_bottom(band, ax=axes[0])
     plot_band_residuals(band, ax=axes[1])
     plot_plateau(plateau, ax=axes[2])
     plot_dictionaries(comparison, ax=axes[3])
+    for letter, ax in zip("abcd", axes):
+        ax.text(-0.1, 1.02, f"({letter})", transform=ax.transAxes, fontsize=12, fontweight="bold")
     if path is not None:
         fig.savefig(path)
     return fig

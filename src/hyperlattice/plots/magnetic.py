@@ -34,14 +34,34 @@ def continuum_curves(p: int, q: int, rings: int, fluxes, levels: int = 6) -> tup
 
 
 def butterfly_figure(result: Butterfly, *, continuum: bool = True, max_flux: float = 0.3, points: int = 13,
-                     levels: int = 6, ax=None, path=None) -> Axes:
+                     levels: int = 6, ax=None, path=None, density: bool = False,
+                     energy_bins: int = 480) -> Axes:
     """The butterfly (every level against f) with, for a site flake, the ``levels`` lowest continuum
     Dirichlet levels overlaid at ``0 <= f <= max_flux`` (red lines, ``points`` flux values).
 
+    ``density=True`` draws the levels as a 2-D histogram image (one column per flux value,
+    ``energy_bins`` rows, grey scale ~ log(1 + levels per pixel)) instead of dots: with a few hundred
+    fluxes the gaps of the butterfly stay white where dots would merge into columns.
     ``path``, if given, is where the figure is saved (format by suffix). Returns the axes.
     """
     ax = new_axes(ax, size=(7.0, 5.0))
-    result.plot(ax=ax)
+    if density:
+        f = np.asarray(result.fluxes, dtype=float)
+        e = np.asarray(result.energies, dtype=float)
+        step = (f[-1] - f[0]) / max(f.size - 1, 1) or 1.0
+        f_edges = np.linspace(f[0] - step / 2, f[-1] + step / 2, f.size + 1)
+        lo, hi = float(e.min()), float(e.max())
+        pad = 0.01 * (hi - lo)
+        e_edges = np.linspace(lo - pad, hi + pad, int(energy_bins) + 1)
+        counts, _, _ = np.histogram2d(np.repeat(f, e.shape[1]), e.ravel(), bins=(f_edges, e_edges))
+        ax.imshow(np.log1p(counts.T), origin="lower", aspect="auto", cmap="Greys", interpolation="nearest",
+                  extent=(f_edges[0], f_edges[-1], e_edges[0], e_edges[-1]), rasterized=True)
+        ax.set_xlabel("flux f per p-gon")
+        ax.set_ylabel("energy E / t")
+        ax.set_title(f"{{{result.p},{result.q}}} flake, {result.rings} rings, {result.sites:,} sites, "
+                     f"{f.size} fluxes")
+    else:
+        result.plot(ax=ax)
     if continuum and result.kind == "sites":
         f, e = continuum_curves(result.p, result.q, result.rings, np.linspace(0.0, max_flux, points), levels)
         for k in range(e.shape[1]):
@@ -65,11 +85,18 @@ def error_map(fluxes, ells, rel_error, *, ax: Axes | None = None, title: str = "
     ax = new_axes(ax)
     z = np.log10(np.maximum(err, 1e-17))
     mesh = ax.pcolormesh(f, ell, z, shading="nearest", cmap="viridis")
-    ax.figure.colorbar(mesh, ax=ax, label="log10 relative error")
-    if np.nanmin(z) < -3 < np.nanmax(z):
-        ax.contour(f, ell, z, levels=[-3.0], colors="w", linewidths=1.0)
+    ax.figure.colorbar(mesh, ax=ax, label=r"$\log_{10}$ relative error")
+    if np.nanmin(z) < -3 < np.nanmax(z) and ell.size > 1 and f.size > 1:
+        ax.contour(f, ell, z, levels=[-3.0], colors="w", linewidths=1.5, linestyles="solid")
+    else:
+        # say so on the figure: an absent contour must not read as a missing line
+        where = "everywhere" if np.nanmax(z) < -3 else "nowhere"
+        ax.text(0.5, 0.5, f"error < $10^{{-3}}$ {where}\nin this range", transform=ax.transAxes, ha="center",
+                va="center", color="w", fontsize=10)
+    if np.allclose(ell, np.round(ell)) and ell.size <= 20:
+        ax.set_yticks(np.round(ell).astype(int))  # rings are integers: no ticks at l = 2.5
     ax.set_xlabel("flux f per p-gon")
-    ax.set_ylabel("rings l")
+    ax.set_ylabel(r"rings $\ell$")
     ax.set_title(title or "graph vs continuum: lowest level")
     return ax
 

@@ -13,6 +13,7 @@ from matplotlib.collections import LineCollection
 from . import new_axes
 from .. import geometry
 from ..graph.lattice import Lattice, ring_lattice
+from ..paper_labels import cite
 
 if TYPE_CHECKING:
     from ..compare.levels import LevelComparison, LevelCount, RelativeErrorTrend
@@ -74,8 +75,8 @@ def plot_levels(table: list[dict], ax: Axes | None = None, *, lnphi_form: bool =
                 mew=1.4, label=f"{label} continuum")
     ell = np.linspace(max(1.5, rings.min()), rings.max() + 0.5, 200)
     asym = [asymptotic_energies(7, 3, rings=float(x)) if lnphi_form else None for x in ell]
-    ax.plot(ell, [a["E0"] for a in asym], "-", color="C0", lw=1.2, label="Eq. (eq19), $c_0=\\ln 2$")
-    ax.plot(ell, [a["E1"] for a in asym], "-", color="C1", lw=1.2, label="Eq. (eq19), $c_1=\\ln 2-1$")
+    ax.plot(ell, [a["E0"] for a in asym], "-", color="C0", lw=1.2, label=cite("eq19") + r", $c_0=\ln 2$")
+    ax.plot(ell, [a["E1"] for a in asym], "-", color="C1", lw=1.2, label=cite("eq19") + r", $c_1=\ln 2-1$")
     ax.axhline(asym[0]["E_inf"], color="0.4", ls=":", lw=1.0, label=r"$E_\infty=-3+\frac{3}{4}h^2$")
     lo = min(min(r["E0_graph"] for r in table), asym[0]["E_inf"]) - 0.02
     ax.set_ylim(lo, -2.45)

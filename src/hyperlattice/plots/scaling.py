@@ -15,6 +15,7 @@ from ..compare.scaling import (ConvergenceStudy, FrameAngles, OperatorProfile, R
                                angle_profile, frame_angles, operator_profile)
 from ..compare.sums import CountingFit, fit_counting
 from ..graph.lattice import Lattice, ring_lattice
+from ..paper_labels import cite
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -70,9 +71,9 @@ def draw_operator_profile(profile: OperatorProfile, ax: Axes | None = None) -> A
     else:
         quad_d, quad_v = profile.quadratic.distance, profile.quadratic.mean
     cubic, exact = profile.cubic, profile.exact
-    ax.plot(quad_d, quad_v, "-", color="0.55", lw=2, label=r"quadratic $\hat A^{(2)}_h$, Eq. (adj35)")
-    ax.plot(cubic.distance, cubic.mean, "s", color="C0", ms=4, label=r"cubic $\hat A^{(3)}_h$, Eq. (adj36)")
-    ax.plot(exact.distance, exact.mean, "o", mfc="none", mec="k", ms=6, label=r"$\hat A_h f$, Eq. (adj34)")
+    ax.plot(quad_d, quad_v, "-", color="0.55", lw=2, label=r"quadratic $\hat A^{(2)}_h$, " + cite("adj35"))
+    ax.plot(cubic.distance, cubic.mean, "s", color="C0", ms=4, label=r"cubic $\hat A^{(3)}_h$, " + cite("adj36"))
+    ax.plot(exact.distance, exact.mean, "o", mfc="none", mec="k", ms=6, label=r"$\hat A_h f$, " + cite("adj34"))
     ax.set_xlabel(r"$d(r,0)$", fontsize=12)
     ax.set_ylabel(fr"$\hat A_h f - {profile.q}f$", fontsize=12)
     ax.set_title(f"f = {profile.function},  h = {profile.h:.6g}", fontsize=12)

@@ -49,8 +49,9 @@ def reproduce(out_dir: str | Path = "reproduction", max_rings: int = 10, *, cach
     Returns
     -------
     dict
-        ``out_dir``, ``sections`` (titles), ``records`` (one dict per l of the spectrum table),
-        ``cache_hits``, ``cache_misses``, ``seconds``.
+        ``out_dir``, ``sections`` (titles, in the report's order), ``records`` (one dict per l of the
+        spectrum table), ``cache_hits`` (entries read from earlier runs), ``cache_misses`` (values
+        computed), ``cache_reused`` (entries this run wrote and read again), ``seconds``.
     """
     import matplotlib
 
@@ -61,7 +62,7 @@ def reproduce(out_dir: str | Path = "reproduction", max_rings: int = 10, *, cach
     from .below_band import holography_section, qubits_section
     from .bosons import bosons_section
     from .disorder import disorder_section
-    from .infinite import infinite_section
+    from .infinite import band_interval_sentence, infinite_section
     from .limits import limits_section
     from .writers import write_html, write_md
 
@@ -76,25 +77,32 @@ def reproduce(out_dir: str | Path = "reproduction", max_rings: int = 10, *, cach
     t_start = time.perf_counter()
     plt.rcParams["svg.hashsalt"] = "hyperlattice"  # deterministic SVG ids
 
-    sections = [sec.geometry_section(), sec.counts_section(max_rings), sec.fig1_section(out)]
+    geometry, counts, fig1 = sec.geometry_section(), sec.counts_section(max_rings), sec.fig1_section(out)
     spec_section, records = sec.spectrum_section(cache, max_rings, timings, progress)
-    sections += [spec_section, sec.fig2_section(records, out, progress)]
-    sections.append(limits_section(cache, max_rings, out, progress))
-    sections.append(sec.green_section(cache, max_rings, out, progress))
-    sections.append(sec.scaling_section(out, progress))
+    fig2 = sec.fig2_section(records, out, progress)
+    limits = limits_section(cache, max_rings, out, progress)
+    green = sec.green_section(cache, max_rings, out, progress)
+    scaling = sec.scaling_section(out, progress)
     # beyond the paper, each from its own module
-    sections.append(sec.magnetic_section(out, progress))
-    sections.append(infinite_section(out, progress))
-    sections.append(holography_section(out, progress))
-    sections.append(qubits_section(out, progress))
-    sections.append(disorder_section(out, progress))
-    sections.append(bosons_section(out, progress))
+    magnetic = sec.magnetic_section(out, progress, cache)
+    infinite = infinite_section(out, progress)
+    infinite.text.append(band_interval_sentence(limits, infinite))
+    beyond = [magnetic, limits, infinite, holography_section(out, progress), qubits_section(out, progress),
+              disorder_section(out, progress), bosons_section(out, progress)]
+    # the paper's sections in the order the paper prints them (main text, then the appendices), then the rest
+    sections = [fig1, counts, spec_section, fig2, green, scaling, geometry] + beyond
 
+    stored = [s for s in sections if s.provenance]
     header = ["# Reproduction of Boettcher, Bienias, Belyansky, Kollár, Gorshkov, PRA 102, 032208 (2020)", "",
               f"Computed by hyperlattice {__version__} with max_rings = {max_rings}. Every number below is computed "
-              "by the package; the paper's printed values stand beside them. A flag (≠) marks a printed value "
+              "by this run (expensive results through the result cache, which holds only what the package "
+              "computed for the same inputs and version)"
+              + (", except where a section's Provenance line names stored values: "
+                 + "; ".join(f"“{s.title}”" for s in stored) if stored else "")
+              + ". The paper's printed values stand beside the computed ones. A flag (≠) marks a printed value "
               "that differs from the computation by more than half a unit of its last printed digit; the reason "
-              "is given where known.", ""]
+              "is given where known. Equations, figures, tables and appendices are numbered as the paper prints "
+              "them.", ""]
     for s in sections:
         for t in s.tables:
             t.write(out)
@@ -103,7 +111,8 @@ def reproduce(out_dir: str | Path = "reproduction", max_rings: int = 10, *, cach
     timings["total"] = time.perf_counter() - t_start
     (out / "timings.json").write_text(json.dumps(timings, indent=1, sort_keys=True))
     return {"out_dir": str(out), "sections": [s.title for s in sections], "records": records,
-            "cache_hits": cache.hits, "cache_misses": cache.misses, "seconds": timings["total"]}
+            "cache_hits": cache.hits, "cache_misses": cache.misses, "cache_reused": cache.reused,
+            "seconds": timings["total"]}
 
 
 # every public function above checks its annotated argument types at the door (issue 19)

@@ -1,4 +1,4 @@
-"""Report sections below the band (issue 14): holography (boundary correlators, Δ(m²), BF bounds)
+"""Report sections below the band: holography (boundary correlators, Δ(m²), BF bounds)
 and circuit-QED qubits (bound states, exchange J(d)). Each runs in a few seconds (small flakes)."""
 
 from __future__ import annotations
@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import Callable
 
 from ..graph.lattice import ring_lattice
+from ..paper_labels import cite
 from .writers import Section, Table, save_figure
 
 __all__ = ["holography_section", "qubits_section", "delta_scaling"]
@@ -46,10 +47,11 @@ def holography_section(out: Path, progress: Callable[[str], None]) -> Section:
 
     plot_delta_curve(curves, ax=axes[1])
     bf.plot(ax=axes[2])
-    figs = [save_figure(fig, out, "holography", "Left: outer-ring correlators of the l = 7 flake at omega = -3.2 "
-                        "against sin(theta/2), graph (red), continuum eq21 with the whole-disk propagator (black), "
-                        "fitted slope -2 Delta over the window. Middle: Delta against m^2, lattice l = 5..7 and "
-                        "continuum. Right: lattice BF bound E0(l) and the continuum E_inf.")]
+    figs = [save_figure(fig, out, "holography", "(a) Outer-ring correlators of the ℓ = 7 flake at ω = −3.2 "
+                        f"against sin(θ/2): graph (red dots), continuum {cite('eq21')} with the whole-disk propagator "
+                        "(black dots, translucent), the fitted slope −2Δ over the window (blue line) and "
+                        "the window edge (dotted). (b) Δ against m², lattice ℓ = 5–7 and continuum (black line). "
+                        "(c) Lattice BF bound E₀(ℓ) (red) and the continuum E∞ (dashed).")]
     heavy = [r for r in rows if r[1] in ("-3.5", "-3.2")]
     worst = max(abs(float(r[6])) for r in heavy)
     near = [r for r in rows if r[1] == "-2.95"]
@@ -62,8 +64,8 @@ def holography_section(out: Path, progress: Callable[[str], None]) -> Section:
             + f" against {near[0][3]}): the continuum holds where the field varies slowly on the lattice "
             "scale and the flake is large compared with the decay length, and stops near the bound, where "
             "the propagator reaches the edge. " + bf.statement()]
-    return Section("Beyond the paper: boundary correlators and the BF bound (holography)",
-                   "issue 14; eq21, green30", text, [table, t2], figs)
+    return Section("Boundary correlators and the BF bound (holography)", ("eq21", "green30"), text, [table, t2], figs,
+                   anchor="holography", part="beyond")
 
 
 def qubits_section(out: Path, progress: Callable[[str], None]) -> Section:
@@ -83,19 +85,25 @@ def qubits_section(out: Path, progress: Callable[[str], None]) -> Section:
     t1 = Table("qubit_bound_state", ["omega_q", "detuning", "E_bound", "size_graph", "size_continuum",
                                      "decay_length_graph", "decay_length_continuum_asymptotic"], rows,
                "One qubit (g = 0.05) on site 0 of the l = 6 flake: exact bound-state energy, mean hyperbolic "
-               "distance of the photon from the qubit (graph: exact profile; continuum: eq21 profile on the same "
+               f"distance of the photon from the qubit (graph: exact profile; continuum: {cite('eq21')} profile on the same "
                "sites), fitted decay length, and 1/(2 Delta) of the whole-disk propagator (empty beyond E_inf).")
     scal = [bound_state(lat, 0, -3.1, g).profile_error for g in (0.2, 0.1, 0.05)]
     ex = exchange_comparison(lat, -3.1, 0.05, 0)
     t2 = Table("qubit_exchange", ["d", "J_graph", "J_continuum", "rel_diff"],
                [[f"{d:.3f}", f"{a:.6e}", f"{b:.6e}", f"{r:+.3f}"] for d, a, b, r in ex.table()],
                "Exchange J = g^2 G_ij(omega_q) between a qubit on site 0 and a second qubit at hyperbolic distance d "
-               "(binned means, bin width d0/2), l = 6, omega_q = -3.1, g = 0.05, graph vs eq21.")
+               f"(binned means, bin width d0/2), ℓ = 6, ω_q = −3.1, g = 0.05, graph vs {cite('eq21')}.")
     fig, axes = plt.subplots(1, 2, figsize=(11.0, 4.0), layout="constrained")
     ex.plot(ax=axes[0])
     sizes.plot(ax=axes[1])
-    figs = [save_figure(fig, out, "qubits", "Left: exchange J(d) graph vs continuum (l = 6, omega_q = -3.1). Right: "
-                        "bound-state size and decay length against the detuning from the band bottom E0(l).")]
+    cm = np.asarray(ex.continuum_mean, dtype=float)
+    neg = np.asarray(ex.bins, dtype=float)[cm < 0]
+    sign = (f" The continuum J turns negative beyond d ≈ {neg[0]:.2f} (near the disk edge, where the Dirichlet "
+            "propagator changes sign); |J| is drawn there as a dashed line, negative graph values as open circles."
+            if neg.size else " Both J stay positive over the flake.")
+    figs = [save_figure(fig, out, "qubits", "(a) |J(d)|, graph vs continuum (ℓ = 6, ω_q = −3.1), log axis. "
+                        "(b) Bound-state size and decay length against the detuning from the band bottom E₀(ℓ)."
+                        + sign)]
     text = ["Not in the paper (its conclusion names qubits coupled to the resonators). A qubit below the band binds a "
             "photon; the exact single-excitation state is compared with its leading-order form G_{i j0}(omega_q): "
             "the profile difference is " + ", ".join(f"{e:.2e}" for e in scal) + " for g = 0.2, 0.1, 0.05 "
@@ -105,7 +113,8 @@ def qubits_section(out: Path, progress: Callable[[str], None]) -> Section:
             "as the detuning shrinks, but its continuum decay length 1/(2 Delta) stays below 2R = 1 down to the BF "
             "bound: the curvature limits its size (cf. Bienias et al., PRL 128, 013601 (2022)); on the flake the "
             "growth continues up to E0(l), where the edge takes over."]
-    return Section("Beyond the paper: circuit-QED qubits below the band", "issue 14; eq20, eq21", text, [t1, t2], figs)
+    return Section("Circuit-QED qubits below the band", ("eq20", "eq21"), text, [t1, t2], figs, anchor="qubits",
+                   part="beyond")
 
 
 #: the rings and frequencies of the Delta(l) table and figure of docs/below-band.md

@@ -7,6 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Callable
 
+from ..paper_labels import cite
 from .writers import Section, Table, fmt as _fmt, save_figure as _save_figure
 
 __all__ = ["bosons_section"]
@@ -89,7 +90,7 @@ def bosons_section(out: Path, progress: Callable[[str], None]) -> Section:
     big = LOBE_RINGS[-1]
     weak, strong = cmps[0].rows[-1], cmps[1].rows[-1]
     text = [
-        "The paper's first application of its dictionary (Eqs. (13)-(14)) is the Bose–Hubbard model; here at "
+        f"The paper's first application of its dictionary ({cite('eq13', 'eq14')}) is the Bose–Hubbard model; here at "
         "mean-field level. Site-decoupled (Gutzwiller) mean field puts the Mott lobe of filling n where "
         "t λ_max g_n(μ) = 1, with λ_max the largest eigenvalue of the adjacency matrix: for a flake its −E0(ℓ), "
         f"which tends to the spectral radius ρ = {inf['lambda_max']:.5f} of the infinite lattice, not to the "
@@ -116,8 +117,16 @@ def bosons_section(out: Path, progress: Callable[[str], None]) -> Section:
                 "and site-decoupled mean field, which drops the fluctuations that such small systems are made of, "
                 "fails there. Its continuum version is worse still on a 7-site flake (the disk's λ_max = "
                 f"{gaps.lambda_max_continuum:.3f} against 2: the dictionary needs ℓ ≳ 4).")
-    return Section("Beyond the paper: interacting bosons", "Eqs. (13)-(14); issue 22", text,
-                   [lobe_table, gap_table, gp_table], figs)
+    from ..compare.limits import REFERENCE_DATE, REFERENCE_LEVELS, reference_command
+
+    stored = sorted(REFERENCE_LEVELS[(7, 3)])
+    provenance = [f"ρ of the infinite lattice (the row “{inf['label']}” of the lobe table and the tip quoted below) "
+                  "is the band-bottom extrapolation of the stored {7,3} flake levels "
+                  f"(REFERENCE_LEVELS in src/hyperlattice/compare/limits.py, ℓ = {stored[0]}–{stored[-1]}, stored "
+                  f"{REFERENCE_DATE}; regenerate with `{reference_command(7, 3, stored)}`); everything else in this "
+                  "section is computed by this run."]
+    return Section("Interacting bosons", ("eq13", "eq14"), text, [lobe_table, gap_table, gp_table], figs,
+                   anchor="bosons", part="beyond", provenance=provenance)
 
 
 # every public function above checks its annotated argument types at the door (issue 19)

@@ -6,6 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Callable
 
+from ..paper_labels import cite
 from .writers import Section, Table, fmt as _fmt, save_figure as _save_figure
 
 __all__ = ["disorder_section"]
@@ -21,7 +22,7 @@ REALIZATIONS_G = 8
 
 def disorder_section(out: Path, progress: Callable[[str], None]) -> Section:
     """Beyond the paper: Anderson disorder on the l = 4 {7,3} flake: <r> against W (GOE -> Poisson), and
-    <G_0j(omega)> against the graph and continuum SCBA (eq21 at the shifted frequency)."""
+    <G_0j(omega)> against the graph and continuum SCBA (Eq. (19) of the paper, ``eq21``, at the shifted frequency)."""
     import matplotlib.pyplot as plt
 
     from ..compare.disorder import GOE_R, POISSON_R, compare_scba, green_ensemble, r_scan
@@ -54,7 +55,7 @@ def disorder_section(out: Path, progress: Callable[[str], None]) -> Section:
     cmp.plot(ax=ax)
     figs.append(_save_figure(fig, out, "disorder_scba", f"Relative L2 distance of the averaged column <G_i0(omega)> "
                              f"(omega = {OMEGA.real:g}{OMEGA.imag:+g}i, {REALIZATIONS_G} antithetic pairs) from the "
-                             "clean column, the graph SCBA and the continuum SCBA (eq21 at omega + Sigma)."))
+                             f"clean column, the graph SCBA and the continuum SCBA ({cite('eq21')} at ω + Σ)."))
     g_rows = []
     for row in cmp.rows():
         g_rows.append([_fmt(row["W"], 2), f"{row['rel_clean']:.3e}", f"{row['rel_graph_scba']:.3e}",
@@ -84,8 +85,7 @@ def disorder_section(out: Path, progress: Callable[[str], None]) -> Section:
         "correction) and where Re G_loc, which collects the whole band, is set by the lattice rather than the "
         "continuum.",
     ]
-    return Section("Beyond the paper: disorder", "abstract (\"disorder ... in the future\"); issue 15",
-                   text, [r_table, g_table], figs)
+    return Section("Disorder", ("eq21",), text, [r_table, g_table], figs, anchor="disorder", part="beyond")
 
 
 # every public function above checks its annotated argument types at the door (issue 19)

@@ -1,4 +1,4 @@
-"""The report's section on the infinite lattice (issue 13): the band bottom -rho with its error
+"""The report's section on the infinite lattice: the band bottom -rho with its error
 bar and rigorous interval, why the graph-continuum error has a plateau, and the improved
 dictionary's errors. The numbers come from :mod:`hyperlattice.compare.limits`; this module only
 puts them into tables, sentences and one figure.
@@ -13,7 +13,7 @@ import numpy as np
 
 from ..cache import Cache
 from ..compare.limits import (
-    REFERENCE_COMMAND,
+    REFERENCE_DATE,
     REFERENCE_LEVELS,
     BandBottom,
     PlateauAnalysis,
@@ -22,9 +22,11 @@ from ..compare.limits import (
     compare_dictionaries,
     flake_levels,
     plateau_analysis,
+    reference_command,
     reference_levels,
     schur_bound,
 )
+from ..paper_labels import cite
 from .writers import Section, Table, save_figure
 
 __all__ = ["limits_section", "LIMITS_LATTICES"]
@@ -150,7 +152,7 @@ def limits_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[
          f"{plateau.terms['isotropic_h4'] / plateau.terms['total']:.3f}"],
         ["isotropic h^6 and beyond (exact -q P_-1/2(cosh 2d0))", f"{plateau.terms['isotropic_rest']:.4e}",
          f"{plateau.terms['isotropic_rest'] / plateau.terms['total']:.3f}"],
-        ["anisotropic m = ±q, ±2q, ... (h^3 D of adj32 and beyond): the rest",
+        [f"anisotropic m = ±q, ±2q, ... (h³ D of {cite('adj32')} and beyond): the rest",
          f"{plateau.terms['anisotropic']:.4e} ± {plateau.terms['anisotropic_error']:.1e}",
          f"{plateau.terms['share_anisotropic']:.3f}"]],
         "The gap between the lattice's band bottom and the paper map's E_inf = -3 + (3/4)h^2, split into the "
@@ -160,15 +162,15 @@ def limits_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[
                     for x, a, b, c, d in zip(cmp.rings, cmp.paper_E0, cmp.improved_E0, cmp.paper_E1,
                                              cmp.improved_E1)],
                    "Relative error (E_graph - E_cont)/|E_graph| of E0 and E1 with the paper's map "
-                   "(E = -3 + (3/4)h^2 lambda on the disk of eq12) and the improved one (E = -3 P_nu(cosh 2d0) "
+                   f"(E = -3 + (3/4)h^2 lambda on the disk of {cite('eq12')}) and the improved one (E = -3 P_nu(cosh 2d0) "
                    "on the disk half a bond larger); source: computed now, stored (REFERENCE_LEVELS) or supplied.")
     from ..plots.limits import limits_figure
 
     fig = limits_figure(b73, plateau, cmp)
-    figure = save_figure(fig, out, "limits", "{7,3}. 1: band bottom (extrapolation with its error band, "
-                         "rigorous bounds, both maps' E_inf). 2: residuals of the disk and rational fits of E0 and "
-                         "E1 over the last six flakes. 3: the paper map's relative error, the fitted E0 continued "
-                         "to l = 60 and the predicted limit (-rho - E_inf)/rho. 4: |relative error| of E0 and E1 "
+    figure = save_figure(fig, out, "limits", "{7,3}. (a) Band bottom (extrapolation with its error band, "
+                         "rigorous bounds, both maps' E_inf). (b) Residuals of the disk and rational fits of E0 and "
+                         "E1 over the last six flakes. (c) The paper map's relative error, the fitted E0 continued "
+                         "to l = 60 and the predicted limit (-rho - E_inf)/rho. (d) |Relative error| of E0 and E1 "
                          "for both maps.")
     gain = cmp.gain()
     last = int(cmp.rings[-1])
@@ -210,11 +212,11 @@ def limits_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[
         f"{b73.band_mass:.5f} exceeds the paper's (3/4)h^2 = {b73.paper_edge + 3:.5f}. The gap is the isotropic "
         f"O(h^4) term of the star, (7q/64)h^4 = {plateau.terms['isotropic_h4']:.3e}, plus "
         f"{plateau.terms['isotropic_rest']:.1e} from higher isotropic orders; the anisotropic O(h^3) term D "
-        f"(adj32) would average to zero over uniformly spread star orientations (on the ring lattice <cos 3(chi - phi)> "
+        f"({cite('adj32')}) would average to zero over uniformly spread star orientations (on the ring lattice <cos 3(chi - phi)> "
         f"= 0.17): the anisotropic orders leave only {plateau.terms['anisotropic']:.1e}.",
         f"Improved dictionary. Summing the isotropic part of the star exactly (mean-value property of "
         f"eigenfunctions: E = -q P_nu(cosh 2d0), nu = (-1 + ik)/2) and putting the Dirichlet wall where the "
-        f"lattice puts it (on the missing neighbours, half a bond beyond the area radius of eq12) lowers the "
+        f"lattice puts it (on the missing neighbours, half a bond beyond the area radius of {cite('eq12')}) lowers the "
         f"relative error at l = {last} from {abs(cmp.paper_E0[-1]):.2e} to {abs(cmp.improved_E0[-1]):.2e} (E0, "
         f"{gain['E0']:.0f}x) and from {abs(cmp.paper_E1[-1]):.2e} to {abs(cmp.improved_E1[-1]):.2e} (E1, "
         f"{gain['E1']:.0f}x). The rest does not vanish as l -> infinity: it tends to (-rho - E_inf^impr)/rho = "
@@ -226,14 +228,36 @@ def limits_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[
             f"{{{pq[0]},{pq[1]}}}: -rho = {bands[pq].estimate:.5f} ± {bands[pq].error:.0e}, E_inf = "
             f"{bands[pq].paper_edge:.5f} (paper), {bands[pq].improved_edge:.5f} (improved), "
             f"{100 * abs((bands[pq].estimate - bands[pq].improved_edge) / (bands[pq].estimate - bands[pq].paper_edge)):.0f}% left"
-            for pq, _ in LIMITS_LATTICES) + ". The band bottom rises with p toward the tree value -2 sqrt(2) of "
-        "{inf,3}; the anisotropic remainder grows quickly with h (0.276, 0.348, 0.388, 0.413 for p = 7..10), so "
+            for pq, _ in LIMITS_LATTICES) + ". The band bottom rises with p toward the tree value −2√2 of "
+        "{∞,3}; the anisotropic remainder grows quickly with h (0.276, 0.348, 0.388, 0.413 for p = 7..10), so "
         "the isotropic sum helps most for {7,3}; for q = 4 the anisotropic orders are m = ±4.",
-        f"Stored flake levels (REFERENCE_LEVELS) regenerate with: {REFERENCE_COMMAND}.",
     ]
-    return Section("Beyond the paper: the band bottom, the plateau explained, an improved dictionary",
-                   "AppSpec, AppAdj, adj26, adj32, adj33, eq12, spec2", text, [t_band, t_fit, t_terms, t_dict],
-                   [figure])
+    stored = [int(x) for x, s in zip(ell, source) if s == "stored"]
+    supplied = [int(x) for x, s in zip(ell, source) if s == "supplied"]
+    computed = [int(x) for x, s in zip(ell, source) if s == "computed"]
+    provenance = [f"{{7,3}} flake levels E0, E1 for l = {computed[0]}..{computed[-1]} are computed by this run "
+                  "(cached); the fits, the plateau analysis, the dictionaries and the Schur bounds are computed "
+                  "from them now."]
+    if stored:
+        provenance.append(
+            f"{{7,3}} flake levels for l = {stored[0]}..{stored[-1]} (the band-bottom fit, the extrapolation test "
+            "and the rows marked \"stored\" of the dictionary table) are not computed by this run: they are "
+            "REFERENCE_LEVELS in src/hyperlattice/compare/limits.py, stored on "
+            f"{REFERENCE_DATE} (residuals ≤ 4e-13; l ≥ 15 from the sector-only solver, ≤ 7e-15). "
+            f"Regenerate them with `{reference_command(7, 3, stored)}`.")
+    if supplied:
+        provenance.append(f"{{7,3}} flake levels for l = {', '.join(map(str, supplied))} were supplied by the caller.")
+    others = [pq for pq, _ in LIMITS_LATTICES if pq != (7, 3)]
+    if others:
+        provenance.append(
+            "The trend in p uses the stored levels of " + ", ".join(f"{{{a},{b}}}" for a, b in others)
+            + f" (REFERENCE_LEVELS, stored {REFERENCE_DATE}); e.g. `"
+            + reference_command(*others[0], sorted(REFERENCE_LEVELS[others[0]])) + "` regenerates the first.")
+
+    return Section("The band bottom, the plateau explained, an improved dictionary",
+                   ("AppSpec", "AppAdj", "adj26", "adj32", "adj33", "eq12", "spec2"), text,
+                   [t_band, t_fit, t_terms, t_dict], [figure], anchor="band-bottom", part="beyond",
+                   provenance=provenance)
 
 
 # every public function above checks its annotated argument types at the door (issue 19)

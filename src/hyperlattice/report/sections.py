@@ -16,6 +16,7 @@ from .. import geometry
 from ..cache import Cache
 from ..compare.levels import RelativeErrorTrend
 from ..graph.lattice import ring_lattice, ring_sizes
+from ..paper_labels import cite
 from ..paper_values import PaperValue, paper_value
 from . import data
 from .writers import Section, Table, fmt as _fmt, save_figure as _save_figure
@@ -23,8 +24,27 @@ from .writers import Section, Table, fmt as _fmt, save_figure as _save_figure
 __all__ = ["geometry_section", "counts_section", "fig1_section", "spectrum_section", "open_question_text",
            "fig2_section", "green_section", "scaling_section", "magnetic_section"]
 
+#: The butterfly of the report: flake size and number of flux values in [0, 1]
+BUTTERFLY_RINGS = 4
+BUTTERFLY_FLUXES = 301
+
+#: Flakes of the magnetic error map (the 1e-3 contour first appears at l = 6).
+MAGNETIC_RINGS = (3, 4, 5, 6, 7)
+
 #: The columns of ``SuppTab1``, in the paper's order.
 _LEVEL_KEYS = ("E0_graph", "E0_continuum", "E0_asymptotic", "E1_graph", "E1_continuum", "E1_asymptotic")
+
+
+#: subscript digits for level names in prose (E0 -> E₀)
+_SUB = {str(d): chr(0x2080 + d) for d in range(10)}
+
+
+def _omega(omega) -> str:
+    """ω as prose: -2.95 -> "−2.95", (-2.5+0.1j) -> "−2.5 + 0.1i"."""
+    if isinstance(omega, complex):
+        sign = "+" if omega.imag >= 0 else "−"
+        return f"{omega.real:g} {sign} {abs(omega.imag):g}i".replace("-", "−")
+    return f"{omega:g}".replace("-", "−")
 
 
 def _printed(key: str, index) -> PaperValue | None:
@@ -36,7 +56,7 @@ def _printed(key: str, index) -> PaperValue | None:
 
 
 def geometry_section() -> Section:
-    """Constants of {p,3} beside the table of App. ``AppFS``."""
+    """Constants of {p,3} beside the table of App. ``AppFS`` (Table III)."""
     rows = []
     flags = []
     for p in (7, 8, 9, 10, "inf"):
@@ -50,12 +70,14 @@ def geometry_section() -> Section:
         flags += [n for n in (n1, n2) if n]
     table = Table("geometry", ["p", "r0", "d0", "d0_paper", "d0_flag", "h", "h_paper", "h_flag", "site_area",
                                "radius_constant"], rows,
-                  "Constants of {p,3}: r0 (Eqr0), d0 = d(r0, r0 e^{2pi i/p}), h = tanh d0 (adj6), area per site "
-                  "pi(1-6/p)/4 (sum1c) and c = 4p/(p-6) in L = sqrt(N/(N+c)) (eq12).")
-    text = ["The p = ∞ column is computed as a limit: cosh d0 = cos(π/p)/sin(π/q) → 1/sin(π/3), "
-            "so d0 → ½ ln 3 and h → cos(π/3) = 1/2."]
+                  f"Constants of {{p,3}}: r₀ ({cite('Eqr0')}), d₀ = d(r₀, r₀ e^(2πi/p)), h = tanh d₀ "
+                  f"({cite('adj6')}), area per site π(1 − 6/p)/4 ({cite('sum1c')}) and c = 4p/(p − 6) in "
+                  f"L = √(N/(N + c)) ({cite('eq12')}).")
+    text = ["The p = ∞ column is computed as a limit: cosh d₀ = cos(π/p)/sin(π/q) → 1/sin(π/3), "
+            "so d₀ → ½ ln 3 and h → cos(π/3) = 1/2."]
     text += [f"Flagged: {n}" for n in flags]
-    return Section("Geometry of {p,3} tessellations", "table in App. AppFS, Eqr0, adj6, eq12", text, [table])
+    return Section("Geometry of {p,3} tessellations", ("AppFS table", "Eqr0", "adj6", "eq12"), text, [table],
+                   anchor="geometry")
 
 
 def counts_section(max_rings: int) -> Section:
@@ -73,15 +95,15 @@ def counts_section(max_rings: int) -> Section:
         rows.append([ell, int(sizes[ell - 1]), pv_ring.printed if pv_ring else "", n, pv_n.printed if pv_n else "",
                      ok, closed, _fmt(L, 10), pv_l.printed if pv_l else "", fl])
         if nl:
-            notes.append(f"l = {ell}: {nl}")
+            notes.append(f"ℓ = {ell}: {nl}")
     table = Table("tab1_sizes", ["rings", "N_ring", "N_ring_paper", "N", "N_paper", "N_flag", "N_closed_form",
                                  "L", "L_paper", "L_flag"], rows,
-                  "Sites per ring and in total (Tab1, AppTab1), the closed form of Tab1's caption, and the "
-                  "effective disk radius L = sqrt(N/(N+28)) (eq12).")
+                  f"Sites per ring and in total ({cite('Tab1', 'AppTab1')}), the closed form of the caption of "
+                  f"{cite('Tab1')}, and the effective disk radius L = √(N/(N + 28)) ({cite('eq12')}).")
     text = ["Counts come from the combinatorial ring construction; the closed form "
             "N = 7[((3+√5)/2)^ℓ + ((3−√5)/2)^ℓ − 2] is printed as an independent check."]
     text += [f"Flagged: {n}" for n in notes]
-    return Section("Lattice sizes and effective radius", "Tab1, AppTab1, eq12", text, [table])
+    return Section("Lattice sizes and effective radius", ("Tab1", "AppTab1", "eq12"), text, [table], anchor="sizes")
 
 
 def fig1_section(out: Path) -> Section:
@@ -92,9 +114,9 @@ def fig1_section(out: Path) -> Section:
 
     fig, ax = plt.subplots(figsize=(6.2, 5.4), layout="constrained")
     plot_tessellation(rings=3, background_rings=7, ax=ax)
-    f = _save_figure(fig, out, "fig1", "Fig1: the {7,3} tessellation in the Poincaré disk (grey, 7 rings) and "
-                     "the l = 3 graph (black) with its sites coloured by ring; edges drawn as geodesics.")
-    return Section("The {7,3} lattice in the Poincaré disk", "Fig1, AppGraph", [], [], [f])
+    f = _save_figure(fig, out, "fig1", f"{cite('Fig1')}: the {{7,3}} tessellation in the Poincaré disk (grey, "
+                     "7 rings) and the ℓ = 3 graph (black) with its sites coloured by ring; edges drawn as geodesics.")
+    return Section("The {7,3} lattice in the Poincaré disk", ("Fig1", "AppGraph"), [], [], [f], anchor="lattice")
 
 
 def open_question_text(trends: list[RelativeErrorTrend], worst_residual: float | None = None) -> list[str]:
@@ -105,13 +127,13 @@ def open_question_text(trends: list[RelativeErrorTrend], worst_residual: float |
     """
     out = []
     for t in trends:
-        parts = [f"{t.level}: (E_graph - E_cont)/|E_graph| = " + ", ".join(f"{v:+.2e}" for v in t.relative_error) +
-                 f" for l = {t.rings[0]}..{t.rings[-1]}."]
+        parts = [f"{t.level[0]}{_SUB.get(t.level[1:], t.level[1:])}: (E_graph − E_cont)/|E_graph| = "
+                 + ", ".join(f"{v:+.2e}" for v in t.relative_error) + f" for ℓ = {t.rings[0]}–{t.rings[-1]}."]
         if t.sign_change is not None:
             a, b = t.sign_change
             move = "from below to above" if t.rising else "from above to below"
             grows = "grows monotonically" if t.rising else "grows monotonically in magnitude"
-            parts.append(f"It changes sign between l = {a} and {b} (the graph level moves {move} the continuum "
+            parts.append(f"It changes sign between ℓ = {a} and {b} (the graph level moves {move} the continuum "
                          "level),")
             if t.saturates:
                 d1, d2 = t.increments
@@ -128,9 +150,9 @@ def open_question_text(trends: list[RelativeErrorTrend], worst_residual: float |
             parts.append("Its magnitude decreases monotonically over the computed range.")
         out.append(" ".join(parts))
     if worst_residual is not None:
-        out.insert(0, "The paper's open question (App. AppSpec): does the relative error between graph and "
-                      "continuum keep decreasing as l -> infinity? The computed levels (largest residual "
-                      f"||H psi - E psi|| = {worst_residual:.1e}) say:")
+        out.insert(0, f"The paper's open question ({cite('AppSpec')}): does the relative error between graph and "
+                      "continuum keep decreasing as ℓ → ∞? The computed levels (largest residual "
+                      f"‖Hψ − Eψ‖ = {worst_residual:.1e}) say:")
     return out
 
 
@@ -161,9 +183,10 @@ def spectrum_section(cache: Cache, max_rings: int, timings: dict,
                 if flag:
                     notes.append((ell, key, pv.printed, rec[key], flag, note))
     table = Table("s1", ["rings", "sites", "radius", *_LEVEL_KEYS], rows_out,
-                  "SuppTab1 (and the energy rows of Tab1): lowest levels of H = -A on the l-ring {7,3} graph, of "
-                  "H_cont = -3 - (3/4)h^2 Delta_g on the disk of radius L (spec1, spec2), and the asymptotic "
-                  "formulas spec11/spec17 (eq19).")
+                  f"{cite('SuppTab1')} (and the energy rows of {cite('Tab1')}): lowest levels of H = −A on the "
+                  "ℓ-ring {7,3} graph, of H_cont = −3 − (3/4)h²Δ_g on the disk of radius L "
+                  f"({cite('spec1', 'spec2')}), and the asymptotic formulas {cite('spec11', 'spec17')} "
+                  f"({cite('eq19')}).")
     # side by side with the paper
     side_rows = []
     for rec in records:
@@ -190,17 +213,18 @@ def spectrum_section(cache: Cache, max_rings: int, timings: dict,
                          f"{trends[1].relative_error[i]:.3e}", rec["method"], f"{rec['residual_max']:.1e}"])
     rel = Table("graph_vs_continuum", ["rings", "sites", "rel_err_E0", "rel_err_E1", "graph_method",
                                        "max_residual"], rel_rows,
-                "Relative difference (E_graph - E_continuum)/|E_graph| and the residual ||H psi - E psi|| of the "
+                "Relative difference (E_graph − E_continuum)/|E_graph| and the residual ‖Hψ − Eψ‖ of the "
                 "graph eigenpairs.")
-    text = [f"E1 of the graph lies in the angular-momentum sectors m = ±1 for every l (computed: m = "
+    text = [f"E₁ of the graph lies in the angular-momentum sectors m = ±1 for every ℓ (computed: m = "
             f"{sorted({r['m_E1'] for r in records})}), the ground state in m = 0, as for the continuum "
             "levels (n, m) = (1, 0) and (1, ±1)."]
     for ell, key, printed, value, flag, note in notes:
-        text.append(f"Flagged {key} at l = {ell}: printed {printed}, computed {value:.6f} ({note}).")
+        text.append(f"Flagged {key} at ℓ = {ell}: printed {printed}, computed {value:.6f} ({note.rstrip('.')}).")
     worst = max(r["residual_max"] for r in records) if records[-1]["rings"] >= 10 else None
     text += open_question_text(trends, worst)
-    return Section("Ground state and first excited state: graph vs continuum", "SuppTab1, Tab1, spec1, spec2, "
-                   "spec11, spec17, eq19", text, [table, side, rel]), records
+    return Section("Ground state and first excited state: graph vs continuum",
+                   ("Tab1", "SuppTab1", "spec1", "spec2", "spec11", "spec17", "eq19"), text, [table, side, rel],
+                   anchor="spectrum"), records
 
 
 def fig2_section(records: list[dict], out: Path, progress: Callable[[str], None]) -> Section:
@@ -217,25 +241,27 @@ def fig2_section(records: list[dict], out: Path, progress: Callable[[str], None]
     fig, (ax, ax2) = plt.subplots(1, 2, figsize=(12.0, 4.8), layout="constrained",
                                   gridspec_kw={"width_ratios": [1.6, 1.0]})
     plot_levels(records, ax=ax)
-    ax.set_title("(a) lowest levels vs rings (l = 1 is off scale)", fontsize=11)
+    ax.set_title(r"(a) lowest levels vs rings ($\ell = 1$ is off scale)", fontsize=11)
     z.plot(ax=ax2)
     ax2.set_title(r"(b) $\ell=4$: $Z=\sum_n\Theta(-E_n)\,e^{-\beta E_n}$", fontsize=11)
     ax2.xaxis.label.set_size(12)
     ax2.yaxis.label.set_size(12)
     ax2.tick_params(labelsize=10)
     ax2.legend(fontsize=10)
-    fig_obj = _save_figure(fig, out, "fig2", "Fig2: (a) E0 (blue) and E1 (orange) of the graph (filled) and the "
-                           "continuum disk (open) vs number of rings, with the asymptotes of Eq. (eq19); (b, the "
-                           "paper's inset) partition function over negative energies for l = 4, graph vs disk.")
+    fig_obj = _save_figure(fig, out, "fig2", f"{cite('Fig2')}: (a) E₀ (blue) and E₁ (orange) of the graph "
+                           "(filled) and the continuum disk (open) vs number of rings, with the asymptotes of "
+                           f"{cite('eq19')}; (b, the paper's inset) partition function over negative energies for "
+                           "ℓ = 4, graph vs disk.")
     zt = Table("fig2_partition_l4", ["beta", "Z_graph", "Z_continuum"],
                [[_fmt(b, 4), _fmt(a, 8), _fmt(c, 8)]
                 for b, a, c in zip(z.beta[::10], z.z_graph[::10], z.z_continuum[::10])],
-               f"Z(beta) for l = 4 over {z.graph_states} negative graph levels and {z.continuum_states} negative "
+               f"Z(β) for ℓ = 4 over {z.graph_states} negative graph levels and {z.continuum_states} negative "
                "continuum states (degenerate ±m counted twice); "
                + (f"the flake's {z.graph_zero_modes} zero modes (|E| within the eigensolver's error bound "
                   f"{z.graph_tolerance:.0e}, so their computed sign is rounding noise) are left out."
                   if z.graph_zero_modes else "the graph has no zero mode."))
-    return Section("Spectrum vs number of rings; partition function", "Fig2", [], [zt], [fig_obj])
+    return Section("Spectrum vs number of rings; partition function", ("Fig2",), [], [zt], [fig_obj],
+                   anchor="levels-vs-rings")
 
 
 def scaling_section(out: Path, progress: Callable[[str], None]) -> Section:
@@ -252,29 +278,30 @@ def scaling_section(out: Path, progress: Callable[[str], None]) -> Section:
     fit = fit_counting(lat4)
     fig, ax = plt.subplots(figsize=(6.0, 4.2), layout="constrained")
     plot_counting(lat4, ax=ax)
-    figs.append(_save_figure(fig, out, "figS1", "FigS1: counting function N(r) of the l = 4 lattice against "
-                             "rho = (1+r^2)/(1-r^2) with the fitted line s*rho + b (sum4)."))
+    figs.append(_save_figure(fig, out, "figS1", f"{cite('FigS1')}: counting function N(r) of the ℓ = 4 lattice "
+                             f"against ρ = (1 + r²)/(1 − r²) with the fitted line sρ + b ({cite('sum4')})."))
     angles = frame_angles(ring_lattice(7, 3, 5))
     fig, ax = plt.subplots(figsize=(6.0, 4.2), layout="constrained")
     plot_frame_angles(angles, ax=ax)
-    figs.append(_save_figure(fig, out, "figScos3delta", "FigScos3delta: cos(3 delta_i), delta_i = chi_i - phi_i, "
-                             "averaged at equal radius for l = 5; red bars mark radii where r -> delta is not "
+    figs.append(_save_figure(fig, out, "figScos3delta", f"{cite('FigScos3delta')}: cos 3δᵢ, δᵢ = χᵢ − φᵢ, "
+                             "averaged at equal radius for ℓ = 5; red bars mark radii where r ↦ δ is not "
                              "unique."))
     hs = (angles.h, 0.15, 0.05)
     fig, axes = plt.subplots(1, 3, figsize=(13.5, 4.0), layout="constrained")
     for h, ax in zip(hs, axes):
         plot_formal_operator(angles, h=h, ax=ax)
-    figs.append(_save_figure(fig, out, "figSh", "FigSh: A_h f - 3f for f = cos[pi d(r,0)] (adj34) with the "
-                             "quadratic (adj35) and cubic (adj36) approximations, at the lattice h = 0.275798 and "
-                             "two smaller h."))
+    figs.append(_save_figure(fig, out, "figSh", f"{cite('FigSh')}: A_h f − 3f for f = cos[π d(r, 0)] "
+                             f"({cite('adj34')}) with the quadratic ({cite('adj35')}) and cubic ({cite('adj36')}) "
+                             f"approximations, at the lattice h = {angles.h:.6f} and two smaller h."))
     pv = paper_value("b_counting", 4)
     flag, note = pv.check(fit.intercept)
     t = Table("figS1_fit", ["rings", "slope", "slope_expected", "b", "b_paper", "b_flag"],
               [[4, _fmt(fit.slope, 4), _fmt(fit.expected_slope, 1), _fmt(fit.intercept, 4), pv.printed, flag]],
-              "Fit of N(r) = s*rho + b over the distinct site radii of the l = 4 lattice.")
+              "Fit of N(r) = sρ + b over the distinct site radii of the ℓ = 4 lattice.")
     text = [f"Flagged b: {note}"] if flag else []
-    return Section("Sums as integrals and the formal operator A_h", "FigS1, FigScos3delta, FigSh, sum4, adj34–adj36",
-                   text, [t], figs)
+    return Section("Sums as integrals and the formal operator A_h",
+                   ("FigScos3delta", "FigSh", "FigS1", "sum4", "adj34", "adj35", "adj36"), text, [t], figs,
+                   anchor="scaling")
 
 
 def green_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[str], None]) -> Section:
@@ -301,11 +328,11 @@ def green_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[s
             plot_fig3_row(lat, omega, source, axes=row, comparison=shown[ell, omega])
             row[0].set_ylabel(fr"$\ell = {ell}$", fontsize=13)
         part = "" if isinstance(omega, float) else " (real part)"
-        figs.append(_save_figure(fig, out, f"fig3{tag}", f"Fig3 ({'upper' if tag == 'a' else 'lower'} panel): "
-                                 f"omega = {omega}{part}, source site {source} on ring 2; top row l = 6, bottom "
-                                 "row l = 3 (the paper's insets). Left: graph G_ij, middle: continuum prediction of "
-                                 "eq21 (dot size ~ |F|^(1/2), blue > 0, red < 0); right: mean ± standard deviation "
-                                 "versus hyperbolic distance, graph and continuum."))
+        figs.append(_save_figure(fig, out, f"fig3{tag}", f"{cite('Fig3')} ({'upper' if tag == 'a' else 'lower'} "
+                                 f"panel): ω = {_omega(omega)}{part}, source site {source} on ring 2; top row ℓ = 6, "
+                                 "bottom row ℓ = 3 (the paper's insets). Left: graph G_ij, middle: continuum "
+                                 f"prediction of {cite('eq21')} (dot size ∝ |F|^(1/2), blue > 0, red < 0); right: "
+                                 "mean ± standard deviation versus hyperbolic distance, graph and continuum."))
     rows = []
     for ell in range(3, max(8, min(max_rings, 10)) + 1):
         progress(f"Fig3: graph vs continuum Green function, l = {ell}")
@@ -315,19 +342,20 @@ def green_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[s
                          f"{v['collapse_continuum']:.4f}", v["terms"], f"{v['tail']:.1e}"])
     table = Table("fig3_green", ["rings", "omega", "rel_l2", "collapse_graph", "collapse_continuum",
                                  "m_terms", "tail_estimate"], rows,
-                  "Relative L2 distance between the graph column G_ij(omega) and the right-hand side of eq21 "
-                  "over all sites but the source (site 10, ring 2); collapse = spread within distance bins "
+                  f"Relative L² distance between the graph column G_ij(ω) and the right-hand side of {cite('eq21')} "
+                  f"over all sites but the source (site {source}, ring 2); collapse = spread within distance bins "
                   "relative to the mean (0 for a function of hyperbolic distance alone); m_terms and "
-                  "tail_estimate describe the truncated sum of green36.")
-    text = ["The paper shows the agreement of Fig3 graphically; the relative L2 distances quantify it. The "
-            "collapse number of the graph data measures how far G_ij is from a function of d(z_i, z_j) alone "
-            "(emergent conformal symmetry for large l)."]
+                  f"tail_estimate describe the truncated sum of {cite('green36')}.")
+    text = [f"The paper shows the agreement of {cite('Fig3')} graphically; the relative L² distances quantify it. "
+            "The collapse number of the graph data measures how far G_ij is from a function of d(z_i, z_j) alone "
+            "(emergent conformal symmetry for large ℓ)."]
     return Section("Green functions: graph vs continuum and emergent conformal symmetry",
-                   "Fig3, eq20–eq23, green33–green38, path8", text, [table], figs)
+                   ("Fig3", "eq20", "eq21", "eq23", "path8", "green33", "green36", "green38"), text, [table], figs,
+                   anchor="green")
 
 
-def magnetic_section(out: Path, progress: Callable[[str], None]) -> Section:
-    """Beyond the paper (issue 11): the l = 4 hyperbolic Hofstadter butterfly with the continuum
+def magnetic_section(out: Path, progress: Callable[[str], None], cache: Cache | None = None) -> Section:
+    """Beyond the paper: the l = 4 hyperbolic Hofstadter butterfly with the continuum
     Dirichlet levels overlaid, and a short graph-vs-continuum table with flux (small and fast)."""
     import matplotlib.pyplot as plt
     import numpy as np
@@ -337,20 +365,40 @@ def magnetic_section(out: Path, progress: Callable[[str], None]) -> Section:
     from ..plots.magnetic import butterfly_figure
 
     progress("beyond the paper: magnetic flux")
-    bf = butterfly(ring_lattice(7, 3, 4), np.linspace(0.0, 1.0, 51))
+    from ..graph.flux import Butterfly
+
+    # 301 fluxes (every 1/300): enough columns for the gaps to show; about 3 s on the l = 4 flake, cached
+    key = {"p": 7, "q": 3, "rings": BUTTERFLY_RINGS, "fluxes": BUTTERFLY_FLUXES}
+    make = lambda: butterfly(ring_lattice(7, 3, BUTTERFLY_RINGS), np.linspace(0.0, 1.0, BUTTERFLY_FLUXES))  # noqa: E731
+    bf = cache.get("butterfly", key, make, expect=Butterfly) if cache is not None else make()
     fig, ax = plt.subplots(figsize=(7.0, 5.0), layout="constrained")
-    butterfly_figure(bf, continuum=True, max_flux=0.3, points=7, levels=4, ax=ax)
-    figs = [_save_figure(fig, out, "butterfly", "Hyperbolic Hofstadter butterfly of the l = 4 {7,3} flake "
-                         "(315 sites): all levels at 51 flux values f in [0, 1] (flux quanta per heptagon, "
-                         "sector by sector), with the 4 lowest continuum Dirichlet levels of the same disk "
-                         "(magnetic_levels, spec2 with B = 2 pi f / A_7) in red for f <= 0.3.")]
-    cmp = magnetic_comparison(7, 3, rings=(3, 4, 5), fluxes=[0.0, 0.1, 0.2, 0.3], levels=2)
+    butterfly_figure(bf, continuum=True, max_flux=0.3, points=7, levels=4, ax=ax, density=True)
+    figs = [_save_figure(fig, out, "butterfly", f"Hyperbolic Hofstadter butterfly of the ℓ = {bf.rings} {{7,3}} "
+                         f"flake ({bf.sites} sites): all levels at {bf.fluxes.size} flux values f ∈ [0, 1] (flux "
+                         "quanta per heptagon, sector by sector), drawn as a density (grey ∝ log(1 + levels per "
+                         "pixel); white = no level: the gaps), with the 4 lowest continuum Dirichlet levels of the "
+                         f"same disk (magnetic_levels, {cite('spec2')} with B = 2πf/A₇) in red for f ≤ 0.3.")]
+    # l = 3..7: the 1e-3 contour first appears at l = 6 (docs/magnetic.md has l = 3..12)
+    from ..compare.magnetic import MagneticComparison
+
+    fluxes = [0.0, 0.1, 0.2, 0.3]
+    make_cmp = lambda: magnetic_comparison(7, 3, rings=MAGNETIC_RINGS, fluxes=fluxes, levels=2)  # noqa: E731
+    cmp = (cache.get("magnetic_comparison", {"p": 7, "q": 3, "rings": list(MAGNETIC_RINGS), "fluxes": fluxes,
+                                             "levels": 2}, make_cmp, expect=MagneticComparison)
+           if cache is not None else make_cmp())
     fig, ax = plt.subplots(figsize=(6.0, 4.2), layout="constrained")
     cmp.plot(ax=ax)
-    figs.append(_save_figure(fig, out, "magnetic_error", "log10 of the worst relative error of the two lowest "
-                             "levels, graph vs continuum, over the (f, l) plane (l = 3..5, f = 0..0.3); the white "
-                             "line is 1e-3 where it is reached. The full l = 3..12 grid is in docs/magnetic.md "
-                             "(hyperlattice fluxmap --rings 3-12 --fluxes 13)."))
+    lim = cmp.agreement_limit(1e-3)
+    reached = [int(r) for r, f in zip(cmp.rings, lim) if not math.isnan(f)]
+    where = (f"the white line is the 10⁻³ contour: the error stays below it for ℓ ≥ {reached[0]} at small f "
+             f"and for no f at ℓ ≤ {reached[0] - 1}" if reached and reached[0] > int(cmp.rings[0]) else
+             "the white line is the 10⁻³ contour" if reached else
+             f"the error stays above 10⁻³ everywhere in ℓ = {int(cmp.rings[0])}–{int(cmp.rings[-1])}, so no "
+             "10⁻³ contour appears")
+    figs.append(_save_figure(fig, out, "magnetic_error", "log₁₀ of the worst relative error of the two lowest "
+                             f"levels, graph vs continuum, over the (f, ℓ) plane (ℓ = {int(cmp.rings[0])}–"
+                             f"{int(cmp.rings[-1])}, f = 0–0.3); {where}. The full ℓ = 3–12 grid is in "
+                             "docs/magnetic.md (`hyperlattice fluxmap --rings 3-12 --fluxes 13`)."))
     cols = cmp.columns()
     rows = [[int(cols["rings"][i]), _fmt(float(cols["flux"][i]), 2), f"({cols['n'][i]},{cols['m'][i]})",
              _fmt(float(cols["E_graph"][i]), 8), _fmt(float(cols["E_continuum"][i]), 8),
@@ -359,12 +407,12 @@ def magnetic_section(out: Path, progress: Callable[[str], None]) -> Section:
     table = Table("magnetic_levels", ["rings", "flux", "(n,m)", "E_graph", "E_continuum", "rel_error",
                                       "lB_over_d0", "lB_over_R"], rows,
                   "Two lowest levels of the Peierls Hamiltonian (flux f per heptagon, symmetric gauge) and the "
-                  "continuum Dirichlet levels of the same (n, m) on the disk of eq12; l_B = 1/sqrt(B), d0 the "
-                  "edge length, R = artanh(L) the disk radius (paper's metric).")
+                  f"continuum Dirichlet levels of the same (n, m) on the disk of {cite('eq12')}; l_B = 1/√B, d₀ the "
+                  "edge length, R = artanh L the disk radius (paper's metric).")
     text = ["Not in the paper (its conclusion names artificial gauge fields as the next step): a uniform field "
             "of f flux quanta per p-gon, f > 0 counterclockwise. " + cmp.statement()]
-    return Section("Beyond the paper: magnetic flux", "issue 11 (Hofstadter butterfly, hyperbolic Landau levels)",
-                   text, [table], figs)
+    return Section("Magnetic flux: Hofstadter butterfly and Landau levels", ("eq12", "spec2"), text, [table], figs,
+                   anchor="magnetic", part="beyond")
 
 
 # every public function above checks its annotated argument types at the door (issue 19)

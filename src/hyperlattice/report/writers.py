@@ -14,6 +14,7 @@ import io
 import json
 import math
 import numbers
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -21,7 +22,8 @@ import numpy as np
 
 from .. import _validate
 
-__all__ = ["Table", "Figure", "Section", "fmt", "save_figure", "write_md", "write_html"]
+__all__ = ["Table", "Figure", "Section", "PARTS", "table_id", "figure_id", "fmt", "save_figure", "write_md",
+           "write_html"]
 
 
 @dataclass
@@ -54,13 +56,131 @@ class Figure:
 
 @dataclass
 class Section:
-    """One section of the report."""
+    """One section of the report.
+
+    ``labels`` are the paper's TeX labels the section reproduces (or, beyond the paper, builds on);
+    the report prints them as the paper prints them (:func:`hyperlattice.paper_labels.cite`).
+    ``anchor`` is the section's stable id (``sec-<anchor>`` in the HTML and Markdown), ``part`` is
+    ``"paper"`` or ``"beyond"``, ``provenance`` says where numbers not computed by this run come from.
+    """
 
     title: str
-    labels: str  # paper labels reproduced, e.g. "Tab1, SuppTab1"
+    labels: tuple = ()
     text: list[str] = field(default_factory=list)
     tables: list[Table] = field(default_factory=list)
     figures: list[Figure] = field(default_factory=list)
+    anchor: str = ""
+    part: str = "paper"
+    provenance: list[str] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        from ..paper_labels import cite
+
+        if isinstance(self.labels, str):
+            raise ValueError("Section labels are a tuple of the paper's TeX labels, not a string.")
+        cite(*self.labels)  # an unknown label is an error here, not a wrong number in the report
+        if self.part not in ("paper", "beyond"):
+            raise ValueError(f"part must be 'paper' or 'beyond', got {self.part!r}.")
+        if not self.anchor:
+            self.anchor = _slug(self.title)
+
+    @property
+    def id(self) -> str:
+        """The HTML id of the section heading."""
+        return f"sec-{self.anchor}"
+
+    @property
+    def reference_line(self) -> str:
+        """``Reproduces: Table I, Eq. (10)`` (paper part) or ``Builds on: ...`` (beyond the paper)."""
+        from ..paper_labels import cite
+
+        if not self.labels:
+            return ""
+        return ("Reproduces: " if self.part == "paper" else "Builds on: ") + cite(*self.labels)
+
+
+#: ASCII maths in sentences (many come from the ``statement()`` methods of :mod:`hyperlattice.compare`)
+#: -> the symbols a reader expects; applied to prose, captions and titles, never to table cells,
+#: column names, file names or commands (text in backticks is left alone).
+_PROSE = [(re.compile(a), b) for a, b in (
+    (r"\bl\s*->\s*infinity\b", "ℓ → ∞"), (r"\bl ?= ?(?=[\d{(])", "ℓ = "), (r"\bl ?<= ?", "ℓ ≤ "),
+    (r"\bl ?>= ?", "ℓ ≥ "), (r"\bl ?≥ ?", "ℓ ≥ "), (r"\bl ?≤ ?", "ℓ ≤ "), (r"\(f, l\)", "(f, ℓ)"),
+    (r"\bl ≳", "ℓ ≳"), (r"\bE\(l\)", "E(ℓ)"), (r"\(l\)", "(ℓ)"), (r"\bl_max\b", "ℓ_max"), (r"\bl-ring\b", "ℓ-ring"),
+    (r"\bE_inf\^impr\b", "E∞^impr"), (r"\bE_inf\b", "E∞"), (r"-rho\b", "−ρ"), (r"\brho\b", "ρ"),
+    (r"\bomega_q\b", "ω_q"), (r"\bomega\b", "ω"), (r"\bDelta_g\b", "Δ_g"), (r"\bDelta\b", "Δ"),
+    (r"\bSigma\b", "Σ"), (r"\bsqrt\(", "√("), (r"\bsqrt ?(?=\w)", "√"), (r"\bpi\b", "π"), (r"\blambda\b", "λ"),
+    (r"\btheta\b", "θ"), (r"\bpsi\b", "ψ"), (r"\bphi\b", "φ"), (r"\bchi\b", "χ"), (r"\bnu\b", "ν"),
+    (r"\bbeta\b", "β"), (r"\bmu\b", "μ"), (r"\bxi\b", "ξ"), (r"\binfinity\b", "∞"),
+    (r"\^2(?![\d.])", "²"), (r"\^3(?![\d.])", "³"), (r"\^4(?![\d.])", "⁴"), (r"\^6(?![\d.])", "⁶"),
+    (r"\^-1(?![\d.])", "⁻¹"), (r"(?<![A-Za-z_])d0\b", "d₀"), (r"(?<![A-Za-z_])E0\b", "E₀"),
+    (r"(?<![A-Za-z_])E1\b", "E₁"), (r"\bk0\b", "k₀"), (r"\blog10\b", "log₁₀"), (r"_nu\b", "_ν"),
+    (r"\bdlambda\b", "dλ"), (r"\bL2\b", "L²"),
+    (r"\b(in|as|all|large|finite|on|with|of|and|per|each|over) l\b(?![-'])", r"\1 ℓ"), (r"/l(?=²|\^)", "/ℓ"),
+    (r" <= ", " ≤ "), (r" >= ", " ≥ "), (r" >> ", " ≫ "), (r" << ", " ≪ "), (r" -> ", " → "), (r" \+- ", " ± "),
+    (r"(?<=\d)\.\.(?=\d)", "–"), (r"(?<=\d)\.\.(?=-)", " to "),
+)]
+
+
+def prose(text: str) -> str:
+    """``text`` with ASCII maths replaced by symbols (ℓ, ρ, E∞, ω, ≤, ...), backtick spans kept as they are."""
+    pieces = text.split("`")
+    for i in range(0, len(pieces), 2):
+        t = pieces[i]
+        for pattern, repl in _PROSE:
+            t = pattern.sub(repl, t)
+        pieces[i] = t
+    return "`".join(pieces)
+
+
+def _code(text: str) -> str:
+    """HTML-escaped ``text`` with `backtick spans` as <code> (commands, file names)."""
+    pieces = text.split("`")
+    if len(pieces) % 2 == 0:  # an unpaired backtick: show it as it is
+        return html.escape(text)
+    return "".join(html.escape(p) if i % 2 == 0 else f"<code>{html.escape(p)}</code>" for i, p in enumerate(pieces))
+
+
+def _slug(text: str) -> str:
+    out = "".join(c.lower() if c.isalnum() else "-" for c in text)
+    while "--" in out:
+        out = out.replace("--", "-")
+    return out.strip("-")
+
+
+#: the two parts of the report, in order, with their headings and ids
+PARTS = (("paper", "The paper", "part-paper"), ("beyond", "Beyond the paper", "part-beyond"))
+
+
+def table_id(t: Table) -> str:
+    """The HTML id of a table's caption."""
+    return f"table-{_slug(t.name)}"
+
+
+def figure_id(f: Figure) -> str:
+    """The HTML id of a figure."""
+    return f"fig-{_slug(f.name)}"
+
+
+def _ordered(sections: list[Section]) -> list[Section]:
+    """The paper's sections first, then those beyond it (each group in the given order)."""
+    return [s for part, _, _ in PARTS for s in sections if s.part == part]
+
+
+def _toc_md(sections: list[Section]) -> list[str]:
+    lines = ["## Contents", ""]
+    n = 0
+    for part, heading, pid in PARTS:
+        lines.append(f"- [{heading}](#{pid})")
+        for s in sections:
+            if s.part != part:
+                continue
+            n += 1
+            lines.append(f"  - [{n}. {prose(s.title)}](#{s.id})")
+            items = [f"[table {t.name}](#{table_id(t)})" for t in s.tables]
+            items += [f"[figure {f.name}](#{figure_id(f)})" for f in s.figures]
+            if items:
+                lines.append("    - " + " · ".join(items))
+    return lines + [""]
 
 
 def fmt(x, digits: int = 12) -> str:
@@ -81,6 +201,7 @@ def save_figure(fig: matplotlib.figure.Figure, out: Path, name: str, caption: st
     out = _validate.directory("out", out, create=False)
     import matplotlib.pyplot as plt
 
+    _readable(fig)
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=110, metadata={"Software": None})
     png = buf.getvalue()
@@ -90,8 +211,31 @@ def save_figure(fig: matplotlib.figure.Figure, out: Path, name: str, caption: st
     return Figure(name=name, caption=caption, png=png)
 
 
+#: the width (inches) a report figure is shown at: 1050 px of the page at the PNG's 110 dpi
+_SHOWN_WIDTH_IN = 1050 / 110
+
+
+def _readable(fig) -> None:
+    """Panel letters (a), (b), ... on figures with several panels that have none, and text at least
+    8 pt once the figure is shrunk to the page width (wide figures are shown at 1050 px)."""
+    from matplotlib.text import Text
+
+    panels = [ax for ax in fig.axes if ax.get_label() != "<colorbar>" and ax.get_visible() and ax.axison]
+    lettered = any(t.get_text().startswith("(a)") for ax in panels for t in [ax.title, *ax.texts])
+    if len(panels) > 1 and not lettered:
+        for k, ax in enumerate(panels):
+            ax.text(-0.08, 1.04, f"({chr(ord('a') + k)})", transform=ax.transAxes, fontsize=12,
+                    fontweight="bold", va="bottom", ha="right")
+    scale = min(1.0, _SHOWN_WIDTH_IN / fig.get_figwidth())
+    floor = 8.0 / scale
+    if scale < 1.0:
+        for t in fig.findobj(Text):
+            if t.get_text() and t.get_fontsize() < floor:
+                t.set_fontsize(floor)
+
+
 def _md_table(t: Table) -> list[str]:
-    lines = [f"*{t.caption}* (`table_{t.name}.csv`)", "", "| " + " | ".join(t.columns) + " |",
+    lines = [f'<a id="{table_id(t)}"></a>', "", f"*{prose(t.caption)}* (`table_{t.name}.csv`)", "", "| " + " | ".join(t.columns) + " |",
              "|" + "---|" * len(t.columns)]
     for r in t.rows:
         lines.append("| " + " | ".join(fmt(v) for v in r) + " |")
@@ -101,15 +245,27 @@ def _md_table(t: Table) -> list[str]:
 def write_md(sections: list[Section], header: list[str], out: Path) -> None:
     """Write ``report.md`` (figures linked as ``fig_*.png``)."""
     out = _validate.directory("out", out, create=False)
-    lines = list(header)
-    for s in sections:
-        lines += [f"## {s.title}", "", f"Reproduces: {s.labels}", ""]
-        for p in s.text:
-            lines += [p, ""]
-        for t in s.tables:
-            lines += _md_table(t)
-        for f in s.figures:
-            lines += [f"![{f.name}](fig_{f.name}.png)", "", f"*{f.caption}* (vector: `fig_{f.name}.svg`)", ""]
+    sections = _ordered(sections)
+    lines = list(header) + _toc_md(sections)
+    n = 0
+    for part, heading, pid in PARTS:
+        lines += [f'<a id="{pid}"></a>', "", f"## {heading}", ""]
+        for s in sections:
+            if s.part != part:
+                continue
+            n += 1
+            lines += [f'<a id="{s.id}"></a>', "", f"### {n}. {prose(s.title)}", ""]
+            if s.reference_line:
+                lines += [s.reference_line, ""]
+            for p in s.provenance:
+                lines += [f"Provenance: {prose(p)}", ""]
+            for p in s.text:
+                lines += [prose(p), ""]
+            for t in s.tables:
+                lines += _md_table(t)
+            for f in s.figures:
+                lines += [f'<a id="{figure_id(f)}"></a>', "", f"![{f.name}](fig_{f.name}.png)", "",
+                          f"*{prose(f.caption)}* (vector: `fig_{f.name}.svg`)", ""]
     (out / "report.md").write_text("\n".join(lines))
 
 
@@ -119,8 +275,12 @@ def write_html(sections: list[Section], header: list[str], out: Path) -> None:
     e = html.escape
     parts = ["<!DOCTYPE html>", '<html lang="en">', "<head>", '<meta charset="utf-8">',
              "<title>hyperlattice: reproduction of Boettcher et al., PRA 102, 032208</title>",
-             "<style>body{font-family:sans-serif;max-width:1100px;margin:2em auto;line-height:1.4}"
+             "<style>body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;line-height:1.4}"
+             ".scroll{overflow-x:auto;max-width:100%}"
              "table{border-collapse:collapse;font-size:0.85em;margin:0.5em 0}"
+             "nav.toc{background:#f6f6f6;border:1px solid #ddd;padding:0.5em 1em}nav.toc ul{margin:0.2em 0}"
+             "nav.toc .items{font-size:0.85em;color:#555}"
+             "h2,h3,p.cap,figure{scroll-margin-top:0.5em}"
              "td,th{border:1px solid #bbb;padding:2px 6px;text-align:right}"
              "th{background:#eee}td.flag{color:#b00;font-weight:bold}"
              "img{max-width:100%}figcaption{font-size:0.9em;color:#333}.cap{font-style:italic}</style>",
@@ -129,26 +289,53 @@ def write_html(sections: list[Section], header: list[str], out: Path) -> None:
         if line.startswith("# "):
             parts.append(f"<h1>{e(line[2:])}</h1>")
         elif line:
-            parts.append(f"<p>{e(line)}</p>")
-    for s in sections:
-        parts.append(f"<h2>{e(s.title)}</h2>")
-        parts.append(f"<p><b>Reproduces:</b> {e(s.labels)}</p>")
-        for p in s.text:
-            parts.append(f"<p>{e(p)}</p>")
-        for t in s.tables:
-            parts.append(f'<p class="cap">{e(t.caption)} (<code>table_{e(t.name)}.csv</code>)</p>')
-            parts.append("<table><thead><tr>" + "".join(f"<th>{e(c)}</th>" for c in t.columns) + "</tr></thead><tbody>")
-            for r in t.rows:
-                cells = []
-                for c, v in zip(t.columns, r):
-                    cls = ' class="flag"' if c.endswith("flag") and v else ""
-                    cells.append(f"<td{cls}>{e(fmt(v))}</td>")
-                parts.append("<tr>" + "".join(cells) + "</tr>")
-            parts.append("</tbody></table>")
-        for f in s.figures:
-            b64 = base64.b64encode(f.png).decode("ascii")
-            parts.append(f'<figure><img alt="{e(f.name)}" src="data:image/png;base64,{b64}">'
-                         f"<figcaption>{e(f.caption)}</figcaption></figure>")
+            parts.append(f"<p>{_code(prose(line))}</p>")
+    sections = _ordered(sections)
+    parts.append('<nav class="toc" id="contents"><h2>Contents</h2><ul>')
+    n = 0
+    for part, heading, pid in PARTS:
+        parts.append(f'<li><a href="#{pid}">{e(heading)}</a><ul>')
+        for s in sections:
+            if s.part != part:
+                continue
+            n += 1
+            items = [f'<a href="#{table_id(t)}">table {e(t.name)}</a>' for t in s.tables]
+            items += [f'<a href="#{figure_id(f)}">figure {e(f.name)}</a>' for f in s.figures]
+            sub = f'<br><span class="items">{" · ".join(items)}</span>' if items else ""
+            parts.append(f'<li><a href="#{s.id}">{n}. {e(prose(s.title))}</a>{sub}</li>')
+        parts.append("</ul></li>")
+    parts.append("</ul></nav>")
+    n = 0
+    for part, heading, pid in PARTS:
+        parts.append(f'<h2 id="{pid}">{e(heading)}</h2>')
+        for s in sections:
+            if s.part != part:
+                continue
+            n += 1
+            parts.append(f'<h3 id="{s.id}">{n}. {e(prose(s.title))}</h3>')
+            if s.reference_line:
+                head, _, rest = s.reference_line.partition(": ")
+                parts.append(f"<p><b>{e(head)}:</b> {e(rest)}</p>")
+            for p in s.provenance:
+                parts.append(f'<p class="prov"><b>Provenance:</b> {_code(prose(p))}</p>')
+            for p in s.text:
+                parts.append(f"<p>{_code(prose(p))}</p>")
+            for t in s.tables:
+                parts.append(f'<p class="cap" id="{table_id(t)}">{_code(prose(t.caption))} '
+                             f'(<code>table_{e(t.name)}.csv</code>)</p>')
+                parts.append('<div class="scroll"><table><thead><tr>' + "".join(f"<th>{e(c)}</th>" for c in t.columns)
+                             + "</tr></thead><tbody>")
+                for r in t.rows:
+                    cells = []
+                    for c, v in zip(t.columns, r):
+                        cls = ' class="flag"' if c.endswith("flag") and v else ""
+                        cells.append(f"<td{cls}>{e(fmt(v))}</td>")
+                    parts.append("<tr>" + "".join(cells) + "</tr>")
+                parts.append("</tbody></table></div>")
+            for f in s.figures:
+                b64 = base64.b64encode(f.png).decode("ascii")
+                parts.append(f'<figure id="{figure_id(f)}"><img alt="{e(f.name)}" src="data:image/png;base64,{b64}">'
+                             f"<figcaption>{_code(prose(f.caption))}</figcaption></figure>")
     parts += ["</body>", "</html>", ""]
     (out / "report.html").write_text("\n".join(parts))
 

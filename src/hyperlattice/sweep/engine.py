@@ -18,7 +18,7 @@
   task whose worker dies is rescheduled by the scheduler (up to ``distributed.scheduler.allowed-
   failures`` deaths). What still fails is reported in :class:`SweepReport` ``failed`` and in
   ``_failures.json`` with its error, and is retried by the next run; nothing is dropped silently.
-* **Progress.** A tqdm bar on stderr (``progress=True``).
+* **Progress.** A tqdm bar on stderr (``progress=True``; the package's one mechanism, :mod:`hyperlattice._progress`).
 * **Refusals before work, in one sentence.** A grid of more than :data:`MAX_TASKS` points, or
   more than the memory available allows (``_BYTES_PER_TASK`` each), before it is expanded; a
   ``tcp://`` address where no Dask scheduler answers its handshake within ``timeout`` (at most
@@ -207,14 +207,11 @@ class SweepReport(Result):
                 "version": self.version}
 
 
-def _bar(total: int, enabled: bool, desc: str):
-    if not enabled:
-        return None
-    try:
-        from tqdm import tqdm
-    except ImportError:  # tqdm is a core dependency; a stripped install just has no bar
-        return None
-    return tqdm(total=total, desc=desc, unit="task", dynamic_ncols=True, leave=True)
+def _bar(total: int, progress: bool | None, desc: str):
+    # the package's one progress mechanism; entered, so the tasks run in this process stay quiet
+    from .._progress import progress_bar
+
+    return progress_bar(total, desc, unit="task", progress=progress).__enter__()
 
 
 def _error_text(exc: BaseException) -> str:
@@ -356,7 +353,9 @@ def _client_for(scheduler, workers: int | None, timeout: float | None = None):
     if scheduler in (None, "local", "threads"):
         n = _local_workers(workers)
         processes = scheduler != "threads"
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=processes, dashboard_address=None,
+        # dashboard_address=":0": a free port. None still binds Dask's default 8787 and, when another
+        # cluster (or another user's notebook) holds it, warns and moves; ":0" never collides.
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=processes, dashboard_address=":0",
                                silence_logs=logging.CRITICAL)
         try:
             client = Client(cluster)
@@ -441,7 +440,7 @@ def _check_address(text: str) -> str:
 
 
 def run_sweep(task: str, grid: dict, path, *, scheduler=None, workers: int | None = None, retries: int = 2,
-              progress: bool = True, timeout: float | None = None,
+              progress: bool | None = True, timeout: float | None = None,
               on_row: Callable[[str], None] | None = None, flush_seconds: float = 2.0,
               flush_rows: int = 1000) -> SweepReport:
     """Run every point of ``grid`` for ``task``, skipping points already in the table at ``path``.
@@ -461,8 +460,8 @@ def run_sweep(task: str, grid: dict, path, *, scheduler=None, workers: int | Non
         Workers of the local cluster (default: one per core).
     retries : int
         Extra attempts of a task that raises.
-    progress : bool
-        tqdm progress bar on stderr.
+    progress : bool or None
+        tqdm progress bar on stderr; None: when stderr is a terminal (:mod:`hyperlattice._progress`).
     timeout : float, optional
         Seconds after which unfinished tasks are cancelled and reported as failed.
     on_row : callable, optional
@@ -479,7 +478,8 @@ def run_sweep(task: str, grid: dict, path, *, scheduler=None, workers: int | Non
     """
     spec = get_task(task)
     retries = _validate.integer("retries", retries, minimum=0, maximum=100)
-    progress = _validate.flag("progress", progress)
+    if progress is not None:
+        progress = _validate.flag("progress", progress)
     if workers is not None:
         workers = _validate.positive_int("workers", workers, maximum=4096)
     if timeout is not None:
@@ -550,8 +550,7 @@ def run_sweep(task: str, grid: dict, path, *, scheduler=None, workers: int | Non
             label = "nothing to do"
     finally:
         flush()             # whatever finished is kept, also on KeyboardInterrupt
-        if bar is not None:
-            bar.close()
+        bar.__exit__(None, None, None)
         store.write_failures(failures, tried={k for _, k in todo})
         table = store.consolidate()
     completed = written[0]

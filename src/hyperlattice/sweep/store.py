@@ -110,13 +110,18 @@ class SweepTable:
         return [{k: (self.columns[k][i].item() if isinstance(self.columns[k], np.ndarray)
                      else self.columns[k][i]) for k in names} for i in range(len(self))]
 
-    def to_pandas(self):
-        """A ``pandas.DataFrame`` (pandas is not a dependency; install it to use this)."""
-        import pandas as pd
+    def to_dataframe(self):
+        """A ``pandas.DataFrame`` of the rows, the metadata in ``df.attrs["hyperlattice"]``
+        (pandas is optional: ``pip install "hyperlattice[pandas]"``)."""
+        from ..results import _optional
 
+        pd = _optional("pandas", "pandas")
         df = pd.DataFrame({k: list(v) if not isinstance(v, np.ndarray) else v for k, v in self.columns.items()})
         df.attrs["hyperlattice"] = self.metadata
         return df
+
+    #: the earlier name of :meth:`to_dataframe`
+    to_pandas = to_dataframe
 
 
 def _unique(rows: list[dict]) -> list[dict]:

@@ -173,7 +173,7 @@ def get_task(name) -> Task:
 
 
 def execute(name: str, params: dict) -> dict:
-    """Run task ``name`` on ``params`` on one BLAS thread (this is what a worker calls)."""
+    """Run task ``name`` on ``params`` on one BLAS thread, without progress bars (this is what a worker calls)."""
     import inspect
 
     task = get_task(name)
@@ -183,7 +183,10 @@ def execute(name: str, params: dict) -> dict:
         inspect.signature(task.run).bind(**params)
     except TypeError as exc:
         raise ValueError(f"params do not fit task {name!r}: {exc}.") from None
-    with blas_one_thread():
+    from .._progress import default as progress_default
+
+    # no bars from inside a task: a worker process shares the terminal with the sweep's own bar
+    with blas_one_thread(), progress_default(False):
         return task.run(**params)
 
 

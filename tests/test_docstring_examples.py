@@ -1,0 +1,135 @@
+"""Every ``Examples`` section in a public docstring runs, as written, and prints what it says.
+
+The API reference (``make docs``) shows these examples; this file makes them tests. Each public
+module of ``hyperlattice`` (its ``__all__``) is searched with :mod:`doctest`: functions, classes and
+their methods. Examples print rounded numbers (``f"{x:.6f}"``, ``round``) so that their output does
+not depend on the last bits of a BLAS kernel; ``ELLIPSIS`` and ``NORMALIZE_WHITESPACE`` are on.
+
+A second test states which public functions must carry the numpydoc sections (Parameters when the
+function takes any, Returns, Examples): ``COMPLETE`` lists the modules whose public functions all do,
+so a new function there without them fails.
+"""
+
+from __future__ import annotations
+
+import doctest
+import importlib
+import inspect
+import pkgutil
+
+import pytest
+
+import hyperlattice
+
+FLAGS = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE
+
+# modules whose every public function has Parameters (if it takes any), Returns and Examples
+COMPLETE: tuple[str, ...] = (
+    "hyperlattice.continuum.gp",
+    "hyperlattice.continuum.green",
+    "hyperlattice.continuum.magnetic",
+    "hyperlattice.continuum.massive",
+    "hyperlattice.continuum.scba",
+    "hyperlattice.continuum.special",
+    "hyperlattice.continuum.spectrum",
+    "hyperlattice.dictionary",
+    "hyperlattice.geometry",
+)
+
+
+def _public_modules() -> list[str]:
+    names = []
+    for info in pkgutil.walk_packages(hyperlattice.__path__, "hyperlattice."):
+        parts = info.name.split(".")
+        if any(p.startswith("_") for p in parts[1:]) or parts[1] == "cli":
+            continue
+        names.append(info.name)
+    return sorted(names)
+
+
+def _doctests(modname: str) -> list[doctest.DocTest]:
+    mod = importlib.import_module(modname)
+    finder = doctest.DocTestFinder(exclude_empty=True)
+    tests = []
+    for name in getattr(mod, "__all__", ()):
+        obj = getattr(mod, name, None)
+        if obj is None or getattr(obj, "__module__", None) != modname:
+            continue                     # re-exported: tested where it is defined
+        if not (inspect.isfunction(obj) or inspect.isclass(obj)):
+            continue
+        for t in finder.find(obj, f"{modname}.{name}", module=mod, globs={}):
+            if t.examples:
+                tests.append(t)
+    return tests
+
+
+_ALL = [t for m in _public_modules() for t in _doctests(m)]
+
+
+def test_there_are_docstring_examples():
+    assert len(_ALL) >= 5
+
+
+@pytest.mark.parametrize("test", _ALL, ids=[t.name for t in _ALL])
+def test_docstring_example(test):
+    runner = doctest.DocTestRunner(optionflags=FLAGS)
+    out: list[str] = []
+    test.globs = dict(test.globs)
+    result = runner.run(test, out=out.append, clear_globs=True)
+    assert result.failed == 0, "".join(out)
+
+
+def test_a_wrong_docstring_example_fails():
+    def f():
+        """
+        >>> 1 + 1
+        3
+        """
+
+    (t,) = doctest.DocTestFinder().find(f, "f", globs={})
+    res = doctest.DocTestRunner(optionflags=FLAGS).run(t, out=lambda s: None)
+    assert res.failed == 1
+
+
+def _sections_missing(fn) -> list[str]:
+    from numpydoc.docscrape import FunctionDoc
+
+    doc = FunctionDoc(fn)
+    missing = []
+    if inspect.signature(fn).parameters and not doc["Parameters"]:
+        missing.append("Parameters")
+    if not (doc["Returns"] or doc["Yields"]):
+        missing.append("Returns")
+    if not doc["Examples"]:
+        missing.append("Examples")
+    return missing
+
+
+def test_public_functions_have_numpydoc_sections():
+    pytest.importorskip("numpydoc")
+    bad = {}
+    for modname in COMPLETE:
+        mod = importlib.import_module(modname)
+        for name in mod.__all__:
+            obj = getattr(mod, name)
+            if inspect.isfunction(obj) and obj.__module__ == modname:
+                missing = _sections_missing(obj)
+                if missing:
+                    bad[f"{modname}.{name}"] = missing
+    assert not bad, f"public functions without numpydoc sections: {bad}"
+
+
+def test_the_section_check_finds_a_missing_section():
+    pytest.importorskip("numpydoc")
+
+    def f(x):
+        """One line.
+
+        Parameters
+        ----------
+        x : float
+            A number.
+        """
+        return x
+
+    assert _sections_missing(f) == ["Returns", "Examples"]
