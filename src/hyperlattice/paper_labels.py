@@ -67,13 +67,41 @@ _ROMAN = ("I", "II", "III", "IV", "V", "VI", "VII", "VIII", "IX", "X")
 
 
 def cite(*labels: str) -> str:
-    """The printed references of TeX ``labels``, joined with ", " (``cite("eq21", "Fig3")`` is
-    ``"Eq. (19), Fig. 4"``).
+    """The printed references of TeX ``labels``, joined with ", ".
+
+    ``cite("eq21", "Fig3")`` is ``"Eq. (19), Fig. 4"``.
+
+    Parameters
+    ----------
+    *labels : str
+        TeX labels of the paper (``"eq21"``, ``"Fig2"``, ``"SuppTab1"``, ``"AppFS"``, ...), keys
+        of :data:`PAPER_LABELS`.
+
+    Returns
+    -------
+    str
+        The printed references in the order given, separated by ``", "`` (``""`` for no labels).
 
     Raises
     ------
     ValueError
         If a label is not in :data:`PAPER_LABELS` (a typo must not reach the report).
+
+    See Also
+    --------
+    number_labels : derives the map from the TeX source.
+
+    Examples
+    --------
+    >>> from hyperlattice.paper_labels import cite
+    >>> cite("eq21", "Fig3")
+    'Eq. (19), Fig. 4'
+    >>> cite("SuppTab1", "AppFS")
+    'Table IV, Appendix C'
+    >>> cite("eq99")
+    Traceback (most recent call last):
+        ...
+    ValueError: 'eq99' is not a label of the paper (see hyperlattice.paper_labels).
     """
     out = []
     for label in labels:
@@ -94,6 +122,40 @@ def number_labels(tex: str) -> dict[str, str]:
     r"""Label -> printed reference for the TeX source ``tex``, numbered as REVTeX typesets it.
 
     See the module docstring for the rules; comments (``%`` to the end of a line) are ignored.
+
+    Parameters
+    ----------
+    tex : str
+        The LaTeX source of the paper (or any REVTeX document), as one string.
+
+    Returns
+    -------
+    dict of str to str
+        TeX label -> printed reference (``"Eq. (19)"``, ``"Fig. 3"``, ``"Table IV"``,
+        ``"Appendix C"``), in the order the labels appear. An unlabelled figure or table is
+        entered as ``"<section label> figure"`` or ``"<section label> table"``.
+
+    Raises
+    ------
+    ValueError
+        If ``tex`` is not a string.
+
+    See Also
+    --------
+    cite : printed references of labels, from the stored map :data:`PAPER_LABELS`.
+
+    Examples
+    --------
+    >>> from hyperlattice.paper_labels import number_labels
+    >>> tex = r'''
+    ... \begin{equation} a \label{first} \end{equation}
+    ... \begin{align} b \label{second} \\ c \nonumber \\ d \label{third} \end{align}
+    ... \begin{figure} \label{figA} \end{figure}
+    ... \begin{appendix} \section{One} \label{AppOne}
+    ... \begin{equation} e \label{app1} \end{equation} \end{appendix}
+    ... '''
+    >>> number_labels(tex)
+    {'first': 'Eq. (1)', 'second': 'Eq. (2)', 'third': 'Eq. (3)', 'figA': 'Fig. 1', 'AppOne': 'Appendix A', 'app1': 'Eq. (A1)'}
     """
     if not isinstance(tex, str):
         raise ValueError(f"tex must be the TeX source as a string, got {type(tex).__name__}.")

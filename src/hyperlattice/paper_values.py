@@ -183,10 +183,42 @@ del _ROWS, _p, _d0, _h
 def paper_value(key: str, index: int | str | None = None) -> PaperValue:
     """The printed value ``key`` at ``index`` (rings l, or p for the geometry rows).
 
+    Parameters
+    ----------
+    key : str
+        Name of the quantity, e.g. ``"E0_graph"``, ``"N"``, ``"L"``, ``"geometry_d0"`` (the module
+        docstring lists all keys).
+    index : int, str or None, optional
+        Number of rings l (``"N"``, ``"L"``, ``"E0_graph"``, ...), p for ``"geometry_d0"`` and
+        ``"geometry_h"`` (``"inf"`` for p = ∞), or None (the default) for the values printed once
+        (``"E_inf"``, ``"C_prime"``).
+
+    Returns
+    -------
+    PaperValue
+        The printed string with its label, tolerance and note.
+
     Raises
     ------
     ValueError
         If the paper prints no such value.
+
+    See Also
+    --------
+    paper_values : all printed values of one key.
+
+    Examples
+    --------
+    >>> from hyperlattice.paper_values import paper_value
+    >>> v = paper_value("E0_graph", 3)
+    >>> v.label, v.printed, v.tolerance
+    ('SuppTab1 E0_graph l=3', '-2.787', 0.0005)
+    >>> v.check(-2.7871)
+    ('', '')
+    >>> paper_value("E0", 3)
+    Traceback (most recent call last):
+        ...
+    ValueError: the paper prints no value 'E0' at index 3; keys: ...
     """
     try:
         return _BY_KEY[(key, index)]
@@ -196,7 +228,38 @@ def paper_value(key: str, index: int | str | None = None) -> PaperValue:
 
 
 def paper_values(key: str) -> list[PaperValue]:
-    """All printed values of ``key`` in the paper's order (l = 1, 2, ... or p = 7, 8, ...)."""
+    """All printed values of ``key`` in the paper's order (l = 1, 2, ... or p = 7, 8, ...).
+
+    Parameters
+    ----------
+    key : str
+        Name of the quantity (``"E0_graph"``, ``"L"``, ``"geometry_h"``, ...; see the module
+        docstring).
+
+    Returns
+    -------
+    list of PaperValue
+        The rows of ``key``, one per index, in the order of :data:`PAPER_VALUES`.
+
+    Raises
+    ------
+    ValueError
+        If the paper prints no value of that name.
+
+    See Also
+    --------
+    paper_value : one printed value by key and index.
+
+    Examples
+    --------
+    >>> from hyperlattice.paper_values import paper_values
+    >>> len(paper_values("L"))
+    10
+    >>> [v.printed for v in paper_values("geometry_h")]
+    ['0.275798', '0.348311', '0.388129', '0.413304', '1/2']
+    >>> paper_values("geometry_h")[-1].value
+    0.5
+    """
     rows = [v for v in PAPER_VALUES if v.key == key]
     if not rows:
         keys = sorted({k for k, _ in _BY_KEY})
