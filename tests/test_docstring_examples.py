@@ -70,6 +70,7 @@ COMPLETE: tuple[str, ...] = (
     "hyperlattice.paper_labels",
     "hyperlattice.paper_values",
     "hyperlattice.plots.basic",
+    "hyperlattice.plots.limits",
     "hyperlattice.results",
     "hyperlattice.sweep.engine",
     "hyperlattice.sweep.store",

@@ -20,8 +20,40 @@ __all__ = ["plot_band_fit", "plot_band_residuals", "plot_band_bottom", "plot_pla
 
 
 def plot_band_fit(fit: BandBottomFit, ax: Axes | None = None) -> Axes:
-    """``E(l) - E_b`` of the fitted flakes (points) and of the fit (line) on a log scale, with the
-    residuals (fit - data) on a twin axis; returns the axes."""
+    """One band-bottom fit: the flake levels, the fit and its residuals; returns the axes.
+
+    ``E(l) - E_b`` of the fitted flakes (points) and of the fit (line, continued four rings beyond the
+    last flake) on a log scale, with the residuals (fit - data) on a twin axis.
+
+    Parameters
+    ----------
+    fit : BandBottomFit
+        One fit of E0 or E1 against the ring number, from
+        :func:`~hyperlattice.compare.limits.fit_band_bottom`.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure and axes when None (the default).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The main axes (log y, ``E - E_b`` in units of t against l); the residuals are on a twin axes
+        of the same figure.
+
+    See Also
+    --------
+    plot_band_residuals : the residuals of all fit models together.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> from hyperlattice.compare.limits import fit_band_bottom, reference_levels
+    >>> from hyperlattice.plots.limits import plot_band_fit
+    >>> rings, E0, E1 = reference_levels(7, 3)
+    >>> ax = plot_band_fit(fit_band_bottom(rings[-6:], E0[-6:], p=7, q=3))
+    >>> [line.get_label() for line in ax.lines], len(ax.figure.axes)
+    (['E0 of the flakes', 'disk fit'], 2)
+    >>> plt.close("all")
+    """
     ax = new_axes(ax)
     ell = np.asarray(fit.rings, dtype=float)
     grid = np.linspace(ell[0], ell[-1] + 4.0, 200)
@@ -38,8 +70,35 @@ def plot_band_fit(fit: BandBottomFit, ax: Axes | None = None) -> Axes:
 
 
 def plot_band_residuals(band: BandBottom, ax: Axes | None = None) -> Axes:
-    """Residuals (fit - data) of the disk-model fits of E0 and E1 over the last six flakes (the central
-    variant and its E1 partner) and of the rational fits over the same flakes; returns the axes."""
+    """Residuals of the band-bottom fits on the central window of flakes; returns the axes.
+
+    Residuals (fit - data) of the disk-model fits of E0 and E1 over the last six flakes (the central
+    variant and its E1 partner) and of the rational fits over the same flakes.
+
+    Parameters
+    ----------
+    band : BandBottom
+        The band-bottom estimate with its fit variants, from
+        :func:`~hyperlattice.compare.limits.band_bottom`.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure and axes when None (the default).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes with four residual curves (E0/E1 times disk/rational model) against l, in units
+        of t, and a legend.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.plots.limits import plot_band_residuals
+    >>> ax = plot_band_residuals(hl.band_bottom(7, 3, schur_window=None))
+    >>> [t.get_text() for t in ax.get_legend().get_texts()]
+    ['E0, disk model', 'E0, rational model', 'E1, disk model', 'E1, rational model']
+    >>> plt.close("all")
+    """
     ax = new_axes(ax)
     central = next(v for v in band.variants if v["central"])
     styles = {("disk", 0): ("o-", "C0"), ("disk", 1): ("s-", "C1"), ("rational", 0): ("o:", "C0"),
@@ -57,8 +116,35 @@ def plot_band_residuals(band: BandBottom, ax: Axes | None = None) -> Axes:
 
 
 def plot_band_bottom(band: BandBottom, ax: Axes | None = None) -> Axes:
-    """The band bottom: the extrapolated value with its error bar, the rigorous interval, both maps'
-    edges, and the central fit of E0 continued in l; returns the axes."""
+    r"""The band bottom against l with its bounds and the maps' band edges; returns the axes.
+
+    The extrapolated value with its error bar, the rigorous interval, both maps' edges, and the
+    central fit of E0 continued in l (to three times the largest flake).
+
+    Parameters
+    ----------
+    band : BandBottom
+        The band-bottom estimate, from :func:`~hyperlattice.compare.limits.band_bottom`.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure and axes when None (the default).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes (E / t against l) with the continued fit and its error band, the estimate
+        :math:`-\rho` as a shaded band, the paper's and the improved :math:`E_\infty`, and the
+        rigorous upper (and, when known, lower) bound, with a legend.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.plots.limits import plot_band_bottom
+    >>> ax = plot_band_bottom(hl.band_bottom(7, 3, schur_window=None))
+    >>> ax.get_ylabel(), len(ax.get_legend().get_texts())
+    ('energy E / t', 5)
+    >>> plt.close("all")
+    """
     ax = new_axes(ax)
     ell = np.asarray(band.rings, dtype=float)
     grid = np.arange(ell[0], 3.0 * ell[-1] + 1.0)      # the disk model lives on integer l (site counts)
@@ -83,8 +169,34 @@ def plot_band_bottom(band: BandBottom, ax: Axes | None = None) -> Axes:
 
 
 def plot_plateau(plateau: PlateauAnalysis, ax: Axes | None = None) -> Axes:
-    """The paper map's relative error of E0 and E1 against l with the predicted limit
-    (-rho - E_inf)/rho and its error band; returns the axes."""
+    r"""The paper map's relative error of E0 and E1 against l with its predicted limit; returns the axes.
+
+    The limit is :math:`(-\rho - E_\infty)/\rho`, drawn with its error band, together with the E0 fit
+    continued in l.
+
+    Parameters
+    ----------
+    plateau : PlateauAnalysis
+        The plateau of the paper map's error, from :func:`~hyperlattice.compare.limits.plateau_analysis`.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure and axes when None (the default).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes with the relative errors ``(E_graph - E_cont)/|E_graph|`` of E0 and E1, the
+        predicted limit band and the continued E0 curve, with a legend.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.plots.limits import plot_plateau
+    >>> ax = plot_plateau(hl.plateau_analysis(hl.band_bottom(7, 3, schur_window=None)))
+    >>> ax.get_ylabel()
+    '(E_graph - E_cont)/|E_graph|, paper map'
+    >>> plt.close("all")
+    """
     ax = new_axes(ax)
     ell = np.asarray(plateau.rings, dtype=float)
     ax.plot(ell, plateau.relative_E0, "o-", label="E0")
@@ -101,8 +213,35 @@ def plot_plateau(plateau: PlateauAnalysis, ax: Axes | None = None) -> Axes:
 
 
 def plot_dictionaries(comparison: DictionaryComparison, ax: Axes | None = None) -> Axes:
-    """``|relative error|`` of E0 and E1 with the paper's and the improved map against l (log scale),
-    and the improved map's l -> infinity limit; returns the axes."""
+    """Relative errors of E0 and E1 with both dictionaries against l; returns the axes.
+
+    ``|relative error|`` of E0 and E1 with the paper's and the improved map against l (log scale),
+    and the improved map's l -> infinity limit.
+
+    Parameters
+    ----------
+    comparison : DictionaryComparison
+        The errors of both maps, from :func:`~hyperlattice.compare.limits.compare_dictionaries`.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure and axes when None (the default).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes (log y) with four curves and, when finite, the improved map's limit as a dotted line.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.limits import reference_levels
+    >>> from hyperlattice.plots.limits import plot_dictionaries
+    >>> rings, E0, E1 = reference_levels(7, 3)
+    >>> ax = plot_dictionaries(hl.compare_dictionaries(rings[-2:], E0[-2:], E1[-2:], p=7, q=3))
+    >>> ax.get_yscale(), [line.get_label() for line in ax.lines][:2]
+    ('log', ['E0, paper map', 'E1, paper map'])
+    >>> plt.close("all")
+    """
     ax = new_axes(ax)
     ell = np.asarray(comparison.rings, dtype=float)
     ax.semilogy(ell, np.abs(comparison.paper_E0), "o-", color="C0", label="E0, paper map")
@@ -119,9 +258,45 @@ def plot_dictionaries(comparison: DictionaryComparison, ax: Axes | None = None) 
 
 
 def limits_figure(band: BandBottom, plateau: PlateauAnalysis, comparison: DictionaryComparison, path=None):
-    """The four panels in a 2 x 2 grid, (a) band bottom, (b) the fits' residuals, (c) plateau,
-    (d) dictionaries (a row of four was unreadable once shrunk to a page width); saved to ``path``
-    if given. Returns the figure."""
+    """The four infinite-lattice panels in one figure; returns the figure.
+
+    A 2 x 2 grid, (a) band bottom, (b) the fits' residuals, (c) plateau, (d) dictionaries (a row of
+    four was unreadable once shrunk to a page width); saved to ``path`` if given.
+
+    Parameters
+    ----------
+    band : BandBottom
+        From :func:`~hyperlattice.compare.limits.band_bottom`; panels (a) and (b).
+    plateau : PlateauAnalysis
+        From :func:`~hyperlattice.compare.limits.plateau_analysis`; panel (c).
+    comparison : DictionaryComparison
+        From :func:`~hyperlattice.compare.limits.compare_dictionaries`; panel (d).
+    path : str or path-like, optional
+        Where to save the figure (format from the suffix); not saved when None (the default).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The 12 x 8.6 inch figure with the four panels, labelled (a) to (d).
+
+    See Also
+    --------
+    plot_band_bottom, plot_band_residuals, plot_plateau, plot_dictionaries : the single panels.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.limits import reference_levels
+    >>> from hyperlattice.plots.limits import limits_figure
+    >>> band = hl.band_bottom(7, 3, schur_window=None)
+    >>> rings, E0, E1 = reference_levels(7, 3)
+    >>> dc = hl.compare_dictionaries(rings[-2:], E0[-2:], E1[-2:], p=7, q=3)
+    >>> fig = limits_figure(band, hl.plateau_analysis(band), dc)
+    >>> [ax.texts[0].get_text() for ax in fig.axes]
+    ['(a)', '(b)', '(c)', '(d)']
+    >>> plt.close("all")
+    """
     import matplotlib.pyplot as plt
 
     fig, axes = plt.subplots(2, 2, figsize=(12.0, 8.6), layout="constrained")
