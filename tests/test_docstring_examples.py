@@ -71,6 +71,7 @@ COMPLETE: tuple[str, ...] = (
     "hyperlattice.paper_values",
     "hyperlattice.plots.basic",
     "hyperlattice.plots.limits",
+    "hyperlattice.plots.magnetic",
     "hyperlattice.results",
     "hyperlattice.sweep.engine",
     "hyperlattice.sweep.store",

@@ -17,11 +17,49 @@ __all__ = ["continuum_curves", "butterfly_figure", "error_map"]
 
 
 def continuum_curves(p: int, q: int, rings: int, fluxes, levels: int = 6) -> tuple[np.ndarray, np.ndarray]:
-    """The ``levels`` lowest continuum Dirichlet levels (``magnetic_levels`` on the disk of the
-    ``rings``-ring flake) at each flux; returns ``(fluxes, energies)`` with energies of shape (F, levels).
+    """The lowest continuum Dirichlet levels in a magnetic field at each flux.
+
+    The ``levels`` lowest levels of ``magnetic_levels`` on the disk of the ``rings``-ring flake; returns
+    ``(fluxes, energies)`` with energies of shape (F, levels).
 
     The energies are the graph energies of the dictionary (``spec2`` with the field B of
     :func:`~hyperlattice.dictionary.field_from_flux`), so they go on the same axis as the butterfly.
+
+    Parameters
+    ----------
+    p, q : int
+        The {p,q} lattice.
+    rings : int
+        Number of rings l of the flake whose disk is used.
+    fluxes : array_like of float
+        Flux values f (flux quanta per p-gon face), one-dimensional.
+    levels : int, optional
+        Number of levels per flux, lowest first (default 6).
+
+    Returns
+    -------
+    fluxes : numpy.ndarray
+        The flux values, shape (F,).
+    energies : numpy.ndarray
+        The continuum levels in units of t, shape (F, levels), ascending along each row.
+
+    Raises
+    ------
+    ValueError
+        If ``fluxes`` is not a one-dimensional array of real numbers.
+
+    See Also
+    --------
+    hyperlattice.continuum.magnetic.magnetic_levels : the levels at one flux.
+
+    Examples
+    --------
+    >>> from hyperlattice.plots.magnetic import continuum_curves
+    >>> f, e = continuum_curves(7, 3, 2, [0.0, 0.1], levels=2)
+    >>> e.shape
+    (2, 2)
+    >>> [[round(float(x), 4) for x in row] for row in e]
+    [[-2.5703, -2.0845], [-2.5567, -2.1686]]
     """
     from ..continuum.magnetic import magnetic_levels
 
@@ -36,13 +74,61 @@ def continuum_curves(p: int, q: int, rings: int, fluxes, levels: int = 6) -> tup
 def butterfly_figure(result: Butterfly, *, continuum: bool = True, max_flux: float = 0.3, points: int = 13,
                      levels: int = 6, ax=None, path=None, density: bool = False,
                      energy_bins: int = 480) -> Axes:
-    """The butterfly (every level against f) with, for a site flake, the ``levels`` lowest continuum
-    Dirichlet levels overlaid at ``0 <= f <= max_flux`` (red lines, ``points`` flux values).
+    """The butterfly with the continuum levels overlaid; returns the axes.
+
+    Every level against f, with, for a site flake, the ``levels`` lowest continuum Dirichlet levels
+    overlaid at ``0 <= f <= max_flux`` (red lines, ``points`` flux values).
 
     ``density=True`` draws the levels as a 2-D histogram image (one column per flux value,
     ``energy_bins`` rows, grey scale ~ log(1 + levels per pixel)) instead of dots: with a few hundred
     fluxes the gaps of the butterfly stay white where dots would merge into columns.
-    ``path``, if given, is where the figure is saved (format by suffix). Returns the axes.
+    ``path``, if given, is where the figure is saved (format by suffix).
+
+    Parameters
+    ----------
+    result : Butterfly
+        The spectra against the flux, from :func:`~hyperlattice.graph.flux.butterfly`.
+    continuum : bool, optional
+        Overlay the continuum levels (site flakes only; default True).
+    max_flux : float, optional
+        Largest flux of the continuum curves (default 0.3).
+    points : int, optional
+        Number of flux values of the continuum curves (default 13).
+    levels : int, optional
+        Number of continuum levels (default 6).
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new 7 x 5 inch figure when None.
+    path : str or path-like, optional
+        Where to save the figure (150 dpi); the figure is then closed. Not saved when None.
+    density : bool, optional
+        Draw the levels as a 2-D histogram image instead of dots (default False).
+    energy_bins : int, optional
+        Number of energy rows of the histogram image (default 480).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes: f horizontal, E / t vertical, the levels as dots or as an image, and the continuum
+        levels as red lines with a legend.
+
+    See Also
+    --------
+    continuum_curves : the red lines.
+    hyperlattice.plots.basic.plot_butterfly : the dots alone.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.plots.magnetic import butterfly_figure
+    >>> bf = hl.butterfly(hl.ring_lattice(7, 3, 2), [0.0, 0.1, 0.2])
+    >>> ax = butterfly_figure(bf, points=3, levels=2)
+    >>> ax.get_title(), len(ax.lines), ax.lines[0].get_label()
+    ('{7,3} flake, 2 rings, 35 sites', 2, 'continuum (Dirichlet disk)')
+    >>> ax = butterfly_figure(bf, continuum=False, density=True, energy_bins=40)
+    >>> ax.get_title(), len(ax.images)
+    ('{7,3} flake, 2 rings, 35 sites, 3 fluxes', 1)
+    >>> plt.close("all")
     """
     ax = new_axes(ax, size=(7.0, 5.0))
     if density:
@@ -76,7 +162,49 @@ def butterfly_figure(result: Butterfly, *, continuum: bool = True, max_flux: flo
 
 
 def error_map(fluxes, ells, rel_error, *, ax: Axes | None = None, title: str = "") -> Axes:
-    """log10 of the relative error over the (f, l) plane (``rel_error`` of shape (len(ells), len(fluxes)))."""
+    r"""log10 of the relative error over the (f, l) plane; returns the axes.
+
+    A colour map of :math:`\log_{10}` of ``rel_error`` (floored at 1e-17) with a colour bar and the
+    white contour where the error is 1e-3 (or a note on the figure when the error is below or above
+    1e-3 everywhere).
+
+    Parameters
+    ----------
+    fluxes : array_like of float
+        Flux values f (flux quanta per p-gon face), shape (F,).
+    ells : array_like of float
+        Ring numbers l, shape (R,); integer rings up to 20 get one tick each.
+    rel_error : array_like of float
+        Relative error of graph against continuum, shape (R, F) (one row per l).
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure and axes when None.
+    title : str, optional
+        Axes title; ``"graph vs continuum: lowest level"`` when empty.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes with the colour mesh (f horizontal, l vertical); the colour bar is a second axes of
+        the same figure.
+
+    Raises
+    ------
+    ValueError
+        If the arrays are not real or ``rel_error`` does not have shape (len(ells), len(fluxes)).
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> from hyperlattice.plots.magnetic import error_map
+    >>> ax = error_map([0.0, 0.1, 0.2], [2, 3], [[1e-4, 1e-3, 1e-2], [1e-5, 1e-4, 1e-2]], title="E0")
+    >>> ax.get_title(), len(ax.figure.axes), [t.get_text() for t in ax.get_yticklabels()]
+    ('E0', 2, ['2', '3'])
+    >>> error_map([0.0, 0.1], [2], [[1e-4, 1e-3, 1e-2]])
+    Traceback (most recent call last):
+        ...
+    ValueError: rel_error must have shape (1, 2), got (1, 3).
+    >>> plt.close("all")
+    """
     from .. import _validate
 
     f = _validate.real_array("fluxes", fluxes, ndim=1)
