@@ -19,8 +19,47 @@ __all__ = ["dos_figure", "comparison_axes", "convergence_axes", "bottom_axes", "
 
 
 def dos_figure(result: KPMDos | DosComparison, *, path=None, ax: Axes | None = None, continuum: bool = True) -> Axes:
-    """The density of states of one :class:`~hyperlattice.graph.kpm.KPMDos` with its error band, and
-    the continuum (Plancherel) density near the band bottom when {p,q} is known; saved to ``path``."""
+    """The density of states of one KPM result with the continuum density; returns the axes.
+
+    The density of states of one :class:`~hyperlattice.graph.kpm.KPMDos` with its error band, and
+    the continuum (Plancherel) density near the band bottom when {p,q} is known; saved to ``path``.
+
+    Parameters
+    ----------
+    result : KPMDos
+        A kernel-polynomial density of states, from :func:`~hyperlattice.graph.kpm.kpm_dos` or
+        :func:`~hyperlattice.graph.kpm.bulk_dos`. (The annotation also names ``DosComparison``, but
+        this function reads ``result.label`` and ``result.vectors``, which only a ``KPMDos`` has; draw
+        a comparison with :func:`comparison_figure`.)
+    path : str or path-like, optional
+        Where to save the figure (120 dpi); the figure is then closed. Not saved when None.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new 6.4 x 4.4 inch figure when None.
+    continuum : bool, optional
+        Overlay the continuum density (paper's map) from E = -q to -q/2 (default True).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes with the density per site against E / t, its error band, the dashed continuum
+        density, a legend and a title naming the moments and random vectors.
+
+    See Also
+    --------
+    hyperlattice.plots.basic.plot_kpm_dos : the density alone.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.plots.dos import dos_figure
+    >>> ax = dos_figure(hl.kpm_dos(hl.ring_lattice(7, 3, 3), 32, vectors=2, seed=1))
+    >>> ax.get_title()
+    '{7,3} flake, 3 rings: 32 moments, 2 vector(s)'
+    >>> [t.get_text() for t in ax.get_legend().get_texts()]
+    ['{7,3} flake, 3 rings', "continuum (Plancherel, paper's map)"]
+    >>> plt.close("all")
+    """
     import matplotlib.pyplot as plt
 
     ax = new_axes(ax, size=(6.4, 4.4))
@@ -41,8 +80,37 @@ def dos_figure(result: KPMDos | DosComparison, *, path=None, ax: Axes | None = N
 
 
 def comparison_axes(cmp: DosComparison, ax: Axes | None = None, *, window: tuple[float, float] | None = None) -> Axes:
-    """The full-resolution densities: largest cluster, largest flake interior, Abelian DOS, with the
-    exact reference (closed walks) and the continuum density."""
+    """The densities of the comparison at full resolution; returns the axes.
+
+    The largest cluster, the largest flake interior and the Abelian DOS (those present), with the exact
+    reference (closed walks), the continuum density and the proven band-bottom interval (grey).
+
+    Parameters
+    ----------
+    cmp : DosComparison
+        The comparison of densities, from :func:`~hyperlattice.compare.dos.dos_comparison`.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure and axes when None (the default).
+    window : tuple of float, optional
+        Energy range (E_min, E_max) in units of t; the whole grid when None.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes with the densities (states per site per unit energy) against E / t and a legend.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> cmp = hl.dos_comparison(7, 3, clusters=[], rings=[3], moments=32, resolution=8,
+    ...                         vectors=3, walk_length=7, abelian=False)
+    >>> from hyperlattice.plots.dos import comparison_axes
+    >>> ax = comparison_axes(cmp)
+    >>> ax.get_title(), len(ax.lines)
+    ('{7,3}: densities of states, 32 moments', 3)
+    >>> plt.close("all")
+    """
     from ..compare.dos import continuum_dos
 
     ax = new_axes(ax, size=(7.0, 4.6))
@@ -72,7 +140,33 @@ def comparison_axes(cmp: DosComparison, ax: Axes | None = None, *, window: tuple
 
 
 def convergence_axes(cmp: DosComparison, ax: Axes | None = None) -> Axes:
-    """Every curve at the resolution of the exact moments: the L1 distance to the exact DOS against size."""
+    """Every curve at the resolution of the exact moments: the L1 distance to the exact DOS against size.
+
+    Parameters
+    ----------
+    cmp : DosComparison
+        The comparison of densities, from :func:`~hyperlattice.compare.dos.dos_comparison`.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure and axes when None (the default).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes (log-log) with the distance and its error bar against the number of sites: periodic
+        clusters (N sites), flake interiors (traced sites) and Abelian DOS (unit-cell sites).
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> cmp = hl.dos_comparison(7, 3, clusters=[], rings=[3], moments=32, resolution=8,
+    ...                         vectors=3, walk_length=7, abelian=False)
+    >>> from hyperlattice.plots.dos import convergence_axes
+    >>> ax = convergence_axes(cmp)
+    >>> ax.get_xscale(), ax.get_ylabel()
+    ('log', 'L1 distance to the exact DOS (M = 8)')
+    >>> plt.close("all")
+    """
     ax = new_axes(ax, size=(5.0, 4.2))
     for kind, marker, color in (("cluster", "o", "tab:blue"), ("flake", "s", "tab:orange"),
                                 ("abelian", "^", "tab:green")):
@@ -103,7 +197,33 @@ def _traced(label: str) -> int:
 
 
 def bottom_axes(cmp: DosComparison, ax: Axes | None = None) -> Axes:
-    """Integrated DOS N(E) near the band bottom: the largest cluster against the continuum (both maps)."""
+    """Integrated DOS N(E) near the band bottom: the largest cluster against the continuum (both maps).
+
+    Parameters
+    ----------
+    cmp : DosComparison
+        The comparison of densities, from :func:`~hyperlattice.compare.dos.dos_comparison`.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure and axes when None (the default).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes (log y) with N(E) of the largest cluster and its error band (when computed), the
+        continuum N(E) with the paper's and the improved map, and the proven band-bottom interval.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> cmp = hl.dos_comparison(7, 3, clusters=[], rings=[3], moments=32, resolution=8,
+    ...                         vectors=3, walk_length=7, abelian=False)
+    >>> from hyperlattice.plots.dos import bottom_axes
+    >>> ax = bottom_axes(cmp)
+    >>> ax.get_title(), ax.get_yscale()
+    ('band bottom: integrated DOS', 'log')
+    >>> plt.close("all")
+    """
     from ..compare.dos import continuum_integrated_dos
 
     ax = new_axes(ax, size=(5.0, 4.2))
@@ -127,8 +247,39 @@ def bottom_axes(cmp: DosComparison, ax: Axes | None = None) -> Axes:
 
 
 def comparison_figure(cmp: DosComparison, *, path=None):
-    """Three panels: (a) the densities (full width, top), (b) the convergence with size and (c) the band
-    bottom against the continuum (bottom row): a row of three was unreadable at page width."""
+    """The three panels of the density comparison in one figure; returns the figure.
+
+    (a) the densities (full width, top), (b) the convergence with size and (c) the band bottom
+    against the continuum (bottom row): a row of three was unreadable at page width.
+
+    Parameters
+    ----------
+    cmp : DosComparison
+        The comparison of densities, from :func:`~hyperlattice.compare.dos.dos_comparison`.
+    path : str or path-like, optional
+        Where to save the figure (110 dpi); not saved when None.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The 11 x 8.4 inch figure with three axes labelled (a) to (c).
+
+    See Also
+    --------
+    comparison_axes, convergence_axes, bottom_axes : the single panels.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> cmp = hl.dos_comparison(7, 3, clusters=[], rings=[3], moments=32, resolution=8,
+    ...                         vectors=3, walk_length=7, abelian=False)
+    >>> from hyperlattice.plots.dos import comparison_figure
+    >>> fig = comparison_figure(cmp)
+    >>> [ax.texts[0].get_text() for ax in fig.axes]
+    ['(a)', '(b)', '(c)']
+    >>> plt.close("all")
+    """
     import matplotlib.pyplot as plt
 
     fig = plt.figure(figsize=(11.0, 8.4), layout="constrained")
