@@ -26,7 +26,34 @@ def _axes(ax, size=(5.5, 4.0)):
 
 
 def plot_dos(ens: DisorderEnsemble, ax: Axes | None = None, **kwargs) -> Axes:
-    """Disorder-averaged density of states per site (stairs)."""
+    """Disorder-averaged density of states per site (stairs); returns the axes.
+
+    Parameters
+    ----------
+    ens : DisorderEnsemble
+        The ensemble, from :func:`~hyperlattice.compare.disorder.disorder_ensemble`.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new 5.5 x 4 inch figure when None (the default).
+    **kwargs
+        Passed on to :meth:`matplotlib.axes.Axes.stairs`; ``label`` defaults to ``"W = <strength>"``.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes with the averaged histogram (DOS per site against E / t), a legend and a title naming
+        the lattice, the disorder model and the number of realizations.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.plots.disorder import plot_dos
+    >>> ens = hl.disorder_ensemble(hl.ring_lattice(7, 3, 3), 2.0, realizations=3, seed=1)
+    >>> ax = plot_dos(ens)
+    >>> ax.get_title(), ax.get_legend().get_texts()[0].get_text()
+    ('{7,3} l = 3, box, 3 realizations', 'W = 2')
+    >>> plt.close("all")
+    """
     ax = _axes(ax)
     ax.stairs(ens.dos, ens.dos_edges, label=kwargs.pop("label", f"W = {ens.W:g}"), **kwargs)
     ax.set_xlabel("E / t")
@@ -37,7 +64,36 @@ def plot_dos(ens: DisorderEnsemble, ax: Axes | None = None, **kwargs) -> Axes:
 
 
 def plot_r_scan(scan: RScan, ax: Axes | None = None, **kwargs) -> Axes:
-    """<r> against W (log axis) with the GOE and Poisson values."""
+    r"""<r> against W (log axis) with the GOE and Poisson values; returns the axes.
+
+    Parameters
+    ----------
+    scan : RScan
+        The mean spacing ratio against the disorder strength, from
+        :func:`~hyperlattice.compare.disorder.r_scan`.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new 5.5 x 4 inch figure when None (the default).
+    **kwargs
+        Passed on to :meth:`matplotlib.axes.Axes.errorbar`; ``label`` defaults to
+        ``"l = <rings> (<sites> sites)"``.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes with :math:`\langle r\rangle` and its error bars against W / t (log scale when all
+        W > 0) and the GOE and Poisson reference lines.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.plots.disorder import plot_r_scan
+    >>> scan = hl.r_scan(hl.ring_lattice(7, 3, 3), [0.5, 4.0], realizations=2, window=None)
+    >>> ax = plot_r_scan(scan)
+    >>> ax.get_xscale(), [t.get_text() for t in ax.get_legend().get_texts()]
+    ('log', ['GOE 0.5307', 'Poisson 0.3863', 'l = 3 (112 sites)'])
+    >>> plt.close("all")
+    """
     from ..compare.disorder import GOE_R, POISSON_R
 
     ax = _axes(ax)
@@ -59,7 +115,40 @@ def plot_r_scan(scan: RScan, ax: Axes | None = None, **kwargs) -> Axes:
 
 
 def plot_green_distance(ens: DisorderGreen, ax: Axes | None = None, *, bins: int = 12, clean: bool = True) -> Axes:
-    """``|<G_ij>|`` (and ``|G_ij(W=0)|`` if ``clean``) against the hyperbolic distance (binned means), source excluded."""
+    """The averaged Green function against hyperbolic distance; returns the axes.
+
+    ``|<G_ij>|`` (and ``|G_ij(W=0)|`` if ``clean``) against the hyperbolic distance (binned means),
+    source excluded.
+
+    Parameters
+    ----------
+    ens : DisorderGreen
+        The ensemble of Green-function columns, from
+        :func:`~hyperlattice.compare.disorder.green_ensemble`.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new 5.5 x 4 inch figure when None (the default).
+    bins : int, optional
+        Number of equal distance bins from 0 to the largest distance (default 12).
+    clean : bool, optional
+        Also draw the clean (W = 0) column, dashed (default True).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes (log y) with the bin means of the absolute values against the distance, and a legend.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.disorder import green_ensemble
+    >>> from hyperlattice.plots.disorder import plot_green_distance
+    >>> ge = green_ensemble(hl.ring_lattice(7, 3, 3), -2.9 + 0.2j, 1.0, realizations=4)
+    >>> ax = plot_green_distance(ge, bins=6)
+    >>> ax.get_yscale(), [line.get_label() for line in ax.lines]
+    ('log', ['W = 0', 'W = 1'])
+    >>> plt.close("all")
+    """
     ax = _axes(ax)
     keep = np.arange(ens.distance.size) != ens.source
     d = ens.distance[keep]
@@ -78,7 +167,35 @@ def plot_green_distance(ens: DisorderGreen, ax: Axes | None = None, *, bins: int
 
 
 def plot_scba_comparison(cmp: SCBAComparison, ax: Axes | None = None) -> Axes:
-    """Relative distance of the ensemble average from the clean column and the two SCBA predictions."""
+    """Distance of the ensemble average from the clean column and the two SCBA predictions; returns the axes.
+
+    Relative L2 distances against W on log-log axes: the clean Green function, the graph SCBA, the
+    continuum SCBA (the continuum Green function at the shifted frequency), the statistical error of
+    the average, and, as a dashed line, the floor set by the clean graph against the continuum.
+
+    Parameters
+    ----------
+    cmp : SCBAComparison
+        The comparison, from :func:`~hyperlattice.compare.disorder.compare_scba`.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new 5.5 x 4 inch figure when None (the default).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes with the four curves, the floor and a legend.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.plots.disorder import plot_scba_comparison
+    >>> cmp = hl.compare_scba(hl.ring_lattice(7, 3, 3), -2.9 + 0.2j, [1.0, 2.0], realizations=4)
+    >>> ax = plot_scba_comparison(cmp)
+    >>> [line.get_label() for line in ax.lines][:2]
+    ['clean G0(omega)', 'graph SCBA']
+    >>> plt.close("all")
+    """
     ax = _axes(ax)
     w = np.asarray(cmp.W, float)
     ax.loglog(w, cmp.rel_clean, "o-", label="clean G0(omega)")
