@@ -28,9 +28,38 @@ def _axes(ax, size=(5.2, 3.8)):
 
 
 def plot_boundary_correlator(bc: BoundaryCorrelator, ax: Axes | None = None) -> Axes:
-    r""":math:`G_{ij}` on the outer ring against :math:`\sin(\theta/2)` (log-log): graph, continuum
+    r"""The boundary correlator on the outer ring against the angle, log-log; returns the axes.
+
+    :math:`G_{ij}` on the outer ring against :math:`\sin(\theta/2)` (log-log): graph, continuum
     (``eq21`` on the disk named by ``bc.continuum_disk``) and the fitted conformal slope
-    :math:`-2\Delta` over the window."""
+    :math:`-2\Delta` over the window.
+
+    Parameters
+    ----------
+    bc : BoundaryCorrelator
+        The correlator of one source on the outer ring, from
+        :func:`~hyperlattice.compare.boundary.boundary_correlator`.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new 5.2 x 3.8 inch figure when None (the default).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes with the graph points, the continuum points (when computed), the window edge
+        :math:`\theta_{\min}` and the fitted power law, a legend and a title naming l, ω and m².
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.plots.boundary import plot_boundary_correlator
+    >>> ax = plot_boundary_correlator(hl.boundary_correlator(hl.ring_lattice(7, 3, 4), -3.5))
+    >>> print(ax.get_title())
+    $\ell = 4$, $\omega = -3.5$, $m^2 = 8.765$
+    >>> ax.get_xscale(), len(ax.lines)
+    ('log', 4)
+    >>> plt.close("all")
+    """
     from ..paper_labels import cite
 
     ax = _axes(ax)
@@ -60,7 +89,33 @@ def plot_boundary_correlator(bc: BoundaryCorrelator, ax: Axes | None = None) -> 
 
 
 def plot_delta_curve(curves: Sequence[DeltaCurve], ax: Axes | None = None) -> Axes:
-    """Δ against m² for one or more lattices (error bars) and the continuum Δ(m²), with the BF bound."""
+    r"""Δ against m² for one or more lattices (error bars) and the continuum Δ(m²), with the BF bound; returns the axes.
+
+    Parameters
+    ----------
+    curves : sequence of DeltaCurve
+        One curve per lattice, from :func:`~hyperlattice.compare.boundary.delta_curve`.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new 5.2 x 3.8 inch figure when None (the default).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes with the continuum :math:`\Delta = \frac12 + \frac12\sqrt{1 + m^2}` (from the BF
+        bound m² = -1 on), the lattice Δ with error bars for each curve, the BF bound as a dashed
+        vertical line, and a legend.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.plots.boundary import plot_delta_curve
+    >>> dc = hl.delta_curve(hl.ring_lattice(7, 3, 4), [-3.5, -4.0])
+    >>> ax = plot_delta_curve([dc])
+    >>> print(ax.get_legend().get_texts()[-1].get_text())
+    lattice $\ell = 4$
+    >>> plt.close("all")
+    """
     from ..continuum.massive import BF_MASS2, delta_from_mass2
 
     ax = _axes(ax)
@@ -79,7 +134,31 @@ def plot_delta_curve(curves: Sequence[DeltaCurve], ax: Axes | None = None) -> Ax
 
 
 def plot_bf_bound(bf: LatticeBFBound, ax: Axes | None = None) -> Axes:
-    r"""Lattice BF bound :math:`E_0(\ell)` against ℓ with the continuum bound :math:`E_\infty`."""
+    r"""Lattice BF bound :math:`E_0(\ell)` against ℓ with the continuum bound :math:`E_\infty`; returns the axes.
+
+    Parameters
+    ----------
+    bf : LatticeBFBound
+        The lowest flake levels against l, from :func:`~hyperlattice.compare.boundary.lattice_bf_bound`.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new 5.2 x 3.8 inch figure when None (the default).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes with :math:`E_0(\ell)` (points and line) and the dashed continuum
+        :math:`E_\infty = -q + \frac{q}{4}h^2`, and a legend.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> from hyperlattice.compare.boundary import lattice_bf_bound
+    >>> from hyperlattice.plots.boundary import plot_bf_bound
+    >>> ax = plot_bf_bound(lattice_bf_bound(7, 3, rings=(3, 4)))
+    >>> len(ax.lines), ax.lines[0].get_xdata().tolist()
+    (2, [3, 4])
+    >>> plt.close("all")
+    """
     ax = _axes(ax)
     ax.plot(bf.rings, bf.e0, "o-", color="tab:red", label=r"lattice $E_0(\ell)$")
     ax.axhline(bf.omega_continuum, color="k", ls="--", label=r"continuum $E_\infty = -q + \frac{q}{4}h^2$")
@@ -90,10 +169,36 @@ def plot_bf_bound(bf: LatticeBFBound, ax: Axes | None = None) -> Axes:
 
 
 def plot_exchange(ex: ExchangeComparison, ax: Axes | None = None) -> Axes:
-    """|J| against hyperbolic distance (log axis): graph points, binned means, and the continuum.
+    r"""``|J|`` against hyperbolic distance (log axis): graph points, binned means, and the continuum; returns the axes.
 
-    J can change sign (the continuum's does near the disk edge): |J| is drawn, negative values with
+    J can change sign (the continuum's does near the disk edge): ``|J|`` is drawn, negative values with
     open markers (graph) or a dashed line (continuum), so that nothing drops off the log axis unseen.
+
+    Parameters
+    ----------
+    ex : ExchangeComparison
+        The qubit exchange couplings of graph and continuum, from
+        :func:`~hyperlattice.compare.qubits.exchange_comparison`.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new 5.2 x 3.8 inch figure when None (the default).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes (log y) with the graph couplings, their binned means, the continuum's binned means
+        and a legend; the title names the kind of lattice, l and the qubit frequency.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.plots.boundary import plot_exchange
+    >>> ax = plot_exchange(hl.exchange_comparison(hl.ring_lattice(7, 3, 4), -3.2, 0.1))
+    >>> print(ax.get_title())
+    sites, $\ell = 4$, $\omega_q = -3.2$
+    >>> ax.get_yscale()
+    'log'
+    >>> plt.close("all")
     """
     from ..paper_labels import cite
 
@@ -122,7 +227,34 @@ def plot_exchange(ex: ExchangeComparison, ax: Axes | None = None) -> Axes:
 
 
 def plot_bound_state_sizes(bs: BoundStateSizes, ax: Axes | None = None) -> Axes:
-    """Bound-state size and decay length against detuning from the band bottom."""
+    r"""Bound-state size and decay length against detuning from the band bottom; returns the axes.
+
+    Parameters
+    ----------
+    bs : BoundStateSizes
+        Sizes of the qubit-photon bound states, from
+        :func:`~hyperlattice.compare.qubits.bound_state_sizes`.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new 5.2 x 3.8 inch figure when None (the default).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes (log x) with the mean distance :math:`\langle d\rangle` of graph and continuum, the
+        graph decay length ξ, the continuum :math:`1/(2\Delta)` and the line 2R = 1, all hyperbolic
+        distances against the detuning :math:`E_0(\ell) - \omega_q`.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.qubits import bound_state_sizes
+    >>> from hyperlattice.plots.boundary import plot_bound_state_sizes
+    >>> ax = plot_bound_state_sizes(bound_state_sizes(hl.ring_lattice(7, 3, 4), [-3.0, -3.5], 0.1))
+    >>> ax.get_xscale(), ax.get_ylabel(), len(ax.lines)
+    ('log', 'hyperbolic distance', 5)
+    >>> plt.close("all")
+    """
     ax = _axes(ax)
     ax.plot(bs.detuning, bs.size_graph, "o-", color="tab:red", label=r"$\langle d\rangle$ graph (exact)")
     if np.any(np.isfinite(bs.size_continuum)):
