@@ -70,6 +70,7 @@ COMPLETE: tuple[str, ...] = (
     "hyperlattice.paper_labels",
     "hyperlattice.paper_values",
     "hyperlattice.plots.basic",
+    "hyperlattice.plots.bosons",
     "hyperlattice.plots.boundary",
     "hyperlattice.plots.disorder",
     "hyperlattice.plots.dos",

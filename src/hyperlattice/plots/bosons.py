@@ -24,6 +24,34 @@ def plot_mott_lobes(table: MottLobeTable, ax: Axes | None = None) -> Axes:
 
     Flakes are solid lines shaded light to dark with l, their continuum disks dashed in the same
     shade, periodic clusters dotted, the infinite lattice black.
+
+    Parameters
+    ----------
+    table : MottLobeTable
+        Mean-field Mott lobes of several systems, from :func:`~hyperlattice.bosons.meanfield.mott_lobes`.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure and axes when None (the default).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes with one lobe boundary per system, a legend outside the axes on the right (the
+        continuum disks are labelled once, at the largest l) and a title naming {p,q} and the filling.
+
+    See Also
+    --------
+    hyperlattice.plots.basic.plot_mott_lobe : one lobe.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> from hyperlattice.bosons.meanfield import mott_lobes
+    >>> table = mott_lobes(7, 3, rings=(2, 3), points=21, infinite=False)
+    >>> from hyperlattice.plots.bosons import plot_mott_lobes
+    >>> ax = plot_mott_lobes(table)
+    >>> ax.get_title(), len(ax.lines)
+    ('{7,3} Mott lobe n = 1 (mean field)', 4)
+    >>> plt.close("all")
     """
     import matplotlib.pyplot as plt
 
@@ -45,8 +73,34 @@ def plot_mott_lobes(table: MottLobeTable, ax: Axes | None = None) -> Axes:
 
 
 def plot_lobe_tips(table: MottLobeTable, ax: Axes | None = None) -> Axes:
-    """The lobe tip t_c/U against l for the flakes (points) and their continuum disks (line), with
-    the infinite lattice and the clusters as horizontal lines; returns the axes."""
+    """The lobe tips t_c/U against l; returns the axes.
+
+    The flakes as points and their continuum disks as a dashed line, with the infinite lattice and the
+    clusters as horizontal lines.
+
+    Parameters
+    ----------
+    table : MottLobeTable
+        Mean-field Mott lobes of several systems, from :func:`~hyperlattice.bosons.meanfield.mott_lobes`.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure and axes when None (the default).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes with the tips t_c / U against the ring number l (integer ticks) and a legend.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> from hyperlattice.bosons.meanfield import mott_lobes
+    >>> table = mott_lobes(7, 3, rings=(2, 3), points=21, infinite=False)
+    >>> from hyperlattice.plots.bosons import plot_lobe_tips
+    >>> ax = plot_lobe_tips(table)
+    >>> [line.get_label() for line in ax.lines]
+    ['flakes', 'continuum (paper dictionary)']
+    >>> plt.close("all")
+    """
     ax = new_axes(ax, size=(5.0, 4.0))
     rows = table.rows()
     for kind, style, name in (("flake", "o", "flakes"), ("continuum", "s--", "continuum (paper dictionary)")):
@@ -66,7 +120,42 @@ def plot_lobe_tips(table: MottLobeTable, ax: Axes | None = None) -> Axes:
 
 
 def plot_order_parameter(state: GutzwillerState, lattice, ax: Axes | None = None) -> Axes:
-    r""":math:`|\psi_i|` of a Gutzwiller state against the ring of each site of a flake (one point per site)."""
+    r""":math:`|\psi_i|` of a Gutzwiller state against the ring of each site of a flake (one point per site); returns the axes.
+
+    The points are spread by a small fixed horizontal jitter (seeded, so the figure is reproducible)
+    to keep the sites of a ring apart.
+
+    Parameters
+    ----------
+    state : GutzwillerState
+        A mean-field state, from :func:`~hyperlattice.bosons.meanfield.gutzwiller`.
+    lattice : Lattice
+        The flake the state was computed on (its ``ring`` labels give the horizontal axis).
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure and axes when None (the default).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes with :math:`\psi_i = \langle a_i\rangle` against the ring and a title naming t/U and μ/U.
+
+    Raises
+    ------
+    ValueError
+        If the lattice and the state have different numbers of sites.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons.meanfield import gutzwiller
+    >>> from hyperlattice.plots.bosons import plot_order_parameter
+    >>> lat = hl.ring_lattice(7, 3, 2)
+    >>> ax = plot_order_parameter(gutzwiller(lat, 0.1, 0.5), lat)
+    >>> ax.get_title(), len(ax.lines[0].get_xdata())
+    ('t/U = 0.1, μ/U = 0.5', 35)
+    >>> plt.close("all")
+    """
     ax = new_axes(ax, size=(5.0, 3.6))
     ring = np.asarray(lattice.ring)
     if ring.shape[0] != state.psi.shape[0]:
@@ -80,7 +169,36 @@ def plot_order_parameter(state: GutzwillerState, lattice, ax: Axes | None = None
 
 
 def meanfield_figure(table: MottLobeTable, path=None):
-    """Two panels, (a) the lobes and (b) the tips against l; saved to ``path`` when given. Returns the figure."""
+    """Two panels, (a) the lobes and (b) the tips against l; saved to ``path`` when given. Returns the figure.
+
+    Parameters
+    ----------
+    table : MottLobeTable
+        Mean-field Mott lobes of several systems, from :func:`~hyperlattice.bosons.meanfield.mott_lobes`.
+    path : str or path-like, optional
+        Where to save the figure (130 dpi, format by suffix); not saved when None.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The 12 x 4.2 inch figure with the panels of :func:`plot_mott_lobes` and :func:`plot_lobe_tips`.
+
+    Raises
+    ------
+    ValueError
+        If ``path`` is not a writable file path.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> from hyperlattice.bosons.meanfield import mott_lobes
+    >>> table = mott_lobes(7, 3, rings=(2, 3), points=21, infinite=False)
+    >>> from hyperlattice.plots.bosons import meanfield_figure
+    >>> fig = meanfield_figure(table)
+    >>> [ax.texts[0].get_text() for ax in fig.axes]
+    ['(a)', '(b)']
+    >>> plt.close("all")
+    """
     import matplotlib.pyplot as plt
 
     fig, axes = plt.subplots(1, 2, figsize=(12.0, 4.2), layout="constrained", width_ratios=(1.35, 1.0))
@@ -96,8 +214,40 @@ def meanfield_figure(table: MottLobeTable, path=None):
 
 
 def gp_comparison_figure(cmp: GPComparison, axes=None, path=None):
-    """Three panels: (a) μ against ℓ, graph and continuum; (b) the density per site against the
-    geodesic radius for the largest ℓ; (c) the lowest Bogoliubov frequencies against ℓ. Returns the figure."""
+    """The Gross-Pitaevskii comparison of flakes and disks in three panels; returns the figure.
+
+    (a) μ against ℓ, graph and continuum; (b) the density per site against the geodesic radius for
+    the largest ℓ; (c) the lowest Bogoliubov frequencies against ℓ (the Goldstone mode omitted).
+
+    Parameters
+    ----------
+    cmp : GPComparison
+        The comparison, from :func:`~hyperlattice.compare.bosons.gp_comparison`.
+    axes : sequence of three matplotlib.axes.Axes, optional
+        Where to draw the three panels; a new 13 x 3.9 inch figure when None.
+    path : str or path-like, optional
+        Where to save the figure (130 dpi, format by suffix); not saved when None.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure of the panels, labelled (a) to (c); energies in units of t.
+
+    Raises
+    ------
+    ValueError
+        If ``axes`` is not three axes, or ``path`` is not a writable file path.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> from hyperlattice.compare.bosons import gp_comparison
+    >>> from hyperlattice.plots.bosons import gp_comparison_figure
+    >>> fig = gp_comparison_figure(gp_comparison(7, 3, rings=(2,), U=0.5, modes=3, cells=200))
+    >>> [ax.texts[0].get_text() for ax in fig.axes], fig.axes[0].get_title()
+    (['(a)', '(b)', '(c)'], 'n = 1, U = 0.5 t')
+    >>> plt.close("all")
+    """
     import matplotlib.pyplot as plt
 
     if axes is None:
