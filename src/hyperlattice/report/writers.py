@@ -152,12 +152,55 @@ PARTS = (("paper", "The paper", "part-paper"), ("beyond", "Beyond the paper", "p
 
 
 def table_id(t: Table) -> str:
-    """The HTML id of a table's caption."""
+    """The HTML id of a table's caption.
+
+    Parameters
+    ----------
+    t : Table
+        A table of the report.
+
+    Returns
+    -------
+    str
+        ``"table-<slug of the name>"`` (lower case, runs of other characters replaced by one ``-``),
+        the anchor the table of contents links to.
+
+    See Also
+    --------
+    figure_id : the same for figures.
+
+    Examples
+    --------
+    >>> from hyperlattice.report.writers import Table, table_id
+    >>> table_id(Table("counts", ["rings", "N"], [[1, 7]]))
+    'table-counts'
+    """
     return f"table-{_slug(t.name)}"
 
 
 def figure_id(f: Figure) -> str:
-    """The HTML id of a figure."""
+    """The HTML id of a figure.
+
+    Parameters
+    ----------
+    f : Figure
+        A figure of the report.
+
+    Returns
+    -------
+    str
+        ``"fig-<slug of the name>"`` (lower case, runs of other characters replaced by one ``-``).
+
+    See Also
+    --------
+    table_id : the same for tables.
+
+    Examples
+    --------
+    >>> from hyperlattice.report.writers import Figure, figure_id
+    >>> figure_id(Figure("Fig 2 (a)", "caption"))
+    'fig-fig-2-a'
+    """
     return f"fig-{_slug(f.name)}"
 
 
@@ -184,7 +227,35 @@ def _toc_md(sections: list[Section]) -> list[str]:
 
 
 def fmt(x, digits: int = 12) -> str:
-    """A table cell: strings as they are, integers exactly, floats with ``digits`` decimals, NaN/None empty."""
+    """A table cell: strings as they are, integers exactly, floats with ``digits`` decimals, NaN/None empty.
+
+    Parameters
+    ----------
+    x : str, int, float or None
+        The cell value (numpy integers and reals included).
+    digits : int, optional
+        Decimals of a real number (default 12).
+
+    Returns
+    -------
+    str
+        The cell as written into the Markdown and HTML tables.
+
+    Raises
+    ------
+    ValueError
+        If ``x`` is neither a string, a real number nor None.
+
+    Examples
+    --------
+    >>> from hyperlattice.report.writers import fmt
+    >>> fmt(0.5, 3), fmt(7), fmt(None), fmt(float("nan")), fmt("≠")
+    ('0.500', '7', '', '', '≠')
+    >>> fmt([1])
+    Traceback (most recent call last):
+        ...
+    ValueError: a table cell must be a number, a string or None, got list.
+    """
     if isinstance(x, str):
         return x
     if isinstance(x, (int, np.integer)):
@@ -197,7 +268,49 @@ def fmt(x, digits: int = 12) -> str:
 
 
 def save_figure(fig: matplotlib.figure.Figure, out: Path, name: str, caption: str) -> Figure:
-    """Write ``fig`` as ``fig_<name>.png`` and ``.svg`` without timestamps, close it, return the Figure."""
+    r"""Write ``fig`` as ``fig_<name>.png`` and ``.svg`` without timestamps, close it, return the Figure.
+
+    Before writing, a figure with several panels and no panel letters gets (a), (b), ..., and text is
+    enlarged to at least 8 pt at the width the report shows it. The PNG (110 dpi) and SVG carry no
+    date, so two runs write byte-identical files.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure to write; it is closed afterwards.
+    out : str or path-like
+        An existing directory to write into.
+    name : str
+        File stem: the files are ``fig_<name>.png`` and ``fig_<name>.svg``.
+    caption : str
+        The caption printed under the figure in the report.
+
+    Returns
+    -------
+    Figure
+        The report's record of the figure, with the PNG bytes to embed in the HTML.
+
+    Raises
+    ------
+    ValueError
+        If ``out`` is not an existing directory.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> import matplotlib.pyplot as plt
+    >>> from hyperlattice.report.writers import Section, Table, save_figure
+    >>> fig, ax = plt.subplots()
+    >>> _ = ax.plot([0, 1], [0, 1])
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     f = save_figure(fig, Path(d), "line", "a straight line")
+    ...     files = sorted(p.name for p in Path(d).iterdir())
+    >>> f.name, f.png[:4], files
+    ('line', b'\x89PNG', ['fig_line.png', 'fig_line.svg'])
+    >>> plt.fignum_exists(fig.number)
+    False
+    """
     out = _validate.directory("out", out, create=False)
     import matplotlib.pyplot as plt
 
@@ -243,7 +356,55 @@ def _md_table(t: Table) -> list[str]:
 
 
 def write_md(sections: list[Section], header: list[str], out: Path) -> None:
-    """Write ``report.md`` (figures linked as ``fig_*.png``)."""
+    r"""Write ``report.md`` (figures linked as ``fig_*.png``).
+
+    The file has the header, a table of contents, then the two parts ("The paper", "Beyond the
+    paper") with their sections: reference line, provenance, text, tables and figures. Prose is
+    rewritten with symbols (ℓ, ρ, ω, ...), except in backtick spans.
+
+    Parameters
+    ----------
+    sections : list of Section
+        The sections; the paper's come first, then those beyond it, each group in the given order,
+        numbered 1, 2, ... through the report.
+    header : list of str
+        Lines above the table of contents (a line starting with ``"# "`` is the title).
+    out : str or path-like
+        An existing directory to write into.
+
+    Returns
+    -------
+    None
+        The report is written to ``out / "report.md"``.
+
+    Raises
+    ------
+    ValueError
+        If ``out`` is not an existing directory.
+
+    See Also
+    --------
+    write_html : the same report as one self-contained HTML file.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> from hyperlattice.report.writers import Section, Table, write_md
+    >>> t = Table("counts", ["rings", "N"], [[1, 7], [2, 35]], caption="sites of the flakes")
+    >>> s = Section("Counting sites", labels=("Tab1",), text=["l = 2 has 35 sites."], tables=[t])
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     write_md([s], ["# demo"], Path(d))
+    ...     md = (Path(d) / "report.md").read_text()
+    >>> print("\n".join(x for x in md.splitlines() if x.startswith(("###", "Reproduces", "ℓ", "|"))))
+    ### 1. Counting sites
+    Reproduces: Table I
+    ℓ = 2 has 35 sites.
+    | rings | N |
+    |---|---|
+    | 1 | 7 |
+    | 2 | 35 |
+    """
     out = _validate.directory("out", out, create=False)
     sections = _ordered(sections)
     lines = list(header) + _toc_md(sections)
@@ -270,7 +431,52 @@ def write_md(sections: list[Section], header: list[str], out: Path) -> None:
 
 
 def write_html(sections: list[Section], header: list[str], out: Path) -> None:
-    """Write ``report.html``, self-contained: figures embedded as base64 PNG, no external references."""
+    """Write ``report.html``, self-contained: figures embedded as base64 PNG, no external references.
+
+    Same content and order as :func:`write_md`, with a linked table of contents, tables whose
+    ``...flag`` columns are highlighted, and the figures' PNG bytes inlined.
+
+    Parameters
+    ----------
+    sections : list of Section
+        The sections; the paper's come first, then those beyond it, each group in the given order,
+        numbered 1, 2, ... through the report.
+    header : list of str
+        Lines above the table of contents (a line starting with ``"# "`` is the title).
+    out : str or path-like
+        An existing directory to write into.
+
+    Returns
+    -------
+    None
+        The report is written to ``out / "report.html"``.
+
+    Raises
+    ------
+    ValueError
+        If ``out`` is not an existing directory.
+
+    See Also
+    --------
+    write_md : the Markdown version.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> import matplotlib.pyplot as plt
+    >>> from hyperlattice.report.writers import Section, Table, save_figure
+    >>> from hyperlattice.report.writers import write_html
+    >>> fig, ax = plt.subplots()
+    >>> _ = ax.plot([0, 1], [0, 1])
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     f = save_figure(fig, Path(d), "line", "a straight line")
+    ...     t = Table("counts", ["rings", "N"], [[1, 7], [2, 35]], caption="sites of the flakes")
+    ...     write_html([Section("Counting sites", tables=[t], figures=[f])], ["# demo"], Path(d))
+    ...     page = (Path(d) / "report.html").read_text()
+    >>> page.splitlines()[0], page.count("<table>"), "data:image/png;base64," in page
+    ('<!DOCTYPE html>', 1, True)
+    """
     out = _validate.directory("out", out, create=False)
     e = html.escape
     parts = ["<!DOCTYPE html>", '<html lang="en">', "<head>", '<meta charset="utf-8">',
