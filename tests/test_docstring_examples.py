@@ -76,6 +76,7 @@ COMPLETE: tuple[str, ...] = (
     "hyperlattice.plots.dos",
     "hyperlattice.plots.limits",
     "hyperlattice.plots.magnetic",
+    "hyperlattice.report",
     "hyperlattice.report.data",
     "hyperlattice.report.writers",
     "hyperlattice.results",

@@ -52,6 +52,32 @@ def reproduce(out_dir: str | Path = "reproduction", max_rings: int = 10, *, cach
         ``out_dir``, ``sections`` (titles, in the report's order), ``records`` (one dict per l of the
         spectrum table), ``cache_hits`` (entries read from earlier runs), ``cache_misses`` (values
         computed), ``cache_reused`` (entries this run wrote and read again), ``seconds``.
+
+    Raises
+    ------
+    ValueError
+        If ``max_rings`` is not an integer in [2, 14], ``cache`` is not a :class:`Cache`, or
+        ``out_dir`` cannot be created or written to.
+
+    See Also
+    --------
+    hyperlattice.paper_values : the printed values the report compares with.
+
+    Examples
+    --------
+    A full run takes minutes (``hyperlattice reproduce`` on the command line does the same); the
+    arguments are checked before anything is computed or written:
+
+    >>> import tempfile
+    >>> from hyperlattice.report import reproduce
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     reproduce(d, max_rings=1)
+    Traceback (most recent call last):
+        ...
+    ValueError: max_rings must be an integer between 2 and 14, got 1.
+
+    A run is ``reproduce("reproduction", max_rings=10)``; it returns, e.g.,
+    ``summary["sections"]`` (the section titles) and ``summary["seconds"]``.
     """
     import matplotlib
 
