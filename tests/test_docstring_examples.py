@@ -78,6 +78,7 @@ COMPLETE: tuple[str, ...] = (
     "hyperlattice.plots.magnetic",
     "hyperlattice.report",
     "hyperlattice.report.data",
+    "hyperlattice.report.sections",
     "hyperlattice.report.writers",
     "hyperlattice.results",
     "hyperlattice.sweep.engine",

@@ -56,7 +56,30 @@ def _printed(key: str, index) -> PaperValue | None:
 
 
 def geometry_section() -> Section:
-    """Constants of {p,3} beside the table of App. ``AppFS`` (Table III)."""
+    """Constants of {p,3} beside the table of App. ``AppFS`` (Table III).
+
+    For p = 7, 8, 9, 10 and ∞: r₀, d₀ and h = tanh d₀ (with the paper's printed d₀ and h and a flag
+    where they differ), the area per site and the constant c of L = √(N/(N + c)); the text explains the
+    p = ∞ column and every flagged value.
+
+    Returns
+    -------
+    Section
+        The section ``"Geometry of {p,3} tessellations"`` (anchor ``"geometry"``) with one table,
+        ``"geometry"``.
+
+    Examples
+    --------
+    >>> from hyperlattice.report.sections import geometry_section
+    >>> s = geometry_section()
+    >>> s.reference_line
+    'Reproduces: Table III, Eq. (A1), Eq. (B6), Eq. (10)'
+    >>> table = s.tables[0]
+    >>> table.columns[:5]
+    ['p', 'r0', 'd0', 'd0_paper', 'd0_flag']
+    >>> table.rows[0][:5]
+    [7, '0.300742619', '0.283128153', '0.283128', '']
+    """
     rows = []
     flags = []
     for p in (7, 8, 9, 10, "inf"):
@@ -81,7 +104,39 @@ def geometry_section() -> Section:
 
 
 def counts_section(max_rings: int) -> Section:
-    """Sites per ring and in total, and L, beside ``Tab1`` and ``AppTab1``."""
+    """Sites per ring and in total, and L, beside ``Tab1`` and ``AppTab1``.
+
+    One row per l = 1 .. max(max_rings, 10): sites on ring l and in total (with the paper's values and
+    the closed form of the ``Tab1`` caption) and the effective disk radius L = √(N/(N + 28)); flagged
+    values are explained in the text.
+
+    Parameters
+    ----------
+    max_rings : int
+        Largest number of rings of the report; the table covers at least l = 1..10 (the paper's).
+
+    Returns
+    -------
+    Section
+        The section ``"Lattice sizes and effective radius"`` (anchor ``"sizes"``) with the table
+        ``"tab1_sizes"``.
+
+    Raises
+    ------
+    ValueError
+        If ``max_rings`` is not an integer.
+
+    Examples
+    --------
+    >>> from hyperlattice.report.sections import counts_section
+    >>> s = counts_section(3)
+    >>> s.reference_line, len(s.tables[0].rows)
+    ('Reproduces: Table I, Table II, Eq. (10)', 10)
+    >>> s.tables[0].rows[7]
+    [8, 9548, '9548', 15435, '15435', '', 15435, '0.9990942027', '0.9990', '≠']
+    >>> print(s.text[1])
+    Flagged: ℓ = 8: rounding slip: √(15435/15463) = 0.999094 rounds to 0.9991.
+    """
     sizes = ring_sizes(7, 3, max(max_rings, 10))
     rows = []
     notes = []
@@ -107,7 +162,31 @@ def counts_section(max_rings: int) -> Section:
 
 
 def fig1_section(out: Path) -> Section:
-    """``Fig1``: the tessellation and the l = 3 graph."""
+    """``Fig1``: the tessellation and the l = 3 graph.
+
+    Parameters
+    ----------
+    out : path-like
+        The report directory, which must exist; the figure files ``fig_*.png`` and ``fig_*.svg`` are
+        written there.
+
+    Returns
+    -------
+    Section
+        The section ``"The {7,3} lattice in the Poincaré disk"`` with one figure, ``"fig1"``: the
+        {7,3} tessellation (7 rings, grey) and the l = 3 graph with its sites coloured by ring.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> from hyperlattice.report.sections import fig1_section
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     s = fig1_section(Path(d))
+    ...     files = sorted(p.name for p in Path(d).iterdir())
+    >>> s.reference_line, [f.name for f in s.figures], files
+    ('Reproduces: Fig. 1, Appendix A', ['fig1'], ['fig_fig1.png', 'fig_fig1.svg'])
+    """
     import matplotlib.pyplot as plt
 
     from ..plots.paper import plot_tessellation
@@ -124,6 +203,31 @@ def open_question_text(trends: list[RelativeErrorTrend], worst_residual: float |
 
     ``worst_residual``, when given, adds the introductory sentence with the largest residual of
     the graph levels (the report gives it once the computed range reaches l = 10).
+
+    Parameters
+    ----------
+    trends : list of RelativeErrorTrend
+        The relative error (E_graph − E_cont)/|E_graph| of each level against l, from
+        :func:`~hyperlattice.compare.levels.relative_error_trend`.
+    worst_residual : float, optional
+        Largest residual ‖Hψ − Eψ‖ of the graph eigenpairs; no introductory sentence when None.
+
+    Returns
+    -------
+    list of str
+        One paragraph per trend (the errors, a sign change, and whether the error saturates or
+        decreases), preceded by the introduction when ``worst_residual`` is given.
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.levels import relative_error_trend
+    >>> from hyperlattice.report.sections import open_question_text
+    >>> trend = relative_error_trend([1, 2, 3], [-2.0, -2.636405, -2.787], [-1.5, -2.570293, -2.77],
+    ...                              level="E0")
+    >>> print(open_question_text([trend])[0])
+    E₀: (E_graph − E_cont)/|E_graph| = -2.50e-01, -2.51e-02, -6.10e-03 for ℓ = 1–3. Its magnitude decreases monotonically over the computed range.
+    >>> len(open_question_text([trend], worst_residual=1e-13))
+    2
     """
     out = []
     for t in trends:
@@ -158,7 +262,44 @@ def open_question_text(trends: list[RelativeErrorTrend], worst_residual: float |
 
 def spectrum_section(cache: Cache, max_rings: int, timings: dict,
                      progress: Callable[[str], None]) -> tuple[Section, list[dict]]:
-    """``SuppTab1``/``Tab1`` energies, beside the paper, and the open question; also returns the records."""
+    """``SuppTab1``/``Tab1`` energies, beside the paper, and the open question; also returns the records.
+
+    For l = 1..max_rings: E0 and E1 of the graph (cached), of the continuum disk and of the asymptotic
+    formulas; the same beside the paper's printed values with flags; and the relative error with the
+    graph solver's residuals.
+
+    Parameters
+    ----------
+    cache : Cache
+        The result cache (:class:`~hyperlattice.cache.Cache`) for the expensive numbers.
+    max_rings : int
+        Largest number of rings l.
+    timings : dict
+        Filled in place with the solver time of each flake (see :func:`~hyperlattice.report.data.graph_levels`).
+    progress : callable
+        Called with a short message (str) before each expensive stage; ``lambda msg: None`` for silence.
+
+    Returns
+    -------
+    section : Section
+        The section (anchor ``"spectrum"``) with the tables ``"s1"``, ``"s1_vs_paper"`` and
+        ``"graph_vs_continuum"`` and the sentences on the open question.
+    records : list of dict
+        One dict per l: ``rings``, ``sites``, ``radius``, the six energies of ``SuppTab1``,
+        ``method``, ``residual_max`` and ``m_E1``.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from hyperlattice.cache import Cache
+    >>> from hyperlattice.report.sections import spectrum_section
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     s, records = spectrum_section(Cache(d), 2, {}, lambda msg: None)
+    >>> [t.name for t in s.tables], len(records)
+    (['s1', 's1_vs_paper', 'graph_vs_continuum'], 2)
+    >>> round(records[1]["E0_graph"], 6), round(records[1]["E0_continuum"], 6)
+    (-2.636405, -2.570293)
+    """
     from ..compare.levels import relative_error_trend
 
     rows_out, records, notes = [], [], []
@@ -228,7 +369,41 @@ def spectrum_section(cache: Cache, max_rings: int, timings: dict,
 
 
 def fig2_section(records: list[dict], out: Path, progress: Callable[[str], None]) -> Section:
-    """``Fig2``: levels against rings, and the partition functions of its inset (l = 4)."""
+    """``Fig2``: levels against rings, and the partition functions of its inset (l = 4).
+
+    Parameters
+    ----------
+    records : list of dict
+        The level records of :func:`spectrum_section` (one per l).
+    out : path-like
+        The report directory, which must exist; the figure files ``fig_*.png`` and ``fig_*.svg`` are
+        written there.
+    progress : callable
+        Called with a short message (str) before each expensive stage; ``lambda msg: None`` for silence.
+
+    Returns
+    -------
+    Section
+        The section (anchor ``"levels-vs-rings"``) with the figure ``"fig2"`` (levels against l;
+        the partition function over negative energies for l = 4, graph against disk) and the table
+        ``"fig2_partition_l4"``.
+
+    Raises
+    ------
+    ValueError
+        If ``out`` is not a path.
+
+    Examples
+    --------
+    The section takes several seconds (the l = 4 partition function); the argument check is
+    immediate:
+
+    >>> from hyperlattice.report.sections import fig2_section
+    >>> fig2_section([], 42, print)
+    Traceback (most recent call last):
+        ...
+    ValueError: out must be a path, got 42.
+    """
     import matplotlib.pyplot as plt
     import numpy as np
 
@@ -265,7 +440,39 @@ def fig2_section(records: list[dict], out: Path, progress: Callable[[str], None]
 
 
 def scaling_section(out: Path, progress: Callable[[str], None]) -> Section:
-    """``FigS1``, ``FigScos3delta``, ``FigSh`` and the fit of b (``sum4``)."""
+    """``FigS1``, ``FigScos3delta``, ``FigSh`` and the fit of b (``sum4``).
+
+    Parameters
+    ----------
+    out : path-like
+        The report directory, which must exist; the figure files ``fig_*.png`` and ``fig_*.svg`` are
+        written there.
+    progress : callable
+        Called with a short message (str) before each expensive stage; ``lambda msg: None`` for silence.
+
+    Returns
+    -------
+    Section
+        The section (anchor ``"scaling"``) with three figures (``"figS1"``: the counting function of
+        the l = 4 lattice with its fitted line; ``"figScos3delta"``: cos 3δ against radius for l = 5;
+        ``"figSh"``: the formal operator A_h at three h) and the table ``"figS1_fit"`` (slope and b
+        beside the paper's b).
+
+    Raises
+    ------
+    ValueError
+        If ``out`` is not a path.
+
+    Examples
+    --------
+    The section takes several seconds; the argument check is immediate:
+
+    >>> from hyperlattice.report.sections import scaling_section
+    >>> scaling_section(42, print)
+    Traceback (most recent call last):
+        ...
+    ValueError: out must be a path, got 42.
+    """
     import matplotlib.pyplot as plt
 
     from ..compare.scaling import frame_angles
@@ -308,6 +515,43 @@ def green_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[s
     """``Fig3`` (l = 6 and l = 3 rows at both omega) and the rel-L2 / collapse table for l = 3..8 (or more).
 
     The l = 6 and l = 3 comparisons are computed once and serve both the figure and the table.
+
+    Parameters
+    ----------
+    cache : Cache
+        The result cache (:class:`~hyperlattice.cache.Cache`) for the expensive numbers.
+    max_rings : int
+        Largest number of rings of the report; the table covers l = 3 .. max(8, min(max_rings, 10)).
+    out : path-like
+        The report directory, which must exist; the figure files ``fig_*.png`` and ``fig_*.svg`` are
+        written there.
+    progress : callable
+        Called with a short message (str) before each expensive stage; ``lambda msg: None`` for silence.
+
+    Returns
+    -------
+    Section
+        The section (anchor ``"green"``) with the figures ``"fig3a"`` (ω = −2.95) and ``"fig3b"``
+        (ω = −2.5 + 0.1i), source site 10 on ring 2, and the table ``"fig3_green"`` (relative L²
+        distance, collapse numbers, m terms and tail estimate per l and ω).
+
+    Raises
+    ------
+    ValueError
+        If an argument has the wrong type (e.g. ``out`` is not a path).
+
+    Examples
+    --------
+    The section takes several seconds; the argument check is immediate:
+
+    >>> import tempfile
+    >>> from hyperlattice.cache import Cache
+    >>> from hyperlattice.report.sections import green_section
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     green_section(Cache(d), 8, 42, print)
+    Traceback (most recent call last):
+        ...
+    ValueError: out must be a path, got 42.
     """
     import matplotlib.pyplot as plt
 
@@ -355,8 +599,43 @@ def green_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[s
 
 
 def magnetic_section(out: Path, progress: Callable[[str], None], cache: Cache | None = None) -> Section:
-    """Beyond the paper: the l = 4 hyperbolic Hofstadter butterfly with the continuum
-    Dirichlet levels overlaid, and a short graph-vs-continuum table with flux (small and fast)."""
+    """Beyond the paper: the hyperbolic Hofstadter butterfly and a graph-vs-continuum table with flux.
+
+    The l = 4 butterfly (301 flux values) with the continuum Dirichlet levels overlaid, the error map
+    of the two lowest levels over (f, l) for l = 3..7, and a short table of the levels at
+    f = 0, 0.1, 0.2, 0.3 (small and fast).
+
+    Parameters
+    ----------
+    out : path-like
+        The report directory, which must exist; the figure files ``fig_*.png`` and ``fig_*.svg`` are
+        written there.
+    progress : callable
+        Called with a short message (str) before each expensive stage; ``lambda msg: None`` for silence.
+    cache : Cache, optional
+        Result cache for the butterfly and the comparison; computed afresh when None.
+
+    Returns
+    -------
+    Section
+        The section (anchor ``"magnetic"``, part ``"beyond"``) with the figures ``"butterfly"`` and
+        ``"magnetic_error"`` and the table ``"magnetic_levels"``.
+
+    Raises
+    ------
+    ValueError
+        If an argument has the wrong type (e.g. ``out`` is not a path).
+
+    Examples
+    --------
+    The section takes several seconds without a warm cache; the argument check is immediate:
+
+    >>> from hyperlattice.report.sections import magnetic_section
+    >>> magnetic_section(42, print)
+    Traceback (most recent call last):
+        ...
+    ValueError: out must be a path, got 42.
+    """
     import matplotlib.pyplot as plt
     import numpy as np
 
