@@ -17,8 +17,45 @@ _OMEGAS = (-3.8, -3.5, -3.2, -3.0, -2.95)
 
 
 def holography_section(out: Path, progress: Callable[[str], None]) -> Section:
-    """Boundary correlators of the massive scalar on l = 5..7 flakes: Δ_lattice vs Δ_continuum, the
-    lattice BF bound E0(l) against E_inf, one boundary correlator figure (about 3 s)."""
+    """Beyond the paper: boundary correlators of the massive scalar and the lattice BF bound.
+
+    Boundary correlators on l = 5..7 flakes: Δ_lattice vs Δ_continuum, the lattice BF bound E0(l)
+    against E_inf, one boundary correlator figure (about 3 s).
+
+    Parameters
+    ----------
+    out : path-like
+        The report directory, which must exist; the figure files ``fig_*.png`` and ``fig_*.svg`` are
+        written there.
+    progress : callable
+        Called with a short message (str) before each expensive stage; ``lambda msg: None`` for silence.
+
+    Returns
+    -------
+    Section
+        The section ``"Boundary correlators and the BF bound (holography)"`` (anchor
+        ``"holography"``, part ``"beyond"``) with the tables ``"boundary_delta"`` and ``"bf_bound"``
+        and the figure ``"holography"``.
+
+    Raises
+    ------
+    ValueError
+        If an argument has the wrong type (e.g. ``out`` is not a path).
+
+    See Also
+    --------
+    hyperlattice.compare.boundary.delta_curve, hyperlattice.compare.boundary.lattice_bf_bound
+
+    Examples
+    --------
+    The section takes about 3 s; the argument check is immediate:
+
+    >>> from hyperlattice.report.below_band import holography_section
+    >>> holography_section(42, print)
+    Traceback (most recent call last):
+        ...
+    ValueError: out must be a path, got 42.
+    """
     import matplotlib.pyplot as plt
     import numpy as np
 
@@ -69,8 +106,44 @@ def holography_section(out: Path, progress: Callable[[str], None]) -> Section:
 
 
 def qubits_section(out: Path, progress: Callable[[str], None]) -> Section:
-    """Circuit-QED qubits on the l = 6 flake: exact bound state vs leading order, size against detuning,
-    exchange J(d) graph vs continuum (about 3 s)."""
+    """Beyond the paper: circuit-QED qubits on the l = 6 flake.
+
+    Exact bound state vs leading order, size against detuning, exchange J(d) graph vs continuum
+    (about 1-3 s).
+
+    Parameters
+    ----------
+    out : path-like
+        The report directory, which must exist; the figure files ``fig_*.png`` and ``fig_*.svg`` are
+        written there.
+    progress : callable
+        Called with a short message (str) before each expensive stage; ``lambda msg: None`` for silence.
+
+    Returns
+    -------
+    Section
+        The section ``"Circuit-QED qubits below the band"`` (anchor ``"qubits"``, part ``"beyond"``)
+        with the tables ``"qubit_bound_state"`` and ``"qubit_exchange"`` and the figure ``"qubits"``.
+
+    Raises
+    ------
+    ValueError
+        If an argument has the wrong type (e.g. ``out`` is not a path).
+
+    See Also
+    --------
+    hyperlattice.graph.qubits.bound_state, hyperlattice.compare.qubits.exchange_comparison
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> from hyperlattice.report.below_band import qubits_section
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     s = qubits_section(Path(d), lambda msg: None)
+    >>> s.reference_line, [t.name for t in s.tables], [f.name for f in s.figures]
+    ('Builds on: Eq. (18), Eq. (19)', ['qubit_bound_state', 'qubit_exchange'], ['qubits'])
+    """
     import matplotlib.pyplot as plt
     import numpy as np
 
@@ -133,10 +206,52 @@ def delta_scaling(out=None, rings=DELTA_RINGS, omegas=_OMEGAS, bf_rings=BF_RINGS
     Regenerates the tables of ``docs/below-band.md``; ℓ = 12 (725,760 sites) needs about 2 GB and a
     minute or two.
 
+    Parameters
+    ----------
+    out : path-like, optional
+        Directory for the figure and the JSON file (created if needed); nothing is written when None
+        (the default).
+    rings : sequence of int, optional
+        Flakes of the Δ curves, each in 1..14 (default :data:`DELTA_RINGS`, l = 5..12).
+    omegas : sequence of float, optional
+        Frequencies ω below the band, in units of t (default -3.8, -3.5, -3.2, -3.0, -2.95).
+    bf_rings : sequence of int, optional
+        Flakes of the BF bound E0(ℓ), each in 1..14 (default :data:`BF_RINGS`, l = 3..12).
+    p, q : int, optional
+        The {p,q} lattice (default {7,3}).
+    progress : callable, optional
+        Called with one line (str) after each flake; silent when None.
+
     Returns
     -------
     dict
-        ``{"curves": [DeltaCurve.as_dict() ...], "bf": LatticeBFBound.as_dict(), "seconds": {...}}``.
+        ``{"curves": [DeltaCurve.as_dict() ...], "bf": LatticeBFBound.as_dict(), "seconds": {...}}``
+        (``seconds`` maps each ℓ, as a string, and ``"bf"`` to wall-clock times).
+
+    Raises
+    ------
+    ValueError
+        If the rings are not integers in 1..14, the frequencies not real, {p,q} not hyperbolic, or
+        ``out`` cannot be used as a directory (all checked before any computation).
+
+    See Also
+    --------
+    holography_section : the report's short version (l = 5..7).
+
+    Examples
+    --------
+    >>> from hyperlattice.report.below_band import delta_scaling
+    >>> data = delta_scaling(rings=(4,), omegas=(-3.5,), bf_rings=(3, 4))
+    >>> sorted(data), len(data["curves"]), sorted(data["seconds"])
+    (['bf', 'curves', 'seconds'], 1, ['4', 'bf'])
+    >>> round(data["curves"][0]["delta_lattice"]["data"][0], 3)
+    2.032
+    >>> [round(e, 6) for e in data["bf"]["e0"]["data"]]
+    [-2.786702, -2.846633]
+    >>> delta_scaling(rings=(0,))
+    Traceback (most recent call last):
+        ...
+    ValueError: rings must be a list of integers: rings must be at least 1, got 0.
     """
     import time
 

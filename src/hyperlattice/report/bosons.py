@@ -22,9 +22,46 @@ ED_T_OVER_U = (0.0, 0.02, 0.04, 0.06, 0.08, 0.1, 0.15, 0.2)
 
 
 def bosons_section(out: Path, progress: Callable[[str], None]) -> Section:
-    """Beyond the paper: Mott lobes (Gutzwiller mean field) of flakes, their continuum disks, a periodic
-    cluster and the infinite lattice; the Gross–Pitaevskii condensate and its Bogoliubov spectrum on
-    flakes against the continuum disk."""
+    """Beyond the paper: Mott lobes and the Gross–Pitaevskii condensate.
+
+    Mott lobes (Gutzwiller mean field) of flakes, their continuum disks, a periodic cluster and the
+    infinite lattice; the Gross–Pitaevskii condensate and its Bogoliubov spectrum on flakes against
+    the continuum disk.
+
+    Parameters
+    ----------
+    out : path-like
+        The report directory, which must exist; the figure files ``fig_*.png`` and ``fig_*.svg`` are
+        written there.
+    progress : callable
+        Called with a short message (str) before each expensive stage; ``lambda msg: None`` for silence.
+
+    Returns
+    -------
+    Section
+        The section ``"Interacting bosons"`` (anchor ``"bosons"``, part ``"beyond"``) with three
+        tables (lobes, Mott gaps, Gross–Pitaevskii) and their figures; its provenance line names the
+        stored flake levels behind ρ of the infinite lattice.
+
+    Raises
+    ------
+    ValueError
+        If an argument has the wrong type (e.g. ``out`` is not a path).
+
+    See Also
+    --------
+    hyperlattice.bosons.meanfield.mott_lobes, hyperlattice.compare.bosons.gp_comparison
+
+    Examples
+    --------
+    The section takes about a minute; the argument check is immediate:
+
+    >>> from hyperlattice.report.bosons import bosons_section
+    >>> bosons_section(42, print)
+    Traceback (most recent call last):
+        ...
+    ValueError: out must be a path, got 42.
+    """
     import matplotlib.pyplot as plt
 
     from ..bosons.meanfield import mott_lobes

@@ -21,8 +21,44 @@ REALIZATIONS_G = 8
 
 
 def disorder_section(out: Path, progress: Callable[[str], None]) -> Section:
-    """Beyond the paper: Anderson disorder on the l = 4 {7,3} flake: <r> against W (GOE -> Poisson), and
-    <G_0j(omega)> against the graph and continuum SCBA (Eq. (19) of the paper, ``eq21``, at the shifted frequency)."""
+    """Beyond the paper: Anderson disorder on the l = 4 {7,3} flake.
+
+    <r> against W (GOE -> Poisson), and <G_0j(omega)> against the graph and continuum SCBA (Eq. (19)
+    of the paper, ``eq21``, at the shifted frequency).
+
+    Parameters
+    ----------
+    out : path-like
+        The report directory, which must exist; the figure files ``fig_*.png`` and ``fig_*.svg`` are
+        written there.
+    progress : callable
+        Called with a short message (str) before each expensive stage; ``lambda msg: None`` for silence.
+
+    Returns
+    -------
+    Section
+        The section ``"Disorder"`` (anchor ``"disorder"``, part ``"beyond"``) with two tables (the
+        spacing ratios against W and the Green-function comparison) and their figures.
+
+    Raises
+    ------
+    ValueError
+        If an argument has the wrong type (e.g. ``out`` is not a path).
+
+    See Also
+    --------
+    hyperlattice.compare.disorder.r_scan, hyperlattice.compare.disorder.compare_scba
+
+    Examples
+    --------
+    The section takes a few seconds; the argument check is immediate:
+
+    >>> from hyperlattice.report.disorder import disorder_section
+    >>> disorder_section(42, print)
+    Traceback (most recent call last):
+        ...
+    ValueError: out must be a path, got 42.
+    """
     import matplotlib.pyplot as plt
 
     from ..compare.disorder import GOE_R, POISSON_R, compare_scba, green_ensemble, r_scan

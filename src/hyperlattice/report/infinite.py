@@ -22,7 +22,46 @@ def _f(x: float, digits: int = 4) -> str:
 
 
 def infinite_section(out: Path, progress: Callable[[str], None]) -> Section:
-    """Beyond the paper: the DOS figure, the convergence table and the band edges."""
+    """Beyond the paper: the DOS figure, the convergence table and the band edges.
+
+    The densities of states of periodic clusters, flake interiors, the Abelian DOS, the exact
+    closed-walk moments and the continuum (:func:`~hyperlattice.compare.dos.dos_comparison` with the
+    report's settings), with the proven band-bottom interval and quantile energies.
+
+    Parameters
+    ----------
+    out : path-like
+        The report directory, which must exist; the figure files ``fig_*.png`` and ``fig_*.svg`` are
+        written there.
+    progress : callable
+        Called with a short message (str) before each expensive stage; ``lambda msg: None`` for silence.
+
+    Returns
+    -------
+    Section
+        The section ``"The infinite lattice: densities of states and band edges"`` (anchor
+        ``"infinite"``, part ``"beyond"``) with the figure ``"dos_infinite"`` and two tables, the
+        convergence table and ``"band_edges"``.
+
+    Raises
+    ------
+    ValueError
+        If an argument has the wrong type (e.g. ``out`` is not a path).
+
+    See Also
+    --------
+    band_interval_sentence : compares its interval with the band-bottom section's.
+
+    Examples
+    --------
+    The section takes tens of seconds; the argument check is immediate:
+
+    >>> from hyperlattice.report.infinite import infinite_section
+    >>> infinite_section(42, print)
+    Traceback (most recent call last):
+        ...
+    ValueError: out must be a path, got 42.
+    """
     import matplotlib.pyplot as plt
 
     from ..compare.dos import dos_comparison
@@ -76,8 +115,41 @@ def infinite_section(out: Path, progress: Callable[[str], None]) -> Section:
 
 
 def band_interval_sentence(band_bottom: Section, infinite: Section) -> str:
-    """One sentence on why the band-bottom section and this one prove different intervals for −ρ of {7,3},
-    from the numbers in their tables (``band_bottom`` and ``band_edges``)."""
+    """One sentence on why two sections prove different intervals for −ρ of {7,3}.
+
+    The band-bottom section (:func:`~hyperlattice.report.limits.limits_section`) and the infinite-lattice
+    section (:func:`infinite_section`) bound −ρ by different methods; the sentence gives both intervals,
+    from the numbers in their tables (``band_bottom`` and ``band_edges``), and their intersection.
+
+    Parameters
+    ----------
+    band_bottom : Section
+        A section with a table ``"band_bottom"`` whose row starting with ``"{7,3}"`` has the columns
+        ``rigorous_lower``, ``rigorous_upper``, ``rings_fitted`` (``"a..b"``) and ``schur``.
+    infinite : Section
+        A section with a table ``"band_edges"`` whose first row has the columns ``interval_lower``
+        and ``interval_upper``.
+
+    Returns
+    -------
+    str
+        The sentence, appended to the infinite-lattice section by
+        :func:`~hyperlattice.report.reproduce`.
+
+    Examples
+    --------
+    Two hand-made sections with the tables it reads:
+
+    >>> from hyperlattice.report.infinite import band_interval_sentence
+    >>> from hyperlattice.report.writers import Section, Table
+    >>> band = Section("Band bottom", tables=[Table("band_bottom",
+    ...     ["lattice", "rigorous_lower", "rigorous_upper", "rings_fitted", "schur"],
+    ...     [["{7,3}", -2.9655, -2.9413, "3..14", "W = 8"]])])
+    >>> edges = Section("Infinite lattice", tables=[Table("band_edges",
+    ...     ["quantity", "interval_lower", "interval_upper"], [["band bottom", -2.9665, -2.9400]])])
+    >>> print(band_interval_sentence(band, edges))
+    Two proven intervals for the band bottom −ρ of {7,3} appear in this report, [-2.96550, -2.94130] in the band-bottom section and [-2.9665, -2.9400] here; ... Both hold, so −ρ lies in their intersection [-2.96550, -2.94130].
+    """
     band = next(t for t in band_bottom.tables if t.name == "band_bottom")
     row = dict(zip(band.columns, next(r for r in band.rows if r[0] == "{7,3}")))
     edges = next(t for t in infinite.tables if t.name == "band_edges")

@@ -85,6 +85,37 @@ def limits_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[
         Receives one-line progress messages.
     extra_levels : dict, optional
         ``{l: (E0, E1)}`` of larger flakes (l = 15, 16 of the sector-only solver), used as well.
+
+    Returns
+    -------
+    Section
+        The section "The band bottom, the plateau explained, an improved dictionary" (anchor
+        ``"band-bottom"``, part ``"beyond"``) with four tables (band bottom per lattice, fits,
+        plateau terms, dictionaries), one figure and the provenance of the stored levels.
+
+    Raises
+    ------
+    ValueError
+        If an argument has the wrong type (e.g. ``out`` is not a path).
+
+    See Also
+    --------
+    hyperlattice.compare.limits.band_bottom, hyperlattice.compare.limits.plateau_analysis,
+    hyperlattice.compare.limits.compare_dictionaries, hyperlattice.plots.limits.limits_figure
+
+    Examples
+    --------
+    The section takes tens of seconds (Schur bounds, all flakes up to ``max_rings``); the
+    argument check is immediate:
+
+    >>> import tempfile
+    >>> from hyperlattice.cache import Cache
+    >>> from hyperlattice.report.limits import limits_section
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     limits_section(Cache(d), 10, 42, print)
+    Traceback (most recent call last):
+        ...
+    ValueError: out must be a path, got 42.
     """
     ell, e0, e1, source = _levels_73(cache, max_rings, progress, extra_levels)
     progress("infinite lattice: band bottom and Schur bounds")
