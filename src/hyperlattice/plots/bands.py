@@ -26,6 +26,29 @@ def bands_and_dos(bands: Bands, dos: AbelianDOS | None = None, *, path=None) -> 
         From :func:`hyperlattice.graph.bands.abelian_dos` (same cell).
     path : str or Path, optional
         Write the figure there (the suffix chooses the format).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes (the bands, E / t against the path, with E = -q dotted) or, with ``dos``, two axes
+        sharing the energy axis (the DOS per site with its error band on the right).
+
+    Raises
+    ------
+    ValueError
+        If ``bands`` is not a ``Bands`` result or ``dos`` not an ``AbelianDOS``.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.plots.bands import bands_and_dos
+    >>> cell = hl.pbc_cluster(8, 3, "bolza")
+    >>> fig = bands_and_dos(hl.band_structure(cell, points=5),
+    ...                     hl.abelian_dos(cell, samples=40, bins=20, batches=4))
+    >>> len(fig.axes), fig.axes[1].get_title()
+    (2, '40 random k')
+    >>> plt.close("all")
     """
     import matplotlib.pyplot as plt
 
