@@ -207,7 +207,7 @@ def open_question_text(trends: list[RelativeErrorTrend], worst_residual: float |
     Parameters
     ----------
     trends : list of RelativeErrorTrend
-        The relative error (E_graph − E_cont)/|E_graph| of each level against l, from
+        The relative error ``(E_graph − E_cont)/|E_graph|`` of each level against l, from
         :func:`~hyperlattice.compare.levels.relative_error_trend`.
     worst_residual : float, optional
         Largest residual ‖Hψ − Eψ‖ of the graph eigenpairs; no introductory sentence when None.
