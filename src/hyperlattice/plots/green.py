@@ -27,10 +27,61 @@ def _axes(ax, size=(4.6, 4.4)):
 
 def plot_disk_map(lattice: Lattice, values, source: int | None = None, *, scale: float = 60.0,
                   radius: float | None = None, title: str | None = None, ax=None) -> Axes:
-    r"""``Fig3`` (left): dot at each site, area :math:`\propto |F_j|^{1/2}`, blue for :math:`F_j>0`,
-    red for :math:`F_j<0` (real part of complex values). The source (if given) is marked by a
-    black cross and left out of the size normalisation (the continuum value there is infinite);
-    ``radius`` draws the Dirichlet circle :math:`|z| = L`.
+    r"""``Fig3`` (left): a correlation map on the disk, one dot per site; returns the axes.
+
+    Dot area :math:`\propto |F_j|^{1/2}`, blue for :math:`F_j>0`, red for :math:`F_j<0` (real part of
+    complex values). The source (if given) is marked by a black cross and left out of the size
+    normalisation (the continuum value there is infinite); ``radius`` draws the Dirichlet circle
+    :math:`|z| = L`.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        The flake whose sites carry the values.
+    values : array_like
+        One value :math:`F_j` per site (real or complex; non-finite values are not drawn).
+    source : int, optional
+        Index of the source site, marked and left out; none when None.
+    scale : float, optional
+        Marker area (points²) of the largest value (default 60).
+    radius : float, optional
+        Euclidean radius L of a dashed Dirichlet circle; none when None.
+    title : str, optional
+        Axes title.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure and axes when None (the default).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes (equal aspect, no ticks) with the dots, the source cross, the unit circle and the
+        optional Dirichlet circle.
+
+    Raises
+    ------
+    ValueError
+        If ``values`` does not have one entry per site or ``source`` is not a site index.
+
+    See Also
+    --------
+    plot_fig3_row : graph and continuum maps with the distance profile.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.green import compare_green
+    >>> lat = hl.ring_lattice(7, 3, 3)
+    >>> cmp = compare_green(lat, -2.95, 10)
+    >>> from hyperlattice.plots.green import plot_disk_map
+    >>> ax = plot_disk_map(lat, cmp.graph, 10, title="graph")
+    >>> ax.get_title(), len(ax.collections)
+    ('graph', 1)
+    >>> plot_disk_map(lat, [1.0, 2.0])
+    Traceback (most recent call last):
+        ...
+    ValueError: values must have one entry per site (112).
+    >>> plt.close("all")
     """
     ax = _axes(ax)
     v = np.real(np.asarray(values))
@@ -69,6 +120,42 @@ def plot_distance_profile(comparison: GreenComparison, lattice: Lattice | None =
     The distances come from ``comparison.distance``; ``lattice`` is not needed (accepted so that
     older calls ``plot_distance_profile(comparison, lattice)`` keep working) and, when given,
     must have one site per entry of the comparison.
+
+    Parameters
+    ----------
+    comparison : GreenComparison
+        Graph and continuum Green-function columns, from
+        :func:`~hyperlattice.compare.green.compare_green`.
+    lattice : Lattice, optional
+        Ignored apart from the size check.
+    width : float, optional
+        Width of the distance bins; the default of
+        :func:`~hyperlattice.compare.correlation.bin_by_distance` when None.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure and axes when None (the default).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes with both binned profiles (error bars), a legend and a title naming {p,q}, l, ω and
+        the relative L2 distance.
+
+    Raises
+    ------
+    ValueError
+        If ``lattice`` does not have one site per entry of the comparison.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.green import compare_green
+    >>> lat = hl.ring_lattice(7, 3, 3)
+    >>> cmp = compare_green(lat, -2.95, 10)
+    >>> from hyperlattice.plots.green import plot_distance_profile
+    >>> print(plot_distance_profile(cmp).get_title())
+    {7,3}, $\ell$=3, $\omega$=-2.95+0j, rel. L2 = 0.143
+    >>> plt.close("all")
     """
     if lattice is not None and _validate.lattice(lattice).sites != comparison.distance.shape[0]:
         raise ValueError(f"the lattice has {lattice.sites} sites, the comparison {comparison.distance.shape[0]}.")
@@ -89,7 +176,32 @@ def plot_distance_profile(comparison: GreenComparison, lattice: Lattice | None =
 
 
 def plot_binned(binned: BinnedCorrelation, ax: Axes | None = None, **kwargs) -> Axes:
-    """Mean ± standard deviation (real part of the mean) of a :class:`BinnedCorrelation` against the bin centre."""
+    """Mean ± standard deviation (real part of the mean) of a :class:`BinnedCorrelation` against the bin centre.
+
+    Parameters
+    ----------
+    binned : BinnedCorrelation
+        Values binned by distance, from :func:`~hyperlattice.compare.correlation.bin_by_distance`.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure and axes when None (the default).
+    **kwargs
+        Passed on to :meth:`matplotlib.axes.Axes.errorbar` (defaults: circles, size 3.5, caps 2).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes with the error bars against the hyperbolic distance.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> from hyperlattice.compare.correlation import bin_by_distance
+    >>> from hyperlattice.plots.green import plot_binned
+    >>> ax = plot_binned(bin_by_distance([0.4, 0.6, 1.5], [1.0, 3.0, 5.0], width=1.0))
+    >>> ax.get_ylabel()
+    'binned mean'
+    >>> plt.close("all")
+    """
     ax = _axes(ax, size=(5.2, 3.8))
     opts = {"fmt": "o", "ms": 3.5, "capsize": 2, "lw": 0.9} | kwargs
     ax.errorbar(binned.centre, np.real(binned.mean), yerr=binned.std, **opts)
@@ -104,6 +216,35 @@ def plot_fig3_row(lattice: Lattice, omega, source: int = 10, *, axes: Sequence[A
 
     ``comparison`` is the :func:`~hyperlattice.compare.green.compare_green` result for these
     inputs if already computed (it is computed here otherwise).
+
+    Parameters
+    ----------
+    lattice : Lattice
+        A {p,q} flake.
+    omega : float or complex
+        Frequency ω (units of t).
+    source : int, optional
+        Index of the source site (default 10, a site on ring 2 as in the paper).
+    axes : sequence of three matplotlib.axes.Axes, optional
+        Where to draw; a new 12.5 x 4 inch row when None.
+    comparison : GreenComparison, optional
+        The comparison for these inputs, if already computed.
+
+    Returns
+    -------
+    sequence of matplotlib.axes.Axes
+        The three axes: :func:`plot_disk_map` of the graph column, of the continuum column (with the
+        Dirichlet circle), and :func:`plot_distance_profile`.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.plots.green import plot_fig3_row
+    >>> axes = plot_fig3_row(hl.ring_lattice(7, 3, 3), -2.95, 10)
+    >>> len(axes), axes[0].get_title()
+    (3, 'graph $G_{ij}$')
+    >>> plt.close("all")
     """
     from ..compare.green import compare_green
 

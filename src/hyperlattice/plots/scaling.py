@@ -26,7 +26,35 @@ def _axes(ax, size=(6.0, 4.2)) -> Axes:
 
 
 def draw_radial_profile(profile: RadialProfile, ax: Axes | None = None, *, label: str = r"mean over sites at equal $r$") -> Axes:
-    """Mean of a :class:`RadialProfile` against r; red bars span min..max where it is not unique."""
+    """Mean of a :class:`RadialProfile` against r; red bars span min..max where it is not unique.
+
+    Parameters
+    ----------
+    profile : RadialProfile
+        Site values averaged at equal radius, e.g. from
+        :func:`~hyperlattice.compare.scaling.angle_profile`.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure and axes when None (the default).
+    label : str, optional
+        Legend label of the means.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes with the means (circles) and, at radii where the sites disagree, red min..max bars.
+        Labels and legend are left to the caller.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.scaling import angle_profile
+    >>> from hyperlattice.plots.scaling import draw_radial_profile
+    >>> ax = draw_radial_profile(angle_profile(hl.ring_lattice(7, 3, 3)))
+    >>> print(ax.lines[0].get_label())
+    mean over sites at equal $r$
+    >>> plt.close("all")
+    """
     ax = _axes(ax)
     ax.plot(profile.r, profile.mean, "o", ms=3.5, color="C0", label=label)
     bad = ~profile.unique
@@ -43,6 +71,28 @@ def plot_frame_angles(lattice: Lattice | FrameAngles | None = None, ax: Axes | N
     entering ``adj36``) is plotted; red bars span min..max where sites of one radius
     disagree (the map :math:`r \mapsto \delta` is not unique). Default lattice: {7,3}, 5 rings.
     The profile is :func:`hyperlattice.compare.scaling.angle_profile`.
+
+    Parameters
+    ----------
+    lattice : Lattice or FrameAngles, optional
+        A flake, or its frame angles from :func:`~hyperlattice.compare.scaling.frame_angles`; the
+        5-ring {7,3} flake when None.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure and axes when None (the default).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes with the profile, a legend and a title naming {p,q} and the sites.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.plots.scaling import plot_frame_angles
+    >>> print(plot_frame_angles(hl.ring_lattice(7, 3, 3)).get_title())
+    $\{7,3\}$, 112 sites
+    >>> plt.close("all")
     """
     ax = _axes(ax)
     angles = lattice if isinstance(lattice, FrameAngles) else frame_angles(
@@ -64,6 +114,33 @@ def draw_operator_profile(profile: OperatorProfile, ax: Axes | None = None) -> A
     Circles: ``adj34``; squares: cubic approximation (adj36); line: quadratic (adj35),
     all averaged over fully coordinated sites of equal radius (the quadratic one as a curve in r
     when f is radial).
+
+    Parameters
+    ----------
+    profile : OperatorProfile
+        From :func:`~hyperlattice.compare.scaling.operator_profile`.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure and axes when None (the default).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes with the three curves, a legend and a title naming f and h.
+
+    See Also
+    --------
+    plot_formal_operator : computes the profile and draws it.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.scaling import operator_profile
+    >>> from hyperlattice.plots.scaling import draw_operator_profile
+    >>> ax = draw_operator_profile(operator_profile(hl.ring_lattice(7, 3, 3)))
+    >>> ax.get_title(), len(ax.lines)
+    ('f = cos(pi d(z,0)),  h = 0.275798', 3)
+    >>> plt.close("all")
     """
     ax = _axes(ax)
     if profile.curve_distance is not None:
@@ -88,6 +165,31 @@ def plot_formal_operator(lattice: Lattice | FrameAngles | None = None, h: float 
 
     Default {7,3}, 5 rings, :math:`f = \cos[\pi d(r,0)]`, h the lattice value. The numbers are
     :func:`hyperlattice.compare.scaling.operator_profile`; see :func:`draw_operator_profile`.
+
+    Parameters
+    ----------
+    lattice : Lattice or FrameAngles, optional
+        A flake or its frame angles; the 5-ring {7,3} flake when None.
+    h : float, optional
+        The parameter h of the formal operator; the lattice's h = tanh(d0) when None.
+    f : SmoothFunction, optional
+        The test function; :math:`\cos[\pi d(z,0)]` when None.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure and axes when None (the default).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes of :func:`draw_operator_profile`.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.plots.scaling import plot_formal_operator
+    >>> plot_formal_operator(hl.ring_lattice(7, 3, 3), h=0.15).get_title()
+    'f = cos(pi d(z,0)),  h = 0.15'
+    >>> plt.close("all")
     """
     angles = lattice if isinstance(lattice, FrameAngles) else frame_angles(
         lattice if lattice is not None else ring_lattice(7, 3, 5))
@@ -95,8 +197,35 @@ def plot_formal_operator(lattice: Lattice | FrameAngles | None = None, h: float 
 
 
 def plot_convergence(study: ConvergenceStudy, ax: Axes | None = None) -> Axes:
-    r"""Errors of the order-k approximations of :math:`\hat A_h` against h (log-log), one line
-    per order, each with a dashed line of its expected power through its last point."""
+    r"""Errors of the order-k approximations of :math:`\hat A_h` against h (log-log); returns the axes.
+
+    One line per order, each with a dashed line of its expected power through its last point.
+
+    Parameters
+    ----------
+    study : ConvergenceStudy
+        From :func:`~hyperlattice.compare.scaling.convergence_study`.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure and axes when None (the default).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes with two lines per order (measured errors with their fitted exponent; expected power)
+        and a legend.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.scaling import SmoothFunction, convergence_study
+    >>> from hyperlattice.plots.scaling import plot_convergence
+    >>> study = convergence_study(hl.ring_lattice(7, 3, 3), SmoothFunction.exp_x())
+    >>> ax = plot_convergence(study)
+    >>> ax.get_xscale(), len(ax.lines)
+    ('log', 6)
+    >>> plt.close("all")
+    """
     ax = _axes(ax)
     h = study.h
     for i, (k, err) in enumerate(study.errors.items()):
@@ -118,6 +247,29 @@ def plot_counting(lattice: Lattice | CountingFit | None = None, ax: Axes | None 
 
     Given a :class:`~hyperlattice.compare.sums.CountingFit`, draws its own points (one per
     distinct radius of its window) instead of the staircase of every site.
+
+    Parameters
+    ----------
+    lattice : Lattice or CountingFit, optional
+        A flake (the staircase of all its sites and a fresh fit), or a fit from
+        :func:`~hyperlattice.compare.sums.fit_counting`; the 4-ring {7,3} flake when None.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure and axes when None (the default).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes with the staircase, the fitted line, the line of the expected slope through the same
+        intercept, and a legend; :math:`\rho = (1 + r^2)/(1 - r^2)` on the horizontal axis.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.plots.scaling import plot_counting
+    >>> print(plot_counting(hl.ring_lattice(7, 3, 3)).get_title())
+    $\{7,3\}$, $\ell=3$ (112 sites)
+    >>> plt.close("all")
     """
     ax = _axes(ax)
     if isinstance(lattice, CountingFit):
