@@ -12,7 +12,40 @@ if TYPE_CHECKING:
 
 
 def new_axes(ax: Axes | None = None, size=(6.0, 4.2)) -> Axes:
-    """Return ``ax``, or a fresh axes of ``size`` inches (constrained layout) when it is None."""
+    """Return ``ax``, or a fresh axes of ``size`` inches (constrained layout) when it is None.
+
+    Every plotting function starts with it, so that ``ax=None`` means a new figure.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; returned as it is.
+    size : tuple of float, optional
+        Width and height in inches of a new figure (default 6 x 4.2); used only when ``ax`` is None.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        ``ax``, or the axes of a new figure.
+
+    Raises
+    ------
+    ValueError
+        If ``ax`` is not a matplotlib Axes, or ``size`` is not two positive numbers.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> from hyperlattice.plots import new_axes
+    >>> ax = new_axes(size=(3, 2))
+    >>> ax.figure.get_size_inches().tolist(), new_axes(ax) is ax
+    ([3.0, 2.0], True)
+    >>> new_axes(size=(0, 2))
+    Traceback (most recent call last):
+        ...
+    ValueError: size must be two positive numbers (width, height in inches).
+    >>> plt.close("all")
+    """
     if ax is not None and not (hasattr(ax, "plot") and hasattr(ax, "figure")):
         raise ValueError(f"ax must be a matplotlib Axes (or None for a new figure), got {type(ax).__name__}.")
     if ax is None:
