@@ -90,9 +90,9 @@ def plot_bf_bound(bf: LatticeBFBound, ax: Axes | None = None) -> Axes:
 
 
 def plot_exchange(ex: ExchangeComparison, ax: Axes | None = None) -> Axes:
-    """|J| against hyperbolic distance (log axis): graph points, binned means, and the continuum.
+    """``|J|`` against hyperbolic distance (log axis): graph points, binned means, and the continuum.
 
-    J can change sign (the continuum's does near the disk edge): |J| is drawn, negative values with
+    J can change sign (the continuum's does near the disk edge): ``|J|`` is drawn, negative values with
     open markers (graph) or a dashed line (continuum), so that nothing drops off the log axis unseen.
     """
     from ..paper_labels import cite
