@@ -160,16 +160,17 @@ def _symbolic_kernel():
     import numba
 
     @numba.njit(cache=True)
-    def counts(n, ap, ai):                     # pragma: no cover - compiled
-        # Liu's row-subtree walk: for each column k, every i < k of its pattern climbs the
-        # elimination tree until a node already marked for k; each step is one entry L[k, i]
+    def counts(n, ap, ai, perm, iperm):        # pragma: no cover - compiled
+        # Liu's row-subtree walk on P A P^T: for each column k, every i < k of its pattern climbs
+        # the elimination tree until a node already marked for k; each step is one entry L[k, i]
         parent = np.full(n, -1, np.int64)
         flag = np.empty(n, np.int64)
         colcount = np.ones(n, np.int64)
         for k in range(n):
             flag[k] = k
-            for p in range(ap[k], ap[k + 1]):
-                i = ai[p]
+            c = perm[k]
+            for p in range(ap[c], ap[c + 1]):
+                i = iperm[ai[p]]
                 if i < k:
                     while flag[i] != k:
                         if parent[i] == -1:
@@ -189,14 +190,9 @@ def _factor_counts(pattern: sp.csc_matrix, perm: np.ndarray) -> tuple[int, float
     perm = np.asarray(perm, dtype=np.int64)
     iperm = np.empty(n, dtype=np.int64)
     iperm[perm] = np.arange(n, dtype=np.int64)
-    # P A P^T of the symmetric pattern without scipy's fancy indexing: column k of the result is
-    # column perm[k] of A with its rows renamed by iperm (the kernel needs no sorted rows)
-    start = pattern.indptr[perm].astype(np.int64)
-    count = (pattern.indptr[perm + 1] - pattern.indptr[perm]).astype(np.int64)
-    indptr = np.concatenate([[0], np.cumsum(count)])
-    gather = np.repeat(start - indptr[:-1], count) + np.arange(int(indptr[-1]), dtype=np.int64)
-    indices = iperm[pattern.indices[gather]]
-    cc = _symbolic_kernel()(n, indptr, indices).astype(np.float64)
+    # the kernel reads column perm[k] of A with its rows renamed by iperm as column k of P A P^T:
+    # no permuted copy is made (it needs no sorted rows)
+    cc = _symbolic_kernel()(n, pattern.indptr, pattern.indices, perm, iperm).astype(np.float64)
     return int(cc.sum()), float(np.einsum("i,i->", cc, cc))
 
 
@@ -244,8 +240,12 @@ def _shift(value):
 def _with_diagonal(mat: sp.csc_matrix) -> sp.csc_matrix:
     """The matrix with every diagonal entry stored, explicit zeros kept (every shift has one pattern)."""
     n = mat.shape[0]
+    # canonical (sorted indices, no duplicates) with every diagonal entry stored already, as the
+    # blocks the package builds for the analysis: a copy is all that is needed
+    canonical = mat.has_canonical_format
     mat = mat.copy()
-    mat.sum_duplicates()                  # canonical: sorted indices, no duplicates
+    if not canonical:
+        mat.sum_duplicates()
     cols = np.repeat(np.arange(n, dtype=np.int64), np.diff(mat.indptr))
     on_diag = mat.indices == cols
     missing = np.ones(n, dtype=bool)
