@@ -44,6 +44,7 @@ from __future__ import annotations
 
 import math
 import time
+import weakref
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
@@ -342,7 +343,7 @@ class _RingFit:
     """
 
     def __init__(self, lat: Lattice, source: int, ring: np.ndarray, depth: int) -> None:
-        self.lat, self.source, self.ring, self.depth = lat, source, ring, depth
+        self.source, self.ring, self.depth = source, ring, depth      # no reference to lat: see _ring_fit
         self.theta = np.angle(lat.z[ring] * np.conj(lat.z[source]))
         self.eps = one_minus_abs2(lat.z[ring])
         self.keep = ring != source
@@ -433,6 +434,29 @@ class _RingFit:
         return delta, se, beta, self.windows[self.depth][0], n, max(shifts) if shifts else 0.0
 
 
+#: the omega-independent fit geometry per lattice (held weakly by it) and per (source, depth), at
+#: most _FIT_CACHE sources per lattice: a second correlator of the same source (another omega, a
+#: Delta curve) skips the angles, covariates and window solvers (about 10 ms at l = 10)
+_FITS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+_FIT_CACHE = 8
+
+
+def _ring_fit(lat: Lattice, source: int, ring: np.ndarray, depth: int) -> _RingFit:
+    """The :class:`_RingFit` of (lat, source, depth), built once and kept while the lattice lives."""
+    try:
+        fits = _FITS.setdefault(lat, {})
+    except TypeError:               # pragma: no cover - a lattice that cannot be weakly referenced
+        return _RingFit(lat, source, ring, depth)
+    key = (source, depth)
+    fit = fits.pop(key, None)
+    if fit is None:
+        fit = _RingFit(lat, source, ring, depth)
+    fits[key] = fit                 # most recent last
+    while len(fits) > _FIT_CACHE:
+        fits.pop(next(iter(fits)))
+    return fit
+
+
 def boundary_correlator(lattice: Lattice, omega, source: int | None = None, *, depth: int = 2,
                         resolvent: BelowBandResolvent | None = None, continuum: bool = True,
                         continuum_disk: str = "whole") -> BoundaryCorrelator:
@@ -490,7 +514,7 @@ def _boundary_correlator(lat, omega, source, ring, depth, res, continuum, contin
     """:func:`boundary_correlator` after its checks; ``fit`` reuses the omega-independent part of the fits."""
     g = res.column(omega, source)[ring]
     if fit is None:
-        fit = _RingFit(lat, source, ring, depth)
+        fit = _ring_fit(lat, source, ring, depth)
     theta = fit.theta
     delta, se, beta, thmin, n, sysw = fit.fit_with_window(g)
     lam = float(lambda_from_energy(omega, lat.p, lat.q))
@@ -559,10 +583,12 @@ def delta_curve(lattice: Lattice, omegas, *, source: int | None = None, depth: i
     depth = _depth(depth)
     ring = outer_ring(lat)
     src = _outer_source(lat, ring, source, depth)
-    fit = _RingFit(lat, src, ring, depth)            # the omega-independent part, once for all masses
+    fit = _ring_fit(lat, src, ring, depth)           # the omega-independent part, once for all masses
     for k, w in enumerate(om):
-        bc = _boundary_correlator(lat, _real_omega("omega", float(w)), src, ring, depth, res, False, "whole", fit)
-        dl[k], de[k], dc[k] = bc.delta_lattice, bc.delta_lattice_err, bc.delta_continuum
+        # what boundary_correlator computes for Delta, without building its result object per mass
+        w = _real_omega("omega", float(w))
+        delta, se, _, _, _, sysw = fit.fit_with_window(res.column(w, src)[ring])
+        dl[k], de[k], dc[k] = delta, math.hypot(se, sysw), _delta_continuum(w, lat.p, lat.q)
     return DeltaCurve(p=lat.p, q=lat.q, rings=lat.rings, source=src, depth=_depth(depth), omegas=om,
                       mass2=np.asarray(mass2_from_omega(om, lat.p, lat.q), float).reshape(om.shape),
                       delta_continuum=dc, delta_lattice=dl, delta_lattice_err=de,

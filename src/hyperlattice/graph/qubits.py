@@ -149,7 +149,7 @@ class BelowBandResolvent:
     @property
     def H(self) -> sp.csc_matrix:
         """:math:`H = -tA` (CSC, float64), built once per lattice and hopping."""
-        return self._structure.hamiltonian()
+        return self._structure.hamiltonian(self.lattice)
 
     @property
     def _no_mirror(self) -> set:
@@ -218,7 +218,7 @@ class BelowBandResolvent:
                 return m
         if self.n < _MIRROR_MIN:
             return None
-        block = self._structure.mirror(source)
+        block = self._structure.mirror(self.lattice, source)
         if block is None:
             return None
         m = _MirrorEven(block, self.backend)
@@ -233,13 +233,14 @@ class _Structure:
     the solves start from, like the H handed to a plain sparse solver: building them again for
     every resolvent (a new frequency list, a new call of ``boundary_correlator``) was 60 % of a
     one-source column at l = 10. The symbolic analysis and the factors are *not* kept here: they
-    belong to one resolvent and one backend. Held weakly by the lattice (a frozen object).
+    belong to one resolvent and one backend. Held weakly by the lattice (a frozen object); it holds
+    no reference back to it, so a lattice and its structure are freed together.
     """
 
     _cache: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
-    def __init__(self, lat: Lattice, t: float) -> None:
-        self.lattice, self.t = lat, t
+    def __init__(self, t: float) -> None:
+        self.t = t
         self._H = None
         self.mirrors = []           # _MirrorBlock found so far
         self.no_mirror = set()      # sources known to lie on no mirror axis
@@ -250,25 +251,25 @@ class _Structure:
         try:
             per_t = cls._cache.setdefault(lat, {})
         except TypeError:           # pragma: no cover - a lattice that cannot be weakly referenced
-            return cls(lat, t)
+            return cls(t)
         if t not in per_t:
-            per_t[t] = cls(lat, t)
+            per_t[t] = cls(t)
         return per_t[t]
 
-    def hamiltonian(self) -> sp.csc_matrix:
+    def hamiltonian(self, lat: Lattice) -> sp.csc_matrix:
         if self._H is None:
-            H = hamiltonian(self.lattice, t=self.t).tocsc().astype(float)
+            H = hamiltonian(lat, t=self.t).tocsc().astype(float)
             H.sort_indices()
             self._H = H
         return self._H
 
-    def mirror(self, source: int) -> "_MirrorBlock | None":
+    def mirror(self, lat: Lattice, source: int) -> "_MirrorBlock | None":
         for m in self.mirrors:
             if m.perm[source] == source:
                 return m
         if source in self.no_mirror:
             return None
-        m = _MirrorBlock.find(self, source)
+        m = _MirrorBlock.find(self, lat, source)
         if m is None:
             self.no_mirror.add(source)
             return None
@@ -340,9 +341,8 @@ class _MirrorBlock:
         self.what = what
 
     @classmethod
-    def find(cls, st: "_Structure", source: int) -> "_MirrorBlock | None":
+    def find(cls, st: "_Structure", lat: Lattice, source: int) -> "_MirrorBlock | None":
         """The reflection through the axis of ``source`` when it is a symmetry of the graph, else None."""
-        lat = st.lattice
         z = np.asarray(lat.z)
         zj = complex(z[source])
         if abs(zj) == 0.0:
@@ -367,7 +367,7 @@ class _MirrorBlock:
         # every edge maps onto an edge of H (a bijection of the sites mapping the E edges into the E
         # edges maps them onto): the nonzeros of the CSC H, keyed column * n + row, are sorted
         e = np.asarray(lat.edges, dtype=np.int64)
-        H = st.hamiltonian()
+        H = st.hamiltonian(lat)
         keys = np.repeat(np.arange(n, dtype=np.int64), np.diff(H.indptr)) * n + H.indices
         mapped = perm[e[:, 1]] * n + perm[e[:, 0]]
         at = np.minimum(np.searchsorted(keys, mapped), keys.shape[0] - 1)
