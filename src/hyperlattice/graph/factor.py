@@ -246,6 +246,8 @@ def _with_diagonal(mat: sp.csc_matrix) -> sp.csc_matrix:
     mat = mat.copy()
     if not canonical:
         mat.sum_duplicates()
+    if mat.nnz and not np.iscomplexobj(mat.data) and np.all(_diag_kernel()(mat.indptr, mat.indices) >= 0):
+        return mat
     cols = np.repeat(np.arange(n, dtype=np.int64), np.diff(mat.indptr))
     on_diag = mat.indices == cols
     missing = np.ones(n, dtype=bool)
@@ -394,12 +396,31 @@ class SymbolicAnalysis:
 _DIAG_CACHE: dict = {}
 
 
+def _diag_kernel():
+    """Numba scan: position of the diagonal entry of every column of a CSC pattern, -1 when absent."""
+    if "diag" in _SYMBOLIC:
+        return _SYMBOLIC["diag"]
+    import numba
+
+    @numba.njit(cache=True)
+    def diag(indptr, indices):                 # pragma: no cover - compiled
+        n = indptr.shape[0] - 1
+        pos = np.full(n, -1, np.int64)
+        for k in range(n):
+            for p in range(indptr[k], indptr[k + 1]):
+                if indices[p] == k:
+                    pos[k] = p
+                    break
+        return pos
+
+    _SYMBOLIC["diag"] = diag
+    return diag
+
+
 def _diag_positions(mat: sp.csc_matrix) -> np.ndarray:
-    """Positions of the diagonal entries in ``mat.data`` (every diagonal entry is stored)."""
-    n = mat.shape[0]
-    cols = np.repeat(np.arange(n), np.diff(mat.indptr))
-    pos = np.flatnonzero(mat.indices == cols)
-    if pos.shape[0] != n:  # pragma: no cover - _with_diagonal stores every diagonal entry
+    """Positions of the diagonal entries in ``mat.data`` (every diagonal entry is stored, once)."""
+    pos = _diag_kernel()(mat.indptr, mat.indices)
+    if np.any(pos < 0):  # pragma: no cover - _with_diagonal stores every diagonal entry
         raise FactorizationError("internal: the analysed pattern lacks diagonal entries.")
     return pos
 
