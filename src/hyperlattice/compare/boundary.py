@@ -363,6 +363,8 @@ class _RingFit:
             n = int(np.count_nonzero((s_sorted >= math.sin(0.5 * thmin)) & (s_sorted > 0)))
             self.windows[d] = [thmin, n, None]
         self.n_max = max((w[1] for w in self.windows.values()), default=0)
+        #: the outer-ring sites the fits read, in their order (a Delta curve reads the column there only)
+        self.fit_sites = ring[self.keep][self.order][:self.n_max]
         log_s = np.log(np.where(s_sorted[:self.n_max] > 0, s_sorted[:self.n_max], 1.0))
         log_e = np.log(np.where(e_sorted[:self.n_max] > 0, e_sorted[:self.n_max], 1.0))
         X_all = np.column_stack([np.ones(self.n_max), -2.0 * log_s, log_e])
@@ -410,9 +412,12 @@ class _RingFit:
         beta = float(coef[2]) if X.shape[1] == 3 else math.nan
         return float(coef[1]), float(math.sqrt(max(var, 0.0))), n, float(math.exp(coef[0])), beta
 
-    def fit_with_window(self, g: np.ndarray) -> tuple[float, float, float, float, int, float]:
-        """(delta, stderr, beta, theta_min, pairs, window systematic) from the outer-ring column ``g``."""
-        v = g[self.keep][self.order][:self.n_max]
+    def fit_with_window(self, g: np.ndarray, *, sorted_: bool = False) -> tuple[float, float, float, float, int, float]:
+        """(delta, stderr, beta, theta_min, pairs, window systematic) from the outer-ring column ``g``.
+
+        ``sorted_``: ``g`` holds only the values at :attr:`fit_sites`, in that order (what the fits read).
+        """
+        v = g if sorted_ else g[self.keep][self.order][:self.n_max]
         bad = np.flatnonzero(~(v > 0))
         first_bad = int(bad[0]) if bad.size else v.shape[0]
         y = np.log(np.where(v > 0, v, 1.0))
@@ -587,7 +592,7 @@ def delta_curve(lattice: Lattice, omegas, *, source: int | None = None, depth: i
     for k, w in enumerate(om):
         # what boundary_correlator computes for Delta, without building its result object per mass
         w = _real_omega("omega", float(w))
-        delta, se, _, _, _, sysw = fit.fit_with_window(res.column(w, src)[ring])
+        delta, se, _, _, _, sysw = fit.fit_with_window(res._column_at(w, src, fit.fit_sites), sorted_=True)
         dl[k], de[k], dc[k] = delta, math.hypot(se, sysw), _delta_continuum(w, lat.p, lat.q)
     return DeltaCurve(p=lat.p, q=lat.q, rings=lat.rings, source=src, depth=_depth(depth), omegas=om,
                       mass2=np.asarray(mass2_from_omega(om, lat.p, lat.q), float).reshape(om.shape),

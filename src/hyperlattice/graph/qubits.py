@@ -198,14 +198,20 @@ class BelowBandResolvent:
         r"""One column :math:`G_{\cdot j}(\omega)`, shape ``(N,)`` (mirror-even block when j is on a mirror axis)."""
         source = _validate.site_index("source", source, self.n)
         omega = _real_omega("omega", omega)
+        return self._column_at(omega, source, None)
+
+    def _column_at(self, omega: float, source: int, sites: np.ndarray | None) -> np.ndarray:
+        """:meth:`column` after its checks, read back at ``sites`` only (all sites for None)."""
         mirror = self._mirror(source)
         if mirror is None:
-            return self.columns(omega, [source])[:, 0]
+            out = self.columns(omega, [source])[:, 0]
+            return out if sites is None else out[sites]
         f = mirror.factor(omega, self)
         rhs = np.zeros(mirror.dim)
         rhs[mirror.cls[source]] = 1.0
         x = f.solve(rhs)
-        out = mirror.weight * x[mirror.cls]
+        out = (mirror.weight * x[mirror.cls] if sites is None
+               else mirror.weight[sites] * x[mirror.cls[sites]])
         if not np.all(np.isfinite(out)):
             raise ValueError(f"omega = {omega}: the solve overflowed (omega within rounding of E0).")
         self.route = f"{f.backend} {f.kind} of the mirror-even block ({mirror.dim:,} of {self.n:,} rows)"
