@@ -210,7 +210,8 @@ def _as_square(mat, what: str, name: str = "mat") -> sp.csc_matrix:
         raise ValueError(f"{name} ({what}) must be a non-empty square matrix, got shape {mat.shape}.")
     if mat.dtype.kind not in "biufc":
         raise ValueError(f"{name} ({what}) must hold numbers, got dtype {mat.dtype}.")
-    mat = sp.csc_matrix(mat)
+    if type(mat) is not sp.csc_matrix:
+        mat = sp.csc_matrix(mat)      # a CSC matrix is kept as it is: its format flags stay known
     if mat.dtype not in (np.float64, np.complex128):
         mat = mat.astype(np.complex128 if np.iscomplexobj(mat.data) else np.float64)
     if not np.all(np.isfinite(mat.data)):
