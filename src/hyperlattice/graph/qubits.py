@@ -94,7 +94,9 @@ class BelowBandResolvent:
     method : {"auto", "cholmod", "superlu"}
         The factorisation backend of :mod:`hyperlattice.graph.factor` (``"auto"``: CHOLMOD when
         installed, else SuperLU; ``"ldl"``, the former default, means ``"auto"``). The symbolic
-        analysis is done once per lattice; every :math:`\omega` costs one numeric factorisation.
+        analysis is done once per resolvent; every :math:`\omega` costs one numeric factorisation.
+        H and the mirror-even blocks are built once per lattice and hopping and shared by all its
+        resolvents (held weakly by the lattice).
 
     Notes
     -----
