@@ -123,6 +123,45 @@ def test_delta_curve_and_roundtrip():
     assert np.array_equal(back.graph, bc.graph) and back.summary() == bc.summary()
 
 
+def test_delta_curve_is_boundary_correlator_per_mass_and_caches_are_per_lattice():
+    # delta_curve skips the result object per mass and reuses the fit geometry: the same numbers
+    # as one boundary_correlator per frequency (to rounding: SuperLU reuses its first column order
+    # for the later shifts, a fresh resolvent computes it again)
+    import gc
+    import weakref
+
+    from hyperlattice.graph import qubits
+
+    lat = ring_lattice(7, 3, 7)                 # large enough for the mirror-even block
+    omegas = [-3.6, -3.1, -2.95]
+    curve = cb.delta_curve(lat, omegas)
+    for k, w in enumerate(omegas):
+        bc = cb.boundary_correlator(lat, w, continuum=False)
+        assert curve.delta_lattice[k] == pytest.approx(bc.delta_lattice, rel=1e-12, abs=0)
+        assert curve.delta_lattice_err[k] == pytest.approx(bc.delta_lattice_err, rel=1e-9, abs=0)
+        assert curve.delta_continuum[k] == bc.delta_continuum or math.isnan(bc.delta_continuum)
+    # the fit geometry of a source is kept (bounded) while its lattice lives
+    ring = cb.outer_ring(lat)
+    for j in ring[:cb._FIT_CACHE + 3]:
+        assert cb._ring_fit(lat, int(j), ring, 2) is cb._ring_fit(lat, int(j), ring, 2)
+    assert len(cb._FITS[lat]) == cb._FIT_CACHE
+    # H and the mirror-even blocks are shared by the resolvents of one lattice, the factors are not
+    a, b = BelowBandResolvent(lat), BelowBandResolvent(lat, method="superlu")
+    j = int(ring[0])
+    xa, xb = a.column(-3.3, j), b.column(-3.3, j)
+    assert np.max(np.abs(xa / xb - 1)) < 1e-11
+    assert a.H is b.H and a._mirrors[0].structure is b._mirrors[0].structure
+    assert a._mirrors[0]._factor is not b._mirrors[0]._factor and b._mirrors[0]._factor.backend == "superlu"
+    assert BelowBandResolvent(lat, t=2.0).H is not a.H
+    np.testing.assert_allclose(BelowBandResolvent(lat, t=2.0).column(-6.6, j), xa / 2, rtol=1e-12)
+    # ... and freed with it (the caches hold no reference back to the lattice)
+    ref = weakref.ref(lat)
+    del lat, a, b, curve, bc
+    gc.collect()
+    assert ref() is None
+    assert all(r is not None for r in qubits._Structure._cache.keys()) and ref() not in cb._FITS
+
+
 def test_lattice_bf_bound_above_continuum():
     bf = cb.lattice_bf_bound(7, 3, (3, 4, 5, 6))
     assert np.all(np.diff(bf.e0) < 0)                       # moves down with l

@@ -67,7 +67,7 @@ _ROMAN = ("I", "II", "III", "IV", "V", "VI", "VII", "VIII", "IX", "X")
 
 
 def cite(*labels: str) -> str:
-    """The printed references of TeX ``labels``, joined with ", ".
+    """The printed references of TeX ``labels``, joined with a comma.
 
     ``cite("eq21", "Fig3")`` is ``"Eq. (19), Fig. 4"``.
 

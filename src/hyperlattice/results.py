@@ -50,6 +50,7 @@ This module imports only numpy: every layer may use it.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import hashlib
 import importlib
 import json
@@ -826,7 +827,10 @@ def _type_error(name: str, v, hint) -> str | None:
     return None
 
 
+@functools.lru_cache(maxsize=None)
 def _hints(cls) -> dict:
+    # once per class: get_type_hints evaluates every annotation (about 1 ms for a result type),
+    # and results are made in loops (one per mass, per source, per omega)
     try:
         return typing.get_type_hints(cls)
     except Exception:  # pragma: no cover - forward references that cannot be resolved

@@ -44,6 +44,7 @@ from __future__ import annotations
 
 import math
 import time
+import weakref
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -419,7 +420,7 @@ class _RingFit:
     """
 
     def __init__(self, lat: Lattice, source: int, ring: np.ndarray, depth: int) -> None:
-        self.lat, self.source, self.ring, self.depth = lat, source, ring, depth
+        self.source, self.ring, self.depth = source, ring, depth      # no reference to lat: see _ring_fit
         self.theta = np.angle(lat.z[ring] * np.conj(lat.z[source]))
         self.eps = one_minus_abs2(lat.z[ring])
         self.keep = ring != source
@@ -439,6 +440,8 @@ class _RingFit:
             n = int(np.count_nonzero((s_sorted >= math.sin(0.5 * thmin)) & (s_sorted > 0)))
             self.windows[d] = [thmin, n, None]
         self.n_max = max((w[1] for w in self.windows.values()), default=0)
+        #: the outer-ring sites the fits read, in their order (a Delta curve reads the column there only)
+        self.fit_sites = ring[self.keep][self.order][:self.n_max]
         log_s = np.log(np.where(s_sorted[:self.n_max] > 0, s_sorted[:self.n_max], 1.0))
         log_e = np.log(np.where(e_sorted[:self.n_max] > 0, e_sorted[:self.n_max], 1.0))
         X_all = np.column_stack([np.ones(self.n_max), -2.0 * log_s, log_e])
@@ -486,9 +489,12 @@ class _RingFit:
         beta = float(coef[2]) if X.shape[1] == 3 else math.nan
         return float(coef[1]), float(math.sqrt(max(var, 0.0))), n, float(math.exp(coef[0])), beta
 
-    def fit_with_window(self, g: np.ndarray) -> tuple[float, float, float, float, int, float]:
-        """(delta, stderr, beta, theta_min, pairs, window systematic) from the outer-ring column ``g``."""
-        v = g[self.keep][self.order][:self.n_max]
+    def fit_with_window(self, g: np.ndarray, *, sorted_: bool = False) -> tuple[float, float, float, float, int, float]:
+        """(delta, stderr, beta, theta_min, pairs, window systematic) from the outer-ring column ``g``.
+
+        ``sorted_``: ``g`` holds only the values at :attr:`fit_sites`, in that order (what the fits read).
+        """
+        v = g if sorted_ else g[self.keep][self.order][:self.n_max]
         bad = np.flatnonzero(~(v > 0))
         first_bad = int(bad[0]) if bad.size else v.shape[0]
         y = np.log(np.where(v > 0, v, 1.0))
@@ -508,6 +514,29 @@ class _RingFit:
             except ValueError:            # fewer than 10 pairs: that window does not count
                 continue
         return delta, se, beta, self.windows[self.depth][0], n, max(shifts) if shifts else 0.0
+
+
+#: the omega-independent fit geometry per lattice (held weakly by it) and per (source, depth), at
+#: most _FIT_CACHE sources per lattice: a second correlator of the same source (another omega, a
+#: Delta curve) skips the angles, covariates and window solvers (about 10 ms at l = 10)
+_FITS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+_FIT_CACHE = 8
+
+
+def _ring_fit(lat: Lattice, source: int, ring: np.ndarray, depth: int) -> _RingFit:
+    """The :class:`_RingFit` of (lat, source, depth), built once and kept while the lattice lives."""
+    try:
+        fits = _FITS.setdefault(lat, {})
+    except TypeError:               # pragma: no cover - a lattice that cannot be weakly referenced
+        return _RingFit(lat, source, ring, depth)
+    key = (source, depth)
+    fit = fits.pop(key, None)
+    if fit is None:
+        fit = _RingFit(lat, source, ring, depth)
+    fits[key] = fit                 # most recent last
+    while len(fits) > _FIT_CACHE:
+        fits.pop(next(iter(fits)))
+    return fit
 
 
 def boundary_correlator(lattice: Lattice, omega, source: int | None = None, *, depth: int = 2,
@@ -596,7 +625,7 @@ def _boundary_correlator(lat, omega, source, ring, depth, res, continuum, contin
     """:func:`boundary_correlator` after its checks; ``fit`` reuses the omega-independent part of the fits."""
     g = res.column(omega, source)[ring]
     if fit is None:
-        fit = _RingFit(lat, source, ring, depth)
+        fit = _ring_fit(lat, source, ring, depth)
     theta = fit.theta
     delta, se, beta, thmin, n, sysw = fit.fit_with_window(g)
     lam = float(lambda_from_energy(omega, lat.p, lat.q))
@@ -649,8 +678,11 @@ class DeltaCurve(Result):
 def delta_curve(lattice: Lattice, omegas, *, source: int | None = None, depth: int = 2) -> DeltaCurve:
     r"""Fitted :math:`\Delta_{\rm lattice}` and :math:`\Delta_{\rm continuum}` for each frequency.
 
-    One fill-reducing order per lattice (about 1 s at :math:`\ell = 10`), then per frequency one
-    numeric :math:`LDL^T` (about 0.1 s) and the fits (about 0.1 s); :class:`~hyperlattice.graph.qubits.BelowBandResolvent`.
+    One fill-reducing order per call (CHOLMOD's AMD of the mirror-even block, 10-20 ms at
+    :math:`\ell = 10`), then per frequency one numeric :math:`LDL^T` with its inertia check (3-4 ms),
+    the solve and the three window fits on the outer-ring values they use (about 2 ms);
+    :class:`~hyperlattice.graph.qubits.BelowBandResolvent`. The fit geometry of the source is kept per
+    lattice, so a second curve of the same source skips it.
 
     Parameters
     ----------
@@ -702,10 +734,12 @@ def delta_curve(lattice: Lattice, omegas, *, source: int | None = None, depth: i
     depth = _depth(depth)
     ring = outer_ring(lat)
     src = _outer_source(lat, ring, source, depth)
-    fit = _RingFit(lat, src, ring, depth)            # the omega-independent part, once for all masses
+    fit = _ring_fit(lat, src, ring, depth)           # the omega-independent part, once for all masses
     for k, w in enumerate(om):
-        bc = _boundary_correlator(lat, _real_omega("omega", float(w)), src, ring, depth, res, False, "whole", fit)
-        dl[k], de[k], dc[k] = bc.delta_lattice, bc.delta_lattice_err, bc.delta_continuum
+        # what boundary_correlator computes for Delta, without building its result object per mass
+        w = _real_omega("omega", float(w))
+        delta, se, _, _, _, sysw = fit.fit_with_window(res._column_at(w, src, fit.fit_sites), sorted_=True)
+        dl[k], de[k], dc[k] = delta, math.hypot(se, sysw), _delta_continuum(w, lat.p, lat.q)
     return DeltaCurve(p=lat.p, q=lat.q, rings=lat.rings, source=src, depth=_depth(depth), omegas=om,
                       mass2=np.asarray(mass2_from_omega(om, lat.p, lat.q), float).reshape(om.shape),
                       delta_continuum=dc, delta_lattice=dl, delta_lattice_err=de,

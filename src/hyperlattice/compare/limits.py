@@ -128,7 +128,7 @@ def reference_command(p: int = 7, q: int = 3, rings=range(1, 15)) -> str:
     Returns
     -------
     str
-        One shell line (commands joined by ``; ``), printed by the report beside the stored levels.
+        One shell line (commands joined by semicolons), printed by the report beside the stored levels.
 
     Raises
     ------

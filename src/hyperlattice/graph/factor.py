@@ -208,16 +208,17 @@ def _symbolic_kernel():
     import numba
 
     @numba.njit(cache=True)
-    def counts(n, ap, ai):                     # pragma: no cover - compiled
-        # Liu's row-subtree walk: for each column k, every i < k of its pattern climbs the
-        # elimination tree until a node already marked for k; each step is one entry L[k, i]
+    def counts(n, ap, ai, perm, iperm):        # pragma: no cover - compiled
+        # Liu's row-subtree walk on P A P^T: for each column k, every i < k of its pattern climbs
+        # the elimination tree until a node already marked for k; each step is one entry L[k, i]
         parent = np.full(n, -1, np.int64)
         flag = np.empty(n, np.int64)
         colcount = np.ones(n, np.int64)
         for k in range(n):
             flag[k] = k
-            for p in range(ap[k], ap[k + 1]):
-                i = ai[p]
+            c = perm[k]
+            for p in range(ap[c], ap[c + 1]):
+                i = iperm[ai[p]]
                 if i < k:
                     while flag[i] != k:
                         if parent[i] == -1:
@@ -237,14 +238,9 @@ def _factor_counts(pattern: sp.csc_matrix, perm: np.ndarray) -> tuple[int, float
     perm = np.asarray(perm, dtype=np.int64)
     iperm = np.empty(n, dtype=np.int64)
     iperm[perm] = np.arange(n, dtype=np.int64)
-    # P A P^T of the symmetric pattern without scipy's fancy indexing: column k of the result is
-    # column perm[k] of A with its rows renamed by iperm (the kernel needs no sorted rows)
-    start = pattern.indptr[perm].astype(np.int64)
-    count = (pattern.indptr[perm + 1] - pattern.indptr[perm]).astype(np.int64)
-    indptr = np.concatenate([[0], np.cumsum(count)])
-    gather = np.repeat(start - indptr[:-1], count) + np.arange(int(indptr[-1]), dtype=np.int64)
-    indices = iperm[pattern.indices[gather]]
-    cc = _symbolic_kernel()(n, indptr, indices).astype(np.float64)
+    # the kernel reads column perm[k] of A with its rows renamed by iperm as column k of P A P^T:
+    # no permuted copy is made (it needs no sorted rows)
+    cc = _symbolic_kernel()(n, pattern.indptr, pattern.indices, perm, iperm).astype(np.float64)
     return int(cc.sum()), float(np.einsum("i,i->", cc, cc))
 
 
@@ -262,7 +258,8 @@ def _as_square(mat, what: str, name: str = "mat") -> sp.csc_matrix:
         raise ValueError(f"{name} ({what}) must be a non-empty square matrix, got shape {mat.shape}.")
     if mat.dtype.kind not in "biufc":
         raise ValueError(f"{name} ({what}) must hold numbers, got dtype {mat.dtype}.")
-    mat = sp.csc_matrix(mat)
+    if type(mat) is not sp.csc_matrix:
+        mat = sp.csc_matrix(mat)      # a CSC matrix is kept as it is: its format flags stay known
     if mat.dtype not in (np.float64, np.complex128):
         mat = mat.astype(np.complex128 if np.iscomplexobj(mat.data) else np.float64)
     if not np.all(np.isfinite(mat.data)):
@@ -292,8 +289,14 @@ def _shift(value):
 def _with_diagonal(mat: sp.csc_matrix) -> sp.csc_matrix:
     """The matrix with every diagonal entry stored, explicit zeros kept (every shift has one pattern)."""
     n = mat.shape[0]
+    # canonical (sorted indices, no duplicates) with every diagonal entry stored already, as the
+    # blocks the package builds for the analysis: a copy is all that is needed
+    canonical = mat.has_canonical_format
     mat = mat.copy()
-    mat.sum_duplicates()                  # canonical: sorted indices, no duplicates
+    if not canonical:
+        mat.sum_duplicates()
+    if mat.nnz and not np.iscomplexobj(mat.data) and np.all(_diag_kernel()(mat.indptr, mat.indices) >= 0):
+        return mat
     cols = np.repeat(np.arange(n, dtype=np.int64), np.diff(mat.indptr))
     on_diag = mat.indices == cols
     missing = np.ones(n, dtype=bool)
@@ -442,12 +445,31 @@ class SymbolicAnalysis:
 _DIAG_CACHE: dict = {}
 
 
+def _diag_kernel():
+    """Numba scan: position of the diagonal entry of every column of a CSC pattern, -1 when absent."""
+    if "diag" in _SYMBOLIC:
+        return _SYMBOLIC["diag"]
+    import numba
+
+    @numba.njit(cache=True)
+    def diag(indptr, indices):                 # pragma: no cover - compiled
+        n = indptr.shape[0] - 1
+        pos = np.full(n, -1, np.int64)
+        for k in range(n):
+            for p in range(indptr[k], indptr[k + 1]):
+                if indices[p] == k:
+                    pos[k] = p
+                    break
+        return pos
+
+    _SYMBOLIC["diag"] = diag
+    return diag
+
+
 def _diag_positions(mat: sp.csc_matrix) -> np.ndarray:
-    """Positions of the diagonal entries in ``mat.data`` (every diagonal entry is stored)."""
-    n = mat.shape[0]
-    cols = np.repeat(np.arange(n), np.diff(mat.indptr))
-    pos = np.flatnonzero(mat.indices == cols)
-    if pos.shape[0] != n:  # pragma: no cover - _with_diagonal stores every diagonal entry
+    """Positions of the diagonal entries in ``mat.data`` (every diagonal entry is stored, once)."""
+    pos = _diag_kernel()(mat.indptr, mat.indices)
+    if np.any(pos < 0):  # pragma: no cover - _with_diagonal stores every diagonal entry
         raise FactorizationError("internal: the analysed pattern lacks diagonal entries.")
     return pos
 

@@ -40,6 +40,7 @@ extra cost. It is shared with
 from __future__ import annotations
 
 import math
+import weakref
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -90,7 +91,9 @@ class BelowBandResolvent:
     method : {"auto", "cholmod", "superlu"}
         The factorisation backend of :mod:`hyperlattice.graph.factor` (``"auto"``: CHOLMOD when
         installed, else SuperLU; ``"ldl"``, the former default, means ``"auto"``). The symbolic
-        analysis is done once per lattice; every :math:`\omega` costs one numeric factorisation.
+        analysis is done once per resolvent; every :math:`\omega` costs one numeric factorisation.
+        H and the mirror-even blocks are built once per lattice and hopping and shared by all its
+        resolvents (held weakly by the lattice).
 
     Notes
     -----
@@ -132,16 +135,25 @@ class BelowBandResolvent:
         self.method = "auto" if method == "ldl" else method
         self.backend = resolve_backend(self.method)
         self.lattice = lat
-        self.H = hamiltonian(lat, t=t).tocsc().astype(float)
-        self.n = self.H.shape[0]
+        self.t = t
+        self._structure = _Structure.of(lat, t)
+        self.n = lat.sites
         self._analysis = None
         self._factor = None
         self._omega = None
         #: what solved the last column: backend, factor kind and the matrix (full H or mirror-even block)
         self.route = ""
-        self._mirrors = []          # mirror-even reductions found so far (see _mirror)
-        self._no_mirror = set()     # sources known to lie on no mirror axis
-        self._tree = None
+        self._mirrors = []          # this resolvent's mirror-even reductions (factor caches; see _mirror)
+
+    @property
+    def H(self) -> sp.csc_matrix:
+        """:math:`H = -tA` (CSC, float64), built once per lattice and hopping."""
+        return self._structure.hamiltonian(self.lattice)
+
+    @property
+    def _no_mirror(self) -> set:
+        """Sources known to lie on no mirror axis (shared by the resolvents of one lattice)."""
+        return self._structure.no_mirror
 
     def factor(self, omega):
         """The factorisation of :math:`H - \\omega` (a :class:`~hyperlattice.graph.factor.Factor`, cached for
@@ -185,14 +197,20 @@ class BelowBandResolvent:
         r"""One column :math:`G_{\cdot j}(\omega)`, shape ``(N,)`` (mirror-even block when j is on a mirror axis)."""
         source = _validate.site_index("source", source, self.n)
         omega = _real_omega("omega", omega)
+        return self._column_at(omega, source, None)
+
+    def _column_at(self, omega: float, source: int, sites: np.ndarray | None) -> np.ndarray:
+        """:meth:`column` after its checks, read back at ``sites`` only (all sites for None)."""
         mirror = self._mirror(source)
         if mirror is None:
-            return self.columns(omega, [source])[:, 0]
+            out = self.columns(omega, [source])[:, 0]
+            return out if sites is None else out[sites]
         f = mirror.factor(omega, self)
         rhs = np.zeros(mirror.dim)
         rhs[mirror.cls[source]] = 1.0
         x = f.solve(rhs)
-        out = mirror.weight * x[mirror.cls]
+        out = (mirror.weight * x[mirror.cls] if sites is None
+               else mirror.weight[sites] * x[mirror.cls[sites]])
         if not np.all(np.isfinite(out)):
             raise ValueError(f"omega = {omega}: the solve overflowed (omega within rounding of E0).")
         self.route = f"{f.backend} {f.kind} of the mirror-even block ({mirror.dim:,} of {self.n:,} rows)"
@@ -203,13 +221,64 @@ class BelowBandResolvent:
         for m in self._mirrors:
             if m.perm[source] == source:
                 return m
-        if source in self._no_mirror or self.n < _MIRROR_MIN:
+        if self.n < _MIRROR_MIN:
             return None
-        m = _MirrorEven.find(self, source)
-        if m is None:
-            self._no_mirror.add(source)
+        block = self._structure.mirror(self.lattice, source)
+        if block is None:
             return None
+        m = _MirrorEven(block, self.backend)
         self._mirrors.append(m)
+        return m
+
+
+class _Structure:
+    """What depends on the lattice and the hopping only, shared by every resolvent of that lattice.
+
+    H and the mirror-even blocks (the reflections, class maps and block matrices) are the matrices
+    the solves start from, like the H handed to a plain sparse solver: building them again for
+    every resolvent (a new frequency list, a new call of ``boundary_correlator``) was 60 % of a
+    one-source column at l = 10. The symbolic analysis and the factors are *not* kept here: they
+    belong to one resolvent and one backend. Held weakly by the lattice (a frozen object); it holds
+    no reference back to it, so a lattice and its structure are freed together.
+    """
+
+    _cache: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+    def __init__(self, t: float) -> None:
+        self.t = t
+        self._H = None
+        self.mirrors = []           # _MirrorBlock found so far
+        self.no_mirror = set()      # sources known to lie on no mirror axis
+        self.tree = None
+
+    @classmethod
+    def of(cls, lat: Lattice, t: float) -> "_Structure":
+        try:
+            per_t = cls._cache.setdefault(lat, {})
+        except TypeError:           # pragma: no cover - a lattice that cannot be weakly referenced
+            return cls(t)
+        if t not in per_t:
+            per_t[t] = cls(t)
+        return per_t[t]
+
+    def hamiltonian(self, lat: Lattice) -> sp.csc_matrix:
+        if self._H is None:
+            H = hamiltonian(lat, t=self.t).tocsc().astype(float)
+            H.sort_indices()
+            self._H = H
+        return self._H
+
+    def mirror(self, lat: Lattice, source: int) -> "_MirrorBlock | None":
+        for m in self.mirrors:
+            if m.perm[source] == source:
+                return m
+        if source in self.no_mirror:
+            return None
+        m = _MirrorBlock.find(self, lat, source)
+        if m is None:
+            self.no_mirror.add(source)
+            return None
+        self.mirrors.append(m)
         return m
 
 
@@ -243,10 +312,14 @@ def _ring_reflection(lat: Lattice, axis: complex) -> np.ndarray | None:
     return starts[ring_of] + (c2[ring_of] - pos) % sizes[ring_of]
 
 
-class _MirrorEven:
-    r"""The mirror-even block :math:`B^T H B` of a reflection :math:`\sigma` (see :class:`BelowBandResolvent`)."""
+class _MirrorBlock:
+    r"""The mirror-even block :math:`B^T H B` of a reflection :math:`\sigma` (see :class:`BelowBandResolvent`).
 
-    def __init__(self, perm: np.ndarray, H: sp.csc_matrix, what: str, backend: str) -> None:
+    Structure only (reflection, class map, weights, the block with every diagonal entry stored and
+    sorted indices, ready for :func:`~hyperlattice.graph.factor.analyze`); shared per lattice.
+    """
+
+    def __init__(self, perm: np.ndarray, H: sp.csc_matrix, what: str) -> None:
         n = perm.shape[0]
         idx = np.arange(n)
         fixed = perm == idx
@@ -257,23 +330,24 @@ class _MirrorEven:
         self.dim = int(lead.sum())
         self.weight = np.where(fixed, 1.0, math.sqrt(0.5))
         # B^T H B from the lead rows only: for a pair {a, sigma a} the row of sigma a repeats that of
-        # a (H commutes with sigma), so row c(a) = f_a w_a sum_k w_k H_ak with f_a = 2 for a pair
+        # a (H commutes with sigma), so row c(a) = f_a w_a sum_k w_k H_ak with f_a = 2 for a pair;
+        # the diagonal is stored (explicit zeros) so that every shift has the analysed pattern
         coo = H.tocoo()
         rows = coo.row if coo.row.dtype == np.int64 else coo.row.astype(np.int64)
         on = lead[rows]
         r, k = rows[on], coo.col[on]
         f = np.where(fixed[r], 1.0, 2.0) * self.weight[r] * self.weight[k]
-        self.block = sp.csc_matrix((f * coo.data[on], (self.cls[r], self.cls[k])), shape=(self.dim, self.dim))
+        d = np.arange(self.dim)
+        block = sp.csc_matrix((np.concatenate([f * coo.data[on], np.zeros(self.dim)]),
+                               (np.concatenate([self.cls[r], d]), np.concatenate([self.cls[k], d]))),
+                              shape=(self.dim, self.dim))
+        block.sum_duplicates()
+        self.block = block
         self.what = what
-        self.backend = backend
-        self._analysis = None
-        self._factor = None
-        self._omega = None
 
     @classmethod
-    def find(cls, res: "BelowBandResolvent", source: int) -> "_MirrorEven | None":
+    def find(cls, st: "_Structure", lat: Lattice, source: int) -> "_MirrorBlock | None":
         """The reflection through the axis of ``source`` when it is a symmetry of the graph, else None."""
-        lat = res.lattice
         z = np.asarray(lat.z)
         zj = complex(z[source])
         if abs(zj) == 0.0:
@@ -286,9 +360,9 @@ class _MirrorEven:
         if perm is None or not np.all(np.abs(z[perm] - zr) <= tol):
             from scipy.spatial import cKDTree   # any other layout: nearest site to every mirror image
 
-            if res._tree is None:
-                res._tree = cKDTree(np.column_stack([z.real, z.imag]))
-            dist, perm = res._tree.query(np.column_stack([zr.real, zr.imag]))
+            if st.tree is None:
+                st.tree = cKDTree(np.column_stack([z.real, z.imag]))
+            dist, perm = st.tree.query(np.column_stack([zr.real, zr.imag]))
             if not np.all(dist <= tol):
                 return None
             perm = perm.astype(np.int64)
@@ -298,15 +372,26 @@ class _MirrorEven:
         # every edge maps onto an edge of H (a bijection of the sites mapping the E edges into the E
         # edges maps them onto): the nonzeros of the CSC H, keyed column * n + row, are sorted
         e = np.asarray(lat.edges, dtype=np.int64)
-        H = res.H
-        if not H.has_sorted_indices:
-            H.sort_indices()
+        H = st.hamiltonian(lat)
         keys = np.repeat(np.arange(n, dtype=np.int64), np.diff(H.indptr)) * n + H.indices
         mapped = perm[e[:, 1]] * n + perm[e[:, 0]]
         at = np.minimum(np.searchsorted(keys, mapped), keys.shape[0] - 1)
         if not np.array_equal(keys[at], mapped):
             return None
-        return cls(perm, res.H, f"the mirror-even block of H - omega ({n:,}-site lattice)", res.backend)
+        return cls(perm, H, f"the mirror-even block of H - omega ({n:,}-site lattice)")
+
+
+class _MirrorEven:
+    """One resolvent's use of a :class:`_MirrorBlock`: its backend, analysis and last factor."""
+
+    def __init__(self, block: _MirrorBlock, backend: str) -> None:
+        self.structure = block
+        self.perm, self.cls, self.dim, self.weight = block.perm, block.cls, block.dim, block.weight
+        self.block, self.what = block.block, block.what
+        self.backend = backend
+        self._analysis = None
+        self._factor = None
+        self._omega = None
 
     def factor(self, omega: float, res: "BelowBandResolvent"):
         """Factorisation of the block minus omega, cached; ValueError unless omega lies below E0."""
