@@ -51,7 +51,27 @@ def _number(printed: str) -> float:
 
 
 def half_unit(printed: str) -> float:
-    """Half a unit of the last printed digit of ``printed`` (0.5 for an integer)."""
+    """Half a unit of the last printed digit of ``printed`` (0.5 for an integer).
+
+    The default tolerance of a :class:`PaperValue`: a computed value agrees with the printed string
+    when it rounds to it.
+
+    Parameters
+    ----------
+    printed : str
+        A number as printed in the paper (``"-2.787"``, ``"15435"``).
+
+    Returns
+    -------
+    float
+        ``0.5 * 10**-d`` with d the number of printed decimals.
+
+    Examples
+    --------
+    >>> from hyperlattice.paper_values import half_unit
+    >>> half_unit("-2.787"), half_unit("15435"), half_unit("0.9990")
+    (0.0005, 0.5, 5e-05)
+    """
     return 0.5 * 10.0 ** (-_decimals(printed))
 
 

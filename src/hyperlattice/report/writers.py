@@ -122,7 +122,29 @@ _PROSE = [(re.compile(a), b) for a, b in (
 
 
 def prose(text: str) -> str:
-    """``text`` with ASCII maths replaced by symbols (ℓ, ρ, E∞, ω, ≤, ...), backtick spans kept as they are."""
+    """``text`` with ASCII maths replaced by symbols (ℓ, ρ, E∞, ω, ≤, ...), backtick spans kept as they are.
+
+    Applied to the report's sentences, captions and titles (many come from the ``statement()``
+    methods of :mod:`hyperlattice.compare`), never to table cells, column names, file names or
+    commands.
+
+    Parameters
+    ----------
+    text : str
+        A sentence; spans between backticks (commands, file names) are not changed.
+
+    Returns
+    -------
+    str
+        The sentence with l -> ℓ where it means the ring number, rho -> ρ, E_inf -> E∞, E0 -> E₀,
+        ``<=`` -> ≤, ``->`` -> →, ``+-`` -> ±, squares as superscripts, and the like.
+
+    Examples
+    --------
+    >>> from hyperlattice.report.writers import prose
+    >>> prose("E0(l) -> E_inf as l -> infinity, rho = 2.94 +- 0.01; run `hyperlattice spectrum -l 2`")
+    'E₀(ℓ) → E∞ as ℓ → ∞, ρ = 2.94 ± 0.01; run `hyperlattice spectrum -l 2`'
+    """
     pieces = text.split("`")
     for i in range(0, len(pieces), 2):
         t = pieces[i]
