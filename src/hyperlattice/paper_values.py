@@ -119,6 +119,22 @@ class PaperValue:
 
         A relative slack of 1e-9 on the tolerance accepts a value exactly on the rounding
         boundary (half a unit away), which binary floating point may put a hair outside.
+
+        Parameters
+        ----------
+        computed : float
+            The value computed by the package.
+
+        Returns
+        -------
+        bool
+            True when the computed value rounds to the printed string (within ``tolerance``).
+
+        Examples
+        --------
+        >>> from hyperlattice.paper_values import paper_value
+        >>> paper_value("E0_graph", 3).agrees(-2.7871), paper_value("E0_graph", 3).agrees(-2.7881)
+        (True, False)
         """
         return abs(float(computed) - self.value) <= self.tolerance * (1 + 1e-9)
 
@@ -128,6 +144,27 @@ class PaperValue:
         ``flag`` is ``""`` (agrees), ``"≠"`` (disagrees, the note explains why) or ``"≠?"``
         (disagrees, ``note`` is ``"no explanation known"``); ``note`` is ``""`` when the value
         agrees.
+
+        Parameters
+        ----------
+        computed : float
+            The value computed by the package.
+
+        Returns
+        -------
+        flag : str
+            ``""``, ``"≠"`` or ``"≠?"``.
+        note : str
+            Why the values differ (``""`` when they agree).
+
+        Examples
+        --------
+        >>> from hyperlattice.paper_values import paper_value
+        >>> paper_value("E0_graph", 3).check(-2.7871)
+        ('', '')
+        >>> flag, note = paper_value("L", 8).check(0.999094)
+        >>> print(flag, note)
+        ≠ rounding slip: √(15435/15463) = 0.999094 rounds to 0.9991.
         """
         if self.agrees(computed):
             return AGREES, ""

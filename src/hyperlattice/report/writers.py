@@ -36,7 +36,31 @@ class Table:
     caption: str = ""
 
     def write(self, out: Path) -> None:
-        """Write the CSV and JSON files into ``out``."""
+        """Write the CSV and JSON files into ``out``.
+
+        Parameters
+        ----------
+        out : pathlib.Path
+            An existing directory.
+
+        Returns
+        -------
+        None
+            Writes ``table_<name>.csv`` (header row, then the rows) and ``table_<name>.json`` (a
+            list of one dict per row).
+
+        Examples
+        --------
+        >>> import tempfile
+        >>> from pathlib import Path
+        >>> from hyperlattice.report.writers import Table
+        >>> with tempfile.TemporaryDirectory() as d:
+        ...     Table("counts", ["rings", "N"], [[1, 7], [2, 35]]).write(Path(d))
+        ...     print(sorted(p.name for p in Path(d).iterdir()))
+        ...     print((Path(d) / "table_counts.csv").read_text().splitlines())
+        ['table_counts.csv', 'table_counts.json']
+        ['rings,N', '1,7', '2,35']
+        """
         with open(out / f"table_{self.name}.csv", "w", newline="") as fh:
             w = csv.writer(fh)
             w.writerow(self.columns)
