@@ -11,6 +11,8 @@ if TYPE_CHECKING:
 
     from ..graph.bands import AbelianDOS, Bands
 
+__all__ = ["bands_and_dos"]
+
 
 def bands_and_dos(bands: Bands, dos: AbelianDOS | None = None, *, path=None) -> Figure:
     """Bands along the path (left) and, if given, the Abelian DOS turned sideways (right).

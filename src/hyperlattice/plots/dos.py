@@ -18,7 +18,7 @@ if TYPE_CHECKING:
 __all__ = ["dos_figure", "comparison_axes", "convergence_axes", "bottom_axes", "comparison_figure"]
 
 
-def dos_figure(result: KPMDos | DosComparison, *, path=None, ax: Axes | None = None, continuum: bool = True) -> Axes:
+def dos_figure(result: KPMDos, *, path=None, ax: Axes | None = None, continuum: bool = True) -> Axes:
     """The density of states of one KPM result with the continuum density; returns the axes.
 
     The density of states of one :class:`~hyperlattice.graph.kpm.KPMDos` with its error band, and
@@ -28,9 +28,8 @@ def dos_figure(result: KPMDos | DosComparison, *, path=None, ax: Axes | None = N
     ----------
     result : KPMDos
         A kernel-polynomial density of states, from :func:`~hyperlattice.graph.kpm.kpm_dos` or
-        :func:`~hyperlattice.graph.kpm.bulk_dos`. (The annotation also names ``DosComparison``, but
-        this function reads ``result.label`` and ``result.vectors``, which only a ``KPMDos`` has; draw
-        a comparison with :func:`comparison_figure`.)
+        :func:`~hyperlattice.graph.kpm.bulk_dos`. A ``DosComparison`` is drawn by
+        :func:`comparison_figure`.
     path : str or path-like, optional
         Where to save the figure (120 dpi); the figure is then closed. Not saved when None.
     ax : matplotlib.axes.Axes, optional

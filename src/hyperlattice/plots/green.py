@@ -20,6 +20,8 @@ from ..paper_labels import cite
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
+__all__ = ["plot_disk_map", "plot_distance_profile", "plot_binned", "plot_fig3_row"]
+
 
 def _axes(ax, size=(4.6, 4.4)):
     return new_axes(ax, size)

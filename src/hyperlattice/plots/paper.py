@@ -18,6 +18,8 @@ from ..paper_labels import cite
 if TYPE_CHECKING:
     from ..compare.levels import LevelComparison, LevelCount, RelativeErrorTrend
 
+__all__ = ["plot_tessellation", "plot_levels", "plot_partition", "plot_relative_error", "plot_level_counting", "plot_level_comparison"]
+
 
 def _axes(ax, size=(5.0, 5.0)):
     return new_axes(ax, size)

@@ -20,6 +20,8 @@ from ..paper_labels import cite
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
+__all__ = ["draw_radial_profile", "plot_frame_angles", "draw_operator_profile", "plot_formal_operator", "plot_convergence", "plot_counting"]
+
 
 def _axes(ax, size=(6.0, 4.2)) -> Axes:
     return new_axes(ax, size)
