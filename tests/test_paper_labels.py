@@ -51,3 +51,29 @@ def test_known_numbers():
 def test_unknown_label_is_an_error():
     with pytest.raises(ValueError, match="not a label"):
         cite("eq99")
+
+
+def test_pages_that_name_a_label_print_its_number():
+    """README.md and docs/*.md write "Eq. (N) (label eqX)" or "Eqs. (N)–(M), TeX labels eqX–eqY":
+    the printed numbers must be the ones the map gives for those labels (one numbering everywhere)."""
+    import re
+
+    root = Path(__file__).resolve().parents[1]
+    pages = [root / "README.md", *sorted((root / "docs").glob("*.md"))]
+    single = re.compile(r"Eq\. \((\d+)\),? \((?:TeX )?label (eq\w+)\)|Eq\. \((\d+)\), (?:TeX )?label (eq\w+)\)")
+    pair = re.compile(r"Eqs\. \((\d+)\)–\((\d+)\), (?:TeX )?labels (eq\w+)–(eq\w+)")
+    seen = 0
+    for page in pages:
+        text = page.read_text(encoding="utf-8")
+        for m in single.finditer(text):
+            number, label = (m.group(1), m.group(2)) if m.group(1) else (m.group(3), m.group(4))
+            assert cite(label) == f"Eq. ({number})", f"{page.name}: {m.group(0)!r}"
+            seen += 1
+        for m in pair.finditer(text):
+            assert cite(m.group(3), m.group(4)) == f"Eq. ({m.group(1)}), Eq. ({m.group(2)})", f"{page.name}: {m.group(0)!r}"
+            seen += 1
+    assert seen >= 5
+
+
+def test_a_wrong_page_number_would_be_caught():
+    assert cite("eq4") != "Eq. (4)"      # the label's digits are not the printed number
