@@ -77,3 +77,17 @@ def test_pages_that_name_a_label_print_its_number():
 
 def test_a_wrong_page_number_would_be_caught():
     assert cite("eq4") != "Eq. (4)"      # the label's digits are not the printed number
+
+
+def test_docstrings_that_name_a_label_print_its_number():
+    """Docstrings write "Eq. (N) (source label ``eqX``)": N must be the map's number for eqX."""
+    import re
+
+    src = Path(__file__).resolve().parents[1] / "src" / "hyperlattice"
+    pat = re.compile(r"Eq\. \((\d+)\)\s+\((?:source )?label\s+``(eq\w+)``\)")
+    seen = 0
+    for path in sorted(src.rglob("*.py")):
+        for m in pat.finditer(path.read_text(encoding="utf-8")):
+            assert cite(m.group(2)) == f"Eq. ({m.group(1)})", f"{path.name}: {m.group(0)!r}"
+            seen += 1
+    assert seen >= 5

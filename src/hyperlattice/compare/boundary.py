@@ -276,7 +276,7 @@ def continuum_boundary_column(lattice: Lattice, omega, source: int, targets, *, 
 
     References
     ----------
-    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (16) (source label ``eq21``).
+    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (19) (source label ``eq21``).
 
     Examples
     --------
@@ -586,7 +586,7 @@ def boundary_correlator(lattice: Lattice, omega, source: int | None = None, *, d
     References
     ----------
     .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020): the graph Green function
-       (source label ``eq20``) and its continuum limit, Eq. (16) (label ``eq21``).
+       (source label ``eq20``) and its continuum limit, Eq. (19) (label ``eq21``).
 
     Examples
     --------

@@ -891,7 +891,7 @@ def compare_scba(lattice: Lattice, omega, strengths, realizations: int = 20, *, 
 
     References
     ----------
-    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (16) (source label
+    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (19) (source label
        ``eq21``) for the continuum column.
 
     Examples

@@ -90,7 +90,7 @@ def continuum_column(lattice: Lattice, omega, source: int, *, tol: float = 1e-12
 
     References
     ----------
-    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (16) (source label
+    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (19) (source label
        ``eq21``), here for general {p,q} (module docstring).
 
     Examples
@@ -270,7 +270,7 @@ def compare_green(lattice: Lattice, omega, source: int, *, tol: float = 1e-12,
     References
     ----------
     .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020): the graph Green function
-       (label ``eq20``) and its continuum approximation Eq. (16) (label ``eq21``), here for
+       (label ``eq20``) and its continuum approximation Eq. (19) (label ``eq21``), here for
        general {p,q} (module docstring).
 
     Examples

@@ -1012,7 +1012,7 @@ def plateau_analysis(band: BandBottom, rings=None, E0=None, E1=None) -> PlateauA
     References
     ----------
     .. [1] I. Boettcher et al., "Quantum simulation of hyperbolic space with circuit quantum
-       electrodynamics: From graphs to geometry", Phys. Rev. A 102, 032208 (2020): Eq. (7)
+       electrodynamics: From graphs to geometry", Phys. Rev. A 102, 032208 (2020): Eq. (8)
        (:math:`A \approx 3 + \frac34 h^2\Delta_g`, source label ``eq10``), which gives
        :math:`E_\infty`, and the appendix on the :math:`h^3` correction (``adj32``, ``adj33``).
 

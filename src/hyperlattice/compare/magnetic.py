@@ -220,7 +220,7 @@ def magnetic_comparison(p: int = 7, q: int = 3, *, rings=(3, 4, 5, 6, 7), fluxes
 
     References
     ----------
-    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (7) (source label ``eq10``),
+    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (8) (source label ``eq10``),
        here with the vector potential of a uniform field.
 
     Examples

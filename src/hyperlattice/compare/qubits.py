@@ -177,7 +177,7 @@ def exchange_comparison(lattice: Lattice, omega_q, g, site: int = 0, *,
 
     References
     ----------
-    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (16) (source label ``eq21``).
+    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (19) (source label ``eq21``).
     .. [2] P. Bienias et al., Phys. Rev. Lett. 128, 013601 (2022).
 
     Examples
