@@ -138,7 +138,7 @@ def laplacian_coefficient(q: int, h) -> float | np.ndarray:
 
     References
     ----------
-    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (10) (with 3 replaced by q).
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (8) (with 3 replaced by q).
 
     Examples
     --------
@@ -155,7 +155,7 @@ def laplacian_coefficient(q: int, h) -> float | np.ndarray:
 def hopping_scale(p=7, q=3) -> float:
     r"""The factor :math:`\frac q4 h^2` of :math:`A \approx q + \frac q4 h^2\Delta_g`, at :math:`h = \tanh d_0`.
 
-    It converts continuum eigenvalues into lattice energies (:math:`t'/t`, Eq. (14)):
+    It converts continuum eigenvalues into lattice energies (:math:`t'/t`, Eq. (12)):
     :math:`\frac34 h^2 = 0.0570...` for {7,3}.
 
     Parameters
@@ -182,7 +182,7 @@ def hopping_scale(p=7, q=3) -> float:
 
     References
     ----------
-    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eqs. (10) and (14).
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eqs. (8) and (12).
 
     Examples
     --------
@@ -198,7 +198,7 @@ def lambda_from_energy(omega, p=7, q=3) -> float | complex | np.ndarray:
     r"""The eigenvalue :math:`\lambda = 4(\omega + q)/(q h^2)` of :math:`-\Delta_g` that matches a lattice energy.
 
     :math:`\omega` is a lattice energy or frequency (units of t, :math:`H = -tA`); the map is the
-    argument of the continuum Green function in Eq. (21), generalised to {p,q}.
+    argument of the continuum Green function in Eq. (19), generalised to {p,q}.
 
     Parameters
     ----------
@@ -228,7 +228,7 @@ def lambda_from_energy(omega, p=7, q=3) -> float | complex | np.ndarray:
 
     References
     ----------
-    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (21).
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (19).
 
     Examples
     --------
@@ -277,7 +277,7 @@ def energy_from_lambda(lam, p=7, q=3) -> float | complex | np.ndarray:
 
     References
     ----------
-    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Appendix F (``spec2``) and Eq. (21).
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Appendix F (``spec2``) and Eq. (19).
 
     Examples
     --------
@@ -367,7 +367,7 @@ def green_prefactor(p=7, q=3) -> float:
 
     References
     ----------
-    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (21).
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (19).
 
     Examples
     --------
@@ -379,7 +379,7 @@ def green_prefactor(p=7, q=3) -> float:
 
 
 def dictionary_parameters(omega, p=7, q=3) -> tuple[complex, float]:
-    r"""The eigenvalue and prefactor of Eq. (21) for one lattice frequency.
+    r"""The eigenvalue and prefactor of Eq. (19) for one lattice frequency.
 
     Parameters
     ----------
@@ -405,7 +405,7 @@ def dictionary_parameters(omega, p=7, q=3) -> tuple[complex, float]:
 
     References
     ----------
-    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (21).
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (19).
 
     Examples
     --------
@@ -450,7 +450,7 @@ def disk_radius(sites, p=7, q=3) -> float:
 
     References
     ----------
-    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (12).
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (10).
 
     Examples
     --------
@@ -465,7 +465,7 @@ def disk_radius(sites, p=7, q=3) -> float:
 def disk_radius_for_rings(rings, p=7, q=3) -> tuple[float, float]:
     r"""The disk radius ``(L, x_L)`` that stands for the ``rings``-ring {p,q} lattice.
 
-    :math:`L = \sqrt{N/(N + c)}` (Eq. (12)) with the exact site count N and
+    :math:`L = \sqrt{N/(N + c)}` (Eq. (10)) with the exact site count N and
     :math:`c = \pi/\mathcal A`, and :math:`x_L = (1 + L^2)/(1 - L^2) = (2N + c)/c` computed from
     N directly, which keeps full relative precision when :math:`1 - L \sim 10^{-9}` would lose
     digits in L itself. The site count is the graph side's combinatorics (counted, never built),
@@ -500,7 +500,7 @@ def disk_radius_for_rings(rings, p=7, q=3) -> tuple[float, float]:
 
     References
     ----------
-    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (12).
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (10).
 
     Examples
     --------
@@ -646,10 +646,10 @@ class ContinuumParameters(Result):
 def continuum_parameters(t: float, mu: float, U: float, p: int = 7, q: int = 3) -> ContinuumParameters:
     r"""Map the lattice Bose-Hubbard parameters to those of the continuum theory.
 
-    The lattice model is Eq. (13),
+    The lattice model is Eq. (11),
     :math:`H = -t\sum_{\langle ij\rangle}(a_i^\dagger a_j + \mathrm{h.c.}) - \mu\sum_i n_i + \dots`, the
-    continuum one Eq. (14). From :math:`A \approx q + \frac q4 h^2\Delta_g` (Eq. (10) generalised),
-    :math:`\sum_i \to \frac1{\mathcal A}\int dV_g` (Eq. (11)) and
+    continuum one Eq. (12). From :math:`A \approx q + \frac q4 h^2\Delta_g` (Eq. (8) generalised),
+    :math:`\sum_i \to \frac1{\mathcal A}\int dV_g` (Eq. (9)) and
     :math:`\hat a_i = \sqrt{\mathcal A}\,\hat\alpha(z_i)`:
 
     .. math:: t' = \frac q4 h^2 t,\qquad \mu' = \mu + q t,\qquad U' = \mathcal A\, U,
@@ -691,7 +691,7 @@ def continuum_parameters(t: float, mu: float, U: float, p: int = 7, q: int = 3) 
 
     References
     ----------
-    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eqs. (10)-(14).
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eqs. (8)-(12).
 
     Examples
     --------
@@ -1094,7 +1094,7 @@ def _radius_shift(p: int, q: int) -> float:
 def dirichlet_radius_shift(p=7, q=3) -> float:
     r"""How far the Dirichlet wall of a flake lies beyond its area radius, in geodesic distance.
 
-    The area radius is that of Eq. (12); the shift is half the mean radial length
+    The area radius is that of Eq. (10); the shift is half the mean radial length
     :math:`d(0, z_{\rm out}) - d(0, z_{\rm in})` of the bonds from the outermost ring to the
     missing next ring (module docstring).
 

@@ -120,7 +120,7 @@ def _one_minus_abs2(z: np.ndarray) -> np.ndarray:
 def distance(z1, z2, *, check: bool = True) -> np.ndarray | float:
     r"""Hyperbolic distance between points of the Poincaré disk.
 
-    Implements the paper's Eq. (4),
+    Implements the paper's Eq. (3),
 
     .. math:: d(z,z') = \tfrac12\,\mathrm{arcosh}\Bigl(1 + \frac{2|z-z'|^2}{(1-|z|^2)(1-|z'|^2)}\Bigr),
 
@@ -157,7 +157,7 @@ def distance(z1, z2, *, check: bool = True) -> np.ndarray | float:
 
     References
     ----------
-    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (4).
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (3).
 
     Examples
     --------
@@ -182,7 +182,7 @@ def distance(z1, z2, *, check: bool = True) -> np.ndarray | float:
 def mobius(z, a, eta: float = 0.0) -> np.ndarray | complex:
     r"""The disk automorphism :math:`w(z) = e^{i\eta}(a - z)/(1 - z\bar a)`.
 
-    This is the paper's Eq. (5), an isometry of the Poincaré disk. It exchanges ``a`` and the
+    This is the paper's Eq. (4), an isometry of the Poincaré disk. It exchanges ``a`` and the
     origin (for ``eta = 0`` it is an involution).
 
     Parameters
@@ -212,7 +212,7 @@ def mobius(z, a, eta: float = 0.0) -> np.ndarray | complex:
 
     References
     ----------
-    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (5).
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (4).
 
     Examples
     --------
@@ -617,7 +617,7 @@ def site_area(p, q=3) -> float:
 def radius_constant(p, q=3) -> float:
     r"""The constant :math:`c = \pi/\mathcal A = 4p/(pq-2p-2q)` in :math:`L = \sqrt{N/(N+c)}`.
 
-    Derivation (Eq. (11) with f = 1): :math:`N = \frac{1}{\mathcal A}\frac{\pi L^2}{1-L^2}`,
+    Derivation (Eq. (9) with f = 1): :math:`N = \frac{1}{\mathcal A}\frac{\pi L^2}{1-L^2}`,
     hence :math:`L^2 = N/(N+\pi/\mathcal A)`. For {p,3}: :math:`4p/(p-6)`, i.e. 28 for {7,3}.
 
     Parameters
@@ -643,7 +643,7 @@ def radius_constant(p, q=3) -> float:
 
     References
     ----------
-    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eqs. (11) and (12).
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eqs. (9) and (10).
 
     Examples
     --------
@@ -697,7 +697,7 @@ def counting_slope(p, q=3) -> float:
 def effective_radius(sites, p=7, q=3) -> float | np.ndarray:
     r"""Effective disk radius :math:`L = \sqrt{N/(N + c_{pq})}` of a flake with N sites.
 
-    This is the paper's Eq. (12) with 28 replaced by :math:`c_{pq} = \pi/\mathcal A`
+    This is the paper's Eq. (10) with 28 replaced by :math:`c_{pq} = \pi/\mathcal A`
     (:func:`radius_constant`): the Euclidean radius of the disk whose hyperbolic area is N site
     areas.
 
@@ -727,7 +727,7 @@ def effective_radius(sites, p=7, q=3) -> float | np.ndarray:
 
     References
     ----------
-    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (12).
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (10).
 
     Examples
     --------

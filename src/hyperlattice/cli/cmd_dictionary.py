@@ -7,7 +7,7 @@ from ._common import add_pq, finite_float, print_json
 
 NAME = "dictionary"
 ORDER = 60
-HELP = "map lattice (t, mu, U) on {p,q} to the continuum (t', mu', U') of Eqs. (13)-(14), or back"
+HELP = "map lattice (t, mu, U) on {p,q} to the continuum (t', mu', U') of Eqs. (11)-(12), or back"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

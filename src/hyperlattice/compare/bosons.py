@@ -3,7 +3,7 @@ r"""Interacting bosons, graph against continuum: the Gross–Pitaevskii condensa
 For a flake of ℓ rings with N bosons (filling n = N / sites) and interaction U, the graph side is
 the discrete GP ground state of :math:`-tA` (:func:`hyperlattice.bosons.gp.gp_ground_state`)
 and its Bogoliubov spectrum; the continuum side is the GP state on the Dirichlet disk of the
-paper's radius :math:`L(\ell)` (Eq. 12) with :math:`t' = \frac q4h^2t`, :math:`U' = \mathcal A U`
+paper's radius :math:`L(\ell)` (Eq. 10) with :math:`t' = \frac q4h^2t`, :math:`U' = \mathcal A U`
 (:func:`hyperlattice.continuum.gp.disk_gp`), whose lattice chemical potential is
 :math:`\mu = \mu_c - qt`. Compared: μ, the density per site against the geodesic radius
 (:math:`\mathcal A|\varphi|^2` on the continuum side) and the lowest Bogoliubov frequencies.

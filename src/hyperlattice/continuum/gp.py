@@ -1,7 +1,7 @@
 r"""The Gross–Pitaevskii equation on the Poincaré disk: ground state, vortices, Bogoliubov spectrum.
 
 The mean-field limit of the paper's continuum Hamiltonian (Boettcher et al., PRA 102, 032208,
-Eq. 14, with the interaction written :math:`\frac{U'}2|\alpha|^4` to match
+Eq. 12, with the interaction written :math:`\frac{U'}2|\alpha|^4` to match
 :math:`\frac U2 n(n-1)` on the lattice) on the disk :math:`|z| \le L` with a Dirichlet boundary:
 
 .. math::
@@ -188,7 +188,7 @@ def disk_gp(radius: float, t_prime: float, U_prime: float, particles: float, *, 
 
     References
     ----------
-    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (14) (mean-field limit).
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (12) (mean-field limit).
 
     Examples
     --------

@@ -517,7 +517,7 @@ def green_laplace(z, zp, radius=1.0) -> float | np.ndarray:
 
     References
     ----------
-    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (23).
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (21).
 
     Examples
     --------
@@ -971,7 +971,7 @@ def continuum_green(z, zp, lam, radius=1.0, *, tol: float = 1e-12, extend: bool 
     r"""Dirichlet Green function :math:`G(z, z', \lambda, L)` of :math:`\lambda + \Delta_g` (``green1``).
 
     Vectorized over ``z`` and ``zp`` (broadcast against each other). Forms (see module
-    docstring): Eq. (23) for :math:`\lambda = 0`, :math:`\frac1{2\pi}Q_\nu(y)` for :math:`L=1`
+    docstring): Eq. (21) for :math:`\lambda = 0`, :math:`\frac1{2\pi}Q_\nu(y)` for :math:`L=1`
     (``green30``), ``green33`` = ``green34`` - ``green36`` otherwise.
 
     Parameters
@@ -980,7 +980,7 @@ def continuum_green(z, zp, lam, radius=1.0, *, tol: float = 1e-12, extend: bool 
         Points of the disk (:math:`|z| \le L`). At coincident points the value is ``inf``;
         on the circle :math:`|z| = L` it is 0.
     lam : complex
-        Helmholtz parameter :math:`\lambda` (Eq. (21): :math:`4(\omega+q)/(qh^2)`).
+        Helmholtz parameter :math:`\lambda` (Eq. (19): :math:`4(\omega+q)/(qh^2)`).
     radius : float, optional
         Disk radius :math:`0 < L \le 1` (default 1).
     tol : float, optional
@@ -990,7 +990,7 @@ def continuum_green(z, zp, lam, radius=1.0, *, tol: float = 1e-12, extend: bool 
     extend : bool, optional
         Allow points with :math:`L < |z| < 1` (analytic continuation of ``green33`` across the
         Dirichlet circle, needed to compare with the outermost sites of a lattice, which may lie
-        slightly outside the area-matched radius of Eq. (12)). Requires :math:`|z||z'| < L^2`.
+        slightly outside the area-matched radius of Eq. (10)). Requires :math:`|z||z'| < L^2`.
         Default False.
     max_terms : int, optional
         Cap on the number of Fourier orders (default 4000, at most :data:`MAX_TERMS`).
@@ -1031,7 +1031,7 @@ def continuum_green(z, zp, lam, radius=1.0, *, tol: float = 1e-12, extend: bool 
 
     References
     ----------
-    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eqs. (21) and (23), Appendices H and I.
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eqs. (19) and (21), Appendices H and I.
 
     Examples
     --------

@@ -772,7 +772,7 @@ def magnetic_levels(p=7, q=3, radius=None, rings=None, levels: int = 4, flux=0.0
     radius : float, optional
         Disk radius :math:`L \in (0, 1)`; give exactly one of ``radius`` and ``rings``.
     rings : int, optional
-        Number of rings of the {p,q} lattice; L from Eq. (12) with its exact site count.
+        Number of rings of the {p,q} lattice; L from Eq. (10) with its exact site count.
     levels : int, optional
         Number of states (default 4, at most :data:`MAX_LEVELS`).
     flux : float, optional

@@ -263,7 +263,7 @@ def mass2_from_delta(delta) -> float | np.ndarray:
 def mass2_from_omega(omega, p: int = 7, q: int = 3) -> float | np.ndarray:
     r"""The mass² :math:`m^2 = -\lambda(\omega) = -4(\omega+q)/(qh^2)` of a lattice frequency.
 
-    Through the dictionary of Eq. (21); real ω only (a mass is real).
+    Through the dictionary of Eq. (19); real ω only (a mass is real).
 
     Parameters
     ----------
@@ -290,7 +290,7 @@ def mass2_from_omega(omega, p: int = 7, q: int = 3) -> float | np.ndarray:
 
     References
     ----------
-    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (21).
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (19).
 
     Examples
     --------
@@ -338,7 +338,7 @@ def delta_from_omega(omega, p: int = 7, q: int = 3, *, branch: str = "plus") -> 
     r"""Continuum conformal dimension Δ of a lattice frequency ω: :math:`\frac12 \pm \frac12\sqrt{1-\lambda(\omega)}`.
 
     Below the band the graph propagator is a massive scalar in AdS₂ (module docstring);
-    :math:`\lambda(\omega) = 4(\omega + q)/(qh^2)` is the dictionary of Eq. (21).
+    :math:`\lambda(\omega) = 4(\omega + q)/(qh^2)` is the dictionary of Eq. (19).
 
     Parameters
     ----------
@@ -368,7 +368,7 @@ def delta_from_omega(omega, p: int = 7, q: int = 3, *, branch: str = "plus") -> 
 
     References
     ----------
-    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (21).
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (19).
 
     Examples
     --------

@@ -106,7 +106,7 @@ def continuum_local_green(omega, p: int = 7, q: int = 3, *, tol: float = 1e-11) 
     r"""The continuum local Green function per site :math:`G_{\rm loc}(\omega)` (module docstring).
 
     The resolvent of the continuum density of states per site, with the cutoff of
-    :func:`band_cutoff`; convention :math:`G = (H - \omega)^{-1}` (Eq. (20)).
+    :func:`band_cutoff`; convention :math:`G = (H - \omega)^{-1}` (Eq. (18)).
 
     Parameters
     ----------
@@ -261,7 +261,7 @@ def scba(omega, variance: float, p: int = 7, q: int = 3, *, local: Callable[[com
     SCBAResult
         Frozen result with ``omega``, ``variance``, ``self_energy`` (:math:`\Sigma`),
         ``omega_shifted`` (:math:`\tilde\omega`), ``lam`` (:math:`\lambda(\tilde\omega)` of
-        Eq. (21)), ``born`` (first-order :math:`w^2 G_{\rm loc}(\omega)`), ``iterations`` and
+        Eq. (19)), ``born`` (first-order :math:`w^2 G_{\rm loc}(\omega)`), ``iterations`` and
         ``residual``.
 
     Raises

@@ -127,7 +127,7 @@ def disk_argument(radius=None, *, p=7, q=3, rings=None, dictionary: str = "paper
     :math:`x_L = (1+L^2)/(1-L^2)` is the argument of :math:`P^m_\nu` in ``spec2``. Either
     ``radius`` (:math:`0<L<1`) or ``rings`` (the {p,q} ring lattice with N sites,
     :math:`L=\sqrt{N/(N+c_{pq})}` by :func:`hyperlattice.dictionary.disk_radius_for_rings`,
-    Eq. (12)). For rings, :math:`x_L = (2N + c_{pq})/c_{pq}` exactly, which keeps full relative
+    Eq. (10)). For rings, :math:`x_L = (2N + c_{pq})/c_{pq}` exactly, which keeps full relative
     precision even when :math:`1-L \sim 10^{-9}` would lose digits in :math:`L` itself. With
     ``dictionary="improved"`` and rings, the Dirichlet disk of
     :func:`hyperlattice.dictionary.improved_disk_for_rings` (a given radius is used as it is).
@@ -162,7 +162,7 @@ def disk_argument(radius=None, *, p=7, q=3, rings=None, dictionary: str = "paper
 
     References
     ----------
-    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (12) and Appendix F (``spec2``).
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (10) and Appendix F (``spec2``).
 
     Examples
     --------
@@ -194,7 +194,7 @@ def disk_argument(radius=None, *, p=7, q=3, rings=None, dictionary: str = "paper
 def level_energy(k, p=7, q=3, *, dictionary: str = "paper") -> float | np.ndarray:
     r"""Continuum energy :math:`E = -q + \frac{q}{4}h^2(1+k^2)` of a Dirichlet level.
 
-    Derivation of the :math:`q`-dependence (generalising Eq. (10) and Appendix B): move
+    Derivation of the :math:`q`-dependence (generalising Eq. (8) and Appendix B): move
     site :math:`i` to the origin by a Möbius map; its :math:`q` neighbours sit at
     :math:`w_a = h e^{\mathrm{i}(\chi+2\pi a/q)}`, :math:`a=0..q-1`, with :math:`h=\tanh d_0`.
     Expanding :math:`\sum_a f(z(w_a))` to second order in :math:`h` gives
@@ -233,7 +233,7 @@ def level_energy(k, p=7, q=3, *, dictionary: str = "paper") -> float | np.ndarra
 
     References
     ----------
-    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (10) and Appendix F (``spec1``).
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (8) and Appendix F (``spec1``).
 
     Examples
     --------
@@ -251,7 +251,7 @@ def level_energy(k, p=7, q=3, *, dictionary: str = "paper") -> float | np.ndarra
 def energy_infinity(p=7, q=3, *, dictionary: str = "paper") -> float:
     r"""The band bottom :math:`E_\infty = -q + \frac{q}{4}h^2`, the :math:`k\to 0` limit.
 
-    Main text after Eq. (19); :math:`-2.94295` for {7,3}. With ``dictionary="improved"``
+    Main text after Eq. (17); :math:`-2.94295` for {7,3}. With ``dictionary="improved"``
     :math:`-q P_{-1/2}(\cosh 2d_0)` (:math:`-2.940961` for {7,3}).
 
     Parameters
@@ -275,7 +275,7 @@ def energy_infinity(p=7, q=3, *, dictionary: str = "paper") -> float:
 
     References
     ----------
-    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (19).
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (17).
 
     Examples
     --------
@@ -374,7 +374,7 @@ def asymptotic_k1(x) -> float | np.ndarray:
 def asymptotic_energies(p=7, q=3, *, radius=None, rings=None, form="auto", dictionary: str = "paper") -> dict:
     r"""Large-disk asymptotics of the two lowest continuum levels.
 
-    ``form="rings"`` (only {7,3} with ``rings``): Eq. (19) with ``spec11``/``spec17``,
+    ``form="rings"`` (only {7,3} with ``rings``): Eq. (17) with ``spec11``/``spec17``,
     :math:`E_{0,1} \sim E_\infty + \frac{3\pi^2h^2}{4}[\ln\varphi\,\ell + c_{0,1}]^{-2}`,
     :math:`c_0=\ln 2`, :math:`c_1 = \ln 2 - 1` — the paper's "asymptotic" rows of ``SuppTab1``
     (they use :math:`N\sim 7\varphi^{2\ell}`; ``rings`` may be any real :math:`\ell \ge 1` here, to
@@ -419,7 +419,7 @@ def asymptotic_energies(p=7, q=3, *, radius=None, rings=None, form="auto", dicti
 
     References
     ----------
-    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (19) and Appendix F.
+    Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eq. (17) and Appendix F.
 
     Examples
     --------
@@ -815,7 +815,7 @@ def dirichlet_levels(p=7, q=3, radius=None, rings=None, n_max: int = 5, m_max: i
     radius : float, optional
         Disk radius :math:`L \in (0, 1)`; give exactly one of ``radius`` and ``rings``.
     rings : int, optional
-        Number of rings of the {p,q} lattice; :math:`L` from Eq. (12) with its exact site count.
+        Number of rings of the {p,q} lattice; :math:`L` from Eq. (10) with its exact site count.
     n_max : int, optional
         Largest radial index n (default 5).
     m_max : int, optional
@@ -1001,7 +1001,7 @@ def continuum_levels(p=7, q=3, radius=None, rings=None, levels: int = 4,
     radius : float, optional
         Disk radius :math:`L\in(0,1)`; give exactly one of ``radius`` and ``rings``.
     rings : int, optional
-        Number of rings of the {p,q} lattice; :math:`L` from Eq. (12) with its exact site count.
+        Number of rings of the {p,q} lattice; :math:`L` from Eq. (10) with its exact site count.
     levels : int, optional
         Number of states (degenerate :math:`\pm m` levels count twice; default 4).
     check_nodes : bool, optional

@@ -204,14 +204,14 @@ def graph_green(lattice, omega, source=None, targets=None, *, t: float = 1.0, on
                 method: str = "auto") -> np.ndarray:
     r"""Graph Green function :math:`G_{ij}(\omega) = [(H-\omega)^{-1}]_{ij}` of :math:`H = -tA + V`.
 
-    This is the paper's Eq. (20) (``eq20``),
+    This is the paper's Eq. (18) (``eq20``),
 
     .. math:: G_{ij}(\omega) = \sum_{n=1}^N \frac{\psi_n(i)\psi_n^*(j)}{E_n-\omega},
 
     evaluated by a sparse factorisation of :math:`H - \omega` or, for many :math:`\omega`
     on small lattices, from one dense eigendecomposition (:class:`GraphResolvent`). Below the
     band, :math:`\omega < E_0`, it is compared with the continuum Green function through the
-    dictionary :math:`\lambda = 4(\omega + q)/(q h^2)` (Eq. (21)).
+    dictionary :math:`\lambda = 4(\omega + q)/(q h^2)` (Eq. (19)).
 
     Parameters
     ----------
@@ -255,7 +255,7 @@ def graph_green(lattice, omega, source=None, targets=None, *, t: float = 1.0, on
 
     References
     ----------
-    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eqs. (20) and (21).
+    .. [1] I. Boettcher et al., Phys. Rev. A 102, 032208 (2020), Eqs. (18) and (19).
 
     Examples
     --------

@@ -565,7 +565,7 @@ def bound_state(lattice: Lattice, site: int, omega_q, g, *, t: float = 1.0,
 
     The energy :math:`E_b` solves :math:`E - \omega_q + g^2 G_{j_0j_0}(E) = 0` below the band
     bottom :math:`E_0` (Newton's method from :math:`\omega_q`), with :math:`G(E) = (H-E)^{-1}`
-    the graph Green function (the paper's Eq. (20)); the photon profile is
+    the graph Green function (the paper's Eq. (18)); the photon profile is
     :math:`\phi = g\,G(E_b)e_{j_0}`. To leading order in g,
     :math:`E_b \approx \omega_q - g^2G_{j_0j_0}(\omega_q)`.
 
