@@ -121,3 +121,12 @@ def test_kpm_takes_any_sparse_format_and_checks_symmetry_with_a_tolerance(lat):
         graph_operator(a.tocsc())
     with pytest.raises(ValueError, match="^the matrix must be real"):
         graph_operator(hamiltonian(lat, flux=0.1))
+
+
+def test_a_hugely_degenerate_lowest_level_is_refused_before_allocating():
+    """The zero matrix of 10^7 rows: every level is 0, so the proof that no level was missed asks
+    ARPACK for n - 2 of them, an n x n basis (728 TiB). Refused with one sentence, nothing allocated."""
+    from hyperlattice.graph.factor import FactorMemoryError
+
+    with pytest.raises(FactorMemoryError, match="Lanczos basis .* more than the"):
+        lowest_levels(sp.csr_matrix((10**7, 10**7)), 2)

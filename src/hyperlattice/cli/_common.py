@@ -156,11 +156,23 @@ def add_checkpoint(parser: argparse.ArgumentParser, what: str) -> None:
                              "reads them back and computes only the missing ones")
 
 
-def interrupted(done: int, total: int, what: str, where) -> Interrupted:
-    """The one-line report of an interrupted multi-point run (raise it from the KeyboardInterrupt)."""
-    if where is None:
+def open_checkpoint(args):
+    """The :class:`~hyperlattice.cache.Cache` of ``--checkpoint DIR`` (the directory checked and
+    created), or None without the flag; the command passes it as ``checkpoint=`` and counts from it."""
+    if args.checkpoint is None:
+        return None
+    from ..cache import Cache
+
+    return Cache(_validate.directory("--checkpoint", args.checkpoint))
+
+
+def interrupted(cache, total: int, what: str, where) -> Interrupted:
+    """The one-line report of an interrupted multi-point run (raise it from the KeyboardInterrupt):
+    the points ``cache`` (from :func:`open_checkpoint`) holds, or that nothing was kept."""
+    if cache is None:
         return Interrupted(f"nothing kept of {total} {what} (--checkpoint DIR keeps the finished ones for a rerun)")
-    return Interrupted(f"{done} of {total} {what} kept in {where}; rerun the same command to resume")
+    return Interrupted(f"{cache.hits + cache.misses} of {total} {what} kept in {where}; "
+                       "rerun the same command to resume")
 
 
 # ----------------------------------------------------------------------------

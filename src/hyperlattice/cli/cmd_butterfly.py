@@ -6,7 +6,7 @@ import csv
 
 from .. import _validate
 from ._common import (DENSE_SECONDS_PER_N3, add_checkpoint, add_max_seconds, add_pq, check_work, estimate_sites,
-                      interrupted, plot_file, positive_int, print_json)
+                      interrupted, open_checkpoint, plot_file, positive_int, print_json)
 
 NAME = "butterfly"
 ORDER = 35
@@ -51,7 +51,6 @@ def run(args: argparse.Namespace) -> int:
     """Compute the butterfly and write the figure / table; bad input raises ValueError (exit 2)."""
     import numpy as np
 
-    from ..cache import Cache
     from ..graph.flux import butterfly
     from ..graph.lattice import line_graph, ring_lattice
 
@@ -66,15 +65,14 @@ def run(args: argparse.Namespace) -> int:
     _validate.require_memory(f"the butterfly's {block:,} x {block:,} complex blocks", 3.0 * 16 * block**2)
     check_work("butterfly", nflux * args.p * block**3 * DENSE_SECONDS_PER_N3, args.max_seconds,
                f"{n:,} sites: {nflux * args.p:,} dense blocks of {block:,}")
-    cache = None if args.checkpoint is None else Cache(_validate.directory("--checkpoint", args.checkpoint))
+    cache = open_checkpoint(args)
     lattice = ring_lattice(args.p, args.q, args.rings)
     if args.line_graph:
         lattice = line_graph(lattice)
     try:
         result = butterfly(lattice, np.linspace(0.0, 1.0, nflux), checkpoint=cache)
     except KeyboardInterrupt:
-        done = 0 if cache is None else cache.hits + cache.misses
-        raise interrupted(done, nflux, "flux values", args.checkpoint) from None
+        raise interrupted(cache, nflux, "flux values", args.checkpoint) from None
     if out is not None:
         from ..plots.magnetic import butterfly_figure
 

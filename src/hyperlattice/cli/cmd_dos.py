@@ -6,7 +6,7 @@ import csv
 import math
 
 from .. import _validate
-from ._common import add_checkpoint, add_pq, interrupted, plot_file, positive_int, print_json
+from ._common import add_checkpoint, add_pq, interrupted, open_checkpoint, plot_file, positive_int, print_json
 
 NAME = "dos"
 ORDER = 46
@@ -62,7 +62,6 @@ def _write_csv(path, result, points) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Compute the DOS and write the CSV / figure; bad input raises ValueError (exit 2)."""
-    from ..cache import Cache
     from ..graph.kpm import MAX_MOMENTS, MAX_VECTORS, block_width, bulk_dos, kpm_dos, local_dos
     from ..graph.lattice import ring_lattice
 
@@ -82,7 +81,7 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError("--keep-uniform applies to a cluster (--cluster); a flake has no uniform state.")
     if args.site is not None and args.checkpoint is not None:
         raise ValueError("--checkpoint keeps blocks of random vectors; --site computes exact moments without them.")
-    cache = None if args.checkpoint is None else Cache(_validate.directory("--checkpoint", args.checkpoint))
+    cache = open_checkpoint(args)
     if args.cluster is not None:
         from ..graph.clusters import pbc_cluster
 
@@ -105,9 +104,8 @@ def run(args: argparse.Namespace) -> int:
                 result = bulk_dos(graph, moments, exclude=args.exclude, vectors=vectors, seed=seed,
                                   kind=args.kind, checkpoint=cache)
         except KeyboardInterrupt:
-            done = 0 if cache is None else cache.hits + cache.misses
             blocks = -(-vectors // block_width(int(graph.sites), vectors, args.kind))
-            raise interrupted(done, blocks, "blocks of random vectors", args.checkpoint) from None
+            raise interrupted(cache, blocks, "blocks of random vectors", args.checkpoint) from None
     if out is not None:
         _write_csv(out, result, points)
     if fig is not None:

@@ -5,7 +5,8 @@ from __future__ import annotations
 import csv
 
 from .. import _validate
-from ._common import add_checkpoint, add_pq, finite_float, interrupted, plot_file, positive_int, print_json
+from ._common import (add_checkpoint, add_pq, finite_float, interrupted, open_checkpoint, plot_file,
+                      positive_int, print_json)
 
 NAME = "fluxmap"
 ORDER = 36
@@ -73,7 +74,6 @@ def run(args: argparse.Namespace) -> int:
     """Compute the comparison and write the figure / table; bad input raises ValueError (exit 2)."""
     import numpy as np
 
-    from ..cache import Cache
     from ..compare.magnetic import magnetic_comparison
 
     out = plot_file("--out", args.out) if args.out is not None else None
@@ -81,13 +81,12 @@ def run(args: argparse.Namespace) -> int:
     rings = _rings(args.rings)
     nflux = _validate.positive_int("--fluxes", args.fluxes, maximum=MAX_FLUXES)
     fmax = _validate.real("--fmax", args.fmax, minimum=0.0, maximum=1.0)
-    cache = None if args.checkpoint is None else Cache(_validate.directory("--checkpoint", args.checkpoint))
+    cache = open_checkpoint(args)
     try:
         result = magnetic_comparison(args.p, args.q, rings=rings, fluxes=np.linspace(0.0, fmax, nflux),
                                      levels=args.levels, checkpoint=cache)
     except KeyboardInterrupt:
-        done = 0 if cache is None else cache.hits + cache.misses
-        raise interrupted(done, len(rings) * nflux, "points", args.checkpoint) from None
+        raise interrupted(cache, len(rings) * nflux, "points", args.checkpoint) from None
     if out is not None:
         import matplotlib.pyplot as plt
 

@@ -834,8 +834,14 @@ def shift_invert_lowest(mat, k: int, factor: Factor, tol: float, label: str):
         return factor.solve(np.asarray(v, dtype=dtype).ravel())
 
     lin = spla.LinearOperator((n, n), matvec=op, dtype=dtype)
-    v0 = np.random.default_rng(12345).standard_normal(n).astype(dtype)
     ncv = min(n, max(2 * k + 1, _NCV))
+    # ARPACK's Lanczos basis (n x ncv) and work vectors, then the k vectors and H times them:
+    # refused before allocating (a k near n, as a highly degenerate lowest level asks for, is n^2)
+    needed = (ncv + 2 * k + 4) * n * np.dtype(dtype).itemsize
+    if needed > available_memory():
+        raise FactorMemoryError(f"the Lanczos basis for the {k} lowest levels of {label} ({n} rows) needs about "
+                                f"{_gb(needed)}, more than the {_gb(available_memory())} available to this process.")
+    v0 = np.random.default_rng(12345).standard_normal(n).astype(dtype)
     # ARPACK's tolerance is relative to the eigenvalues 1/(E - x) of the inverse; a loose first
     # try usually leaves a residual of H far below tol already (and the eigenvalue error is about
     # residual^2 / gap); a tight one follows only when the residual misses tol / 10.
@@ -960,7 +966,7 @@ def lowest_eigenpairs(mat, k: int, *, tol: float = 1e-10, backend: str = "auto",
         if check.negatives is None or check.negatives <= kk or kk >= n - 2:
             proved = check.negatives is not None and factor.negatives is not None
             break
-        kk = min(check.negatives, n - 2)
+        kk = min(check.negatives, n - 2)        # refused in shift_invert_lowest if it will not fit
         factor = an.factor(sigma, positive=True, matrix=mat)
     info = {"backend": an.backend, "sigma": sigma, "solves": solves, "proved": proved, "analysis": an}
     return e[:k], v[:, :k], res[:k], info
