@@ -180,7 +180,16 @@ def _beyond_factories():
 
         return pbc_cluster(7, 3, "klein")
 
-    out = {"Cluster": cluster, "DosComparison": dos, "SpinModel": spins}
+    def tables():
+        # the tabular results of issue 21, item 5, from small real computations
+        from hyperlattice.bosons import ed
+        from hyperlattice.graph.kpm import kpm_dos
+
+        return {"KPMDos": lambda: kpm_dos(ring_lattice(7, 3, 2), 16, vectors=3, seed=1),
+                "BoseHubbardLevels": lambda: ed.bose_hubbard(ring_lattice(7, 3, 1), 2, 2, 4.0, levels=3),
+                "ChargeGap": lambda: ed.charge_gap(ring_lattice(7, 3, 1), 2, 2, 4.0)}
+
+    out = {"Cluster": cluster, "DosComparison": dos, "SpinModel": spins, **tables()}
     out.update({k: (lambda k=k: bands(k)) for k in ("Windings", "Bands", "AbelianDOS")})
     out.update({k: (lambda k=k: limits(k)) for k in ("BandBottom", "SchurBound", "DictionaryComparison",
                                                      "BandBottomFit")})
@@ -494,7 +503,8 @@ def test_the_tabular_results_are_declared():
     """The tables issue 21 asks for (levels, comparisons, disorder, Mott lobes, ...) declare a schema."""
     assert {"Levels", "Spectrum", "ContinuumSpectrum", "MagneticSpectrum", "MatrixSpectrum", "LevelCount",
             "DisorderEnsemble", "RScan", "SCBAComparison", "MottLobe", "MottGapComparison",
-            "DictionaryComparison", "AbelianDOS", "LevelComparison", "DosComparison"} <= set(TABLES)
+            "DictionaryComparison", "AbelianDOS", "LevelComparison", "DosComparison",
+            "KPMDos", "CountingFit", "BoseHubbardLevels", "ChargeGap"} <= set(TABLES)
     assert {"Butterfly", "MagneticComparison", "DirichletTable", "DosComparison"} <= set(GRIDS)
     for tag in TABLES:
         names = [c.name for c in result_types()[tag].COLUMNS]
@@ -535,6 +545,30 @@ def test_to_xarray_holds_the_grid_and_its_units(tag):
             assert ds[c.name].to_numpy().tolist() == np.asarray(getattr(res, c.source)).tolist()
         else:
             np.testing.assert_array_equal(ds[c.name].to_numpy(), np.arange(ds.sizes[c.name]))
+
+
+def test_new_tables_hold_the_physics():
+    """The tables of issue 21, item 5: rows mean what the result says (not only the same arrays)."""
+    pytest.importorskip("pandas")
+    kpm = _build("KPMDos").to_dataframe()
+    assert kpm["order"].tolist() == list(range(16)) and kpm["mu"][0] == 1.0      # T_0 = 1: mu_0 = 1 exactly
+    gap = _build("ChargeGap")
+    df = gap.to_dataframe()
+    assert df["particles"].tolist() == [1, 2, 3]
+    e = df.set_index("particles")["ground_energy"]
+    assert math.isclose(e[1], -2.0, abs_tol=1e-12)    # one boson: the band bottom -2t of the 7-ring
+    assert math.isclose(e[3] + e[1] - 2 * e[2], gap.gap, rel_tol=1e-12)
+    bh = _build("BoseHubbardLevels")
+    levels = bh.to_dataframe()
+    assert math.isclose(levels["energy"][0], e[2], abs_tol=bh.tolerance[0])   # N = 2, U = 4 by two routes
+    assert levels["m"].tolist()[:3] == [0, 1, -1] and (levels["residual"] <= levels["tolerance"]).all()
+    fit = _build("CountingFit")
+    df = fit.to_dataframe()
+    np.testing.assert_allclose(df["rho"], (1 + df["r"] ** 2) / (1 - df["r"] ** 2), rtol=1e-14)
+    from hyperlattice.graph.lattice import ring_lattice
+
+    # N(r) counts the sites within radius r: rising, and all of them at the last radius
+    assert df["count"].is_monotonic_increasing and df["count"].iloc[-1] == ring_lattice(7, 3, 4).z.size
 
 
 def test_levels_without_m_leave_the_column_out():

@@ -53,7 +53,7 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 
 from .. import _validate
-from ..results import Result
+from ..results import Column, Result
 
 if TYPE_CHECKING:
     from pathlib import Path
@@ -571,7 +571,12 @@ class KPMDos(Result):
         Outer rings left out of the trace (``bulk``).
     deflated : int
         States at :math:`E = \mp q` left out of the trace (``kpm_dos(..., deflate=True)``).
+
+    Its table (:meth:`~hyperlattice.results.Result.to_dataframe`) has one row per moment:
+    ``order`` n, ``mu`` and ``mu_err``.
     """
+
+    COLUMNS = (Column("order", "orders", "1"), Column("mu", "mu", "1"), Column("mu_err", "mu_err", "1"))
 
     method: str
     label: str
@@ -597,6 +602,11 @@ class KPMDos(Result):
     def moments(self) -> int:
         """Number of moments M."""
         return int(self.mu.shape[0])
+
+    @property
+    def orders(self) -> np.ndarray:
+        """The order n = 0, 1, ..., M - 1 of each moment."""
+        return np.arange(self.moments)
 
     def energy_grid(self, points: int | None = None) -> np.ndarray:
         """Uniform energies in :math:`[-b, b]` (b the spectral bound), ``points`` of them (default 2M+1)."""
