@@ -189,7 +189,29 @@ def _beyond_factories():
                 "BoseHubbardLevels": lambda: ed.bose_hubbard(ring_lattice(7, 3, 1), 2, 2, 4.0, levels=3),
                 "ChargeGap": lambda: ed.charge_gap(ring_lattice(7, 3, 1), 2, 2, 4.0)}
 
-    out = {"Cluster": cluster, "DosComparison": dos, "SpinModel": spins, **tables()}
+    def per_site():
+        # results with one row per site (or grid point), found by the audit below
+        from hyperlattice.bosons.gp import gp_ground_state
+        from hyperlattice.bosons.meanfield import gutzwiller
+        from hyperlattice.compare import boundary, qubits as cq
+        from hyperlattice.continuum import gp as cgp
+        from hyperlattice.graph.disorder import disorder
+        from hyperlattice.graph.qubits import bound_state
+
+        def disk_gp():
+            return cgp.disk_gp(0.75, 0.057, 0.112, 20.0, cells=40)
+
+        return {"GPState": lambda: gp_ground_state(ring_lattice(7, 3, 2), 10.0, 0.5),
+                "GutzwillerState": lambda: gutzwiller(ring_lattice(7, 3, 2), 0.1, 0.5),
+                "BoundState": lambda: bound_state(ring_lattice(7, 3, 3), 0, -3.5, 0.2),
+                "BoundaryCorrelator": lambda: boundary.boundary_correlator(ring_lattice(7, 3, 4), -3.5),
+                "BulkToBoundary": lambda: boundary.bulk_to_boundary(ring_lattice(7, 3, 4), -3.5),
+                "ExchangeComparison": lambda: cq.exchange_comparison(ring_lattice(7, 3, 4), -3.2, 0.1),
+                "DiskGPState": disk_gp,
+                "DiskBogoliubov": lambda: cgp.disk_bogoliubov(disk_gp(), 4),
+                "Disorder": lambda: disorder(ring_lattice(7, 3, 2), "box", 2.0, seed=1, realization=3)}
+
+    out = {"Cluster": cluster, "DosComparison": dos, "SpinModel": spins, **tables(), **per_site()}
     out.update({k: (lambda k=k: bands(k)) for k in ("Windings", "Bands", "AbelianDOS")})
     out.update({k: (lambda k=k: limits(k)) for k in ("BandBottom", "SchurBound", "DictionaryComparison",
                                                      "BandBottomFit")})
@@ -504,8 +526,9 @@ def test_the_tabular_results_are_declared():
     assert {"Levels", "Spectrum", "ContinuumSpectrum", "MagneticSpectrum", "MatrixSpectrum", "LevelCount",
             "DisorderEnsemble", "RScan", "SCBAComparison", "MottLobe", "MottGapComparison",
             "DictionaryComparison", "AbelianDOS", "LevelComparison", "DosComparison",
-            "KPMDos", "CountingFit", "BoseHubbardLevels", "ChargeGap"} <= set(TABLES)
-    assert {"Butterfly", "MagneticComparison", "DirichletTable", "DosComparison"} <= set(GRIDS)
+            "KPMDos", "CountingFit", "BoseHubbardLevels", "ChargeGap", "BoundaryCorrelator", "GreenComparison",
+            "ExchangeComparison", "BandBottomFit", "FrameAngles", "GPState", "GutzwillerState"} <= set(TABLES)
+    assert {"Butterfly", "MagneticComparison", "DirichletTable", "DosComparison", "SpinModel", "Bands"} <= set(GRIDS)
     for tag in TABLES:
         names = [c.name for c in result_types()[tag].COLUMNS]
         assert len(names) == len(set(names)) and all(c.unit for c in result_types()[tag].COLUMNS), tag
@@ -569,6 +592,69 @@ def test_new_tables_hold_the_physics():
 
     # N(r) counts the sites within radius r: rising, and all of them at the last radius
     assert df["count"].is_monotonic_increasing and df["count"].iloc[-1] == ring_lattice(7, 3, 4).z.size
+
+
+def _row_arrays(res) -> dict[str, tuple[int, ...]]:
+    """The 1-d numeric arrays of a result, fields and properties, by name: what could be table columns."""
+    found = {}
+    names = [f.name for f in dataclasses.fields(res)]
+    names += [n for n in dir(type(res)) if isinstance(getattr(type(res), n, None), property)]
+    for name in names:
+        try:
+            v = getattr(res, name)
+        except Exception:  # noqa: BLE001 - a property that needs data this instance lacks
+            continue
+        if isinstance(v, np.ndarray) and v.ndim == 1 and v.dtype.kind in "biufc":
+            found[name] = v.shape[0]
+    return found
+
+
+def _untabled_rows(res) -> list[str] | None:
+    """The names of two or more equal-length 1-d numeric arrays of a result type that declares neither
+    COLUMNS nor GRID nor NOT_TABULAR (a table that slipped through), else None."""
+    if res.COLUMNS or res.GRID is not None or res.NOT_TABULAR:
+        return None
+    by_length: dict[int, list[str]] = {}
+    for name, n in _row_arrays(res).items():
+        by_length.setdefault(n, []).append(name)
+    rows = max(by_length.values(), key=len, default=[])
+    return sorted(rows) if len(rows) >= 2 else None
+
+
+@pytest.mark.parametrize("tag", TAGS)
+def test_every_tabular_result_declares_its_table(tag):
+    """The audit of issue 21, item 5: a result with two or more 1-d numeric arrays of one length
+    (rows) declares COLUMNS, GRID or, with a reason, NOT_TABULAR; a new result cannot slip."""
+    res = _build(tag)
+    assert _untabled_rows(res) is None, (
+        f"{tag} has rows {_untabled_rows(res)} but declares no COLUMNS, GRID or NOT_TABULAR")
+    assert not (res.NOT_TABULAR and (res.COLUMNS or res.GRID is not None)), tag
+    if res.NOT_TABULAR:            # the opt-out only where the audit would otherwise fire
+        assert isinstance(res.NOT_TABULAR, str) and res.NOT_TABULAR.strip(), tag
+        assert any(list(_row_arrays(res).values()).count(n) >= 2 for n in _row_arrays(res).values()), tag
+
+
+def test_the_audit_catches_an_undeclared_table():
+    @dataclasses.dataclass(frozen=True, eq=False, kw_only=True)
+    class Untabled(Result):
+        TYPE = "tests.Untabled"
+        x: np.ndarray
+        y: np.ndarray
+        label: str
+
+    @dataclasses.dataclass(frozen=True, eq=False, kw_only=True)
+    class Derived(Result):       # a property counts as much as a field
+        TYPE = "tests.Derived"
+        x: np.ndarray
+
+        @property
+        def x2(self) -> np.ndarray:
+            return self.x**2
+
+    assert _untabled_rows(Untabled(x=np.arange(4.0), y=np.ones(4), label="a")) == ["x", "y"]
+    assert _untabled_rows(Untabled(x=np.arange(4.0), y=np.ones(5), label="a")) is None   # two lengths
+    assert _untabled_rows(Untabled(x=np.arange(4.0), y=np.array(["a"] * 4), label="a")) is None  # text
+    assert _untabled_rows(Derived(x=np.arange(3.0))) == ["x", "x2"]
 
 
 def test_levels_without_m_leave_the_column_out():
