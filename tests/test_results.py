@@ -211,7 +211,50 @@ def _beyond_factories():
                 "DiskBogoliubov": lambda: cgp.disk_bogoliubov(disk_gp(), 4),
                 "Disorder": lambda: disorder(ring_lattice(7, 3, 2), "box", 2.0, seed=1, realization=3)}
 
-    out = {"Cluster": cluster, "DosComparison": dos, "SpinModel": spins, **tables(), **per_site()}
+    def comparisons():
+        # tables that were built from annotation samples: now small real computations, so that the
+        # round trip compares real rows
+        from hyperlattice.bosons.meanfield import mott_lobe
+        from hyperlattice.compare import boundary, disorder as cd, levels as lv, limits as lim
+        from hyperlattice.compare.bosons import mott_gap_comparison
+        from hyperlattice.compare.correlation import bin_by_distance
+        from hyperlattice.compare.qubits import bound_state_sizes
+        from hyperlattice.continuum.spectrum import continuum_levels
+
+        lat3 = ring_lattice(7, 3, 3)
+
+        def trend():
+            rings, e0, _ = lim.reference_levels(7, 3)
+            rings, e0 = rings[:4], e0[:4]
+            return lv.relative_error_trend(rings, e0, [continuum_levels(7, 3, rings=int(x), levels=1).energies[0]
+                                                       for x in rings])
+
+        def side_by_side():
+            from hyperlattice.graph.spectrum import lowest_levels
+
+            return lv.levels_side_by_side(lowest_levels(ring_lattice(7, 3, 2), 3),
+                                          continuum_levels(7, 3, rings=2, levels=3))
+
+        return {
+            "BinnedCorrelation": lambda: bin_by_distance([0.4, 0.6, 1.5, 2.2], [1.0, 3.0, 5.0, 2.0], width=1.0),
+            "BoundStateSizes": lambda: bound_state_sizes(ring_lattice(7, 3, 4), [-3.0, -3.5], 0.1),
+            "DeltaCurve": lambda: boundary.delta_curve(ring_lattice(7, 3, 5), [-3.5, -4.0]),
+            "LatticeBFBound": lambda: boundary.lattice_bf_bound(7, 3, rings=(3, 4)),
+            "DisorderGreen": lambda: cd.green_ensemble(lat3, -3.5 + 0.1j, 1.0, realizations=2, seed=1),
+            "RScan": lambda: cd.r_scan(lat3, [0.5, 4.0], realizations=2, window=None),
+            "SCBAComparison": lambda: cd.compare_scba(lat3, -3.5 + 0.1j, [0.5, 1.0], realizations=2, seed=1),
+            "LevelComparison": side_by_side,
+            "LevelCount": lambda: lv.graph_levels_below(ring_lattice(7, 3, 2)),
+            "PartitionComparison": lambda: lv.partition_functions(lv.graph_levels_below(ring_lattice(7, 3, 2)),
+                                                                  lv.continuum_levels_below(7, 3, rings=2),
+                                                                  [0.5, 1.0, 2.0]),
+            "RelativeErrorTrend": trend,
+            "PlateauAnalysis": lambda: lim.plateau_analysis(_build("BandBottom")),
+            "MottLobe": lambda: mott_lobe(3.0, points=21),
+            "MottGapComparison": lambda: mott_gap_comparison(ring_lattice(7, 3, 1), [0.0, 0.05]),
+        }
+
+    out = {"Cluster": cluster, "DosComparison": dos, "SpinModel": spins, **tables(), **per_site(), **comparisons()}
     out.update({k: (lambda k=k: bands(k)) for k in ("Windings", "Bands", "AbelianDOS")})
     out.update({k: (lambda k=k: limits(k)) for k in ("BandBottom", "SchurBound", "DictionaryComparison",
                                                      "BandBottomFit")})
