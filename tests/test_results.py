@@ -677,6 +677,25 @@ def test_every_tabular_result_declares_its_table(tag):
         assert any(list(_row_arrays(res).values()).count(n) >= 2 for n in _row_arrays(res).values()), tag
 
 
+def test_the_tables_page_lists_every_table_and_grid():
+    """docs/tables.md has one row per declared table, grid and NOT_TABULAR reason, as the code says."""
+    import re
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "tables.md").read_text()
+    listed = set(re.findall(r"^\| `([\w.]+)` \| `[\w.]+` \| (table|grid|neither) \|", text, re.M))
+    declared = set()
+    for tag, cls in result_types().items():
+        if tag.startswith("tests."):
+            continue
+        declared |= {(tag, kind) for kind, on in (("table", cls.COLUMNS), ("grid", cls.GRID is not None),
+                                                   ("neither", cls.NOT_TABULAR)) if on}
+    assert listed == declared, (sorted(declared - listed), sorted(listed - declared))
+    for tag, kind in declared:        # and the columns with their units, as declared
+        cls = result_types()[tag]
+        if kind == "table":
+            assert ", ".join(f"`{c.name}` ({c.unit})" for c in cls.COLUMNS) in text, tag
+
+
 def test_the_audit_catches_an_undeclared_table():
     @dataclasses.dataclass(frozen=True, eq=False, kw_only=True)
     class Untabled(Result):
