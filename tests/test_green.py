@@ -216,12 +216,19 @@ def test_complex_hermitian_matrix_matches_dense_solve(lat3, fmt, method, omega):
     assert np.abs(ref[src] - ref[src].T).max() > 1e-3
 
 
-def test_complex_hermitian_matrix_below_the_band_uses_the_positive_factorisation(lat3):
+@pytest.mark.parametrize("backend", ["auto", "superlu"])
+def test_complex_hermitian_matrix_below_the_band_uses_the_positive_factorisation(lat3, backend, monkeypatch):
+    from hyperlattice.graph import factor
+
+    if backend != "auto":        # the SuperLU LDL^T also when CHOLMOD is installed
+        analyze = factor.analyze
+        monkeypatch.setattr(factor, "analyze", lambda mat, **kw: analyze(mat, **{**kw, "backend": backend}))
     h = hamiltonian(lat3, flux=FLUX)
     res = GraphResolvent(h)
     full = graph_green(res, -3.2)
     np.testing.assert_allclose(full, np.linalg.inv(h.toarray() + 3.2 * np.eye(lat3.sites)), rtol=0, atol=1e-12)
     assert res._lu.positive_definite and res._lu.kind in ("LL^T", "LDL^T")
+    assert backend == "auto" or res.backend == backend
     np.testing.assert_allclose(full, full.conj().T, rtol=0, atol=1e-13)   # real omega: G Hermitian
     with pytest.raises(ValueError, match="lies on"):
         graph_green(h, float(np.linalg.eigvalsh(h.toarray())[3]), 0)
