@@ -187,13 +187,51 @@ def test_bad_resolvent_arguments(lat3, bad):
 
 @pytest.mark.parametrize("matrix,match", [
     (np.ones((2, 3)), "square"), (np.array([[0.0, 1.0], [2.0, 0.0]]), "symmetric"),
-    (np.array([[0.0, 1j], [-1j, 0.0]]), "complex entries"), (np.array([[np.nan, 0.0], [0.0, 0.0]]), "NaN"),
+    (np.array([[0.0, 1j], [1j, 0.0]]), r"^the Hamiltonian must be Hermitian: max \|H - H\^\+\| = 2 exceeds"),
+    (np.array([[np.nan, 0.0], [0.0, 0.0]]), "NaN"),
     (sp.csr_matrix(np.array([[0.0, np.inf], [np.inf, 0.0]])), "NaN or infinite"),
-    (sp.csr_matrix(np.array([[0.0, 1j], [-1j, 0.0]])), "complex entries"), (np.ones(3), "dimension"),
+    (sp.csr_matrix(np.array([[1j, 1.0], [1.0, 0.0]])), "^the Hamiltonian must be Hermitian"), (np.ones(3), "dimension"),
 ])
 def test_bad_matrix(matrix, match):
     with pytest.raises(ValueError, match=match):
         GraphResolvent(matrix)
+
+
+FLUX = 0.13       # flux quanta per heptagon: Peierls phases make H complex Hermitian, +-m split
+
+
+@pytest.mark.parametrize("fmt", ["csr", "coo", "dense"])
+@pytest.mark.parametrize("method", ["sparse", "dense"])
+@pytest.mark.parametrize("omega", [-3.2, -2.5 + 0.1j, 0.3 - 0.2j, 0.7, 3.5])
+def test_complex_hermitian_matrix_matches_dense_solve(lat3, fmt, method, omega):
+    h = hamiltonian(lat3, flux=FLUX)
+    assert np.iscomplexobj(h.data) and np.any(h.data.imag)
+    dense = h.toarray()
+    given = dense if fmt == "dense" else h.asformat(fmt)
+    src = [0, 10, 111]
+    ref = np.linalg.solve(dense - omega * np.eye(lat3.sites), np.eye(lat3.sites)[:, src])
+    got = graph_green(given, omega, src, method=method)
+    np.testing.assert_allclose(got, ref, rtol=0, atol=1e-12)
+    # with a field G is no longer symmetric but still obeys G(omega)^+ = G(omega*)
+    assert np.abs(ref[src] - ref[src].T).max() > 1e-3
+
+
+@pytest.mark.parametrize("backend", ["auto", "superlu"])
+def test_complex_hermitian_matrix_below_the_band_uses_the_positive_factorisation(lat3, backend, monkeypatch):
+    from hyperlattice.graph import factor
+
+    if backend != "auto":        # the SuperLU LDL^T also when CHOLMOD is installed
+        analyze = factor.analyze
+        monkeypatch.setattr(factor, "analyze", lambda mat, **kw: analyze(mat, **{**kw, "backend": backend}))
+    h = hamiltonian(lat3, flux=FLUX)
+    res = GraphResolvent(h)
+    full = graph_green(res, -3.2)
+    np.testing.assert_allclose(full, np.linalg.inv(h.toarray() + 3.2 * np.eye(lat3.sites)), rtol=0, atol=1e-12)
+    assert res._lu.positive_definite and res._lu.kind in ("LL^T", "LDL^T")
+    assert backend == "auto" or res.backend == backend
+    np.testing.assert_allclose(full, full.conj().T, rtol=0, atol=1e-13)   # real omega: G Hermitian
+    with pytest.raises(ValueError, match="lies on"):
+        graph_green(h, float(np.linalg.eigvalsh(h.toarray())[3]), 0)
 
 
 def test_matrix_input_takes_no_lattice_parameters(lat3):

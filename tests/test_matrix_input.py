@@ -119,8 +119,41 @@ def test_kpm_takes_any_sparse_format_and_checks_symmetry_with_a_tolerance(lat):
     a[0, 1] = 0.5
     with pytest.raises(ValueError, match="^the matrix must be symmetric"):
         graph_operator(a.tocsc())
-    with pytest.raises(ValueError, match="^the matrix must be real"):
-        graph_operator(hamiltonian(lat, flux=0.1))
+    c = sp.csr_matrix(np.array([[0.0, 1j], [1j, 0.0]]))
+    with pytest.raises(ValueError, match="^the matrix must be Hermitian"):
+        graph_operator(c)
+
+
+def test_full_spectrum_and_partition_function_of_a_complex_hermitian_matrix(lat):
+    h = hamiltonian(lat, flux=0.13)
+    exact = sla.eigvalsh(h.toarray())
+    np.testing.assert_allclose(full_spectrum(h.tocsc()), exact, rtol=0, atol=1e-12)
+    beta = np.array([0.5, 2.0])
+    neg = exact[exact < 0]            # Z sums the negative levels only (the paper's Fig. 2 inset)
+    np.testing.assert_allclose(partition_function(h, beta), np.exp(-np.outer(beta, neg)).sum(axis=1), rtol=1e-12)
+
+
+def test_kpm_takes_a_complex_hermitian_matrix(lat):
+    """A flux Hamiltonian through KPM (its real 2N embedding): exact local moments, and stochastic
+    moments within their error bars of the exact trace; sites count the N sites, not 2N rows."""
+    from hyperlattice.graph.kpm import EPS, graph_operator, kpm_dos, local_dos
+
+    a = -hamiltonian(lat, flux=0.13)          # KPM takes A, H = -A
+    energies, vectors = np.linalg.eigh(-a.toarray())
+    op = graph_operator(a.tocoo())
+    assert op.copies == 2 and op.sites == 2 * lat.sites and op.bound == pytest.approx(3.0, abs=1e-12)
+    theta = np.arccos(energies / (op.bound / (1 - EPS)))
+    n = np.arange(20)[:, None]
+    ldos = local_dos(a, 5, 20)
+    exact_local = (np.cos(n * theta) * np.abs(vectors[5]) ** 2).sum(axis=1)
+    np.testing.assert_allclose(ldos.mu, exact_local, rtol=0, atol=1e-13)
+    assert ldos.sites == lat.sites
+    with pytest.raises(ValueError, match="not a site"):
+        local_dos(a, lat.sites, 20)
+    dos = kpm_dos(a, 20, vectors=64, seed=2, kind="phase")
+    exact = np.cos(n * theta).mean(axis=1)
+    assert dos.sites == dos.traced_sites == lat.sites and dos.mu[0] == 1.0
+    assert np.all(np.abs(dos.mu - exact) <= 5 * dos.mu_err + 1e-12)
 
 
 def test_a_hugely_degenerate_lowest_level_is_refused_before_allocating():

@@ -180,7 +180,81 @@ def _beyond_factories():
 
         return pbc_cluster(7, 3, "klein")
 
-    out = {"Cluster": cluster, "DosComparison": dos, "SpinModel": spins}
+    def tables():
+        # the tabular results of issue 21, item 5, from small real computations
+        from hyperlattice.bosons import ed
+        from hyperlattice.graph.kpm import kpm_dos
+
+        return {"KPMDos": lambda: kpm_dos(ring_lattice(7, 3, 2), 16, vectors=3, seed=1),
+                "BoseHubbardLevels": lambda: ed.bose_hubbard(ring_lattice(7, 3, 1), 2, 2, 4.0, levels=3),
+                "ChargeGap": lambda: ed.charge_gap(ring_lattice(7, 3, 1), 2, 2, 4.0)}
+
+    def per_site():
+        # results with one row per site (or grid point), found by the audit below
+        from hyperlattice.bosons.gp import gp_ground_state
+        from hyperlattice.bosons.meanfield import gutzwiller
+        from hyperlattice.compare import boundary, qubits as cq
+        from hyperlattice.continuum import gp as cgp
+        from hyperlattice.graph.disorder import disorder
+        from hyperlattice.graph.qubits import bound_state
+
+        def disk_gp():
+            return cgp.disk_gp(0.75, 0.057, 0.112, 20.0, cells=40)
+
+        return {"GPState": lambda: gp_ground_state(ring_lattice(7, 3, 2), 10.0, 0.5),
+                "GutzwillerState": lambda: gutzwiller(ring_lattice(7, 3, 2), 0.1, 0.5),
+                "BoundState": lambda: bound_state(ring_lattice(7, 3, 3), 0, -3.5, 0.2),
+                "BoundaryCorrelator": lambda: boundary.boundary_correlator(ring_lattice(7, 3, 4), -3.5),
+                "BulkToBoundary": lambda: boundary.bulk_to_boundary(ring_lattice(7, 3, 4), -3.5),
+                "ExchangeComparison": lambda: cq.exchange_comparison(ring_lattice(7, 3, 4), -3.2, 0.1),
+                "DiskGPState": disk_gp,
+                "DiskBogoliubov": lambda: cgp.disk_bogoliubov(disk_gp(), 4),
+                "Disorder": lambda: disorder(ring_lattice(7, 3, 2), "box", 2.0, seed=1, realization=3)}
+
+    def comparisons():
+        # tables that were built from annotation samples: now small real computations, so that the
+        # round trip compares real rows
+        from hyperlattice.bosons.meanfield import mott_lobe
+        from hyperlattice.compare import boundary, disorder as cd, levels as lv, limits as lim
+        from hyperlattice.compare.bosons import mott_gap_comparison
+        from hyperlattice.compare.correlation import bin_by_distance
+        from hyperlattice.compare.qubits import bound_state_sizes
+        from hyperlattice.continuum.spectrum import continuum_levels
+
+        lat3 = ring_lattice(7, 3, 3)
+
+        def trend():
+            rings, e0, _ = lim.reference_levels(7, 3)
+            rings, e0 = rings[:4], e0[:4]
+            return lv.relative_error_trend(rings, e0, [continuum_levels(7, 3, rings=int(x), levels=1).energies[0]
+                                                       for x in rings])
+
+        def side_by_side():
+            from hyperlattice.graph.spectrum import lowest_levels
+
+            return lv.levels_side_by_side(lowest_levels(ring_lattice(7, 3, 2), 3),
+                                          continuum_levels(7, 3, rings=2, levels=3))
+
+        return {
+            "BinnedCorrelation": lambda: bin_by_distance([0.4, 0.6, 1.5, 2.2], [1.0, 3.0, 5.0, 2.0], width=1.0),
+            "BoundStateSizes": lambda: bound_state_sizes(ring_lattice(7, 3, 4), [-3.0, -3.5], 0.1),
+            "DeltaCurve": lambda: boundary.delta_curve(ring_lattice(7, 3, 5), [-3.5, -4.0]),
+            "LatticeBFBound": lambda: boundary.lattice_bf_bound(7, 3, rings=(3, 4)),
+            "DisorderGreen": lambda: cd.green_ensemble(lat3, -3.5 + 0.1j, 1.0, realizations=2, seed=1),
+            "RScan": lambda: cd.r_scan(lat3, [0.5, 4.0], realizations=2, window=None),
+            "SCBAComparison": lambda: cd.compare_scba(lat3, -3.5 + 0.1j, [0.5, 1.0], realizations=2, seed=1),
+            "LevelComparison": side_by_side,
+            "LevelCount": lambda: lv.graph_levels_below(ring_lattice(7, 3, 2)),
+            "PartitionComparison": lambda: lv.partition_functions(lv.graph_levels_below(ring_lattice(7, 3, 2)),
+                                                                  lv.continuum_levels_below(7, 3, rings=2),
+                                                                  [0.5, 1.0, 2.0]),
+            "RelativeErrorTrend": trend,
+            "PlateauAnalysis": lambda: lim.plateau_analysis(_build("BandBottom")),
+            "MottLobe": lambda: mott_lobe(3.0, points=21),
+            "MottGapComparison": lambda: mott_gap_comparison(ring_lattice(7, 3, 1), [0.0, 0.05]),
+        }
+
+    out = {"Cluster": cluster, "DosComparison": dos, "SpinModel": spins, **tables(), **per_site(), **comparisons()}
     out.update({k: (lambda k=k: bands(k)) for k in ("Windings", "Bands", "AbelianDOS")})
     out.update({k: (lambda k=k: limits(k)) for k in ("BandBottom", "SchurBound", "DictionaryComparison",
                                                      "BandBottomFit")})
@@ -494,8 +568,10 @@ def test_the_tabular_results_are_declared():
     """The tables issue 21 asks for (levels, comparisons, disorder, Mott lobes, ...) declare a schema."""
     assert {"Levels", "Spectrum", "ContinuumSpectrum", "MagneticSpectrum", "MatrixSpectrum", "LevelCount",
             "DisorderEnsemble", "RScan", "SCBAComparison", "MottLobe", "MottGapComparison",
-            "DictionaryComparison", "AbelianDOS", "LevelComparison", "DosComparison"} <= set(TABLES)
-    assert {"Butterfly", "MagneticComparison", "DirichletTable", "DosComparison"} <= set(GRIDS)
+            "DictionaryComparison", "AbelianDOS", "LevelComparison", "DosComparison",
+            "KPMDos", "CountingFit", "BoseHubbardLevels", "ChargeGap", "BoundaryCorrelator", "GreenComparison",
+            "ExchangeComparison", "BandBottomFit", "FrameAngles", "GPState", "GutzwillerState"} <= set(TABLES)
+    assert {"Butterfly", "MagneticComparison", "DirichletTable", "DosComparison", "SpinModel", "Bands"} <= set(GRIDS)
     for tag in TABLES:
         names = [c.name for c in result_types()[tag].COLUMNS]
         assert len(names) == len(set(names)) and all(c.unit for c in result_types()[tag].COLUMNS), tag
@@ -535,6 +611,112 @@ def test_to_xarray_holds_the_grid_and_its_units(tag):
             assert ds[c.name].to_numpy().tolist() == np.asarray(getattr(res, c.source)).tolist()
         else:
             np.testing.assert_array_equal(ds[c.name].to_numpy(), np.arange(ds.sizes[c.name]))
+
+
+def test_new_tables_hold_the_physics():
+    """The tables of issue 21, item 5: rows mean what the result says (not only the same arrays)."""
+    pytest.importorskip("pandas")
+    kpm = _build("KPMDos").to_dataframe()
+    assert kpm["order"].tolist() == list(range(16)) and kpm["mu"][0] == 1.0      # T_0 = 1: mu_0 = 1 exactly
+    gap = _build("ChargeGap")
+    df = gap.to_dataframe()
+    assert df["particles"].tolist() == [1, 2, 3]
+    e = df.set_index("particles")["ground_energy"]
+    assert math.isclose(e[1], -2.0, abs_tol=1e-12)    # one boson: the band bottom -2t of the 7-ring
+    assert math.isclose(e[3] + e[1] - 2 * e[2], gap.gap, rel_tol=1e-12)
+    bh = _build("BoseHubbardLevels")
+    levels = bh.to_dataframe()
+    assert math.isclose(levels["energy"][0], e[2], abs_tol=bh.tolerance[0])   # N = 2, U = 4 by two routes
+    assert levels["m"].tolist()[:3] == [0, 1, -1] and (levels["residual"] <= levels["tolerance"]).all()
+    fit = _build("CountingFit")
+    df = fit.to_dataframe()
+    np.testing.assert_allclose(df["rho"], (1 + df["r"] ** 2) / (1 - df["r"] ** 2), rtol=1e-14)
+    from hyperlattice.graph.lattice import ring_lattice
+
+    # N(r) counts the sites within radius r: rising, and all of them at the last radius
+    assert df["count"].is_monotonic_increasing and df["count"].iloc[-1] == ring_lattice(7, 3, 4).z.size
+
+
+def _row_arrays(res) -> dict[str, tuple[int, ...]]:
+    """The 1-d numeric arrays of a result, fields and properties, by name: what could be table columns."""
+    found = {}
+    names = [f.name for f in dataclasses.fields(res)]
+    names += [n for n in dir(type(res)) if isinstance(getattr(type(res), n, None), property)]
+    for name in names:
+        try:
+            v = getattr(res, name)
+        except Exception:  # noqa: BLE001 - a property that needs data this instance lacks
+            continue
+        if isinstance(v, np.ndarray) and v.ndim == 1 and v.dtype.kind in "biufc":
+            found[name] = v.shape[0]
+    return found
+
+
+def _untabled_rows(res) -> list[str] | None:
+    """The names of two or more equal-length 1-d numeric arrays of a result type that declares neither
+    COLUMNS nor GRID nor NOT_TABULAR (a table that slipped through), else None."""
+    if res.COLUMNS or res.GRID is not None or res.NOT_TABULAR:
+        return None
+    by_length: dict[int, list[str]] = {}
+    for name, n in _row_arrays(res).items():
+        by_length.setdefault(n, []).append(name)
+    rows = max(by_length.values(), key=len, default=[])
+    return sorted(rows) if len(rows) >= 2 else None
+
+
+@pytest.mark.parametrize("tag", TAGS)
+def test_every_tabular_result_declares_its_table(tag):
+    """The audit of issue 21, item 5: a result with two or more 1-d numeric arrays of one length
+    (rows) declares COLUMNS, GRID or, with a reason, NOT_TABULAR; a new result cannot slip."""
+    res = _build(tag)
+    assert _untabled_rows(res) is None, (
+        f"{tag} has rows {_untabled_rows(res)} but declares no COLUMNS, GRID or NOT_TABULAR")
+    assert not (res.NOT_TABULAR and (res.COLUMNS or res.GRID is not None)), tag
+    if res.NOT_TABULAR:            # the opt-out only where the audit would otherwise fire
+        assert isinstance(res.NOT_TABULAR, str) and res.NOT_TABULAR.strip(), tag
+        assert any(list(_row_arrays(res).values()).count(n) >= 2 for n in _row_arrays(res).values()), tag
+
+
+def test_the_tables_page_lists_every_table_and_grid():
+    """docs/tables.md has one row per declared table, grid and NOT_TABULAR reason, as the code says."""
+    import re
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "tables.md").read_text()
+    listed = set(re.findall(r"^\| `([\w.]+)` \| `[\w.]+` \| (table|grid|neither) \|", text, re.M))
+    declared = set()
+    for tag, cls in result_types().items():
+        if tag.startswith("tests."):
+            continue
+        declared |= {(tag, kind) for kind, on in (("table", cls.COLUMNS), ("grid", cls.GRID is not None),
+                                                   ("neither", cls.NOT_TABULAR)) if on}
+    assert listed == declared, (sorted(declared - listed), sorted(listed - declared))
+    for tag, kind in declared:        # and the columns with their units, as declared
+        cls = result_types()[tag]
+        if kind == "table":
+            assert ", ".join(f"`{c.name}` ({c.unit})" for c in cls.COLUMNS) in text, tag
+
+
+def test_the_audit_catches_an_undeclared_table():
+    @dataclasses.dataclass(frozen=True, eq=False, kw_only=True)
+    class Untabled(Result):
+        TYPE = "tests.Untabled"
+        x: np.ndarray
+        y: np.ndarray
+        label: str
+
+    @dataclasses.dataclass(frozen=True, eq=False, kw_only=True)
+    class Derived(Result):       # a property counts as much as a field
+        TYPE = "tests.Derived"
+        x: np.ndarray
+
+        @property
+        def x2(self) -> np.ndarray:
+            return self.x**2
+
+    assert _untabled_rows(Untabled(x=np.arange(4.0), y=np.ones(4), label="a")) == ["x", "y"]
+    assert _untabled_rows(Untabled(x=np.arange(4.0), y=np.ones(5), label="a")) is None   # two lengths
+    assert _untabled_rows(Untabled(x=np.arange(4.0), y=np.array(["a"] * 4), label="a")) is None  # text
+    assert _untabled_rows(Derived(x=np.arange(3.0))) == ["x", "x2"]
 
 
 def test_levels_without_m_leave_the_column_out():

@@ -541,6 +541,10 @@ class Result:
     COLUMNS: ClassVar[tuple[Column, ...]] = ()
     #: the grid of this result type (:meth:`to_xarray`), or None
     GRID: ClassVar[Grid | None] = None
+    #: why a result type that holds equal-length 1-d arrays is nevertheless neither a table nor a
+    #: grid (one sentence); empty for every other type. The tests hold every result type with two
+    #: or more 1-d numeric arrays of one length to COLUMNS, GRID or this reason.
+    NOT_TABULAR: ClassVar[str] = ""
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)

@@ -64,7 +64,7 @@ import scipy.sparse.linalg as spla
 from .. import _validate
 from .._ties import eigenvalue_tolerance, stable_order
 from ..errors import ConvergenceWarning, HyperlatticeError
-from ..results import Result
+from ..results import Column, Result
 from .basis import BosonBasis, _check_basis, boson_basis, basis_dimension, basis_memory
 
 __all__ = [
@@ -823,7 +823,13 @@ class BoseHubbardLevels(Result):
         Mean of :math:`\rho_{ij}` over pairs i != j whose distance falls in each bin.
     distance_kind : str
         ``"hyperbolic"`` (flake) or ``"graph x d0"`` (cluster).
+
+    Its table has one row per level: ``energy``, ``m``, ``residual`` and ``tolerance`` (the
+    per-site ``density`` and the correlations are not part of it).
     """
+
+    COLUMNS = (Column("energy", "energies", "t"), Column("m", "m", "1"), Column("residual", "residuals", "t"),
+               Column("tolerance", "tolerance", "t"))
 
     p: int
     q: int
@@ -1307,7 +1313,11 @@ class ChargeGap(Result):
         :math:`\Delta_c` (:math:`\mu_+ - \mu_-`, the width of the N-particle plateau in μ).
     tolerance : float
         Sum of the error bounds of the four energies entering the gap.
+
+    Its table has three rows, N - 1, N and N + 1: ``particles`` and ``ground_energy``.
     """
+
+    COLUMNS = (Column("particles", "particle_numbers", "1"), Column("ground_energy", "energies", "t"))
 
     p: int
     q: int
@@ -1321,6 +1331,11 @@ class ChargeGap(Result):
     energies: np.ndarray
     gap: float
     tolerance: float
+
+    @property
+    def particle_numbers(self) -> np.ndarray:
+        """N - 1, N, N + 1: the particle numbers of ``energies``."""
+        return self.particles + np.arange(-1, 2)
 
 
 def charge_gap(lattice, particles: int, nmax: int, U: float, *, t: float = 1.0,

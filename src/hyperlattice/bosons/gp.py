@@ -40,7 +40,7 @@ import scipy.sparse as sp
 
 from .. import _validate
 from ..errors import ConvergenceError, ConvergenceWarning
-from ..results import Result
+from ..results import Column, Result
 from .meanfield import _adjacency, _system_label
 
 __all__ = ["GPState", "gp_ground_state", "BogoliubovSpectrum", "bogoliubov"]
@@ -75,6 +75,9 @@ class GPState(Result):
         :math:`\lVert -tA\psi + U\psi^3 - \mu\psi\rVert / \lVert\mu\psi\rVert`.
     iterations : int
     """
+
+    #: one row per site
+    COLUMNS = (Column("psi", "psi", "sqrt(bosons)"), Column("density", "density", "bosons"))
 
     label: str
     t: float

@@ -537,6 +537,9 @@ class GutzwillerState(Result):
         Largest weight of the occupation ``nmax`` on any site (small means the cutoff is harmless).
     """
 
+    #: one row per site
+    COLUMNS = (Column("psi", "psi", "sqrt(bosons)"), Column("density", "density", "bosons"))
+
     label: str
     t: float
     mu: float

@@ -376,6 +376,10 @@ class BoundaryCorrelator(Result):
         What solved for ``graph`` (backend, factor kind, full H or its mirror-even block).
     """
 
+    #: one row per outer-ring probe i (the CLI's ``boundary`` table)
+    COLUMNS = (Column("site", "sites", "1"), Column("theta", "theta", "rad"), Column("graph", "graph", "1/t"),
+               Column("continuum", "continuum", "1/t"))
+
     p: int
     q: int
     rings: int
@@ -857,6 +861,10 @@ class BulkToBoundary(Result):
     bulk : ndarray of bool
         The sites used in the fit.
     """
+
+    #: one row per site i of the column
+    COLUMNS = (Column("graph", "graph", "1/t"), Column("continuum", "continuum", "1/t"),
+               Column("kernel", "kernel", "1/t"), Column("bulk", "bulk", "true/false"))
 
     p: int
     q: int

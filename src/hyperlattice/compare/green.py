@@ -35,7 +35,7 @@ from ..dictionary import dictionary_parameters
 from ..geometry import distance
 from ..graph.green import GraphResolvent
 from ..graph.lattice import Lattice
-from ..results import Result
+from ..results import Column, Result
 
 if TYPE_CHECKING:
     from ..continuum.green import GreenInfo
@@ -195,6 +195,10 @@ class GreenComparison(Result):
     tail_estimate : float
         Estimate of the truncated tail of that sum.
     """
+
+    #: one row per target site i
+    COLUMNS = (Column("distance", "distance", "hyperbolic distance"), Column("graph", "graph", "1/t"),
+               Column("continuum", "continuum", "1/t"))
 
     p: int
     q: int

@@ -441,6 +441,9 @@ class BandBottomFit(Result):
         Fit minus data at each fitted l.
     """
 
+    COLUMNS = (Column("rings", "rings", "1"), Column("energy", "energies", "t"),
+               Column("residual", "residuals", "t"))
+
     p: int
     q: int
     level: int

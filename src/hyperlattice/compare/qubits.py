@@ -109,6 +109,10 @@ class ExchangeComparison(Result):
         :math:`\xi` of :math:`J \propto e^{-d/\xi}` fitted on both columns the same way (2–6 edge lengths).
     """
 
+    #: one row per site i (the binned means ``bins``, ``graph_mean``, ``continuum_mean`` are not rows of it)
+    COLUMNS = (Column("distance", "distance", "hyperbolic distance"), Column("graph", "graph", "t"),
+               Column("continuum", "continuum", "t"))
+
     p: int
     q: int
     rings: int

@@ -115,6 +115,11 @@ class FrameAngles(Result):
         :math:`h e^{i\chi_i}\omega^a` (covers radius and mutual angles at once).
     """
 
+    #: one row per site
+    COLUMNS = (Column("r", "r", "1 (Poincare-disk radius)"), Column("phi", "phi", "rad"), Column("chi", "chi", "rad"),
+               Column("delta", "delta", "rad"), Column("full", "full", "true/false"),
+               Column("residual", "residual", "1 (Poincare-disk distance)"))
+
     p: int
     q: int
     h: float
@@ -753,6 +758,9 @@ class OperatorProfile(Result):
         For a radial f the quadratic approximation depends on r alone (it has no :math:`\chi_i`):
         its real part on a fine grid of :math:`d(r, 0)` up to the outermost site. None otherwise.
     """
+
+    NOT_TABULAR = ("its data are three RadialProfile tables (exact, quadratic, cubic: each exports "
+                   "its own) and an optional fine curve, not one table")
 
     p: int
     q: int

@@ -33,7 +33,7 @@ from .. import _validate
 from .. import geometry
 from ..errors import ConvergenceWarning
 from ..graph.lattice import Lattice
-from ..results import Result
+from ..results import Column, Result
 
 
 __all__ = [
@@ -111,8 +111,12 @@ class CountingFit(Result):
     r"""Least-squares fit :math:`\mathcal N(r) \approx s\rho + b` of ``sum4``.
 
     ``radii`` and ``counts`` are the fitted points :math:`(r_k, \mathcal N(r_k))`, one per
-    distinct radius of the window; ``rms`` is the rms residual of the fit.
+    distinct radius of the window; ``rms`` is the rms residual of the fit. Its table has one row
+    per fitted point: ``r``, ``rho`` and ``count``.
     """
+
+    COLUMNS = (Column("r", "radii", "1 (Poincare-disk radius)"), Column("rho", "rho", "1"),
+               Column("count", "counts", "sites"))
 
     p: int
     q: int

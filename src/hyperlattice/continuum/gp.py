@@ -42,7 +42,7 @@ import numpy as np
 
 from .. import _validate
 from ..errors import ConvergenceError, ConvergenceWarning
-from ..results import Result
+from ..results import Column, Result
 
 __all__ = ["DiskGPState", "disk_gp", "disk_gp_shooting", "DiskBogoliubov", "disk_bogoliubov", "healing_length"]
 
@@ -96,6 +96,10 @@ class DiskGPState(Result):
         conditions (``"shooting"``).
     method : str
     """
+
+    #: one row per radial grid point
+    COLUMNS = (Column("rho", "rho", "1 (geodesic radius)"), Column("f", "f", "1/sqrt(unit area)"),
+               Column("density", "density", "1/unit area"))
 
     radius: float
     rho_max: float
@@ -425,6 +429,8 @@ class DiskBogoliubov(Result):
     zero_mode : float
         The computed Goldstone frequency (j = 0).
     """
+
+    COLUMNS = (Column("frequency", "frequencies", "t"), Column("abs_j", "angular_momenta", "1"))
 
     frequencies: np.ndarray
     angular_momenta: np.ndarray

@@ -35,7 +35,7 @@ import numpy as np
 
 from .. import _validate
 from ..errors import HyperlatticeError
-from ..results import Column, Result
+from ..results import Column, Grid, INDEX, Result
 from .clusters import Cluster, _finish
 from .solvers import _single_threaded_blas
 
@@ -364,6 +364,12 @@ class Bands(Result):
         Their labels.
     name, p, q, genus : cell
     """
+
+    #: the bands on the (point, band) grid of the k-path, with the momenta and the path length
+    GRID = Grid(coords=(Column("point", INDEX, "1"), Column("band", INDEX, "1"), Column("component", INDEX, "1")),
+                variables=(Column("distance", "distance", "1 (length along the k-path)", ("point",)),
+                           Column("energy", "energies", "t", ("point", "band")),
+                           Column("k", "k", "1 (phase per cycle)", ("point", "component"))))
 
     k: np.ndarray
     distance: np.ndarray

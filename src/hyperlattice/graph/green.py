@@ -22,18 +22,6 @@ _DENSE_MAX = 4000          # full matrices / eigendecompositions only up to this
 _ON_SPECTRUM = 1e3         # |omega - E_n| below this many ulps of ||H|| counts as "on the spectrum"
 
 
-def _real_symmetric(system) -> sp.csr_matrix:
-    """A user's Hamiltonian matrix (dense or sparse, any format) as real symmetric CSR, or a ValueError.
-
-    Checked at the one door for matrices (:func:`hyperlattice._validate.hermitian_matrix`:
-    symmetric up to rounding, then symmetrised); a complex Hermitian H is refused here.
-    """
-    H = _validate.hermitian_matrix("the Hamiltonian", system)
-    if H.dtype.kind == "c":
-        raise ValueError("the Hamiltonian must be real symmetric (Hermitian hopping); it has complex entries.")
-    return H
-
-
 def _is_scalar(x) -> bool:
     """One site index (as opposed to a list of them); decided without np.asarray on odd input."""
     return bool(np.isscalar(x) or (isinstance(x, np.ndarray) and x.ndim == 0))
@@ -58,10 +46,15 @@ class GraphResolvent:
     graphs) and keeps the factorization of the last :math:`\omega`, so several sources at one
     :math:`\omega` reuse it; ``backend`` records what ran. ``"auto"`` picks sparse.
 
+    A complex Hermitian :math:`H` (Peierls phases of a flux, :mod:`hyperlattice.graph.flux`) is
+    kept complex: ``dense`` then uses :math:`V^\dagger` in ``eq20`` and ``sparse`` factorises the
+    complex :math:`H - \omega` (Cholesky-type below the band, where it is Hermitian positive definite).
+
     Parameters
     ----------
     system : Lattice or sparse/dense matrix
-        A lattice (then :math:`H` = :func:`hyperlattice.graph.operators.hamiltonian`) or :math:`H`.
+        A lattice (then :math:`H` = :func:`hyperlattice.graph.operators.hamiltonian`) or :math:`H`,
+        real symmetric or complex Hermitian.
     t : float
         Hopping amplitude (lattice input only).
     onsite : callable, array or None
@@ -71,7 +64,7 @@ class GraphResolvent:
     Raises
     ------
     ValueError
-        On a non-square or non-symmetric matrix, an unknown method, ``dense`` above
+        On a non-square or non-Hermitian matrix, an unknown method, ``dense`` above
         ``_DENSE_MAX`` sites, and (in the evaluation methods) for :math:`\omega` on the real
         spectrum to within rounding.
     """
@@ -84,12 +77,14 @@ class GraphResolvent:
         else:
             if t != 1.0 or onsite is not None:
                 raise ValueError("t and onsite apply to a lattice; a matrix H is used as given.")
-            H = _real_symmetric(system)
-        if np.iscomplexobj(H.data):
+            # the one door for matrices: Hermitian up to rounding, then symmetrised; float64, or
+            # complex128 when an entry has a nonzero imaginary part
+            H = _validate.hermitian_matrix("the Hamiltonian", system)
+        if isinstance(system, Lattice) and np.iscomplexobj(H.data):
             if np.any(H.data.imag != 0):
                 raise ValueError("the on-site term must be real so that H is Hermitian.")
             H = H.real
-        self.H = H.astype(float).tocsc()
+        self.H = H.astype(complex if np.iscomplexobj(H.data) else float).tocsc()
         self.n = H.shape[0]
         if method == "auto":
             method = "sparse"
@@ -106,7 +101,7 @@ class GraphResolvent:
         # a lower bound of the spectrum (Gershgorin): below it H - omega is positive definite
         d = self.H.diagonal()
         off = np.asarray(abs(self.H).sum(axis=1)).ravel() - np.abs(d)
-        self._lower = float(np.min(d - off)) if self.n else 0.0
+        self._lower = float(np.min(d.real - off)) if self.n else 0.0     # a Hermitian diagonal is real
 
     # -- spectrum checks -------------------------------------------------------
     def _tol(self, omega: complex) -> float:
@@ -170,13 +165,13 @@ class GraphResolvent:
             dist = np.min(np.abs(E - omega))
             if dist <= self._tol(omega):
                 raise self._on_spectrum_error(omega, f"distance {dist:.1e} to an eigenvalue")
-            out = (V / (E - omega)) @ V[src].T
+            out = (V / (E - omega)) @ V[src].conj().T
         else:
             lu = self._factor(omega)
-            rhs = np.zeros((self.n, src.size), dtype=float if omega.imag == 0 else complex)
+            rhs = np.zeros((self.n, src.size), dtype=float if omega.imag == 0 and self.H.dtype == float else complex)
             rhs[src, np.arange(src.size)] = 1.0
             out = lu.solve(rhs)
-            # ||(H - omega)^{-1}||_2 = 1/dist(omega, spectrum) for symmetric H: a column this
+            # ||(H - omega)^{-1}||_2 = 1/dist(omega, spectrum) for Hermitian H: a column this
             # large means the factorization was done within rounding of an eigenvalue
             big = np.max(np.linalg.norm(out, axis=0)) if src.size else 0.0
             if not np.all(np.isfinite(out)) or big * self._tol(omega) >= 1.0:
@@ -216,8 +211,9 @@ def graph_green(lattice, omega, source=None, targets=None, *, t: float = 1.0, on
     Parameters
     ----------
     lattice : Lattice or matrix
-        The lattice (then :math:`H` = :func:`~hyperlattice.graph.operators.hamiltonian`) or a
-        real symmetric :math:`H` itself (sparse or dense).
+        The lattice (then :math:`H` = :func:`~hyperlattice.graph.operators.hamiltonian`) or
+        :math:`H` itself (sparse or dense), real symmetric or complex Hermitian (a flux
+        Hamiltonian, ``hamiltonian(lattice, flux=f)``).
     omega : complex or 1-d array_like
         Frequency :math:`\omega`, in units of t; real values must not lie on the spectrum.
         Several values reuse one eigendecomposition when ``method="dense"`` (worth it for many
@@ -244,8 +240,8 @@ def graph_green(lattice, omega, source=None, targets=None, *, t: float = 1.0, on
     Raises
     ------
     ValueError
-        Bad site index, NaN omega, omega on the spectrum (to within rounding), a non-symmetric
-        or complex matrix, ``t``/``onsite`` given with a matrix, or a lattice too large for a
+        Bad site index, NaN omega, omega on the spectrum (to within rounding), a non-Hermitian
+        matrix, ``t``/``onsite`` given with a matrix, or a lattice too large for a
         full matrix or the dense method (more than 4000 sites).
 
     See Also

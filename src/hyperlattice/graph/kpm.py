@@ -53,7 +53,7 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 
 from .. import _validate
-from ..results import Result
+from ..results import Column, Result
 
 if TYPE_CHECKING:
     from pathlib import Path
@@ -84,6 +84,10 @@ class GraphOperator:
     ``table`` (N, w) int32 for a regular graph, else CSR ``indptr`` (int64), ``indices`` (int32)
     and ``data`` (float64, None for a 0/1 adjacency). ``bound`` is the exact Gershgorin bound
     :math:`\max_i\sum_j|A_{ij}| \ge \|H\|`; ``ring`` the ring index per site for a flake (else None).
+    ``copies`` is 2 for a complex Hermitian matrix :math:`A = B + iC`, streamed as its real symmetric
+    embedding :math:`\begin{pmatrix} B & -C \\ C & B\end{pmatrix}` of 2N rows, which has every
+    eigenvalue of A twice (so traces per row, i.e. densities per site, are those of A, and row i < N
+    has the local moments of site i); ``sites`` then counts the 2N rows.
     """
 
     sites: int
@@ -98,6 +102,7 @@ class GraphOperator:
     q: int | None = None
     label: str = ""
     perm: np.ndarray | None = None  # perm[original site] = row here (None: same numbering)
+    copies: int = 1                 # 2: the real embedding of a complex Hermitian matrix (see above)
 
     @property
     def nbytes(self) -> int:
@@ -170,8 +175,10 @@ def graph_operator(graph) -> GraphOperator:
     graph : Lattice, Cluster, scipy.sparse matrix or ndarray
         A flake from :func:`~hyperlattice.graph.lattice.ring_lattice` (CSR, degree < q on the
         boundary), a periodic cluster (anything with a ``neighbours`` array of shape (N, q), such as
-        :class:`hyperlattice.graph.clusters.Cluster`: a neighbour table), a symmetric sparse matrix
-        taken as A (CSR with its weights), or a (N, q) integer neighbour table.
+        :class:`hyperlattice.graph.clusters.Cluster`: a neighbour table), a real symmetric or complex
+        Hermitian sparse matrix taken as A (CSR with its weights; a complex one, such as the Peierls
+        hopping of a flux, as its real embedding of twice the size, see :class:`GraphOperator`), or a
+        (N, q) integer neighbour table.
 
     Returns
     -------
@@ -183,8 +190,7 @@ def graph_operator(graph) -> GraphOperator:
     Raises
     ------
     ValueError
-        For a matrix that is not square, real, finite and symmetric, or an object of another
-        kind.
+        For a matrix that is not square, finite and Hermitian, or an object of another kind.
 
     See Also
     --------
@@ -223,17 +229,22 @@ def graph_operator(graph) -> GraphOperator:
     if sp is not None and sp.issparse(graph):
         # the one door for matrices: square, finite, symmetric up to rounding (then symmetrised)
         a = _validate.hermitian_matrix("the matrix", graph)
+        n, copies, label = a.shape[0], 1, f"matrix, {a.shape[0]} rows"
+        # Gershgorin of A itself (also for a complex A: its embedding has the same norm)
+        bound = float(np.asarray(abs(a).sum(axis=1)).max()) if a.nnz else 0.0
         if a.dtype.kind == "c":
-            raise ValueError("the matrix must be real (H = -A with A real symmetric).")
-        data = np.asarray(a.data, dtype=np.float64)
+            # the kernels stream real weights: B + iC (B symmetric, C antisymmetric) becomes the real
+            # symmetric [[B, -C], [C, B]], whose spectrum is that of A with every level twice
+            b, c = a.real, a.imag
+            a = sp.bmat([[b, -c], [c, b]], format="csr")
+            a.eliminate_zeros()
+            copies, label = 2, f"complex Hermitian matrix, {n} rows"
         a.sort_indices()
-        rowsum = np.zeros(a.shape[0])
-        np.add.at(rowsum, np.repeat(np.arange(a.shape[0]), np.diff(a.indptr)), np.abs(data))
-        bound = float(rowsum.max()) if a.nnz else 0.0
+        data = np.asarray(a.data, dtype=np.float64)
         return GraphOperator(sites=a.shape[0], bound=bound if bound > 0 else 1.0,
                              indptr=np.asarray(a.indptr, np.int64),
                              indices=np.ascontiguousarray(a.indices, dtype=np.int32), data=data,
-                             label=f"matrix, {a.shape[0]} rows")
+                             label=label, copies=copies)
     if isinstance(graph, np.ndarray):
         return _table_operator(graph, f"neighbour table, {graph.shape[0] if graph.ndim else 0} sites")
     raise ValueError(f"expected a Lattice, a periodic cluster, a sparse matrix or a neighbour table, "
@@ -571,7 +582,12 @@ class KPMDos(Result):
         Outer rings left out of the trace (``bulk``).
     deflated : int
         States at :math:`E = \mp q` left out of the trace (``kpm_dos(..., deflate=True)``).
+
+    Its table (:meth:`~hyperlattice.results.Result.to_dataframe`) has one row per moment:
+    ``order`` n, ``mu`` and ``mu_err``.
     """
+
+    COLUMNS = (Column("order", "orders", "1"), Column("mu", "mu", "1"), Column("mu_err", "mu_err", "1"))
 
     method: str
     label: str
@@ -597,6 +613,11 @@ class KPMDos(Result):
     def moments(self) -> int:
         """Number of moments M."""
         return int(self.mu.shape[0])
+
+    @property
+    def orders(self) -> np.ndarray:
+        """The order n = 0, 1, ..., M - 1 of each moment."""
+        return np.arange(self.moments)
 
     def energy_grid(self, points: int | None = None) -> np.ndarray:
         """Uniform energies in :math:`[-b, b]` (b the spectral bound), ``points`` of them (default 2M+1)."""
@@ -884,7 +905,8 @@ def _finish(op, method, per, elapsed, *, kind, seed, vectors, traced, site=None,
         err = per.std(axis=0, ddof=1) / math.sqrt(vectors)
     else:
         err = np.full_like(mu, np.nan)
-    return KPMDos(method=method, label=label or op.label, p=op.p, q=op.q, sites=op.sites, traced_sites=traced,
+    return KPMDos(method=method, label=label or op.label, p=op.p, q=op.q, sites=op.sites // op.copies,
+                  traced_sites=traced,
                   scale=op.bound / (1.0 - EPS), bound=op.bound, mu=mu, mu_err=err, mu_vectors=per,
                   vectors=vectors, vector_kind=kind, seed=seed, site=site, exact_moments=exact,
                   excluded_rings=excluded, deflated=deflated, timings={"total": elapsed})
@@ -974,8 +996,8 @@ def kpm_dos(graph, moments: int = 512, *, vectors: int = 16, seed: int = 0, kind
     states = _extreme_states(op) if _validate.flag("deflate", deflate) else []
     progress = _validate.progress("progress", progress)
     per, elapsed = _stochastic(op, moments, vectors, seed, kind, None, parallel, progress, states, checkpoint)
-    return _finish(op, "stochastic", per, elapsed, kind=kind, seed=seed, vectors=vectors, traced=op.sites,
-                   deflated=len(states))
+    return _finish(op, "stochastic", per, elapsed, kind=kind, seed=seed, vectors=vectors,
+                   traced=op.sites // op.copies, deflated=len(states))
 
 
 def local_dos(graph, site: int = 0, moments: int = 512, *, parallel: bool = False) -> KPMDos:
@@ -1025,7 +1047,7 @@ def local_dos(graph, site: int = 0, moments: int = 512, *, parallel: bool = Fals
     import time
 
     op = graph_operator(graph)
-    site = _validate.site_index("site", site, op.sites)
+    site = _validate.site_index("site", site, op.sites // op.copies)
     moments = _validate.integer("moments", moments, minimum=2, maximum=MAX_MOMENTS)
     _check_memory(op.sites, 8)
     v = np.zeros(op.sites)

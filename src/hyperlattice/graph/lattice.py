@@ -121,6 +121,9 @@ class Lattice(Result):
     :func:`load_lattice` reads old and new files alike.
     """
 
+    NOT_TABULAR = ("a graph: its per-site arrays (z, ring, rotation) mean something only with its edge list, "
+                   "and both are stored as they are")
+
     #: the marker :func:`hyperlattice._validate.lattice` recognises (the input door sits below
     #: ``graph/`` and does not import this module)
     __hyperlattice_lattice__: ClassVar[bool] = True

@@ -49,7 +49,7 @@ import scipy.sparse as sp
 from .. import _validate
 from ..errors import ConvergenceError
 from ..geometry import distance
-from ..results import Result
+from ..results import Column, Grid, INDEX, Result
 from .lattice import Lattice
 from .operators import hamiltonian
 
@@ -522,6 +522,10 @@ class BoundState(Result):
         outer ring (NaN when there are fewer than 10 such sites).
     """
 
+    #: one row per site (the photon profiles; site i is row i)
+    COLUMNS = (Column("distance", "distance", "hyperbolic distance"), Column("photon", "photon", "1"),
+               Column("leading", "leading", "1"))
+
     p: int
     q: int
     rings: int
@@ -682,6 +686,12 @@ class SpinModel(Result):
     distance : ndarray, shape (K, K)
         Hyperbolic distances between the qubits.
     """
+
+    #: the K x K couplings and distances on the qubit axes (k, l), with the per-qubit site and Lamb shift
+    GRID = Grid(coords=(Column("k", INDEX, "1"), Column("l", INDEX, "1")),
+                variables=(Column("site", "sites", "1", ("k",)), Column("lamb_shift", "lamb_shift", "t", ("k",)),
+                           Column("coupling", "couplings", "t", ("k", "l")),
+                           Column("distance", "distance", "hyperbolic distance", ("k", "l"))))
 
     p: int
     q: int
