@@ -84,6 +84,35 @@ class GraphOperator:
     ``table`` (N, w) int32 for a regular graph, else CSR ``indptr`` (int64), ``indices`` (int32)
     and ``data`` (float64, None for a 0/1 adjacency). ``bound`` is the exact Gershgorin bound
     :math:`\max_i\sum_j|A_{ij}| \ge \|H\|`; ``ring`` the ring index per site for a flake (else None).
+    Build it with :func:`graph_operator`.
+
+    Attributes
+    ----------
+    sites : int
+        Number of sites N.
+    bound : float
+        The Gershgorin bound on :math:`\|H\|`, in units of t (the maximal degree for a 0/1 adjacency).
+    table : ndarray of int32, shape (N, w), or None
+        Neighbour table of a regular graph (rows in the order of ``perm``).
+    indptr, indices, data : ndarray or None
+        CSR arrays of an irregular graph (a flake); ``data`` None for a 0/1 adjacency.
+    ring : ndarray or None
+        Ring index (1-based) of each site of a flake.
+    rings, p, q : int or None
+        Rings and Schläfli symbol when known.
+    label : str
+        What the graph is, for plots and reports.
+    perm : ndarray or None
+        ``perm[original site] = row`` when a table was renumbered breadth-first for memory
+        locality; None when rows are the original (0-based) site indices.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.kpm import graph_operator
+    >>> op = graph_operator(hl.ring_lattice(7, 3, 2))
+    >>> op.sites, op.bound, op.rings, op.table is None, op.label
+    (35, 3.0, 2, True, '{7,3} flake, 2 rings')
     """
 
     sites: int
@@ -571,6 +600,38 @@ class KPMDos(Result):
         Outer rings left out of the trace (``bulk``).
     deflated : int
         States at :math:`E = \mp q` left out of the trace (``kpm_dos(..., deflate=True)``).
+    label : str
+        What the graph is (e.g. ``"{7,3} flake, 4 rings"``).
+    p, q : int or None
+        Schläfli symbol when known.
+    bound : float
+        The spectral bound b of H (Gershgorin), units of t; ``scale`` is slightly above it.
+    vectors : int
+        Number R of random vectors (1 for ``local``).
+    vector_kind : str
+        Distribution of the random vectors (``"rademacher"``, ...).
+    seed, site : int or None
+        Seed of the random vectors; the site of a ``local`` DOS (0-based).
+    timings : dict
+        Wall-clock seconds (``"total"``).
+
+    Notes
+    -----
+    Energies are those of :math:`H = -tA` with t = 1 (units of t); densities are per traced site
+    and per unit energy.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> dos = hl.kpm_dos(hl.ring_lattice(7, 3, 4), 64, vectors=4, seed=1)
+    >>> dos.method, dos.moments, dos.bound, dos.label
+    ('stochastic', 64, 3.0, '{7,3} flake, 4 rings')
+    >>> e, rho, err = dos.density([-1.0, 0.5])
+    >>> [round(float(x), 3) for x in rho]
+    [0.141, 0.231]
+    >>> e, n, err = dos.integrated([3.0])
+    >>> round(float(n[0]), 4)                      # all states lie below E = 3
+    1.0
     """
 
     method: str
@@ -599,7 +660,18 @@ class KPMDos(Result):
         return int(self.mu.shape[0])
 
     def energy_grid(self, points: int | None = None) -> np.ndarray:
-        """Uniform energies in :math:`[-b, b]` (b the spectral bound), ``points`` of them (default 2M+1)."""
+        """Uniform energies in :math:`[-b, b]` (b the spectral bound), ``points`` of them (default 2M+1).
+
+        Parameters
+        ----------
+        points : int, optional
+            Number of energies, 2 to 10,000,000; default 2M + 1.
+
+        Returns
+        -------
+        numpy.ndarray
+            The energies (units of t), ascending.
+        """
         points = 2 * self.moments + 1 if points is None else _validate.integer("points", points, minimum=2,
                                                                               maximum=10_000_000)
         return np.linspace(-self.bound, self.bound, points)
@@ -622,6 +694,16 @@ class KPMDos(Result):
 
         ``err`` is the standard error over the random vectors of the density itself (each vector's
         density, then ``std / sqrt(R)``); 0 for exact moments. Outside :math:`|E| < a`: 0.
+
+        Parameters
+        ----------
+        energies : float or array_like, optional
+            Energies (units of t); default :meth:`energy_grid`.
+
+        Returns
+        -------
+        E, rho, err : numpy.ndarray
+            The energies, the density (per traced site per unit energy) and its standard error.
         """
         e = self._energies(energies)
         x, inside, theta, w = self._basis(e)
@@ -642,6 +724,16 @@ class KPMDos(Result):
 
         Closed form from the moments: :math:`\int_{-1}^x T_n/(\pi\sqrt{1-t^2})\,dt = (\pi-\theta)/\pi`
         for n = 0 and :math:`-\sin(n\theta)/(n\pi)` for n >= 1, :math:`x = \cos\theta`.
+
+        Parameters
+        ----------
+        energies : float or array_like, optional
+            Energies (units of t); default :meth:`energy_grid`.
+
+        Returns
+        -------
+        E, N, err : numpy.ndarray
+            The energies, the fraction of states below each, and its standard error.
         """
         e = self._energies(energies)
         x, inside, theta, w = self._basis(e)
@@ -660,7 +752,23 @@ class KPMDos(Result):
 
     def kernel_width(self, energy: float) -> float:
         r"""Standard deviation (in energy) of the Jackson-broadened delta peak at ``energy``: the
-        resolution of this DOS there. Measured from the kernel itself on a fine grid."""
+        resolution of this DOS there. Measured from the kernel itself on a fine grid.
+
+        Parameters
+        ----------
+        energy : float
+            Inside :math:`(-a, a)`, units of t.
+
+        Returns
+        -------
+        float
+            The width, units of t.
+
+        Raises
+        ------
+        ValueError
+            If ``energy`` lies outside :math:`(-a, a)`.
+        """
         e0 = _validate.real("energy", energy)
         x0 = e0 / self.scale
         if not abs(x0) < 1:
