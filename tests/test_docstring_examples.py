@@ -143,8 +143,6 @@ CLASSES_PENDING: tuple[str, ...] = (
     "hyperlattice.continuum.spectrum",
     "hyperlattice.dictionary",
     "hyperlattice.geometry",
-    "hyperlattice.graph.factor",
-    "hyperlattice.graph.qubits",
     "hyperlattice.paper_values",
     "hyperlattice.report.writers",
     "hyperlattice.results",
