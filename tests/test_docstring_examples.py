@@ -118,10 +118,6 @@ COMPLETE: tuple[str, ...] = (
 
 # COMPLETE modules whose public classes are not all documented to the class rule yet
 CLASSES_PENDING: tuple[str, ...] = (
-    "hyperlattice.bosons.basis",
-    "hyperlattice.bosons.ed",
-    "hyperlattice.bosons.gp",
-    "hyperlattice.bosons.meanfield",
     "hyperlattice.compare.bosons",
     "hyperlattice.compare.boundary",
     "hyperlattice.compare.correlation",
