@@ -118,12 +118,9 @@ COMPLETE: tuple[str, ...] = (
 
 # COMPLETE modules whose public classes are not all documented to the class rule yet
 CLASSES_PENDING: tuple[str, ...] = (
-    "hyperlattice.compare.bosons",
     "hyperlattice.compare.boundary",
-    "hyperlattice.compare.correlation",
     "hyperlattice.compare.disorder",
     "hyperlattice.compare.dos",
-    "hyperlattice.compare.green",
     "hyperlattice.compare.levels",
     "hyperlattice.compare.limits",
     "hyperlattice.compare.scaling",
