@@ -121,7 +121,6 @@ CLASSES_PENDING: tuple[str, ...] = (
     "hyperlattice.compare.boundary",
     "hyperlattice.compare.disorder",
     "hyperlattice.compare.dos",
-    "hyperlattice.compare.levels",
     "hyperlattice.compare.limits",
     "hyperlattice.compare.scaling",
     "hyperlattice.report.writers",
