@@ -24,9 +24,6 @@ at such names). The rule, as :func:`_class_sections_missing` checks it:
   inherited methods are not counted) whose signature takes anything besides ``self``/``cls`` has
   Parameters, and Returns (or Yields) unless it is annotated ``-> None``. Methods without
   arguments need only their one-line summary.
-
-``CLASSES_PENDING`` lists the ``COMPLETE`` modules whose classes do not all follow the rule yet; a
-module there that does follow it fails the test too, so the list only shrinks.
 """
 
 from __future__ import annotations
@@ -110,14 +107,6 @@ COMPLETE: tuple[str, ...] = (
     "hyperlattice.report.sections",
     "hyperlattice.report.writers",
     "hyperlattice.results",
-    "hyperlattice.sweep.engine",
-    "hyperlattice.sweep.store",
-    "hyperlattice.sweep.tasks",
-)
-
-
-# COMPLETE modules whose public classes are not all documented to the class rule yet
-CLASSES_PENDING: tuple[str, ...] = (
     "hyperlattice.sweep.engine",
     "hyperlattice.sweep.store",
     "hyperlattice.sweep.tasks",
@@ -288,16 +277,8 @@ def test_public_classes_have_numpydoc_sections():
     pytest.importorskip("numpydoc")
     bad = {}
     for modname in COMPLETE:
-        if modname not in CLASSES_PENDING:
-            bad.update(_classes_missing(modname))
+        bad.update(_classes_missing(modname))
     assert not bad, f"public classes without numpydoc sections: {bad}"
-
-
-def test_pending_class_modules_are_still_pending():
-    pytest.importorskip("numpydoc")
-    assert set(CLASSES_PENDING) <= set(COMPLETE)
-    done = [m for m in CLASSES_PENDING if not _classes_missing(m)]
-    assert not done, f"take these modules off CLASSES_PENDING, their classes are documented: {done}"
 
 
 def test_the_class_check_finds_missing_sections():
