@@ -595,7 +595,7 @@ class DosComparison(Result):
         Returns
         -------
         list of float
-            The quantiles :math:`\nu`.
+            The quantiles :math:`\\nu`.
         """
         w = self.continuum_window(tolerance)
         return [float(nu) for nu, o in zip(self.quantiles, self.continuum_agreement(tolerance)) if not o and nu < w]
