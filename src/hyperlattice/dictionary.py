@@ -629,8 +629,8 @@ class ContinuumParameters(Result):
         The lattice hopping, chemical potential and on-site interaction (one energy unit, e.g. t).
     t_prime, mu_prime, U_prime : float
         The continuum ones, :math:`t' = \frac q4 h^2 t`, :math:`\mu' = \mu + qt`,
-        :math:`U' = \mathcal A\,U`, in the same energy unit (:math:`U'` per unit area of the
-        paper's metric).
+        :math:`U' = \mathcal A\,U`, in the same energy unit (:math:`U'` times an area of the
+        paper's metric, since :math:`\hat\alpha` is a field per unit area).
     field_scale : float
         :math:`1/\sqrt{\mathcal A}`.
     h : float
