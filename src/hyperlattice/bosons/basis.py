@@ -143,6 +143,8 @@ class BosonBasis:
     counts : ndarray of int64, shape (M + 1, N + 1)
         :math:`C_m(r)`: states of r bosons on m sites.
 
+    Notes
+    -----
     Sites are 0-based, in the lattice's order (ring by ring) when the basis is built for a lattice.
 
     Examples

@@ -859,6 +859,8 @@ class BoseHubbardLevels(Result):
     distance_kind : str
         ``"hyperbolic"`` (flake) or ``"graph x d0"`` (cluster).
 
+    Notes
+    -----
     Site-indexed arrays (``density``, ``density_matrix``) follow the lattice's order (0-based,
     ring by ring); distances are in the paper's metric.
 

@@ -550,6 +550,8 @@ class GutzwillerState(Result):
     cutoff_weight : float
         Largest weight of the occupation ``nmax`` on any site (small means the cutoff is harmless).
 
+    Notes
+    -----
     Site-indexed arrays follow the graph's order (0-based, ring by ring for a flake).
 
     Examples
