@@ -142,6 +142,8 @@ class BinnedCorrelation(Result):
         bins are centred on the multiples of :math:`d_0/2`, where the lattice's exact distances
         (0, :math:`d_0`, ...) lie, so that this is 0 for the default bins on a lattice.
 
+    Notes
+    -----
     Distances are hyperbolic, in the paper's metric :math:`|dz|^2/(1-|z|^2)^2`; F keeps its own unit.
 
     Examples

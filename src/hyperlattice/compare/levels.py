@@ -55,6 +55,8 @@ class LevelComparison(Result):
         Whether level k carries the same (n, m) on both sides; None if either side has no m
         (an on-site term that breaks the rotation).
 
+    Notes
+    -----
     Energies on both sides are in units of t.
 
     Examples

@@ -595,6 +595,8 @@ class SchurBound(Result):
         Whether the pattern set did not grow from the second-to-last usable ring to the last
         (then it holds on the whole infinite lattice, and the bound is rigorous there).
 
+    Notes
+    -----
     ``bound`` is a bound on :math:`\rho = \|A\|`, so :math:`-t\,c` bounds the band bottom of
     :math:`H = -tA` from below.
 

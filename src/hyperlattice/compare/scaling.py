@@ -114,6 +114,8 @@ class FrameAngles(Result):
         Largest distance of a mapped neighbour :math:`w(z_j)` from the ideal star point
         :math:`h e^{i\chi_i}\omega^a` (covers radius and mutual angles at once).
 
+    Notes
+    -----
     Coordinates are those of the paper's Poincaré disk; angles are in radians; site indices
     follow the lattice (0-based, ring by ring).
 
