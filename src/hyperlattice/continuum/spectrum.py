@@ -917,6 +917,8 @@ class ContinuumSpectrum(Levels):
     description : str
         One sentence on the root search.
 
+    Notes
+    -----
     Energies and errors are in units of t (the map from roots to energies of the chosen
     ``dictionary``); L is the Euclidean disk radius in the paper's Poincaré disk.
 
