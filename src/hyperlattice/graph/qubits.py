@@ -577,6 +577,8 @@ class BoundState(Result):
         between 2 and 6 edge lengths from the qubit that are at least 3 edge lengths inside the
         outer ring (NaN when there are fewer than 10 such sites).
 
+    Notes
+    -----
     Energies (``energy``, ``energy_leading``) are in units of t; distances, ``size`` and
     ``decay_length`` in the paper's metric :math:`|dz|^2/(1-|z|^2)^2`.
 

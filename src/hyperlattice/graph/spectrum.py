@@ -115,6 +115,7 @@ class Spectrum(Levels):
     description : str
         One sentence on what ran.
     p, q, rings, sites : int
+        Schläfli symbol, rings and number of sites N of the lattice.
     kind : str
         ``"sites"`` or ``"line_graph"``.
     timings : dict
