@@ -96,6 +96,8 @@ class PaperValue:
         Why a computed value differs from the printed one, or how it is compared ("" if
         nothing is to be said).
 
+    Notes
+    -----
     Values carry the paper's units: energies in units of t, radii and lengths in the paper's
     metric :math:`|dz|^2/(1-|z|^2)^2`.
 
