@@ -17,7 +17,8 @@ is such a name, which a fourth test holds). The rule, as :func:`_class_sections_
 * it names every constructor argument the class itself declares: for a dataclass (every result,
   frozen) its own ``init`` fields under numpydoc's **Attributes** (fields inherited from a base such
   as :class:`~hyperlattice.results.Levels` are documented on the base), for any other class with its
-  own ``__init__`` the arguments under **Parameters**; ``p, q : int`` documents both names;
+  own ``__init__`` the arguments under **Parameters**; ``p, q : int`` documents both names, and
+  every entry has a description (prose after the list belongs under Notes);
 * exceptions and warnings need only the summary (they carry a message; the summary says when they
   are raised);
 * a public method defined in the class body (plain, class- or static method; properties and
@@ -241,6 +242,12 @@ def _class_sections_missing(cls) -> list[str]:
     undocumented = [n for n in names if n not in _documented_names(doc, section)]
     if undocumented:
         missing.append(f"{section}: {', '.join(undocumented)}")
+    # an entry without a description is usually prose that fell into the section (a paragraph
+    # after the list is read as one more name): it belongs under Notes
+    for sec in ("Parameters", "Attributes"):
+        bare = [item.name for item in doc[sec] if not "".join(item.desc).strip()]
+        if bare:
+            missing.append(f"{sec} without description: {', '.join(bare)}")
     if not doc["Examples"]:
         missing.append("Examples")
     for name, member in vars(cls).items():
@@ -341,6 +348,8 @@ def test_the_class_check_finds_missing_sections():
         ----------
         energy : float
             In units of t.
+
+        Energies are in units of t.
         """
 
         energy: float
@@ -367,7 +376,8 @@ def test_the_class_check_finds_missing_sections():
             self.x = x
 
     assert _class_sections_missing(Good) == []
-    assert _class_sections_missing(Bad) == ["Attributes: width", "Examples",
-                                            "shifted: Parameters", "shifted: Returns"]
+    assert _class_sections_missing(Bad) == ["Attributes: width",
+                                            "Attributes without description: Energies are in units of t.",
+                                            "Examples", "shifted: Parameters", "shifted: Returns"]
     assert _class_sections_missing(Plain) == ["Parameters: y"]
     assert _class_sections_missing(ValueError) == []
