@@ -334,6 +334,21 @@ def _with_diagonal(mat: sp.csc_matrix) -> sp.csc_matrix:
 class SymbolicAnalysis:
     """The shift-independent part of the factorisation of one sparsity pattern.
 
+    Parameters
+    ----------
+    mat : sparse matrix
+        H, real symmetric or complex Hermitian (the pattern is analysed; missing diagonal
+        entries are stored as zeros so that every shift fits the pattern).
+    backend : {"auto", "cholmod", "superlu"}, optional
+        See :func:`resolve_backend`; default ``"auto"``.
+    what : str, optional
+        Name of the matrix in error messages; default ``"H - sigma"``.
+    max_bytes : int, optional
+        Memory budget in bytes (default: what this process may use).
+    positive : bool, optional
+        Accepted for symmetry with :meth:`factor`; the analysis does not depend on it (the
+        supernodal :math:`LL^T` analysis is made on the first ``factor(..., positive=True)``).
+
     Attributes
     ----------
     backend : {"cholmod", "superlu"}
@@ -349,21 +364,6 @@ class SymbolicAnalysis:
         Estimated peak bytes of one numeric factorisation (factor plus one shifted copy of H).
     exact : bool
         True when ``factor_entries`` comes from the ordering itself, not from the fill bound.
-
-    Parameters
-    ----------
-    mat : sparse matrix
-        H, real symmetric or complex Hermitian (the pattern is analysed; missing diagonal
-        entries are stored as zeros so that every shift fits the pattern).
-    backend : {"auto", "cholmod", "superlu"}, optional
-        See :func:`resolve_backend`; default ``"auto"``.
-    what : str, optional
-        Name of the matrix in error messages; default ``"H - sigma"``.
-    max_bytes : int, optional
-        Memory budget in bytes (default: what this process may use).
-    positive : bool, optional
-        Accepted for symmetry with :meth:`factor`; the analysis does not depend on it (the
-        supernodal :math:`LL^T` analysis is made on the first ``factor(..., positive=True)``).
 
     Raises
     ------
@@ -549,6 +549,15 @@ def _backend_error(exc: BaseException, what: str) -> HyperlatticeError:
 class Factor:
     r"""A numeric factorisation of :math:`H - \sigma` (from :func:`factorize` or :meth:`SymbolicAnalysis.factor`).
 
+    Parameters
+    ----------
+    analysis : SymbolicAnalysis
+        The symbolic analysis of H.
+    sigma : float or complex
+        The shift, in the units of H (a complex σ with nonzero imaginary part gives an LU).
+    positive, pivoting : bool, optional
+        As in :func:`factorize`; default False.
+
     Attributes
     ----------
     backend : {"cholmod", "superlu"}
@@ -567,15 +576,6 @@ class Factor:
         ``"LL^T"``, ``"LDL^T"`` or ``"LU"``.
     analysis : SymbolicAnalysis
         The analysis it reuses.
-
-    Parameters
-    ----------
-    analysis : SymbolicAnalysis
-        The symbolic analysis of H.
-    sigma : float or complex
-        The shift, in the units of H (a complex σ with nonzero imaginary part gives an LU).
-    positive, pivoting : bool, optional
-        As in :func:`factorize`; default False.
 
     Examples
     --------
