@@ -609,7 +609,7 @@ class KPMDos(Result):
     vectors : int
         Number R of random vectors (1 for ``local``).
     vector_kind : str
-        Distribution of the random vectors (``"rademacher"``, ...).
+        Distribution of the random vectors (``"rademacher"``, ...), or ``"site"`` for a local DOS.
     seed, site : int or None
         Seed of the random vectors; the site of a ``local`` DOS (0-based).
     timings : dict
