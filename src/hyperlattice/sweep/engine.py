@@ -257,7 +257,9 @@ class SweepReport(Result):
     task : str
         The task's name (:data:`hyperlattice.sweep.tasks.TASKS`).
     scheduler : str
-        What ran the tasks (``"serial"``, a local Dask cluster, or a scheduler address).
+        What ran the tasks: ``"serial"``, ``"local (n processes)"`` / ``"local (n threads)"`` (a
+        local Dask cluster), ``"client <address>"`` or the scheduler's address, or
+        ``"nothing to do"`` when every row was on disk.
     total : int
         Grid points of this run.
     skipped : int
