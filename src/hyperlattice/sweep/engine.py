@@ -259,7 +259,8 @@ class SweepReport(Result):
     scheduler : str
         What ran the tasks: ``"serial"``, ``"local (n processes)"`` / ``"local (n threads)"`` (a
         local Dask cluster), ``"client <address>"`` or the scheduler's address, or
-        ``"nothing to do"`` when every row was on disk.
+        ``"nothing to do"`` when every row was on disk and no Dask scheduler was needed (a serial
+        run keeps ``"serial"``).
     total : int
         Grid points of this run.
     skipped : int
