@@ -120,6 +120,18 @@ class Cache:
     hits, misses, reused : int
         Entries read that an earlier run (or another Cache object) wrote, values computed
         (including recomputed bad entries), and entries read again that this object wrote itself.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from hyperlattice.cache import Cache
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     cache = Cache(d)
+    ...     first = cache.get("square", {"x": 3}, lambda: {"value": 9})
+    ...     again = Cache(d).get("square", {"x": 3}, lambda: {"value": -1})   # read, not computed
+    ...     removed = cache.clear()
+    >>> first, again, cache.misses, removed
+    ({'value': 9}, {'value': 9}, 1, 1)
     """
 
     def __init__(self, directory: str | Path | None = None, *, enabled: bool = True) -> None:
@@ -254,6 +266,11 @@ class Cache:
         expect : type, optional
             ``dict`` or a Result class: a stored value of another type counts as a bad entry.
 
+        Returns
+        -------
+        dict or Result
+            The stored value when a good entry exists, else the value ``compute()`` returned.
+
         Warns
         -----
         CacheWarning
@@ -282,7 +299,22 @@ class Cache:
         return value
 
     def put(self, name: str, inputs: dict, value: dict | Result) -> None:
-        """Store ``value`` for ``(name, inputs)`` atomically (a no-op when disabled)."""
+        """Store ``value`` for ``(name, inputs)`` atomically (a no-op when disabled).
+
+        Parameters
+        ----------
+        name : str
+            Kind of entry (letters, digits, ``-``, ``_``).
+        inputs : dict
+            JSON values that determine the value.
+        value : dict or Result
+            A dict of JSON values or a :class:`~hyperlattice.results.Result`.
+
+        Raises
+        ------
+        ValueError
+            If the value is neither, or a dict holds values that are not JSON.
+        """
         name, inputs = self._key(name, inputs)
         if not isinstance(value, (dict, Result)):
             raise ValueError(f"the cache stores dicts and Results, got {type(value).__name__}.")

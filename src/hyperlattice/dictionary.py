@@ -620,6 +620,30 @@ class ContinuumParameters(Result):
 
     ``field_scale`` is :math:`1/\sqrt{\mathcal A}`: :math:`\hat\alpha(z_i) = \hat a_i/\sqrt{\mathcal A}`
     (:math:`\sqrt{28/\pi}\,\hat a_i` for {7,3}).
+
+    Attributes
+    ----------
+    p, q : int
+        Schläfli symbol.
+    t, mu, U : float
+        The lattice hopping, chemical potential and on-site interaction (one energy unit, e.g. t).
+    t_prime, mu_prime, U_prime : float
+        The continuum ones, :math:`t' = \frac q4 h^2 t`, :math:`\mu' = \mu + qt`,
+        :math:`U' = \mathcal A\,U`, in the same energy unit (:math:`U'` times an area of the
+        paper's metric, since :math:`\hat\alpha` is a field per unit area).
+    field_scale : float
+        :math:`1/\sqrt{\mathcal A}`.
+    h : float
+        :math:`h = \tanh d_0`.
+    site_area : float
+        :math:`\mathcal A`, the hyperbolic area per site (paper's metric).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> c = hl.continuum_parameters(1.0, 0.0, 1.0, p=7, q=3)
+    >>> print(f"{c.t_prime:.6f} {c.mu_prime:.6f} {c.U_prime:.6f} {c.field_scale:.6f}")
+    0.057048 3.000000 0.112200 2.985411
     """
 
     p: int

@@ -748,7 +748,7 @@ def effective_radius(sites, p=7, q=3) -> float | np.ndarray:
 
 @dataclass(frozen=True, eq=False, kw_only=True)
 class TilingConstants(Result):
-    """The geometric constants of a {p,q} tessellation in the paper's metric (a :class:`Result`).
+    r"""The geometric constants of a {p,q} tessellation in the paper's metric (a :class:`Result`).
 
     Attributes
     ----------
@@ -757,7 +757,20 @@ class TilingConstants(Result):
     q : int
         Coordination number.
     r0, d0, h, site_area, radius_constant : float
-        :func:`r0`, :func:`d0`, :func:`lattice_h`, :func:`site_area`, :func:`radius_constant`.
+        :func:`r0`, :func:`d0`, :func:`lattice_h`, :func:`site_area`, :func:`radius_constant`:
+        the Euclidean radius of the central p-gon's vertices in the Poincaré disk, the
+        hyperbolic edge length and :math:`h = \tanh d_0`, the hyperbolic area per site (metric
+        :math:`|dz|^2/(1-|z|^2)^2`, curvature -4), and :math:`c = \pi/\mathcal A` of
+        :math:`L = \sqrt{N/(N+c)}`.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> c = hl.tiling_constants(7, 3)
+    >>> round(c.r0, 6), round(c.d0, 6), round(c.h, 6)
+    (0.300743, 0.283128, 0.275798)
+    >>> round(c.site_area, 6), round(c.radius_constant, 6)     # pi/28 and 28
+    (0.1122, 28.0)
     """
 
     p: float | int

@@ -95,6 +95,18 @@ class PaperValue:
     note : str
         Why a computed value differs from the printed one, or how it is compared ("" if
         nothing is to be said).
+
+    Notes
+    -----
+    Values carry the paper's units: energies in units of t, radii and lengths in the paper's
+    metric :math:`|dz|^2/(1-|z|^2)^2`.
+
+    Examples
+    --------
+    >>> from hyperlattice.paper_values import paper_value
+    >>> v = paper_value("E0_graph", 3)
+    >>> v.label, v.printed, v.value, v.tolerance
+    ('SuppTab1 E0_graph l=3', '-2.787', -2.787, 0.0005)
     """
 
     label: str

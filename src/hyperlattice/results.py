@@ -202,6 +202,23 @@ class Column:
     its values (a field or a property; :data:`INDEX` for a grid coordinate 0, 1, 2, ...), ``unit``
     its unit in words (``"t"``: the hopping, the energy unit of every Hamiltonian here; ``"1"``:
     a pure number). ``dims`` names the grid axes of a grid variable (empty in a table).
+
+    Attributes
+    ----------
+    name : str
+        The column's name in the table (or the variable's or axis's name in the grid).
+    source : str
+        The attribute of the result holding the values, or :data:`INDEX`.
+    unit : str
+        The unit in words (``"t"``, ``"1"``, ``"flux quanta per p-gon"``, ...).
+    dims : tuple of str
+        The grid axes of a grid variable; empty in a table.
+
+    Examples
+    --------
+    >>> from hyperlattice import Spectrum
+    >>> Spectrum.COLUMNS[0]
+    Column(name='energy', source='energies', unit='t', dims=())
     """
 
     name: str
@@ -213,7 +230,21 @@ class Column:
 @dataclasses.dataclass(frozen=True)
 class Grid:
     """The grid of a result: ``coords`` (one :class:`Column` per axis, in order) and ``variables``
-    (each :class:`Column` names its axes in ``dims``)."""
+    (each :class:`Column` names its axes in ``dims``).
+
+    Attributes
+    ----------
+    coords : tuple of Column
+        One per axis, in order.
+    variables : tuple of Column
+        The gridded quantities; each names its axes in ``dims``.
+
+    Examples
+    --------
+    >>> from hyperlattice import Butterfly
+    >>> [c.name for c in Butterfly.GRID.coords], [(v.name, v.dims) for v in Butterfly.GRID.variables]
+    (['flux', 'state'], [('energy', ('flux', 'state')), ('m', ('flux', 'state'))])
+    """
 
     coords: tuple[Column, ...]
     variables: tuple[Column, ...]
@@ -530,7 +561,22 @@ class Result:
     ``np.ndarray`` are converted with :func:`numpy.asarray` and made read-only at birth, and
     arrays inside dict, list or tuple fields are made read-only too.
     ``TYPE`` is the tag written by :meth:`as_dict` (default: the class name); two classes may
-    not share a tag.
+    not share a tag. The base has no fields of its own: each subclass documents its fields
+    (with their units) under Attributes.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.results import Result
+    >>> spec = hl.lowest_levels(hl.ring_lattice(7, 3, 2), 2)
+    >>> data = spec.as_dict()
+    >>> data["type"], type(Result.from_dict(data)).__name__
+    ('Spectrum', 'Spectrum')
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     back = Result.load(spec.save(pathlib.Path(d) / "spectrum.json"))
+    >>> [round(float(e), 4) for e in back.energies]
+    [-2.6364, -2.2833]
     """
 
     TYPE: ClassVar[str] = ""
@@ -584,6 +630,16 @@ class Result:
     def from_dict(cls, data: dict) -> "Result":
         """Rebuild a result from :meth:`as_dict` output (dispatching on ``"type"`` from the base).
 
+        Parameters
+        ----------
+        data : dict
+            The output of :meth:`as_dict` (or its JSON round trip).
+
+        Returns
+        -------
+        Result
+            A result of the type named by ``data["type"]``.
+
         Raises
         ------
         ValueError
@@ -629,6 +685,16 @@ class Result:
     def save(self, path) -> Path:
         """Write the result to ``path`` (``.json`` or ``.npz``, by suffix) and return the path.
 
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            Output file ending in ``.json`` or ``.npz``.
+
+        Returns
+        -------
+        pathlib.Path
+            The path written.
+
         Raises
         ------
         ValueError
@@ -661,7 +727,23 @@ class Result:
 
     @classmethod
     def load(cls, path) -> "Result":
-        """Read a result written by :meth:`save`."""
+        """Read a result written by :meth:`save`.
+
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            A ``.json`` or ``.npz`` file written by :meth:`save`.
+
+        Returns
+        -------
+        Result
+            The result (of this class, when called on a subclass).
+
+        Raises
+        ------
+        ValueError
+            If the file is not a result, was edited, or holds another result type.
+        """
         res = load_result(path)
         if cls is not Result and not isinstance(res, cls):
             raise ValueError(f"{path} holds a {type(res).__name__}, not a {cls.__name__}.")
@@ -786,6 +868,18 @@ class Result:
 
         The drawing is the function :mod:`hyperlattice.plots` registered for this result type
         (:func:`register_plotter`); ``kwargs`` go to it. See "Figures" in the module docstring.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Where to draw; a new figure when None.
+        **kwargs
+            Passed to the registered drawing function.
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+            The axes drawn on.
 
         Raises
         ------
@@ -1005,6 +1099,13 @@ class Levels(Result):
         One sentence on the method.
     p, q : int
         Schläfli symbol.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> levels = hl.lowest_levels(hl.ring_lattice(7, 3, 2), 3)     # a Levels subclass
+    >>> len(levels), levels.n.tolist(), levels.m.tolist(), levels.degeneracy.tolist()
+    (3, [1, 1, 1], [0, 1, -1], [1, 2, 2])
     """
 
     COLUMNS = (Column("energy", "energies", "t"), Column("n", "n", "1"), Column("m", "m", "1"),

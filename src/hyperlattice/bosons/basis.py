@@ -142,6 +142,19 @@ class BosonBasis:
         The rank table :math:`W_i(r, v)`; ``weights[i, r, v]`` for :math:`v \le \min(r, n_{\max})`.
     counts : ndarray of int64, shape (M + 1, N + 1)
         :math:`C_m(r)`: states of r bosons on m sites.
+
+    Notes
+    -----
+    Sites are 0-based, in the lattice's order (ring by ring) when the basis is built for a lattice.
+
+    Examples
+    --------
+    >>> from hyperlattice.bosons.basis import boson_basis
+    >>> basis = boson_basis(3, 2, 1)
+    >>> basis
+    BosonBasis(sites=3, particles=2, nmax=1, dim=3)
+    >>> basis.hard_core, basis.states.tolist()
+    (True, [[0, 1, 1], [1, 0, 1], [1, 1, 0]])
     """
 
     sites: int

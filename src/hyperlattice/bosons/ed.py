@@ -94,11 +94,13 @@ class BoseHubbardGraph:
     Attributes
     ----------
     sites : int
+        Number of sites M (0-based, in the lattice's order: ring by ring for a flake).
     ptr, nbr : ndarray of int64
         Neighbour lists in CSR form: the neighbours of site j are ``nbr[ptr[j]:ptr[j+1]]``.
     rotation : ndarray of int64, shape (sites,), or None
         A graph automorphism R of order p (site i -> rotation[i]), None if none is known.
     p, q : int
+        Schläfli symbol.
     rings : int or None
         Number of rings of a flake (None for a cluster).
     cluster : str or None
@@ -108,6 +110,16 @@ class BoseHubbardGraph:
     distance_kind : str
         ``"hyperbolic"`` (flake: :math:`d(z_i, z_j)`, curvature -4) or ``"graph x d0"``
         (cluster: graph distance times :math:`d_0`); see :meth:`pair_distances`.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons.ed import bose_hubbard_graph
+    >>> g = bose_hubbard_graph(hl.ring_lattice(7, 3, 1))
+    >>> g.sites, g.rings, g.distance_kind, g.nbr[g.ptr[0]:g.ptr[1]].tolist()
+    (7, 1, 'hyperbolic', [1, 6])
+    >>> round(float(g.pair_distances()[0, 1]), 6)          # d0 of {7,3}
+    0.283128
     """
 
     sites: int
@@ -466,6 +478,7 @@ class FockSectors:
     Attributes
     ----------
     p : int
+        Order of R.
     rotation : ndarray of int64
         The site permutation (site i -> rotation[i]).
     rep : ndarray of int64, shape (D,)
@@ -477,6 +490,15 @@ class FockSectors:
     dims : ndarray of int64, shape (p,)
         ``dims[m % p]``: number of orbits with :math:`mL \equiv 0 \pmod p`, the dimension of
         sector m; they add up to D.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons.basis import boson_basis
+    >>> from hyperlattice.bosons.ed import fock_sectors
+    >>> sectors = fock_sectors(boson_basis(7, 3, 3), hl.ring_lattice(7, 3, 1))
+    >>> sectors.p, sectors.dims.tolist(), sectors.dim(-1)
+    (7, [12, 12, 12, 12, 12, 12, 12], 12)
     """
 
     p: int
@@ -487,7 +509,18 @@ class FockSectors:
     dims: np.ndarray
 
     def dim(self, m: int) -> int:
-        """Dimension of sector m (any integer, taken mod p)."""
+        """Dimension of sector m (any integer, taken mod p).
+
+        Parameters
+        ----------
+        m : int
+            Angular momentum (signed or not; taken mod p).
+
+        Returns
+        -------
+        int
+            The number of states of sector m.
+        """
         return int(self.dims[int(m) % self.p])
 
 
@@ -786,6 +819,7 @@ class BoseHubbardLevels(Result):
     Attributes
     ----------
     p, q : int
+        Schläfli symbol.
     rings : int or None
         Rings of the flake (None for a cluster).
     cluster : str or None
@@ -793,11 +827,12 @@ class BoseHubbardLevels(Result):
     sites, particles, nmax : int
         M, N and the occupation cutoff (1 = hard-core; a truncation unless nmax >= N).
     U, t, mu : float
-        Parameters of H (module docstring).
+        Parameters of H (module docstring), in one energy unit (that of t).
     dim : int
         Dimension of the full Fock basis.
     energies : ndarray, shape (K,)
-        The K lowest eigenvalues, ascending (a degenerate +-m pair twice, +m first).
+        The K lowest eigenvalues, ascending (a degenerate +-m pair twice, +m first), in the
+        unit of t.
     m : ndarray of int64, shape (K,), or None
         Signed angular momentum in (-p/2, p/2] under the rotation (None without sectors).
     residuals : ndarray, shape (K,)
@@ -824,8 +859,24 @@ class BoseHubbardLevels(Result):
     distance_kind : str
         ``"hyperbolic"`` (flake) or ``"graph x d0"`` (cluster).
 
-    Its table has one row per level: ``energy``, ``m``, ``residual`` and ``tolerance`` (the
-    per-site ``density`` and the correlations are not part of it).
+    Notes
+    -----
+    Site-indexed arrays (``density``, ``density_matrix``) follow the lattice's order (0-based,
+    ring by ring); distances are in the paper's metric. Its table
+    (:meth:`~hyperlattice.results.Result.to_dataframe`) has one row per level: ``energy``, ``m``,
+    ``residual`` and ``tolerance`` (the per-site ``density`` and the correlations are not part of it).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons.ed import bose_hubbard
+    >>> res = bose_hubbard(hl.ring_lattice(7, 3, 1), 3, 3, 4.0, levels=3)
+    >>> res.method, res.dim, res.sector_dims.tolist()
+    ('sectors', 84, [12, 12, 12, 12, 12, 12, 12])
+    >>> [round(float(e), 6) for e in res.energies], res.m.tolist()
+    ([-5.169517, -3.817032, -3.817032], [0, 1, -1])
+    >>> [round(float(n), 6) for n in res.density[:2]]       # N/M = 3/7 per site
+    [0.428571, 0.428571]
     """
 
     COLUMNS = (Column("energy", "energies", "t"), Column("m", "m", "1"), Column("residual", "residuals", "t"),
@@ -1303,18 +1354,34 @@ class ChargeGap(Result):
     Attributes
     ----------
     p, q : int
+        Schläfli symbol.
     rings : int or None
+        Rings of the flake (None for a cluster).
     cluster : str or None
+        Name of the periodic cluster (None for a flake).
     sites, particles, nmax : int
+        M, N and the occupation cutoff.
     U, t : float
+        Interaction and hopping (one energy unit, that of t).
     energies : ndarray, shape (3,)
-        :math:`E_0(N-1), E_0(N), E_0(N+1)`.
+        :math:`E_0(N-1), E_0(N), E_0(N+1)` in units of t.
     gap : float
-        :math:`\Delta_c` (:math:`\mu_+ - \mu_-`, the width of the N-particle plateau in μ).
+        :math:`\Delta_c` (:math:`\mu_+ - \mu_-`, the width of the N-particle plateau in μ), units of t.
     tolerance : float
         Sum of the error bounds of the four energies entering the gap.
 
-    Its table has three rows, N - 1, N and N + 1: ``particles`` and ``ground_energy``.
+    Notes
+    -----
+    Its table (:meth:`~hyperlattice.results.Result.to_dataframe`) has three rows, N - 1, N and
+    N + 1: ``particles`` and ``ground_energy``.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons.ed import charge_gap
+    >>> gap = charge_gap(hl.ring_lattice(7, 3, 1), 3, 3, 4.0)
+    >>> [round(float(e), 6) for e in gap.energies], round(gap.gap, 6)
+    ([-3.752579, -5.169517, -6.200382], 0.386073)
     """
 
     COLUMNS = (Column("particles", "particle_numbers", "1"), Column("ground_energy", "energies", "t"))

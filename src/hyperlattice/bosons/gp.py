@@ -61,12 +61,13 @@ class GPState(Result):
     Attributes
     ----------
     label : str
+        What the graph is (e.g. ``"{7,3} flake, l = 2"``).
     t, U : float
-        Hopping and interaction (one energy unit).
+        Hopping and interaction (one energy unit, that of t; :math:`H = -tA` for the hopping).
     particles : float
         :math:`N = \sum_i |\psi_i|^2`.
     psi : ndarray
-        Real, non-negative condensate amplitude per site.
+        Real, non-negative condensate amplitude per site (0-based, the graph's site order).
     mu : float
         Chemical potential μ (same unit), from the GP equation.
     energy : float
@@ -74,6 +75,17 @@ class GPState(Result):
     residual : float
         :math:`\lVert -tA\psi + U\psi^3 - \mu\psi\rVert / \lVert\mu\psi\rVert`.
     iterations : int
+        Iterations of the minimiser.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons.gp import gp_ground_state
+    >>> state = gp_ground_state(hl.ring_lattice(7, 3, 2), 35.0, 0.5)
+    >>> state.label, state.psi.shape
+    ('{7,3} flake, l = 2', (35,))
+    >>> print(f"{state.mu:.6f} {float(state.density.sum()):.6f}")
+    -1.953974 35.000000
     """
 
     #: one row per site
@@ -269,8 +281,10 @@ class BogoliubovSpectrum(Result):
     Attributes
     ----------
     label : str
+        What the graph is.
     frequencies : ndarray
-        The K lowest ω >= 0 ascending, the Goldstone mode first (ω = 0 to rounding).
+        The K lowest ω >= 0 ascending, the Goldstone mode first (ω = 0 to rounding); in the
+        energy unit of t and U (:math:`\hbar = 1`).
     zero_mode : float
         The computed Goldstone frequency (its size is the method's error).
     tolerance : float
@@ -278,6 +292,17 @@ class BogoliubovSpectrum(Result):
         level :math:`\sqrt{\epsilon\,\lVert\mathcal A\rVert\lVert\mathcal B\rVert\, n}`.
     method : str
         ``"dense"`` or ``"shift-invert"``.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons.gp import bogoliubov, gp_ground_state
+    >>> lat = hl.ring_lattice(7, 3, 2)
+    >>> spec = bogoliubov(gp_ground_state(lat, 35.0, 0.5), lat, modes=3)
+    >>> spec.method, bool(abs(spec.zero_mode) < spec.tolerance)
+    ('dense', True)
+    >>> [round(float(w), 4) for w in spec.frequencies[1:]]
+    [0.4868, 0.4868]
     """
 
     label: str

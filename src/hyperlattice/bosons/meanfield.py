@@ -300,13 +300,24 @@ class MottLobe(Result):
     label : str
         The system (e.g. ``"{7,3} flake, l = 5"``, ``"infinite {7,3} lattice"``, ``"continuum, l = 5"``).
     lambda_max : float
-        Largest adjacency eigenvalue used (or its continuum counterpart).
+        Largest adjacency eigenvalue used (or its continuum counterpart); the hopping term
+        :math:`-tA` reaches :math:`-t\lambda_{\max}`.
     filling : int
         n.
     mu_over_U, t_c_over_U : ndarray
-        The boundary :math:`t_c(\mu)/U` on a grid of :math:`\mu/U` in :math:`(n-1, n)`.
+        The boundary :math:`t_c(\mu)/U` on a grid of :math:`\mu/U` in :math:`(n-1, n)`
+        (dimensionless: energies in units of U).
     tip_mu_over_U, tip_t_over_U : float
         The lobe tip (closed form, :func:`lobe_tip`).
+
+    Examples
+    --------
+    >>> from hyperlattice.bosons.meanfield import mott_lobe
+    >>> lobe = mott_lobe(3.0, points=5)
+    >>> lobe.mu_over_U.tolist(), [round(float(t), 6) for t in lobe.t_c_over_U]
+    ([0.0, 0.25, 0.5, 0.75, 1.0], [0.0, 0.05, 0.055556, 0.035714, 0.0])
+    >>> round(lobe.tip_mu_over_U, 6), round(lobe.tip_t_over_U, 6)
+    (0.414214, 0.057191)
     """
 
     COLUMNS = (Column("t_over_U", "t_c_over_U", "1"), Column("mu_over_U", "mu_over_U", "1"))
@@ -519,8 +530,9 @@ class GutzwillerState(Result):
     Attributes
     ----------
     label : str
+        What the graph is (e.g. ``"{7,3} flake, l = 2"``).
     t, mu, U : float
-        The model's parameters (any common unit).
+        The model's parameters (any common unit; hopping term :math:`-tA`).
     nmax : int
         Local occupation cutoff.
     psi : ndarray
@@ -530,11 +542,26 @@ class GutzwillerState(Result):
     energy : float
         Mean-field energy :math:`\sum_i \epsilon_i + \sum_i \phi_i\psi_i` (the grand potential at μ).
     iterations : int
+        Self-consistency iterations taken.
     residual : float
         :math:`\max_i |\psi_i - F_i(\psi)|` of the last iteration.
     converged : bool
+        Whether the residual met the tolerance.
     cutoff_weight : float
         Largest weight of the occupation ``nmax`` on any site (small means the cutoff is harmless).
+
+    Notes
+    -----
+    Site-indexed arrays follow the graph's order (0-based, ring by ring for a flake).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons.meanfield import gutzwiller
+    >>> sf = gutzwiller(hl.ring_lattice(7, 3, 2), 0.1, 0.5)          # t = 0.1 U, mu = 0.5 U
+    >>> sf.label, sf.converged, sf.superfluid, round(float(np.max(sf.psi)), 6)
+    ('{7,3} flake, l = 2', True, True, 0.822718)
     """
 
     #: one row per site
@@ -767,12 +794,22 @@ class MottLobeTable(Result):
     Attributes
     ----------
     p, q, filling : int
+        Schläfli symbol and the filling n.
     lobes : list of MottLobe
         In the order of ``kinds``.
     kinds : list of str
         ``"flake"``, ``"continuum"``, ``"cluster"`` or ``"infinite"`` per lobe.
     rings : list of int or None
         l of a flake and of its continuum disk; None otherwise.
+
+    Examples
+    --------
+    >>> from hyperlattice.bosons.meanfield import mott_lobes
+    >>> table = mott_lobes(7, 3, rings=(2,), infinite=False, points=5)
+    >>> table.kinds, table.rings
+    (['flake', 'continuum'], [2, 2])
+    >>> [(r["label"], round(r["lambda_max"], 4), round(r["tip_t_over_U"], 4)) for r in table.rows()]
+    [('flake ℓ = 2', 2.6364, 0.0651), ('continuum ℓ = 2', 2.5703, 0.0668)]
     """
 
     p: int

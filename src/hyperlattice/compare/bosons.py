@@ -36,9 +36,12 @@ class GPComparison(Result):
     Attributes
     ----------
     p, q : int
+        Schläfli symbol.
     filling : float
         Bosons per site n (N = n × sites on both sides).
     U, t : float
+        Lattice interaction and hopping (one energy unit, that of t); the chemical potentials and
+        Bogoliubov frequencies in ``rows`` are in that unit, distances in the paper's metric.
     rows : list of dict
         One per ℓ: ``rings, sites, particles, mu_graph, mu_continuum, mu_rel_diff, xi, xi_over_d0,
         bogoliubov_graph, bogoliubov_continuum, bogoliubov_j, residual_graph, residual_continuum``.
@@ -47,6 +50,16 @@ class GPComparison(Result):
         site of each ring), ``continuum`` (:math:`\mathcal A|\varphi|^2` at the same radii).
     d0 : float
         Lattice spacing (geodesic).
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.bosons import gp_comparison
+    >>> cmp = gp_comparison(7, 3, rings=(2,), U=0.5, modes=3, cells=200)
+    >>> row = cmp.rows[0]
+    >>> row["sites"], row["particles"], [round(float(w), 4) for w in row["bogoliubov_graph"]]
+    (35, 35.0, [0.0, 0.4868, 0.4868])
+    >>> print(f"{row['mu_graph']:.4f} {row['mu_continuum']:.4f}")
+    -1.9540 -1.6160
     """
 
     p: int
@@ -217,13 +230,25 @@ class MottGapComparison(Result):
     Attributes
     ----------
     label : str
+        What the system is (e.g. ``"{7,3} flake, l = 1"``).
     sites, particles, nmax : int
+        M, N (filling times M) and the occupation cutoff of the exact diagonalisation.
     lambda_max : float
         Of the graph (mean field's only input).
     lambda_max_continuum : float or None
         The continuum disk's (flakes only), for the continuum mean-field gap.
     t_over_U, gap_ed, gap_mean_field, gap_continuum : ndarray
         Gaps in units of U (the continuum column NaN for a cluster).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.bosons import mott_gap_comparison
+    >>> cmp = mott_gap_comparison(hl.ring_lattice(7, 3, 1), [0.0, 0.05])
+    >>> cmp.label, cmp.particles, cmp.nmax, round(cmp.lambda_max, 4)
+    ('{7,3} flake, l = 1', 7, 8, 2.0)
+    >>> [round(float(g), 4) for g in cmp.gap_ed], [round(float(g), 4) for g in cmp.gap_mean_field]
+    ([1.0, 0.7134], [1.0, 0.6403])
     """
 
     COLUMNS = (Column("t_over_U", "t_over_U", "1"), Column("gap_ed", "gap_ed", "U"),

@@ -347,11 +347,15 @@ def _delta_continuum(omega: float, p: int, q: int) -> float:
 class BoundaryCorrelator(Result):
     r"""Boundary two-point function on the outer ring for one source, with the fitted Δ.
 
+    Frequencies are in units of t (:math:`H = -tA`), :math:`m^2` in units of the curvature scale of
+    the paper's metric, angles in radians.
+
     Attributes
     ----------
     p, q, rings : int
+        The flake.
     source : int
-        Source site j on the outer ring.
+        Source site j on the outer ring (0-based).
     omega, lam, mass2 : float
         Frequency, :math:`\lambda` of ``eq21``, :math:`m^2 = -\lambda`.
     delta_continuum : float
@@ -363,7 +367,11 @@ class BoundaryCorrelator(Result):
     beta : float
         Fitted exponent of :math:`1-|z_i|^2`.
     theta_min : float
-        Window edge; ``depth`` its depth in rings; ``pairs`` the number of pairs fitted.
+        Window edge (radians).
+    depth : int
+        The window's depth in rings.
+    pairs : int
+        The number of pairs fitted.
     sites : ndarray of int
         Outer-ring sites (the probes i), counterclockwise.
     theta : ndarray
@@ -374,6 +382,17 @@ class BoundaryCorrelator(Result):
         ``eq21`` with the :math:`L = 1` propagator (inf at the source, NaN beyond the BF bound).
     solver : str
         What solved for ``graph`` (backend, factor kind, full H or its mirror-even block).
+    continuum_disk : str
+        Which continuum model fills ``continuum`` (``"whole"``, ``"dirichlet"`` or ``"mapped"``).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> bc = hl.boundary_correlator(hl.ring_lattice(7, 3, 5), -3.5)
+    >>> bc.source, bc.pairs, bc.depth, bc.sites.size, bc.continuum_disk
+    (315, 483, 2, 532, 'whole')
+    >>> print(f"{bc.mass2:.4f} {bc.delta_lattice:.3f} {bc.delta_continuum:.3f}")
+    8.7645 2.030 2.062
     """
 
     #: one row per outer-ring probe i (the CLI's ``boundary`` table)
@@ -650,15 +669,26 @@ class DeltaCurve(Result):
     Attributes
     ----------
     p, q, rings, source, depth : int
+        The flake, the source site (0-based, outer ring) and the fit window's depth in rings.
     omegas, mass2 : ndarray
-        Frequencies and :math:`m^2 = -\lambda(\omega)`.
+        Frequencies (units of t) and :math:`m^2 = -\lambda(\omega)` (curvature units).
     delta_continuum : ndarray
         NaN beyond the continuum BF bound.
     delta_lattice, delta_lattice_err : ndarray
+        The fitted lattice Δ and its uncertainty (see :class:`BoundaryCorrelator`).
     omega_bf : float
         Continuum BF bound :math:`E_\infty`.
     seconds : float
         Wall time of the whole curve.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> dc = hl.delta_curve(hl.ring_lattice(7, 3, 5), [-3.5, -4.0])
+    >>> [round(float(m), 4) for m in dc.mass2], round(dc.omega_bf, 6)
+    ([8.7645, 17.529], -2.942952)
+    >>> [round(float(d), 3) for d in dc.delta_lattice], [round(float(d), 3) for d in dc.delta_continuum]
+    ([2.03, 2.578], [2.062, 2.652])
     """
 
     COLUMNS = (Column("omega", "omegas", "t"), Column("mass2", "mass2", "curvature units"),
@@ -757,13 +787,24 @@ class LatticeBFBound(Result):
     Attributes
     ----------
     p, q : int
+        Schläfli symbol.
     rings : ndarray of int
+        The flakes ℓ.
     e0 : ndarray
-        Lowest level of :math:`H = -A` per ℓ.
+        Lowest level of :math:`H = -A` per ℓ (units of t).
     mass2 : ndarray
         :math:`m^2 = -\lambda(E_0)`: the lightest mass the lattice propagator reaches.
     omega_continuum, mass2_continuum : float
         :math:`E_\infty` and :math:`-1`.
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.boundary import lattice_bf_bound
+    >>> bf = lattice_bf_bound(7, 3, rings=(3, 4))
+    >>> [round(float(e), 6) for e in bf.e0], round(bf.omega_continuum, 6)
+    ([-2.786702, -2.846633], -2.942952)
+    >>> [round(float(m), 4) for m in bf.mass2], bf.mass2_continuum
+    ([-3.7389, -2.6884], -1.0)
     """
 
     COLUMNS = (Column("rings", "rings", "1"), Column("e0", "e0", "t"), Column("mass2", "mass2", "curvature units"))
@@ -841,7 +882,9 @@ class BulkToBoundary(Result):
     Attributes
     ----------
     p, q, rings, source : int
+        The flake and the source site (0-based, outer ring).
     omega, delta_continuum : float
+        Frequency (units of t) and the continuum :math:`\Delta`.
     delta_fit, delta_fit_err : float
         Δ from :math:`\ln G_{ij} = a + \Delta\ln K_1(z_i, \theta_j)`,
         :math:`K_1 = (1-|z|^2)/|z - e^{\mathrm i\theta_j}|^2`, over bulk sites (rings
@@ -860,6 +903,16 @@ class BulkToBoundary(Result):
         scaled by the fitted amplitude (NaN beyond the BF bound).
     bulk : ndarray of bool
         The sites used in the fit.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.boundary import bulk_to_boundary
+    >>> b2b = bulk_to_boundary(hl.ring_lattice(7, 3, 5), -3.5)
+    >>> b2b.source, int(b2b.bulk.sum()), b2b.graph.shape
+    (315, 112, (847,))
+    >>> print(f"{b2b.delta_fit:.3f} {b2b.delta_continuum:.3f}")
+    2.023 2.062
     """
 
     #: one row per site i of the column

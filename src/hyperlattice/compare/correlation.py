@@ -141,6 +141,17 @@ class BinnedCorrelation(Result):
         bin is decided by the last bits of the distance, so they are counted here. The default
         bins are centred on the multiples of :math:`d_0/2`, where the lattice's exact distances
         (0, :math:`d_0`, ...) lie, so that this is 0 for the default bins on a lattice.
+
+    Notes
+    -----
+    Distances are hyperbolic, in the paper's metric :math:`|dz|^2/(1-|z|^2)^2`; F keeps its own unit.
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.correlation import bin_by_distance
+    >>> b = bin_by_distance([0.4, 0.6, 1.5], [1.0, 3.0, 5.0], width=1.0)
+    >>> b.edges.tolist(), b.centre.tolist(), b.mean.tolist(), b.count.tolist()
+    ([0.0, 1.0, 2.0], [0.5, 1.5], [2.0, 5.0], [2, 1])
     """
 
     COLUMNS = (Column("centre", "centre", "hyperbolic distance"), Column("mean", "mean", "of F"), Column("std", "std", "of F"),

@@ -300,6 +300,48 @@ class DisorderEnsemble(Result):
     scatter of the per-realization means (with one realization: the scatter of the ratios over
     :math:`\sqrt n`, which ignores their weak correlation). Window arrays follow ``windows``
     (edges); ``dos`` is the density of states per site and unit energy on ``dos_edges``.
+
+    Attributes
+    ----------
+    p, q, rings : int
+        The lattice.
+    kind : str
+        ``"sites"`` or ``"line_graph"``.
+    sites : int
+        Number of sites N.
+    model : str
+        Disorder model (:data:`hyperlattice.graph.disorder.MODELS`).
+    W : float
+        Strength: W in units of t, or the relative spread sigma of the resonator model.
+    seed : int
+        Seed of the draws (realization k is a pure function of seed and k).
+    realizations : int
+        Number of realizations.
+    omega0 : float or None
+        :math:`\omega_0/t` of the resonator model.
+    r_mean, r_err : float
+        Mean spacing ratio over all realizations and its standard error.
+    r_count : int
+        Number of ratios pooled.
+    windows : ndarray
+        Edges of the energy windows (units of t; open outer ends are -inf / inf).
+    r_window, r_window_count, ipr_window : ndarray
+        Per window: mean ratio, number of ratios, mean inverse participation ratio.
+    dos_edges : ndarray
+        Histogram edges of the density of states, units of t.
+    dos : ndarray
+        Density of states per site and unit energy (units of 1/t).
+    r_realization : ndarray, shape (realizations,)
+        Mean ratio of each realization.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> ens = hl.disorder_ensemble(hl.ring_lattice(7, 3, 3), 2.0, realizations=3, seed=1)
+    >>> ens.model, ens.W, ens.r_count, ens.windows.tolist()
+    ('box', 2.0, 330, [-inf, -2.0, -1.0, 0.0, 1.0, 2.0, inf])
+    >>> print(f"{ens.r_mean:.4f} +- {ens.r_err:.4f}")
+    0.5434 +- 0.0136
     """
 
     #: one row per energy window; an open end of the outer windows is -inf / inf here (null in JSON)
@@ -493,7 +535,31 @@ def _rows(rows, realizations: int) -> list:
 
 @dataclass(frozen=True, eq=False, kw_only=True)
 class RScan(Result):
-    """Mean spacing ratio against the disorder strength (one ensemble per strength)."""
+    """Mean spacing ratio against the disorder strength (one ensemble per strength).
+
+    Attributes
+    ----------
+    p, q, rings, sites : int
+        The lattice.
+    model : str
+        Disorder model.
+    seed, realizations : int
+        Seed and realizations per strength.
+    window : ndarray, shape (2,)
+        Energy window of the ratios, units of t (``[-inf, inf]``: the whole spectrum).
+    W : ndarray
+        The strengths, units of t.
+    r_mean, r_err : ndarray
+        Mean spacing ratio and its standard error at each strength (NaN where none fell in
+        the window or fewer than two realizations contributed).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> scan = hl.r_scan(hl.ring_lattice(7, 3, 3), [0.5, 4.0], realizations=2, window=None)
+    >>> scan.W.tolist(), [round(float(r), 4) for r in scan.r_mean]
+    ([0.5, 4.0], [0.3959, 0.4593])
+    """
 
     COLUMNS = (Column("W", "W", "t"), Column("r_mean", "r_mean", "1"), Column("r_err", "r_err", "1"))
 
@@ -606,6 +672,37 @@ class DisorderGreen(Result):
     pairs: unbiased for symmetric distributions, and the odd orders of the Born series cancel
     exactly in every pair, which leaves the :math:`W^2` term without first-order noise);
     ``err`` is the standard error of the mean over pairs. ``clean`` is the W = 0 column.
+
+    Attributes
+    ----------
+    p, q, rings : int
+        The lattice.
+    model : str
+        Disorder model.
+    W : float
+        Strength, units of t.
+    variance : float
+        On-site variance :math:`\langle V^2\rangle` (:math:`W^2/12` for the box), units of :math:`t^2`.
+    seed, realizations : int
+        Seed and number of realizations.
+    omega : complex
+        Frequency, units of t.
+    source : int
+        Source site j (0-based).
+    distance : ndarray, shape (N,)
+        Hyperbolic distance of each site to the source (paper's metric).
+    clean, mean, err : ndarray, shape (N,)
+        The clean column, the disorder average and its standard error (units of 1/t).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.disorder import green_ensemble
+    >>> ge = green_ensemble(hl.ring_lattice(7, 3, 3), -2.9 + 0.2j, 1.0, realizations=4)
+    >>> ge.mean.shape, round(ge.variance, 6)
+    ((112,), 0.083333)
+    >>> print(f"{abs(ge.mean[0]):.4f} {abs(ge.clean[0]):.4f}")
+    0.6640 0.6660
     """
 
     COLUMNS = (Column("distance", "distance", "hyperbolic distance"), Column("clean", "clean", "1/t"),
@@ -807,6 +904,35 @@ class SCBAComparison(Result):
     ``sigma_graph`` (site average of the graph SCBA self-energy over the interior, rings < l),
     ``sigma_continuum``; ``born_ratio``: :math:`\|\langle G\rangle - G_0\|/\|w^2 G_0 \mathrm{diag}(G_0) G_0\|`
     projected on the latter (1 in the weak-disorder limit).
+
+    Attributes
+    ----------
+    p, q, rings : int
+        The lattice.
+    omega : complex
+        Frequency, units of t.
+    source : int
+        Source site j (0-based).
+    seed, realizations : int
+        Seed and realizations per strength.
+    W, variance : ndarray
+        Box widths (units of t) and :math:`W^2/12` (units of :math:`t^2`).
+    rel_clean, rel_graph_scba, rel_continuum_scba, rel_noise : ndarray
+        Relative L2 distances described above.
+    born_ratio : ndarray
+        The Born projection described above.
+    sigma_graph, sigma_continuum : ndarray of complex
+        SCBA self-energies, units of t.
+    continuum_floor : float
+        The same relative distance at W = 0 (clean graph against ``eq21``): the part of the
+        disagreement that is the clean dictionary's, not the SCBA's.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> cmp = hl.compare_scba(hl.ring_lattice(7, 3, 3), -2.9 + 0.2j, [1.0], realizations=4)
+    >>> print(f"{cmp.rel_clean[0]:.4f} {cmp.rel_graph_scba[0]:.4f} {cmp.continuum_floor:.4f}")
+    0.1926 0.0567 0.0993
     """
 
     COLUMNS = (Column("W", "W", "t"), Column("variance", "variance", "t^2"),

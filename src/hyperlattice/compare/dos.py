@@ -402,8 +402,19 @@ def _top_quantile(grid, n, target) -> float:
 class DosComparison(Result):
     r"""Densities of states of one {p,q} lattice by several routes, and the measured comparison.
 
+    Energies are those of :math:`H = -tA` in units of t; densities are per site and per unit
+    energy (1/t).
+
     Attributes
     ----------
+    p, q : int
+        Schläfli symbol.
+    moments : int
+        Chebyshev moments of the full-resolution curves.
+    resolution : int
+        Moments of the comparison with the exact DOS (``distance``, ``density_resolved``).
+    quantile : float
+        :math:`\nu` of the quantile band edges ``bottom`` and ``top``.
     energies : ndarray (K,)
         Energy grid of the densities.
     labels, kinds : list of str
@@ -428,7 +439,9 @@ class DosComparison(Result):
         Continuum band bottom by dictionary ("paper", "improved").
     quantiles, quantile_lattice, quantile_lattice_err, quantile_continuum : ndarray
         Energies :math:`E(\nu)` of the largest cluster and of the continuum (paper's map) at each
-        :math:`\nu` of ``quantiles``; ``quantile_improved`` with the improved map.
+        :math:`\nu` of ``quantiles``.
+    quantile_improved : ndarray
+        The continuum's :math:`E(\nu)` with the improved map.
     density_resolved : ndarray (C, K)
         Each curve at the ``resolution`` of the exact comparison (what ``distance`` measures).
     ratio_band : ndarray (3, Q)
@@ -436,8 +449,24 @@ class DosComparison(Result):
         (:meth:`continuum_ratio`).
     bottom_energies, bottom_integrated, bottom_integrated_err : ndarray
         Integrated DOS of the largest cluster near the band bottom (``bottom_label`` says which run).
+    bottom_label : str
+        The run behind ``bottom_integrated`` (cluster and moments), or "".
+    timings : dict
+        Wall-clock seconds of the stages.
     notes : list of str
         What was left out and why (e.g. the Abelian DOS when graph/bands.py is absent).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> cmp = hl.dos_comparison(7, 3, clusters=[], rings=[3], moments=32, resolution=8,
+    ...                         vectors=3, walk_length=7, abelian=False)
+    >>> cmp.labels, cmp.kinds, cmp.moments, cmp.resolution
+    (['flake interior, 3 rings (35 of 112 sites)'], ['flake'], 32, 8)
+    >>> print(f"{cmp.distance[0]:.4f} {cmp.rho_lower:.4f} {cmp.rho_upper:.4f}")
+    0.3291 2.8284 2.9665
+    >>> cmp.continuum_window(0.1), cmp.continuum_exceptions(0.1)   # no cluster: nothing agrees
+    (0.0, [])
     """
 
     #: one row per curve (cluster, flake or Abelian): its size and its measured distance and band edges
@@ -514,7 +543,18 @@ class DosComparison(Result):
 
     def continuum_agreement(self, tolerance: float = 0.1) -> np.ndarray:
         r"""Per quantile :math:`\nu`: does the continuum count the same states below the lattice's
-        :math:`E(\nu)` within ``tolerance`` (relative), allowing two error bars of :math:`E(\nu)`?"""
+        :math:`E(\nu)` within ``tolerance`` (relative), allowing two error bars of :math:`E(\nu)`?
+
+        Parameters
+        ----------
+        tolerance : float, optional
+            Relative tolerance on the state count, > 0; default 0.1.
+
+        Returns
+        -------
+        numpy.ndarray of bool
+            One entry per ``quantiles``.
+        """
         tol = _validate.positive_real("tolerance", tolerance)
         _, lo, hi = self.continuum_ratio()
         return np.where(np.isfinite(lo) & np.isfinite(hi), (hi >= 1 - tol) & (lo <= 1 + tol), False)
@@ -523,7 +563,18 @@ class DosComparison(Result):
         r"""The largest :math:`\nu` up to which the continuum agrees (:meth:`continuum_agreement`), walking up
         from the band bottom and stopping at the first two consecutive disagreements (an isolated one
         below is an exception, listed by :meth:`continuum_exceptions`: the cluster's integrated DOS is
-        a staircase of its lowest multiplets, wider than the kernel's error bar); 0 if none agrees."""
+        a staircase of its lowest multiplets, wider than the kernel's error bar); 0 if none agrees.
+
+        Parameters
+        ----------
+        tolerance : float, optional
+            As in :meth:`continuum_agreement`; default 0.1.
+
+        Returns
+        -------
+        float
+            The quantile :math:`\nu` (a fraction of the states).
+        """
         ok = list(self.continuum_agreement(tolerance))
         good = 0.0
         for i, (nu, o) in enumerate(zip(self.quantiles, ok)):
@@ -534,7 +585,18 @@ class DosComparison(Result):
         return good
 
     def continuum_exceptions(self, tolerance: float = 0.1) -> list[float]:
-        """Quantiles below :meth:`continuum_window` where the continuum disagrees (isolated)."""
+        """Quantiles below :meth:`continuum_window` where the continuum disagrees (isolated).
+
+        Parameters
+        ----------
+        tolerance : float, optional
+            As in :meth:`continuum_agreement`; default 0.1.
+
+        Returns
+        -------
+        list of float
+            The quantiles :math:`\\nu`.
+        """
         w = self.continuum_window(tolerance)
         return [float(nu) for nu, o in zip(self.quantiles, self.continuum_agreement(tolerance)) if not o and nu < w]
 

@@ -175,11 +175,11 @@ class GreenComparison(Result):
     source : int
         Source site j (0-based).
     omega : complex
-        Lattice frequency.
+        Lattice frequency, in units of t (:math:`H = -tA`, t = 1; G in units of 1/t).
     lam : complex
         :math:`\lambda = 4(\omega+q)/(qh^2)` (``eq21``).
     radius : float
-        Disk radius L (``eq12``).
+        Euclidean disk radius L in the paper's Poincaré disk (``eq12``).
     prefactor : float
         :math:`4\mathcal A/(qh^2)` (``eq21``).
     graph : ndarray of complex, shape (N,)
@@ -194,6 +194,15 @@ class GreenComparison(Result):
         Number of m terms of the ``green36`` sum.
     tail_estimate : float
         Estimate of the truncated tail of that sum.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> cmp = hl.compare_green(hl.ring_lattice(7, 3, 3), -3.5, 0)
+    >>> cmp.graph.shape, f"{cmp.rel_l2:.4f} {cmp.lam.real:.4f} {cmp.prefactor:.4f}"
+    ((112,), '0.0706 -8.7645 1.9667')
+    >>> [round(x, 4) for x in cmp.collapse()]
+    [0.1727, 0.1235]
     """
 
     #: one row per target site i
@@ -223,7 +232,19 @@ class GreenComparison(Result):
 
     def collapse(self, width: float | None = None) -> tuple[float, float]:
         """Collapse numbers (:func:`hyperlattice.compare.correlation.collapse_measure`) of the real
-        parts of the graph and the continuum column, source excluded: ``(graph, continuum)``."""
+        parts of the graph and the continuum column, source excluded: ``(graph, continuum)``.
+
+        Parameters
+        ----------
+        width : float, optional
+            Bin width in the paper's metric (default: that of
+            :func:`~hyperlattice.compare.correlation.collapse_measure`).
+
+        Returns
+        -------
+        graph, continuum : float
+            The two collapse numbers.
+        """
         from .correlation import collapse_measure
 
         keep = np.arange(self.graph.shape[0]) != self.source

@@ -54,6 +54,19 @@ class LevelComparison(Result):
     labels_agree : ndarray of bool, shape (K,), or None
         Whether level k carries the same (n, m) on both sides; None if either side has no m
         (an on-site term that breaks the rotation).
+
+    Notes
+    -----
+    Energies on both sides are in units of t.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.levels import levels_side_by_side
+    >>> cmp = levels_side_by_side(hl.lowest_levels(hl.ring_lattice(7, 3, 2), 2),
+    ...                           hl.continuum_levels(7, 3, rings=2, levels=2))
+    >>> [round(float(x), 4) for x in cmp.relative_difference], cmp.labels_agree.tolist()
+    ([-0.0251, -0.0871], [True, True])
     """
 
     graph: Levels
@@ -188,6 +201,15 @@ class RelativeErrorTrend(Result):
         values; NaN otherwise.
     magnitude_decreasing : bool
         Whether :math:`|{\rm error}|` decreases strictly over the whole range.
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.levels import relative_error_trend
+    >>> trend = relative_error_trend([2, 3, 4], [-2.6, -2.7, -2.75], [-2.5, -2.72, -2.76])
+    >>> [round(float(x), 4) for x in trend.relative_error]
+    [-0.0385, 0.0074, 0.0036]
+    >>> trend.sign_change.tolist(), trend.rising, trend.monotone, trend.magnitude_decreasing
+    ([2, 3], True, False, True)
     """
 
     COLUMNS = (Column("rings", "rings", "1"), Column("relative_error", "relative_error", "1"))
@@ -304,15 +326,17 @@ class LevelCount(Result):
     side : str
         ``"graph"`` or ``"continuum"``.
     p, q : int
+        Schläfli symbol.
     rings : int or None
         Number of rings of the lattice (or the one that fixes L by ``eq12``).
     radius : float
-        Disk radius L (``eq12`` for a lattice).
+        Euclidean disk radius L in the paper's Poincaré disk (``eq12`` for a lattice).
     cutoff : float
         Only levels with :math:`E < {\rm cutoff}` are listed, decided robustly: a level within
         ``tolerance`` of the cutoff is neither listed nor hidden but counted in ``at_cutoff``.
     energies : ndarray
-        Ascending; a degenerate continuum pair :math:`\pm m` is listed once.
+        Ascending, in units of t (as ``cutoff`` and ``tolerance``); a degenerate continuum pair
+        :math:`\pm m` is listed once.
     degeneracy : ndarray of int
         States per entry: 1 for a graph eigenvalue (listed once per state) and a continuum
         m = 0 level, 2 for a continuum :math:`\pm m` pair.
@@ -328,6 +352,15 @@ class LevelCount(Result):
     tolerance : float
         The largest error bound of a listed energy (graph: :func:`~hyperlattice.graph.spectrum.
         full_spectrum_tolerance`; continuum: the Dirichlet roots' energy error bounds).
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.levels import continuum_levels_below
+    >>> below = continuum_levels_below(7, 3, rings=2)
+    >>> below.states, below.degeneracy[:3].tolist(), below.counting([-2.5, -2.0]).tolist()
+    (10, [1, 2, 2], [1, 3])
+    >>> [round(float(z), 4) for z in below.partition_function([0.0, 1.0])]
+    [10.0, 48.96]
     """
 
     COLUMNS = (Column("energy", "energies", "t"), Column("degeneracy", "degeneracy", "1"),
@@ -353,13 +386,34 @@ class LevelCount(Result):
         return int(self.degeneracy.sum())
 
     def counting(self, energy) -> np.ndarray:
-        r"""The counting function :math:`\mathcal N(E)`: states with :math:`E_n \le E`, for each E."""
+        r"""The counting function :math:`\mathcal N(E)`: states with :math:`E_n \le E`, for each E.
+
+        Parameters
+        ----------
+        energy : float or array_like
+            Energies E in units of t.
+
+        Returns
+        -------
+        numpy.ndarray of int
+            :math:`\mathcal N(E)` for each E (degeneracies counted).
+        """
         e = _validate.real_array("energy", energy)
         cum = np.concatenate([[0], np.cumsum(self.degeneracy)])
         return cum[np.searchsorted(self.energies, e, side="right")]
 
     def partition_function(self, beta) -> np.ndarray:
         r""":math:`Z(\beta) = \sum_n g_n e^{-\beta E_n}` over the listed levels, for each beta.
+
+        Parameters
+        ----------
+        beta : float or array_like
+            Inverse temperatures :math:`\beta \ge 0` in units of 1/t.
+
+        Returns
+        -------
+        numpy.ndarray
+            :math:`Z(\beta)` for each beta.
 
         Raises
         ------
@@ -375,7 +429,18 @@ class LevelCount(Result):
         return z
 
     def log_partition_function(self, beta) -> np.ndarray:
-        r""":math:`\ln Z(\beta)`, computed shifted by the lowest level so that it never overflows."""
+        r""":math:`\ln Z(\beta)`, computed shifted by the lowest level so that it never overflows.
+
+        Parameters
+        ----------
+        beta : float or array_like
+            Inverse temperatures :math:`\beta \ge 0` in units of 1/t.
+
+        Returns
+        -------
+        numpy.ndarray
+            :math:`\ln Z(\beta)` for each beta.
+        """
         b = _check_beta(beta)
         if self.energies.size == 0:
             return np.full(b.shape, -np.inf)
@@ -549,6 +614,35 @@ class PartitionComparison(Result):
     :math:`Z' = \sum_n\Theta(-E^{(\rm cont)}_n)e^{-\beta E^{(\rm cont)}_n}` over the disk's states.
     ``graph_zero_modes`` counts the graph states within ``graph_tolerance`` (the eigensolver's
     error bound) of the cutoff: left out of Z and reported, never sorted by the sign of rounding.
+
+    Attributes
+    ----------
+    rings : int or None
+        Rings of the lattice (and of the disk by ``eq12``).
+    beta : ndarray
+        Inverse temperatures, units of 1/t.
+    z_graph, z_continuum : ndarray
+        Z and Z' at each beta.
+    e0_graph : float
+        Lowest graph level, units of t.
+    graph_states, continuum_states : int
+        States summed on each side.
+    graph_zero_modes : int
+        Graph states within ``graph_tolerance`` of the cutoff (left out of Z).
+    graph_tolerance : float
+        The graph eigenvalues' error bound, units of t.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.levels import (continuum_levels_below, graph_levels_below,
+    ...                                          partition_functions)
+    >>> z = partition_functions(graph_levels_below(hl.ring_lattice(7, 3, 2)),
+    ...                         continuum_levels_below(7, 3, rings=2), [0.0, 1.0])
+    >>> z.graph_states, z.continuum_states, z.graph_zero_modes, round(z.e0_graph, 4)
+    (16, 10, 1, -2.6364)
+    >>> [round(float(x), 4) for x in z.z_graph], [round(float(x), 4) for x in z.z_continuum]
+    ([16.0, 86.2311], [10.0, 48.96])
     """
 
     COLUMNS = (Column("beta", "beta", "1/t"), Column("z_graph", "z_graph", "1"),

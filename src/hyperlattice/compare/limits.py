@@ -425,9 +425,12 @@ def _model(model: str, level: int, p: int, q: int, ell: np.ndarray, params: np.n
 class BandBottomFit(Result):
     r"""One fit of a flake level against l (module docstring, route (a)).
 
+    Energies are those of :math:`H = -tA` in units of t.
+
     Attributes
     ----------
     p, q : int
+        Schläfli symbol.
     level : int
         0 (E0, m = 0) or 1 (E1, m = 1).
     model : str
@@ -435,10 +438,21 @@ class BandBottomFit(Result):
     rings, energies : ndarray
         The flakes fitted.
     params : ndarray
+        The fitted parameters, in the order the model names them.
     band_bottom : float
         The fitted :math:`E_b = -\rho`.
     residuals : ndarray
         Fit minus data at each fitted l.
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.limits import fit_band_bottom, reference_levels
+    >>> rings, E0, E1 = reference_levels(7, 3)
+    >>> fit = fit_band_bottom(rings[-6:], E0[-6:], p=7, q=3)
+    >>> fit.model, fit.rings.tolist(), f"{fit.band_bottom:.4f}"
+    ('disk', [11, 12, 13, 14, 15, 16], '-2.9412')
+    >>> [round(float(e), 4) for e in fit.predict([20, 40])]
+    [-2.9357, -2.9397]
     """
 
     COLUMNS = (Column("rings", "rings", "1"), Column("energy", "energies", "t"),
@@ -455,7 +469,18 @@ class BandBottomFit(Result):
     residuals: np.ndarray
 
     def predict(self, rings) -> np.ndarray:
-        """The fitted level at other ring counts (an extrapolation beyond the fitted ones)."""
+        """The fitted level at other ring counts (an extrapolation beyond the fitted ones).
+
+        Parameters
+        ----------
+        rings : array_like
+            Ring counts l >= 1 (real numbers are accepted: the model is smooth in l).
+
+        Returns
+        -------
+        numpy.ndarray
+            The level at each l, units of t.
+        """
         ell = _validate.real_array("rings", rings, ndim=1)
         if np.any(ell < 1):
             raise ValueError("rings must be >= 1.")
@@ -558,6 +583,7 @@ class SchurBound(Result):
     Attributes
     ----------
     p, q : int
+        Schläfli symbol.
     window : int
         W: the type of a site is the word of the 2W + 1 sites around it on its ring.
     rings : int
@@ -571,6 +597,18 @@ class SchurBound(Result):
     closed : bool
         Whether the pattern set did not grow from the second-to-last usable ring to the last
         (then it holds on the whole infinite lattice, and the bound is rigorous there).
+
+    Notes
+    -----
+    ``bound`` is a bound on :math:`\rho = \|A\|`, so :math:`-t\,c` bounds the band bottom of
+    :math:`H = -tA` from below.
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.limits import schur_bound
+    >>> sb = schur_bound(7, 3, window=0, rings=5)
+    >>> f"{sb.bound:.4f}", sb.patterns, sb.types, sb.closed
+    ('2.8615', 7, 5, False)
     """
 
     p: int
@@ -749,9 +787,12 @@ def schur_bound(p: int = 7, q: int = 3, *, window: int = 8, rings: int | None = 
 class BandBottom(Result):
     r"""The band bottom :math:`-\rho` of the infinite {p,q} lattice from both routes.
 
+    All energies are in units of t (:math:`H = -tA`).
+
     Attributes
     ----------
     p, q : int
+        Schläfli symbol.
     rings : ndarray
         The flakes used.
     estimate, error : float
@@ -772,6 +813,18 @@ class BandBottom(Result):
         (the improved map's isotropic band bottom).
     band_mass : float
         Band curvature :math:`M = dE/d\lambda` of the central fit, against :math:`\frac q4h^2`.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> band = hl.band_bottom(7, 3, schur_window=None)
+    >>> print(f"{band.estimate:.5f} +- {band.error:.0e}, upper {band.upper:.6f}")
+    -2.94116 +- 6e-05, upper -2.932963
+    >>> print(f"{band.paper_edge:.5f} {band.improved_edge:.5f}")
+    -2.94295 -2.94096
+    >>> value, error = band.predict([17])
+    >>> print(f"{value[0]:.5f}")
+    -2.93383
     """
 
     p: int
@@ -801,7 +854,20 @@ class BandBottom(Result):
     def predict(self, rings, level: int = 0) -> tuple[np.ndarray, np.ndarray]:
         """``(value, error)`` of E0 (``level=0``) or E1 at other ring counts: the central fit's
         model (for E1 the disk fit over the same flakes) and the largest deviation of the other
-        variants of that level. An extrapolation beyond the fitted flakes is the test of the fit."""
+        variants of that level. An extrapolation beyond the fitted flakes is the test of the fit.
+
+        Parameters
+        ----------
+        rings : array_like
+            Ring counts l >= 1.
+        level : int, optional
+            0 for E0 (default), 1 for E1.
+
+        Returns
+        -------
+        value, error : numpy.ndarray
+            The predicted level and its spread over the fit variants, units of t.
+        """
         ell = _validate.real_array("rings", rings, ndim=1)
         level = _validate.integer("level", level, minimum=0, maximum=1)
         if np.any(ell < 1):
@@ -932,7 +998,9 @@ class PlateauAnalysis(Result):
     Attributes
     ----------
     p, q : int
+        Schläfli symbol.
     rings : ndarray
+        The flakes l.
     relative_E0, relative_E1 : ndarray
         :math:`(E_{\rm graph} - E_{\rm cont})/|E_{\rm graph}|` with the paper's map.
     limit, limit_error : float
@@ -952,6 +1020,15 @@ class PlateauAnalysis(Result):
         ``isotropic_rest`` (exact :math:`-qP_{-1/2}(\cosh 2d_0)` minus the first two orders) and
         ``anisotropic`` (the rest: the :math:`m=\pm q, \pm 2q, \dots` part of the star), each with
         its share of the total.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> pa = hl.plateau_analysis(hl.band_bottom(7, 3, schur_window=None))
+    >>> print(f"{pa.limit:.4f}")
+    0.0006
+    >>> sorted(pa.terms)[:3]
+    ['anisotropic', 'anisotropic_error', 'isotropic_h4']
     """
 
     COLUMNS = (Column("rings", "rings", "1"), Column("relative_E0", "relative_E0", "1"),
@@ -1102,13 +1179,27 @@ class DictionaryComparison(Result):
     Attributes
     ----------
     p, q : int
+        Schläfli symbol.
     rings : ndarray
+        The flakes l.
     graph_E0, graph_E1 : ndarray
+        The graph levels, units of t.
     paper_E0, paper_E1, improved_E0, improved_E1 : ndarray
         The relative errors.
     improved_limit : float
         :math:`(-\rho - E_\infty^{\rm impr})/\rho`, the l -> infinity limit of the improved
-        relative error (NaN without a band bottom), with ``improved_limit_error``.
+        relative error (NaN without a band bottom).
+    improved_limit_error : float
+        Its error, propagated from the band bottom.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.limits import reference_levels
+    >>> rings, E0, E1 = reference_levels(7, 3)
+    >>> dc = hl.compare_dictionaries(rings[-2:], E0[-2:], E1[-2:], p=7, q=3)
+    >>> dc.rings.tolist(), f"{dc.paper_E0[-1]:.4f}", f"{dc.gain(15)['E0']:.1f}"
+    ([15, 16], '0.0007', '106.8')
     """
 
     COLUMNS = (Column("rings", "rings", "1"), Column("graph_E0", "graph_E0", "t"),
@@ -1129,7 +1220,23 @@ class DictionaryComparison(Result):
     improved_limit_error: float
 
     def gain(self, rings: int | None = None) -> dict:
-        """``{"E0", "E1"}``: ``|paper error| / |improved error|`` at ``rings`` (default: the largest l)."""
+        """``{"E0", "E1"}``: ``|paper error| / |improved error|`` at ``rings`` (default: the largest l).
+
+        Parameters
+        ----------
+        rings : int, optional
+            One of :attr:`rings`; default the largest.
+
+        Returns
+        -------
+        dict
+            ``{"E0": float, "E1": float}``.
+
+        Raises
+        ------
+        ValueError
+            If ``rings`` is not in the comparison.
+        """
         i = -1 if rings is None else int(np.nonzero(self.rings == rings)[0][0]) if rings in self.rings else None
         if i is None:
             raise ValueError(f"l = {rings} is not in the comparison.")

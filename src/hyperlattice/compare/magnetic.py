@@ -44,12 +44,17 @@ THRESHOLD = 1e-3
 class MagneticComparison(Result):
     r"""Graph and continuum lowest levels on an (f, l) grid.
 
+    Energies are in units of t (:math:`H = -tA` with Peierls phases, t = 1); lengths in the
+    paper's metric.
+
     Attributes
     ----------
     p, q : int
+        Schläfli symbol.
     fluxes : ndarray, shape (F,)
         Flux quanta per p-gon.
     rings : ndarray of int, shape (R,)
+        The flake sizes l.
     n, m : ndarray of int, shape (R, F, K)
         Labels of the K lowest graph states at each (l, f).
     graph, continuum : ndarray, shape (R, F, K)
@@ -64,6 +69,18 @@ class MagneticComparison(Result):
     magnetic_length : ndarray, shape (F,)
         :math:`1/\sqrt{|B|}` (inf at f = 0).
     timings : dict
+        Wall-clock seconds of the stages.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> cmp = hl.magnetic_comparison(7, 3, rings=(3,), fluxes=[0.0, 0.1], levels=2)
+    >>> cmp.graph.shape, cmp.m[0, 1].tolist()
+    ((1, 2, 2), [0, 1])
+    >>> [round(float(x), 4) for x in cmp.worst()[0]]        # largest relative error per flux
+    [0.0186, 0.0158]
+    >>> cmp.agreement_limit(0.01).tolist()                  # 3 rings never agree to 1 %
+    [nan]
     """
 
     GRID = Grid(coords=(Column("rings", "rings", "1"), Column("flux", "fluxes", "flux quanta per p-gon"),
@@ -106,7 +123,18 @@ class MagneticComparison(Result):
 
     def agreement_limit(self, threshold: float = THRESHOLD) -> np.ndarray:
         """For each l, the largest flux of the grid up to which (from f = 0 on) every level agrees
-        within ``threshold``; NaN if it fails already at the first flux."""
+        within ``threshold``; NaN if it fails already at the first flux.
+
+        Parameters
+        ----------
+        threshold : float, optional
+            Relative error, default 1e-3.
+
+        Returns
+        -------
+        numpy.ndarray, shape (R,)
+            Flux quanta per p-gon, one per l.
+        """
         ok = self.worst() < threshold
         out = np.full(len(self.rings), np.nan)
         for i in range(len(self.rings)):
@@ -117,7 +145,18 @@ class MagneticComparison(Result):
         return out
 
     def statement(self, threshold: float = THRESHOLD) -> str:
-        """A plain sentence, from the data, of where the relative error stays below ``threshold`` and why it grows."""
+        """A plain sentence, from the data, of where the relative error stays below ``threshold`` and why it grows.
+
+        Parameters
+        ----------
+        threshold : float, optional
+            Relative error, default 1e-3.
+
+        Returns
+        -------
+        str
+            The statement (several sentences of plain text).
+        """
         lim = self.agreement_limit(threshold)
         parts = []
         for ell, f in zip(self.rings.tolist(), lim.tolist()):

@@ -92,10 +92,13 @@ class ExchangeComparison(Result):
     Attributes
     ----------
     p, q, rings : int
+        The flake (Schläfli symbol and rings).
     kind : str
+        ``"sites"`` or ``"line_graph"``.
     site : int
-        The first qubit's site :math:`j_0` (the second qubit is any other site i).
+        The first qubit's site :math:`j_0`, 0-based (the second qubit is any other site i).
     omega_q, g : float
+        Qubit frequency (below the band) and coupling, in units of t; J is in units of t too.
     distance : ndarray
         Hyperbolic distance :math:`d(z_i, z_{j_0})` (paper's metric).
     graph, continuum : ndarray
@@ -107,6 +110,13 @@ class ExchangeComparison(Result):
         Binned means against distance (bin width :math:`d_0/2`) for tables and plots.
     decay_length_graph, decay_length_continuum : float
         :math:`\xi` of :math:`J \propto e^{-d/\xi}` fitted on both columns the same way (2–6 edge lengths).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> ex = hl.exchange_comparison(hl.ring_lattice(7, 3, 4), -3.2, 0.1)
+    >>> ex.kind, ex.site, ex.graph.shape, f"{ex.rel_l2:.4f}"
+    ('sites', 0, (315,), '0.0643')
     """
 
     #: one row per site i (the binned means ``bins``, ``graph_mean``, ``continuum_mean`` are not rows of it)
@@ -234,15 +244,22 @@ def exchange_comparison(lattice: Lattice, omega_q, g, site: int = 0, *,
 class BoundStateSizes(Result):
     r"""Bound-state size against detuning for one qubit, graph and continuum.
 
+    Energies and frequencies are in units of t; sizes and lengths in the paper's metric.
+
     Attributes
     ----------
     p, q, rings, site : int
+        The flake and the qubit's site (0-based).
     kind : str
+        ``"sites"`` or ``"line_graph"``.
     g : float
+        Coupling.
     e0 : float
         Band bottom :math:`E_0(\ell)` of the lattice.
     omega_q : ndarray
-        Qubit frequencies; ``detuning`` :math:`= E_0 - \omega_q > 0`.
+        Qubit frequencies.
+    detuning : ndarray
+        :math:`E_0 - \omega_q > 0`.
     energy : ndarray
         Exact bound-state energies.
     size_graph : ndarray
@@ -254,6 +271,14 @@ class BoundStateSizes(Result):
         Fitted decay length of the exact profile.
     decay_length_asymptotic : ndarray
         :math:`1/(2\Delta(\omega_q))` of the continuum (NaN beyond the continuum BF bound).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.qubits import bound_state_sizes
+    >>> bs = bound_state_sizes(hl.ring_lattice(7, 3, 4), [-3.0, -3.5], 0.1)
+    >>> [round(float(x), 4) for x in bs.detuning], [round(float(x), 4) for x in bs.size_graph]
+    ([0.1534, 0.6534], [0.5638, 0.3691])
     """
 
     COLUMNS = (Column("omega_q", "omega_q", "t"), Column("detuning", "detuning", "t"), Column("energy", "energy", "t"),

@@ -113,6 +113,21 @@ class FrameAngles(Result):
     residual : ndarray of float, shape (N,)
         Largest distance of a mapped neighbour :math:`w(z_j)` from the ideal star point
         :math:`h e^{i\chi_i}\omega^a` (covers radius and mutual angles at once).
+
+    Notes
+    -----
+    Coordinates are those of the paper's Poincaré disk; angles are in radians; site indices
+    follow the lattice (0-based, ring by ring).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import hyperlattice as hl
+    >>> fa = hl.frame_angles(hl.ring_lattice(7, 3, 3))
+    >>> fa.chi.shape, int(fa.full.sum()), f"{fa.h:.6f} {fa.chi[0]:.6f}"
+    ((112,), 56, '0.275798 1.047198')
+    >>> bool(np.max(fa.residual) < 1e-12)
+    True
     """
 
     #: one row per site
@@ -256,6 +271,25 @@ class RadialProfile(Result):
 
     ``unique`` is False where the sites at one radius do not share one value (the
     red "error bars" of Fig. FigScos3delta).
+
+    Attributes
+    ----------
+    r : ndarray
+        The distinct Euclidean radii :math:`|z|` in the paper's Poincaré disk, ascending.
+    mean, min, max : ndarray
+        Mean, smallest and largest value at each radius (in the unit of the values).
+    count : ndarray of int
+        Number of sites at each radius.
+    unique : ndarray of bool
+        Whether all sites at that radius share one value (within the tolerance).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from hyperlattice.compare.scaling import radial_profile
+    >>> prof = radial_profile(np.array([0.5, -0.5, 0.5j, 0.8]), np.array([1.0, 1.0, 2.0, 3.0]))
+    >>> prof.r.tolist(), prof.min.tolist(), prof.max.tolist(), prof.unique.tolist()
+    ([0.5, 0.8], [1.0, 3.0], [2.0, 3.0], [False, True])
     """
 
     COLUMNS = (Column("r", "r", "1 (Poincare-disk radius)"), Column("mean", "mean", "of the values"),
@@ -401,8 +435,24 @@ class SmoothFunction:
     ----------
     expr : sympy.Expr
         Expression in ``SmoothFunction.symbols()``.
-    name : str
-        Label for plots and output.
+    name : str, optional
+        Label for plots and output (default: the expression as text).
+
+    Raises
+    ------
+    ValueError
+        If the expression depends on symbols other than ``z`` and ``zb``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from hyperlattice.compare.scaling import SmoothFunction
+    >>> z, zb = SmoothFunction.symbols()
+    >>> f = SmoothFunction(z * zb, name="|z|^2")
+    >>> round(float(f.laplacian(np.array([0.5]))[0].real), 6)    # 4 (1 - 1/4)^2
+    2.25
+    >>> SmoothFunction.cos_distance().name, SmoothFunction.preset("exp-x").name
+    ('cos(pi d(z,0))', 'exp(x)')
     """
 
     def __init__(self, expr, name: str | None = None) -> None:
@@ -430,7 +480,17 @@ class SmoothFunction:
     # -- presets -------------------------------------------------------------
     @classmethod
     def cos_distance(cls, k: float = math.pi) -> "SmoothFunction":
-        r""":math:`f = \cos[k\, d(z,0)]`, :math:`d(z,0) = \mathrm{artanh}|z|` (Fig. FigSh uses k = pi)."""
+        r""":math:`f = \cos[k\, d(z,0)]`, :math:`d(z,0) = \mathrm{artanh}|z|` (Fig. FigSh uses k = pi).
+
+        Parameters
+        ----------
+        k : float, optional
+            Wave number per unit distance of the paper's metric; default :math:`\pi`.
+
+        Returns
+        -------
+        SmoothFunction
+        """
         import sympy as sp
 
         z, zb = cls.symbols()
@@ -439,7 +499,17 @@ class SmoothFunction:
 
     @classmethod
     def gaussian(cls, width: float = 1.0) -> "SmoothFunction":
-        r""":math:`f = \exp[-d(z,0)^2/w^2]`."""
+        r""":math:`f = \exp[-d(z,0)^2/w^2]`.
+
+        Parameters
+        ----------
+        width : float, optional
+            w, in the paper's metric; default 1.
+
+        Returns
+        -------
+        SmoothFunction
+        """
         import sympy as sp
 
         z, zb = cls.symbols()
@@ -469,7 +539,24 @@ class SmoothFunction:
 
     @classmethod
     def preset(cls, name: str) -> "SmoothFunction":
-        """A preset by name: one of :data:`PRESETS`."""
+        """A preset by name: one of :data:`PRESETS`.
+
+        Parameters
+        ----------
+        name : str
+            ``"cos-distance"``, ``"gaussian"``, ``"inverse-rho-squared"``, ``"anisotropic"`` or
+            ``"exp-x"``.
+
+        Returns
+        -------
+        SmoothFunction
+            The preset with its default parameters.
+
+        Raises
+        ------
+        ValueError
+            For an unknown name.
+        """
         try:
             return PRESETS[name]()
         except KeyError:
@@ -516,19 +603,67 @@ class SmoothFunction:
         return self._eval(("f", 0), z)
 
     def laplacian(self, z) -> np.ndarray:
-        r""":math:`\Delta_g f = 4(1-|z|^2)^2\partial_z\bar\partial_z f`, ``eq7``."""
+        r""":math:`\Delta_g f = 4(1-|z|^2)^2\partial_z\bar\partial_z f`, ``eq7``.
+
+        Parameters
+        ----------
+        z : array_like of complex
+            Points of the Poincaré disk.
+
+        Returns
+        -------
+        numpy.ndarray of complex
+            :math:`\Delta_g f` at each point.
+        """
         return self._eval(("lap", 0), z)
 
     def bilaplacian(self, z) -> np.ndarray:
-        r""":math:`\Delta_g^2 f`."""
+        r""":math:`\Delta_g^2 f`.
+
+        Parameters
+        ----------
+        z : array_like of complex
+            Points of the Poincaré disk.
+
+        Returns
+        -------
+        numpy.ndarray of complex
+            :math:`\Delta_g^2 f` at each point.
+        """
         return self._eval(("bilap", 0), z)
 
     def D(self, z, n: int = 3) -> np.ndarray:
-        r""":math:`\mathcal D_n f = \partial_z^{n-1}(1-|z|^2)^n\partial_z f`; n = 3 is ``adj33``."""
+        r""":math:`\mathcal D_n f = \partial_z^{n-1}(1-|z|^2)^n\partial_z f`; n = 3 is ``adj33``.
+
+        Parameters
+        ----------
+        z : array_like of complex
+            Points of the Poincaré disk.
+        n : int, optional
+            The order n >= 1; default 3.
+
+        Returns
+        -------
+        numpy.ndarray of complex
+            :math:`\mathcal D_n f` at each point.
+        """
         return self._eval(("D", _order(n)), z)
 
     def Dbar(self, z, n: int = 3) -> np.ndarray:
-        r""":math:`\bar{\mathcal D}_n f = \bar\partial_z^{n-1}(1-|z|^2)^n\bar\partial_z f`."""
+        r""":math:`\bar{\mathcal D}_n f = \bar\partial_z^{n-1}(1-|z|^2)^n\bar\partial_z f`.
+
+        Parameters
+        ----------
+        z : array_like of complex
+            Points of the Poincaré disk.
+        n : int, optional
+            The order n >= 1; default 3.
+
+        Returns
+        -------
+        numpy.ndarray of complex
+            :math:`\bar{\mathcal D}_n f` at each point.
+        """
         return self._eval(("Dbar", _order(n)), z)
 
 
@@ -757,6 +892,16 @@ class OperatorProfile(Result):
     curve_distance, curve_quadratic : ndarray or None
         For a radial f the quadratic approximation depends on r alone (it has no :math:`\chi_i`):
         its real part on a fine grid of :math:`d(r, 0)` up to the outermost site. None otherwise.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.scaling import operator_profile
+    >>> prof = operator_profile(hl.ring_lattice(7, 3, 3))
+    >>> prof.function, round(prof.h, 6), int(prof.exact.count.sum())
+    ('cos(pi d(z,0))', 0.275798, 56)
+    >>> print(f"{prof.max_error_quadratic:.2e} {prof.max_error_cubic:.2e}")
+    1.36e-01 2.04e-02
     """
 
     NOT_TABULAR = ("its data are three RadialProfile tables (exact, quadratic, cubic: each exports "
@@ -899,6 +1044,31 @@ class ConvergenceStudy(Result):
 
     ``errors[k]`` and ``exponents[k]`` for each order k; ``expected[k]`` from
     :func:`expected_error_order`. ``fit_rms[k]`` is the rms residual of the log-log fit.
+
+    Attributes
+    ----------
+    p, q : int
+        Schläfli symbol.
+    function : str
+        Name of the test function f.
+    h : ndarray
+        The values of h (:math:`\tanh` of an edge length in the paper's metric) studied.
+    errors : dict of int to ndarray
+        For each order k, the error at each h.
+    exponents : dict of int to float
+        Fitted power of h for each k.
+    expected : dict of int to int
+        The expected power (:func:`expected_error_order`).
+    fit_rms : dict of int to float
+        Rms residual of each log-log fit.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.scaling import SmoothFunction, convergence_study
+    >>> study = convergence_study(hl.ring_lattice(7, 3, 3), SmoothFunction.exp_x())
+    >>> study.function, {k: round(v, 1) for k, v in study.exponents.items()}, study.expected
+    ('exp(x)', {2: 3.0, 3: 4.0, 4: 5.0}, {2: 3, 3: 4, 4: 5})
     """
 
     p: int

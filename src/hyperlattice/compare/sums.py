@@ -113,6 +113,35 @@ class CountingFit(Result):
     ``radii`` and ``counts`` are the fitted points :math:`(r_k, \mathcal N(r_k))`, one per
     distinct radius of the window; ``rms`` is the rms residual of the fit. Its table has one row
     per fitted point: ``r``, ``rho`` and ``count``.
+
+    Attributes
+    ----------
+    p, q, rings : int
+        The lattice fitted.
+    slope, intercept : float
+        s and b of :math:`\mathcal N \approx s\rho + b` (sites per unit of :math:`\rho`, sites).
+    expected_slope : float
+        The geometric slope :math:`\pi/(2\mathcal A)` (14 for {7,3}).
+    slope_fixed : bool
+        True when the slope was given, not fitted.
+    window : str
+        ``"all"`` or ``"complete"`` (see :func:`fit_counting`).
+    radii : ndarray
+        The distinct Euclidean site radii :math:`r_k` in the Poincaré disk (paper's metric;
+        :attr:`rho` gives :math:`\rho = (1+r^2)/(1-r^2)`).
+    counts : ndarray of int
+        :math:`\mathcal N(r_k)`, the number of sites with :math:`r_i \le r_k`.
+    rms : float
+        Rms residual of the fit, in sites.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> fit = hl.fit_counting(hl.ring_lattice(7, 3, 4))
+    >>> print(f"s = {fit.slope:.3f}, b = {fit.intercept:.4f}, expected {fit.expected_slope:g}")
+    s = 14.199, b = -9.0954, expected 14
+    >>> fit.window, fit.slope_fixed, fit.radii.size, fit.counts[:3].tolist()
+    ('all', False, 24, [7, 14, 28])
     """
 
     COLUMNS = (Column("r", "radii", "1 (Poincare-disk radius)"), Column("rho", "rho", "1"),
@@ -340,7 +369,31 @@ def disk_integral(f: Callable, radius: float, *, angular_points: int = 64,
 
 @dataclass(frozen=True, eq=False, kw_only=True)
 class SumCheck(Result):
-    r"""One check of ``eq11``: lattice sum against :math:`(1/\mathcal A)\int_{|z|\le L} f\,dV_g`."""
+    r"""One check of ``eq11``: lattice sum against :math:`(1/\mathcal A)\int_{|z|\le L} f\,dV_g`.
+
+    Attributes
+    ----------
+    p, q, rings, sites : int
+        The lattice summed over.
+    radius : float
+        L, the area-matched Euclidean disk radius (``eq12``), paper's metric.
+    function : str
+        Name of f.
+    lattice_sum : complex
+        :math:`\Sigma = \sum_i f(z_i)`.
+    integral : complex
+        :math:`I = (1/\mathcal A)\int_{|z|\le L} f\,dV_g` (:math:`\mathcal A` the area per site).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import hyperlattice as hl
+    >>> chk = hl.sum_check(hl.ring_lattice(7, 3, 4), lambda z: np.abs(z) ** 2, name="|z|^2")
+    >>> chk.function, chk.sites, round(chk.radius, 6)
+    ('|z|^2', 315, 0.958315)
+    >>> print(f"{chk.lattice_sum.real:.4f} {chk.integral.real:.4f} {chk.rel_error:.4f}")
+    244.8141 244.8453 0.0001
+    """
 
     p: int
     q: int

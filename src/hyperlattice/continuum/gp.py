@@ -80,8 +80,12 @@ class DiskGPState(Result):
     Attributes
     ----------
     radius : float
-        L (Euclidean radius in the Poincaré disk); ``rho_max`` = artanh L.
+        L (Euclidean radius in the Poincaré disk).
+    rho_max : float
+        artanh L, the geodesic radius of the disk in the paper's metric.
     t_prime, U_prime : float
+        Continuum hopping and interaction of the dictionary (:math:`t' = \frac q4 h^2 t`,
+        :math:`U' = \mathcal A U`); they fix the energy unit (that of t).
     particles : float
         :math:`N = \int |\varphi|^2 dV_g`.
     winding : int
@@ -91,10 +95,21 @@ class DiskGPState(Result):
     mu_c : float
         Continuum chemical potential μ_c (the lattice's μ is μ_c − q t).
     energy : float
+        The GP energy of the state, in the energy unit of t' and U'.
     residual : float
         Relative residual of the discrete equation (``"fv"``) or of the boundary and norm
         conditions (``"shooting"``).
     method : str
+        ``"fv"`` (finite volumes, :func:`disk_gp`) or ``"shooting"`` (:func:`disk_gp_shooting`).
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.gp import disk_gp
+    >>> s = disk_gp(0.75, 0.057, 0.112, 20.0, cells=100)
+    >>> s.method, s.winding, s.rho.shape, round(s.rho_max, 6)
+    ('fv', 0, (100,), 0.972955)
+    >>> print(f"{s.mu_c:.4f} {s.energy:.4f} {float(s.density[0]):.3f}")
+    1.4624 19.6241 12.528
     """
 
     #: one row per radial grid point
@@ -423,11 +438,21 @@ class DiskBogoliubov(Result):
     Attributes
     ----------
     frequencies : ndarray
-        The K lowest ω >= 0 ascending, each j ≠ 0 mode listed twice (±j), Goldstone mode first.
+        The K lowest ω >= 0 ascending, each j ≠ 0 mode listed twice (±j), Goldstone mode first;
+        in the energy unit of t' and U' (:math:`\hbar = 1`).
     angular_momenta : ndarray
         :math:`|j|` of each frequency.
     zero_mode : float
-        The computed Goldstone frequency (j = 0).
+        The computed Goldstone frequency (j = 0), zero up to the discretisation.
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.gp import disk_gp, disk_bogoliubov
+    >>> b = disk_bogoliubov(disk_gp(0.75, 0.057, 0.112, 20.0, cells=100), 4)
+    >>> [round(float(w), 4) for w in b.frequencies[1:]], b.angular_momenta.tolist()
+    ([0.7306, 0.7306, 1.1985], [0, 1, 1, 2])
+    >>> abs(b.zero_mode) < 1e-3
+    True
     """
 
     COLUMNS = (Column("frequency", "frequencies", "t"), Column("abs_j", "angular_momenta", "1"))

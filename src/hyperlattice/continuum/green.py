@@ -192,6 +192,13 @@ class GreenInfo(Result):
         scale: amplified by the upward recurrence of :math:`P^m` (beyond a factor 100), or by a
         :math:`\tilde P^m(\rho_L)` close to zero (:math:`\lambda` near a Dirichlet eigenvalue,
         ubiquitous for large :math:`\lambda`, where the spectrum is dense).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> g, info = hl.continuum_green(0.1, 0.3j, 2.0, 0.8, return_info=True)
+    >>> info.method, complex(info.nu), info.converged
+    ('series', (-0.5+0.5j), True)
     """
 
     method: str

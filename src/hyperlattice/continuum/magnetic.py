@@ -688,7 +688,44 @@ class MagneticSpectrum(Levels):
 
     Like :class:`~hyperlattice.continuum.spectrum.ContinuumSpectrum`, with ``kappa`` (the
     eigenvalues of :math:`-\Delta_B`) instead of k, plus ``flux`` (quanta per p-gon face) and
-    ``field`` (B). With flux, +m and -m are separate levels (degeneracy 1).
+    ``field`` (B). With flux, +m and -m are separate levels (degeneracy 1). The attributes below
+    come in addition to those of :class:`~hyperlattice.results.Levels` (energies and errors in
+    units of t).
+
+    Attributes
+    ----------
+    error_kind : str
+        ``"energy error bound"``.
+    method : str
+        ``"magnetic-dirichlet-roots"``.
+    description : str
+        One sentence on the root search.
+    rings : int or None
+        Ring count the disk was derived from, or None for a given radius.
+    radius, x : float
+        The Euclidean disk radius L in the paper's Poincaré disk and :math:`x_L = (1+L^2)/(1-L^2)`.
+    h : float
+        :math:`\tanh d_0`.
+    kappa : ndarray, shape (K,)
+        Eigenvalues of :math:`-\Delta_B` (the level energies are :math:`-q + \frac q4 h^2\kappa`
+        in the paper's dictionary).
+    flux : float
+        Flux quanta per p-gon face.
+    field : float
+        :math:`B = 2\pi f/\mathcal A_p` per unit area of the paper's metric (:math:`\hbar = e = 1`;
+        positive B points out of the disk).
+    asymptotic : dict
+        ``{"E0", "E1", "E_inf"}`` of the field-free disk
+        (:func:`~hyperlattice.continuum.spectrum.asymptotic_energies`).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> s = hl.magnetic_levels(7, 3, rings=2, levels=4, flux=0.1)
+    >>> [round(float(e), 4) for e in s.energies], s.m.tolist()
+    ([-2.5567, -2.1686, -1.9609, -1.7085], [0, 1, -1, 2])
+    >>> round(s.field, 6), s.degeneracy.tolist()          # f = 0.1 through each heptagon
+    (2.4, [1, 1, 1, 1])
     """
 
     error_kind: str = "energy error bound"

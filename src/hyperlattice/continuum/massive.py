@@ -423,14 +423,23 @@ class BFBound(Result):
     Attributes
     ----------
     p, q : int
+        Schläfli symbol.
     mass2 : float
-        :math:`m^2 = -1` (:math:`m^2R^2 = -1/4`, :math:`R = 1/2`).
+        :math:`m^2 = -1` (:math:`m^2R^2 = -1/4`, :math:`R = 1/2`: masses in units of the
+        curvature scale of the paper's metric, curvature -4).
     lam : float
         :math:`\lambda = 1`, the bottom of the continuous spectrum of :math:`-\Delta_g` (``spec2``).
     omega : float
-        :math:`E_\infty = -q + \frac q4 h^2` (:math:`-2.94295` for {7,3}).
+        :math:`E_\infty = -q + \frac q4 h^2` in units of t (:math:`-2.94295` for {7,3}).
     delta : float
         :math:`\Delta = 1/2`.
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.massive import bf_bound
+    >>> b = bf_bound(7, 3)
+    >>> b.mass2, b.lam, round(b.omega, 5), b.delta
+    (-1.0, 1.0, -2.94295, 0.5)
     """
 
     p: int

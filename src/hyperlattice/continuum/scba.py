@@ -189,13 +189,17 @@ def continuum_local_green(omega, p: int = 7, q: int = 3, *, tol: float = 1e-11) 
 class SCBAResult(Result):
     r"""The SCBA fixed point for one frequency and one disorder variance.
 
+    All frequencies and energies are in units of t (the lattice hopping, :math:`H = -tA + V`).
+
     Attributes
     ----------
     p, q : int
+        Schläfli symbol.
     omega : complex
         The frequency asked for.
     variance : float
-        :math:`w^2 = \langle V^2\rangle` (:func:`hyperlattice.graph.disorder.onsite_variance`).
+        :math:`w^2 = \langle V^2\rangle` in units of :math:`t^2`
+        (:func:`hyperlattice.graph.disorder.onsite_variance`).
     self_energy : complex
         :math:`\Sigma = \tilde\omega - \omega`.
     omega_shifted : complex
@@ -205,8 +209,16 @@ class SCBAResult(Result):
     born : complex
         The first-order (non-self-consistent) :math:`w^2 G_{\rm loc}(\omega)`.
     iterations : int
+        Fixed-point iterations taken.
     residual : float
         :math:`|\tilde\omega - \omega - w^2G_{\rm loc}(\tilde\omega)|` at the end (checked against ``tol``).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> r = hl.scba(-3.5, 0.1, 7, 3)
+    >>> print(f"{r.omega_shifted.real:.6f} {r.self_energy.real:.6f} {r.born.real:.6f}")
+    -3.459925 0.040075 0.039033
     """
 
     p: int

@@ -775,7 +775,22 @@ class DirichletTable(Result):
         :math:`\tanh d_0` of the lattice.
     k, energies, errors : ndarray, shape (n_max, m_max + 1)
         ``k[n - 1, m]``, the energies ``spec1`` and a bound on each energy's error (see the
-        module docstring).
+        module docstring); energies and errors in units of t, the lattice's hopping
+        (:math:`E_{nm} = -q + \frac q4 h^2(1 + k_{nm}^2)` for the paper's dictionary).
+
+    Notes
+    -----
+    The disk radius L is Euclidean in the Poincaré disk of the paper's metric
+    :math:`|dz|^2/(1-|z|^2)^2`; the hyperbolic radius is :math:`\operatorname{artanh} L`.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> t = hl.dirichlet_levels(7, 3, rings=2, n_max=2, m_max=2)
+    >>> round(t.radius, 6), round(t.x, 6), t.radial_index.tolist()
+    (0.745356, 3.5, [1, 2])
+    >>> [round(float(k), 4) for k in t.k[0]], [round(float(e), 4) for e in t.energies[0]]
+    ([2.5558, 3.8791, 4.9646], [-2.5703, -2.0845, -1.5368])
     """
 
     GRID = Grid(coords=(Column("n", "radial_index", "1"), Column("abs_m", INDEX, "1")),
@@ -895,6 +910,26 @@ class ContinuumSpectrum(Levels):
     dictionary : str
         ``"paper"`` or ``"improved"``: the map from roots to energies (and, for rings, the disk).
         Not part of :meth:`summary` (the CLI's JSON keys are the same for both).
+    error_kind : str
+        ``"energy error bound"``.
+    method : str
+        ``"dirichlet-roots"``.
+    description : str
+        One sentence on the root search.
+
+    Notes
+    -----
+    Energies and errors are in units of t (the map from roots to energies of the chosen
+    ``dictionary``); L is the Euclidean disk radius in the paper's Poincaré disk.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> s = hl.continuum_levels(7, 3, rings=2, levels=4)
+    >>> [round(float(e), 4) for e in s.energies], s.m.tolist()
+    ([-2.5703, -2.0845, -2.0845, -1.5368], [0, 1, -1, 2])
+    >>> s.rings, round(s.radius, 6), s.error_kind, s.dictionary
+    (2, 0.745356, 'energy error bound', 'paper')
     """
 
     error_kind: str = "energy error bound"

@@ -74,6 +74,17 @@ class Windings(Result):
         Genus g of the cell.
     name : str
         Name of the cluster.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.bands import edge_windings
+    >>> cell = hl.pbc_cluster(8, 3, "bolza")
+    >>> w = edge_windings(cell)
+    >>> w.name, w.genus, w.windings.shape
+    ('bolza', 2, (24, 4))
+    >>> w.dart_windings(cell).shape
+    (16, 3, 4)
     """
 
     edges: np.ndarray
@@ -83,7 +94,18 @@ class Windings(Result):
     name: str
 
     def dart_windings(self, cluster: Cluster) -> np.ndarray:
-        """Windings per dart: ``out[v, j]`` for the edge from v to ``cluster.neighbours[v, j]``."""
+        """Windings per dart: ``out[v, j]`` for the edge from v to ``cluster.neighbours[v, j]``.
+
+        Parameters
+        ----------
+        cluster : Cluster
+            The cluster these windings were computed for (its neighbour table orders the darts).
+
+        Returns
+        -------
+        numpy.ndarray of int64, shape (sites, q, 2g)
+            The winding of each directed edge; the two darts of an edge carry opposite windings.
+        """
         nb = cluster.neighbours
         v = np.repeat(np.arange(nb.shape[0], dtype=np.int64), nb.shape[1])
         u = nb.ravel().astype(np.int64)
@@ -357,12 +379,23 @@ class Bands(Result):
     distance : ndarray, shape (K,)
         Cumulative Euclidean length along the path (the x axis of the plot).
     energies : ndarray, shape (K, sites)
-        Eigenvalues of H(k), ascending at each k (the bands).
+        Eigenvalues of the Bloch Hamiltonian :math:`H(k) = -tA(k)` with t = 1 (units of t),
+        ascending at each k (the bands).
     ticks : ndarray, shape (T,)
         Distances of the labelled corners of the path.
     tick_labels : list of str
         Their labels.
-    name, p, q, genus : cell
+    name, p, q, genus : str, int, int, int
+        The cell: its name, Schläfli symbol and genus g.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> bands = hl.band_structure(hl.pbc_cluster(8, 3, "bolza"), points=5)
+    >>> bands.k.shape, bands.energies.shape, bands.tick_labels[:3]
+    ((21, 4), (21, 16), ['Γ', 'X', 'M'])
+    >>> round(float(bands.energies[0, 0]), 6)     # -q t at k = 0
+    -3.0
     """
 
     #: the bands on the (point, band) grid of the k-path, with the momenta and the path length
@@ -510,11 +543,23 @@ class AbelianDOS(Result):
     errors : ndarray, shape (B,)
         One standard error of ``density`` from the spread between independent batches of k.
     bin_edges : ndarray, shape (B+1,)
+        Histogram bin edges on :math:`[-q, q]` (units of t).
     samples : int
         Number of k points.
     method : str
         ``"uniform-random-k"``.
-    name, p, q, genus : cell
+    name, p, q, genus : str, int, int, int
+        The cell: its name, Schläfli symbol and genus g.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import hyperlattice as hl
+    >>> dos = hl.abelian_dos(hl.pbc_cluster(8, 3, "bolza"), samples=40, bins=20, batches=4)
+    >>> dos.method, dos.samples, dos.bin_edges[[0, -1]].tolist()
+    ('uniform-random-k', 40, [-3.0, 3.0])
+    >>> round(float(np.sum(dos.density * np.diff(dos.bin_edges))), 6)
+    1.0
     """
 
     COLUMNS = (Column("energy", "energies", "t"), Column("density", "density", "1/t per site"),

@@ -139,8 +139,22 @@ class Cluster(Result):
     source : str
         Where the cluster comes from (citation, or the construction of the family).
 
+    Notes
+    -----
+    Sites are indexed 0-based (rows of ``neighbours``); there are no rings and no positions.
     The faces (:attr:`faces`, counterclockwise p-gons) and the edges (:attr:`edges`) follow
     from the rotation system and are computed on first use.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> c = hl.pbc_cluster(7, 3, "klein")
+    >>> c
+    Cluster('klein', {7,3}, sites=56, genus=3, systole=8)
+    >>> c.n_edges, c.n_faces, c.faces.shape, c.group
+    (84, 24, (24, 7), 'PSL(2,7), order 168')
+    >>> c.sites - c.n_edges + c.n_faces == 2 - 2 * c.genus
+    True
     """
 
     name: str

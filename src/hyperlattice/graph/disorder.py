@@ -191,6 +191,16 @@ class Disorder(Result):
         Hopping amplitude of each edge of ``lattice.edges`` in units of t (ones for on-site models).
     omega0 : float or None
         :math:`\\omega_0/t` of the resonator model.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.disorder import disorder
+    >>> d = disorder(hl.ring_lattice(7, 3, 2), "box", 2.0, seed=1)
+    >>> d.model, d.strength, d.onsite.shape, d.hopping.shape
+    ('box', 2.0, (35,), (42,))
+    >>> bool(abs(d.onsite).max() <= 1.0), bool((d.hopping == 1.0).all())   # V_i in [-W/2, W/2]
+    (True, True)
     """
 
     model: str

@@ -334,6 +334,21 @@ def _with_diagonal(mat: sp.csc_matrix) -> sp.csc_matrix:
 class SymbolicAnalysis:
     """The shift-independent part of the factorisation of one sparsity pattern.
 
+    Parameters
+    ----------
+    mat : sparse matrix
+        H, real symmetric or complex Hermitian (the pattern is analysed; missing diagonal
+        entries are stored as zeros so that every shift fits the pattern).
+    backend : {"auto", "cholmod", "superlu"}, optional
+        See :func:`resolve_backend`; default ``"auto"``.
+    what : str, optional
+        Name of the matrix in error messages; default ``"H - sigma"``.
+    max_bytes : int, optional
+        Memory budget in bytes (default: what this process may use).
+    positive : bool, optional
+        Accepted for symmetry with :meth:`factor`; the analysis does not depend on it (the
+        supernodal :math:`LL^T` analysis is made on the first ``factor(..., positive=True)``).
+
     Attributes
     ----------
     backend : {"cholmod", "superlu"}
@@ -349,6 +364,21 @@ class SymbolicAnalysis:
         Estimated peak bytes of one numeric factorisation (factor plus one shifted copy of H).
     exact : bool
         True when ``factor_entries`` comes from the ordering itself, not from the fill bound.
+
+    Raises
+    ------
+    FactorMemoryError
+        If the factorisation would not fit in ``max_bytes`` or the memory available.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.factor import analyze
+    >>> an = analyze(hl.hamiltonian(hl.ring_lattice(7, 3, 2)), backend="superlu")
+    >>> an.backend, an.n, an.complex
+    ('superlu', 35, False)
+    >>> an.factor(-2.4).negatives          # one level (E0 = -2.636 t) lies below -2.4 t
+    1
     """
 
     def __init__(self, mat, backend: str = "auto", *, what: str = "H - sigma", max_bytes: int | None = None,
@@ -413,7 +443,18 @@ class SymbolicAnalysis:
                     f"than the {_gb(address)} left under this process's address-space limit.")
 
     def shifted(self, sigma) -> sp.csc_matrix:
-        """:math:`H - \\sigma` with the analysed pattern (a new array)."""
+        """:math:`H - \\sigma` with the analysed pattern (a new array).
+
+        Parameters
+        ----------
+        sigma : float or complex
+            The shift, in the units of H.
+
+        Returns
+        -------
+        scipy.sparse.csc_matrix
+            :math:`H - \\sigma` (complex when ``sigma`` is complex).
+        """
         out = self.matrix.copy()
         diag = _diag_positions(out)
         if np.iscomplexobj(sigma) and not self.complex:
@@ -426,6 +467,25 @@ class SymbolicAnalysis:
 
         ``matrix``: another matrix with the same sparsity pattern (the real sector blocks of
         m = 1..p/2 share one), which then replaces the analysed values.
+
+        Parameters
+        ----------
+        sigma : float or complex, optional
+            The shift, in the units of H; default 0.
+        positive, pivoting : bool, optional
+            As in :func:`factorize`; default False.
+        matrix : sparse matrix, optional
+            New values on the analysed pattern.
+
+        Returns
+        -------
+        Factor
+            The numeric factorisation.
+
+        Raises
+        ------
+        ValueError
+            If ``matrix`` does not have the analysed pattern or type.
         """
         if matrix is not None:
             mat = _with_diagonal(_as_square(matrix, self.what))
@@ -489,6 +549,15 @@ def _backend_error(exc: BaseException, what: str) -> HyperlatticeError:
 class Factor:
     r"""A numeric factorisation of :math:`H - \sigma` (from :func:`factorize` or :meth:`SymbolicAnalysis.factor`).
 
+    Parameters
+    ----------
+    analysis : SymbolicAnalysis
+        The symbolic analysis of H.
+    sigma : float or complex
+        The shift, in the units of H (a complex σ with nonzero imaginary part gives an LU).
+    positive, pivoting : bool, optional
+        As in :func:`factorize`; default False.
+
     Attributes
     ----------
     backend : {"cholmod", "superlu"}
@@ -497,7 +566,8 @@ class Factor:
         The shift.
     negatives : int or None
         Number of eigenvalues of H below σ (Sylvester's law of inertia), or None when the
-        factorisation proves nothing (SuperLU took off-diagonal pivots, or σ is complex).
+        factorisation proves nothing (SuperLU took off-diagonal pivots, σ is complex, or
+        ``pivoting`` was asked for).
     proved : bool
         True when ``negatives`` is proved by the factorisation.
     positive_definite : bool
@@ -505,6 +575,22 @@ class Factor:
     kind : str
         ``"LL^T"``, ``"LDL^T"`` or ``"LU"``.
     analysis : SymbolicAnalysis
+        The analysis it reuses.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.factor import factorize
+    >>> H = hl.hamiltonian(hl.ring_lattice(7, 3, 2))
+    >>> f = factorize(H, -3.0, backend="superlu")
+    >>> f.kind, f.negatives, f.proved, f.positive_definite    # -3 t lies below the spectrum
+    ('LDL^T', 0, True, True)
+    >>> x = f.solve(np.ones(35))
+    >>> bool(np.allclose(H @ x + 3.0 * x, 1.0))
+    True
+    >>> f.refactor(-2.4).negatives
+    1
     """
 
     def __init__(self, analysis: SymbolicAnalysis, sigma, *, positive: bool = False, pivoting: bool = False):
@@ -601,7 +687,18 @@ class Factor:
 
     # -- use --
     def solve(self, b: np.ndarray) -> np.ndarray:
-        r""":math:`(H - \sigma)^{-1} b` for one (shape (n,)) or many (shape (n, k)) right-hand sides."""
+        r""":math:`(H - \sigma)^{-1} b` for one (shape (n,)) or many (shape (n, k)) right-hand sides.
+
+        Parameters
+        ----------
+        b : array_like, shape (n,) or (n, k)
+            Right-hand side(s), real or complex.
+
+        Returns
+        -------
+        numpy.ndarray
+            The solution(s), of the shape of ``b``.
+        """
         b = np.asarray(b)
         try:
             if self.backend == "cholmod" and hasattr(self, "_f"):
@@ -625,7 +722,20 @@ class Factor:
         return lu.solve(np.asarray(b, dtype=lu.L.dtype))
 
     def refactor(self, sigma, *, positive: bool = False, pivoting: bool = False) -> "Factor":
-        """A new factor at another shift, reusing the symbolic analysis."""
+        """A new factor at another shift, reusing the symbolic analysis.
+
+        Parameters
+        ----------
+        sigma : float or complex
+            The new shift, in the units of H.
+        positive, pivoting : bool, optional
+            As in :func:`factorize`; default False.
+
+        Returns
+        -------
+        Factor
+            The factorisation at ``sigma``.
+        """
         return Factor(self.analysis, sigma, positive=positive, pivoting=pivoting)
 
     def __repr__(self) -> str:

@@ -501,10 +501,12 @@ class Butterfly(Result):
     fluxes : ndarray, shape (F,)
         Flux quanta per p-gon, in the order given.
     energies : ndarray, shape (F, N)
-        All N levels at each flux, ascending along each row.
+        All N levels of :math:`H = -tA` with the Peierls phases of the flux (plus any on-site
+        term) at each flux, ascending along each row, in the unit in which ``t`` was given.
     m : ndarray of int, shape (F, N)
         Signed angular momentum (rotation sector) of each level.
     p, q, rings, sites : int
+        Schläfli symbol, number of rings and number of sites N of the flake.
     kind : str
         ``"sites"`` or ``"line_graph"``.
     t : float
@@ -512,8 +514,18 @@ class Butterfly(Result):
     method : str
         ``"sector-dense"``: LAPACK eigvalsh of each of the p blocks at each flux.
     description : str
+        One sentence on what ran.
     timings : dict
         Wall-clock seconds (``"total"``).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> b = hl.butterfly(hl.ring_lattice(7, 3, 2), [0.0, 0.25])
+    >>> b.energies.shape, b.method
+    ((2, 35), 'sector-dense')
+    >>> [round(e, 4) for e in b.energies[:, 0].tolist()], b.m[:, 0].tolist()   # ground state
+    ([-2.6364, -2.5585], [0, 0])
     """
 
     GRID = Grid(coords=(Column("flux", "fluxes", "flux quanta per p-gon"), Column("state", INDEX, "1")),

@@ -60,6 +60,7 @@ class GraphResolvent:
     onsite : callable, array or None
         On-site term (lattice input only), as in :func:`~hyperlattice.graph.operators.hamiltonian`.
     method : {"auto", "dense", "sparse"}
+        See above; default ``"auto"`` (sparse).
 
     Raises
     ------
@@ -67,6 +68,21 @@ class GraphResolvent:
         On a non-square or non-Hermitian matrix, an unknown method, ``dense`` above
         ``_DENSE_MAX`` sites, and (in the evaluation methods) for :math:`\omega` on the real
         spectrum to within rounding.
+
+    Notes
+    -----
+    :math:`\omega` is in the unit of H (units of t for a lattice with t = 1); rows and columns
+    are sites, 0-based ring by ring. With this sign convention :math:`G(\omega) > 0` on the
+    diagonal below the band.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.green import GraphResolvent
+    >>> res = GraphResolvent(hl.ring_lattice(7, 3, 2))
+    >>> g = res.column(-3.5, 0)
+    >>> res.method, g.shape, round(float(g[0].real), 6), round(float(g[1].real), 6)
+    ('sparse', (35,), 0.412092, 0.14892)
     """
 
     def __init__(self, system, *, t: float = 1.0, onsite=None, method: str = "auto") -> None:
@@ -154,7 +170,20 @@ class GraphResolvent:
 
     # -- evaluation ------------------------------------------------------------
     def columns(self, omega, sources) -> np.ndarray:
-        r"""Columns :math:`G_{\cdot j}(\omega)` for the given sources: array ``(N, len(sources))``."""
+        r"""Columns :math:`G_{\cdot j}(\omega)` for the given sources: array ``(N, len(sources))``.
+
+        Parameters
+        ----------
+        omega : complex
+            One frequency, off the real spectrum of H.
+        sources : sequence of int
+            Source sites j (0-based).
+
+        Returns
+        -------
+        numpy.ndarray of complex128, shape (N, len(sources))
+            Column k is :math:`G_{\cdot j_k}(\omega)`.
+        """
         om, _ = _as_omegas(omega)
         if om.size != 1:
             raise ValueError("columns() takes one omega; use graph_green for several.")
@@ -179,12 +208,38 @@ class GraphResolvent:
         return out.astype(complex)
 
     def column(self, omega, source) -> np.ndarray:
-        r"""One column :math:`G_{\cdot j}(\omega)` (all targets i for source j), shape ``(N,)``."""
+        r"""One column :math:`G_{\cdot j}(\omega)` (all targets i for source j), shape ``(N,)``.
+
+        Parameters
+        ----------
+        omega : complex
+            One frequency, off the real spectrum of H.
+        source : int
+            The source site j (0-based).
+
+        Returns
+        -------
+        numpy.ndarray of complex128, shape (N,)
+            :math:`G_{ij}(\omega)` for every target i.
+        """
         source = _validate.site_index("source", source, self.n)
         return self.columns(omega, [source])[:, 0]
 
     def entries(self, omega, rows, cols) -> np.ndarray:
-        r"""Entries :math:`G_{r_k c_k}(\omega)` for paired index arrays (one solve per distinct column)."""
+        r"""Entries :math:`G_{r_k c_k}(\omega)` for paired index arrays (one solve per distinct column).
+
+        Parameters
+        ----------
+        omega : complex
+            One frequency, off the real spectrum of H.
+        rows, cols : sequence of int
+            Paired site indices (0-based); a length-1 array pairs with every entry of the other.
+
+        Returns
+        -------
+        numpy.ndarray of complex128
+            :math:`G_{r_k c_k}(\omega)`, one per pair.
+        """
         rows = _validate.site_indices("rows", rows, self.n)
         cols = _validate.site_indices("cols", cols, self.n)
         if rows.size != cols.size and 1 not in (rows.size, cols.size):

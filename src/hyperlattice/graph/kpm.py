@@ -84,10 +84,40 @@ class GraphOperator:
     ``table`` (N, w) int32 for a regular graph, else CSR ``indptr`` (int64), ``indices`` (int32)
     and ``data`` (float64, None for a 0/1 adjacency). ``bound`` is the exact Gershgorin bound
     :math:`\max_i\sum_j|A_{ij}| \ge \|H\|`; ``ring`` the ring index per site for a flake (else None).
-    ``copies`` is 2 for a complex Hermitian matrix :math:`A = B + iC`, streamed as its real symmetric
-    embedding :math:`\begin{pmatrix} B & -C \\ C & B\end{pmatrix}` of 2N rows, which has every
-    eigenvalue of A twice (so traces per row, i.e. densities per site, are those of A, and row i < N
-    has the local moments of site i); ``sites`` then counts the 2N rows.
+    Build it with :func:`graph_operator`.
+
+    Attributes
+    ----------
+    sites : int
+        Number of rows streamed: the sites N, or 2N for a complex Hermitian matrix (``copies``).
+    bound : float
+        The Gershgorin bound on :math:`\|H\|`, in units of t (the maximal degree for a 0/1 adjacency).
+    table : ndarray of int32, shape (N, w), or None
+        Neighbour table of a regular graph (rows in the order of ``perm``).
+    indptr, indices, data : ndarray or None
+        CSR arrays of an irregular graph (a flake); ``data`` None for a 0/1 adjacency.
+    ring : ndarray or None
+        Ring index (1-based) of each site of a flake.
+    rings, p, q : int or None
+        Rings and Schläfli symbol when known.
+    label : str
+        What the graph is, for plots and reports.
+    copies : int
+        1, or 2 for a complex Hermitian matrix :math:`A = B + iC`, streamed as its real symmetric
+        embedding :math:`\begin{pmatrix} B & -C \\ C & B\end{pmatrix}` of 2N rows, which has every
+        eigenvalue of A twice (so traces per row, i.e. densities per site, are those of A, and row
+        i < N has the local moments of site i).
+    perm : ndarray or None
+        ``perm[original site] = row`` when a table was renumbered breadth-first for memory
+        locality; None when rows are the original (0-based) site indices.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.kpm import graph_operator
+    >>> op = graph_operator(hl.ring_lattice(7, 3, 2))
+    >>> op.sites, op.bound, op.rings, op.table is None, op.label
+    (35, 3.0, 2, True, '{7,3} flake, 2 rings')
     """
 
     sites: int
@@ -582,9 +612,39 @@ class KPMDos(Result):
         Outer rings left out of the trace (``bulk``).
     deflated : int
         States at :math:`E = \mp q` left out of the trace (``kpm_dos(..., deflate=True)``).
+    label : str
+        What the graph is (e.g. ``"{7,3} flake, 4 rings"``).
+    p, q : int or None
+        Schläfli symbol when known.
+    bound : float
+        The spectral bound b of H (Gershgorin), units of t; ``scale`` is slightly above it.
+    vectors : int
+        Number R of random vectors (1 for ``local``).
+    vector_kind : str
+        Distribution of the random vectors (``"rademacher"``, ...), or ``"site"`` for a local DOS.
+    seed, site : int or None
+        Seed of the random vectors; the site of a ``local`` DOS (0-based).
+    timings : dict
+        Wall-clock seconds (``"total"``).
 
-    Its table (:meth:`~hyperlattice.results.Result.to_dataframe`) has one row per moment:
-    ``order`` n, ``mu`` and ``mu_err``.
+    Notes
+    -----
+    Energies are those of :math:`H = -tA` with t = 1 (units of t); densities are per traced site
+    and per unit energy. Its table (:meth:`~hyperlattice.results.Result.to_dataframe`) has one row
+    per moment: ``order`` n, ``mu`` and ``mu_err``.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> dos = hl.kpm_dos(hl.ring_lattice(7, 3, 4), 64, vectors=4, seed=1)
+    >>> dos.method, dos.moments, dos.bound, dos.label
+    ('stochastic', 64, 3.0, '{7,3} flake, 4 rings')
+    >>> e, rho, err = dos.density([-1.0, 0.5])
+    >>> [round(float(x), 3) for x in rho]
+    [0.141, 0.231]
+    >>> e, n, err = dos.integrated([3.0])
+    >>> round(float(n[0]), 4)                      # all states lie below E = 3
+    1.0
     """
 
     COLUMNS = (Column("order", "orders", "1"), Column("mu", "mu", "1"), Column("mu_err", "mu_err", "1"))
@@ -620,7 +680,18 @@ class KPMDos(Result):
         return np.arange(self.moments)
 
     def energy_grid(self, points: int | None = None) -> np.ndarray:
-        """Uniform energies in :math:`[-b, b]` (b the spectral bound), ``points`` of them (default 2M+1)."""
+        """Uniform energies in :math:`[-b, b]` (b the spectral bound), ``points`` of them (default 2M+1).
+
+        Parameters
+        ----------
+        points : int, optional
+            Number of energies, 2 to 10,000,000; default 2M + 1.
+
+        Returns
+        -------
+        numpy.ndarray
+            The energies (units of t), ascending.
+        """
         points = 2 * self.moments + 1 if points is None else _validate.integer("points", points, minimum=2,
                                                                               maximum=10_000_000)
         return np.linspace(-self.bound, self.bound, points)
@@ -643,6 +714,16 @@ class KPMDos(Result):
 
         ``err`` is the standard error over the random vectors of the density itself (each vector's
         density, then ``std / sqrt(R)``); 0 for exact moments. Outside :math:`|E| < a`: 0.
+
+        Parameters
+        ----------
+        energies : float or array_like, optional
+            Energies (units of t); default :meth:`energy_grid`.
+
+        Returns
+        -------
+        E, rho, err : numpy.ndarray
+            The energies, the density (per traced site per unit energy) and its standard error.
         """
         e = self._energies(energies)
         x, inside, theta, w = self._basis(e)
@@ -663,6 +744,16 @@ class KPMDos(Result):
 
         Closed form from the moments: :math:`\int_{-1}^x T_n/(\pi\sqrt{1-t^2})\,dt = (\pi-\theta)/\pi`
         for n = 0 and :math:`-\sin(n\theta)/(n\pi)` for n >= 1, :math:`x = \cos\theta`.
+
+        Parameters
+        ----------
+        energies : float or array_like, optional
+            Energies (units of t); default :meth:`energy_grid`.
+
+        Returns
+        -------
+        E, N, err : numpy.ndarray
+            The energies, the fraction of states below each, and its standard error.
         """
         e = self._energies(energies)
         x, inside, theta, w = self._basis(e)
@@ -681,7 +772,23 @@ class KPMDos(Result):
 
     def kernel_width(self, energy: float) -> float:
         r"""Standard deviation (in energy) of the Jackson-broadened delta peak at ``energy``: the
-        resolution of this DOS there. Measured from the kernel itself on a fine grid."""
+        resolution of this DOS there. Measured from the kernel itself on a fine grid.
+
+        Parameters
+        ----------
+        energy : float
+            Inside :math:`(-a, a)`, units of t.
+
+        Returns
+        -------
+        float
+            The width, units of t.
+
+        Raises
+        ------
+        ValueError
+            If ``energy`` lies outside :math:`(-a, a)`.
+        """
         e0 = _validate.real("energy", energy)
         x0 = e0 / self.scale
         if not abs(x0) < 1:

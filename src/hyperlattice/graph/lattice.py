@@ -112,13 +112,31 @@ class Lattice(Result):
     kind : str
         ``"sites"`` for the {p,q} lattice itself, ``"line_graph"`` for its line graph
         (then ``z`` are edge midpoints, and ``parent_edges`` holds the original edges).
+    parent_edges : ndarray of int32, shape (N, 2), or None
+        For ``kind == "line_graph"``: the edge ``(i, j)`` of the parent lattice that each
+        line-graph site stands for (site indices of the parent); ``None`` for ``"sites"``.
 
     Notes
     -----
-    As a :class:`~hyperlattice.results.Result` it round-trips through :meth:`as_dict` /
-    :meth:`from_dict` and :meth:`save` / :meth:`load`; :meth:`save` keeps the ``.npz`` layout
-    of earlier versions (``z, ring, edges, rotation, p, q, rings, kind[, parent_edges]``), so
-    :func:`load_lattice` reads old and new files alike.
+    Sites are indexed 0-based, ring by ring (ring 1 first), which is the row order of every
+    operator built from the lattice (:func:`hyperlattice.adjacency`, :func:`hyperlattice.hamiltonian`
+    with :math:`H = -tA`). As a :class:`~hyperlattice.results.Result` it round-trips through
+    :meth:`as_dict` / :meth:`from_dict` and :meth:`save` / :meth:`load`; :meth:`save` keeps the
+    ``.npz`` layout of earlier versions (``z, ring, edges, rotation, p, q, rings, kind[,
+    parent_edges]``), so :func:`load_lattice` reads old and new files alike.
+
+    Examples
+    --------
+    >>> from hyperlattice import ring_lattice
+    >>> lat = ring_lattice(7, 3, 2)
+    >>> lat
+    <Lattice {7,3} rings=2 sites=35 edges=42>
+    >>> lat.sites_per_ring.tolist(), lat.ring[:3].tolist()
+    ([7, 28], [1, 1, 1])
+    >>> lat.rotation[:7].tolist()          # ring 1 is shifted by one site
+    [1, 2, 3, 4, 5, 6, 0]
+    >>> bool(abs(lat.edge_lengths().max() - lat.d0) < 1e-12), round(lat.d0, 6)
+    (True, 0.283128)
     """
 
     NOT_TABULAR = ("a graph: its per-site arrays (z, ring, rotation) mean something only with its edge list, "
@@ -233,7 +251,29 @@ class Lattice(Result):
 
     @classmethod
     def from_dict(cls, data: dict) -> "Lattice":
-        """Rebuild a lattice from :meth:`as_dict` output, checking that its arrays fit together."""
+        """Rebuild a lattice from :meth:`as_dict` output, checking that its arrays fit together.
+
+        Parameters
+        ----------
+        data : dict
+            The output of :meth:`as_dict` (or its JSON round trip).
+
+        Returns
+        -------
+        Lattice
+            The lattice, checked (shapes, index ranges, rotation, ring structure).
+
+        Raises
+        ------
+        ValueError
+            If the arrays do not describe the {p,q} lattice of the stored ``rings`` and ``kind``.
+
+        Examples
+        --------
+        >>> from hyperlattice import Lattice, ring_lattice
+        >>> Lattice.from_dict(ring_lattice(7, 3, 2).as_dict()).sites
+        35
+        """
         return _checked(super().from_dict(data), "the stored lattice")
 
     # -- export --------------------------------------------------------------
@@ -247,6 +287,23 @@ class Lattice(Result):
         attributes are ``p``, ``q``, ``rings`` and ``kind``. GraphML has no tuples: write
         ``to_networkx(pos=False)`` with :func:`networkx.write_graphml`; :func:`from_networkx`
         reads the graph, or its GraphML round trip, back into a checked :class:`Lattice`.
+
+        Parameters
+        ----------
+        pos : bool, optional
+            Add the ``pos = (x, y)`` node attribute (default True).
+
+        Returns
+        -------
+        networkx.Graph
+            One node per site, one edge per lattice edge.
+
+        Examples
+        --------
+        >>> from hyperlattice import ring_lattice
+        >>> g = ring_lattice(7, 3, 2).to_networkx()
+        >>> g.number_of_nodes(), g.number_of_edges(), g.nodes[0]["ring"]
+        (35, 42, 1)
         """
         try:
             import networkx as nx
@@ -267,6 +324,30 @@ class Lattice(Result):
         that the numbers round-trip exactly); ``.npz``: the arrays and p, q, rings, kind (the
         layout :func:`load_lattice` and :func:`hyperlattice.results.load_result` read);
         ``.json``: :meth:`as_dict`.
+
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            Output file ending in ``.dat``, ``.npz`` or ``.json``.
+
+        Returns
+        -------
+        pathlib.Path
+            The path written.
+
+        Raises
+        ------
+        ValueError
+            If the extension is none of these or the file cannot be written.
+
+        Examples
+        --------
+        >>> import pathlib, tempfile
+        >>> from hyperlattice import Lattice, ring_lattice
+        >>> with tempfile.TemporaryDirectory() as d:
+        ...     path = ring_lattice(7, 3, 2).save(pathlib.Path(d) / "flake.npz")
+        ...     Lattice.load(path).sites
+        35
         """
         suffixes = (".dat", ".npz", ".json")
         path = _validate.output_path("path", path)
@@ -296,7 +377,18 @@ class Lattice(Result):
 
     @classmethod
     def load(cls, path) -> "Lattice":
-        """Read a lattice written by :meth:`save` (``.npz`` or ``.json``); see :func:`load_lattice`."""
+        """Read a lattice written by :meth:`save` (``.npz`` or ``.json``); see :func:`load_lattice`.
+
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            A ``.npz`` or ``.json`` file written by :meth:`save`.
+
+        Returns
+        -------
+        Lattice
+            The lattice, checked as in :meth:`from_dict`.
+        """
         return load_lattice(path)
 
 

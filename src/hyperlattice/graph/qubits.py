@@ -124,6 +124,19 @@ class BelowBandResolvent:
     the coordinates and accepted only when it maps the edge set onto itself exactly. Rotation
     sectors are *not* used for single columns: their Fourier sum cancels the O(1) correlators of
     the source's images down to entries of ~1e-21 and would lose the relative accuracy.
+
+    :math:`\omega` is in the unit of t; rows and columns are sites, 0-based ring by ring.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.qubits import BelowBandResolvent
+    >>> res = BelowBandResolvent(hl.ring_lattice(7, 3, 3))
+    >>> g = res.column(-3.5, 0)
+    >>> g.shape, round(float(g[0]), 6), round(float(g[1]), 6)
+    ((112,), 0.415206, 0.151157)
+    >>> res.factor(-3.5).positive_definite        # the proof that -3.5 t lies below E0
+    True
     """
 
     def __init__(self, system: Lattice, *, t: float = 1.0, method: str = "auto") -> None:
@@ -157,7 +170,23 @@ class BelowBandResolvent:
 
     def factor(self, omega):
         """The factorisation of :math:`H - \\omega` (a :class:`~hyperlattice.graph.factor.Factor`, cached for
-        the last omega); ValueError unless omega lies below :math:`E_0`."""
+        the last omega); ValueError unless omega lies below :math:`E_0`.
+
+        Parameters
+        ----------
+        omega : float
+            Real frequency in units of t, below the lowest level :math:`E_0`.
+
+        Returns
+        -------
+        Factor
+            The positive definite factorisation of :math:`H - \\omega`.
+
+        Raises
+        ------
+        ValueError
+            If the factorisation shows that omega is not below :math:`E_0`.
+        """
         from .factor import FactorizationError, analyze
 
         omega = _real_omega("omega", omega)
@@ -181,7 +210,20 @@ class BelowBandResolvent:
         return f
 
     def columns(self, omega, sources) -> np.ndarray:
-        r"""Columns :math:`G_{\cdot j}(\omega)` for the given sources, real array ``(N, k)``."""
+        r"""Columns :math:`G_{\cdot j}(\omega)` for the given sources, real array ``(N, k)``.
+
+        Parameters
+        ----------
+        omega : float
+            Real frequency in units of t, below :math:`E_0`.
+        sources : sequence of int
+            Source sites j (0-based).
+
+        Returns
+        -------
+        numpy.ndarray of float64, shape (N, len(sources))
+            Column k is :math:`G_{\cdot j_k}(\omega)` (positive entries, units of 1/t).
+        """
         src = _validate.site_indices("sources", sources, self.n)
         omega = _real_omega("omega", omega)
         f = self.factor(omega)
@@ -194,7 +236,20 @@ class BelowBandResolvent:
         return out
 
     def column(self, omega, source) -> np.ndarray:
-        r"""One column :math:`G_{\cdot j}(\omega)`, shape ``(N,)`` (mirror-even block when j is on a mirror axis)."""
+        r"""One column :math:`G_{\cdot j}(\omega)`, shape ``(N,)`` (mirror-even block when j is on a mirror axis).
+
+        Parameters
+        ----------
+        omega : float
+            Real frequency in units of t, below :math:`E_0`.
+        source : int
+            The source site j (0-based).
+
+        Returns
+        -------
+        numpy.ndarray of float64, shape (N,)
+            :math:`G_{ij}(\omega)` for every site i (units of 1/t).
+        """
         source = _validate.site_index("source", source, self.n)
         omega = _real_omega("omega", omega)
         return self._column_at(omega, source, None)
@@ -492,12 +547,13 @@ class BoundState(Result):
     Attributes
     ----------
     p, q, rings : int
+        Schläfli symbol and rings of the flake.
     kind : str
         ``"sites"`` or ``"line_graph"``.
     site : int
-        The qubit's site :math:`j_0`.
+        The qubit's site :math:`j_0` (0-based).
     omega_q, g : float
-        Qubit frequency and coupling.
+        Qubit frequency and coupling, units of t (the resonators have :math:`H = -tA`).
     energy : float
         Exact bound-state energy :math:`E_b` (root of :math:`E - \omega_q + g^2G_{j_0j_0}(E)`).
     energy_leading : float
@@ -520,6 +576,20 @@ class BoundState(Result):
         :math:`\xi` of :math:`G \propto e^{-d/\xi}`, fitted to :math:`\ln\phi` against d over the sites
         between 2 and 6 edge lengths from the qubit that are at least 3 edge lengths inside the
         outer ring (NaN when there are fewer than 10 such sites).
+
+    Notes
+    -----
+    Energies (``energy``, ``energy_leading``) are in units of t; distances, ``size`` and
+    ``decay_length`` in the paper's metric :math:`|dz|^2/(1-|z|^2)^2`.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> b = hl.bound_state(hl.ring_lattice(7, 3, 3), 0, -3.5, 0.2)
+    >>> round(b.energy, 6), round(b.energy_leading, 6), round(b.qubit_weight, 6)
+    (-3.516434, -3.516608, 0.989664)
+    >>> b.photon.shape, round(b.size, 4)
+    ((112,), 0.1286)
     """
 
     #: one row per site (the photon profiles; site i is row i)
@@ -676,15 +746,28 @@ class SpinModel(Result):
     Attributes
     ----------
     p, q, rings : int
+        Schläfli symbol and rings of the flake.
     kind : str
+        ``"sites"`` or ``"line_graph"``.
     sites : ndarray of int, shape (K,)
-        Lattice sites of the qubits.
+        Lattice sites of the qubits (0-based).
     omega_q, g : float
+        Qubit frequency and coupling, units of t.
     couplings : ndarray, shape (K, K)
-        :math:`J_{kl}` (zero diagonal).
+        :math:`J_{kl}` (zero diagonal), units of t.
     lamb_shift : ndarray, shape (K,)
+        :math:`\delta\omega_k = -g^2G_{j_kj_k}(\omega_q)`, units of t.
     distance : ndarray, shape (K, K)
-        Hyperbolic distances between the qubits.
+        Hyperbolic distances between the qubits (paper's metric).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> s = hl.spin_model(hl.ring_lattice(7, 3, 3), [0, 1, 3], -3.5, 0.2)
+    >>> [(k, l, round(j, 6)) for k, l, j in s.edges()]
+    [(0, 1, 0.006046), (0, 2, 0.001074), (1, 2, 0.00228)]
+    >>> [round(x, 6) for x in s.matrix().toarray()[0].tolist()]   # omega_q + Lamb shift, -J
+    [-3.516608, -0.006046, -0.001074]
     """
 
     #: the K x K couplings and distances on the qubit axes (k, l), with the per-qubit site and Lamb shift
@@ -706,7 +789,18 @@ class SpinModel(Result):
 
     def matrix(self, threshold: float = 0.0) -> sp.csr_matrix:
         r"""The single-excitation matrix :math:`h` (K x K, scipy CSR); couplings with
-        :math:`|J| < \text{threshold}\cdot\max|J|` dropped (0 keeps all)."""
+        :math:`|J| < \text{threshold}\cdot\max|J|` dropped (0 keeps all).
+
+        Parameters
+        ----------
+        threshold : float, optional
+            Relative cut in [0, 1]; default 0.
+
+        Returns
+        -------
+        scipy.sparse.csr_matrix, shape (K, K)
+            :math:`h` in units of t: :math:`\omega_q + \delta\omega_k` on the diagonal, :math:`-J_{kl}` off it.
+        """
         threshold = _validate.real("threshold", threshold, minimum=0.0, maximum=1.0)
         J = np.array(self.couplings)
         if J.size and threshold > 0:
@@ -717,7 +811,18 @@ class SpinModel(Result):
 
     def edges(self, threshold: float = 0.0) -> list[tuple[int, int, float]]:
         r"""Edge list ``[(k, l, J_kl), ...]`` with k < l (qubit indices 0..K-1; ``sites[k]`` is the
-        lattice site), couplings with :math:`|J| < \text{threshold}\cdot\max|J|` dropped."""
+        lattice site), couplings with :math:`|J| < \text{threshold}\cdot\max|J|` dropped.
+
+        Parameters
+        ----------
+        threshold : float, optional
+            Relative cut in [0, 1]; default 0.
+
+        Returns
+        -------
+        list of (int, int, float)
+            ``(k, l, J_kl)`` with :math:`J_{kl}` in units of t.
+        """
         threshold = _validate.real("threshold", threshold, minimum=0.0, maximum=1.0)
         J = np.asarray(self.couplings)
         k, l = np.triu_indices(J.shape[0], 1)

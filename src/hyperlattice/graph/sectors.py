@@ -58,6 +58,7 @@ class SectorLattice:
     Attributes
     ----------
     p, q, rings : int
+        Schläfli symbol and number of rings of the flake.
     ring_sizes : ndarray of int64, shape (rings,)
         Sites on each ring of the full lattice (p times the orbits of that ring).
     rows, cols : ndarray of int32, shape (D,)
@@ -66,13 +67,24 @@ class SectorLattice:
         Each edge orbit appears twice (once from each end), as in the full lattice's sector block;
         the entries are grouped by ring, not sorted.
     shifts : ndarray of int8, shape (D,)
+        The rotation power s of each entry.
     mirror_orbit : ndarray of int32, shape (N/p,)
         The mirror :math:`\bar z` maps representative o onto :math:`R^{t_o}` (representative of
         ``mirror_orbit[o]``) with ``t_o = mirror_shift[o]``.
     mirror_shift : ndarray of int8, shape (N/p,)
+        The rotation power :math:`t_o` of the mirror image.
     z : ndarray of complex128, shape (N/p,), or None
-        Coordinates of the representatives (the full lattice's site ``i`` of ring k is
+        Poincaré-disk coordinates of the representatives (the full lattice's site ``i`` of ring k is
         :math:`e^{2\pi i s/p} z_o`), kept when ``coordinates=True``.
+
+    Examples
+    --------
+    >>> from hyperlattice.graph.sectors import sector_lattice
+    >>> slat = sector_lattice(7, 3, 2)
+    >>> slat
+    <SectorLattice {7,3} rings=2 sites=35 orbits=5>
+    >>> slat.ring_sizes.tolist(), slat.size, slat.z is None
+    ([7, 28], 5, True)
     """
 
     p: int

@@ -74,8 +74,22 @@ class SectorTable:
     m : int or None
         Signed sector of the block, None for the whole Hamiltonian.
     cols : ndarray of int32, shape (n, width)
+        Column (orbit or site, 0-based) of each slot.
     weights : ndarray of float64 or complex128, shape (n, width)
+        Matrix element of each slot: :math:`-t` times the Bloch (and Peierls) phase, since
+        :math:`H = -tA`.
     diag : ndarray of float64, shape (n,)
+        The diagonal: the on-site energies (units of t; zeros without an on-site term).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.symmetry import sector_table
+    >>> block = sector_table(hl.ring_lattice(7, 3, 2), 1)
+    >>> block.m, block.size, block.is_complex
+    (1, 5, True)
+    >>> [round(x, 6) for x in block.bounds()]
+    [-3.0, 3.0]
     """
 
     m: int | None

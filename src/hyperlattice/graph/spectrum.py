@@ -97,7 +97,9 @@ class Spectrum(Levels):
     Attributes
     ----------
     energies : ndarray, shape (K,)
-        Ascending; a degenerate :math:`\pm m` pair appears twice (once per state).
+        Ascending eigenvalues of :math:`H = -tA` (plus the on-site term and flux phases), in the
+        unit in which ``t`` was given (units of t for the default t = 1); a degenerate
+        :math:`\pm m` pair appears twice (once per state).
     n : ndarray of int, shape (K,)
         Radial index 1, 2, ... within sector m.
     m : ndarray of int, shape (K,), or None
@@ -113,18 +115,30 @@ class Spectrum(Levels):
     description : str
         One sentence on what ran.
     p, q, rings, sites : int
+        Schläfli symbol, rings and number of sites N of the lattice.
     kind : str
         ``"sites"`` or ``"line_graph"``.
     timings : dict
         Wall-clock seconds of the stages (``"setup"``, ``"solve"``, ``"total"``, per sector).
     eigenvectors : ndarray, shape (N, K), or None
         Normalised states (complex for m not in {0, p/2} or nonzero flux), column k belonging
-        to ``energies[k]``.
+        to ``energies[k]``; rows are sites, 0-based ring by ring as in the lattice.
     flux : float
         Flux quanta per p-gon face of a uniform field (0 without field).
     backend : str
         The sparse factorisation that ran (``"cholmod"`` or ``"superlu"``, see
         :mod:`hyperlattice.graph.factor`), or ``""`` when none did.
+
+    Examples
+    --------
+    >>> from hyperlattice import lowest_levels, ring_lattice
+    >>> spec = lowest_levels(ring_lattice(7, 3, 2), 4)
+    >>> spec.method, [round(float(e), 4) for e in spec.energies]
+    ('sector-dense', [-2.6364, -2.2833, -2.2833, -1.9281])
+    >>> spec.n.tolist(), spec.m.tolist()
+    ([1, 1, 1, 1], [0, 1, -1, 2])
+    >>> bool(spec.residuals.max() < 1e-10)
+    True
     """
 
     error_kind: str = "residual"
@@ -163,7 +177,7 @@ class MatrixSpectrum(Result):
     Attributes
     ----------
     energies : ndarray, shape (K,)
-        Ascending.
+        Ascending, in the units of the matrix H (units of t for :func:`hyperlattice.hamiltonian`).
     errors : ndarray, shape (K,)
         :math:`\|H\psi - E\psi\|` of each normalised state.
     method : str
@@ -181,6 +195,15 @@ class MatrixSpectrum(Result):
         Wall-clock seconds (``"solve"``, ``"total"``).
     eigenvectors : ndarray, shape (N, K), or None
         Normalised states, column k belonging to ``energies[k]``.
+
+    Examples
+    --------
+    >>> from hyperlattice import hamiltonian, lowest_levels, ring_lattice
+    >>> spec = lowest_levels(hamiltonian(ring_lattice(7, 3, 2)), 2)
+    >>> type(spec).__name__, spec.method, spec.sites, spec.dtype
+    ('MatrixSpectrum', 'dense', 35, 'float64')
+    >>> [round(float(e), 4) for e in spec.energies]
+    [-2.6364, -2.2833]
     """
 
     COLUMNS = (Column("energy", "energies", "units of H"), Column("error", "errors", "units of H"))

@@ -63,6 +63,21 @@ class RotationOrbits:
         Orbit index of every site.
     shift : ndarray of int64, shape (N,)
         The power s with ``site == R^s(representatives[orbit[site]])``.
+
+    Notes
+    -----
+    Site indices are the lattice's (0-based, ring by ring); R is the rotation
+    :math:`z \\mapsto e^{2\\pi i/p} z` (``lattice.rotation``).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.symmetry import rotation_orbits
+    >>> orb = rotation_orbits(hl.ring_lattice(7, 3, 2))
+    >>> orb.size, orb.representatives.tolist()
+    (5, [0, 7, 8, 9, 10])
+    >>> orb.orbit[:8].tolist(), orb.shift[:8].tolist()    # ring 1 is one orbit
+    ([0, 0, 0, 0, 0, 0, 0, 1], [0, 1, 2, 3, 4, 5, 6, 0])
     """
 
     p: int

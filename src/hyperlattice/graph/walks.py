@@ -516,9 +516,32 @@ class SpectralRadius(Result):
     r"""Proven bounds on :math:`\rho = \|A\|` of the infinite {p,q} lattice (band bottom :math:`-\rho` of
     :math:`H = -A`).
 
-    ``lower_root`` = :math:`\max_n W_{2n}^{1/2n}`, ``lower_ratio`` = :math:`\max_n\sqrt{W_{2n}/W_{2n-2}}`
-    (both proven), ``upper`` the cited isoperimetric bound (and :math:`\le q`), ``ratios`` the sequence
-    :math:`\sqrt{W_{2n}/W_{2n-2}}`, n = 1..n_max/2 (increasing to :math:`\rho`), ``n_max`` the walk length.
+    All bounds are in units of t (:math:`\rho` is the norm of A; the band bottom of :math:`H = -tA` is
+    :math:`-t\rho`). :math:`W_n` is the number of closed walks of length n from a site.
+
+    Attributes
+    ----------
+    p, q : int
+        Schläfli symbol.
+    n_max : int
+        The longest closed walk counted.
+    lower_root : float
+        :math:`\max_n W_{2n}^{1/2n}` (proven lower bound).
+    lower_ratio : float
+        :math:`\max_n\sqrt{W_{2n}/W_{2n-2}}` (proven lower bound).
+    upper : float
+        The cited isoperimetric upper bound (:func:`isoperimetric_upper_bound`), at most q.
+    ratios : ndarray, shape (n_max // 2,)
+        The sequence :math:`\sqrt{W_{2n}/W_{2n-2}}`, n = 1..n_max/2 (increasing to :math:`\rho`).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> s = hl.spectral_radius(7, 3, 8)
+    >>> [round(float(x), 4) for x in s.ratios]
+    [1.7321, 2.2361, 2.4083, 2.4983]
+    >>> round(s.lower, 4), round(s.upper, 4)       # lower: the tree's 2 sqrt(q - 1) wins here
+    (2.8284, 2.9665)
     """
 
     p: int

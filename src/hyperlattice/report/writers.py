@@ -28,7 +28,26 @@ __all__ = ["Table", "Figure", "Section", "PARTS", "table_id", "figure_id", "fmt"
 
 @dataclass
 class Table:
-    """A table of the report, written as ``table_<name>.csv`` and ``table_<name>.json``."""
+    """A table of the report, written as ``table_<name>.csv`` and ``table_<name>.json``.
+
+    Attributes
+    ----------
+    name : str
+        File-name stem (``table_<name>.*``).
+    columns : list of str
+        Column names; units, where there are any, are part of the name (e.g. ``"E0 (t)"``).
+    rows : list of list
+        One list per row, in column order.
+    caption : str
+        Caption in the Markdown and HTML report.
+
+    Examples
+    --------
+    >>> from hyperlattice.report.writers import Table
+    >>> table = Table("counts", ["rings", "N"], [[1, 7], [2, 35]], caption="Sites per flake.")
+    >>> table.columns, table.rows[1]
+    (['rings', 'N'], [2, 35])
+    """
 
     name: str
     columns: list[str]
@@ -71,7 +90,24 @@ class Table:
 
 @dataclass
 class Figure:
-    """A figure already written as ``fig_<name>.png`` / ``.svg``; ``png`` is embedded in the HTML."""
+    """A figure already written as ``fig_<name>.png`` / ``.svg``; ``png`` is embedded in the HTML.
+
+    Attributes
+    ----------
+    name : str
+        File-name stem (``fig_<name>.*``).
+    caption : str
+        Caption in the Markdown and HTML report.
+    png : bytes
+        The PNG file's bytes (empty when not embedded).
+
+    Examples
+    --------
+    >>> from hyperlattice.report.writers import Figure
+    >>> fig = Figure("spectrum", "Lowest levels.")
+    >>> fig.name, fig.png
+    ('spectrum', b'')
+    """
 
     name: str
     caption: str
@@ -86,6 +122,37 @@ class Section:
     the report prints them as the paper prints them (:func:`hyperlattice.paper_labels.cite`).
     ``anchor`` is the section's stable id (``sec-<anchor>`` in the HTML and Markdown), ``part`` is
     ``"paper"`` or ``"beyond"``, ``provenance`` says where numbers not computed by this run come from.
+
+    Attributes
+    ----------
+    title : str
+        Section heading.
+    labels : tuple of str
+        The paper's TeX labels (checked by :func:`hyperlattice.paper_labels.cite`).
+    text : list of str
+        Paragraphs.
+    tables : list of Table
+        The section's tables.
+    figures : list of Figure
+        The section's figures.
+    anchor : str
+        Stable id; default: a slug of the title.
+    part : str
+        ``"paper"`` or ``"beyond"``.
+    provenance : list of str
+        Where numbers not computed by this run come from.
+
+    Raises
+    ------
+    ValueError
+        For labels given as one string, an unknown label, or another ``part``.
+
+    Examples
+    --------
+    >>> from hyperlattice.report.writers import Section
+    >>> sec = Section("Band bottom and BF bound", labels=("eq21",))
+    >>> sec.id, sec.reference_line
+    ('sec-band-bottom-and-bf-bound', 'Reproduces: Eq. (19)')
     """
 
     title: str

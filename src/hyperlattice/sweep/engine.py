@@ -247,6 +247,44 @@ class SweepReport(Result):
     """What a sweep run did: counts, failures (key, parameters, error), where the table is.
 
     ``completed`` counts rows written by this run, ``skipped`` rows already on disk.
+
+    Attributes
+    ----------
+    path : str
+        The sweep directory.
+    table : str
+        The consolidated table file (Parquet, or JSON lines without pyarrow).
+    task : str
+        The task's name (:data:`hyperlattice.sweep.tasks.TASKS`).
+    scheduler : str
+        What ran the tasks: ``"serial"``, ``"local (n processes)"`` / ``"local (n threads)"`` (a
+        local Dask cluster), ``"client <address>"`` or the scheduler's address, or
+        ``"nothing to do"`` when every row was on disk and no Dask scheduler was needed (a serial
+        run keeps ``"serial"``).
+    total : int
+        Grid points of this run.
+    skipped : int
+        Points whose rows were already on disk.
+    completed : int
+        Rows written by this run.
+    failed : list of dict
+        One ``{"key", "params", "error"}`` per task that failed.
+    seconds : float
+        Wall-clock time of the run.
+    version : str
+        The hyperlattice version that ran.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import hyperlattice as hl
+    >>> where = os.path.join(tempfile.mkdtemp(), "probe")
+    >>> report = hl.run_sweep("probe", {"x": [1.0, 2.0, 3.0]}, where, scheduler="serial", progress=False)
+    >>> report.task, report.total, report.completed, report.skipped, report.ok
+    ('probe', 3, 3, 0, True)
+    >>> again = hl.run_sweep("probe", {"x": [1.0, 2.0, 3.0]}, where, scheduler="serial", progress=False)
+    >>> again.completed, again.skipped                      # resumed: every row was on disk
+    (0, 3)
     """
 
     path: str

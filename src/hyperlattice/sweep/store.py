@@ -109,7 +109,26 @@ def _plain(v):
 
 @dataclass
 class SweepTable:
-    """A sweep's rows as columns (numpy arrays for numeric columns, lists otherwise) and its metadata."""
+    """A sweep's rows as columns (numpy arrays for numeric columns, lists otherwise) and its metadata.
+
+    Attributes
+    ----------
+    columns : dict of str to ndarray or list
+        One entry per column: ``key`` (the point's digest), ``index`` (its position in the merged
+        grid), the parameters and the task's outputs (energies in units of t for the physics tasks).
+    metadata : dict
+        The manifest: ``task``, ``version``, ``backend``, ``grids``, ``parameters``, ``format``.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import hyperlattice as hl
+    >>> where = os.path.join(tempfile.mkdtemp(), "probe")
+    >>> _ = hl.run_sweep("probe", {"x": [1.0, 2.0]}, where, scheduler="serial", progress=False)
+    >>> table = hl.read_table(where)
+    >>> len(table), table.metadata["task"], table.rows()[1]["y"]
+    (2, 'probe', 4.0)
+    """
 
     columns: dict = field(default_factory=dict)
     metadata: dict = field(default_factory=dict)
@@ -172,10 +191,28 @@ def _rows_digest(rows: list[dict]) -> str:
 class SweepStore:
     """A sweep directory (see the module docstring). ``backend`` is ``"parquet"`` or ``"json"``.
 
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The directory (created if missing): new, empty, or a sweep's.
+    backend : {"parquet", "json"}, optional
+        Format of the parts; default: the directory's, else Parquet when pyarrow is installed.
+
     Raises
     ------
     ValueError
         If ``path`` exists and holds anything that is not a sweep's (its files are never touched).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from hyperlattice.sweep.store import SweepStore
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     store = SweepStore(d, backend="json")
+    ...     meta = store.open("probe", {"x": [1.0, 2.0]})
+    ...     _ = store.write_rows([{"key": "a", "x": 1.0, "y": 1.0}], {"task": "probe"})
+    ...     print(meta["task"], meta["parameters"], sorted(store.done()))
+    probe {'x': [1.0, 2.0]} ['a']
     """
 
     def __init__(self, path, *, backend: str | None = None) -> None:
@@ -247,6 +284,24 @@ class SweepStore:
 
         The grid is added to the manifest's ``grids`` (once) and its values to ``parameters``,
         under the lock: a run never drops the grid of an earlier or concurrent one.
+
+        Parameters
+        ----------
+        task : str
+            The task's name.
+        parameters : dict of str to list
+            The grid: the values of each parameter.
+
+        Returns
+        -------
+        dict
+            The manifest written (``format``, ``task``, ``version``, ``backend``, ``grids``,
+            ``parameters``).
+
+        Raises
+        ------
+        ValueError
+            If the directory holds a sweep of another task or backend.
         """
         grid = {str(k): list(v) for k, v in parameters.items()}
         with self.locked():
@@ -330,6 +385,18 @@ class SweepStore:
         The part's name is a hash of its keys, so the same batch written twice is one file; the
         part holds the sha256 of its rows. An ``index`` in the rows is dropped (it is the merged
         grid's, assigned on reading).
+
+        Parameters
+        ----------
+        rows : list of dict
+            Finished points, each with its ``key``.
+        meta : dict
+            Metadata stored with the part (beside the rows' sha256).
+
+        Returns
+        -------
+        pathlib.Path or None
+            The part written, or None for no rows.
         """
         if not rows:
             return None
@@ -436,6 +503,13 @@ class SweepStore:
 
         An earlier failure is dropped when its key now has a row or was tried again by this run
         (``tried``); the others stay, so a concurrent run's failures are not lost.
+
+        Parameters
+        ----------
+        failures : list of dict
+            This run's failures, each with its ``key``.
+        tried : set of str, optional
+            Keys this run tried (their earlier failures are replaced).
         """
         f = self.path / _FAILURES
         with self.locked():

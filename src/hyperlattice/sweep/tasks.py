@@ -165,7 +165,30 @@ def _check_probe(params: dict) -> None:
 
 @dataclass(frozen=True)
 class Task:
-    """A named sweep task: ``run(**params) -> dict`` and ``check(params)`` (raises ValueError)."""
+    """A named sweep task: ``run(**params) -> dict`` and ``check(params)`` (raises ValueError).
+
+    Attributes
+    ----------
+    name : str
+        The task's name in :data:`TASKS` and on the command line.
+    run : callable
+        ``run(**params) -> dict``: one point of the sweep (energies in units of t for the
+        physics tasks); every parameter has a default (:attr:`defaults`).
+    check : callable
+        ``check(params)``: raises ValueError, with one sentence, for a parameter set the task
+        refuses (checked for the whole grid before anything runs).
+
+    Examples
+    --------
+    >>> from hyperlattice.sweep.tasks import get_task
+    >>> probe = get_task("probe")
+    >>> probe.name, probe.defaults, probe.run(x=2.0)
+    ('probe', {'x': 0.0, 'sleep': 0.0}, {'y': 4.0})
+    >>> probe.check({"x": 1.0, "sleep": -1.0})
+    Traceback (most recent call last):
+    ...
+    ValueError: sleep must be at least 0, got -1.
+    """
 
     name: str
     run: Callable[..., dict]
