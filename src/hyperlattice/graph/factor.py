@@ -345,9 +345,6 @@ class SymbolicAnalysis:
         Name of the matrix in error messages; default ``"H - sigma"``.
     max_bytes : int, optional
         Memory budget in bytes (default: what this process may use).
-    positive : bool, optional
-        Accepted for symmetry with :meth:`factor`; the analysis does not depend on it (the
-        supernodal :math:`LL^T` analysis is made on the first ``factor(..., positive=True)``).
 
     Attributes
     ----------
@@ -381,8 +378,7 @@ class SymbolicAnalysis:
     1
     """
 
-    def __init__(self, mat, backend: str = "auto", *, what: str = "H - sigma", max_bytes: int | None = None,
-                 positive: bool = False):
+    def __init__(self, mat, backend: str = "auto", *, what: str = "H - sigma", max_bytes: int | None = None):
         self.what = what
         self.backend = resolve_backend(backend)
         self.matrix = _with_diagonal(_as_square(mat, what))
