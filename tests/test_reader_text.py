@@ -30,7 +30,8 @@ ASCII_MATHS = [
     (r"\brho\b", "ρ"), (r"\bE_inf\b", "E∞"), (r"\bomega(?:_q)?\b", "ω"), (r"\bDelta(?:_g)?\b", "Δ"),
     (r"\bxi\b", "ξ"), (r"\bmu\b", "μ"), (r"\bnu\b", "ν"), (r"\blambda\b", "λ"), (r"\btheta\b", "θ"),
     (r"\bsqrt\b", "√"), (r"\bpi\b", "π"), (r"\binfinity\b", "∞"),
-    (r"\^\(?-?[\d.]", "a superscript (², ⁻¹)"), (r"<=", "≤"), (r">=", "≥"), (r"\+-", "±"), (r"~=", "≈"),
+    # a power that is a number (m^2, f^1.5, x^-1); an expression in brackets, ^(1/2), stays readable
+    (r"\^-?[\d.]", "a superscript (², ⁻¹)"), (r"<=", "≤"), (r">=", "≥"), (r"\+-", "±"), (r"~=", "≈"),
     (r"->", "→"), (r"(?<![\w{])[dEG][01](?![\w.])", "a subscript (d₀, E₀, E₁, G₀)"), (r"\bL2\b", "L²"),
     (r"(?<=[\w)}]) - (?=[\w({|])", "− for a difference"),
     (r"(?:^|[\s(\[=,])-(?=\.?\d)", "− (a true minus) before a number"),

@@ -199,6 +199,12 @@ def fig1_section(out: Path) -> Section:
     return Section("The {7,3} lattice in the Poincaré disk", ("Fig1", "AppGraph"), [], [], [f], anchor="lattice")
 
 
+def _signed(value: float, spec: str) -> str:
+    """``value`` by ``spec`` with a true minus for its sign (the exponent's hyphen stays): −2.50e-01."""
+    text = format(value, spec)
+    return "−" + text[1:] if text.startswith("-") else text
+
+
 def open_question_text(trends: list[RelativeErrorTrend], worst_residual: float | None = None) -> list[str]:
     """Sentences on the paper's open question (App. ``AppSpec``), one per level, from the trends.
 
@@ -226,14 +232,14 @@ def open_question_text(trends: list[RelativeErrorTrend], worst_residual: float |
     >>> trend = relative_error_trend([1, 2, 3], [-2.0, -2.636405, -2.787], [-1.5, -2.570293, -2.77],
     ...                              level="E0")
     >>> print(open_question_text([trend])[0])
-    E₀: (E_graph − E_cont)/|E_graph| = -2.50e-01, -2.51e-02, -6.10e-03 for ℓ = 1–3. Its magnitude decreases monotonically over the computed range.
+    E₀: (E_graph − E_cont)/|E_graph| = −2.50e-01, −2.51e-02, −6.10e-03 for ℓ = 1–3. Its magnitude decreases monotonically over the computed range.
     >>> len(open_question_text([trend], worst_residual=1e-13))
     2
     """
     out = []
     for t in trends:
         parts = [f"{t.level[0]}{_SUB.get(t.level[1:], t.level[1:])}: (E_graph − E_cont)/|E_graph| = "
-                 + ", ".join(f"{v:+.2e}" for v in t.relative_error) + f" for ℓ = {t.rings[0]}–{t.rings[-1]}."]
+                 + ", ".join(_signed(v, "+.2e") for v in t.relative_error) + f" for ℓ = {t.rings[0]}–{t.rings[-1]}."]
         if t.sign_change is not None:
             a, b = t.sign_change
             move = "from below to above" if t.rising else "from above to below"
@@ -242,12 +248,14 @@ def open_question_text(trends: list[RelativeErrorTrend], worst_residual: float |
                          "level),")
             if t.saturates:
                 d1, d2 = t.increments
-                parts.append(f"then {grows} with shrinking increments ({d1:.1e}, {d2:.1e} over the last rings): it "
-                             f"saturates (Aitken estimate of the limit {t.aitken_limit:.2e}) instead of decreasing "
+                parts.append(f"then {grows} with shrinking increments ({_signed(d1, '.1e')}, {_signed(d2, '.1e')} "
+                             "over the last rings): it saturates (Aitken estimate of the limit "
+                             f"{_signed(t.aitken_limit, '.2e')}) instead of decreasing "
                              "to zero.")
             elif t.monotone:
                 d1, d2 = t.increments
-                parts.append(f"then {grows} without shrinking increments ({d1:.1e}, {d2:.1e} over the last "
+                parts.append(f"then {grows} without shrinking increments ({_signed(d1, '.1e')}, {_signed(d2, '.1e')} "
+                             "over the last "
                              "rings): no limit can be estimated within the computed range.")
             else:
                 parts.append("and does not settle into a monotone trend within the computed range.")
