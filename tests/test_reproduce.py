@@ -52,6 +52,9 @@ class _Checker(HTMLParser):
 #: compare_green calls of the first (cold-cache) run, by (rings, omega)
 GREEN_CALLS: list = []
 
+#: the texts (titles, labels, legends, notes) of every figure the first run saved
+FIGURE_TEXTS: list = []
+
 
 @pytest.fixture(scope="module")
 def repro(tmp_path_factory):
@@ -65,8 +68,18 @@ def repro(tmp_path_factory):
         GREEN_CALLS.append((lattice.rings, complex(omega)))
         return original(lattice, omega, source, **kwargs)
 
+    from matplotlib.figure import Figure
+    from matplotlib.text import Text
+
+    savefig = Figure.savefig
+
+    def saved(fig, *args, **kwargs):
+        FIGURE_TEXTS.extend(t.get_text() for t in fig.findobj(Text) if t.get_text())
+        return savefig(fig, *args, **kwargs)
+
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(green, "compare_green", counted)
+        mp.setattr(Figure, "savefig", saved)
         summary = reproduce(out / "report", max_rings=4, cache=cache)
     return out, summary
 
@@ -363,6 +376,15 @@ def test_report_prose_has_no_ascii_maths(repro):
         bad = ascii_maths(line)
         if bad:
             found[line[:120]] = bad
+    assert not found, found
+
+
+def test_report_figure_texts_have_no_ascii_maths(repro):
+    """Titles, axis labels, legends and notes of every figure the report saved."""
+    from test_reader_text import ascii_maths
+
+    assert len(FIGURE_TEXTS) > 100
+    found = {t: ascii_maths(t) for t in set(FIGURE_TEXTS) if ascii_maths(t)}
     assert not found, found
 
 

@@ -75,7 +75,7 @@ def plot_r_scan(scan: RScan, ax: Axes | None = None, **kwargs) -> Axes:
         Where to draw; a new 5.5 x 4 inch figure when None (the default).
     **kwargs
         Passed on to :meth:`matplotlib.axes.Axes.errorbar`; ``label`` defaults to
-        ``"l = <rings> (<sites> sites)"``.
+        ``"ℓ = <rings> (<sites> sites)"``.
 
     Returns
     -------
@@ -91,7 +91,7 @@ def plot_r_scan(scan: RScan, ax: Axes | None = None, **kwargs) -> Axes:
     >>> scan = hl.r_scan(hl.ring_lattice(7, 3, 3), [0.5, 4.0], realizations=2, window=None)
     >>> ax = plot_r_scan(scan)
     >>> ax.get_xscale(), [t.get_text() for t in ax.get_legend().get_texts()]
-    ('log', ['GOE 0.5307', 'Poisson 0.3863', 'l = 3 (112 sites)'])
+    ('log', ['GOE 0.5307', 'Poisson 0.3863', 'ℓ = 3 (112 sites)'])
     >>> plt.close("all")
     """
     from ..compare.disorder import GOE_R, POISSON_R
@@ -99,7 +99,7 @@ def plot_r_scan(scan: RScan, ax: Axes | None = None, **kwargs) -> Axes:
     ax = _axes(ax)
     w = np.asarray(scan.W, float)
     ax.errorbar(w, scan.r_mean, yerr=scan.r_err, marker="o", ms=4, capsize=2,
-                label=kwargs.pop("label", f"l = {scan.rings} ({scan.sites} sites)"), **kwargs)
+                label=kwargs.pop("label", f"ℓ = {scan.rings} ({scan.sites} sites)"), **kwargs)
     ax.axhline(GOE_R, color="C3", ls="--", lw=1, label=f"GOE {GOE_R}")
     ax.axhline(POISSON_R, color="C2", ls=":", lw=1, label=f"Poisson {POISSON_R:.4f}")
     if np.all(w > 0):

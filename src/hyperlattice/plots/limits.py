@@ -19,6 +19,11 @@ __all__ = ["plot_band_fit", "plot_band_residuals", "plot_band_bottom", "plot_pla
            "limits_figure"]
 
 
+def _minus(value, spec: str) -> str:
+    """``value`` by ``spec`` with a true minus sign (−2.941155, not -2.941155) for a label."""
+    return format(float(value), spec).replace("-", "−")
+
+
 def _sub(level) -> str:
     """A level index as a subscript digit: 0 -> '₀' (E₀ on the figure, not E0)."""
     return "".join(chr(0x2080 + int(d)) for d in str(int(level)))
@@ -158,13 +163,15 @@ def plot_band_bottom(band: BandBottom, ax: Axes | None = None) -> Axes:
     ax.fill_between(grid, value - err, value + err, color="C0", alpha=0.2)
     ax.plot(ell, band.predict(ell)[0], "o", color="C0", markersize=3)
     ax.axhspan(band.estimate - band.error, band.estimate + band.error, color="C2", alpha=0.3,
-               label=rf"$-\rho$ = {band.estimate:.6f} ± {band.error:.1e}")
-    ax.axhline(band.paper_edge, color="C1", linestyle="--", label=rf"paper $E_\infty$ = {band.paper_edge:.6f}")
-    ax.axhline(band.improved_edge, color="C4", linestyle=":", label=rf"improved $E_\infty$ = {band.improved_edge:.6f}")
-    ax.axhline(band.upper, color="0.4", linewidth=0.8, label=rf"rigorous: $-\rho \leq$ {band.upper:.5f}")
+               label=rf"$-\rho$ = {_minus(band.estimate, '.6f')} ± {band.error:.1e}")
+    ax.axhline(band.paper_edge, color="C1", linestyle="--",
+               label=rf"paper $E_\infty$ = {_minus(band.paper_edge, '.6f')}")
+    ax.axhline(band.improved_edge, color="C4", linestyle=":",
+               label=rf"improved $E_\infty$ = {_minus(band.improved_edge, '.6f')}")
+    ax.axhline(band.upper, color="0.4", linewidth=0.8, label=rf"rigorous: $-\rho \leq$ {_minus(band.upper, '.5f')}")
     if np.isfinite(band.lower):
         ax.axhline(band.lower, color="0.4", linewidth=0.8, linestyle="-.",
-                   label=rf"rigorous: $-\rho \geq$ {band.lower:.5f}")
+                   label=rf"rigorous: $-\rho \geq$ {_minus(band.lower, '.5f')}")
     ax.set_xlabel(r"rings $\ell$")
     ax.set_ylabel("energy E / t")
     low = band.lower if np.isfinite(band.lower) else band.estimate
