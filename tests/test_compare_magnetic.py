@@ -43,7 +43,7 @@ def test_statement_from_data(small):
     # measured: the zero-field error of 3- and 4-ring flakes is above 1e-3 already
     assert np.all(np.isnan(small.agreement_limit()))
     text = small.statement()
-    assert "l=3: never" in text and "d0" in text and "l_B/R" in text
+    assert "ℓ = 3: never" in text and "d₀" in text and "l_B/R" in text
     assert small.agreement_limit(threshold=0.05).tolist() == [0.3, 0.3]
 
 

@@ -406,3 +406,37 @@ def test_degeneracy_is_one_in_a_field():
     cont = magnetic_levels(7, 3, rings=3, levels=4, flux=0.1)
     assert cont.degeneracy.tolist() == [1, 1, 1, 1]
     assert lowest_levels(ring_lattice(7, 3, 3), 3).degeneracy.tolist() == [1, 2, 2]
+
+
+def test_butterfly_figure_mirror_draws_the_other_half_of_the_period():
+    """E(1 - f) = E(f) on a site flake: the mirrored half equals the computed whole period, pixel for pixel."""
+    import matplotlib.pyplot as plt
+
+    from hyperlattice.plots.magnetic import butterfly_figure
+
+    lat = ring_lattice(7, 3, 3)
+    half = F.butterfly(lat, np.linspace(0.0, 0.5, 6))
+    whole = F.butterfly(lat, np.linspace(0.0, 1.0, 11))
+    a = butterfly_figure(half, continuum=False, density=True, energy_bins=60, mirror=True)
+    b = butterfly_figure(whole, continuum=False, density=True, energy_bins=60)
+    assert np.array_equal(a.images[0].get_array(), b.images[0].get_array())
+    assert a.images[0].get_extent() == pytest.approx(b.images[0].get_extent())
+    with pytest.raises(ValueError, match=r"\[0, 1/2\]"):
+        butterfly_figure(whole, continuum=False, density=True, mirror=True)
+    with pytest.raises(ValueError, match="site flake"):
+        butterfly_figure(F.butterfly(line_graph(ring_lattice(7, 3, 2)), [0.0, 0.5]), continuum=False, mirror=True)
+    plt.close("all")
+
+
+def test_butterfly_figure_band_bottom_panel():
+    import matplotlib.pyplot as plt
+
+    from hyperlattice.plots.magnetic import butterfly_figure
+
+    bf = F.butterfly(ring_lattice(7, 3, 3), np.linspace(0.0, 0.5, 11))
+    fig, (ax, zoom) = plt.subplots(1, 2)
+    butterfly_figure(bf, max_flux=0.3, points=4, levels=2, ax=ax, density=True, mirror=True, zoom_ax=zoom)
+    assert len(zoom.lines) == 2 and zoom.get_xlim() == (0.0, 0.3)
+    low, high = zoom.get_ylim()
+    assert low < bf.energies[0, 0] < high   # the lowest level at f = 0 is in view
+    plt.close(fig)

@@ -52,6 +52,9 @@ class _Checker(HTMLParser):
 #: compare_green calls of the first (cold-cache) run, by (rings, omega)
 GREEN_CALLS: list = []
 
+#: the texts (titles, labels, legends, notes) of every figure the first run saved
+FIGURE_TEXTS: list = []
+
 
 @pytest.fixture(scope="module")
 def repro(tmp_path_factory):
@@ -65,8 +68,18 @@ def repro(tmp_path_factory):
         GREEN_CALLS.append((lattice.rings, complex(omega)))
         return original(lattice, omega, source, **kwargs)
 
+    from matplotlib.figure import Figure
+    from matplotlib.text import Text
+
+    savefig = Figure.savefig
+
+    def saved(fig, *args, **kwargs):
+        FIGURE_TEXTS.extend(t.get_text() for t in fig.findobj(Text) if t.get_text())
+        return savefig(fig, *args, **kwargs)
+
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(green, "compare_green", counted)
+        mp.setattr(Figure, "savefig", saved)
         summary = reproduce(out / "report", max_rings=4, cache=cache)
     return out, summary
 
@@ -139,7 +152,7 @@ def test_html_is_valid_and_self_contained(repro):
 def test_report_flags_the_known_misprints(repro):
     out, _ = repro
     md = (out / "report" / "report.md").read_text()
-    assert "printed -1.274" in md  # E1 of the heptagon
+    assert "printed −1.274" in md  # E1 of the heptagon (with a true minus)
     assert "(1/2) ln 3" in md      # p = inf column
     # the paper's tables and figures by the numbers it prints (Tab1, SuppTab1, AppFS's table, Fig1..FigS1)
     for label in ("Table I", "Table II", "Table III", "Table IV", "Fig. 1", "Fig. 3", "Fig. 4", "Fig. 5", "Fig. 6",
@@ -211,7 +224,7 @@ def test_open_question_sentences_pinned():
     assert text == [
         "The paper's open question (Appendix F): does the relative error between graph and continuum keep "
         "decreasing as ℓ → ∞? The computed levels (largest residual ‖Hψ − Eψ‖ = 1.8e-14) say:",
-        "E₀: (E_graph − E_cont)/|E_graph| = -2.50e-01, -2.51e-02, -5.86e-03, -1.71e-03, -3.85e-04, +1.45e-04, "
+        "E₀: (E_graph − E_cont)/|E_graph| = −2.50e-01, −2.51e-02, −5.86e-03, −1.71e-03, −3.85e-04, +1.45e-04, "
         "+3.89e-04, +5.11e-04, +5.77e-04, +6.13e-04 for ℓ = 1–10. It changes sign between ℓ = 5 and 6 (the graph "
         "level moves from below to above the continuum level), then grows monotonically with shrinking increments "
         f"(6.6e-05, 3.6e-05 over the last rings): it saturates (Aitken estimate of the limit {t.aitken_limit:.2e}) "
@@ -353,6 +366,28 @@ def test_no_tex_labels_issue_numbers_or_ascii_maths(repro):
         assert symbol in prose_md, symbol
 
 
+def test_report_prose_has_no_ascii_maths(repro):
+    """Every sentence, caption and title of the report, scanned with the list of test_reader_text."""
+    from test_reader_text import ascii_maths
+
+    out, _ = repro
+    found = {}
+    for line in _prose_of((out / "report" / "report.md").read_text()).splitlines():
+        bad = ascii_maths(line)
+        if bad:
+            found[line[:120]] = bad
+    assert not found, found
+
+
+def test_report_figure_texts_have_no_ascii_maths(repro):
+    """Titles, axis labels, legends and notes of every figure the report saved."""
+    from test_reader_text import ascii_maths
+
+    assert len(FIGURE_TEXTS) > 100
+    found = {t: ascii_maths(t) for t in set(FIGURE_TEXTS) if ascii_maths(t)}
+    assert not found, found
+
+
 def test_every_label_of_the_report_is_in_the_map(repro):
     from hyperlattice.paper_labels import PAPER_LABELS
     from hyperlattice.report.writers import Section
@@ -399,12 +434,14 @@ def test_two_band_bottom_intervals_explained(repro):
     out, _ = repro
     md = (out / "report" / "report.md").read_text()
     m = re.search(r"Two proven intervals for the band bottom −ρ of \{7,3\} appear in this report, "
-                  r"\[(-[\d.]+), (-[\d.]+)\] in the band-bottom section and \[(-[\d.]+), (-[\d.]+)\] here", md)
-    assert m
+                  r"\[(−[\d.]+), (−[\d.]+)\] in the band-bottom section and \[(−[\d.]+), (−[\d.]+)\] here",
+                  md)
+    assert m   # the numbers carry a true minus (prose)
+    bound = [None] + [float(g.replace("−", "-")) for g in m.groups()]
     with open(out / "report" / "table_band_edges.csv") as fh:
         row = next(csv.DictReader(fh))
-    assert float(m.group(3)) == pytest.approx(float(row["interval_lower"]), abs=1e-4)
-    assert float(m.group(4)) == pytest.approx(float(row["interval_upper"]), abs=1e-4)
+    assert bound[3] == pytest.approx(float(row["interval_lower"]), abs=1e-4)
+    assert bound[4] == pytest.approx(float(row["interval_upper"]), abs=1e-4)
     with open(out / "report" / "table_band_bottom.csv") as fh:
         row = next(r for r in csv.DictReader(fh) if r["lattice"] == "{7,3}")
-    assert float(m.group(1)) == pytest.approx(float(row["rigorous_lower"]), abs=1e-5)
+    assert bound[1] == pytest.approx(float(row["rigorous_lower"]), abs=1e-5)

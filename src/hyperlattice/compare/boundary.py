@@ -821,13 +821,17 @@ class LatticeBFBound(Result):
         """One sentence on the window between the two bounds, from the numbers."""
         above = self.e0 > self.omega_continuum
         r = self.rings
+        def num(x, spec):  # a true minus sign in the sentence
+            return format(float(x), spec).replace("-", "−")
+
         if np.all(above):
-            return (f"For l = {r[0]}..{r[-1]} the lattice bound E0(l) = {self.e0[0]:.5f}..{self.e0[-1]:.5f} lies above "
-                    f"the continuum bound E_inf = {self.omega_continuum:.5f} (m^2 = {self.mass2[0]:.3f}..{self.mass2[-1]:.3f} "
-                    "against -1) and moves down towards it as l grows: in the window E_inf < omega < E0(l) the lattice "
-                    "propagator exists and decays along the boundary, while the infinite-disk continuum has complex Delta.")
-        return (f"E0(l) - E_inf = " + ", ".join(f"{e - self.omega_continuum:+.4f}" for e in self.e0)
-                + f" for l = {r[0]}..{r[-1]}.")
+            return (f"For ℓ = {r[0]}–{r[-1]} the lattice bound E₀(ℓ) = {num(self.e0[0], '.5f')} to "
+                    f"{num(self.e0[-1], '.5f')} lies above the continuum bound E∞ = {num(self.omega_continuum, '.5f')} "
+                    f"(m² = {num(self.mass2[0], '.3f')} to {num(self.mass2[-1], '.3f')} against −1) and moves down "
+                    "towards it as ℓ grows: in the window E∞ < ω < E₀(ℓ) the lattice propagator exists and decays "
+                    "along the boundary, while the infinite-disk continuum has complex Δ.")
+        return ("E₀(ℓ) − E∞ = " + ", ".join(num(e - self.omega_continuum, "+.4f") for e in self.e0)
+                + f" for ℓ = {r[0]}–{r[-1]}.")
 
 
 def lattice_bf_bound(p: int = 7, q: int = 3, rings=(3, 4, 5, 6, 7, 8)) -> LatticeBFBound:

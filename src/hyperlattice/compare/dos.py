@@ -79,6 +79,11 @@ QUANTILES = (1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.2, 0.3)
 # ----------------------------------------------------------------------------
 
 @functools.lru_cache(maxsize=1)
+def _num(value, spec: str) -> str:
+    """``value`` formatted by ``spec`` with a true minus sign, for a sentence (−2.9412, not -2.9412)."""
+    return format(float(value), spec).replace("-", "−")
+
+
 def _plancherel_table() -> tuple[np.ndarray, np.ndarray]:
     """k on [0, 200] (step 1e-3) and F(k) by the cumulative trapezoid rule, whose error the
     Euler-Maclaurin end correction -dk^2/12 [f'(k) - f'(0)] removes to O(dk^4) (relative < 1e-9)."""
@@ -622,28 +627,30 @@ class DosComparison(Result):
             parts.append(f"The Abelian DOS ({self.labels[i]}) is at distance {self.distance[i]:.2g}{own}: "
                          "sampling the Bloch phases on the 2g-torus removes most of the finite-size error of its "
                          "unit cell, but its moments are exact only below the cell's systole.")
-        parts.append(f"Every periodic cluster has the uniform state at E = -{self.q} (weight 1/N), which is not in "
-                     f"the spectrum of the infinite lattice: its band bottom -rho is proven to lie in "
-                     f"[{-self.rho_upper:.4f}, {-self.rho_lower:.4f}], so the band bottom must be read from the "
+        parts.append(f"Every periodic cluster has the uniform state at E = −{self.q} (weight 1/N), which is not in "
+                     f"the spectrum of the infinite lattice: its band bottom −ρ is proven to lie in "
+                     f"[{_num(-self.rho_upper, '.4f')}, {_num(-self.rho_lower, '.4f')}], so the band bottom must be "
+                     "read from the "
                      f"limiting density (the uniform state is left out here), not from a cluster's ground state.")
         if i_cl:
             b = i_cl[-1]
-            parts.append(f"The {self.quantile:g} quantile of the largest cluster's DOS is E = {self.bottom[b]:.4f} "
-                         f"+- {self.bottom_err[b]:.4f} (bottom) and {self.top[b]:.4f} +- {self.top_err[b]:.4f} (top); "
-                         f"the continuum band bottom is {self.continuum_bottom['paper']:.4f} (paper's map) and "
-                         f"{self.continuum_bottom['improved']:.4f} (improved map).")
+            parts.append(f"The {self.quantile:g} quantile of the largest cluster's DOS is "
+                         f"E = {_num(self.bottom[b], '.4f')} ± {self.bottom_err[b]:.4f} (bottom) and "
+                         f"{_num(self.top[b], '.4f')} ± {self.top_err[b]:.4f} (top); the continuum band bottom is "
+                         f"{_num(self.continuum_bottom['paper'], '.4f')} (paper's map) and "
+                         f"{_num(self.continuum_bottom['improved'], '.4f')} (improved map).")
         nu = self.continuum_window()
         ratio = self.continuum_ratio()[0]
         if nu > 0:
             i = int(np.searchsorted(self.quantiles, nu))
-            nxt = (f"; at nu = {self.quantiles[i + 1]:g} the continuum counts {ratio[i + 1]:.2f} times the "
+            nxt = (f"; at ν = {self.quantiles[i + 1]:g} the continuum counts {ratio[i + 1]:.2f} times the "
                    "lattice's states (the band is bounded and structured, the continuum law is not)"
                    if i + 1 < len(self.quantiles) else " (the largest fraction measured)")
-            parts.append(f"The continuum (Plancherel density of -Delta_g through the paper's dictionary) counts "
-                         f"the states below the lattice's E(nu) within 10% (allowing two error bars of E) for "
-                         f"the measured fractions nu up to {nu:g}, i.e. from the band bottom to "
-                         f"E = {self.quantile_lattice[i]:.3f}{nxt}."
-                         + (f" Isolated exception: nu = {', '.join(f'{x:g}' for x in self.continuum_exceptions())} "
+            parts.append(f"The continuum (Plancherel density of −Δ_g through the paper's dictionary) counts "
+                         f"the states below the lattice's E(ν) within 10% (allowing two error bars of E) for "
+                         f"the measured fractions ν up to {nu:g}, i.e. from the band bottom to "
+                         f"E = {_num(self.quantile_lattice[i], '.3f')}{nxt}."
+                         + (f" Isolated exception: ν = {', '.join(f'{x:g}' for x in self.continuum_exceptions())} "
                             "(ratio " + ", ".join(f"{ratio[list(self.quantiles).index(x)]:.2f}"
                                                   for x in self.continuum_exceptions())
                             + "), where the cluster's integrated DOS is a staircase of its lowest multiplets."

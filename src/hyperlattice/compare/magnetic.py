@@ -39,6 +39,13 @@ __all__ = ["MagneticComparison", "magnetic_comparison"]
 #: the agreement threshold of the plain statement
 THRESHOLD = 1e-3
 
+#: digits, point and minus as superscripts, for a power in a sentence (f^1.9 -> f¹·⁹)
+_SUPERSCRIPT = str.maketrans("0123456789.-", "⁰¹²³⁴⁵⁶⁷⁸⁹·⁻")
+
+
+def _superscript(text: str) -> str:
+    return text.translate(_SUPERSCRIPT)
+
 
 @dataclass(frozen=True, eq=False, kw_only=True)
 class MagneticComparison(Result):
@@ -160,7 +167,7 @@ class MagneticComparison(Result):
         lim = self.agreement_limit(threshold)
         parts = []
         for ell, f in zip(self.rings.tolist(), lim.tolist()):
-            parts.append(f"l={ell}: " + ("never" if math.isnan(f) else f"f <= {f:g}"))
+            parts.append(f"ℓ = {ell}: " + ("never" if math.isnan(f) else f"f ≤ {f:g}"))
         w = self.worst()
         j = int(np.argmax(self.fluxes))
         fmax, lb = float(self.fluxes[j]), float(self.magnetic_length[j])
@@ -170,20 +177,21 @@ class MagneticComparison(Result):
         if zero.size:
             z = w[:, zero[0]]
             text += (f" At f = 0 the error is the zero-field flake-vs-disk error, {z[0]:.1e} at "
-                     f"l={self.rings[0]} to {z[-1]:.1e} at l={self.rings[-1]}: the floor for small flakes.")
+                     f"ℓ = {self.rings[0]} to {z[-1]:.1e} at ℓ = {self.rings[-1]}: the floor for small flakes.")
         if math.isfinite(lb):
-            text += (f" At f = {fmax:g}, l_B = 1/sqrt(B) = {lb:.3f} = {lb / self.d0:.2f} d0 and "
-                     f"l_B/R = {lb / self.disk_radius[0]:.3f} (l={self.rings[0]}) to "
-                     f"{lb / self.disk_radius[-1]:.3f} (l={self.rings[-1]}); the error there is "
-                     f"{np.min(w[:, j]):.1e} to {np.max(w[:, j]):.1e} over all l")
+            text += (f" At f = {fmax:g}, l_B = 1/√B = {lb:.3f} = {lb / self.d0:.2f} d₀ and "
+                     f"l_B/R = {lb / self.disk_radius[0]:.3f} (ℓ = {self.rings[0]}) to "
+                     f"{lb / self.disk_radius[-1]:.3f} (ℓ = {self.rings[-1]}); the error there is "
+                     f"{np.min(w[:, j]):.1e} to {np.max(w[:, j]):.1e} over all ℓ")
             half = int(np.argmin(np.abs(self.fluxes - fmax / 2)))
             if 0 < self.fluxes[half] < fmax and np.all(np.isfinite(w[-1, [half, j]])):
                 slope = math.log(w[-1, j] / w[-1, half]) / math.log(fmax / self.fluxes[half])
-                text += f" and grows like f^{slope:.1f} from f = {self.fluxes[half]:g} (l={self.rings[-1]})"
+                power = _superscript(f"{slope:.1f}")
+                text += f" and grows like f{power} from f = {self.fluxes[half]:g} (ℓ = {self.rings[-1]})"
             text += (". It grows with f because the hops approximate the covariant Laplacian only when "
-                     "l_B >> d0 (the Peierls phase of one p-gon, 2 pi f, is the field seen on the lattice "
-                     "scale); once l_B << R the lowest states are Landau-like states inside the disk, the "
-                     "disk edge stops mattering and the error no longer depends on l.")
+                     "l_B ≫ d₀ (the Peierls phase of one p-gon, 2πf, is the field seen on the lattice "
+                     "scale); once l_B ≪ R the lowest states are Landau-like states inside the disk, the "
+                     "disk edge stops mattering and the error no longer depends on ℓ.")
         return text
 
     def summary(self) -> dict:

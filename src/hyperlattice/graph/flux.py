@@ -672,7 +672,12 @@ def butterfly(lattice: Lattice, fluxes, *, t: float = 1.0, onsite=None, max_site
         return {"energies": e[order].tolist(), "m": mm[order].tolist()}
 
     key = None if cache is None else dict(_lattice_key(lattice, onsite), t=t)
-    with progress_bar(f.shape[0], "butterfly", unit="flux", progress=progress) as bar:
+    # the blocks are small (N/p = 121 rows at l = 5): a multi-threaded BLAS spends more on its
+    # threads than on the arithmetic; on the loaded 2-core machine one thread was 15-30x faster
+    # (l = 5: 21 against 330-520 ms per flux; l = 6: 140-220 against 1,900-4,600 ms)
+    from .solvers import single_threaded_blas
+
+    with progress_bar(f.shape[0], "butterfly", unit="flux", progress=progress) as bar, single_threaded_blas():
         for k, fk in enumerate(f.tolist()):
             if cache is None:
                 point = levels(fk)

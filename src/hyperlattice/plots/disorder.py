@@ -51,14 +51,14 @@ def plot_dos(ens: DisorderEnsemble, ax: Axes | None = None, **kwargs) -> Axes:
     >>> ens = hl.disorder_ensemble(hl.ring_lattice(7, 3, 3), 2.0, realizations=3, seed=1)
     >>> ax = plot_dos(ens)
     >>> ax.get_title(), ax.get_legend().get_texts()[0].get_text()
-    ('{7,3} l = 3, box, 3 realizations', 'W = 2')
+    ('{7,3} ℓ = 3, box, 3 realizations', 'W = 2')
     >>> plt.close("all")
     """
     ax = _axes(ax)
     ax.stairs(ens.dos, ens.dos_edges, label=kwargs.pop("label", f"W = {ens.W:g}"), **kwargs)
     ax.set_xlabel("E / t")
     ax.set_ylabel("DOS per site")
-    ax.set_title(f"{{{ens.p},{ens.q}}} l = {ens.rings}, {ens.model}, {ens.realizations} realizations", fontsize=9)
+    ax.set_title(f"{{{ens.p},{ens.q}}} ℓ = {ens.rings}, {ens.model}, {ens.realizations} realizations", fontsize=9)
     ax.legend(fontsize=8)
     return ax
 
@@ -75,7 +75,7 @@ def plot_r_scan(scan: RScan, ax: Axes | None = None, **kwargs) -> Axes:
         Where to draw; a new 5.5 x 4 inch figure when None (the default).
     **kwargs
         Passed on to :meth:`matplotlib.axes.Axes.errorbar`; ``label`` defaults to
-        ``"l = <rings> (<sites> sites)"``.
+        ``"ℓ = <rings> (<sites> sites)"``.
 
     Returns
     -------
@@ -91,7 +91,7 @@ def plot_r_scan(scan: RScan, ax: Axes | None = None, **kwargs) -> Axes:
     >>> scan = hl.r_scan(hl.ring_lattice(7, 3, 3), [0.5, 4.0], realizations=2, window=None)
     >>> ax = plot_r_scan(scan)
     >>> ax.get_xscale(), [t.get_text() for t in ax.get_legend().get_texts()]
-    ('log', ['GOE 0.5307', 'Poisson 0.3863', 'l = 3 (112 sites)'])
+    ('log', ['GOE 0.5307', 'Poisson 0.3863', 'ℓ = 3 (112 sites)'])
     >>> plt.close("all")
     """
     from ..compare.disorder import GOE_R, POISSON_R
@@ -99,7 +99,7 @@ def plot_r_scan(scan: RScan, ax: Axes | None = None, **kwargs) -> Axes:
     ax = _axes(ax)
     w = np.asarray(scan.W, float)
     ax.errorbar(w, scan.r_mean, yerr=scan.r_err, marker="o", ms=4, capsize=2,
-                label=kwargs.pop("label", f"l = {scan.rings} ({scan.sites} sites)"), **kwargs)
+                label=kwargs.pop("label", f"ℓ = {scan.rings} ({scan.sites} sites)"), **kwargs)
     ax.axhline(GOE_R, color="C3", ls="--", lw=1, label=f"GOE {GOE_R}")
     ax.axhline(POISSON_R, color="C2", ls=":", lw=1, label=f"Poisson {POISSON_R:.4f}")
     if np.all(w > 0):
@@ -193,18 +193,18 @@ def plot_scba_comparison(cmp: SCBAComparison, ax: Axes | None = None) -> Axes:
     >>> cmp = hl.compare_scba(hl.ring_lattice(7, 3, 3), -2.9 + 0.2j, [1.0, 2.0], realizations=4)
     >>> ax = plot_scba_comparison(cmp)
     >>> [line.get_label() for line in ax.lines][:2]
-    ['clean G0(omega)', 'graph SCBA']
+    ['clean G₀(ω)', 'graph SCBA']
     >>> plt.close("all")
     """
     ax = _axes(ax)
     w = np.asarray(cmp.W, float)
-    ax.loglog(w, cmp.rel_clean, "o-", label="clean G0(omega)")
+    ax.loglog(w, cmp.rel_clean, "o-", label="clean G₀(ω)")
     ax.loglog(w, cmp.rel_graph_scba, "s-", label="graph SCBA")
     ax.loglog(w, cmp.rel_continuum_scba, "^-", label=f"continuum SCBA ({cite('eq21')} at shifted $\\omega$)")
     ax.loglog(w, cmp.rel_noise, ":", color="0.5", label="statistical error")
     ax.axhline(cmp.continuum_floor, color="0.6", lw=0.8, ls="--", label=f"clean graph vs {cite('eq21')}")
     ax.set_xlabel("W / t")
-    ax.set_ylabel("relative L2 distance from the ensemble average")
+    ax.set_ylabel("relative L² distance from the ensemble average")
     ax.legend(fontsize=7)
     return ax
 

@@ -156,7 +156,7 @@ def plot_distance_profile(comparison: GreenComparison, lattice: Lattice | None =
     >>> cmp = compare_green(lat, -2.95, 10)
     >>> from hyperlattice.plots.green import plot_distance_profile
     >>> print(plot_distance_profile(cmp).get_title())
-    {7,3}, $\ell$=3, $\omega$=-2.95+0j, rel. L2 = 0.143
+    {7,3}, $\ell$=3, $\omega$=−2.95+0j, rel. L² = 0.143
     >>> plt.close("all")
     """
     if lattice is not None and _validate.lattice(lattice).sites != comparison.distance.shape[0]:
@@ -172,7 +172,7 @@ def plot_distance_profile(comparison: GreenComparison, lattice: Lattice | None =
     ax.set_xlabel(r"hyperbolic distance $d_{ij}$")
     ax.set_ylabel(r"Re $G_{ij}(\omega)$")
     ax.set_title(f"{{{comparison.p},{comparison.q}}}, $\\ell$={comparison.rings}, "
-                 f"$\\omega$={comparison.omega:g}, rel. L2 = {comparison.rel_l2:.3f}", fontsize=9)
+                 f"$\\omega$={comparison.omega:g}, rel. L² = {comparison.rel_l2:.3f}".replace("-", "−"), fontsize=9)
     ax.legend(frameon=False, fontsize=8)
     return ax
 

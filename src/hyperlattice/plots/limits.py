@@ -19,6 +19,16 @@ __all__ = ["plot_band_fit", "plot_band_residuals", "plot_band_bottom", "plot_pla
            "limits_figure"]
 
 
+def _minus(value, spec: str) -> str:
+    """``value`` by ``spec`` with a true minus sign (−2.941155, not -2.941155) for a label."""
+    return format(float(value), spec).replace("-", "−")
+
+
+def _sub(level) -> str:
+    """A level index as a subscript digit: 0 -> '₀' (E₀ on the figure, not E0)."""
+    return "".join(chr(0x2080 + int(d)) for d in str(int(level)))
+
+
 def plot_band_fit(fit: BandBottomFit, ax: Axes | None = None) -> Axes:
     """One band-bottom fit: the flake levels, the fit and its residuals; returns the axes.
 
@@ -51,20 +61,20 @@ def plot_band_fit(fit: BandBottomFit, ax: Axes | None = None) -> Axes:
     >>> rings, E0, E1 = reference_levels(7, 3)
     >>> ax = plot_band_fit(fit_band_bottom(rings[-6:], E0[-6:], p=7, q=3))
     >>> [line.get_label() for line in ax.lines], len(ax.figure.axes)
-    (['E0 of the flakes', 'disk fit'], 2)
+    (['E₀ of the flakes', 'disk fit'], 2)
     >>> plt.close("all")
     """
     ax = new_axes(ax)
     ell = np.asarray(fit.rings, dtype=float)
     grid = np.linspace(ell[0], ell[-1] + 4.0, 200)
-    ax.semilogy(ell, fit.energies - fit.band_bottom, "o", label=f"E{fit.level} of the flakes")
+    ax.semilogy(ell, fit.energies - fit.band_bottom, "o", label=f"E{_sub(fit.level)} of the flakes")
     ax.semilogy(grid, fit.predict(grid) - fit.band_bottom, "-", label=f"{fit.model} fit")
     ax.set_xlabel(r"rings $\ell$")
-    ax.set_ylabel(f"E{fit.level} - E_b  (E_b = {fit.band_bottom:.7f})")
+    ax.set_ylabel(f"E{_sub(fit.level)} − E_b  (E_b = {fit.band_bottom:.7f})".replace("= -", "= −"))
     twin = ax.twinx()
     twin.plot(ell, fit.residuals, "x", color="C3", label="residual")
     twin.axhline(0.0, color="C3", linewidth=0.5)
-    twin.set_ylabel("fit - data", color="C3")
+    twin.set_ylabel("fit − data", color="C3")
     ax.legend(fontsize="small", loc="upper right")
     return ax
 
@@ -96,7 +106,7 @@ def plot_band_residuals(band: BandBottom, ax: Axes | None = None) -> Axes:
     >>> from hyperlattice.plots.limits import plot_band_residuals
     >>> ax = plot_band_residuals(hl.band_bottom(7, 3, schur_window=None))
     >>> [t.get_text() for t in ax.get_legend().get_texts()]
-    ['E0, disk model', 'E0, rational model', 'E1, disk model', 'E1, rational model']
+    ['E₀, disk model', 'E₀, rational model', 'E₁, disk model', 'E₁, rational model']
     >>> plt.close("all")
     """
     ax = new_axes(ax)
@@ -107,10 +117,10 @@ def plot_band_residuals(band: BandBottom, ax: Axes | None = None) -> Axes:
         if v["rings"] == central["rings"]:
             marker, color = styles[(v["model"], v["level"])]
             ax.plot(v["fit_rings"], v["residuals"], marker, color=color, mfc="none" if v["model"] == "rational" else None,
-                    label=f"E{v['level']}, {v['model']} model")
+                    label=f"E{_sub(v['level'])}, {v['model']} model")
     ax.axhline(0.0, color="0.5", linewidth=0.6)
     ax.set_xlabel(r"rings $\ell$")
-    ax.set_ylabel("fit - flake level")
+    ax.set_ylabel("fit − flake level")
     ax.legend(fontsize="x-small")
     return ax
 
@@ -149,17 +159,19 @@ def plot_band_bottom(band: BandBottom, ax: Axes | None = None) -> Axes:
     ell = np.asarray(band.rings, dtype=float)
     grid = np.arange(ell[0], 3.0 * ell[-1] + 1.0)      # the disk model lives on integer l (site counts)
     value, err = band.predict(grid)
-    ax.plot(grid, value, "-", color="C0", label="E0 fit (disk model) continued")
+    ax.plot(grid, value, "-", color="C0", label="E₀ fit (disk model) continued")
     ax.fill_between(grid, value - err, value + err, color="C0", alpha=0.2)
     ax.plot(ell, band.predict(ell)[0], "o", color="C0", markersize=3)
     ax.axhspan(band.estimate - band.error, band.estimate + band.error, color="C2", alpha=0.3,
-               label=rf"$-\rho$ = {band.estimate:.6f} ± {band.error:.1e}")
-    ax.axhline(band.paper_edge, color="C1", linestyle="--", label=rf"paper $E_\infty$ = {band.paper_edge:.6f}")
-    ax.axhline(band.improved_edge, color="C4", linestyle=":", label=rf"improved $E_\infty$ = {band.improved_edge:.6f}")
-    ax.axhline(band.upper, color="0.4", linewidth=0.8, label=rf"rigorous: $-\rho \leq$ {band.upper:.5f}")
+               label=rf"$-\rho$ = {_minus(band.estimate, '.6f')} ± {band.error:.1e}")
+    ax.axhline(band.paper_edge, color="C1", linestyle="--",
+               label=rf"paper $E_\infty$ = {_minus(band.paper_edge, '.6f')}")
+    ax.axhline(band.improved_edge, color="C4", linestyle=":",
+               label=rf"improved $E_\infty$ = {_minus(band.improved_edge, '.6f')}")
+    ax.axhline(band.upper, color="0.4", linewidth=0.8, label=rf"rigorous: $-\rho \leq$ {_minus(band.upper, '.5f')}")
     if np.isfinite(band.lower):
         ax.axhline(band.lower, color="0.4", linewidth=0.8, linestyle="-.",
-                   label=rf"rigorous: $-\rho \geq$ {band.lower:.5f}")
+                   label=rf"rigorous: $-\rho \geq$ {_minus(band.lower, '.5f')}")
     ax.set_xlabel(r"rings $\ell$")
     ax.set_ylabel("energy E / t")
     low = band.lower if np.isfinite(band.lower) else band.estimate
@@ -194,20 +206,20 @@ def plot_plateau(plateau: PlateauAnalysis, ax: Axes | None = None) -> Axes:
     >>> from hyperlattice.plots.limits import plot_plateau
     >>> ax = plot_plateau(hl.plateau_analysis(hl.band_bottom(7, 3, schur_window=None)))
     >>> ax.get_ylabel()
-    '(E_graph - E_cont)/|E_graph|, paper map'
+    '(E_graph − E_cont)/|E_graph|, paper map'
     >>> plt.close("all")
     """
     ax = new_axes(ax)
     ell = np.asarray(plateau.rings, dtype=float)
-    ax.plot(ell, plateau.relative_E0, "o-", label="E0")
-    ax.plot(ell, plateau.relative_E1, "s-", label="E1")
+    ax.plot(ell, plateau.relative_E0, "o-", label="E₀")
+    ax.plot(ell, plateau.relative_E1, "s-", label="E₁")
     ax.axhspan(plateau.limit - plateau.limit_error, plateau.limit + plateau.limit_error, color="C2", alpha=0.3,
                label=rf"$(-\rho - E_\infty)/\rho$ = {plateau.limit:.2e}")
     ax.plot(plateau.curve_rings, plateau.curve, "-", color="C0", linewidth=0.8,
-            label=rf"E0 fit continued (peak {plateau.peak_value:.2e} at $\ell$ = {plateau.peak_rings:.0f})")
+            label=rf"E₀ fit continued (peak {plateau.peak_value:.2e} at $\ell$ = {plateau.peak_rings:.0f})")
     ax.set_ylim(-2e-4, 1e-3)
     ax.set_xlabel(r"rings $\ell$")
-    ax.set_ylabel("(E_graph - E_cont)/|E_graph|, paper map")
+    ax.set_ylabel("(E_graph − E_cont)/|E_graph|, paper map")
     ax.legend(fontsize="small")
     return ax
 
@@ -239,20 +251,20 @@ def plot_dictionaries(comparison: DictionaryComparison, ax: Axes | None = None) 
     >>> rings, E0, E1 = reference_levels(7, 3)
     >>> ax = plot_dictionaries(hl.compare_dictionaries(rings[-2:], E0[-2:], E1[-2:], p=7, q=3))
     >>> ax.get_yscale(), [line.get_label() for line in ax.lines][:2]
-    ('log', ['E0, paper map', 'E1, paper map'])
+    ('log', ['E₀, paper map', 'E₁, paper map'])
     >>> plt.close("all")
     """
     ax = new_axes(ax)
     ell = np.asarray(comparison.rings, dtype=float)
-    ax.semilogy(ell, np.abs(comparison.paper_E0), "o-", color="C0", label="E0, paper map")
-    ax.semilogy(ell, np.abs(comparison.paper_E1), "s-", color="C1", label="E1, paper map")
-    ax.semilogy(ell, np.abs(comparison.improved_E0), "o--", color="C0", mfc="none", label="E0, improved map")
-    ax.semilogy(ell, np.abs(comparison.improved_E1), "s--", color="C1", mfc="none", label="E1, improved map")
+    ax.semilogy(ell, np.abs(comparison.paper_E0), "o-", color="C0", label="E₀, paper map")
+    ax.semilogy(ell, np.abs(comparison.paper_E1), "s-", color="C1", label="E₁, paper map")
+    ax.semilogy(ell, np.abs(comparison.improved_E0), "o--", color="C0", mfc="none", label="E₀, improved map")
+    ax.semilogy(ell, np.abs(comparison.improved_E1), "s--", color="C1", mfc="none", label="E₁, improved map")
     if np.isfinite(comparison.improved_limit):
         ax.axhline(abs(comparison.improved_limit), color="C2", linestyle=":",
                    label=rf"improved, $\ell \to \infty$: |{comparison.improved_limit:.1e}|")
     ax.set_xlabel(r"rings $\ell$")
-    ax.set_ylabel("|E_graph - E_cont| / |E_graph|")
+    ax.set_ylabel("|E_graph − E_cont| / |E_graph|")
     ax.legend(fontsize="x-small")
     return ax
 

@@ -73,15 +73,22 @@ def continuum_curves(p: int, q: int, rings: int, fluxes, levels: int = 6) -> tup
 
 def butterfly_figure(result: Butterfly, *, continuum: bool = True, max_flux: float = 0.3, points: int = 13,
                      levels: int = 6, ax=None, path=None, density: bool = False,
-                     energy_bins: int = 480) -> Axes:
+                     energy_bins: int = 480, mirror: bool = False, zoom_ax=None) -> Axes:
     """The butterfly with the continuum levels overlaid; returns the axes.
 
     Every level against f, with, for a site flake, the ``levels`` lowest continuum Dirichlet levels
-    overlaid at ``0 <= f <= max_flux`` (red lines, ``points`` flux values).
+    overlaid at 0 ≤ f ≤ ``max_flux`` (red lines, ``points`` flux values).
 
     ``density=True`` draws the levels as a 2-D histogram image (one column per flux value,
-    ``energy_bins`` rows, grey scale ~ log(1 + levels per pixel)) instead of dots: with a few hundred
-    fluxes the gaps of the butterfly stay white where dots would merge into columns.
+    ``energy_bins`` rows, grey scale linear in the number of levels per pixel, black from the 98th
+    percentile of the non-empty pixels up) instead of dots: with a few hundred fluxes the gaps of the
+    butterfly stay white or light where dots would merge into columns, and the bands stand out
+    against the lone edge-state levels that cross the gaps of a flake.
+    ``mirror=True`` draws the levels computed at 0 ≤ f ≤ 1/2 a second time at 1 − f: on a site flake
+    the spectrum at 1 − f is the spectrum at f (f → −f is complex conjugation, f → f + 1 a gauge
+    transformation since every face is a p-gon), so half the fluxes give the whole period.
+    ``zoom_ax`` (with ``continuum``), a second axes, gets the band bottom at 0 ≤ f ≤ ``max_flux``
+    magnified: the lowest levels as dots beside the same continuum lines.
     ``path``, if given, is where the figure is saved (format by suffix).
 
     Parameters
@@ -104,12 +111,21 @@ def butterfly_figure(result: Butterfly, *, continuum: bool = True, max_flux: flo
         Draw the levels as a 2-D histogram image instead of dots (default False).
     energy_bins : int, optional
         Number of energy rows of the histogram image (default 480).
+    mirror : bool, optional
+        Also draw every level at 1 − f (default False); needs a site flake and 0 ≤ f ≤ 1/2.
+    zoom_ax : matplotlib.axes.Axes, optional
+        Where to draw the band bottom magnified with the continuum levels (default: not drawn).
 
     Returns
     -------
     matplotlib.axes.Axes
         The axes: f horizontal, E / t vertical, the levels as dots or as an image, and the continuum
         levels as red lines with a legend.
+
+    Raises
+    ------
+    ValueError
+        If ``mirror`` is asked for a line graph or for fluxes outside [0, 1/2].
 
     See Also
     --------
@@ -128,37 +144,79 @@ def butterfly_figure(result: Butterfly, *, continuum: bool = True, max_flux: flo
     >>> ax = butterfly_figure(bf, continuum=False, density=True, energy_bins=40)
     >>> ax.get_title(), len(ax.images)
     ('{7,3} flake, 2 rings, 35 sites, 3 fluxes', 1)
+    >>> ax = butterfly_figure(hl.butterfly(hl.ring_lattice(7, 3, 2), [0.0, 0.25, 0.5]), continuum=False,
+    ...                       density=True, energy_bins=40, mirror=True)
+    >>> ax.get_title(), [float(x) for x in ax.get_xlim()]
+    ('{7,3} flake, 2 rings, 35 sites, 5 fluxes', [-0.125, 1.125])
     >>> plt.close("all")
     """
+    f = np.asarray(result.fluxes, dtype=float)
+    e = np.asarray(result.energies, dtype=float)
+    if mirror:
+        if result.kind != "sites":
+            raise ValueError("mirror needs a site flake: on a line graph one more flux quantum per p-gon is "
+                             "not a gauge transformation (its triangles carry flux too).")
+        if float(f.min()) < 0.0 or float(f.max()) > 0.5:
+            raise ValueError(f"mirror needs fluxes in [0, 1/2], got {float(f.min()):g} to {float(f.max()):g}.")
+        keep = f < 0.5  # f = 1/2 is its own mirror image
+        f, e = np.concatenate([f, 1.0 - f[keep]]), np.concatenate([e, e[keep]])
+        order = np.argsort(f, kind="stable")
+        f, e = f[order], e[order]
     ax = new_axes(ax, size=(7.0, 5.0))
     if density:
-        f = np.asarray(result.fluxes, dtype=float)
-        e = np.asarray(result.energies, dtype=float)
         step = (f[-1] - f[0]) / max(f.size - 1, 1) or 1.0
         f_edges = np.linspace(f[0] - step / 2, f[-1] + step / 2, f.size + 1)
         lo, hi = float(e.min()), float(e.max())
         pad = 0.01 * (hi - lo)
         e_edges = np.linspace(lo - pad, hi + pad, int(energy_bins) + 1)
         counts, _, _ = np.histogram2d(np.repeat(f, e.shape[1]), e.ravel(), bins=(f_edges, e_edges))
-        ax.imshow(np.log1p(counts.T), origin="lower", aspect="auto", cmap="Greys", interpolation="nearest",
-                  extent=(f_edges[0], f_edges[-1], e_edges[0], e_edges[-1]), rasterized=True)
+        # linear, saturated at the 98th percentile: a lone edge level in a gap stays light grey,
+        # a band is black (a log scale made both mid-grey)
+        vmax = max(float(np.percentile(counts[counts > 0], 98)), 1.0)
+        ax.imshow(counts.T, origin="lower", aspect="auto", cmap="Greys", interpolation="nearest", vmin=0.0,
+                  vmax=vmax, extent=(f_edges[0], f_edges[-1], e_edges[0], e_edges[-1]), rasterized=True)
         ax.set_xlabel("flux f per p-gon")
         ax.set_ylabel("energy E / t")
         ax.set_title(f"{{{result.p},{result.q}}} flake, {result.rings} rings, {result.sites:,} sites, "
                      f"{f.size} fluxes")
     else:
         result.plot(ax=ax)
+        if mirror:
+            ax.scatter(np.repeat(1.0 - result.fluxes[result.fluxes < 0.5], e.shape[1]),
+                       result.energies[result.fluxes < 0.5].ravel(), s=0.3, c="k", linewidths=0, rasterized=True)
     if continuum and result.kind == "sites":
         f, e = continuum_curves(result.p, result.q, result.rings, np.linspace(0.0, max_flux, points), levels)
         for k in range(e.shape[1]):
             ax.plot(f, e[:, k], color="tab:red", lw=0.9, label="continuum (Dirichlet disk)" if k == 0 else None)
         ax.legend(loc="upper right", fontsize=8)
+        if zoom_ax is not None:
+            _band_bottom(zoom_ax, result, f, e, max_flux)
     if path is not None:
         import matplotlib.pyplot as plt
 
         ax.figure.savefig(path, dpi=150)
         plt.close(ax.figure)
     return ax
+
+
+def _band_bottom(inset: Axes, result: Butterfly, f: np.ndarray, e: np.ndarray, max_flux: float) -> Axes:
+    """The levels at 0 ≤ f ≤ max_flux near the band bottom as dots and the continuum levels ``e`` at
+    ``f`` as red lines, on ``inset`` (the whole butterfly squeezes both into a corner)."""
+    fl = np.asarray(result.fluxes, dtype=float)
+    sel = (fl >= 0.0) & (fl <= max_flux)
+    lo = float(np.min(result.energies[sel, 0])) if sel.any() else float(np.min(e))
+    hi = float(np.max(e)) + 0.35 * (float(np.max(e)) - lo)
+    en = np.asarray(result.energies, dtype=float)[sel]
+    rows, cols = np.nonzero(en <= hi)
+    inset.scatter(fl[sel][rows], en[rows, cols], s=1.5, c="k", linewidths=0, rasterized=True)
+    for k in range(e.shape[1]):
+        inset.plot(f, e[:, k], color="tab:red", lw=0.9)
+    inset.set_xlim(0.0, max_flux)
+    inset.set_ylim(lo - 0.05 * (hi - lo), hi)
+    inset.set_xlabel("flux f per p-gon")
+    inset.set_ylabel("energy E / t")
+    inset.set_title("band bottom: flake levels (dots),\ncontinuum Dirichlet levels (red)", fontsize=9)
+    return inset
 
 
 def error_map(fluxes, ells, rel_error, *, ax: Axes | None = None, title: str = "") -> Axes:

@@ -5,6 +5,7 @@ Each function takes an optional matplotlib ``ax`` and returns the axes it drew o
 
 from __future__ import annotations
 
+import re
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -21,6 +22,12 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
 __all__ = ["draw_radial_profile", "plot_frame_angles", "draw_operator_profile", "plot_formal_operator", "plot_convergence", "plot_counting"]
+
+
+def _shown(name: str) -> str:
+    """A test function's name as the figure shows it: cos(pi d(z,0)) -> cos(π d(z,0)) (the name
+    itself, stored in results and accepted by the CLI, stays ASCII)."""
+    return re.sub(r"\bpi\b", "π", name)
 
 
 def _axes(ax, size=(6.0, 4.2)) -> Axes:
@@ -141,7 +148,7 @@ def draw_operator_profile(profile: OperatorProfile, ax: Axes | None = None) -> A
     >>> from hyperlattice.plots.scaling import draw_operator_profile
     >>> ax = draw_operator_profile(operator_profile(hl.ring_lattice(7, 3, 3)))
     >>> ax.get_title(), len(ax.lines)
-    ('f = cos(pi d(z,0)),  h = 0.275798', 3)
+    ('f = cos(π d(z,0)),  h = 0.275798', 3)
     >>> plt.close("all")
     """
     ax = _axes(ax)
@@ -155,7 +162,7 @@ def draw_operator_profile(profile: OperatorProfile, ax: Axes | None = None) -> A
     ax.plot(exact.distance, exact.mean, "o", mfc="none", mec="k", ms=6, label=r"$\hat A_h f$, " + cite("adj34"))
     ax.set_xlabel(r"$d(r,0)$", fontsize=12)
     ax.set_ylabel(fr"$\hat A_h f - {profile.q}f$", fontsize=12)
-    ax.set_title(f"f = {profile.function},  h = {profile.h:.6g}", fontsize=12)
+    ax.set_title(f"f = {_shown(profile.function)},  h = {profile.h:.6g}", fontsize=12)
     ax.tick_params(labelsize=10)
     ax.legend(fontsize=9)
     return ax
@@ -190,7 +197,7 @@ def plot_formal_operator(lattice: Lattice | FrameAngles | None = None, h: float 
     >>> import hyperlattice as hl
     >>> from hyperlattice.plots.scaling import plot_formal_operator
     >>> plot_formal_operator(hl.ring_lattice(7, 3, 3), h=0.15).get_title()
-    'f = cos(pi d(z,0)),  h = 0.15'
+    'f = cos(π d(z,0)),  h = 0.15'
     >>> plt.close("all")
     """
     angles = lattice if isinstance(lattice, FrameAngles) else frame_angles(
@@ -238,7 +245,7 @@ def plot_convergence(study: ConvergenceStudy, ax: Axes | None = None) -> Axes:
         ax.loglog(h, ref, "--", color=color, lw=1, label=fr"$h^{{{study.expected[k]}}}$")
     ax.set_xlabel(r"$h$", fontsize=12)
     ax.set_ylabel(r"$\max_i|\hat A_h f - \hat A^{(k)}_h f|$", fontsize=12)
-    ax.set_title(fr"$\{{{study.p},{study.q}\}}$, f = {study.function}", fontsize=12)
+    ax.set_title(fr"$\{{{study.p},{study.q}\}}$, f = {_shown(study.function)}", fontsize=12)
     ax.legend(fontsize=9)
     return ax
 

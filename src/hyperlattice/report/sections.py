@@ -24,9 +24,10 @@ from .writers import Section, Table, fmt as _fmt, save_figure as _save_figure
 __all__ = ["geometry_section", "counts_section", "fig1_section", "spectrum_section", "open_question_text",
            "fig2_section", "green_section", "scaling_section", "magnetic_section"]
 
-#: The butterfly of the report: flake size and number of flux values in [0, 1]
-BUTTERFLY_RINGS = 4
-BUTTERFLY_FLUXES = 301
+#: The butterfly of the report: flake size and number of flux values computed in [0, 1/2] (every
+#: 1/800; the figure mirrors them to [1/2, 1], since E(1 − f) = E(f) on a site flake)
+BUTTERFLY_RINGS = 5
+BUTTERFLY_FLUXES = 401
 
 #: Flakes of the magnetic error map (the 1e-3 contour first appears at l = 6).
 MAGNETIC_RINGS = (3, 4, 5, 6, 7)
@@ -198,6 +199,12 @@ def fig1_section(out: Path) -> Section:
     return Section("The {7,3} lattice in the Poincaré disk", ("Fig1", "AppGraph"), [], [], [f], anchor="lattice")
 
 
+def _signed(value: float, spec: str) -> str:
+    """``value`` by ``spec`` with a true minus for its sign (the exponent's hyphen stays): −2.50e-01."""
+    text = format(value, spec)
+    return "−" + text[1:] if text.startswith("-") else text
+
+
 def open_question_text(trends: list[RelativeErrorTrend], worst_residual: float | None = None) -> list[str]:
     """Sentences on the paper's open question (App. ``AppSpec``), one per level, from the trends.
 
@@ -225,14 +232,14 @@ def open_question_text(trends: list[RelativeErrorTrend], worst_residual: float |
     >>> trend = relative_error_trend([1, 2, 3], [-2.0, -2.636405, -2.787], [-1.5, -2.570293, -2.77],
     ...                              level="E0")
     >>> print(open_question_text([trend])[0])
-    E₀: (E_graph − E_cont)/|E_graph| = -2.50e-01, -2.51e-02, -6.10e-03 for ℓ = 1–3. Its magnitude decreases monotonically over the computed range.
+    E₀: (E_graph − E_cont)/|E_graph| = −2.50e-01, −2.51e-02, −6.10e-03 for ℓ = 1–3. Its magnitude decreases monotonically over the computed range.
     >>> len(open_question_text([trend], worst_residual=1e-13))
     2
     """
     out = []
     for t in trends:
         parts = [f"{t.level[0]}{_SUB.get(t.level[1:], t.level[1:])}: (E_graph − E_cont)/|E_graph| = "
-                 + ", ".join(f"{v:+.2e}" for v in t.relative_error) + f" for ℓ = {t.rings[0]}–{t.rings[-1]}."]
+                 + ", ".join(_signed(v, "+.2e") for v in t.relative_error) + f" for ℓ = {t.rings[0]}–{t.rings[-1]}."]
         if t.sign_change is not None:
             a, b = t.sign_change
             move = "from below to above" if t.rising else "from above to below"
@@ -241,12 +248,14 @@ def open_question_text(trends: list[RelativeErrorTrend], worst_residual: float |
                          "level),")
             if t.saturates:
                 d1, d2 = t.increments
-                parts.append(f"then {grows} with shrinking increments ({d1:.1e}, {d2:.1e} over the last rings): it "
-                             f"saturates (Aitken estimate of the limit {t.aitken_limit:.2e}) instead of decreasing "
+                parts.append(f"then {grows} with shrinking increments ({_signed(d1, '.1e')}, {_signed(d2, '.1e')} "
+                             "over the last rings): it saturates (Aitken estimate of the limit "
+                             f"{_signed(t.aitken_limit, '.2e')}) instead of decreasing "
                              "to zero.")
             elif t.monotone:
                 d1, d2 = t.increments
-                parts.append(f"then {grows} without shrinking increments ({d1:.1e}, {d2:.1e} over the last "
+                parts.append(f"then {grows} without shrinking increments ({_signed(d1, '.1e')}, {_signed(d2, '.1e')} "
+                             "over the last "
                              "rings): no limit can be estimated within the computed range.")
             else:
                 parts.append("and does not settle into a monotone trend within the computed range.")
@@ -601,7 +610,8 @@ def green_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[s
 def magnetic_section(out: Path, progress: Callable[[str], None], cache: Cache | None = None) -> Section:
     """Beyond the paper: the hyperbolic Hofstadter butterfly and a graph-vs-continuum table with flux.
 
-    The l = 4 butterfly (301 flux values) with the continuum Dirichlet levels overlaid, the error map
+    The ℓ = 5 butterfly (401 flux values in [0, 1/2], mirrored to [1/2, 1]) drawn as a density of levels,
+    with the continuum Dirichlet levels overlaid and magnified in an inset, the error map
     of the two lowest levels over (f, l) for l = 3..7, and a short table of the levels at
     f = 0, 0.1, 0.2, 0.3 (small and fast).
 
@@ -646,17 +656,27 @@ def magnetic_section(out: Path, progress: Callable[[str], None], cache: Cache | 
     progress("beyond the paper: magnetic flux")
     from ..graph.flux import Butterfly
 
-    # 301 fluxes (every 1/300): enough columns for the gaps to show; about 3 s on the l = 4 flake, cached
-    key = {"p": 7, "q": 3, "rings": BUTTERFLY_RINGS, "fluxes": BUTTERFLY_FLUXES}
-    make = lambda: butterfly(ring_lattice(7, 3, BUTTERFLY_RINGS), np.linspace(0.0, 1.0, BUTTERFLY_FLUXES))  # noqa: E731
+    # 401 fluxes in [0, 1/2] (every 1/800, 801 columns once mirrored: about one per pixel of the
+    # printed figure) on the 847-site l = 5 flake: 13 s on the loaded 2-core machine, cached. l = 6
+    # (2,240 sites) costs 7x more per flux and l = 7 about 100x.
+    key = {"p": 7, "q": 3, "rings": BUTTERFLY_RINGS, "fluxes": BUTTERFLY_FLUXES, "flux_max": 0.5}
+    make = lambda: butterfly(ring_lattice(7, 3, BUTTERFLY_RINGS), np.linspace(0.0, 0.5, BUTTERFLY_FLUXES))  # noqa: E731
     bf = cache.get("butterfly", key, make, expect=Butterfly) if cache is not None else make()
-    fig, ax = plt.subplots(figsize=(7.0, 5.0), layout="constrained")
-    butterfly_figure(bf, continuum=True, max_flux=0.3, points=7, levels=4, ax=ax, density=True)
+    fig, (ax, zoom) = plt.subplots(1, 2, figsize=(9.5, 5.6), layout="constrained", width_ratios=(3, 1))
+    # 240 energy rows: about 2 pixels each at the printed size, several levels per row in a band
+    butterfly_figure(bf, continuum=True, max_flux=0.3, points=13, levels=4, ax=ax, density=True, energy_bins=240,
+                     mirror=True, zoom_ax=zoom)
     figs = [_save_figure(fig, out, "butterfly", f"Hyperbolic Hofstadter butterfly of the ℓ = {bf.rings} {{7,3}} "
-                         f"flake ({bf.sites} sites): all levels at {bf.fluxes.size} flux values f ∈ [0, 1] (flux "
-                         "quanta per heptagon, sector by sector), drawn as a density (grey ∝ log(1 + levels per "
-                         "pixel); white = no level: the gaps), with the 4 lowest continuum Dirichlet levels of the "
-                         f"same disk (magnetic_levels, {cite('spec2')} with B = 2πf/A₇) in red for f ≤ 0.3.")]
+                         f"flake ({bf.sites} sites): all levels at {2 * bf.fluxes.size - 1} flux values f ∈ [0, 1] "
+                         "(flux quanta per heptagon, sector by sector; computed for f ≤ 1/2 and mirrored, since "
+                         "E(1 − f) = E(f) on a flake: f → −f is complex conjugation and f → f + 1 a gauge "
+                         "transformation), drawn as a density of levels (240 energy rows; grey linear in the "
+                         "number of levels per pixel, black from the 98th percentile). (a) The bands are dark; "
+                         "the gaps between them are white or crossed only by thin lines, the edge states of the "
+                         "flake (its outer ring holds more than half of its sites). Red: the 4 lowest continuum "
+                         f"Dirichlet levels of the same disk (magnetic_levels, {cite('spec2')} with B = 2πf/A₇) for "
+                         "f ≤ 0.3. (b) The band bottom magnified: the lowest levels of the flake (dots) and the "
+                         "same continuum levels.")]
     # l = 3..7: the 1e-3 contour first appears at l = 6 (docs/magnetic.md has l = 3..12)
     from ..compare.magnetic import MagneticComparison
 

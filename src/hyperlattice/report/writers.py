@@ -209,6 +209,9 @@ _PROSE = [(re.compile(a), b) for a, b in (
     (r"\b(in|as|all|large|finite|on|with|of|and|per|each|over) l\b(?![-'])", r"\1 ℓ"), (r"/l(?=²|\^)", "/ℓ"),
     (r" <= ", " ≤ "), (r" >= ", " ≥ "), (r" >> ", " ≫ "), (r" << ", " ≪ "), (r" -> ", " → "), (r" \+- ", " ± "),
     (r"(?<=\d)\.\.(?=\d)", "–"), (r"(?<=\d)\.\.(?=-)", " to "),
+    # a true minus: before a number that follows a space, bracket, '=', ',', ':' or '/' (not 1e-3, not
+    # a range 3-12, not a flag), and between two terms of a difference
+    (r"(?:^|(?<=[\s(\[=,:;/]))-(?=\.?\d)", "−"), (r"(?<=[\w)\]}|]) - (?=[\w(\[{|])", " − "),
 )]
 
 

@@ -1,0 +1,184 @@
+"""Text a reader sees uses symbols, not ASCII maths (issue 21, item 3).
+
+The ``statement()`` sentences of real (small) results, the texts of real figures (titles, axis
+labels, legends, annotations) and every literal string the figure code of ``plots/`` and
+``report/`` hands to matplotlib are scanned for ASCII maths such as ``l = 5``, ``rho``, ``E_inf``,
+``omega``, ``m^2``, ``<=`` or ``+-``. Mathtext (``$...$``) and code spans (backticks) are left out:
+matplotlib typesets the first, the second are commands and file names.
+"""
+
+from __future__ import annotations
+
+import ast
+import dataclasses
+import re
+from pathlib import Path
+
+import matplotlib
+import numpy as np
+import pytest
+
+import hyperlattice
+from hyperlattice.graph.lattice import ring_lattice
+
+matplotlib.use("Agg")
+
+#: ASCII maths -> what the reader should see instead (the reason printed on failure)
+ASCII_MATHS = [
+    (r"\bl ?(?:=|<=|>=|<|>) ?[-\d{(]", "ℓ for the ring number"),
+    (r"\bl=", "ℓ = for the ring number"),
+    (r"\brho\b", "ρ"), (r"\bE_inf\b", "E∞"), (r"\bomega(?:_q)?\b", "ω"), (r"\bDelta(?:_g)?\b", "Δ"),
+    (r"\bxi\b", "ξ"), (r"\bmu\b", "μ"), (r"\bnu\b", "ν"), (r"\blambda\b", "λ"), (r"\btheta\b", "θ"),
+    (r"\bsqrt\b", "√"), (r"\bpi\b", "π"), (r"\binfinity\b", "∞"),
+    # a power that is a number (m^2, f^1.5, x^-1); an expression in brackets, ^(1/2), stays readable
+    (r"\^-?[\d.]", "a superscript (², ⁻¹)"), (r"<=", "≤"), (r">=", "≥"), (r"\+-", "±"), (r"~=", "≈"),
+    (r"->", "→"), (r"(?<![\w{])[dEG][01](?![\w.])", "a subscript (d₀, E₀, E₁, G₀)"), (r"\bL2\b", "L²"),
+    (r"(?<=[\w)}]) - (?=[\w({|])", "− for a difference"),
+    (r"(?:^|[\s(\[=,])-(?=\.?\d)", "− (a true minus) before a number"),
+]
+_PATTERNS = [(re.compile(a), b) for a, b in ASCII_MATHS]
+
+
+def _readable(text: str) -> str:
+    """``text`` without mathtext ($...$, typeset by matplotlib) and code spans (`...`)."""
+    text = re.sub(r"(?<!\\)\$[^$]*(?<!\\)\$", " ", text)
+    return re.sub(r"`[^`]*`", " ", text)
+
+
+def ascii_maths(text: str) -> list[str]:
+    """The ASCII-maths findings in ``text``, as ``'match' (use ...)`` strings."""
+    plain = _readable(text)
+    return [f"{m.group(0)!r} (use {why})" for pat, why in _PATTERNS for m in pat.finditer(plain)]
+
+
+@pytest.mark.parametrize("text, bad", [
+    ("E0(l) -> E_inf as l -> infinity", True), ("rho = 2.94 +- 0.01", True), ("l = 5", True), ("l=3: never", True),
+    ("m^2 = -1", True), ("f <= 0.3", True), ("omega_q", True), ("Delta_g", True), ("E = -2.5", True),
+    ("E₀(ℓ) → E∞ as ℓ → ∞", False), ("ρ = 2.94 ± 0.01", False), ("$m^2 = -1$, $\\omega$", False),
+    ("run `hyperlattice spectrum -l 2 --rho`", False), ("Mott lobe n = 1", False), ("E = −2.5, 1.9e-02", False),
+    ("fit - data", True), ("relative L2 distance", True), ("flux f per p-gon", False), ("E − E_b", False),
+    ("{7,3} flake, 5 rings", False), ("the lattice's E(ν)", False),
+])
+def test_the_scan_finds_ascii_maths(text, bad):
+    assert bool(ascii_maths(text)) is bad, (text, ascii_maths(text))
+
+
+# ----------------------------------------------------------------------------
+# statement() of real results
+# ----------------------------------------------------------------------------
+
+def _statements():
+    from hyperlattice.compare.boundary import lattice_bf_bound
+    from hyperlattice.compare.dos import dos_comparison
+    from hyperlattice.compare.magnetic import magnetic_comparison
+
+    bf = lattice_bf_bound(7, 3, rings=(3, 4))
+    yield "LatticeBFBound", bf.statement()
+    # the other branch: a lattice bound below the continuum one
+    yield "LatticeBFBound (below)", dataclasses.replace(bf, e0=np.array([-2.95, -2.96])).statement()
+    cmp = magnetic_comparison(7, 3, rings=[3, 4], fluxes=[0.0, 0.1, 0.2], levels=2)
+    yield "MagneticComparison", cmp.statement()
+    yield "MagneticComparison (loose)", cmp.statement(threshold=0.05)
+    dos = dos_comparison(7, 3, clusters=("klein",), rings=(4,), moments=32, vectors=3, abelian=False,
+                         walk_length=11, resolution=20)
+    yield "DosComparison", dos.statement()
+
+
+def test_every_statement_of_the_package_is_exercised():
+    """Each class with a statement() is in _statements(): a new one must be added there."""
+    import ast as _ast
+
+    owners = set()
+    for path in Path(hyperlattice.__file__).parent.rglob("*.py"):
+        for node in _ast.walk(_ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, _ast.ClassDef) and any(isinstance(b, _ast.FunctionDef) and b.name == "statement"
+                                                       for b in node.body):
+                owners.add(node.name)
+    covered = {name.split(" ")[0] for name, _ in _statements()}
+    assert owners == covered
+
+
+def test_statements_use_symbols():
+    found = {name: ascii_maths(text) for name, text in _statements()}
+    assert not {k: v for k, v in found.items() if v}, found
+
+
+# ----------------------------------------------------------------------------
+# figures
+# ----------------------------------------------------------------------------
+
+#: matplotlib calls whose string arguments are read on the figure
+_TEXT_CALLS = {"set_xlabel", "set_ylabel", "set_title", "suptitle", "text", "annotate", "colorbar", "set_label",
+               "figtext", "legend"}
+
+
+def _pieces(node) -> list[str]:
+    """The literal text of a string or f-string node (formatted values as '{}')."""
+    if isinstance(node, ast.Constant) and isinstance(node.value, str):
+        return [node.value]
+    if isinstance(node, ast.JoinedStr):
+        return ["".join(v.value if isinstance(v, ast.Constant) else "{}" for v in node.values)]
+    if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Add):
+        return _pieces(node.left) + _pieces(node.right)
+    if isinstance(node, ast.IfExp):
+        return _pieces(node.body) + _pieces(node.orelse)
+    return []
+
+
+def _figure_literals():
+    """(file:line, text) of every literal handed to matplotlib as reader text in plots/ and report/."""
+    root = Path(hyperlattice.__file__).parent
+    for path in sorted([*root.joinpath("plots").glob("*.py"), *root.joinpath("report").glob("*.py")]):
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        for node in ast.walk(tree):
+            if not isinstance(node, ast.Call):
+                continue
+            name = node.func.attr if isinstance(node.func, ast.Attribute) else getattr(node.func, "id", "")
+            args = list(node.args) if name in _TEXT_CALLS else []
+            args += [k.value for k in node.keywords if k.arg in ("label", "title")]
+            for a in args:
+                for text in _pieces(a):
+                    yield f"{path.name}:{node.lineno}", text
+
+
+def test_figure_text_literals_use_symbols():
+    found = {where: ascii_maths(text) for where, text in _figure_literals()}
+    assert not {k: v for k, v in found.items() if v}, {k: v for k, v in found.items() if v}
+
+
+def _texts(fig) -> list[str]:
+    from matplotlib.text import Text
+
+    return [t.get_text() for t in fig.findobj(Text) if t.get_text()]
+
+
+def _figures():
+    import matplotlib.pyplot as plt
+
+    from hyperlattice.compare.boundary import lattice_bf_bound
+    from hyperlattice.compare.magnetic import magnetic_comparison
+    from hyperlattice.graph.flux import butterfly
+    from hyperlattice.plots.magnetic import butterfly_figure, error_map
+
+    fig, (ax, zoom) = plt.subplots(1, 2)
+    butterfly_figure(butterfly(ring_lattice(7, 3, 3), np.linspace(0.0, 0.5, 6)), points=3, levels=2, ax=ax,
+                     density=True, mirror=True, zoom_ax=zoom)
+    yield "butterfly_figure", fig
+    yield "error_map", error_map([0.0, 0.1], [3, 4], [[1e-2, 1e-4], [1e-5, 1e-2]]).figure
+    yield "MagneticComparison.plot", magnetic_comparison(7, 3, rings=[3], fluxes=[0.0, 0.1], levels=2).plot().figure
+    yield "LatticeBFBound.plot", lattice_bf_bound(7, 3, rings=(3, 4)).plot().figure
+    lat = ring_lattice(7, 3, 2)
+    yield "Lattice.plot", lat.plot().figure
+    yield "Spectrum.plot", hyperlattice.lowest_levels(lat, 3).plot().figure
+
+
+def test_figure_texts_use_symbols():
+    import matplotlib.pyplot as plt
+
+    found = {}
+    for name, fig in _figures():
+        bad = [f for t in _texts(fig) for f in ascii_maths(t)]
+        if bad:
+            found[name] = bad
+        plt.close(fig)
+    assert not found, found
