@@ -36,6 +36,11 @@ line or the next list item) or before a ```text fence:
                                           read in order, must hold all its printed numbers and no
                                           others, each within one unit of its last quoted digit
                                           (the ``# =>`` rule below)
+    <!-- doctest: numbers except-columns=7,8 -->  before a Markdown table: the table rows the
+                                          previous example prints (its lines starting with
+                                          ``|``), columns 7 and 8 (1-based: times, residuals that
+                                          vary by machine) left out of both; the only numbers
+                                          block after its example
     <!-- doctest: timing COMMAND -->      the block quotes measured times (or ratios of times):
                                           never checked; COMMAND, required, regenerates them
                                           (a ``benchmarks/NAME.py`` it names must exist)
@@ -123,6 +128,7 @@ class Spec:
     expected: Expected | None = None
     path: str = ""
     numbers: list = field(default_factory=list)   # [(text, line)] of its ``doctest: numbers`` blocks
+    except_columns: tuple | None = None           # a numbers table compared without these columns
 
 
 # ------------------------------------------------------------------------------------------------
@@ -173,8 +179,15 @@ def _parse_block_directive(word: str, rest: str, text: str, end: int, where: str
             if not (ROOT / script).is_file():
                 raise DocExampleError(f"{where}: 'doctest: timing' names {script}, which does not exist.")
         return None
+    columns = None
     if rest:
-        raise DocExampleError(f"{where}: 'doctest: numbers' takes no arguments, not {rest!r}.")
+        name, sep, value = rest.partition("=")
+        if name != "except-columns" or not re.fullmatch(r"\d+(,\d+)*", value):
+            raise DocExampleError(f"{where}: 'doctest: numbers' takes only except-columns=N,M, not {rest!r}.")
+        columns = tuple(int(v) for v in value.split(","))
+        if not all(line.lstrip().startswith("|") for line in block.splitlines()):
+            raise DocExampleError(f"{where}: 'doctest: numbers except-columns=...' goes before a table.")
+        block = table_without(block, columns)
     if block.lstrip().startswith("```"):
         body = block.split("\n")[1:-1]
         if block.lstrip()[3:].split("\n", 1)[0].strip() not in OUTPUT_LANGUAGES:
@@ -182,7 +195,18 @@ def _parse_block_directive(word: str, rest: str, text: str, end: int, where: str
         block = "\n".join(body)
     if not _QUOTED.findall(block):
         raise DocExampleError(f"{where}: the block after 'doctest: numbers' quotes no number.")
-    return block, _line_of(text, start)
+    return block, _line_of(text, start), columns
+
+
+def table_without(text: str, columns) -> str:
+    """The Markdown table rows of ``text`` (lines starting with ``|``) without the given 1-based
+    columns; other lines are dropped."""
+    rows = []
+    for line in text.splitlines():
+        if line.lstrip().startswith("|"):
+            cells = line.strip().strip("|").split("|")
+            rows.append("| " + " | ".join(c.strip() for k, c in enumerate(cells, 1) if k not in columns) + " |")
+    return "\n".join(rows)
 
 
 def _parse_options(arguments: str, where: str, options: Options) -> None:
@@ -243,7 +267,12 @@ def parse_markdown(document: Document):
                     if last_spec is None:
                         raise DocExampleError(f"{where}: 'doctest: numbers' must follow the example "
                                               "that prints them.")
-                    last_spec.numbers.append(quoted)
+                    block, line, columns = quoted
+                    if (columns is not None and last_spec.numbers) or last_spec.except_columns is not None:
+                        raise DocExampleError(f"{where}: a 'doctest: numbers except-columns=...' table "
+                                              "must be the only numbers block after its example.")
+                    last_spec.numbers.append((block, line))
+                    last_spec.except_columns = columns
                 continue
             pending = pending or Options()
             _parse_options(region.lexemes["arguments"], where, pending)
@@ -495,6 +524,8 @@ def evaluate(example) -> str | None:
             return f"{spec.path}:{spec.expected.line}: the quoted output differs: {message}"
     if spec.numbers:
         lines = ", ".join(str(line) for _, line in spec.numbers)
+        if spec.except_columns is not None:
+            printed = table_without(printed, spec.except_columns)
         message = check_printed_numbers("\n".join(text for text, _ in spec.numbers), printed)
         if message is not None:
             return (f"{spec.path}:{lines}: the numbers of the 'doctest: numbers' blocks are not the "

@@ -33,15 +33,15 @@ def _examples():
     return params
 
 
-#: stored results the pages read as from the repository root (copied: a command that regenerates
-#: them writes into the copy, never into the checkout)
-STORED = ("docs/data", "docs/img")
+#: what the pages use as from the repository root: the benchmark scripts and the stored results
+#: (copied: a command that regenerates them writes into the copy, never into the checkout)
+STORED = ("benchmarks", "docs/data", "docs/img")
 
 
 def _page_dir(tmp_path_factory, name):
     path = tmp_path_factory.mktemp(Path(name).stem)
     for stored in STORED:
-        shutil.copytree(ROOT / stored, path / stored)
+        shutil.copytree(ROOT / stored, path / stored, ignore=shutil.ignore_patterns("__pycache__"))
     return path
 
 
@@ -183,6 +183,10 @@ def test_fresh_namespace_unless_continued(tmp_path):
     "<!-- doctest: timing -->\n```text\n1.2 s\n```\n",               # timing without its command
     "<!-- doctest: timing python benchmarks/bench_nothing.py -->\nIn 1.2 s.\n",  # no such script
     "```python\npass\n```\n<!-- doctest: slow -->\n<!-- doctest: numbers -->\nIt is 1.\n",
+    "```python\nprint(1)\n```\n<!-- doctest: numbers except-columns=2 -->\nIt is 1.\n",  # not a table
+    "```python\nprint(1)\n```\n<!-- doctest: numbers columns=2 -->\n| 1 |\n",          # unknown option
+    "```python\nprint(1)\n```\n<!-- doctest: numbers -->\nIt is 1.\n\n"
+    "<!-- doctest: numbers except-columns=2 -->\n| 1 | 2 |\n",                       # not the only block
 ])
 def test_bad_annotations_are_refused(tmp_path, page):
     path = tmp_path / "page.md"
@@ -317,3 +321,30 @@ def test_a_broken_number_fails(tmp_path, old, new, message):
     results = _run_page(tmp_path, NUMBERS.replace(old, new, 1))
     assert results[0][0] == "failed" and message in str(results[0][1]), results[0]
     assert "the example at line 4 prints" in str(results[0][1])
+
+
+TABLE = """\
+```python
+print("<!-- machine: 2 cores, numpy 2.4.6 -->")
+print("| n | n² | time [s] |")
+print("|---|---|---|")
+for n in (2, 3):
+    print(f"| {n} | {n * n} | {0.1 * n:.2f} |")
+```
+
+<!-- doctest: numbers except-columns=3 -->
+| n | n² | time [s] |
+|---|---|---|
+| 2 | 4 | 0.55 |
+| 3 | 9 | 0.01 |
+"""
+
+
+@pytest.mark.parametrize("old, new, ok", [
+    ("", "", True),                                                  # times differ, not compared
+    ("| 3 | 9 |", "| 3 | 8 |", False),                              # a broken number
+    ("| 3 | 9 | 0.01 |\n", "| 3 | 9 | 0.01 |\n| 4 | 16 | 0.01 |\n", False),   # a row never printed
+])
+def test_numbers_table_except_columns(tmp_path, old, new, ok):
+    results = _run_page(tmp_path, TABLE.replace(old, new) if old else TABLE)
+    assert (results[0][0] == "passed") is ok, results
