@@ -15,7 +15,8 @@ Which fences run
                                        virtualenv first on PATH, in a temporary directory, and
                                        must exit with 0; in ```console only ``$ `` lines are
                                        commands, the other lines are their output, compared
-    anything else (```text, plain ```, ```{toctree}, ...) is prose and never runs.
+    anything else (```text, ```{toctree}, ...) is prose and never runs; a fence without a
+    language (plain ```) fails the page's collection: write ```text for what is not an example.
 
 Comments placed directly before a fence (only blank lines between; several may stack):
     <!-- doctest: continue -->            Python: run in the namespace of the page's previous
@@ -28,11 +29,28 @@ Comments placed directly before a fence (only blank lines between; several may s
                                           prints (stdout), numbers compared within the tolerances,
                                           all other text word for word (whitespace runs equal)
 
+Comments placed directly before a paragraph, list item or table (its lines up to the next blank
+line or the next list item) or before a ```text fence:
+    <!-- doctest: numbers -->             the numbers of that block are numbers the page's previous
+                                          example prints: the marked blocks after one example,
+                                          read in order, must hold all its printed numbers and no
+                                          others, each within one unit of its last quoted digit
+                                          (the ``# =>`` rule below)
+    <!-- doctest: numbers except-columns=7,8 -->  before a Markdown table: the table rows the
+                                          previous example prints (its lines starting with
+                                          ``|``), columns 7 and 8 (1-based: times, residuals that
+                                          vary by machine) left out of both; the only numbers
+                                          block after its example
+    <!-- doctest: timing COMMAND -->      the block quotes measured times (or ratios of times):
+                                          never checked; COMMAND, required, regenerates them
+                                          (a ``benchmarks/NAME.py`` it names must exist)
+
 Inside a Python block, a top-level expression whose line ends in ``# => QUOTED`` is checked: the
 numbers of QUOTED (words between them are labels and are ignored) must equal, in order and in
 number, the numbers of the expression's value (tuples, lists, dicts' values and arrays
-flattened), each within one unit of its last quoted digit (``0.283128...`` or ``0.283128`` both
-mean |x - 0.283128| <= 1e-6); a quoted integer must match exactly. A ``;`` ends QUOTED: what
+flattened, a complex number as its real and imaginary parts, a string as the numbers in it),
+each within one unit of its last quoted digit (``0.283128...`` or ``0.283128`` both mean
+|x - 0.283128| <= 1e-6); a quoted integer must match exactly. A ``;`` ends QUOTED: what
 follows is a remark, never checked (``# => b = -9.0954; N(r) ~ 14 rho + b``).
 
 A comment that is not followed by a fence, or an unknown word, fails the page's collection:
@@ -53,7 +71,7 @@ import re
 import subprocess
 import sys
 import tokenize
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from sybil import Document, Region
@@ -62,7 +80,7 @@ from sybil.parsers.markdown.lexers import DirectiveInHTMLCommentLexer, RawFenced
 ROOT = Path(__file__).resolve().parents[1]
 PYTHON_LANGUAGES = frozenset({"python", "py"})
 SHELL_LANGUAGES = frozenset({"bash", "sh", "shell", "console"})
-OUTPUT_LANGUAGES = frozenset({"text", ""})
+OUTPUT_LANGUAGES = frozenset({"text"})
 #: a shell line running longer than this is a failure, not a hang (heavy examples get more)
 SHELL_TIMEOUT = 900
 HEAVY_SHELL_TIMEOUT = 4 * 3600
@@ -109,6 +127,8 @@ class Spec:
     options: Options
     expected: Expected | None = None
     path: str = ""
+    numbers: list = field(default_factory=list)   # [(text, line)] of its ``doctest: numbers`` blocks
+    except_columns: tuple | None = None           # a numbers table compared without these columns
 
 
 # ------------------------------------------------------------------------------------------------
@@ -121,6 +141,72 @@ _DIRECTIVES = DirectiveInHTMLCommentLexer(directive="doctest", arguments=r"[^\n]
 
 def _line_of(text: str, position: int) -> int:
     return text.count("\n", 0, position) + 1
+
+
+_BLOCK_DIRECTIVES = ("numbers", "timing")
+
+
+def _following_block(text: str, end: int) -> tuple[str, int]:
+    """The block after a comment ending at ``end``: its lines up to a blank line or the next list
+    item (a fence: up to its closing fence), and its first line's position."""
+    lines = text[end:].split("\n")
+    k = 1 if lines and not lines[0].strip() else 0   # the rest of the comment's own line
+    while k < len(lines) and not lines[k].strip():
+        k += 1
+    start = end + sum(len(line) + 1 for line in lines[:k])
+    block = []
+    fence = k < len(lines) and lines[k].lstrip().startswith("```")
+    for j in range(k, len(lines)):
+        line = lines[j]
+        if not fence and (not line.strip() or (block and line.lstrip().startswith(("- ", "* ")))):
+            break
+        block.append(line)
+        if fence and j > k and line.strip() == "```":
+            break
+    return "\n".join(block), start
+
+
+def _parse_block_directive(word: str, rest: str, text: str, end: int, where: str):
+    block, start = _following_block(text, end)
+    if not block.strip() or block.lstrip().startswith("<!--"):
+        raise DocExampleError(f"{where}: 'doctest: {word}' must be followed by a paragraph, a table "
+                              "or a ```text fence.")
+    if word == "timing":
+        if not rest:
+            raise DocExampleError(f"{where}: 'doctest: timing' needs the command that regenerates "
+                                  "the times.")
+        for script in re.findall(r"benchmarks/\w+\.py", rest):
+            if not (ROOT / script).is_file():
+                raise DocExampleError(f"{where}: 'doctest: timing' names {script}, which does not exist.")
+        return None
+    columns = None
+    if rest:
+        name, sep, value = rest.partition("=")
+        if name != "except-columns" or not re.fullmatch(r"\d+(,\d+)*", value):
+            raise DocExampleError(f"{where}: 'doctest: numbers' takes only except-columns=N,M, not {rest!r}.")
+        columns = tuple(int(v) for v in value.split(","))
+        if not all(line.lstrip().startswith("|") for line in block.splitlines()):
+            raise DocExampleError(f"{where}: 'doctest: numbers except-columns=...' goes before a table.")
+        block = table_without(block, columns)
+    if block.lstrip().startswith("```"):
+        body = block.split("\n")[1:-1]
+        if block.lstrip()[3:].split("\n", 1)[0].strip() not in OUTPUT_LANGUAGES:
+            raise DocExampleError(f"{where}: 'doctest: numbers' goes before prose or a ```text fence.")
+        block = "\n".join(body)
+    if not _QUOTED.findall(block):
+        raise DocExampleError(f"{where}: the block after 'doctest: numbers' quotes no number.")
+    return block, _line_of(text, start), columns
+
+
+def table_without(text: str, columns) -> str:
+    """The Markdown table rows of ``text`` (lines starting with ``|``) without the given 1-based
+    columns; other lines are dropped."""
+    rows = []
+    for line in text.splitlines():
+        if line.lstrip().startswith("|"):
+            cells = line.strip().strip("|").split("|")
+            rows.append("| " + " | ".join(c.strip() for k, c in enumerate(cells, 1) if k not in columns) + " |")
+    return "\n".join(rows)
 
 
 def _parse_options(arguments: str, where: str, options: Options) -> None:
@@ -169,6 +255,25 @@ def parse_markdown(document: Document):
         if kind == "directive":
             if pending is not None and text[pending_end:start].strip():
                 raise DocExampleError(f"{where}: a doctest comment must be followed by a fence.")
+            words = region.lexemes["arguments"].strip().split(None, 1)
+            if words and words[0] in _BLOCK_DIRECTIVES:
+                if pending is not None:
+                    raise DocExampleError(f"{where}: 'doctest: {words[0]}' does not stack with "
+                                          "other doctest comments.")
+                end = text.find("-->", start) + 3
+                quoted = _parse_block_directive(words[0], words[1].strip() if len(words) > 1 else "",
+                                                text, end, where)
+                if quoted is not None:
+                    if last_spec is None:
+                        raise DocExampleError(f"{where}: 'doctest: numbers' must follow the example "
+                                              "that prints them.")
+                    block, line, columns = quoted
+                    if (columns is not None and last_spec.numbers) or last_spec.except_columns is not None:
+                        raise DocExampleError(f"{where}: a 'doctest: numbers except-columns=...' table "
+                                              "must be the only numbers block after its example.")
+                    last_spec.numbers.append((block, line))
+                    last_spec.except_columns = columns
+                continue
             pending = pending or Options()
             _parse_options(region.lexemes["arguments"], where, pending)
             pending_end = text.find("-->", start) + 3
@@ -180,6 +285,9 @@ def parse_markdown(document: Document):
                                       "a doctest comment must be followed by a fence.")
             options, pending = pending, None
         language = region.lexemes["info"].strip().split(None, 1)[0] if region.lexemes["info"].strip() else ""
+        if not language:
+            raise DocExampleError(f"{where}: a fence without a language; an example gets its "
+                                  "language (```python, ```bash, ...), anything else ```text.")
         source = str(region.lexemes["source"])
         first_line = _line_of(text, start) + 1
         if options.output is not None:
@@ -258,7 +366,9 @@ def _flatten(value) -> list[float]:
     """The numbers of an expression's value, in reading order."""
     import numpy as np  # noqa: PLC0415
 
-    if isinstance(value, bool) or value is None or isinstance(value, str):
+    if isinstance(value, str):                    # a name such as 'PSL(2,197)' quotes its numbers
+        return [_to_float(token) for token in _QUOTED.findall(value)]
+    if isinstance(value, bool) or value is None:
         return []
     if isinstance(value, (int, float, np.integer, np.floating)):
         return [float(value)]
@@ -277,6 +387,16 @@ def check_quoted(quoted: str, value) -> str | None:
     """None if ``value`` carries the numbers quoted in ``quoted`` (see the module docstring)."""
     expected = _QUOTED.findall(quoted)
     got = _flatten(value)
+    return _check_numbers(expected, got, quoted, value)
+
+
+def check_printed_numbers(quoted: str, printed: str) -> str | None:
+    """None if the numbers of ``quoted`` are those of ``printed`` (a ``doctest: numbers`` check)."""
+    got = [_to_float(token) for token in _QUOTED.findall(printed)]
+    return _check_numbers(_QUOTED.findall(quoted), got, quoted, printed)
+
+
+def _check_numbers(expected: list[str], got: list[float], quoted: str, value) -> str | None:
     if len(expected) != len(got):
         return f"quoted {len(expected)} numbers ({quoted!r}), the value has {len(got)}: {value!r}"
     for token, y in zip(expected, got):
@@ -402,4 +522,12 @@ def evaluate(example) -> str | None:
         message = compare_output(spec.expected.text, printed, spec.expected.rtol, spec.expected.atol)
         if message is not None:
             return f"{spec.path}:{spec.expected.line}: the quoted output differs: {message}"
+    if spec.numbers:
+        lines = ", ".join(str(line) for _, line in spec.numbers)
+        if spec.except_columns is not None:
+            printed = table_without(printed, spec.except_columns)
+        message = check_printed_numbers("\n".join(text for text, _ in spec.numbers), printed)
+        if message is not None:
+            return (f"{spec.path}:{lines}: the numbers of the 'doctest: numbers' blocks are not the "
+                    f"ones the example at line {spec.line} prints: {message}")
     return None

@@ -8,6 +8,7 @@ comments; ``heavy`` items are deselected unless ``--run-heavy`` is given.
 """
 
 import os
+import shutil
 import textwrap
 from pathlib import Path
 
@@ -32,14 +33,27 @@ def _examples():
     return params
 
 
+#: what the pages use as from the repository root: the benchmark scripts and the stored results
+#: (copied: a command that regenerates them writes into the copy, never into the checkout)
+STORED = ("benchmarks", "docs/data", "docs/img")
+
+
+def _page_dir(tmp_path_factory, name):
+    path = tmp_path_factory.mktemp(Path(name).stem)
+    for stored in STORED:
+        shutil.copytree(ROOT / stored, path / stored, ignore=shutil.ignore_patterns("__pycache__"))
+    return path
+
+
 @pytest.fixture(scope="module")
 def page_dirs(tmp_path_factory):
-    """One working directory per page, and a private cache, so the user's is never touched."""
+    """One working directory per page, holding a copy of the stored results (``STORED``), and a
+    private cache, so neither the checkout nor the user's cache is touched."""
     cache = tmp_path_factory.mktemp("doc-cache")
     old = os.environ.get("HYPERLATTICE_CACHE")
     os.environ["HYPERLATTICE_CACHE"] = str(cache)
     dirs = {}
-    yield lambda name: dirs.setdefault(name, tmp_path_factory.mktemp(Path(name).stem))
+    yield lambda name: dirs[name] if name in dirs else dirs.setdefault(name, _page_dir(tmp_path_factory, name))
     if old is None:
         del os.environ["HYPERLATTICE_CACHE"]
     else:
@@ -160,6 +174,19 @@ def test_fresh_namespace_unless_continued(tmp_path):
     "<!-- doctest: output rtol=1e-3 -->\n```text\n1\n```\n",       # output of nothing
     "<!-- doctest: output tol=1 -->\n```python\npass\n```\n",      # not a tolerance
     "```python\npass\n```\n<!-- doctest: slow -->\n",              # dangling at the end
+    "```\nsrc/\n  a.py\n```\n",                                  # a fence without a language
+    "```python\nprint(1)\n```\n\n```\n1\n```\n",                  # ... also as an output
+    "```python\nprint(1)\n```\n<!-- doctest: numbers 1e-3 -->\nIt is 1.\n",   # takes no argument
+    "```python\nprint(1)\n```\n<!-- doctest: numbers -->\n\n```python\npass\n```\n",  # not prose
+    "```python\nprint(1)\n```\n<!-- doctest: numbers -->\nno number here\n",  # quotes nothing
+    "<!-- doctest: numbers -->\nIt is 1.\n",                         # no example before it
+    "<!-- doctest: timing -->\n```text\n1.2 s\n```\n",               # timing without its command
+    "<!-- doctest: timing python benchmarks/bench_nothing.py -->\nIn 1.2 s.\n",  # no such script
+    "```python\npass\n```\n<!-- doctest: slow -->\n<!-- doctest: numbers -->\nIt is 1.\n",
+    "```python\nprint(1)\n```\n<!-- doctest: numbers except-columns=2 -->\nIt is 1.\n",  # not a table
+    "```python\nprint(1)\n```\n<!-- doctest: numbers columns=2 -->\n| 1 |\n",          # unknown option
+    "```python\nprint(1)\n```\n<!-- doctest: numbers -->\nIt is 1.\n\n"
+    "<!-- doctest: numbers except-columns=2 -->\n| 1 | 2 |\n",                       # not the only block
 ])
 def test_bad_annotations_are_refused(tmp_path, page):
     path = tmp_path / "page.md"
@@ -193,6 +220,9 @@ def test_compare_output(expected, actual, rtol, ok):
     ("5e-13  # => 3e-14", False),
     ("1.0  # a comment with 7 in it, not checked", True),
     ("-9.09541  # => b = -9.0954; N(r) ~ 14 rho + b", True),       # after ';' a remark
+    ("'PSL(2,197)', 1274196  # => PSL(2,197): 1,274,196 sites", True),   # a string's numbers
+    ("'PSL(2,193)', 1274196  # => PSL(2,197): 1,274,196 sites", False),
+    ("'sector-dense', 3  # => 3", True),
 ])
 def test_quoted_values(tmp_path, source, ok):
     results = _run_page(tmp_path, f"```python\n{source}\n```\n")
@@ -214,3 +244,107 @@ def test_console_blocks_compare_their_output(tmp_path):
     results = _run_page(tmp_path, page)
     assert [r[0] for r in results] == ["passed", "failed"]
     assert "expected output\n148 2\ngot\n146 2" in str(results[1][1])
+
+
+def test_no_bare_fence_in_pages():
+    """Every fence of README.md and docs/*.md says what it is (issue 21): an example's language or
+    ```text; the collector refuses a page with a plain fence, this names the fences."""
+    bare = []
+    for page in PAGES:
+        inside = False
+        for k, line in enumerate(page.read_text().splitlines(), 1):
+            if line.lstrip().startswith("```"):
+                if not inside and not line.strip()[3:].strip():
+                    bare.append(f"{page.relative_to(ROOT)}:{k}")
+                inside = not inside
+    assert not bare, f"fences without a language: {bare}"
+
+
+NUMBERS = """\
+# A page whose prose quotes numbers
+
+```python
+import math
+print(f"pi = {math.pi:.6f}, e = {math.e:.4f}")
+print("| n | n! |")
+for n in (3, 4, 5):
+    print(f"| {n} | {math.factorial(n)} |")
+```
+
+<!-- doctest: numbers -->
+The constants are π = 3.141593 and e = 2.7183 (to the digits quoted).
+
+<!-- doctest: numbers -->
+| n | n! |
+|---|---|
+| 3 | 6 |
+| 4 | 24 |
+| 5 | 120 |
+
+<!-- doctest: timing python benchmarks/bench_continuum.py -->
+Computing them took 1.2 ms on one core; never checked.
+
+```python
+import math
+print(f"2 {math.sqrt(2.0):.4f} 3 {math.sqrt(3.0):.4f}")
+```
+
+<!-- doctest: numbers -->
+- √2 = 1.4142 and √3 = 1.7321,
+- a second list item is not part of the block: 99.
+
+```python
+print(2.5, 7)
+```
+
+<!-- doctest: numbers -->
+It prints 2.5.
+"""
+
+
+def test_numbers_in_prose_are_checked(tmp_path):
+    results = _run_page(tmp_path, NUMBERS)
+    assert [r[0] for r in results] == ["passed", "passed", "failed"]
+    assert "quoted 1 numbers" in str(results[2][1]) and "the value has 2" in str(results[2][1])
+
+
+@pytest.mark.parametrize("old, new, message", [
+    ("π = 3.141593", "π = 3.141595", "quoted 3.141595"),          # two units off in the last digit
+    ("e = 2.7183", "e = 2.7185", "quoted 2.7185"),
+    ("| 4 | 24 |", "| 4 | 25 |", "quoted 25"),                     # integers exactly
+    ("| 5 | 120 |", "| 5 | 120 | 720 |", "quoted 9 numbers"),      # a number the example never prints
+    ("and e = 2.7183 (", "(", "quoted 7 numbers"),                 # a printed number not quoted
+])
+def test_a_broken_number_fails(tmp_path, old, new, message):
+    """A deliberately wrong number in a ``doctest: numbers`` block fails its example."""
+    assert old in NUMBERS
+    results = _run_page(tmp_path, NUMBERS.replace(old, new, 1))
+    assert results[0][0] == "failed" and message in str(results[0][1]), results[0]
+    assert "the example at line 4 prints" in str(results[0][1])
+
+
+TABLE = """\
+```python
+print("<!-- machine: 2 cores, numpy 2.4.6 -->")
+print("| n | n² | time [s] |")
+print("|---|---|---|")
+for n in (2, 3):
+    print(f"| {n} | {n * n} | {0.1 * n:.2f} |")
+```
+
+<!-- doctest: numbers except-columns=3 -->
+| n | n² | time [s] |
+|---|---|---|
+| 2 | 4 | 0.55 |
+| 3 | 9 | 0.01 |
+"""
+
+
+@pytest.mark.parametrize("old, new, ok", [
+    ("", "", True),                                                  # times differ, not compared
+    ("| 3 | 9 |", "| 3 | 8 |", False),                              # a broken number
+    ("| 3 | 9 | 0.01 |\n", "| 3 | 9 | 0.01 |\n| 4 | 16 | 0.01 |\n", False),   # a row never printed
+])
+def test_numbers_table_except_columns(tmp_path, old, new, ok):
+    results = _run_page(tmp_path, TABLE.replace(old, new) if old else TABLE)
+    assert (results[0][0] == "passed") is ok, results
