@@ -8,6 +8,7 @@ comments; ``heavy`` items are deselected unless ``--run-heavy`` is given.
 """
 
 import os
+import re
 import shutil
 import textwrap
 from pathlib import Path
@@ -348,3 +349,55 @@ for n in (2, 3):
 def test_numbers_table_except_columns(tmp_path, old, new, ok):
     results = _run_page(tmp_path, TABLE.replace(old, new) if old else TABLE)
     assert (results[0][0] == "passed") is ok, results
+
+
+_LIST_ITEM = re.compile(r"\s*(?:[-*+]|\d+[.)])\s+")
+
+
+def indented_code_blocks(text: str) -> list[int]:
+    """Line numbers of Markdown indented code blocks: a line after a blank line, outside a fence,
+    indented four or more columns past the text it continues (the page's margin or the content of
+    the list item it is in) and not a list item itself. Such a block renders as code but is no
+    fence, so the collector never sees it: a formula goes into a ```text (or ```math) fence."""
+    found = []
+    inside = False
+    blank_before = True
+    margin = 0
+    for k, line in enumerate(text.splitlines(), 1):
+        if line.lstrip().startswith("```"):
+            inside = not inside
+            blank_before = False
+            continue
+        if inside:
+            continue
+        if not line.strip():
+            blank_before = True
+            continue
+        indent = len(line) - len(line.lstrip())
+        item = _LIST_ITEM.match(line)
+        if blank_before and not item and indent >= margin + 4:
+            found.append(k)
+        elif item:
+            margin = len(item.group(0))
+        elif blank_before or indent < margin:
+            margin = indent
+        blank_before = False
+    return found
+
+
+@pytest.mark.parametrize("text, lines", [
+    ("Some prose:\n\n    H = -t A\n\nmore prose.\n", [3]),
+    ("1. An item:\n\n       (A f) = q f\n\n   continued.\n", [3]),
+    ("1. An item:\n\n   ```text\n   (A f) = q f\n   ```\n", []),
+    ("- a list\n    - a nested item\n\n  continued\n", []),
+    ("```python\n\n    x = 1\n```\n", []),
+])
+def test_indented_code_blocks_are_found(text, lines):
+    assert indented_code_blocks(text) == lines
+
+
+def test_no_indented_code_block_in_pages():
+    """A formula or transcript in README.md and docs/*.md is a ```text fence, never an indented
+    code block (which the collector cannot see, so which no check would cover)."""
+    found = [f"{page.relative_to(ROOT)}:{k}" for page in PAGES for k in indented_code_blocks(page.read_text())]
+    assert not found, f"indented code blocks (make them ```text fences): {found}"
