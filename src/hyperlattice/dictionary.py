@@ -42,8 +42,9 @@ radius d about z is :math:`\varphi_\lambda(d) f(z)`; :math:`\cosh 2d` because th
 curvature -4). The orders :math:`\pm q` are the paper's anisotropic :math:`h^3 Q_3` term
 (``adj32``, :math:`\mathcal D` of ``adj33``, for q = 3): they come with :math:`e^{\pm 3\mathrm i\chi_i}`
 and would average to zero over uniformly spread orientations; on the ring lattice
-:math:`\langle\cos 3(\chi_i - \phi_i)\rangle = 0.17` over the sites (0.04 weighted with the ground
-state at l = 10), so they move the levels weakly at first order and at second order (net, measured:
+:math:`\langle\cos 3(\chi_i - \phi_i)\rangle = 0.17` over the sites of coordination 3 at
+:math:`\ell = 10` (0.04 weighted with the ground state's amplitude, −0.007 with its weight
+:math:`\psi_i^2`; checked in docs/limits.md), so they move the levels weakly at first order and at second order (net, measured:
 -1.9e-4 at the {7,3} band bottom, :mod:`hyperlattice.compare.limits`); they are left out. Hence
 
 .. math:: E = -q\,P_{\frac12(-1+\mathrm i k)}\Bigl(\frac{1+h^2}{1-h^2}\Bigr)
