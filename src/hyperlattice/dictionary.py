@@ -44,8 +44,8 @@ curvature -4). The orders :math:`\pm q` are the paper's anisotropic :math:`h^3 Q
 and would average to zero over uniformly spread orientations; on the ring lattice
 :math:`\langle\cos 3(\chi_i - \phi_i)\rangle = 0.17` over the sites of coordination 3 at
 :math:`\ell = 10` (0.04 weighted with the ground state's amplitude, −0.007 with its weight
-:math:`\psi_i^2`; checked in docs/limits.md), so they move the levels weakly at first order and at second order (net, measured:
--1.9e-4 at the {7,3} band bottom, :mod:`hyperlattice.compare.limits`); they are left out. Hence
+:math:`\psi_i^2`; checked in docs/limits.md), so they move the levels weakly at first order and
+at second order (net, measured: -1.9e-4 at the {7,3} band bottom, :mod:`hyperlattice.compare.limits`); they are left out. Hence
 
 .. math:: E = -q\,P_{\frac12(-1+\mathrm i k)}\Bigl(\frac{1+h^2}{1-h^2}\Bigr)
           = -q + \frac q4 h^2\lambda + q\Bigl(\frac\lambda8 - \frac{\lambda^2}{64}\Bigr)h^4 + O(h^6),
