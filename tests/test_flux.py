@@ -425,6 +425,9 @@ def test_butterfly_figure_mirror_draws_the_other_half_of_the_period():
         butterfly_figure(whole, continuum=False, density=True, mirror=True)
     with pytest.raises(ValueError, match="site flake"):
         butterfly_figure(F.butterfly(line_graph(ring_lattice(7, 3, 2)), [0.0, 0.5]), continuum=False, mirror=True)
+    for bad in ("x", -1, float("nan")):      # refused before any drawing, not an AttributeError
+        with pytest.raises(ValueError, match="zoom_ax must be a matplotlib Axes"):
+            butterfly_figure(half, continuum=True, zoom_ax=bad)
     plt.close("all")
 
 

@@ -11,6 +11,12 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
 
+def _check_axes(name: str, ax) -> None:
+    """Refuse, in one sentence, an ``ax``-like argument that is neither None nor a matplotlib Axes."""
+    if ax is not None and not (hasattr(ax, "plot") and hasattr(ax, "figure")):
+        raise ValueError(f"{name} must be a matplotlib Axes (or None for a new figure), got {type(ax).__name__}.")
+
+
 def new_axes(ax: Axes | None = None, size=(6.0, 4.2)) -> Axes:
     """Return ``ax``, or a fresh axes of ``size`` inches (constrained layout) when it is None.
 
@@ -46,8 +52,7 @@ def new_axes(ax: Axes | None = None, size=(6.0, 4.2)) -> Axes:
     ValueError: size must be two positive numbers (width, height in inches).
     >>> plt.close("all")
     """
-    if ax is not None and not (hasattr(ax, "plot") and hasattr(ax, "figure")):
-        raise ValueError(f"ax must be a matplotlib Axes (or None for a new figure), got {type(ax).__name__}.")
+    _check_axes("ax", ax)
     if ax is None:
         from .. import _validate
 

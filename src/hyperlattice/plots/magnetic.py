@@ -6,7 +6,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from . import new_axes
+from . import _check_axes, new_axes
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -125,7 +125,8 @@ def butterfly_figure(result: Butterfly, *, continuum: bool = True, max_flux: flo
     Raises
     ------
     ValueError
-        If ``mirror`` is asked for a line graph or for fluxes outside [0, 1/2].
+        If ``mirror`` is asked for a line graph or for fluxes outside [0, 1/2], or ``ax`` or
+        ``zoom_ax`` is not a matplotlib Axes.
 
     See Also
     --------
@@ -150,6 +151,7 @@ def butterfly_figure(result: Butterfly, *, continuum: bool = True, max_flux: flo
     ('{7,3} flake, 2 rings, 35 sites, 5 fluxes', [-0.125, 1.125])
     >>> plt.close("all")
     """
+    _check_axes("zoom_ax", zoom_ax)
     f = np.asarray(result.fluxes, dtype=float)
     e = np.asarray(result.energies, dtype=float)
     if mirror:
