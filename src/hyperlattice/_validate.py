@@ -457,6 +457,34 @@ def directory(name: str, value, *, create: bool = True) -> Path:
     return path
 
 
+def owned_directory(name: str, value, *, marker: str, ours=(), what: str = "the package's") -> Path:
+    """A directory the package may write into without touching anything of the user's.
+
+    It is created when missing; an existing one must hold ``marker`` (the file the package wrote
+    when it first used the directory: a sweep's manifest, a report's ``_report.json``) or be empty
+    apart from the names in ``ours`` (a directory among them must itself be empty). Anything else
+    is refused with one sentence naming a file found, so a user's own files are never overwritten.
+    Used by :class:`hyperlattice.sweep.store.SweepStore` and :func:`hyperlattice.report.reproduce`.
+    """
+    path = directory(name, value)
+    if (path / marker).is_file():
+        return path
+    try:
+        foreign = []
+        for f in sorted(path.iterdir(), key=lambda f: f.name):
+            if f.name not in ours:
+                foreign.append(f.name + ("/" if f.is_dir() else ""))
+            elif f.is_dir() and not f.is_symlink() and any(f.iterdir()):
+                foreign.append(f.name + "/")
+    except OSError as exc:
+        raise ValueError(f"cannot read {name} {str(path)!r}: {exc.strerror or exc}.") from None
+    if foreign:
+        raise ValueError(f"{name} {str(path)!r} is not {what} directory (no {marker}, and it holds "
+                         f"{foreign[0]!r}{' and more' if len(foreign) > 1 else ''}); "
+                         "give a new or empty directory, so that nothing of yours is overwritten.")
+    return path
+
+
 # ----------------------------------------------------------------------------
 # memory: what this process may still allocate
 # ----------------------------------------------------------------------------
