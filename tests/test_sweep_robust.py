@@ -155,6 +155,7 @@ def test_failures_of_an_earlier_run_are_kept_until_retried(tmp_path, monkeypatch
 
 @pytest.mark.parametrize("argv, match", [
     (["--grid", "x=1,2", "--grid", "x=3"], "given twice"),
+    (["--grid", "x=1,1,2"], "lists x = 1 twice"),
     (["--grid", "x=0:10000000"], "10,000,000 tasks; at most"),
     (["--grid", "x=0:1000", "--grid", "sleep=0,1,2,3,4,5,6,7,8,9", "--grid", "y=0:1000"], "task 'probe' has no"),
 ])
@@ -266,3 +267,4 @@ def test_more_workers_than_cores_are_capped_with_one_warning(tmp_path, capsys, m
                  "--scheduler", "threads", "--workers", "64", "--timeout", "60"])
     err = capsys.readouterr().err
     assert code == 0 and err.count("\n") == 1 and "using 2" in err and "Traceback" not in err
+

@@ -198,14 +198,13 @@ def expand_grid(task: str, grid: dict) -> list[dict]:
     Returns
     -------
     list of dict
-        One complete parameter dict per grid point (the task's defaults filled in), each point
-        once even when the grid lists it twice.
+        One complete parameter dict per grid point (the task's defaults filled in).
 
     Raises
     ------
     ValueError
-        For an unknown task or parameter, an empty value list, a value of the wrong kind, a
-        point the task's check refuses, or more points than :func:`run_sweep` accepts
+        For an unknown task or parameter, an empty value list, a value listed twice, a value of
+        the wrong kind, a point the task's check refuses, or more points than :func:`run_sweep` accepts
         (:data:`MAX_TASKS`, fewer when memory is short).
 
     Examples
@@ -229,6 +228,14 @@ def expand_grid(task: str, grid: dict) -> list[dict]:
         names.append(name)
         values.append([_canonical(v) for v in vals])
     check_grid_size(math.prod(len(v) for v in values))
+    for name, vals in zip(names, values):
+        # a value listed twice was silently one task: the user's count of points was not the run's
+        seen_values: set[str] = set()
+        for v in vals:
+            text = json.dumps(v)            # 1 and 1.0 stay apart, as in the task keys
+            if text in seen_values:
+                raise ValueError(f"the grid lists {name} = {v!r} twice; give each value once.")
+            seen_values.add(text)
     out, seen = [], set()
     for combo in itertools.product(*values):
         params = dict(defaults)
