@@ -268,3 +268,16 @@ def test_more_workers_than_cores_are_capped_with_one_warning(tmp_path, capsys, m
     err = capsys.readouterr().err
     assert code == 0 and err.count("\n") == 1 and "using 2" in err and "Traceback" not in err
 
+
+@pytest.mark.parametrize("text, key", [
+    ('{"task": "probe", "grid": {"x": [1, 2], "x": [3]}, "out": "D"}', "x"),      # dropped x = 1, 2
+    ('{"task": "probe", "task": "disorder", "grid": {"x": [1]}, "out": "D"}', "task"),
+])
+def test_cli_config_with_a_key_given_twice_is_refused(text, key, tmp_path, capsys, monkeypatch):
+    # issue 28 item 6: json keeps the last of two equal keys, so a grid silently lost values
+    monkeypatch.chdir(tmp_path)
+    cfg = tmp_path / "sweep.json"
+    cfg.write_text(text)
+    assert main(["sweep", str(cfg), "--scheduler", "serial"]) == 2
+    assert f"gives the key '{key}' twice" in _err_line(capsys)
+    assert not (tmp_path / "D").exists()                    # refused before any work
