@@ -201,8 +201,13 @@ def test_load_result_refuses_a_tampered_json_file(what, edit, keep, match, tmp_p
     elif not keep:
         data.pop("sha256")
     path.write_text(json.dumps(data))
+    if not keep:
+        # without its checksum the file is refused as such, and read as hand-written it is checked
+        with pytest.raises(ValueError, match="carries no checksum") as exc:
+            load_result(path)
+        _one_sentence(exc, path)
     with pytest.raises(ValueError, match=match) as exc:
-        load_result(path)
+        load_result(path, require_checksum=keep is not False)
     _one_sentence(exc, path)
 
 
@@ -222,8 +227,32 @@ def test_load_result_refuses_a_tampered_npz_file(keep, tmp_path):
     a["energies"] = e
     np.savez(path, **a)
     with pytest.raises(ValueError, match="fails its checksum" if keep else "not ascending") as exc:
+        load_result(path, require_checksum=keep)
+    _one_sentence(exc, path)
+
+
+@pytest.mark.parametrize("suffix", [".json", ".npz"])
+def test_load_result_refuses_a_file_whose_checksum_was_deleted(suffix, tmp_path):
+    # issue 28 item 6: an edited number passed once the sha256 key was deleted (still ascending)
+    path = SPEC.save(tmp_path / f"spec{suffix}")
+    if suffix == ".json":
+        data = json.loads(path.read_text())
+        data.pop("sha256")
+        data["energies"]["data"][0] -= 1e-3
+        path.write_text(json.dumps(data))
+    else:
+        with np.load(path) as f:
+            a = {k: f[k] for k in f.files}
+        meta = json.loads(str(a["__meta__"]))
+        meta.pop("sha256")
+        a["__meta__"] = np.array(json.dumps(meta))
+        a["energies"] = a["energies"] - np.r_[1e-3, np.zeros(len(a["energies"]) - 1)]
+        np.savez(path, **a)
+    with pytest.raises(ValueError, match="carries no checksum.*require_checksum=False") as exc:
         load_result(path)
     _one_sentence(exc, path)
+    back = load_result(path, require_checksum=False)     # read as hand-written: it is consistent
+    assert back.energies[0] == pytest.approx(SPEC.energies[0] - 1e-3)
 
 
 def test_a_deeply_nested_result_file_is_one_sentence(tmp_path):

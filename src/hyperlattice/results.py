@@ -508,10 +508,15 @@ def _digest(meta: dict, arrays: dict | None = None) -> str:
     return h.hexdigest()
 
 
-def _verify_digest(where: str, meta: dict, arrays: dict | None = None) -> None:
-    """Pop ``meta["sha256"]`` and check it (files without one, e.g. hand-written, are not checked)."""
+def _verify_digest(where: str, meta: dict, arrays: dict | None = None, *, required: bool = False) -> None:
+    """Pop ``meta["sha256"]`` and check it; a file without one (hand-written, or its checksum
+    deleted) is refused when ``required``, else not checked."""
     stored = meta.pop("sha256", None)
     if stored is None:
+        if required:
+            raise ValueError(f"{where} carries no checksum, so an edit of it could not be detected; "
+                             "load_result(path, require_checksum=False) reads a file written by hand "
+                             "(its types and invariants are still checked).")
         return
     try:
         ok = isinstance(stored, str) and stored == _digest(meta, arrays)
@@ -971,12 +976,13 @@ def _registered(tag: str):
 _ALL_IMPORTED: list = []
 
 
-def load_result(path) -> Result:
+def load_result(path, *, require_checksum: bool = True) -> Result:
     """Read any result written by :meth:`Result.save` (``.json`` or ``.npz``), checked.
 
     A file written by this version carries the sha256 of its contents: a mismatch (an edited
-    number, a damaged file) is refused. Every file, also one without a checksum, is then checked
-    for what the result must satisfy: field types (an integer is not a float or a bool, arrays
+    number, a damaged file) is refused, and so is a file without a checksum (deleting the
+    ``sha256`` key would otherwise let any edit through) unless ``require_checksum=False`` says
+    that the file was written by hand. Every file is then checked for what the result must satisfy: field types (an integer is not a float or a bool, arrays
     are numeric), counts not negative, and the result's own invariants (:class:`Levels`: finite,
     ascending energies with one ``n``, ``m`` and error per level; a lattice: its structure).
 
@@ -984,6 +990,9 @@ def load_result(path) -> Result:
     ----------
     path : str or path-like
         A ``.json`` or ``.npz`` file written by :meth:`Result.save`.
+    require_checksum : bool, optional
+        Refuse a file that carries no checksum (default True); False reads a hand-written file,
+        whose field types and invariants are still checked.
 
     Returns
     -------
@@ -994,8 +1003,9 @@ def load_result(path) -> Result:
     Raises
     ------
     ValueError
-        If the file is missing, unreadable, fails its checksum or does not hold a valid saved
-        result; the message (one sentence) names the file.
+        If the file is missing, unreadable, fails its checksum (or has none, with
+        ``require_checksum``) or does not hold a valid saved result; the message (one sentence)
+        names the file.
 
     See Also
     --------
@@ -1015,6 +1025,7 @@ def load_result(path) -> Result:
     """
     from . import _validate
 
+    require_checksum = _validate.flag("require_checksum", require_checksum)
     path = _validate.input_path("path", path, suffixes=(".json", ".npz"))
     where = repr(str(path))
     arrays = None
@@ -1033,7 +1044,7 @@ def load_result(path) -> Result:
         raise ValueError(f"cannot read a result from {where}: it is nested too deeply.") from None
     if not isinstance(meta, dict):
         raise ValueError(f"{where} is not a saved hyperlattice result.")
-    _verify_digest(where, meta, arrays)
+    _verify_digest(where, meta, arrays, required=require_checksum)
     tag = meta.get("type")
     cls = _registered(tag) if isinstance(tag, str) else None
     if cls is None:
