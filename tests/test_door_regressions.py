@@ -393,3 +393,39 @@ def test_sector_levels_scale_exactly_with_t(t):
         s = lowest_pair(7, 3, 8, t=t)
     np.testing.assert_allclose(s.energies, t * ref.energies, rtol=2e-16 * 4, atol=0)
     assert s.m.tolist() == ref.m.tolist() and s.n.tolist() == ref.n.tolist()
+
+
+def _resolvent_calls():
+    import hyperlattice.compare.boundary as cb
+    import hyperlattice.compare.green as cg
+    import hyperlattice.compare.qubits as cq
+    import hyperlattice.graph.qubits as gq
+
+    return {
+        "compare_green": lambda r: cg.compare_green(LAT, -3.5, 0, resolvent=r),
+        "bound_state": lambda r: gq.bound_state(LAT, 0, -3.5, 0.1, resolvent=r),
+        "spin_model": lambda r: gq.spin_model(LAT, [0, 5], -3.5, 0.1, resolvent=r),
+        "exchange_comparison": lambda r: cq.exchange_comparison(LAT, -3.5, 0.1, resolvent=r),
+        "boundary_correlator": lambda r: cb.boundary_correlator(LAT, -3.5, resolvent=r),
+        "bulk_to_boundary": lambda r: cb.bulk_to_boundary(LAT, -3.5, resolvent=r),
+    }
+
+
+@pytest.mark.parametrize("junk", ["lattice", "array", "object", "other-kind", "other-lattice", "other-t"])
+@pytest.mark.parametrize("func", ["compare_green", "bound_state", "spin_model", "exchange_comparison",
+                                  "boundary_correlator", "bulk_to_boundary"])
+def test_junk_resolvent_is_one_sentence(func, junk):
+    # issue 28 item 6: an object-like junk resolvent= passed the type guard (duck-typed) and ended
+    # as AttributeError inside; a resolvent of another lattice silently gave that lattice's numbers
+    from hyperlattice.graph.green import GraphResolvent
+    from hyperlattice.graph.qubits import BelowBandResolvent
+
+    mine = GraphResolvent if func == "compare_green" else BelowBandResolvent
+    theirs = BelowBandResolvent if func == "compare_green" else GraphResolvent
+    value = {"lattice": LAT, "array": np.zeros(3), "object": type("Thing", (), {})(),
+             "other-kind": theirs(LAT), "other-lattice": mine(ring_lattice(8, 3, 3)),
+             "other-t": mine(LAT, t=2.0)}[junk]
+    if junk == "other-t" and func == "compare_green":
+        value = mine(ring_lattice(7, 3, 3))                   # 112 sites vs 322: another lattice
+    with pytest.raises(ValueError, match=r"^resolvent (must be|belongs|was made)[^\n]*\.$"):
+        _resolvent_calls()[func](value)

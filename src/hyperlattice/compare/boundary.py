@@ -54,7 +54,7 @@ from ..continuum.massive import bf_bound, delta_from_mass2, mass2_from_omega
 from ..dictionary import green_prefactor, lambda_from_energy
 from ..geometry import distance, one_minus_abs2
 from ..graph.lattice import Lattice
-from ..graph.qubits import BelowBandResolvent, _real_omega
+from ..graph.qubits import BelowBandResolvent, _real_omega, _resolvent_for
 from ..results import Column, Result
 
 
@@ -628,7 +628,7 @@ def boundary_correlator(lattice: Lattice, omega, source: int | None = None, *, d
     continuum_disk = _validate.choice("continuum_disk", continuum_disk, CONTINUUM_DISKS)
     ring = outer_ring(lat)
     source = _outer_source(lat, ring, source, depth)
-    res = resolvent if resolvent is not None else BelowBandResolvent(lat)
+    res = _resolvent_for(resolvent, lat)
     return _boundary_correlator(lat, omega, source, ring, depth, res, continuum, continuum_disk)
 
 
@@ -992,7 +992,7 @@ def bulk_to_boundary(lattice: Lattice, omega, source: int | None = None, *,
         raise ValueError(f"source {source} is not on the outer ring (sites {ring[0]}..{ring[-1]}).")
     if lat.rings < 4:
         raise ValueError(f"a bulk-to-boundary fit needs at least 4 rings (got {lat.rings}).")
-    res = resolvent if resolvent is not None else BelowBandResolvent(lat)
+    res = _resolvent_for(resolvent, lat)
     g = res.column(omega, source)
     th = float(np.angle(lat.z[source]))
     d = distance(lat.z, lat.z[source])

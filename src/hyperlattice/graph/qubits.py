@@ -69,6 +69,24 @@ MAX_QUBITS = 20_000
 _NEWTON_MAX = 60
 
 
+def _resolvent_for(resolvent, lat: Lattice, t: float = 1.0) -> "BelowBandResolvent":
+    """The ``resolvent=`` argument of a function of ``lat``: a new :class:`BelowBandResolvent` for
+    None, else one of this lattice and hopping (anything else was an AttributeError deep inside, or
+    a resolvent of another lattice silently gave that lattice's numbers); one sentence if not."""
+    if resolvent is None:
+        return BelowBandResolvent(lat, t=t)
+    if not isinstance(resolvent, BelowBandResolvent):
+        raise ValueError(f"resolvent must be a BelowBandResolvent of this lattice (or None), "
+                         f"got {type(resolvent).__name__}.")
+    other = resolvent.lattice
+    if other is not lat and (other.sites != lat.sites or not np.array_equal(other.edges, lat.edges)):
+        raise ValueError(f"resolvent belongs to another lattice ({other.sites} sites; this one has {lat.sites}); "
+                         "make it with BelowBandResolvent(lattice).")
+    if resolvent.t != t:
+        raise ValueError(f"resolvent was made with hopping t = {resolvent.t:g}, not t = {t:g}.")
+    return resolvent
+
+
 def _real_omega(name: str, omega) -> float:
     """A real frequency: complex values with a zero imaginary part are accepted."""
     if isinstance(omega, (complex, np.complexfloating)):
@@ -698,7 +716,7 @@ def bound_state(lattice: Lattice, site: int, omega_q, g, *, t: float = 1.0,
     if g == 0:
         raise ValueError("g must be nonzero (at g = 0 the qubit does not dress the photons).")
     tol = _validate.real("tol", tol, minimum=1e-15, maximum=1e-3)
-    res = resolvent if resolvent is not None else BelowBandResolvent(lat, t=t)
+    res = _resolvent_for(resolvent, lat, t)
     g2 = g * g
     col0 = res.column(omega_q, site)              # refuses omega_q above E0
     e_lead = omega_q - g2 * col0[site]
@@ -898,7 +916,7 @@ def spin_model(lattice: Lattice, sites, omega_q, g, *, t: float = 1.0,
     idx = _sites(lat, sites)
     omega_q = _real_omega("omega_q", omega_q)
     g = _validate.real("g", g)
-    res = resolvent if resolvent is not None else BelowBandResolvent(lat, t=t)
+    res = _resolvent_for(resolvent, lat, t)
     G = np.empty((idx.size, idx.size))
     chunk = max(1, int(2**26 // (8 * lat.sites)))      # (N, chunk) right-hand sides within ~64 MB
     for a in range(0, idx.size, chunk):
