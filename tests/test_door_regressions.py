@@ -429,3 +429,28 @@ def test_junk_resolvent_is_one_sentence(func, junk):
         value = mine(ring_lattice(7, 3, 3))                   # 112 sites vs 322: another lattice
     with pytest.raises(ValueError, match=r"^resolvent (must be|belongs|was made)[^\n]*\.$"):
         _resolvent_calls()[func](value)
+
+
+def test_bound_state_and_spin_model_never_return_inf_or_nan():
+    # issue 28 item 6: large couplings and frequencies far below the band gave inf/NaN fields, or
+    # (g = 1e15) a ConvergenceError after 60 Newton steps that each only doubled E
+    import dataclasses
+
+    from hyperlattice.graph.qubits import bound_state, spin_model
+    from hyperlattice.graph.spectrum import lowest_levels
+
+    for g in (1e15, 1e150):
+        b = bound_state(LAT, 0, -3.5, g)
+        assert b.energy == pytest.approx(-g, rel=1e-6) and b.qubit_weight == pytest.approx(0.5, rel=1e-6)
+    far = bound_state(LAT, 0, -1e200, 0.1)             # |phi|^2 underflowed: photon was 0/0
+    assert far.energy == -1e200 and far.qubit_weight == 1.0
+    for f in dataclasses.fields(far):
+        v = getattr(far, f.name)
+        if f.name != "decay_length" and isinstance(v, (float, np.ndarray)):
+            assert np.all(np.isfinite(v)), f.name
+    for call in (lambda: bound_state(LAT, 0, -3.5, 1e200), lambda: spin_model(LAT, [0, 5], -3.5, 1e200)):
+        with pytest.raises(ValueError, match=r"^g = 1e\+200 is too large: g\^2 overflows"):
+            call()
+    with pytest.raises(ValueError, match="not a finite number"):
+        # just below the band G_jj >> 1, so g^2 G overflows although g^2 does not
+        spin_model(LAT, [0, 5], float(lowest_levels(LAT, 1).energies[0]) - 1e-3, 1.3e154)
