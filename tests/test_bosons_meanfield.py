@@ -196,3 +196,31 @@ def test_ed_charge_gap_against_mean_field_on_the_heptagon():
     # lambda_max = 2) the finite system keeps a gap that mean field does not have
     assert abs(cmp.gap_ed[1] - cmp.gap_mean_field[1]) < 0.02
     assert cmp.gap_mean_field[2] == 0.0 and cmp.gap_ed[2] > 0.4
+
+
+@pytest.mark.parametrize("kw, match", [
+    (dict(t=0.1, mu=0.5, U=1e308), "t = 0.1 is less than 1e-150 U"),            # was ZeroDivisionError
+    (dict(t=0.1, mu=1e308, U=1.0), "mean filling would be about 1e\\+308 bosons per site"),  # "nmax must be..."
+    (dict(t=1e308, mu=0.5, U=1.0), "more than 1e\\+06 U: far in the weakly interacting regime"),
+    (dict(t=0.1, mu=-1e308, U=1.0), "below -1e\\+06 U: the ground state there is the empty lattice"),
+])
+def test_gutzwiller_refuses_overflowing_scales_in_one_sentence(kw, match):
+    # issue 28 item 6: gutzwiller(U=1e308) divided by zero; --mu 1e308 named the internal nmax
+    import hyperlattice as hl
+    from hyperlattice.bosons.meanfield import gutzwiller
+
+    with pytest.raises(ValueError, match=match) as exc:
+        gutzwiller(hl.ring_lattice(7, 3, 2), **kw)
+    assert "nmax" not in str(exc.value) and "\n" not in str(exc.value)
+
+
+def test_gutzwiller_depends_on_the_ratios_only():
+    # solved in units of U: U = 1e300 with t, mu scaled along is the U = 1 state, energy times U
+    import hyperlattice as hl
+    from hyperlattice.bosons.meanfield import gutzwiller
+
+    lat = hl.ring_lattice(7, 3, 2)
+    one = gutzwiller(lat, 0.05, 0.4, 1.0)
+    big = gutzwiller(lat, 0.05e300, 0.4e300, 1e300)
+    assert np.allclose(big.psi, one.psi, rtol=1e-12, atol=1e-14) and big.U == 1e300 and big.t == 0.05e300
+    assert big.energy == pytest.approx(one.energy * 1e300, rel=1e-12)
