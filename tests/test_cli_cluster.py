@@ -78,3 +78,16 @@ def test_errors_are_one_line(argv, capsys, tmp_path, monkeypatch):
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert len([line for line in err.splitlines() if line.strip()]) == 1 and "Traceback" not in err
+
+
+def test_a_huge_min_sites_is_estimated_and_refused_before_work(capsys, monkeypatch):
+    # issue 28 item 6: --min-sites 100000000 ran on past a minute with no estimate or refusal
+    import hyperlattice.graph.clusters as clusters
+
+    def never(*args, **kwargs):
+        raise AssertionError("the cluster was built")
+
+    monkeypatch.setattr(clusters, "_lookup", never)
+    assert main(["cluster", "--min-sites", "100000000"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "PSL(2,853): 103,441,604 sites" in err and "smaller --min-sites" in err

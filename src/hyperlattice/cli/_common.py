@@ -205,15 +205,20 @@ def estimate_sites(p: int, q: int, rings: int, *, line_graph: bool = False) -> i
     return int(edge_count(p, q, rings) if line_graph else site_count(p, q, rings))
 
 
-def check_work(command: str, seconds: float, max_seconds, detail: str) -> None:
-    """Refuse a run estimated above ``max_seconds`` (ValueError, one sentence); announce one
-    above :data:`ANNOUNCE_SECONDS` on stderr (one line) so that a long run is never silent."""
+def check_work(command: str, seconds: float, max_seconds, detail: str,
+               smaller: str = "fewer rings, a smaller q or fewer values", *, upper: bool = False) -> None:
+    """Refuse a run estimated above ``max_seconds`` (ValueError, one sentence, advising ``smaller``);
+    announce one above :data:`ANNOUNCE_SECONDS` on stderr (one line) so that a long run is never silent.
+    ``upper``: the estimate is an upper bound (the slowest case measured), and is called one."""
     limit = _validate.real("--max-seconds", max_seconds, minimum=0.0, open_min=True)
+    about = "up to about" if upper else "about"
     if seconds > limit:
-        raise ValueError(f"this run would take about {_duration(seconds)} ({detail}), more than --max-seconds "
-                         f"{limit:g}; raise --max-seconds or choose fewer rings, a smaller q or fewer values.")
+        raise ValueError(f"this run could take {about} {_duration(seconds)} ({detail}), more than --max-seconds "
+                         f"{limit:g}; raise --max-seconds or choose {smaller}." if upper else
+                         f"this run would take about {_duration(seconds)} ({detail}), more than --max-seconds "
+                         f"{limit:g}; raise --max-seconds or choose {smaller}.")
     if seconds > ANNOUNCE_SECONDS:
-        sys.stderr.write(f"hyperlattice {command}: note: about {_duration(seconds)} of work ({detail}).\n")
+        sys.stderr.write(f"hyperlattice {command}: note: {about} {_duration(seconds)} of work ({detail}).\n")
 
 
 def _duration(seconds: float) -> str:
