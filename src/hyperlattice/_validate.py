@@ -457,6 +457,24 @@ def directory(name: str, value, *, create: bool = True) -> Path:
     return path
 
 
+def file_problem(exc: BaseException) -> str:
+    """What is wrong with a file a loader could not read, in one clause for a physicist.
+
+    numpy and Python phrase some refusals as advice to the programmer (``allow_pickle=True``,
+    ``max_header_size``, ``sys.set_int_max_str_digits()``): loosening them would be wrong for a
+    file hyperlattice did not write, so they become what they mean. Other messages pass as they are.
+    """
+    text = " ".join(str(exc).split()).rstrip(".")
+    low = text.lower()
+    if "allow_pickle" in low and "object arrays" in low:
+        return "it holds Python objects (pickled data), which hyperlattice never writes and does not load"
+    if "max_header_size" in low or "header info length" in low:
+        return "it has an array header far larger than any hyperlattice writes (not loaded, for safety)"
+    if "int_max_str_digits" in low or "integer string conversion" in low:
+        return "it holds an integer of more than 4,300 digits, which no hyperlattice file has"
+    return text or type(exc).__name__
+
+
 def owned_directory(name: str, value, *, marker: str, ours=(), what: str = "the package's") -> Path:
     """A directory the package may write into without touching anything of the user's.
 

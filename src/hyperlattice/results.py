@@ -1039,9 +1039,15 @@ def load_result(path, *, require_checksum: bool = True) -> Result:
                 meta = json.loads(str(data["__meta__"]))
                 arrays = {k: data[k] for k in data.files if k != "__meta__"}
     except (OSError, EOFError, zipfile.BadZipFile, json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise ValueError(f"cannot read a result from {where}: {exc}.") from None
+        raise ValueError(f"cannot read a result from {where}: {_validate.file_problem(exc)}.") from None
     except RecursionError:
         raise ValueError(f"cannot read a result from {where}: it is nested too deeply.") from None
+    except ValueError as exc:
+        # numpy's object-array and header refusals, Python's 4300-digit integer limit: no file name
+        # and programmer's advice (allow_pickle=True, ...) before; one sentence naming the file now
+        if str(exc).startswith(where):
+            raise
+        raise ValueError(f"cannot read a result from {where}: {_validate.file_problem(exc)}.") from None
     if not isinstance(meta, dict):
         raise ValueError(f"{where} is not a saved hyperlattice result.")
     _verify_digest(where, meta, arrays, required=require_checksum)
