@@ -177,3 +177,23 @@ def test_a_non_symmetric_matrix_is_refused_for_an_inertia_count(backend):
         factorize(N, 0.0, backend=backend)
     lu = factorize(N, 0.0, pivoting=True)                # a plain LU takes any matrix
     assert lu.negatives is None and not lu.proved and np.allclose(N @ lu.solve(np.ones(2)), 1.0)
+
+
+@pytest.mark.parametrize("value", ["junk", "superLU_dist", "0"])
+def test_a_misspelt_backend_variable_is_refused(value, monkeypatch, capsys):
+    # issue 28 item 6: HYPERLATTICE_FACTOR_BACKEND=junk was silently taken as auto
+    from hyperlattice.cli import main
+
+    monkeypatch.setenv("HYPERLATTICE_FACTOR_BACKEND", value)
+    with pytest.raises(ValueError, match=r"HYPERLATTICE_FACTOR_BACKEND = .* is not one of auto, cholmod, superlu"):
+        F.resolve_backend("auto")
+    assert main(["lattice", "--rings", "1"]) == 2           # the CLI refuses before any command runs
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "HYPERLATTICE_FACTOR_BACKEND" in err
+
+
+@pytest.mark.parametrize("value, backend", [("SuperLU", "superlu"), (" auto ", None), ("", None)])
+def test_the_backend_variable_values(value, backend, monkeypatch):
+    monkeypatch.setenv("HYPERLATTICE_FACTOR_BACKEND", value)
+    want = backend or ("cholmod" if F.cholmod_available() else "superlu")
+    assert F.resolve_backend("auto") == want

@@ -457,6 +457,25 @@ def directory(name: str, value, *, create: bool = True) -> Path:
     return path
 
 
+#: environment variable that hides CHOLMOD from the package (``superlu``; see hyperlattice.graph.factor)
+FACTOR_BACKEND_ENV = "HYPERLATTICE_FACTOR_BACKEND"
+
+
+def factor_backend_env() -> str:
+    """The value of :data:`FACTOR_BACKEND_ENV`, lower case: ``""`` (unset, ``auto`` or ``cholmod``:
+    the default choice) or ``"superlu"``; anything else is refused in one sentence (a typo such as
+    ``=junk`` was silently taken as auto). Checked by the CLI before any command runs, and by
+    every backend choice of the API."""
+    raw = os.environ.get(FACTOR_BACKEND_ENV, "")
+    chosen = raw.strip().lower()
+    if chosen in ("superlu", "splu"):
+        return "superlu"
+    if chosen in ("", "auto", "cholmod"):
+        return ""
+    raise ValueError(f"the environment variable {FACTOR_BACKEND_ENV} = {_shown(raw)} is not one of auto, "
+                     "cholmod, superlu; unset it or give one of them.")
+
+
 def file_problem(exc: BaseException) -> str:
     """What is wrong with a file a loader could not read, in one clause for a physicist.
 

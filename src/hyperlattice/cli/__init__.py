@@ -129,6 +129,9 @@ def main(argv: list[str] | None = None) -> int:
     if threading.current_thread() is threading.main_thread():
         old_term, installed = signal.signal(signal.SIGTERM, on_sigterm), True
     try:
+        from .._validate import factor_backend_env
+
+        factor_backend_env()        # a misspelt HYPERLATTICE_FACTOR_BACKEND: one line, before any work
         with warnings.catch_warnings(), progress_default(getattr(args, "progress", None)):
             warnings.simplefilter("default")
             warnings.showwarning = show_warning

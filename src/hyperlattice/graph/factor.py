@@ -42,7 +42,6 @@ sentence; any other backend error into :class:`FactorizationError`.
 
 from __future__ import annotations
 
-import os
 import warnings
 
 import numpy as np
@@ -108,16 +107,17 @@ def _refusal(what: str, needed: float, available: float, allowed: bool = False) 
 #: environment variable that hides CHOLMOD from the package (``superlu``): the SuperLU-only
 #: configuration, for CI and the benchmarks, without uninstalling scikit-sparse; read at every
 #: call, so subprocesses (the CLI) inherit it
-BACKEND_ENV = "HYPERLATTICE_FACTOR_BACKEND"
+BACKEND_ENV = _validate.FACTOR_BACKEND_ENV
 
 
 def _cholmod():
     """scikit-sparse's CHOLMOD module, or None (an optional accelerator, never required).
 
     None as well when the environment variable :data:`BACKEND_ENV` is ``superlu`` (CHOLMOD then
-    behaves exactly as if it were not installed).
+    behaves exactly as if it were not installed); ``auto``, ``cholmod`` or unset change nothing,
+    and any other value is refused (ValueError).
     """
-    if os.environ.get(BACKEND_ENV, "").strip().lower() == "superlu":
+    if _validate.factor_backend_env() == "superlu":      # refuses a value it does not know
         return None
     try:
         from sksparse import cholmod
