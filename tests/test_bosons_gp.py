@@ -171,3 +171,12 @@ def test_a_vanishing_condensate_is_computed():
 
     s = gp_ground_state(ring_lattice(7, 3, 2), 1e-300, 1.0)
     assert s.residual <= 1e-10 and s.mu == pytest.approx(-2.636404937210, abs=1e-10)
+
+
+def test_cli_filling_beside_particles_is_refused(capsys):
+    # issue 28 item 6: --filling was silently ignored when --particles was given
+    from hyperlattice.cli import main
+
+    assert main(["bosons", "gp", "--rings", "2", "--U", "0.5", "--filling", "2", "--particles", "35"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--particles: not allowed with argument --filling" in err
