@@ -177,6 +177,8 @@ def test_cli_filling_beside_particles_is_refused(capsys):
     # issue 28 item 6: --filling was silently ignored when --particles was given
     from hyperlattice.cli import main
 
-    assert main(["bosons", "gp", "--rings", "2", "--U", "0.5", "--filling", "2", "--particles", "35"]) == 2
+    with pytest.raises(SystemExit) as exc:                  # argparse's refusal: one line, exit 2
+        main(["bosons", "gp", "--rings", "2", "--U", "0.5", "--filling", "2", "--particles", "35"])
+    assert exc.value.code == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "--particles: not allowed with argument --filling" in err
