@@ -2,7 +2,8 @@
 
 Contract (issue 22): ``--json`` prints one object with the keys ``sites, particles, nmax, U, t,
 dim, energies`` (the lowest eigenvalues of H at mu = 0, ascending) and the extras ``m, residuals,
-method, p, q, rings, cluster`` (and ``condensate_fraction`` with ``--observables``).
+method, p, q, rings, cluster`` (and ``condensate_fraction`` with ``--observables``, ``note`` when the
+result has one, e.g. more levels asked than the basis has states).
 """
 
 from __future__ import annotations
@@ -73,6 +74,8 @@ def run(args: argparse.Namespace) -> int:
         print(f"  {i:>5} {e:>20.12f} {m:>4} {res.residuals[i]:>10.1e}")
     if res.density is not None:
         print(f"  condensate fraction {res.condensate_fraction:.6f}")
+    if res.note:
+        print(f"  note: {res.note}")
     return 0
 
 
