@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from .. import _validate
-from ._common import add_pq, finite_float, plot_file, print_json
+from ._common import add_pq, cluster_pq, finite_float, plot_file, print_json
 
 NAME = "meanfield"
 ORDER = 20
@@ -35,6 +35,7 @@ def run(args: argparse.Namespace) -> int:
     if args.cluster is not None:
         from ..graph.clusters import pbc_cluster
 
+        args.p, args.q = cluster_pq(args, args.cluster)
         system = pbc_cluster(args.p, args.q, args.cluster)
         label = f"{{{args.p},{args.q}}} cluster {system.name} ({system.sites} sites)"
         if args.continuum:

@@ -115,9 +115,29 @@ def plot_file(flag: str, value) -> Path:
     return output_file(flag, path)
 
 
+class DefaultInt(int):
+    """An integer default of a flag: equal to the int, but distinguishable from one the user typed
+    (``-p`` and ``-q`` yield to a named cluster's own p and q unless given)."""
+
+
 def add_pq(parser: argparse.ArgumentParser, *, default_p: int = 7) -> None:
-    parser.add_argument("-p", type=pq_int, default=default_p, help=f"polygon size p (default {default_p})")
-    parser.add_argument("-q", type=pq_int, default=3, help="coordination number q (default 3)")
+    parser.add_argument("-p", type=pq_int, default=DefaultInt(default_p), help=f"polygon size p (default {default_p}, "
+                        "or the named cluster's)")
+    parser.add_argument("-q", type=pq_int, default=DefaultInt(3), help="coordination number q (default 3, or the "
+                        "named cluster's)")
+
+
+def cluster_pq(args: argparse.Namespace, name: str) -> tuple[int, int]:
+    """p and q for the cluster ``name``: the ones typed (``-p``/``-q``), else the named cluster's own
+    (``--cluster bolza`` is {8,3} without ``-p 8``), else the defaults."""
+    from ..graph.clusters import named_schlafli
+
+    own = named_schlafli(name)
+    p, q = args.p, args.q
+    if own is not None:
+        p = own[0] if isinstance(p, DefaultInt) else p
+        q = own[1] if isinstance(q, DefaultInt) else q
+    return _validate.pq(int(p), int(q))
 
 
 def to_jsonable(obj) -> object:

@@ -6,7 +6,7 @@ import numpy as np
 
 from .. import _validate
 from ..graph.clusters import list_clusters, pbc_cluster
-from ._common import add_max_seconds, add_pq, check_work, positive_int, print_json
+from ._common import add_max_seconds, add_pq, check_work, cluster_pq, positive_int, print_json
 
 NAME = "cluster"
 ORDER = 22
@@ -54,7 +54,8 @@ def run(args: argparse.Namespace) -> int:
         darts = groups.psl2_order(r)
         check_work("cluster", darts * SECONDS_PER_DART, args.max_seconds,
                    f"PSL(2,{r}): {darts // args.q:,} sites, {darts:,} darts", "a smaller --min-sites")
-    cluster = pbc_cluster(args.p, args.q, args.name, min_sites=args.min_sites)
+    p, q = (args.p, args.q) if args.name is None else cluster_pq(args, args.name)
+    cluster = pbc_cluster(p, q, args.name, min_sites=args.min_sites)
     if out is not None:
         np.savez(out, edges=np.asarray(cluster.edges), faces=np.asarray(cluster.faces))
     if args.json:

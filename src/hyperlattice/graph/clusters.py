@@ -47,7 +47,7 @@ if TYPE_CHECKING:
     import scipy.sparse
 
 __all__ = ["Cluster", "pbc_cluster", "list_clusters", "cluster_from_relators", "psl2_cluster",
-           "psl2_primes", "lattice_ball_counts", "map_code", "same_map", "KNOWN"]
+           "psl2_primes", "lattice_ball_counts", "map_code", "same_map", "named_schlafli", "KNOWN"]
 
 #: bytes per dart of the PSL construction (mark, vertex list, neighbour table, later edges)
 _BYTES_PER_DART = 1 + 3 + 4 + 4
@@ -734,8 +734,42 @@ _PSL_NAME = re.compile(r"^PSL\(2,\s*(\d+)\)$", re.IGNORECASE)
 
 
 @functools.lru_cache(maxsize=64)
+def _canonical_name(name: str) -> str:
+    """A table name spelt in any case (``Bolza``, ``KLEIN-dual``) as the table spells it; other
+    names unchanged (``PSL(2,r)`` is matched case-insensitively by its pattern)."""
+    folded = {k.lower(): k for k in _known_table()}
+    return folded.get(name.strip().lower(), name.strip())
+
+
+def named_schlafli(name: str) -> tuple[int, int] | None:
+    """The {p,q} of a cluster of the table (``"bolza"`` -> (8, 3), any case), or None for a
+    name that does not fix it (a ``PSL(2,r)`` exists for many {p,q}) or is unknown.
+
+    Parameters
+    ----------
+    name : str
+        A cluster name.
+
+    Returns
+    -------
+    tuple of int, or None
+        (p, q).
+
+    Examples
+    --------
+    >>> from hyperlattice.graph.clusters import named_schlafli
+    >>> named_schlafli("Bolza"), named_schlafli("klein-dual"), named_schlafli("PSL(2,13)")
+    ((8, 3), (3, 7), None)
+    """
+    if not isinstance(name, str):
+        raise ValueError(f"name must be a string such as 'klein' or 'PSL(2,13)', got {_validate._shown(name)}.")
+    entry = _known_table().get(_canonical_name(name))
+    return None if entry is None else (entry[0], entry[1])
+
+
 def _cached(p: int, q: int, name: str) -> Cluster:
     table = _known_table()
+    name = _canonical_name(name)
     if name in table:
         pp, qq, words, group, source = table[name]
         if (pp, qq) != (p, q):
