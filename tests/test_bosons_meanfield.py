@@ -224,3 +224,21 @@ def test_gutzwiller_depends_on_the_ratios_only():
     big = gutzwiller(lat, 0.05e300, 0.4e300, 1e300)
     assert np.allclose(big.psi, one.psi, rtol=1e-12, atol=1e-14) and big.U == 1e300 and big.t == 0.05e300
     assert big.energy == pytest.approx(one.energy * 1e300, rel=1e-12)
+
+
+def test_cli_infinite_lattice_lobe_with_its_error(capsys):
+    # issue 28 item 5: `bosons meanfield --infinite` (the report's lobe tip 0.058335 of the infinite {7,3})
+    assert main(["bosons", "meanfield", "--infinite", "--points", "3", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["lambda_max"] == pytest.approx(2.94116, abs=2e-4) and out["sites"] is None
+    assert out["tip"]["t_c_over_U"] == pytest.approx(0.058335, abs=5e-6)
+    assert 0 < out["tip"]["t_c_over_U_error"] < 1e-4
+
+
+def test_cli_plot_file_is_written(tmp_path, capsys):
+    # issue 28 item 5: --plot's argparse type took two arguments, so the flag could never work
+    target = tmp_path / "lobe.png"
+    assert main(["bosons", "meanfield", "--rings", "2", "--points", "3", "--plot", str(target)]) == 0
+    assert target.read_bytes()[:4] == b"\x89PNG"
+    assert main(["bosons", "meanfield", "--rings", "2", "--plot", str(tmp_path / "lobe.txt")]) == 2
+    assert "must end in one of .png" in capsys.readouterr().err
