@@ -454,3 +454,26 @@ def test_bound_state_and_spin_model_never_return_inf_or_nan():
     with pytest.raises(ValueError, match="not a finite number"):
         # just below the band G_jj >> 1, so g^2 G overflows although g^2 does not
         spin_model(LAT, [0, 5], float(lowest_levels(LAT, 1).energies[0]) - 1e-3, 1.3e154)
+
+
+@pytest.mark.parametrize("call, match", [
+    # issue 28 item 6: absurd inputs reached the solver and ended in a ConvergenceError (or a raw
+    # OverflowError / ZeroDivisionError) after the work; now a sentence before it
+    (lambda: __import__("hyperlattice").lowest_levels(LAT, 2, t=1e300), r"the hopping t = 1e\+300 is beyond 1e\+150"),
+    (lambda: __import__("hyperlattice").lowest_levels(LAT, 2, tol=1e-300), r"tol = 1e-300 is below what float64"),
+    (lambda: __import__("hyperlattice.graph.sectors", fromlist=["x"]).lowest_pair(7, 3, 3, tol=1e-300),
+     r"tol = 1e-300 is below what float64"),
+    (lambda: __import__("hyperlattice.continuum.scba", fromlist=["x"]).scba(-2.9 + 0.2j, 0.5, damping=1e-300),
+     r"damping = 1e-300 moves each iterate only that fraction"),
+    (lambda: __import__("hyperlattice.compare.disorder", fromlist=["x"]).graph_scba(LAT, -2.9 + 0.2j, 0.5,
+                                                                                     damping=1e-300),
+     r"damping = 1e-300 moves each iterate only that fraction"),
+    (lambda: __import__("hyperlattice.graph.walks", fromlist=["x"]).chebyshev_from_walks([1, 0, 3, 0, 15], 1e-300),
+     r"scale = 1e-300 is far below the extent of the spectrum"),
+    (lambda: __import__("hyperlattice.continuum.magnetic", fromlist=["x"]).dirichlet_function(-1e300, 0, 0.5, 0.5),
+     r"kappa must lie within \+-1e\+06"),
+])
+def test_absurd_inputs_are_refused_before_the_solver(call, match):
+    with pytest.raises(ValueError, match=match) as exc:
+        call()
+    assert "\n" not in str(exc.value)

@@ -153,6 +153,48 @@ def real(name: str, value, *, minimum: float | None = None, maximum: float | Non
     return v
 
 
+#: largest |t| the level solvers take: the levels scale with t exactly, and squares of entries
+#: of ~1e300 overflow inside the residual checks (a ConvergenceError "residual inf" before)
+MAX_HOPPING = 1e150
+#: smallest residual tolerance a solver can be asked for, relative to the scale of the matrix
+MIN_TOLERANCE = 1e-15
+
+
+def hopping(name: str, value, *, positive: bool = False) -> float:
+    """A hopping amplitude t: a finite real (> 0 with ``positive``) of magnitude at most
+    :data:`MAX_HOPPING`; beyond it, one sentence saying that the levels simply scale with t."""
+    t = positive_real(name, value) if positive else real(name, value)
+    if abs(t) > MAX_HOPPING:
+        raise ValueError(f"{name} = {t:g} is beyond {MAX_HOPPING:g}: the levels are t times those at t = 1, so "
+                         "compute them at t = 1 and scale them.")
+    return t
+
+
+def solver_tolerance(name: str, value, *, floor: float = MIN_TOLERANCE) -> float:
+    """A residual tolerance: positive and not below ``floor``, what float64 arithmetic can reach
+    (tol = 1e-300 ended as a ConvergenceError after the work instead of a refusal before it)."""
+    tol = positive_real(name, value)
+    if tol < floor:
+        raise ValueError(f"{name} = {tol:g} is below what float64 arithmetic can reach (about {floor:g} of the "
+                         f"matrix's scale); give {name} >= {floor:g}.")
+    return tol
+
+
+def damping(name: str, value, tol: float, max_allowed: int) -> float:
+    """The mixing of a damped fixed-point iteration, 0 < damping <= 1, refused before work when no
+    allowed number of iterations could reach ``tol``: each step moves at most ``damping`` of the way
+    to the target, so a start off the fixed point by O(1) needs log(tol)/log(1 - damping) steps
+    (damping = 1e-300 iterated to the cap and ended in a ConvergenceError). Call it only when the
+    start is off the fixed point (a nonzero self-energy)."""
+    d = real(name, value, minimum=0.0, maximum=1.0, open_min=True)
+    fewest = math.log(tol) / math.log1p(-d) if d < 1.0 else 1.0
+    if fewest > max_allowed:
+        raise ValueError(f"{name} = {d:g} moves each iterate only that fraction of the way: reaching tol = {tol:g} "
+                         f"takes at least {fewest:.3g} iterations, more than the {max_allowed:,} allowed; raise "
+                         f"{name} (0 < {name} <= 1).")
+    return d
+
+
 def positive_real(name: str, value) -> float:
     """A finite float > 0."""
     return real(name, value, minimum=0.0, open_min=True)

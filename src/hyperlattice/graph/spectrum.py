@@ -437,8 +437,8 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
     _validate.lattice(lattice)
     levels = _validate.positive_int("levels", levels)
     method = _validate.choice("method", method, _METHODS)
-    tol = _validate.positive_real("tol", tol)
-    t = _validate.real("the hopping t", t)
+    tol = _validate.solver_tolerance("tol", tol)
+    t = _validate.hopping("the hopping t", t)
     eigenvectors = _validate.flag("eigenvectors", eigenvectors)
     flux = _flux(flux)
     progress = _validate.progress("progress", progress)
@@ -496,7 +496,7 @@ def _matrix_levels(matrix, levels, *, method, eigenvectors, tol, t_start) -> Mat
     n = h.shape[0]
     levels = _validate.positive_int("levels", levels)
     method = _validate.choice("method", method, _METHODS)
-    tol = _validate.positive_real("tol", tol)
+    tol = _validate.solver_tolerance("tol", tol)
     eigenvectors = _validate.flag("eigenvectors", eigenvectors)
     if levels > n:
         raise ValueError(f"levels = {levels:,} exceeds the {n:,} states of this matrix.")
@@ -817,7 +817,7 @@ def _full_spectrum(lattice: Lattice, *, t: float, onsite: OnSite, max_sites: int
             e = sla.eigvalsh(h.toarray())
         return e, eigenvalue_tolerance(norm, n)
     _validate.lattice(lattice)
-    t = _validate.real("the hopping t", t)
+    t = _validate.hopping("the hopping t", t)
     max_sites = _validate.positive_int("max_sites", max_sites)
     flux = _flux(flux)
     if lattice.sites > max_sites:
