@@ -126,8 +126,10 @@ def test_local_cluster_is_bit_identical_to_the_default(serial_table, tmp_path):
     pytest.importorskip("distributed")
     from distributed import Client, LocalCluster
 
-    # the default: a local cluster of worker processes started by the engine
-    rep = run_sweep("disorder", GRID, tmp_path / "default", workers=2, progress=False, timeout=TIMEOUT)
+    # "local": a local cluster of worker processes started by the engine (the default scheduler=None
+    # runs this tiny grid serially: tests/test_sweep_robust.py)
+    rep = run_sweep("disorder", GRID, tmp_path / "default", scheduler="local", workers=2, progress=False,
+                    timeout=TIMEOUT)
     assert rep.ok and "local" in rep.scheduler
     default = read_table(tmp_path / "default")
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=":0") as cluster, \
