@@ -477,3 +477,17 @@ def test_absurd_inputs_are_refused_before_the_solver(call, match):
     with pytest.raises(ValueError, match=match) as exc:
         call()
     assert "\n" not in str(exc.value)
+
+
+@pytest.mark.parametrize("call, match", [
+    (lambda: __import__("hyperlattice.continuum.special", fromlist=["x"]).legendre_p(1e300, 0, 2.0),
+     r"the degree nu must have \|nu\| <= 1e\+06"),
+    (lambda: __import__("hyperlattice.bosons.meanfield", fromlist=["x"]).gutzwiller(LAT, 0.05, 0.5, tol=1e-300),
+     r"tol = 1e-300 is below what float64"),
+    (lambda: __import__("hyperlattice.bosons.gp", fromlist=["x"]).gp_ground_state(LAT, 10.0, 0.5, tol=1e-300),
+     r"tol = 1e-300 is below what float64"),
+])
+def test_absurd_inputs_that_ran_for_minutes_are_refused(call, match):
+    # issue 28 item 6 (the probe of every public function with 1e+-300): these ran on unbounded
+    with pytest.raises(ValueError, match=match):
+        call()

@@ -185,7 +185,7 @@ def gp_ground_state(system, particles: float, U: float, t: float = 1.0, *, tol: 
     if U > _MAX_COUPLING * t:
         raise ValueError(f"U = {U:g} is more than {_MAX_COUPLING:g} t: far outside the weak-coupling regime of the "
                          "Gross-Pitaevskii equation (use exact diagonalisation, hyperlattice.bosons.ed).")
-    tol = _validate.positive_real("tol", tol)
+    tol = _validate.solver_tolerance("tol", tol)
     max_iter = _validate.integer("max_iter", max_iter, minimum=1, maximum=10**7)
     _validate.require_memory("the GP minimisation", 8.0 * n * 40 + 12.0 * a.nnz)
     h = (-t) * a

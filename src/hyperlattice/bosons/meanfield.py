@@ -671,7 +671,7 @@ def gutzwiller(system, t: float, mu: float, U: float = 1.0, *, nmax: int | None 
     t = _validate.real("t", t, minimum=0.0)
     mu = _validate.real("mu", mu)
     U = _validate.positive_real("U", U)
-    tol = _validate.positive_real("tol", tol)
+    tol = _validate.solver_tolerance("tol", tol)
     max_iter = _validate.integer("max_iter", max_iter, minimum=1, maximum=10**8)
     # the problem depends on t/U and mu/U only: solved in units of U (U = 1e308 divided by zero
     # inside, 1e-308 overflowed), energies multiplied back at the end; the ratios are checked here,
@@ -795,7 +795,7 @@ def selfconsistent_boundary(system, mu_over_U: float, *, tol: float = 1e-8, t_to
     (0.0832, 0.0833)
     """
     mu_over_U = _validate.real("mu_over_U", mu_over_U)
-    tol = _validate.positive_real("tol", tol)
+    tol = _validate.solver_tolerance("tol", tol)
     t_tol = _validate.positive_real("t_tol", t_tol)
     lam = largest_adjacency_eigenvalue(system)
     guess = lobe_boundary(lam, mu_over_U)
