@@ -69,12 +69,18 @@ MAX_QUBITS = 20_000
 _NEWTON_MAX = 60
 
 
-def _coupling(g) -> float:
-    """The qubit-photon coupling g: a finite real number whose square is finite too (the model's
-    couplings are g^2 G; beyond |g| ~ 1.3e154 they overflowed to inf)."""
+#: largest |g| / t accepted: circuit-QED couplings are g << t; beyond, the numbers mean nothing
+#: physically (and g^2 G overflowed to inf from |g| ~ 1e154)
+MAX_COUPLING = 1e6
+
+
+def _coupling(g, t: float = 1.0) -> float:
+    """The qubit-photon coupling g: a finite real number with |g| <= :data:`MAX_COUPLING` t."""
     g = _validate.real("g", g)
-    if not math.isfinite(g * g):
-        raise ValueError(f"g = {g:g} is too large: g^2 overflows the float64 range.")
+    t = _validate.positive_real("the hopping t", t)
+    if abs(g) > MAX_COUPLING * t:
+        raise ValueError(f"g = {g:g} is more than {MAX_COUPLING:g} t: far beyond the circuit-QED regime "
+                         "(g << t) that the qubit models describe.")
     return g
 
 
@@ -730,7 +736,7 @@ def bound_state(lattice: Lattice, site: int, omega_q, g, *, t: float = 1.0,
     lat = _validate.lattice(lattice)
     site = _validate.site_index("site", site, lat.sites)
     omega_q = _real_omega("omega_q", omega_q)
-    g = _coupling(g)
+    g = _coupling(g, t)
     if g == 0:
         raise ValueError("g must be nonzero (at g = 0 the qubit does not dress the photons).")
     tol = _validate.real("tol", tol, minimum=1e-15, maximum=1e-3)
@@ -943,7 +949,7 @@ def spin_model(lattice: Lattice, sites, omega_q, g, *, t: float = 1.0,
     lat = _validate.lattice(lattice)
     idx = _sites(lat, sites)
     omega_q = _real_omega("omega_q", omega_q)
-    g = _coupling(g)
+    g = _coupling(g, t)
     res = _resolvent_for(resolvent, lat, t)
     G = np.empty((idx.size, idx.size))
     chunk = max(1, int(2**26 // (8 * lat.sites)))      # (N, chunk) right-hand sides within ~64 MB
