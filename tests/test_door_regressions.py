@@ -209,7 +209,7 @@ def test_exchange_comparison_refuses_g_zero():
 
     with pytest.raises(ValueError, match="g must be nonzero"):
         exchange_comparison(LAT, -3.1, 0.0)
-    with pytest.raises(ValueError, match="more than 1e\+06 t: far beyond the circuit-QED regime"):
+    with pytest.raises(ValueError, match=r"more than 1e\+06 t: far beyond the circuit-QED regime"):
         exchange_comparison(LAT, -3.1, 1e200)
 
 
