@@ -33,7 +33,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="a grid axis: NAME=1,2,3 or NAME=0:100 (repeatable)")
     parser.add_argument("--out", default=None, metavar="DIR", help="sweep directory (created; resumed if present)")
     parser.add_argument("--scheduler", default=None,
-                        help="local (default), threads, serial, or the address of a running Dask scheduler")
+                        help="local, threads, serial, or the address of a running Dask scheduler (default: a local "
+                             "cluster when the grid is worth its ~5 s start-up, else this process)")
     parser.add_argument("--workers", type=positive_int, default=None, help="workers of the local cluster")
     parser.add_argument("--retries", type=int, default=None, help="extra attempts of a failing task (default 2)")
     parser.add_argument("--timeout", type=finite_float, default=None, help="seconds before unfinished tasks fail")
