@@ -12,7 +12,7 @@
   writing the same table.
 * **Idempotent keys.** A task's key is its task name and a hash of its parameters
   (:func:`task_key`): the same task always has the same key, so a rerun skips every key whose row
-  is on disk (resumable), a grid that lists a point twice runs it once, and a task that a dying
+  is on disk (resumable), a grid that lists a value twice is refused, and a task that a dying
   worker leaves half-done is recomputed by the scheduler under the same key and written once.
 * **Streaming.** Rows are collected as futures complete (``distributed.as_completed``) and written
   every ``flush_seconds`` as one atomically renamed part file; the table is consolidated at the
@@ -246,7 +246,7 @@ def expand_grid(task: str, grid: dict) -> list[dict]:
         params = {k: _canonical(v) for k, v in params.items()}
         spec.check(params)
         key = task_key(task, params)
-        if key not in seen:         # a point listed twice is one task
+        if key not in seen:         # distinct values give distinct keys; kept as a guard
             seen.add(key)
             out.append(params)
     return out
