@@ -493,3 +493,10 @@ def test_absurd_inputs_that_ran_for_minutes_are_refused(call, match):
     # issue 28 item 6 (the probe of every public function with 1e+-300): these ran on unbounded
     with pytest.raises(ValueError, match=match):
         call()
+
+
+def test_a_quadrature_tolerance_below_float64_is_refused():
+    from hyperlattice.compare.sums import disk_integral
+
+    with pytest.raises(ValueError, match=r"rtol = 1e-300 is below what float64 arithmetic can reach"):
+        disk_integral(lambda z: np.ones(z.shape), 0.5, rtol=1e-300)

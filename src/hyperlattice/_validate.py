@@ -175,8 +175,8 @@ def solver_tolerance(name: str, value, *, floor: float = MIN_TOLERANCE) -> float
     (tol = 1e-300 ended as a ConvergenceError after the work instead of a refusal before it)."""
     tol = positive_real(name, value)
     if tol < floor:
-        raise ValueError(f"{name} = {tol:g} is below what float64 arithmetic can reach (about {floor:g} of the "
-                         f"matrix's scale); give {name} >= {floor:g}.")
+        raise ValueError(f"{name} = {tol:g} is below what float64 arithmetic can reach (about {floor:g} "
+                         f"relative to the problem's scale); give {name} >= {floor:g}.")
     return tol
 
 
