@@ -1145,7 +1145,7 @@ class Levels(Result):
             return "the radial index n starts at 1"
         if np.any(err < 0):      # NaN stands for an unknown error and is kept
             return "errors must be non-negative"
-        if m is not None and self.error_kind == "residual" and np.any((2 * m <= -self.p) | (2 * m > self.p)):
+        if m is not None and self._m_is_sector() and np.any((2 * m <= -self.p) | (2 * m > self.p)):
             return f"m must lie in (-p/2, p/2] = (-{self.p / 2:g}, {self.p / 2:g}]"
         if k > 1:
             # ascending up to each level's own error and the rounding of the largest energy
@@ -1155,6 +1155,11 @@ class Levels(Result):
                 i = int(np.argmax(np.diff(e) < -slack))
                 return f"the energies are not ascending (E[{i}] = {e[i]:.17g} > E[{i + 1}] = {e[i + 1]:.17g})"
         return None
+
+    def _m_is_sector(self) -> bool:
+        # a graph spectrum's m is its signed rotation sector in (-p/2, p/2]; a continuum m is any
+        # integer (and so is the continuum label a graph level carries once matched)
+        return self.error_kind == "residual"
 
     @property
     def degeneracy(self) -> np.ndarray:
