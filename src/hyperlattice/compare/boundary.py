@@ -513,15 +513,16 @@ class BoundaryCorrelator(Result):
         return math.hypot(self.delta_lattice_err, sys)
 
     def summary(self) -> dict:
-        """The ``boundary --json`` contract: p, q, rings, omega, lambda, mass2 (paper's metric), mass2_ads_radius_1,
-        ads_radius and mass2_input (the mass as given), delta_formulas, delta_continuum,
-        delta_continuum_improved, delta_lattice, delta_lattice_err (fit: stat and window), delta_lattice_stat,
+        """The ``boundary --json`` contract: p, q, rings, omega, lambda, mass2 (paper's metric), delta_continuum,
+        delta_lattice, delta_lattice_err (fit: stat and window), then mass2_ads_radius_1, ads_radius and
+        mass2_input (the mass as given), delta_formulas, delta_continuum_improved, delta_lattice_stat,
         delta_lattice_window, delta_lattice_sys (with _rings and _spacing) and delta_lattice_total_err."""
         return {"p": self.p, "q": self.q, "rings": self.rings, "omega": self.omega, "lambda": self.lam,
-                "mass2": self.mass2, "mass2_ads_radius_1": self.mass2 * ADS_RADIUS**2, "ads_radius": self.ads_radius,
+                "mass2": self.mass2, "delta_continuum": self.delta_continuum, "delta_lattice": self.delta_lattice,
+                "delta_lattice_err": self.delta_lattice_err,
+                "mass2_ads_radius_1": self.mass2 * ADS_RADIUS**2, "ads_radius": self.ads_radius,
                 "mass2_input": self.mass2_input, "delta_formulas": dict(self.delta_formulas),
-                "delta_continuum": self.delta_continuum, "delta_continuum_improved": self.delta_continuum_improved,
-                "delta_lattice": self.delta_lattice, "delta_lattice_err": self.delta_lattice_err,
+                "delta_continuum_improved": self.delta_continuum_improved,
                 "delta_lattice_stat": self.delta_lattice_stat, "delta_lattice_window": self.delta_lattice_window,
                 "delta_lattice_sys": self.delta_lattice_sys, "delta_lattice_sys_rings": self.delta_lattice_sys_rings,
                 "delta_lattice_sys_spacing": self.delta_lattice_sys_spacing,
