@@ -50,7 +50,7 @@ beside ``delta_lattice_err``; both derived from the computation itself):
 ``delta_lattice_sys`` adds the two in quadrature. Measured ({7,3}, ω = -3.5, ℓ = 10): Δ_lattice =
 2.0194 with fit error 0.0006, finite-ℓ 0.00005 and lattice-spacing 0.055, against Δ_continuum =
 2.0624 (paper's map) and 2.0078 (improved map): the lattice Δ lies between the two maps, and its
-2 % offset from the paper's Δ is the dictionary's own order, not a 75σ disagreement.
+2 % offset from the paper's Δ is the dictionary's own order, not a 76σ disagreement.
 
 **Masses in either convention.** ``mass2`` with ``ads_radius`` (1: unit-radius AdS₂,
 :math:`\Delta = \frac12 + \sqrt{\frac14 + m^2}`; 0.5: the paper's metric, :math:`\Delta = \frac12 +
