@@ -298,15 +298,16 @@ def continuum_labels(spectrum: Spectrum, *, radius: float | None = None, diction
         rank[sel[stable_order(e[sel], tol[sel], sn[sel])]] = np.arange(1, sel.size + 1)
     need = {int(kk): int(rank[k == kk].max()) for kk in np.unique(k)}
     # enough continuum states that every sector has one more than the graph needs (its next level
-    # decides whether the match is a tie)
-    states = K + p + 1
+    # decides whether the match is a tie); a quarter more than the graph's count to start with (the
+    # continuum's cost grows with the count: a short request is repeated 1.5 times larger)
+    states = math.ceil(1.25 * e.size) + p + 1
     while True:
         cont = _continuum_for(spectrum, radius, dictionary, states)
         ck = np.mod(cont.m, p)
         members = {kk: np.flatnonzero(ck == kk) for kk in need}
         if all(members[kk].size > need[kk] for kk in need):
             break
-        states *= 2
+        states = math.ceil(1.5 * states)
     cidx = np.array([members[int(kk)][r - 1] for kk, r in zip(k, rank)], dtype=np.int64)
     cn, cm = cont.n[cidx].astype(np.int64), cont.m[cidx].astype(np.int64)
     cerr = np.nan_to_num(np.asarray(cont.errors, float), nan=0.0, posinf=0.0)
