@@ -1086,8 +1086,10 @@ class Levels(Result):
     n : ndarray of int, shape (K,)
         Radial index 1, 2, ... within sector m.
     m : ndarray of int, shape (K,), or None
-        Signed angular momentum in :math:`(-p/2, p/2]` (graph) or :math:`\mathbb Z`
-        (continuum); a pair is listed +m first. None when the rotation is broken.
+        Signed angular momentum in :math:`\mathbb Z` (continuum), or for a graph spectrum its
+        signed rotation sector in :math:`(-p/2, p/2]`, which is the angular momentum only modulo p
+        (:func:`hyperlattice.compare.levels.continuum_labels` gives the continuum (n, m) a graph
+        level continues); a pair is listed +m first. None when the rotation is broken.
     errors : ndarray, shape (K,)
         Per level: the residual :math:`\|H\psi - E\psi\|` (graph) or a bound on the energy
         error (continuum); ``error_kind`` says which.
@@ -1181,7 +1183,9 @@ def compare_levels(graph: Levels, continuum: Levels) -> dict:
     r"""Field-by-field comparison of two level lists of equal length.
 
     Returns the relative differences :math:`(E_g - E_c)/|E_g|`, whether the (n, m) labels agree
-    level by level, and both error columns.
+    level by level, and both error columns. The labels are compared as given: a graph spectrum's
+    m is its sector (m mod p); :func:`hyperlattice.compare.levels.levels_side_by_side` compares the
+    continuum labels of the graph levels instead.
 
     Parameters
     ----------
