@@ -105,10 +105,13 @@ def _report(args, spec, header: str) -> int:
         print_json(out)
         return 0
     print(header)
-    print(f"{'#':>4} {'E':>20} {'n':>3} {'m':>4} {'sector':>6} {'deg':>3} {'residual':>10}")
+    # a field splits sector k from p - k: no degeneracy column then
+    deg = not spec.flux
+    print(f"{'#':>4} {'E':>20} {'n':>3} {'m':>4} {'sector':>6}" + (f" {'deg':>3}" if deg else "") + f" {'residual':>10}")
     for i, (e, n, m, k, d, r, a) in enumerate(zip(spec.energies, spec.n, spec.m, spec.sector, spec.degeneracy,
                                                   spec.errors, spec.ambiguous)):
-        print(f"{i + 1:4d} {e:20.14f} {n:3d} {m:4d} {k:6d} {d:3d} {r:10.1e}" + ("  ambiguous" if a else ""))
+        print(f"{i + 1:4d} {e:20.14f} {n:3d} {m:4d} {k:6d}" + (f" {d:3d}" if deg else "") + f" {r:10.1e}"
+              + ("  ambiguous" if a else ""))
     print(f"sector = m mod p is what the lattice knows; {spec.labels}")
     if not spec.flux:
         print("deg: degeneracy on the lattice (2: sectors k and p - k are complex conjugates).")
