@@ -296,6 +296,7 @@ def test_side_by_side_labels_agree_for_p8_where_the_lattice_splits_a_pair():
     (split,) = cmp.graph.splittings
     assert (split["n"], split["m"], split["levels"], split["resolved"]) == (1, 4, (7, 8), True)
     assert split["splitting"] == cmp.graph.energies[8] - cmp.graph.energies[7] > 0
+    assert cmp.summary()["split"] == [dict(split, levels=[7, 8])]
 
 
 def test_continuum_labels_round_trip_and_eigenvectors(tmp_path):

@@ -447,10 +447,14 @@ class LevelComparison(Result):
                 for k in range(len(self))]
 
     def summary(self) -> dict:
-        """p, q, methods, error kinds and the level table."""
-        return {"p": self.graph.p, "q": self.graph.q, "graph_method": self.graph.method,
-                "continuum_method": self.continuum.method, "graph_error_kind": self.graph.error_kind,
-                "continuum_error_kind": self.continuum.error_kind, "levels": self.table()}
+        """p, q, methods, error kinds and the level table (+ ``split``: the continuum pairs the lattice
+        splits, when the graph side carries continuum labels)."""
+        out = {"p": self.graph.p, "q": self.graph.q, "graph_method": self.graph.method,
+               "continuum_method": self.continuum.method, "graph_error_kind": self.graph.error_kind,
+               "continuum_error_kind": self.continuum.error_kind, "levels": self.table()}
+        if isinstance(self.graph, LabelledSpectrum):
+            out["split"] = [dict(s, levels=list(s["levels"])) for s in self.graph.splittings]
+        return out
 
 
 def levels_side_by_side(graph: Levels, continuum: Levels) -> LevelComparison:
