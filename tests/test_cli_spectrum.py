@@ -137,3 +137,19 @@ def test_a_command_imports_only_its_own_module(capsys):
         main(["spectrm"])
     err = capsys.readouterr().err.strip().splitlines()
     assert info.value.code == 2 and len(err) == 1 and "'scaling'" in err[0] and "'spectrum'" in err[0]
+
+
+def test_levels_stand_alone_when_the_continuum_refuses(capsys, monkeypatch):
+    """A continuum request beyond its cost limit leaves the graph levels with their sectors and says why."""
+    import hyperlattice.compare.levels as lv
+
+    def refuse(spec, **_):
+        raise ValueError("the continuum levels needed would take too long.")
+
+    monkeypatch.setattr(lv, "continuum_labels", refuse)
+    out = run_json(capsys, "--rings", "2", "--levels", "3")
+    assert out["n"] is None and out["m"] is None and out["sector"] == [0, 1, 6]
+    assert out["labels_note"] == "the continuum levels needed would take too long."
+    assert main(["spectrum", "--rings", "2", "--levels", "3"]) == 0
+    text = capsys.readouterr().out
+    assert "no continuum labels: the continuum levels needed would take too long." in text
