@@ -1,4 +1,5 @@
-"""``hyperlattice spectrum``: lowest levels of H = -A on a {p,q} ring lattice, labelled by (n, m)."""
+"""``hyperlattice spectrum``: lowest levels of H = -A on a {p,q} ring lattice, with their sector and the continuum (n, m)
+they continue."""
 
 from __future__ import annotations
 

@@ -1,5 +1,8 @@
-r"""Graph levels against continuum levels: side by side, their convergence, Z and level counts.
+r"""Graph levels against continuum levels: labels, side by side, their convergence, Z and level counts.
 
+* :func:`continuum_labels` - each graph level's rotation sector k = m mod p (all the lattice knows
+  of m) and the continuum level (n, m) it continues, matched inside its sector by energy order,
+  with ties reported and the continuum pairs the lattice splits measured;
 * :func:`levels_side_by_side` - a graph spectrum and continuum levels (both
   :class:`~hyperlattice.results.Levels`) level by level (``SuppTab1``, ``spec1``, ``spec2``);
 * :func:`relative_error_trend` - the signed relative error :math:`(E_{\rm graph} -
