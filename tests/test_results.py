@@ -122,6 +122,8 @@ def _factories():
             7, 3, rings=3, levels=3),
         "MagneticSpectrum": lambda: __import__("hyperlattice.continuum.magnetic", fromlist=["x"]).magnetic_levels(
             7, 3, rings=3, levels=2, flux=0.1),
+        "LabelledSpectrum": lambda: __import__("hyperlattice.compare.levels", fromlist=["x"]).continuum_labels(
+            __import__("hyperlattice.graph.spectrum", fromlist=["x"]).lowest_levels(ring_lattice(8, 3, 3), 10)),
         "GreenComparison": green,
         "TilingConstants": tiling,
         "ContinuumParameters": lambda: continuum_parameters(1.0, 0.5, 2.0),

@@ -1103,8 +1103,10 @@ class Levels(Result):
     n : ndarray of int, shape (K,)
         Radial index 1, 2, ... within sector m.
     m : ndarray of int, shape (K,), or None
-        Signed angular momentum in :math:`(-p/2, p/2]` (graph) or :math:`\mathbb Z`
-        (continuum); a pair is listed +m first. None when the rotation is broken.
+        Signed angular momentum in :math:`\mathbb Z` (continuum), or for a graph spectrum its
+        signed rotation sector in :math:`(-p/2, p/2]`, which is the angular momentum only modulo p
+        (:func:`hyperlattice.compare.levels.continuum_labels` gives the continuum (n, m) a graph
+        level continues); a pair is listed +m first. None when the rotation is broken.
     errors : ndarray, shape (K,)
         Per level: the residual :math:`\|H\psi - E\psi\|` (graph) or a bound on the energy
         error (continuum); ``error_kind`` says which.
@@ -1162,7 +1164,7 @@ class Levels(Result):
             return "the radial index n starts at 1"
         if np.any(err < 0):      # NaN stands for an unknown error and is kept
             return "errors must be non-negative"
-        if m is not None and self.error_kind == "residual" and np.any((2 * m <= -self.p) | (2 * m > self.p)):
+        if m is not None and self._m_is_sector() and np.any((2 * m <= -self.p) | (2 * m > self.p)):
             return f"m must lie in (-p/2, p/2] = (-{self.p / 2:g}, {self.p / 2:g}]"
         if k > 1:
             # ascending up to each level's own error and the rounding of the largest energy
@@ -1172,6 +1174,11 @@ class Levels(Result):
                 i = int(np.argmax(np.diff(e) < -slack))
                 return f"the energies are not ascending (E[{i}] = {e[i]:.17g} > E[{i + 1}] = {e[i + 1]:.17g})"
         return None
+
+    def _m_is_sector(self) -> bool:
+        # a graph spectrum's m is its signed rotation sector in (-p/2, p/2]; a continuum m is any
+        # integer (and so is the continuum label a graph level carries once matched)
+        return self.error_kind == "residual"
 
     @property
     def degeneracy(self) -> np.ndarray:
@@ -1193,7 +1200,9 @@ def compare_levels(graph: Levels, continuum: Levels) -> dict:
     r"""Field-by-field comparison of two level lists of equal length.
 
     Returns the relative differences :math:`(E_g - E_c)/|E_g|`, whether the (n, m) labels agree
-    level by level, and both error columns.
+    level by level, and both error columns. The labels are compared as given: a graph spectrum's
+    m is its sector (m mod p); :func:`hyperlattice.compare.levels.levels_side_by_side` compares the
+    continuum labels of the graph levels instead.
 
     Parameters
     ----------
