@@ -60,3 +60,27 @@ def test_screenshots(tmp_path):
         assert img.shape[:2] == (600, 800), name
         # text drawn (a blank page is what headless Chromium gives for a scrolled page: see the tool)
         assert (img[..., :3] < 0.3).mean() > 0.002, name
+
+
+def test_contents_use_the_papers_numbers_not_file_stems(tmp_path):
+    """Issue 28 item 3: "Table IV", "Fig. 3" for what the paper prints, "Table 2.1" for the report's own."""
+    from hyperlattice.report.writers import Figure
+
+    levels = Table("s1", ["rings", "E0"], [[1, -2.0]], "Table IV: levels.", paper="SuppTab1")
+    own = Table("band_fit", ["rings", "E0"], [[1, -2.0]], "Fits.")
+    fig = Figure("fig2", "Levels against rings.", paper="Fig2")
+    sections = [Section("Levels", ("SuppTab1",), [], [levels], [fig], anchor="spectrum"),
+                Section("Band bottom", ("AppSpec",), [], [own], [], anchor="band-bottom", part="beyond")]
+    write_html(sections, ["# r"], tmp_path)
+    write_md(sections, ["# r"], tmp_path)
+    page = (tmp_path / "report.html").read_text(encoding="utf-8")
+    nav = page[page.index('<nav class="toc"'):page.index("</nav>")]
+    assert '>Table IV</a>' in nav and '>Fig. 3</a>' in nav and '>Table 2.1</a>' in nav
+    assert "s1<" not in nav and "fig2<" not in nav and "band_fit<" not in nav
+    assert "<figcaption>Fig. 3. Levels against rings.</figcaption>" in page
+    assert '<p class="cap" id="table-s1">Table IV: levels. ' in page     # not "Table IV. Table IV: ..."
+    assert '<p class="cap" id="table-band-fit">Table 2.1. Fits. ' in page
+    md = (tmp_path / "report.md").read_text(encoding="utf-8")
+    assert "[Table IV](#table-s1)" in md and "[Fig. 3](#fig-fig2)" in md and "*Table 2.1. Fits.*" in md
+    with pytest.raises(ValueError, match="not a label of the paper"):
+        Table("x", ["a"], [[1]], paper="Tab99")

@@ -178,13 +178,19 @@ def test_compare_flags():
 
 def test_side_table_uses_the_paper_values(repro):
     out, summary = repro
-    with open(out / "report" / "table_s1_vs_paper.csv") as fh:
-        rows = list(csv.DictReader(fh))
-    for row, rec in zip(rows, summary["records"]):
-        for key in ("E0_graph", "E0_continuum", "E0_asymptotic", "E1_graph", "E1_continuum", "E1_asymptotic"):
-            pv = paper_value(key, rec["rings"])
-            assert row[f"{key}_paper"] == pv.printed
-            assert row[f"{key}_flag"] == pv.check(rec[key])[0]
+    for level in ("E0", "E1"):
+        with open(out / "report" / f"table_s1_vs_paper_{level}.csv") as fh:
+            rows = list(csv.DictReader(fh))
+        assert rows and list(rows[0])[:2] == ["rings", "flagged"] and len(rows[0]) == 11
+        for row, rec in zip(rows, summary["records"]):
+            flagged = []
+            for kind in ("graph", "continuum", "asymptotic"):
+                key = f"{level}_{kind}"
+                pv = paper_value(key, rec["rings"])
+                assert row[f"{key}_paper"] == pv.printed
+                assert row[f"{key}_flag"] == pv.check(rec[key])[0]
+                flagged += [kind] if row[f"{key}_flag"] else []
+            assert row["flagged"] == ",".join(flagged)
 
 
 def _trends(records):
@@ -445,3 +451,29 @@ def test_two_band_bottom_intervals_explained(repro):
     with open(out / "report" / "table_band_bottom.csv") as fh:
         row = next(r for r in csv.DictReader(fh) if r["lattice"] == "{7,3}")
     assert bound[1] == pytest.approx(float(row["rigorous_lower"]), abs=1e-5)
+
+
+def test_contents_name_tables_and_figures_as_the_paper_prints_them(repro):
+    """The table of contents and the captions say "Table IV", "Fig. 3", "Table 9.2" (issue 28 item 3),
+    never the internal file stems (``table s1``, ``figure fig2``)."""
+    out, _ = repro
+    md = (out / "report" / "report.md").read_text()
+    toc = md[md.index("## Contents"):md.index('<a id="part-paper">')]
+    for printed in ("Table I", "Table III", "Table IV", "Fig. 1", "Fig. 3", "Fig. 4, upper panels", "Fig. 5",
+                    "Fig. 6", "Fig. 7"):
+        assert f"[{printed}](#" in toc, printed
+    assert not re.search(r"\[(table|figure) [\w]+\]", toc), re.findall(r"\[(?:table|figure) [\w]+\]", toc)
+    assert re.search(r"\[Table \d+\.\d\]\(#table-band-fit\)", toc)
+    html_text = (out / "report" / "report.html").read_text()
+    nav = html_text[html_text.index('<nav class="toc"'):html_text.index("</nav>")]
+    assert ">Table IV</a>" in nav and ">Fig. 3</a>" in nav and ">table s1<" not in nav and ">figure fig2<" not in nav
+    assert "<p class=\"cap\" id=\"table-s1\">Table IV (and the energy rows of Table I)" in html_text
+
+
+def test_every_table_fits_a_1400px_page(repro):
+    """No table of the report is wider than 12 columns (the 19-column side table is split, issue 28 item 3)."""
+    out, _ = repro
+    for path in (out / "report").glob("table_*.csv"):
+        with open(path) as fh:
+            header = next(csv.reader(fh))
+        assert len(header) <= 12, (path.name, len(header))
