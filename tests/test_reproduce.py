@@ -477,3 +477,28 @@ def test_every_table_fits_a_1400px_page(repro):
         with open(path) as fh:
             header = next(csv.reader(fh))
         assert len(header) <= 12, (path.name, len(header))
+
+
+def test_bosons_tables_carry_error_bars_and_solver_tolerances(repro):
+    """Issue 28 item 3: the infinite lattice's lobe tip inherits ρ's error bar; the GP caption says
+    mean filling; the gap and GP tables state their solvers' tolerances and the errors reached."""
+    out, _ = repro
+    with open(out / "report" / "table_bosons_lobes.csv") as fh:
+        lobes = list(csv.DictReader(fh))
+    inf = next(r for r in lobes if r["system"].startswith("infinite"))
+    rho, err = float(inf["lambda_max"]), float(inf["lambda_max_error"])
+    assert 0 < err < 1e-2
+    assert float(inf["tip_t_c_over_U_error"]) == pytest.approx(float(inf["tip_t_c_over_U"]) * err / rho, rel=0.1)
+    assert all(r["lambda_max_error"] and r["tip_t_c_over_U_error"] for r in lobes)
+    md = (out / "report" / "report.md").read_text()
+    assert "at mean filling N/sites = 1" in md and "one boson per site" not in md
+    assert "relative residual ≤ 1e−10" in md or "relative residual ≤ 1e-10" in md
+    with open(out / "report" / "table_bosons_gp.csv") as fh:
+        gp = list(csv.DictReader(fh))
+    for r in gp:
+        assert float(r["residual_graph"]) <= 1e-8 and float(r["residual_continuum"]) <= 1e-8
+        # the continuum μ is printed to 5 decimals: its discretisation error is stated beside it
+        assert 0 < float(r["mu_continuum_error"]) < 1e-4
+    with open(out / "report" / "table_bosons_gap.csv") as fh:
+        gaps = list(csv.DictReader(fh))
+    assert all(0 < float(r["gap_ed_error_bound"]) < 5e-6 for r in gaps)
