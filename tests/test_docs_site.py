@@ -96,3 +96,17 @@ def test_maths_rendered_offline_and_code_blocks_wrap():
     assert "&#x02211;" in markup or "∑" in markup
     css = (DOCS / "_static" / "hyperlattice.css").read_text()
     assert "white-space: pre-wrap" in css and '"hyperlattice.css"' in conf
+
+
+def test_readme_opens_with_a_first_ten_minutes_path_and_ranged_timings():
+    """Issue 28 item 4: the README's first section is the newcomer's path; the report's time is a
+    range measured on a loaded 2-core machine, not one idle-machine number."""
+    import re
+
+    readme = (DOCS.parent / "README.md").read_text()
+    heads = re.findall(r"^## (.+)$", readme, re.M)
+    assert heads[0] == "First ten minutes" and heads[1] == "Quick start"
+    first = readme.split("## First ten minutes", 1)[1].split("\n## ", 1)[0]
+    assert "```python" in first and "report.html" in first and "help(hyperlattice)" in first
+    run = readme.split("`make run` runs `hyperlattice reproduce --out reproduction`", 1)[1].split("\n\n", 1)[0]
+    assert re.search(r"\d+–\d+ minutes", run) and "about 50 s" not in run
