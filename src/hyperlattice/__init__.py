@@ -33,7 +33,7 @@ Index by topic (every name is ``hyperlattice.<name>``)::
                         gp_comparison mott_gap_comparison
     Sweeps, results     run_sweep read_table Result Levels load_result
 
-Conventions: metric ds² = (dx² + dy²)/(1 − |z|²)² (curvature −4); h = tanh(d0); H = −tA (t = 1
+Conventions: metric ``ds² = (dx² + dy²)/(1 − |z|²)²`` (curvature −4); h = tanh(d0); H = −tA (t = 1
 unless given); sites 0-based, ring by ring, each counterclockwise from the smallest polar angle
 ≥ 0. Names are imported lazily (``import hyperlattice`` is cheap), so ``help(hyperlattice)``
 shows this index, not every class.

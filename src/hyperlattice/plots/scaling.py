@@ -73,6 +73,11 @@ def draw_radial_profile(profile: RadialProfile, ax: Axes | None = None, *, label
     return ax
 
 
+def _artanh(r):
+    """artanh, finite at the ends of [-1, 1] (the top axis of ``plot_frame_angles`` asks for them)."""
+    return np.arctanh(np.clip(r, -1.0 + 1e-15, 1.0 - 1e-15))
+
+
 def plot_frame_angles(lattice: Lattice | FrameAngles | None = None, ax: Axes | None = None, *,
                       distance: bool = False) -> Axes:
     r"""Fig. FigScos3delta: :math:`\cos(q\delta_i)` against :math:`r_i`, averaged at equal radius.
@@ -124,7 +129,7 @@ def plot_frame_angles(lattice: Lattice | FrameAngles | None = None, ax: Axes | N
     if distance:
         ax.set_xlabel(r"hyperbolic distance $d(r_i, 0)$ from the centre", fontsize=12)
         ax.set_ylim(-1.1, 1.1)
-        top = ax.secondary_xaxis("top", functions=(np.tanh, np.arctanh))
+        top = ax.secondary_xaxis("top", functions=(np.tanh, _artanh))
         top.set_xlabel(r"site radius $r_i$", fontsize=11)
         top.set_xticks([0.3, 0.6, 0.8, 0.9, 0.95, 0.98])
         top.tick_params(labelsize=9)

@@ -348,8 +348,9 @@ def figure_id(f: Figure) -> str:
 
 
 def item_labels(sections: list[Section]) -> dict[int, str]:
-    """How the report names each table and figure: ``{id(item): "Table IV" | "Fig. 3" | "Table 9.2"}``.
+    """The name of each table and figure in the report, as the paper prints it or numbered per section.
 
+    The names are ``"Table IV"`` or ``"Fig. 3"`` (the paper's) and ``"Table 9.2"`` (the report's own).
     A table or figure that reproduces one of the paper's is named as the paper prints it
     (:func:`hyperlattice.paper_labels.cite`, plus the panel for a figure split in several); every
     other one is numbered within its section of the report: ``Table 9.2`` is the second of the
