@@ -53,12 +53,12 @@ def lobe_rows(rows: list, rho_error: float) -> list:
     >>> rows = [{"label": "infinite", "kind": "infinite", "lambda_max": 2.94, "tip_mu_over_U": 0.4142,
     ...          "tip_t_over_U": 0.17157287525 / 2.94}]
     >>> lobe_rows(rows, 1e-4)
-    [['infinite', '2.940000', '1e-04', '0.4142', '0.058358', '2e-06']]
+    [['infinite', '2.940000', '1.0e-04', '0.4142', '0.058358', '2.0e-06']]
     """
     out = []
     for r in rows:
         if r["kind"] == "infinite":
-            errs = (f"{rho_error:.0e}", f"{r['tip_t_over_U'] * rho_error / r['lambda_max']:.0e}")
+            errs = (f"{rho_error:.1e}", f"{r['tip_t_over_U'] * rho_error / r['lambda_max']:.1e}")
         else:
             errs = ("<5e-7", "<5e-7")
         out.append([r["label"], _fmt(r["lambda_max"], 6), errs[0], _fmt(r["tip_mu_over_U"], 4),
