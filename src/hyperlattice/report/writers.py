@@ -696,7 +696,7 @@ def write_html(sections: list[Section], header: list[str], out: Path) -> None:
              "nav.toc .items{font-size:0.85em;color:#555}"
              "h2,h3,p.cap,figure{scroll-margin-top:0.5em}"
              "td,th{border:1px solid #bbb;padding:2px 6px;text-align:right}"
-             "th{background:#eee}td.flag{color:#b00;font-weight:bold}"
+             "th{background:#eee;vertical-align:bottom}td{white-space:nowrap}td.flag{color:#b00;font-weight:bold}"
              "img{max-width:100%}figcaption{font-size:0.9em;color:#333}.cap{font-style:italic}</style>",
              "</head>", "<body>"]
     for line in header:
@@ -738,8 +738,9 @@ def write_html(sections: list[Section], header: list[str], out: Path) -> None:
             for t in s.tables:
                 parts.append(f'<p class="cap" id="{table_id(t)}">{_code(prose(_captioned(names[id(t)], t.caption)))} '
                              f'(<code>table_{e(t.name)}.csv</code>)</p>')
-                parts.append('<div class="scroll"><table><thead><tr>' + "".join(f"<th>{e(c)}</th>" for c in t.columns)
-                             + "</tr></thead><tbody>")
+                # headers may break after an underscore (E0_continuum_paper): a wide table fits the page
+                heads = "".join("<th>" + e(c).replace("_", "_<wbr>") + "</th>" for c in t.columns)
+                parts.append(f'<div class="scroll"><table><thead><tr>{heads}</tr></thead><tbody>')
                 for r in t.rows:
                     cells = []
                     for c, v in zip(t.columns, r):
