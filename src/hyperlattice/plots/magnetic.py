@@ -280,6 +280,9 @@ def _band_bottom(inset: Axes, result: Butterfly, f: np.ndarray, curves: dict, ma
     sel = (fl >= 0.0) & (fl <= max_flux)
     lo = float(np.min(result.energies[sel, 0])) if sel.any() else float(np.nanmin(e))
     hi = float(np.nanmax(e)) + 0.35 * (float(np.nanmax(e)) - lo)
+    # a level that climbs out of the computed ones ends early: keep its end above the window
+    ends = [float(v[np.isfinite(v)][-1]) for v in curves.values() if np.isnan(v[-1]) and np.isfinite(v).any()]
+    hi = min([hi] + [x for x in ends if x > float(np.nanmax(e))])
     en = np.asarray(result.energies, dtype=float)[sel]
     rows, cols = np.nonzero(en <= hi)
     inset.scatter(fl[sel][rows], en[rows, cols], s=1.5, c="k", linewidths=0, rasterized=True)

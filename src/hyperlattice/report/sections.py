@@ -730,7 +730,8 @@ def magnetic_section(out: Path, progress: Callable[[str], None], cache: Cache | 
                          "flake (its outer ring holds more than half of its sites). Red: the continuum Dirichlet "
                          f"levels of the same disk (magnetic_levels, {cite('spec2')} with B = 2πf/A₇) that are among "
                          "the 4 lowest at some f ≤ 0.3, each drawn as one level (n, m) through the flux, so that "
-                         "levels cross where they cross rather than turning a corner. (b) The band bottom magnified: the lowest levels of the flake (dots) and the "
+                         "levels cross where they cross rather than turning a corner (the steep m = −1 level "
+                         "is drawn until it leaves the 20 lowest levels of the disk). (b) The band bottom magnified: the lowest levels of the flake (dots) and the "
                          "same continuum levels.")]
     # l = 3..7: the 1e-3 contour first appears at l = 6 (docs/magnetic.md has l = 3..12)
     from ..compare.magnetic import MagneticComparison
