@@ -100,7 +100,8 @@ def continuum_level_curves(p: int, q: int, rings: int, fluxes, levels: int = 6) 
     Raises
     ------
     ValueError
-        If ``fluxes`` is not a one-dimensional array of real numbers.
+        If ``fluxes`` is not a one-dimensional array of real numbers or ``levels`` is not an
+        integer in [1, 50].
 
     See Also
     --------
@@ -120,6 +121,7 @@ def continuum_level_curves(p: int, q: int, rings: int, fluxes, levels: int = 6) 
     from .. import _validate
 
     f = _validate.real_array("fluxes", fluxes, ndim=1)
+    levels = _validate.integer("levels", levels, minimum=1, maximum=50)
     # more levels than shown, so that a level chosen at one flux is found at every other
     spectra = [magnetic_levels(p, q, rings=rings, levels=4 * levels + 4, flux=float(fk)) for fk in f.tolist()]
     chosen: list = []

@@ -476,6 +476,12 @@ def formal_operator_figure(angles, hs: tuple = (None, 0.15, 0.05)):
     matplotlib.figure.Figure
         The figure (not yet saved), one axes per h and one figure legend.
 
+    Raises
+    ------
+    ValueError
+        If ``angles`` is not a :class:`~hyperlattice.compare.scaling.FrameAngles`, ``hs`` is empty
+        or longer than 6, or an h is not accepted by ``plot_formal_operator``.
+
     Examples
     --------
     >>> import matplotlib.pyplot as plt
@@ -488,9 +494,16 @@ def formal_operator_figure(angles, hs: tuple = (None, 0.15, 0.05)):
     """
     import matplotlib.pyplot as plt
 
+    from ..compare.scaling import FrameAngles
     from ..plots.scaling import plot_formal_operator
 
-    fig, axes = plt.subplots(1, len(hs), figsize=(13.5, 4.6), layout="constrained")
+    if not isinstance(angles, FrameAngles):
+        raise ValueError(f"angles must be the FrameAngles of a flake (hyperlattice.frame_angles), got "
+                         f"{type(angles).__name__}.")
+    if not hs or len(hs) > 6:
+        raise ValueError(f"hs must name 1 to 6 values of h (None for the lattice's own), got {len(hs)}.")
+    fig, axes = plt.subplots(1, len(hs), figsize=(13.5, 4.6), layout="constrained", squeeze=False)
+    axes = axes[0]
     for h, ax in zip(hs, axes):
         plot_formal_operator(angles, h=angles.h if h is None else h, ax=ax)
         ax.get_legend().remove()
