@@ -20,7 +20,7 @@ from hyperlattice.report.writers import prose
 class _Checker(HTMLParser):
     """Collects tags and every external reference; checks the tag nesting."""
 
-    VOID = {"meta", "img", "br", "hr", "link", "input"}
+    VOID = {"meta", "img", "br", "hr", "link", "input", "wbr"}
 
     def __init__(self):
         super().__init__()
