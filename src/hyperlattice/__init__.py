@@ -187,6 +187,8 @@ def __dir__():
         if frame is None:
             break
         if frame.f_globals.get("__name__") == "pydoc":
-            return sorted(n for n in globals() if not n.startswith("_") or n in ("__version__", "__all__"))
+            # the exports already imported are in globals() too: leave them out, loaded or not
+            return sorted(n for n in globals()
+                          if n not in _EXPORTS and (not n.startswith("_") or n in ("__version__", "__all__")))
         frame = frame.f_back
     return __all__
