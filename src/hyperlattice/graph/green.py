@@ -80,8 +80,8 @@ class _SectorFactor:
     :mod:`hyperlattice.graph.symmetry`, built here from the rows of H at the representatives).
     For real v and ω the parts m and p - m are complex conjugate, so m = 0..p/2 are solved
     (numpy's ``rfft``). Blocks m = 0 and p/2 are real, the others complex Hermitian; all share one
-    pattern (every diagonal entry stored), so one analysis per number type serves every block
-    and every ω.
+    pattern (every diagonal entry stored), so one analysis (complex) serves every block and
+    every ω.
     """
 
     def __init__(self, lattice: Lattice, H: sp.csc_matrix, what: str) -> None:
@@ -106,46 +106,107 @@ class _SectorFactor:
         shift = np.concatenate([orbits.shift[j], np.zeros(k, dtype=np.int64)])
         vals = np.concatenate([H.data[pos], np.zeros(k)])      # every diagonal entry stored
         key = cols * k + rows                                  # CSC order: column, then row
-        ukey, self._slot = np.unique(key, return_inverse=True)
+        order = np.argsort(key, kind="stable")
+        key = key[order]
+        first = np.ones(key.shape[0], dtype=bool)
+        first[1:] = key[1:] != key[:-1]
+        ukey = key[first]
+        slot = np.cumsum(first) - 1                            # entry order[i] adds to slot[i]
         indptr = np.zeros(k + 1, dtype=np.int64)
         np.cumsum(np.bincount(ukey // k, minlength=k), out=indptr[1:])
         self._indices = (ukey % k).astype(np.int32)
         self._indptr = indptr.astype(np.int32)
         self._diag = np.flatnonzero(self._indices == np.repeat(np.arange(k), np.diff(indptr)))
-        self._vals, self._shift = vals, shift
-        self._nnz = ukey.shape[0]
+        # most slots hold one entry; the few repeated ones (two neighbours in one orbit) are added
+        self._vals, self._shift = vals[order[first]], shift[order[first]]
+        self._extra_slot, self._extra = slot[~first], order[~first]
+        self._all_vals, self._all_shift = vals, shift
         # m*s mod p indexes one table of unit roots, so that conjugate entries are exact conjugates
         self._roots = np.exp(2j * np.pi * np.arange(p) / p)
         self._real = [m for m in range(p // 2 + 1) if (2 * m) % p == 0]
-        self.blocks = {m: self._block(m) for m in range(p // 2 + 1)}
-        self.real_analysis = analyze(self.blocks[0], what=f"the real rotation-sector blocks of {what}")
-        cplx = [m for m in self.blocks if m not in self._real]
-        self.complex_analysis = (analyze(self.blocks[cplx[0]], what=f"the complex rotation-sector blocks of {what}")
-                                 if cplx else None)
-        self.backend = self.real_analysis.backend
-        # all blocks' factors are held at once: their total must fit (each analysis checked one)
-        need = (len(self._real) * self.real_analysis.bytes_needed
-                + len(cplx) * (self.complex_analysis.bytes_needed if cplx else 0))
-        self.bytes_needed = need
+        blocks = {m: self._block(m) for m in range(p // 2 + 1)}
+        # one analysis of the (complex) pattern for all blocks: one ordering, every shift
+        analysis = analyze(blocks[1], what=f"the rotation-sector blocks of {what}")
+        self.views = {m: analysis.view(blocks[m]) for m in blocks}
+        # the real orthogonal p x p matrix C of the sector coordinates u = C v[idx]: row 0 the
+        # m = 0 part, then the real and imaginary parts of the m-th Fourier component
+        # sum_s e^{-2 pi i m s / p} v[idx[s]] (times sqrt(2/p)), and the m = p/2 part for even p;
+        # in these coordinates H - omega is block diagonal: one block H_m - omega per m
+        ss = np.arange(p)
+        rows, self._slots = [np.full(p, 1 / np.sqrt(p))], {0: (0, None)}
+        for m in range(1, (p + 1) // 2):
+            ang = 2 * np.pi * m * ss / p
+            self._slots[m] = (len(rows), len(rows) + 1)
+            rows += [np.sqrt(2 / p) * np.cos(ang), -np.sqrt(2 / p) * np.sin(ang)]
+        if p % 2 == 0:
+            self._slots[p // 2] = (len(rows), None)
+            rows.append(np.where(ss % 2 == 0, 1.0, -1.0) / np.sqrt(p))
+        self.C = np.array(rows)
+        self.backend = analysis.backend
+        # all blocks' factors are held at once: their total must fit (the analysis checked one)
+        self.bytes_needed = len(self.views) * analysis.bytes_needed
 
     def _block(self, m: int) -> sp.csc_matrix:
-        w = self._vals * (self._roots[(m * self._shift) % self.p])
-        re = np.bincount(self._slot, weights=w.real, minlength=self._nnz)
+        data = self._vals * (self._roots[(m * self._shift) % self.p])
+        extra = self._all_vals[self._extra] * self._roots[(m * self._all_shift[self._extra]) % self.p]
+        np.add.at(data, self._extra_slot, extra)
         if (2 * m) % self.p == 0:
-            data = re
+            data = data.real.copy()
         else:
-            data = re + 1j * np.bincount(self._slot, weights=w.imag, minlength=self._nnz)
             data[self._diag] = data[self._diag].real          # a Hermitian diagonal is real
         out = sp.csc_matrix((data, self._indices, self._indptr), shape=(self.k, self.k))
         out.has_sorted_indices = True
         return out
 
+    def combine(self, Y: np.ndarray, Q: np.ndarray) -> np.ndarray:
+        """:math:`Y^T Q` for Lanczos vectors Q (j, N) in sector coordinates, as (p, S, k): entry
+        [s, i, o] is shift i at site idx[s, o] (BLAS products, no transposed copies)."""
+        p, k = self.p, self.k
+        Q3 = Q.reshape(Q.shape[0], p, k)
+        Z = np.empty((p, Y.shape[1], k))
+        for r in range(p):
+            Z[r] = Y.T @ Q3[:, r, :]                                  # sector part r of every shift
+        return np.tensordot(self.C, Z, axes=(0, 0))                   # C^T along the orbits
+
+    def permuted(self, H: sp.csc_matrix) -> sp.csr_matrix:
+        """H with rows and columns in orbit order (position s k + o: site idx[s, o]), built once."""
+        if getattr(self, "_Hp", None) is None:
+            perm = self.idx.reshape(-1)
+            self._Hp = H.tocsr()[perm][:, perm].tocsr()
+        return self._Hp
+
+    def e0_upper(self, omega: float, steps: int = 12) -> float | None:
+        """An upper bound of the lowest level from a short Lanczos run on the m = 0 block's inverse at ``omega``.
+
+        None when :math:`H_0 - \omega` is not positive definite (ω above the lowest level).
+        The largest Ritz value θ of :math:`(H_0-\omega)^{-1}` is at most its largest
+        eigenvalue, so ω + 1/θ is at least the lowest level of :math:`H_0`, hence of H.
+        """
+        from scipy.linalg import eigvalsh_tridiagonal
+
+        f = self.views[0].factor(omega, positive=True)
+        if not f.positive_definite:
+            return None
+        q = np.full(self.k, 1 / np.sqrt(self.k))
+        q_prev, b_prev, alpha, beta = np.zeros(self.k), 0.0, [], []
+        for _ in range(min(steps, self.k)):
+            w = f.solve(q).real
+            a = float(q @ w)
+            w -= a * q + b_prev * q_prev
+            b = float(np.linalg.norm(w))
+            alpha.append(a)
+            if b <= np.finfo(float).eps * abs(a):
+                break
+            beta.append(b)
+            q_prev, b_prev, q = q, b, w / b
+        theta = eigvalsh_tridiagonal(np.array(alpha), np.array(beta[:len(alpha) - 1]))[-1]
+        return omega + 1.0 / theta
+
     def factor(self, omega: float) -> "_SectorSolve | None":
         """The block factors at a real ω, or None when some block is not positive definite."""
         factors = {}
-        for m, block in self.blocks.items():
-            an = self.real_analysis if m in self._real else self.complex_analysis
-            f = an.factor(omega, positive=True, matrix=block)
+        for m, view in self.views.items():
+            f = view.factor(omega, positive=True)
             if not f.positive_definite:
                 return None
             factors[m] = f
@@ -161,16 +222,34 @@ class _SectorSolve:
         self.kind = next(iter(factors.values())).kind
         self.positive_definite = True
 
-    def solve(self, b: np.ndarray) -> np.ndarray:
+    def to_sectors(self, b: np.ndarray) -> np.ndarray:
+        """Site vector(s) (N,) or (N, c) to sector coordinates, shape (p, k[, c]) (orthogonal)."""
         sec = self.sectors
-        b = np.asarray(b, dtype=float)
-        parts = np.fft.rfft(b[sec.idx], axis=0)          # (p//2 + 1, k[, ncols])
-        for m, f in self.factors.items():
-            parts[m] = f.solve(parts[m].real) if m in sec._real else f.solve(parts[m])
-        x = np.fft.irfft(parts, n=sec.p, axis=0)
-        out = np.empty_like(b)
-        out[sec.idx] = x
+        v = b[sec.idx]
+        return (sec.C @ v.reshape(sec.p, -1)).reshape(v.shape)
+
+    def from_sectors(self, u: np.ndarray) -> np.ndarray:
+        """The inverse of :meth:`to_sectors` (C is orthogonal)."""
+        sec = self.sectors
+        out = np.empty((sec.n,) + u.shape[2:])
+        out[sec.idx] = (sec.C.T @ u.reshape(sec.p, -1)).reshape(u.shape)
         return out
+
+    def apply(self, u: np.ndarray) -> np.ndarray:
+        """:math:`(H - \omega)^{-1}` in sector coordinates (block by block)."""
+        sec = self.sectors
+        out = np.empty_like(u)
+        for m, f in self.factors.items():
+            re, im = sec._slots[m]
+            if im is None:
+                out[re] = f.solve(u[re]).real
+            else:
+                x = f.solve(u[re] + 1j * u[im])
+                out[re], out[im] = x.real, x.imag
+        return out
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        return self.from_sectors(self.apply(self.to_sectors(np.asarray(b, dtype=float))))
 
 
 def _shifted_lanczos(apply_k, c: np.ndarray, deltas: np.ndarray, scale: tuple, a0_norm: float,
@@ -193,6 +272,7 @@ def _shifted_lanczos(apply_k, c: np.ndarray, deltas: np.ndarray, scale: tuple, a
     shift :math:`1/\theta_{max}` (the largest Ritz value of K is at most that of K itself).
     """
     from scipy.linalg import eigh_tridiagonal
+    from scipy.linalg.blas import daxpy, ddot, dnrm2
 
     gamma = float(np.linalg.norm(c))
     Q = np.empty((steps + 1, c.shape[0]))       # pages are touched only as the vectors come
@@ -205,10 +285,11 @@ def _shifted_lanczos(apply_k, c: np.ndarray, deltas: np.ndarray, scale: tuple, a
     inv_theta = np.inf
     for j in range(steps):
         w = apply_k(Q[j])
-        a = float(Q[j] @ w)
-        w -= a * Q[j]
-        w -= b_prev * q_prev
-        b = float(np.linalg.norm(w))
+        a = float(ddot(Q[j], w))
+        w = daxpy(Q[j], w, a=-a)                     # in place, no temporaries
+        if b_prev:
+            w = daxpy(q_prev, w, a=-b_prev)
+        b = float(dnrm2(w))
         alpha.append(a)
         beta.append(b)
         theta, U = eigh_tridiagonal(np.array(alpha), np.array(beta[:-1]))
@@ -297,7 +378,12 @@ class GraphResolvent:
             if np.any(H.data.imag != 0):
                 raise ValueError("the on-site term must be real so that H is Hermitian.")
             H = H.real
-        self.H = H.astype(complex if np.iscomplexobj(H.data) else float).tocsc()
+        H = H.astype(complex if np.iscomplexobj(H.data) else float, copy=False)
+        if H.format == "csr":
+            # H is Hermitian: its CSR arrays read as CSC hold H^T = conj(H), no conversion needed
+            data = H.data.conj() if np.iscomplexobj(H.data) else H.data
+            H = sp.csc_matrix((data, H.indices, H.indptr), shape=H.shape)
+        self.H = H.tocsc()
         self.n = H.shape[0]
         # the rotation-sector route: a large lattice whose H commutes with its rotation (real H)
         self._sectors = None
@@ -311,7 +397,13 @@ class GraphResolvent:
         if method == "dense" and self.n > _DENSE_MAX:
             raise ValueError(f"the dense method is limited to {_DENSE_MAX} sites (this lattice has {self.n}).")
         self.method = method
-        self.norm = float(abs(self.H).sum(axis=0).max()) if self.H.nnz else 0.0   # ||H||_1 >= ||H||_2
+        # column sums of |H| (= row sums, H Hermitian): ||H||_1 >= ||H||_2 and the Gershgorin discs
+        absdata = np.abs(self.H.data)
+        colsum = np.zeros(self.n)
+        if self.H.nnz:
+            nonempty = np.flatnonzero(np.diff(self.H.indptr))
+            colsum[nonempty] = np.add.reduceat(absdata, self.H.indptr[nonempty])
+        self.norm = float(colsum.max()) if self.H.nnz else 0.0
         self._eig = None
         self._lu = None
         self._lu_omega = None
@@ -320,12 +412,12 @@ class GraphResolvent:
         self.backend = ""          # the factorisation backend of the last sparse omega
         # a lower bound of the spectrum (Gershgorin): below it H - omega is positive definite
         d = self.H.diagonal()
-        off = np.asarray(abs(self.H).sum(axis=1)).ravel() - np.abs(d)
+        off = colsum - np.abs(d)
         self._lower = float(np.min(d.real - off)) if self.n else 0.0     # a Hermitian diagonal is real
         # an upper bound of E0 (the Rayleigh quotient of the constant vector): a real omega below
         # it may lie below the spectrum, so the positive-definite factorisation is tried first;
         # _band: the lowest real omega where it was found indefinite (omega above it: pivoted LU)
-        self._upper = float(np.real(self.H.sum())) / self.n if self.n else 0.0
+        self._upper = float(np.real(self.H.data.sum())) / self.n if self.n else 0.0
         self._band = np.inf
 
     # -- spectrum checks -------------------------------------------------------
@@ -486,12 +578,24 @@ class GraphResolvent:
                 pending = pending[pending < e0_upper]
             if pending.size < _SCAN_MIN:
                 break
+            if not np.isfinite(e0_upper):
+                w0 = float(np.median(pending))
+                sectors = self._sector_factor(what) if self._sector_ok else None
+                if sectors is not None:
+                    # the lowest level from the m = 0 block alone (p times smaller): the anchor
+                    # can then balance the condition of the shifts on both sides of it
+                    est = sectors.e0_upper(w0)
+                    if est is None:
+                        pending, e0_upper = pending[pending < w0], w0
+                        continue
+                    e0_upper = est
+                    pending = pending[pending < e0_upper]
+                    if pending.size < _SCAN_MIN:
+                        break
             if np.isfinite(e0_upper):
                 # balance the condition (E0 - w_min)/(E0 - w0) = (E0 - w0)/(E0 - w_max) of the shifts
                 d = e0_upper - pending
                 w0 = float(e0_upper - np.sqrt(d.max() * d.min()))
-            else:
-                w0 = float(np.median(pending))
             lu = self._positive_factor(w0, what)
             if lu is not None:
                 self.backend = lu.backend
@@ -503,19 +607,42 @@ class GraphResolvent:
             hn = self.norm + np.abs(pending)
             accepted = np.ones(pending.size, dtype=bool)
             cols = np.empty((pending.size, self.n, k))
+            if isinstance(lu, _SectorSolve):
+                # the Krylov space in sector coordinates (an orthogonal change of basis), where
+                # K is block diagonal: no transform per step; the Lanczos vectors are taken back
+                # to the orbit order (position s k + o: site idx[s, o]) once, then combined
+                sec = lu.sectors
+                apply = lambda q: lu.apply(q.reshape(sec.p, sec.k)).reshape(-1)        # noqa: E731
+                start = lambda b: lu.apply(lu.to_sectors(b)).reshape(-1)                # noqa: E731
+                Hp, perm = sec.permuted(self.H), sec.idx.reshape(-1)
+
+                def combine(Y, Q, c_i):
+                    X = sec.combine(Y, Q)
+                    cols[:, :, c_i][:, sec.idx] = X.transpose(1, 0, 2)
+                    return lambda i: X[:, i, :].reshape(-1)
+            else:
+                apply, start, Hp, perm = lu.solve, lu.solve, self.H, slice(None)
+
+                def combine(Y, Q, c_i):
+                    X = Y.T @ Q
+                    cols[:, :, c_i] = X
+                    return lambda i: X[i]
             for c_i, j in enumerate(src):
                 b = np.zeros(self.n)
                 b[j] = 1.0
-                c = lu.solve(b)
-                Q, Y, done, inv_theta = _shifted_lanczos(lu.solve, c, deltas, (hn, 1.0),
+                Q, Y, done, inv_theta = _shifted_lanczos(apply, start(b), deltas, (hn, 1.0),
                                                          self.norm + abs(w0), steps)
                 e0_upper = min(e0_upper, w0 + inv_theta)
-                X = Y.T @ Q                                   # (shifts, N)
-                r = np.linalg.norm(b[None, :] - ((self.H @ X.T).T - pending[:, None] * X), axis=1)
-                ok = done & np.isfinite(r) & (r <= _SCAN_BACKWARD * (hn * np.linalg.norm(X, axis=1) + 1.0))
-                accepted &= ok
-                cols[:, :, c_i] = X
-                del Q, X
+                shift_x = combine(Y, Q, c_i)                  # Y^T Q stored; shift i in orbit order
+                del Q
+                bp = b[perm]
+                for i in np.flatnonzero(done & accepted):
+                    # the true residual of every shift, with H itself (in the same order)
+                    x = shift_x(i)
+                    r = float(np.linalg.norm(bp - (Hp @ x - pending[i] * x)))
+                    bound = _SCAN_BACKWARD * (hn[i] * float(np.linalg.norm(x)) + 1.0)
+                    done[i] = np.isfinite(r) and r <= bound
+                accepted &= done
             for i in np.flatnonzero(accepted):
                 found[float(pending[i])] = cols[i]
             pending = pending[~accepted]
@@ -529,7 +656,7 @@ class GraphResolvent:
             big = np.max(np.linalg.norm(block, axis=0))
             if not np.all(np.isfinite(block)) or big * self._tol(complex(oms[i])) >= 1.0:
                 raise self._on_spectrum_error(complex(oms[i]), f"column norm {big:.1e}")
-            out[int(i)] = block.astype(complex)
+            out[int(i)] = block
         return out
 
     def column(self, omega, source) -> np.ndarray:
@@ -663,19 +790,23 @@ def graph_green(lattice, omega, source=None, targets=None, *, t: float = 1.0, on
         one_target = _is_scalar(targets)
         tg = (np.array([_validate.site_index("targets", targets, res.n)]) if one_target
               else _validate.site_indices("targets", targets, res.n))
-    out = []
     # many real omegas below the band: one anchor factorisation and a shared Krylov space
     pre = res._scan(oms, src) if oms.size > 1 else {}
+    out = None
     for i, w in enumerate(oms):
-        block = pre[i] if i in pre else res.columns(complex(w), src)
+        block = pre.pop(i) if i in pre else res.columns(complex(w), src)
         if tg is not None:
             block = block[tg]
         if one:
             block = block[:, 0]
         if tg is not None and one_target:
             block = block[0]
-        out.append(block)
-    return out[0] if scalar else np.stack(out)
+        if scalar:
+            return block
+        if out is None:
+            out = np.empty((oms.size,) + np.shape(block), dtype=complex)
+        out[i] = block
+    return out
 
 
 # every public function above checks its annotated argument types at the door (issue 19)
