@@ -176,7 +176,7 @@ class _SectorFactor:
         return self._Hp
 
     def e0_upper(self, omega: float, steps: int = 12) -> float | None:
-        """An upper bound of the lowest level from a short Lanczos run on the m = 0 block's inverse at ``omega``.
+        r"""An upper bound of the lowest level from a short Lanczos run on the m = 0 block's inverse at ``omega``.
 
         None when :math:`H_0 - \omega` is not positive definite (ω above the lowest level).
         The largest Ritz value θ of :math:`(H_0-\omega)^{-1}` is at most its largest
@@ -214,7 +214,7 @@ class _SectorFactor:
 
 
 class _SectorSolve:
-    """Solves with :math:`H - \\omega` from the sector factors (real right-hand sides)."""
+    r"""Solves with :math:`H - \omega` from the sector factors (real right-hand sides)."""
 
     def __init__(self, sectors: _SectorFactor, omega: float, factors: dict) -> None:
         self.sectors, self.sigma, self.factors = sectors, omega, factors
@@ -236,7 +236,7 @@ class _SectorSolve:
         return out
 
     def apply(self, u: np.ndarray) -> np.ndarray:
-        """:math:`(H - \omega)^{-1}` in sector coordinates (block by block)."""
+        r""":math:`(H - \omega)^{-1}` in sector coordinates (block by block)."""
         sec = self.sectors
         out = np.empty_like(u)
         for m, f in self.factors.items():
