@@ -80,8 +80,8 @@ class _SectorFactor:
     :mod:`hyperlattice.graph.symmetry`, built here from the rows of H at the representatives).
     For real v and ω the parts m and p - m are complex conjugate, so m = 0..p/2 are solved
     (numpy's ``rfft``). Blocks m = 0 and p/2 are real, the others complex Hermitian; all share one
-    pattern (every diagonal entry stored), so one analysis (complex) serves every block and
-    every ω.
+    pattern (every diagonal entry stored), so one complex analysis serves the complex blocks and
+    one real one the real blocks, at every ω.
     """
 
     def __init__(self, lattice: Lattice, H: sp.csc_matrix, what: str) -> None:
@@ -125,9 +125,11 @@ class _SectorFactor:
         self._roots = np.exp(2j * np.pi * np.arange(p) / p)
         self._real = [m for m in range(p // 2 + 1) if (2 * m) % p == 0]
         blocks = {m: self._block(m) for m in range(p // 2 + 1)}
-        # one analysis of the (complex) pattern for all blocks: one ordering, every shift
+        # one analysis of the complex pattern for the complex blocks, one of the same pattern in
+        # real arithmetic for m = 0 (and p/2): their solves are the cheaper ones in every step
         analysis = analyze(blocks[1], what=f"the rotation-sector blocks of {what}")
-        self.views = {m: analysis.view(blocks[m]) for m in blocks}
+        real = analyze(blocks[0], what=f"the rotation-sector blocks of {what}")
+        self.views = {m: (real if m in self._real else analysis).view(blocks[m]) for m in blocks}
         # the real orthogonal p x p matrix C of the sector coordinates u = C v[idx]: row 0 the
         # m = 0 part, then the real and imaginary parts of the m-th Fourier component
         # sum_s e^{-2 pi i m s / p} v[idx[s]] (times sqrt(2/p)), and the m = p/2 part for even p;
@@ -143,8 +145,8 @@ class _SectorFactor:
             rows.append(np.where(ss % 2 == 0, 1.0, -1.0) / np.sqrt(p))
         self.C = np.array(rows)
         self.backend = analysis.backend
-        # all blocks' factors are held at once: their total must fit (the analysis checked one)
-        self.bytes_needed = len(self.views) * analysis.bytes_needed
+        # all blocks' factors are held at once: their total must fit (each analysis checked one)
+        self.bytes_needed = sum(v.bytes_needed for v in self.views.values())
 
     def _block(self, m: int) -> sp.csc_matrix:
         data = self._vals * (self._roots[(m * self._shift) % self.p])
