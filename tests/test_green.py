@@ -357,7 +357,7 @@ def test_scan_columns_failing_their_residual_are_factorised_again(monkeypatch):
 
     def optimistic(*a, **k):
         # stop after 3 steps and claim convergence: only the true residual can catch it
-        Q, Y, done, inv = lanczos(*a[:-1], 3)
+        Q, Y, done, inv = lanczos(*a[:5], 3, *a[6:], **k)
         return Q, Y, np.ones_like(done), inv
 
     monkeypatch.setattr(green, "_shifted_lanczos", optimistic)

@@ -160,16 +160,6 @@ class _SectorFactor:
         out.has_sorted_indices = True
         return out
 
-    def combine(self, Y: np.ndarray, Q: np.ndarray) -> np.ndarray:
-        """:math:`Y^T Q` for Lanczos vectors Q (j, N) in sector coordinates, as (p, S, k): entry
-        [s, i, o] is shift i at site idx[s, o] (BLAS products, no transposed copies)."""
-        p, k = self.p, self.k
-        Q3 = Q.reshape(Q.shape[0], p, k)
-        Z = np.empty((p, Y.shape[1], k))
-        for r in range(p):
-            Z[r] = Y.T @ Q3[:, r, :]                                  # sector part r of every shift
-        return np.tensordot(self.C, Z, axes=(0, 0))                   # C^T along the orbits
-
     def permuted(self, H: sp.csc_matrix) -> sp.csr_matrix:
         """H with rows and columns in orbit order (position s k + o: site idx[s, o]), built once."""
         if getattr(self, "_Hp", None) is None:
@@ -255,7 +245,7 @@ class _SectorSolve:
 
 
 def _shifted_lanczos(apply_k, c: np.ndarray, deltas: np.ndarray, scale: tuple, a0_norm: float,
-                     steps: int):
+                     steps: int, store=None):
     r"""Galerkin solutions of :math:`(1 - \delta_i K)\,x_i = c` for many δ in one Krylov space of K.
 
     Hand-written: SciPy's ``cg`` solves one system at a time and no installed library runs the
@@ -269,7 +259,10 @@ def _shifted_lanczos(apply_k, c: np.ndarray, deltas: np.ndarray, scale: tuple, a
     :data:`_SCAN_BACKWARD` ``* (scale[0] * |x| + scale[1])`` (``scale``: the norms
     :math:`\|H-\omega_i\|_1` per shift and :math:`\|b\|`); the caller checks the true residual.
 
-    Returns ``(Q, Y, done, e0_upper)``: Q (j, n) the Lanczos vectors, Y (j, S) the coefficients,
+    ``store`` (optional) maps each Lanczos vector to the row kept for the caller (an orthogonal
+    change of basis, so that :math:`Y^T Q` comes out in the caller's coordinates).
+
+    Returns ``(Q, Y, done, e0_upper)``: Q (j, n) the (stored) Lanczos vectors, Y (j, S) the coefficients,
     ``done`` the shifts whose estimate converged, and an upper bound of the lowest eigenvalue
     shift :math:`1/\theta_{max}` (the largest Ritz value of K is at most that of K itself).
     """
@@ -278,7 +271,8 @@ def _shifted_lanczos(apply_k, c: np.ndarray, deltas: np.ndarray, scale: tuple, a
 
     gamma = float(np.linalg.norm(c))
     Q = np.empty((steps + 1, c.shape[0]))       # pages are touched only as the vectors come
-    Q[0] = c / gamma
+    q = c / gamma
+    Q[0] = q if store is None else store(q)
     alpha, beta = [], []
     q_prev, b_prev = np.zeros_like(c), 0.0
     S = deltas.shape[0]
@@ -286,9 +280,9 @@ def _shifted_lanczos(apply_k, c: np.ndarray, deltas: np.ndarray, scale: tuple, a
     Y = np.zeros((1, S))
     inv_theta = np.inf
     for j in range(steps):
-        w = apply_k(Q[j])
-        a = float(ddot(Q[j], w))
-        w = daxpy(Q[j], w, a=-a)                     # in place, no temporaries
+        w = apply_k(q)
+        a = float(ddot(q, w))
+        w = daxpy(q, w, a=-a)                        # in place, no temporaries
         if b_prev:
             w = daxpy(q_prev, w, a=-b_prev)
         b = float(dnrm2(w))
@@ -307,8 +301,9 @@ def _shifted_lanczos(apply_k, c: np.ndarray, deltas: np.ndarray, scale: tuple, a
         if np.all(done) or b <= np.finfo(float).eps * abs(a):
             done |= ok & (b <= np.finfo(float).eps * abs(a))   # an invariant subspace: exact
             break
-        q_prev, b_prev = Q[j], b
-        np.divide(w, b, out=Q[j + 1])
+        q_prev, b_prev = q, b
+        q = w / b
+        Q[j + 1] = q if store is None else store(q)
     m = Y.shape[0]
     return Q[:m], Y, done, inv_theta
 
@@ -609,6 +604,7 @@ class GraphResolvent:
             hn = self.norm + np.abs(pending)
             accepted = np.ones(pending.size, dtype=bool)
             cols = np.empty((pending.size, self.n, k))
+            big = np.zeros(pending.size)                      # largest column norm per shift
             if isinstance(lu, _SectorSolve):
                 # the Krylov space in sector coordinates (an orthogonal change of basis), where
                 # K is block diagonal: no transform per step; the Lanczos vectors are taken back
@@ -618,45 +614,48 @@ class GraphResolvent:
                 start = lambda b: lu.apply(lu.to_sectors(b)).reshape(-1)                # noqa: E731
                 Hp, perm = sec.permuted(self.H), sec.idx.reshape(-1)
 
-                def combine(Y, Q, c_i):
-                    X = sec.combine(Y, Q)
-                    cols[:, :, c_i][:, sec.idx] = X.transpose(1, 0, 2)
-                    return lambda i: X[:, i, :].reshape(-1)
+                # each Lanczos vector is kept in orbit order (C^T per orbit), so Y^T Q is the
+                # columns in orbit order, one matrix product
+                store = lambda q: (sec.C.T @ q.reshape(sec.p, sec.k)).reshape(-1)      # noqa: E731
             else:
-                apply, start, Hp, perm = lu.solve, lu.solve, self.H, slice(None)
-
-                def combine(Y, Q, c_i):
-                    X = Y.T @ Q
-                    cols[:, :, c_i] = X
-                    return lambda i: X[i]
+                apply, start, Hp, perm, store = lu.solve, lu.solve, self.H, slice(None), None
             for c_i, j in enumerate(src):
                 b = np.zeros(self.n)
                 b[j] = 1.0
                 Q, Y, done, inv_theta = _shifted_lanczos(apply, start(b), deltas, (hn, 1.0),
-                                                         self.norm + abs(w0), steps)
+                                                         self.norm + abs(w0), steps, store)
                 e0_upper = min(e0_upper, w0 + inv_theta)
-                shift_x = combine(Y, Q, c_i)                  # Y^T Q stored; shift i in orbit order
+                X = Y.T @ Q                                   # (shifts, N), orbit order
                 del Q
-                bp = b[perm]
-                for i in np.flatnonzero(done & accepted):
-                    # the true residual of every shift, with H itself (in the same order)
-                    x = shift_x(i)
-                    r = float(np.linalg.norm(bp - (Hp @ x - pending[i] * x)))
-                    bound = _SCAN_BACKWARD * (hn[i] * float(np.linalg.norm(x)) + 1.0)
-                    done[i] = np.isfinite(r) and r <= bound
+                cols[:, perm, c_i] = X
+                at = int(np.flatnonzero(b[perm])[0])
+                todo = np.flatnonzero(done & accepted)
+                for lo in range(0, todo.size, 16):
+                    # the true residuals, with H itself, 16 shifts per sparse product
+                    some = todo[lo:lo + 16]
+                    x = np.ascontiguousarray(X[some].T)       # (N, len(some))
+                    r = Hp @ x
+                    r -= x * pending[some][None, :]
+                    r[at] -= 1.0                              # (H - omega) x - b
+                    rn = np.linalg.norm(r, axis=0)
+                    xn = np.linalg.norm(x, axis=0)
+                    bound = _SCAN_BACKWARD * (hn[some] * xn + 1.0)
+                    done[some] = np.isfinite(rn) & (rn <= bound)     # x finite as well then
+                    big[some] = np.maximum(big[some], xn)
                 accepted &= done
+                del X
             for i in np.flatnonzero(accepted):
-                found[float(pending[i])] = cols[i]
+                found[float(pending[i])] = (cols[i], big[i])
             pending = pending[~accepted]
             if pending.size == 0:
                 break
         out = {}
         for i in cand:
-            block = found.get(float(oms[i].real))
-            if block is None:
+            got = found.get(float(oms[i].real))
+            if got is None:
                 continue
-            big = np.max(np.linalg.norm(block, axis=0))
-            if not np.all(np.isfinite(block)) or big * self._tol(complex(oms[i])) >= 1.0:
+            block, big = got
+            if big * self._tol(complex(oms[i])) >= 1.0:        # as in columns(): omega on the spectrum
                 raise self._on_spectrum_error(complex(oms[i]), f"column norm {big:.1e}")
             out[int(i)] = block
         return out
