@@ -331,7 +331,7 @@ def test_many_omega_scan_matches_the_direct_solve(sectors, monkeypatch):
     calls = []
     lanczos = green._shifted_lanczos
     monkeypatch.setattr(green, "_shifted_lanczos", lambda *a, **k: calls.append(1) or lanczos(*a, **k))
-    oms, e0 = _scan_omegas(lat, 24)
+    oms, e0 = _scan_omegas(lat, 40)
     mixed = np.concatenate([oms, [e0 + 0.3, -2.5 + 0.1j]])       # one in the band, one complex
     res = GraphResolvent(lat)
     got = graph_green(res, mixed, [4, 600], targets=None)
@@ -351,7 +351,7 @@ def test_scan_columns_failing_their_residual_are_factorised_again(monkeypatch):
     from hyperlattice.graph import green
 
     lat = ring_lattice(7, 3, 5)
-    oms, _ = _scan_omegas(lat, 20)
+    oms, _ = _scan_omegas(lat, 24)
     ref = np.stack([GraphResolvent(lat).column(w, 9) for w in oms])
     lanczos = green._shifted_lanczos
 
@@ -372,6 +372,6 @@ def test_scan_columns_failing_their_residual_are_factorised_again(monkeypatch):
 
 def test_scan_near_the_spectrum_is_still_refused(lat3):
     E = np.linalg.eigvalsh(hamiltonian(lat3).toarray())
-    oms = np.concatenate([np.linspace(-3.6, E[0] - 0.01, 20), [E[0]]])
+    oms = np.concatenate([np.linspace(-3.6, E[0] - 0.01, 24), [E[0]]])
     with pytest.raises(ValueError, match="spectrum"):
         graph_green(lat3, oms, 10)

@@ -47,11 +47,12 @@ _SECTOR_MIN = 20_000
 _SCAN_BACKWARD = 1e-14
 #: the many-omega scan (one anchor factorisation, shared Krylov space) is used when
 #: S (_SCAN_FACTOR + k) >= _SCAN_TYPICAL k for S real omegas and k sources, and S >= _SCAN_MIN:
-#: measured at l = 12, a factorisation costs ~4 solves and an anchor 35-70 Lanczos steps (one
-#: solve each) per source, so one factorisation per omega is cheaper for fewer omegas
+#: a factorisation costs ~4 solves, an anchor ~45 Lanczos steps (one solve each) per source plus
+#: ~1 solve per shift; measured at l = 12 (benchmarks/bench_green_scan.py, same process) the scan
+#: and one factorisation per omega break even near 20 omegas for one source
 _SCAN_MIN = 8
 _SCAN_FACTOR = 4.0
-_SCAN_TYPICAL = 64.0
+_SCAN_TYPICAL = 100.0
 #: Lanczos steps per anchor at most (and never more vectors than 1/8 of the free memory)
 _SCAN_STEPS = 160
 #: anchors per scan at most; the shifts still unconverged are factorised one by one
