@@ -563,9 +563,11 @@ class GraphResolvent:
         S = values.size
         if S < _SCAN_MIN or S * (_SCAN_FACTOR + k) < _SCAN_TYPICAL * k:
             return {}
-        # the Lanczos vectors take 8 N bytes each: at most 1/8 of the free memory
-        steps = int(min(_SCAN_STEPS, available_memory() // (64 * self.n) - 1))
-        if steps < 8:
+        # the Lanczos vectors take 8 N bytes each: at most 1/8 of the free memory; the columns
+        # (8 N k bytes per omega, before the caller's complex copy) at most 1/4 of it
+        free = available_memory()
+        steps = int(min(_SCAN_STEPS, free // (64 * self.n) - 1))
+        if steps < 8 or 32 * self.n * k * S > free:
             return {}
         what = f"H - omega of the {self.n:,}-site lattice"
         found: dict[float, np.ndarray] = {}
