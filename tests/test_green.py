@@ -253,3 +253,125 @@ def test_entries_must_pair_up(lat3):
         res.entries(-2.95, [0, 1, 2], [3, 4])
     # one row (or one column) against many is a broadcast, as before
     assert res.entries(-2.95, [0], [3, 4]).shape == (2,)
+
+
+# -- issue 28 item 8: rotation sectors, the positive route up to the band edge, many-omega scans --
+
+def _residual(lat, omega, col, src, onsite=None):
+    """Normwise backward error of one column: ||e_src - (H - omega) x|| / (||H - omega||_1 ||x|| + 1)."""
+    H = hamiltonian(lat, onsite=onsite)
+    e = np.zeros(lat.sites)
+    e[src] = 1.0
+    norm = abs(H).sum(axis=0).max() + abs(omega)
+    return np.linalg.norm(e - (H @ col - omega * col)) / (norm * np.linalg.norm(col) + 1.0)
+
+
+def test_a_real_omega_between_gershgorin_and_e0_uses_the_positive_factorisation(lat3):
+    # E0 = -2.7867 lies above the Gershgorin bound -3: omega = -2.9 used to take the pivoted LU
+    res = GraphResolvent(lat3)
+    col = res.column(-2.9, 10)
+    assert res._lu.positive_definite and res._lu.kind in ("LL^T", "LDL^T")
+    np.testing.assert_allclose(col, dense_inverse(lat3, -2.9)[:, 10], rtol=1e-12, atol=1e-14)
+    # inside the band the LDL^T is found indefinite once; the pivoted LU runs from then on
+    col = res.column(-2.7, 10)
+    assert res._lu.kind == "LU"
+    np.testing.assert_allclose(col, dense_inverse(lat3, -2.7)[:, 10], rtol=1e-10, atol=1e-12)
+
+
+@pytest.mark.parametrize("p,rings", [(7, 4), (8, 4)])
+@pytest.mark.parametrize("onsite", [None, "invariant", "broken"])
+@pytest.mark.parametrize("backend", ["auto", "superlu"])
+def test_sector_route_matches_the_dense_inverse(p, rings, onsite, backend, monkeypatch):
+    from hyperlattice.graph import green
+
+    if backend == "superlu":
+        monkeypatch.setenv("HYPERLATTICE_FACTOR_BACKEND", "superlu")
+    monkeypatch.setattr(green, "_SECTOR_MIN", 1)
+    lat = ring_lattice(p, 3, rings)
+    v = {None: None, "invariant": lambda z, ring: 0.1 * ring, "broken": lambda z, ring: 0.1 * z.real}[onsite]
+    H = hamiltonian(lat, onsite=v).toarray()
+    for omega in (-3.4, -2.9, 0.3, -2.5 + 0.1j):
+        res = GraphResolvent(lat, onsite=v)
+        got = res.columns(omega, [0, 17, lat.sites - 1])
+        ref = np.linalg.solve(H - omega * np.eye(lat.sites), np.eye(lat.sites)[:, [0, 17, lat.sites - 1]])
+        np.testing.assert_allclose(got, ref, rtol=0, atol=1e-12 * np.abs(ref).max())
+        sectors = res.backend.endswith("(rotation sectors)")
+        # the sector route runs below the band for an invariant H, and never for a broken symmetry
+        assert sectors == (onsite != "broken" and omega in (-3.4, -2.9)), (omega, res.backend)
+        if sectors:
+            assert max(_residual(lat, omega, got[:, i].real, s, v) for i, s in enumerate([0, 17, lat.sites - 1])) < 1e-15
+
+
+def test_sector_factor_view_checks_the_pattern():
+    from hyperlattice.graph.factor import analyze
+
+    H = hamiltonian(ring_lattice(7, 3, 3))
+    an = analyze(H, backend="superlu")
+    with pytest.raises(ValueError, match="pattern"):
+        an.view(sp.identity(H.shape[0], format="csc"))
+    with pytest.raises(ValueError, match="complex"):
+        an.view(H * (1 + 1e-3j))
+    view = an.view(2 * H)                      # the values of 2H on the analysed pattern
+    below = int(np.sum(np.linalg.eigvalsh(2 * H.toarray()) < -4.0))
+    assert below > 0 and view.factor(-4.0).negatives == below
+    assert an.factor(-4.0).negatives == 0      # the analysis itself still holds H
+
+
+def _scan_omegas(lat, count, top_gap=0.005):
+    e0 = float(np.linalg.eigvalsh(hamiltonian(lat).toarray())[0])
+    return np.linspace(-3.6, e0 - top_gap, count), e0
+
+
+@pytest.mark.parametrize("sectors", [True, False])
+def test_many_omega_scan_matches_the_direct_solve(sectors, monkeypatch):
+    from hyperlattice.graph import green
+
+    lat = ring_lattice(7, 3, 5)
+    monkeypatch.setattr(green, "_SECTOR_MIN", 1 if sectors else 10**9)
+    calls = []
+    lanczos = green._shifted_lanczos
+    monkeypatch.setattr(green, "_shifted_lanczos", lambda *a, **k: calls.append(1) or lanczos(*a, **k))
+    oms, e0 = _scan_omegas(lat, 40)
+    mixed = np.concatenate([oms, [e0 + 0.3, -2.5 + 0.1j]])       # one in the band, one complex
+    res = GraphResolvent(lat)
+    got = graph_green(res, mixed, [4, 600], targets=None)
+    assert calls, "the scan did not run"
+    assert bool(res._sectors) == sectors       # the anchor was factorised by sectors (or not)
+    H = hamiltonian(lat).toarray()
+    for w, block in zip(mixed, got):
+        ref = np.linalg.solve(H - w * np.eye(lat.sites), np.eye(lat.sites)[:, [4, 600]])
+        np.testing.assert_allclose(block, ref, rtol=0, atol=1e-11 * np.abs(ref).max())
+    for w, block in zip(oms, got):
+        assert max(_residual(lat, w, block[:, i].real, s) for i, s in enumerate([4, 600])) < green._SCAN_BACKWARD
+    # shapes as before: one source and one target give one number per omega
+    assert graph_green(lat, oms, 4, targets=7).shape == (oms.size,)
+
+
+def test_scan_columns_failing_their_residual_are_factorised_again(monkeypatch):
+    from hyperlattice.graph import green
+
+    lat = ring_lattice(7, 3, 5)
+    oms, _ = _scan_omegas(lat, 24)
+    ref = np.stack([GraphResolvent(lat).column(w, 9) for w in oms])
+    lanczos = green._shifted_lanczos
+
+    def optimistic(*a, **k):
+        # stop after 3 steps and claim convergence: only the true residual can catch it
+        Q, Y, done, inv = lanczos(*a[:5], 3, *a[6:], **k)
+        return Q, Y, np.ones_like(done), inv
+
+    monkeypatch.setattr(green, "_shifted_lanczos", optimistic)
+    monkeypatch.setattr(green, "_SECTOR_MIN", 1)
+    got = graph_green(lat, oms, 9)
+    np.testing.assert_allclose(got, ref, rtol=0, atol=1e-12 * np.abs(ref).max())
+    # and a scan too short to converge falls back as well
+    monkeypatch.setattr(green, "_shifted_lanczos", lanczos)
+    monkeypatch.setattr(green, "_SCAN_STEPS", 2)
+    np.testing.assert_allclose(graph_green(lat, oms, 9), ref, rtol=0, atol=1e-12 * np.abs(ref).max())
+
+
+def test_scan_near_the_spectrum_is_still_refused(lat3):
+    E = np.linalg.eigvalsh(hamiltonian(lat3).toarray())
+    oms = np.concatenate([np.linspace(-3.6, E[0] - 0.01, 24), [E[0]]])
+    with pytest.raises(ValueError, match="spectrum"):
+        graph_green(lat3, oms, 10)

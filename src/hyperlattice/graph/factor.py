@@ -509,6 +509,51 @@ class SymbolicAnalysis:
             self.matrix = mat
         return Factor(self, sigma, positive=positive, pivoting=pivoting)
 
+    def view(self, matrix) -> "SymbolicAnalysis":
+        """This analysis for another matrix of the same pattern (checked once, here), sharing the ordering.
+
+        Every :meth:`factor` of the view factorises ``matrix`` without checking it again: the
+        rotation-sector blocks of one lattice (:mod:`hyperlattice.graph.green`) share one
+        analysis and are refactorised at every shift. A real matrix may use a complex analysis.
+
+        Parameters
+        ----------
+        matrix : sparse matrix
+            The values, on the analysed pattern.
+
+        Returns
+        -------
+        SymbolicAnalysis
+            A shallow copy holding ``matrix``.
+
+        Raises
+        ------
+        ValueError
+            If ``matrix`` does not have the analysed pattern, or is complex for a real analysis.
+        """
+        import copy
+
+        mat = _as_square(matrix, self.what)
+        same = (mat.shape == self.matrix.shape and np.array_equal(mat.indptr, self.matrix.indptr)
+                and np.array_equal(mat.indices, self.matrix.indices))
+        if same:                          # the analysed pattern (diagonal stored): a copy will do
+            mat = mat.copy()
+            if np.iscomplexobj(mat.data):
+                pos = _diag_positions(mat)
+                mat.data[pos] = mat.data[pos].real
+        else:
+            mat = _with_diagonal(mat)
+        if (mat.shape != self.matrix.shape or not np.array_equal(mat.indptr, self.matrix.indptr)
+                or not np.array_equal(mat.indices, self.matrix.indices)):
+            raise ValueError("the matrix does not have the analysed sparsity pattern.")
+        if np.iscomplexobj(mat.data) and not self.complex:
+            raise ValueError("a complex matrix needs a complex analysis.")
+        if self.complex and not np.iscomplexobj(mat.data):
+            mat = mat.astype(np.complex128)
+        out = copy.copy(self)
+        out.matrix = mat
+        return out
+
     def __repr__(self) -> str:
         return (f"<SymbolicAnalysis {self.backend} n={self.n} factor entries "
                 f"{'=' if self.exact else '<='} {self.factor_entries:,}, about {_gb(self.bytes_needed)}>")

@@ -4,6 +4,23 @@ r"""Graph Green functions (``eq20``): :math:`G_{ij}(\omega) = [(H-\omega)^{-1}]_
 lattices use one dense eigendecomposition for many frequencies; large ones a sparse LU per
 frequency. The comparison with the continuum through the dictionary ``eq21`` lives in
 :mod:`hyperlattice.compare.green`.
+
+Two accelerations of the sparse route (issue 28, item 8), both checked by the true residual of
+every column they return:
+
+* **Rotation sectors.** A lattice whose H commutes with the p-fold rotation (no on-site term, or
+  an invariant one) is factorised block by block: :math:`H - \omega` splits into the Bloch blocks
+  :math:`H_m - \omega` (:mod:`hyperlattice.graph.symmetry`), p times smaller, of which
+  m = 0..p/2 are factorised (:math:`H_{-m} = \overline{H_m}`); one symbolic analysis serves
+  all complex blocks and every ω. A column is assembled by a length-p FFT over the orbits.
+* **Many frequencies below the band.** For a scan over many real ω below the spectrum, one
+  factorisation at an anchor :math:`\omega_0` gives :math:`K = (H-\omega_0)^{-1}`, and
+  :math:`(H-\omega)^{-1} b = (1 - \delta K)^{-1} K b`, :math:`\delta = \omega - \omega_0`:
+  all shifted systems share one Krylov space of K (Lanczos; the Galerkin solution of each
+  shift is the conjugate-gradient one, since :math:`1 - \delta K` is positive definite for
+  ω below the spectrum). Each shift is accepted only when its true residual
+  :math:`\|b - (H-\omega)x\|` meets the backward-error bound :data:`_SCAN_BACKWARD`;
+  the others are factorised one by one as before.
 """
 
 from __future__ import annotations
@@ -15,11 +32,31 @@ import scipy.sparse as sp
 from .. import _validate
 from .lattice import Lattice
 from .operators import hamiltonian
+from .symmetry import rotation_invariant, rotation_orbits
 
 __all__ = ["graph_green", "GraphResolvent"]
 
 _DENSE_MAX = 4000          # full matrices / eigendecompositions only up to this many sites
 _ON_SPECTRUM = 1e3         # |omega - E_n| below this many ulps of ||H|| counts as "on the spectrum"
+#: the rotation-sector factorisation from this many sites up (below it one factorisation of H is
+#: as fast and there is less to assemble)
+_SECTOR_MIN = 20_000
+#: a column from the sector route or the many-omega scan is accepted when its residual obeys
+#: ||b - (H - omega) x|| <= _SCAN_BACKWARD (||H - omega||_1 ||x|| + ||b||): a normwise backward
+#: error of ~60 ulps (the direct factorisation reaches 1e-16 to 1e-15 on these lattices)
+_SCAN_BACKWARD = 1e-14
+#: the many-omega scan (one anchor factorisation, shared Krylov space) is used when
+#: S (_SCAN_FACTOR + k) >= _SCAN_TYPICAL k for S real omegas and k sources, and S >= _SCAN_MIN:
+#: a factorisation costs ~4 solves, an anchor ~45 Lanczos steps (one solve each) per source plus
+#: ~1 solve per shift; measured at l = 12 (benchmarks/bench_green_scan.py, same process) the scan
+#: and one factorisation per omega break even near 20 omegas for one source
+_SCAN_MIN = 8
+_SCAN_FACTOR = 4.0
+_SCAN_TYPICAL = 100.0
+#: Lanczos steps per anchor at most (and never more vectors than 1/8 of the free memory)
+_SCAN_STEPS = 160
+#: anchors per scan at most; the shifts still unconverged are factorised one by one
+_SCAN_ANCHORS = 3
 
 
 def _is_scalar(x) -> bool:
@@ -31,6 +68,245 @@ def _as_omegas(omega) -> tuple[np.ndarray, bool]:
     """One frequency or a 1-d array of them, as complex128 (and whether it was a scalar)."""
     arr = _validate.complex_array("omega", omega, ndim=(0, 1))
     return np.atleast_1d(arr), arr.ndim == 0
+
+
+class _SectorFactor:
+    r"""The factorisation of :math:`H - \omega` through the p-fold rotation sectors (real ω, real H).
+
+    ``H`` commutes with the rotation R of ``lattice``. With the orbit table
+    ``idx[s, o]`` = site :math:`R^s r_o`, a vector v splits into sector parts
+    :math:`\phi^{(m)}_o = \sum_s e^{-2\pi i m s/p} v(R^s r_o)` (an FFT along s), and
+    :math:`(H-\omega)^{-1}v` is the inverse FFT of :math:`(H_m - \omega)^{-1}\phi^{(m)}` with
+    :math:`(H_m)_{o o'} = \sum_{j = R^{s} r_{o'}} H_{r_o j}\, e^{2\pi i m s/p}` (the Bloch block of
+    :mod:`hyperlattice.graph.symmetry`, built here from the rows of H at the representatives).
+    For real v and ω the parts m and p - m are complex conjugate, so m = 0..p/2 are solved
+    (numpy's ``rfft``). Blocks m = 0 and p/2 are real, the others complex Hermitian; all share one
+    pattern (every diagonal entry stored), so one complex analysis serves the complex blocks and
+    one real one the real blocks, at every ω.
+    """
+
+    def __init__(self, lattice: Lattice, H: sp.csc_matrix, what: str) -> None:
+        from .factor import analyze
+
+        orbits = rotation_orbits(lattice)
+        p, k, n = orbits.p, orbits.size, H.shape[0]
+        self.p, self.k, self.n = p, k, n
+        idx = np.empty((p, k), dtype=np.int64)
+        idx[orbits.shift, orbits.orbit] = np.arange(n, dtype=np.int64)
+        self.idx = idx
+        reps = orbits.representatives
+        start = H.indptr[reps].astype(np.int64)
+        count = (H.indptr[reps + 1] - H.indptr[reps]).astype(np.int64)
+        total = int(count.sum())
+        first = np.repeat(np.cumsum(count) - count, count)
+        pos = np.arange(total, dtype=np.int64) - first + np.repeat(start, count)
+        j = H.indices[pos]
+        # H is symmetric: column r_o of the CSC matrix is row r_o
+        rows = np.concatenate([np.repeat(np.arange(k, dtype=np.int64), count), np.arange(k, dtype=np.int64)])
+        cols = np.concatenate([orbits.orbit[j], np.arange(k, dtype=np.int64)])
+        shift = np.concatenate([orbits.shift[j], np.zeros(k, dtype=np.int64)])
+        vals = np.concatenate([H.data[pos], np.zeros(k)])      # every diagonal entry stored
+        key = cols * k + rows                                  # CSC order: column, then row
+        order = np.argsort(key, kind="stable")
+        key = key[order]
+        first = np.ones(key.shape[0], dtype=bool)
+        first[1:] = key[1:] != key[:-1]
+        ukey = key[first]
+        slot = np.cumsum(first) - 1                            # entry order[i] adds to slot[i]
+        indptr = np.zeros(k + 1, dtype=np.int64)
+        np.cumsum(np.bincount(ukey // k, minlength=k), out=indptr[1:])
+        self._indices = (ukey % k).astype(np.int32)
+        self._indptr = indptr.astype(np.int32)
+        self._diag = np.flatnonzero(self._indices == np.repeat(np.arange(k), np.diff(indptr)))
+        # most slots hold one entry; the few repeated ones (two neighbours in one orbit) are added
+        self._vals, self._shift = vals[order[first]], shift[order[first]]
+        self._extra_slot, self._extra = slot[~first], order[~first]
+        self._all_vals, self._all_shift = vals, shift
+        # m*s mod p indexes one table of unit roots, so that conjugate entries are exact conjugates
+        self._roots = np.exp(2j * np.pi * np.arange(p) / p)
+        self._real = [m for m in range(p // 2 + 1) if (2 * m) % p == 0]
+        blocks = {m: self._block(m) for m in range(p // 2 + 1)}
+        # one analysis of the complex pattern for the complex blocks, one of the same pattern in
+        # real arithmetic for m = 0 (and p/2): their solves are the cheaper ones in every step
+        analysis = analyze(blocks[1], what=f"the rotation-sector blocks of {what}")
+        real = analyze(blocks[0], what=f"the rotation-sector blocks of {what}")
+        self.views = {m: (real if m in self._real else analysis).view(blocks[m]) for m in blocks}
+        # the real orthogonal p x p matrix C of the sector coordinates u = C v[idx]: row 0 the
+        # m = 0 part, then the real and imaginary parts of the m-th Fourier component
+        # sum_s e^{-2 pi i m s / p} v[idx[s]] (times sqrt(2/p)), and the m = p/2 part for even p;
+        # in these coordinates H - omega is block diagonal: one block H_m - omega per m
+        ss = np.arange(p)
+        rows, self._slots = [np.full(p, 1 / np.sqrt(p))], {0: (0, None)}
+        for m in range(1, (p + 1) // 2):
+            ang = 2 * np.pi * m * ss / p
+            self._slots[m] = (len(rows), len(rows) + 1)
+            rows += [np.sqrt(2 / p) * np.cos(ang), -np.sqrt(2 / p) * np.sin(ang)]
+        if p % 2 == 0:
+            self._slots[p // 2] = (len(rows), None)
+            rows.append(np.where(ss % 2 == 0, 1.0, -1.0) / np.sqrt(p))
+        self.C = np.array(rows)
+        self.backend = analysis.backend
+        # all blocks' factors are held at once: their total must fit (each analysis checked one)
+        self.bytes_needed = sum(v.bytes_needed for v in self.views.values())
+
+    def _block(self, m: int) -> sp.csc_matrix:
+        data = self._vals * (self._roots[(m * self._shift) % self.p])
+        extra = self._all_vals[self._extra] * self._roots[(m * self._all_shift[self._extra]) % self.p]
+        np.add.at(data, self._extra_slot, extra)
+        if (2 * m) % self.p == 0:
+            data = data.real.copy()
+        else:
+            data[self._diag] = data[self._diag].real          # a Hermitian diagonal is real
+        out = sp.csc_matrix((data, self._indices, self._indptr), shape=(self.k, self.k))
+        out.has_sorted_indices = True
+        return out
+
+    def permuted(self, H: sp.csc_matrix) -> sp.csr_matrix:
+        """H with rows and columns in orbit order (position s k + o: site idx[s, o]), built once."""
+        if getattr(self, "_Hp", None) is None:
+            perm = self.idx.reshape(-1)
+            self._Hp = H.tocsr()[perm][:, perm].tocsr()
+        return self._Hp
+
+    def e0_upper(self, omega: float, steps: int = 12) -> float | None:
+        r"""An upper bound of the lowest level from a short Lanczos run on the m = 0 block's inverse at ``omega``.
+
+        None when :math:`H_0 - \omega` is not positive definite (ω above the lowest level).
+        The largest Ritz value θ of :math:`(H_0-\omega)^{-1}` is at most its largest
+        eigenvalue, so ω + 1/θ is at least the lowest level of :math:`H_0`, hence of H.
+        """
+        from scipy.linalg import eigvalsh_tridiagonal
+
+        f = self.views[0].factor(omega, positive=True)
+        if not f.positive_definite:
+            return None
+        q = np.full(self.k, 1 / np.sqrt(self.k))
+        q_prev, b_prev, alpha, beta = np.zeros(self.k), 0.0, [], []
+        for _ in range(min(steps, self.k)):
+            w = f.solve(q).real
+            a = float(q @ w)
+            w -= a * q + b_prev * q_prev
+            b = float(np.linalg.norm(w))
+            alpha.append(a)
+            if b <= np.finfo(float).eps * abs(a):
+                break
+            beta.append(b)
+            q_prev, b_prev, q = q, b, w / b
+        theta = eigvalsh_tridiagonal(np.array(alpha), np.array(beta[:len(alpha) - 1]))[-1]
+        return omega + 1.0 / theta
+
+    def factor(self, omega: float) -> "_SectorSolve | None":
+        """The block factors at a real ω, or None when some block is not positive definite."""
+        factors = {}
+        for m, view in self.views.items():
+            f = view.factor(omega, positive=True)
+            if not f.positive_definite:
+                return None
+            factors[m] = f
+        return _SectorSolve(self, omega, factors)
+
+
+class _SectorSolve:
+    r"""Solves with :math:`H - \omega` from the sector factors (real right-hand sides)."""
+
+    def __init__(self, sectors: _SectorFactor, omega: float, factors: dict) -> None:
+        self.sectors, self.sigma, self.factors = sectors, omega, factors
+        self.backend = f"{sectors.backend} (rotation sectors)"
+        self.kind = next(iter(factors.values())).kind
+        self.positive_definite = True
+
+    def to_sectors(self, b: np.ndarray) -> np.ndarray:
+        """Site vector(s) (N,) or (N, c) to sector coordinates, shape (p, k[, c]) (orthogonal)."""
+        sec = self.sectors
+        v = b[sec.idx]
+        return (sec.C @ v.reshape(sec.p, -1)).reshape(v.shape)
+
+    def from_sectors(self, u: np.ndarray) -> np.ndarray:
+        """The inverse of :meth:`to_sectors` (C is orthogonal)."""
+        sec = self.sectors
+        out = np.empty((sec.n,) + u.shape[2:])
+        out[sec.idx] = (sec.C.T @ u.reshape(sec.p, -1)).reshape(u.shape)
+        return out
+
+    def apply(self, u: np.ndarray) -> np.ndarray:
+        r""":math:`(H - \omega)^{-1}` in sector coordinates (block by block)."""
+        sec = self.sectors
+        out = np.empty_like(u)
+        for m, f in self.factors.items():
+            re, im = sec._slots[m]
+            if im is None:
+                out[re] = f.solve(u[re]).real
+            else:
+                x = f.solve(u[re] + 1j * u[im])
+                out[re], out[im] = x.real, x.imag
+        return out
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        return self.from_sectors(self.apply(self.to_sectors(np.asarray(b, dtype=float))))
+
+
+def _shifted_lanczos(apply_k, c: np.ndarray, deltas: np.ndarray, scale: tuple, a0_norm: float,
+                     steps: int, store=None):
+    r"""Galerkin solutions of :math:`(1 - \delta_i K)\,x_i = c` for many δ in one Krylov space of K.
+
+    Hand-written: SciPy's ``cg`` solves one system at a time and no installed library runs the
+    shifted family. Lanczos on the symmetric positive definite K (the three-term recurrence, no
+    reorthogonalisation: the Galerkin solutions stay the conjugate-gradient iterates of each
+    shift in finite precision), :math:`K Q_j = Q_j T_j + \beta_j q_{j+1} e_j^T`; for each δ,
+    :math:`y = \|c\|(1 - \delta T_j)^{-1} e_1` through the eigenvectors of :math:`T_j`, and
+    :math:`x = Q_j y` has the residual :math:`\delta \beta_j y_j q_{j+1}`, i.e. at most
+    :math:`|\delta \beta_j y_j|\,\|H - \omega_0\|` for the system :math:`H - \omega`. A shift is
+    done when that bound is below a tenth of its acceptance bound
+    :data:`_SCAN_BACKWARD` ``* (scale[0] * |x| + scale[1])`` (``scale``: the norms
+    :math:`\|H-\omega_i\|_1` per shift and :math:`\|b\|`); the caller checks the true residual.
+
+    ``store`` (optional) maps each Lanczos vector to the row kept for the caller (an orthogonal
+    change of basis, so that :math:`Y^T Q` comes out in the caller's coordinates).
+
+    Returns ``(Q, Y, done, e0_upper)``: Q (j, n) the (stored) Lanczos vectors, Y (j, S) the coefficients,
+    ``done`` the shifts whose estimate converged, and an upper bound of the lowest eigenvalue
+    shift :math:`1/\theta_{max}` (the largest Ritz value of K is at most that of K itself).
+    """
+    from scipy.linalg import eigh_tridiagonal
+    from scipy.linalg.blas import daxpy, ddot, dnrm2
+
+    gamma = float(np.linalg.norm(c))
+    Q = np.empty((steps + 1, c.shape[0]))       # pages are touched only as the vectors come
+    q = c / gamma
+    Q[0] = q if store is None else store(q)
+    alpha, beta = [], []
+    q_prev, b_prev = np.zeros_like(c), 0.0
+    S = deltas.shape[0]
+    done = np.zeros(S, dtype=bool)
+    Y = np.zeros((1, S))
+    inv_theta = np.inf
+    for j in range(steps):
+        w = apply_k(q)
+        a = float(ddot(q, w))
+        w = daxpy(q, w, a=-a)                        # in place, no temporaries
+        if b_prev:
+            w = daxpy(q_prev, w, a=-b_prev)
+        b = float(dnrm2(w))
+        alpha.append(a)
+        beta.append(b)
+        theta, U = eigh_tridiagonal(np.array(alpha), np.array(beta[:-1]))
+        denom = 1.0 - theta[:, None] * deltas[None, :]
+        ok = np.all(denom > 0, axis=0)                       # 1 - delta K positive definite so far
+        Z = U[0][:, None] / np.where(denom > 0, denom, 1.0)
+        Y = gamma * (U @ Z)
+        last = np.abs(Y[-1])
+        xnorm = gamma * np.linalg.norm(Z, axis=0)
+        est = np.abs(deltas) * b * last * a0_norm
+        done = ok & (est <= 0.1 * _SCAN_BACKWARD * (scale[0] * xnorm + scale[1]))
+        inv_theta = 1.0 / float(theta[-1]) if theta[-1] > 0 else np.inf
+        if np.all(done) or b <= np.finfo(float).eps * abs(a):
+            done |= ok & (b <= np.finfo(float).eps * abs(a))   # an invariant subspace: exact
+            break
+        q_prev, b_prev = q, b
+        q = w / b
+        Q[j + 1] = q if store is None else store(q)
+    m = Y.shape[0]
+    return Q[:m], Y, done, inv_theta
 
 
 class GraphResolvent:
@@ -100,14 +376,32 @@ class GraphResolvent:
             if np.any(H.data.imag != 0):
                 raise ValueError("the on-site term must be real so that H is Hermitian.")
             H = H.real
-        self.H = H.astype(complex if np.iscomplexobj(H.data) else float).tocsc()
+        H = H.astype(complex if np.iscomplexobj(H.data) else float, copy=False)
+        if H.format == "csr":
+            # H is Hermitian: its CSR arrays read as CSC hold H^T = conj(H), no conversion needed
+            data = H.data.conj() if np.iscomplexobj(H.data) else H.data
+            H = sp.csc_matrix((data, H.indices, H.indptr), shape=H.shape)
+        self.H = H.tocsc()
         self.n = H.shape[0]
+        # the rotation-sector route: a large lattice whose H commutes with its rotation (real H)
+        self._sectors = None
+        self._sector_ok = bool(isinstance(system, Lattice) and self.n >= _SECTOR_MIN
+                               and not np.iscomplexobj(self.H.data)
+                               and getattr(system, "rotation", None) is not None
+                               and (onsite is None or rotation_invariant(system, onsite)))
+        self._lattice = system if self._sector_ok else None
         if method == "auto":
             method = "sparse"
         if method == "dense" and self.n > _DENSE_MAX:
             raise ValueError(f"the dense method is limited to {_DENSE_MAX} sites (this lattice has {self.n}).")
         self.method = method
-        self.norm = float(abs(self.H).sum(axis=0).max()) if self.H.nnz else 0.0   # ||H||_1 >= ||H||_2
+        # column sums of |H| (= row sums, H Hermitian): ||H||_1 >= ||H||_2 and the Gershgorin discs
+        absdata = np.abs(self.H.data)
+        colsum = np.zeros(self.n)
+        if self.H.nnz:
+            nonempty = np.flatnonzero(np.diff(self.H.indptr))
+            colsum[nonempty] = np.add.reduceat(absdata, self.H.indptr[nonempty])
+        self.norm = float(colsum.max()) if self.H.nnz else 0.0
         self._eig = None
         self._lu = None
         self._lu_omega = None
@@ -116,8 +410,13 @@ class GraphResolvent:
         self.backend = ""          # the factorisation backend of the last sparse omega
         # a lower bound of the spectrum (Gershgorin): below it H - omega is positive definite
         d = self.H.diagonal()
-        off = np.asarray(abs(self.H).sum(axis=1)).ravel() - np.abs(d)
+        off = colsum - np.abs(d)
         self._lower = float(np.min(d.real - off)) if self.n else 0.0     # a Hermitian diagonal is real
+        # an upper bound of E0 (the Rayleigh quotient of the constant vector): a real omega below
+        # it may lie below the spectrum, so the positive-definite factorisation is tried first;
+        # _band: the lowest real omega where it was found indefinite (omega above it: pivoted LU)
+        self._upper = float(np.real(self.H.data.sum())) / self.n if self.n else 0.0
+        self._band = np.inf
 
     # -- spectrum checks -------------------------------------------------------
     def _tol(self, omega: complex) -> float:
@@ -148,12 +447,8 @@ class GraphResolvent:
         what = f"H - omega of the {self.n:,}-site lattice"
         try:
             lu = None
-            if omega.imag == 0 and omega.real < self._lower:
-                if self._analysis is None:
-                    self._analysis = analyze(self.H, what=what)
-                lu = self._analysis.factor(shift, positive=True)
-                if not lu.positive_definite:
-                    lu = None
+            if omega.imag == 0 and omega.real < max(self._lower, min(self._upper, self._band)):
+                lu = self._positive_factor(omega.real, what)
             if lu is None:
                 if self._general is None:
                     self._general = analyze(self.H, backend="superlu", what=what)
@@ -167,6 +462,45 @@ class GraphResolvent:
         self._lu, self._lu_omega = lu, omega
         self.backend = lu.backend
         return lu
+
+    def _sector_factor(self, what: str):
+        """The rotation-sector factorisation (built once), or None where it does not apply or fit."""
+        from .factor import available_memory
+
+        if self._sectors is None and self._sector_ok:
+            try:
+                sectors = _SectorFactor(self._lattice, self.H, what)
+            except ValueError:                  # the rotation does not act freely: no sectors
+                sectors = None
+            if sectors is not None and sectors.bytes_needed > available_memory():
+                sectors = None                  # the full factorisation refuses in one sentence
+            self._sectors = sectors if sectors is not None else False
+            self._sector_ok = sectors is not None
+        return self._sectors or None
+
+    def _positive_factor(self, omega: float, what: str):
+        """A factorisation of H - omega that proves it positive definite, or None (then omega is in the band)."""
+        from .factor import analyze
+
+        sectors = self._sector_factor(what) if self._sector_ok else None
+        if sectors is not None:
+            lu = sectors.factor(omega)
+        else:
+            if self._analysis is None:
+                self._analysis = analyze(self.H, what=what)
+            lu = self._analysis.factor(omega, positive=True)
+            if not lu.positive_definite:
+                lu = None
+        if lu is None:
+            self._band = min(self._band, omega)
+        return lu
+
+    def _residual_ok(self, omega: float, rhs: np.ndarray, x: np.ndarray) -> np.ndarray:
+        """Per column: ||rhs - (H - omega) x|| within the backward-error bound :data:`_SCAN_BACKWARD`."""
+        r = rhs - (self.H @ x - omega * x)
+        rn = np.linalg.norm(r, axis=0)
+        bound = _SCAN_BACKWARD * ((self.norm + abs(omega)) * np.linalg.norm(x, axis=0) + np.linalg.norm(rhs, axis=0))
+        return np.isfinite(rn) & (rn <= bound)
 
     # -- evaluation ------------------------------------------------------------
     def columns(self, omega, sources) -> np.ndarray:
@@ -200,12 +534,134 @@ class GraphResolvent:
             rhs = np.zeros((self.n, src.size), dtype=float if omega.imag == 0 and self.H.dtype == float else complex)
             rhs[src, np.arange(src.size)] = 1.0
             out = lu.solve(rhs)
+            if isinstance(lu, _SectorSolve) and not np.all(self._residual_ok(omega.real, rhs, out)):
+                # the sector blocks do not reproduce H (an on-site term invariant only to
+                # rounding): the full factorisation from now on
+                self._sector_ok, self._sectors, self._lu, self._lu_omega = False, False, None, None
+                out = self._factor(omega).solve(rhs)
             # ||(H - omega)^{-1}||_2 = 1/dist(omega, spectrum) for Hermitian H: a column this
             # large means the factorization was done within rounding of an eigenvalue
             big = np.max(np.linalg.norm(out, axis=0)) if src.size else 0.0
             if not np.all(np.isfinite(out)) or big * self._tol(omega) >= 1.0:
                 raise self._on_spectrum_error(omega, f"column norm {big:.1e}")
         return out.astype(complex)
+
+    def _scan(self, oms: np.ndarray, src: np.ndarray) -> dict:
+        """Columns for many real omegas below the band through shared Krylov spaces (module docstring).
+
+        Returns ``{index into oms: (N, k) array}`` for the omegas whose every column met the
+        residual bound; the caller factorises the others one by one.
+        """
+        from .factor import available_memory
+
+        k = src.size
+        if self.method != "sparse" or np.iscomplexobj(self.H.data) or k == 0:
+            return {}
+        bound = max(self._lower, min(self._upper, self._band))
+        cand = np.flatnonzero((oms.imag == 0) & (oms.real < bound))
+        values = np.unique(oms.real[cand])
+        S = values.size
+        if S < _SCAN_MIN or S * (_SCAN_FACTOR + k) < _SCAN_TYPICAL * k:
+            return {}
+        # the Lanczos vectors take 8 N bytes each: at most 1/8 of the free memory; the columns
+        # (8 N k bytes per omega, before the caller's complex copy) at most 1/4 of it
+        free = available_memory()
+        steps = int(min(_SCAN_STEPS, free // (64 * self.n) - 1))
+        if steps < 8 or 32 * self.n * k * S > free:
+            return {}
+        what = f"H - omega of the {self.n:,}-site lattice"
+        found: dict[float, np.ndarray] = {}
+        e0_upper = np.inf
+        pending = values
+        for _ in range(_SCAN_ANCHORS):
+            if np.isfinite(e0_upper):
+                pending = pending[pending < e0_upper]
+            if pending.size < _SCAN_MIN:
+                break
+            if not np.isfinite(e0_upper):
+                w0 = float(np.median(pending))
+                sectors = self._sector_factor(what) if self._sector_ok else None
+                if sectors is not None:
+                    # the lowest level from the m = 0 block alone (p times smaller): the anchor
+                    # can then balance the condition of the shifts on both sides of it
+                    est = sectors.e0_upper(w0)
+                    if est is None:
+                        pending, e0_upper = pending[pending < w0], w0
+                        continue
+                    e0_upper = est
+                    pending = pending[pending < e0_upper]
+                    if pending.size < _SCAN_MIN:
+                        break
+            if np.isfinite(e0_upper):
+                # balance the condition (E0 - w_min)/(E0 - w0) = (E0 - w0)/(E0 - w_max) of the shifts
+                d = e0_upper - pending
+                w0 = float(e0_upper - np.sqrt(d.max() * d.min()))
+            lu = self._positive_factor(w0, what)
+            if lu is not None:
+                self.backend = lu.backend
+            if lu is None:                    # w0 is in the band, and so is every omega above it
+                pending = pending[pending < w0]
+                e0_upper = min(e0_upper, w0)
+                continue
+            deltas = pending - w0
+            hn = self.norm + np.abs(pending)
+            accepted = np.ones(pending.size, dtype=bool)
+            cols = np.empty((pending.size, self.n, k))
+            big = np.zeros(pending.size)                      # largest column norm per shift
+            if isinstance(lu, _SectorSolve):
+                # the Krylov space in sector coordinates (an orthogonal change of basis), where
+                # K is block diagonal: no transform per step; the Lanczos vectors are taken back
+                # to the orbit order (position s k + o: site idx[s, o]) once, then combined
+                sec = lu.sectors
+                apply = lambda q: lu.apply(q.reshape(sec.p, sec.k)).reshape(-1)        # noqa: E731
+                start = lambda b: lu.apply(lu.to_sectors(b)).reshape(-1)                # noqa: E731
+                Hp, perm = sec.permuted(self.H), sec.idx.reshape(-1)
+
+                # each Lanczos vector is kept in orbit order (C^T per orbit), so Y^T Q is the
+                # columns in orbit order, one matrix product
+                store = lambda q: (sec.C.T @ q.reshape(sec.p, sec.k)).reshape(-1)      # noqa: E731
+            else:
+                apply, start, Hp, perm, store = lu.solve, lu.solve, self.H, slice(None), None
+            for c_i, j in enumerate(src):
+                b = np.zeros(self.n)
+                b[j] = 1.0
+                Q, Y, done, inv_theta = _shifted_lanczos(apply, start(b), deltas, (hn, 1.0),
+                                                         self.norm + abs(w0), steps, store)
+                e0_upper = min(e0_upper, w0 + inv_theta)
+                X = Y.T @ Q                                   # (shifts, N), orbit order
+                del Q
+                cols[:, perm, c_i] = X
+                at = int(np.flatnonzero(b[perm])[0])
+                todo = np.flatnonzero(done & accepted)
+                for lo in range(0, todo.size, 16):
+                    # the true residuals, with H itself, 16 shifts per sparse product
+                    some = todo[lo:lo + 16]
+                    x = np.ascontiguousarray(X[some].T)       # (N, len(some))
+                    r = Hp @ x
+                    r -= x * pending[some][None, :]
+                    r[at] -= 1.0                              # (H - omega) x - b
+                    rn = np.linalg.norm(r, axis=0)
+                    xn = np.linalg.norm(x, axis=0)
+                    bound = _SCAN_BACKWARD * (hn[some] * xn + 1.0)
+                    done[some] = np.isfinite(rn) & (rn <= bound)     # x finite as well then
+                    big[some] = np.maximum(big[some], xn)
+                accepted &= done
+                del X
+            for i in np.flatnonzero(accepted):
+                found[float(pending[i])] = (cols[i], big[i])
+            pending = pending[~accepted]
+            if pending.size == 0:
+                break
+        out = {}
+        for i in cand:
+            got = found.get(float(oms[i].real))
+            if got is None:
+                continue
+            block, big = got
+            if big * self._tol(complex(oms[i])) >= 1.0:        # as in columns(): omega on the spectrum
+                raise self._on_spectrum_error(complex(oms[i]), f"column norm {big:.1e}")
+            out[int(i)] = block
+        return out
 
     def column(self, omega, source) -> np.ndarray:
         r"""One column :math:`G_{\cdot j}(\omega)` (all targets i for source j), shape ``(N,)``.
@@ -338,17 +794,23 @@ def graph_green(lattice, omega, source=None, targets=None, *, t: float = 1.0, on
         one_target = _is_scalar(targets)
         tg = (np.array([_validate.site_index("targets", targets, res.n)]) if one_target
               else _validate.site_indices("targets", targets, res.n))
-    out = []
-    for w in oms:
-        block = res.columns(complex(w), src)
+    # many real omegas below the band: one anchor factorisation and a shared Krylov space
+    pre = res._scan(oms, src) if oms.size > 1 else {}
+    out = None
+    for i, w in enumerate(oms):
+        block = pre.pop(i) if i in pre else res.columns(complex(w), src)
         if tg is not None:
             block = block[tg]
         if one:
             block = block[:, 0]
         if tg is not None and one_target:
             block = block[0]
-        out.append(block)
-    return out[0] if scalar else np.stack(out)
+        if scalar:
+            return block
+        if out is None:
+            out = np.empty((oms.size,) + np.shape(block), dtype=complex)
+        out[i] = block
+    return out
 
 
 # every public function above checks its annotated argument types at the door (issue 19)
