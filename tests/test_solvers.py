@@ -11,7 +11,7 @@ from hyperlattice.errors import ConvergenceError, ConvergenceWarning
 from hyperlattice.graph import solvers
 from hyperlattice.graph.lattice import line_graph, ring_lattice
 from hyperlattice.graph.operators import hamiltonian
-from hyperlattice.graph.solvers import SectorTable, full_table
+from hyperlattice.graph.operators import SectorTable, full_table
 from hyperlattice.graph.symmetry import sector_table
 
 

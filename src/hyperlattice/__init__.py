@@ -49,8 +49,8 @@ _EXPORTS = {
     "partition_function": "graph.spectrum",
     "log_partition_function": "graph.spectrum",
     "graph_green": "graph.green",
-    "butterfly": "graph.flux",
-    "Butterfly": "graph.flux",
+    "butterfly": "graph.butterfly",
+    "Butterfly": "graph.butterfly",
     "check_face_fluxes": "graph.flux",
     # continuum side
     "legendre_p": "continuum.special",
