@@ -95,6 +95,9 @@ CALLS = {
     "hyperlattice.report.below_band.delta_scaling": (
         dict(out=None, rings=[2], omegas=[-3.2], bf_rings=[3]), {("out", "str")}),
     "hyperlattice.compare.magnetic.magnetic_comparison": (dict(p=7, q=3, rings=[2], fluxes=[0.1], levels=1), set()),
+    "hyperlattice.compare.levels.continuum_labels": (
+        dict(spectrum=__import__("hyperlattice.graph.spectrum", fromlist=["x"]).lowest_levels(LAT, 3),
+             radius=0.8, dictionary="paper"), set()),
     "hyperlattice.graph.factor.analyze": (dict(mat=H), set()),
     "hyperlattice.graph.factor.factorize": (dict(mat=H, sigma=-3.5), set()),
     "hyperlattice.graph.factor.lowest_eigenpairs": (dict(mat=H, k=2), set()),

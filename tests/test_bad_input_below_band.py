@@ -39,6 +39,11 @@ CASES = [
     ("boundary_correlator", cb.boundary_correlator, dict(lattice=LAT, omega=-3.2, source=SRC, depth=2,
                                                                 continuum_disk="whole"),
      {"source": {"none"}}),
+    ("boundary_correlator (mass2)", cb.boundary_correlator, dict(lattice=LAT, mass2=1.0, ads_radius=1, source=SRC,
+                                                                 systematic=False),
+     {"source": {"none"}, "systematic": {"bool"}}),
+    ("mass2_in_paper_metric", mv.mass2_in_paper_metric, dict(m2=1.0, ads_radius=1), {}),
+    ("delta_formulas", mv.delta_formulas, dict(m2=1.0), {}),
     ("continuum_boundary_column", cb.continuum_boundary_column,
      dict(lattice=LAT, omega=-3.2, source=SRC, targets=[SRC + 1], disk="whole"), {}),
     ("delta_curve", cb.delta_curve, dict(lattice=LAT, omegas=[-3.2], source=SRC, depth=2), {"source": {"none"}}),
@@ -57,6 +62,8 @@ CLI_FLAGS = [
     (["boundary", "--rings", "4"], "--site", set()),
     (["boundary", "--rings", "4"], "--depth", set()),
     (["boundary", "--rings", "4"], "--continuum-disk", set()),
+    (["boundary", "--rings", "4", "--ads-radius", "1"], "--mass2", {"0", "3.5"}),   # masses below the band
+    (["boundary", "--rings", "4", "--mass2", "1"], "--ads-radius", set()),
     (["qubits", "--rings", "4"], "--rings", set()),
     (["qubits", "--rings", "4"], "--omega-q", set()),
     (["qubits", "--rings", "4"], "--g", {"-1", "3.5"}),    # the sign of g is irrelevant; 3.5 is strong coupling

@@ -19,6 +19,7 @@ CASES = [
     ("improved_energy_from_lambda", dictionary.improved_energy_from_lambda, dict(lam=1.5, p=7, q=3), {"p": {"inf"}}),
     ("improved_energy_from_k", dictionary.improved_energy_from_k, dict(k=0.5, p=7, q=3), {"p": {"inf"}}),
     ("improved_lambda_from_energy", dictionary.improved_lambda_from_energy, dict(energy=-2.9, p=7, q=3), {"p": {"inf"}}),
+    ("improved_lambda_of_frequency", dictionary.improved_lambda_of_frequency, dict(omega=-3.5, p=7, q=3), {"p": {"inf"}}),
     ("improved_band_bottom", dictionary.improved_band_bottom, dict(p=7, q=3), {"p": {"inf"}}),
     ("dirichlet_radius_shift", dictionary.dirichlet_radius_shift, dict(p=7, q=3), {}),
     ("improved_disk_for_rings", dictionary.improved_disk_for_rings, dict(rings=4, p=7, q=3), {}),

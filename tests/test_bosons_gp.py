@@ -130,3 +130,55 @@ def test_cli_gp_bad_input_is_one_line(words, capsys):
     assert main(["bosons", "gp", *words]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "error" in err[0]
+
+
+def test_tiny_U_is_the_noninteracting_limit_not_a_refusal(capsys):
+    # issue 28 item 6: `bosons gp --U 1e-14` was refused ("Bogoliubov matrix not positive definite"):
+    # the lowest eigenvalue of B, ~2U psi^2, lies below the error of the computed B there
+    import warnings
+
+    from hyperlattice.bosons.gp import bogoliubov, gp_ground_state
+    from hyperlattice.cli import main
+    from hyperlattice.graph.lattice import ring_lattice
+    from hyperlattice.graph.spectrum import lowest_levels
+
+    lat = ring_lattice(7, 3, 2)
+    e = lowest_levels(lat, 2).energies
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        state = gp_ground_state(lat, 10.0, 1e-14)
+        spec = bogoliubov(state, lat, modes=3)
+    assert state.residual <= 1e-10 and abs(state.mu - e[0]) < 1e-12
+    assert spec.frequencies[0] < spec.tolerance and abs(spec.frequencies[1] - (e[1] - e[0])) < 1e-6
+    assert main(["bosons", "gp", "--rings", "2", "--U", "1e-14"]) == 0
+    assert capsys.readouterr().err == ""
+
+
+@pytest.mark.parametrize("particles, U", [(1e308, 1.0), (1e302, 0.0), (1e160, 1e-3)])
+def test_energies_beyond_float64_are_refused_before_work(particles, U):
+    # issue 28 item 6: 1e308 bosons came back as NaN and -inf
+    from hyperlattice.bosons.gp import gp_ground_state
+    from hyperlattice.graph.lattice import ring_lattice
+
+    with pytest.raises(ValueError, match=r"^particles = .* lies beyond the range of float64 numbers .*\.$"):
+        gp_ground_state(ring_lattice(7, 3, 2), particles, U)
+
+
+def test_a_vanishing_condensate_is_computed():
+    # 1e-300 bosons: the uniform start stopped at once (gradients below the optimiser's tolerance)
+    from hyperlattice.bosons.gp import gp_ground_state
+    from hyperlattice.graph.lattice import ring_lattice
+
+    s = gp_ground_state(ring_lattice(7, 3, 2), 1e-300, 1.0)
+    assert s.residual <= 1e-10 and s.mu == pytest.approx(-2.636404937210, abs=1e-10)
+
+
+def test_cli_filling_beside_particles_is_refused(capsys):
+    # issue 28 item 6: --filling was silently ignored when --particles was given
+    from hyperlattice.cli import main
+
+    with pytest.raises(SystemExit) as exc:                  # argparse's refusal: one line, exit 2
+        main(["bosons", "gp", "--rings", "2", "--U", "0.5", "--filling", "2", "--particles", "35"])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--particles: not allowed with argument --filling" in err

@@ -196,3 +196,49 @@ def test_ed_charge_gap_against_mean_field_on_the_heptagon():
     # lambda_max = 2) the finite system keeps a gap that mean field does not have
     assert abs(cmp.gap_ed[1] - cmp.gap_mean_field[1]) < 0.02
     assert cmp.gap_mean_field[2] == 0.0 and cmp.gap_ed[2] > 0.4
+
+
+@pytest.mark.parametrize("kw, match", [
+    (dict(t=0.1, mu=0.5, U=1e308), "t = 0.1 is less than 1e-150 U"),            # was ZeroDivisionError
+    (dict(t=0.1, mu=1e308, U=1.0), "mean filling would be about 1e\\+308 bosons per site"),  # "nmax must be..."
+    (dict(t=1e308, mu=0.5, U=1.0), "more than 1e\\+06 U: far in the weakly interacting regime"),
+    (dict(t=0.1, mu=-1e308, U=1.0), "below -1e\\+06 U: the ground state there is the empty lattice"),
+])
+def test_gutzwiller_refuses_overflowing_scales_in_one_sentence(kw, match):
+    # issue 28 item 6: gutzwiller(U=1e308) divided by zero; --mu 1e308 named the internal nmax
+    import hyperlattice as hl
+    from hyperlattice.bosons.meanfield import gutzwiller
+
+    with pytest.raises(ValueError, match=match) as exc:
+        gutzwiller(hl.ring_lattice(7, 3, 2), **kw)
+    assert "nmax" not in str(exc.value) and "\n" not in str(exc.value)
+
+
+def test_gutzwiller_depends_on_the_ratios_only():
+    # solved in units of U: U = 1e300 with t, mu scaled along is the U = 1 state, energy times U
+    import hyperlattice as hl
+    from hyperlattice.bosons.meanfield import gutzwiller
+
+    lat = hl.ring_lattice(7, 3, 2)
+    one = gutzwiller(lat, 0.05, 0.4, 1.0)
+    big = gutzwiller(lat, 0.05e300, 0.4e300, 1e300)
+    assert np.allclose(big.psi, one.psi, rtol=1e-12, atol=1e-14) and big.U == 1e300 and big.t == 0.05e300
+    assert big.energy == pytest.approx(one.energy * 1e300, rel=1e-12)
+
+
+def test_cli_infinite_lattice_lobe_with_its_error(capsys):
+    # issue 28 item 5: `bosons meanfield --infinite` (the report's lobe tip 0.058335 of the infinite {7,3})
+    assert main(["bosons", "meanfield", "--infinite", "--points", "3", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["lambda_max"] == pytest.approx(2.94116, abs=2e-4) and out["sites"] is None
+    assert out["tip"]["t_c_over_U"] == pytest.approx(0.058335, abs=5e-6)
+    assert 0 < out["tip"]["t_c_over_U_error"] < 1e-4
+
+
+def test_cli_plot_file_is_written(tmp_path, capsys):
+    # issue 28 item 5: --plot's argparse type took two arguments, so the flag could never work
+    target = tmp_path / "lobe.png"
+    assert main(["bosons", "meanfield", "--rings", "2", "--points", "3", "--plot", str(target)]) == 0
+    assert target.read_bytes()[:4] == b"\x89PNG"
+    assert main(["bosons", "meanfield", "--rings", "2", "--plot", str(tmp_path / "lobe.txt")]) == 2
+    assert "must end in one of .png" in capsys.readouterr().err

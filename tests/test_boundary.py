@@ -90,8 +90,12 @@ def test_beyond_continuum_bf_bound(lat5):
     assert math.isnan(bc.delta_continuum) and np.all(np.isnan(bc.continuum))
     assert bc.mass2 < -1 and np.all(bc.graph > 0)
     s = bc.summary()
-    assert list(s) == ["p", "q", "rings", "omega", "lambda", "mass2", "delta_continuum", "delta_lattice",
-                       "delta_lattice_err"]
+    assert list(s)[:9] == ["p", "q", "rings", "omega", "lambda", "mass2", "delta_continuum", "delta_lattice",
+                           "delta_lattice_err"]
+    assert list(s)[9:] == ["mass2_ads_radius_1", "ads_radius", "mass2_input", "delta_formulas",
+                           "delta_continuum_improved", "delta_lattice_stat", "delta_lattice_window",
+                           "delta_lattice_sys", "delta_lattice_sys_rings", "delta_lattice_sys_spacing",
+                           "delta_lattice_total_err"]
 
 
 # measured Delta_lattice vs Delta_continuum (docs/below-band.md); ell = 8 for the trend, ~0.1 s per fit
@@ -294,3 +298,69 @@ def test_plot_names_the_continuum_model_used():
         [h.get_label() for h in ax.get_lines()]
     assert any("Dirichlet disk of radius L" in t for t in labels), labels
     plt.close(ax.figure)
+
+
+# ----------------------------------------------------------------------------
+# issue 28 item 2: the mass in the user's convention, and the systematic error beside the fit's
+# ----------------------------------------------------------------------------
+
+def test_mass2_in_the_convention_named(lat5):
+    """m^2 = 1 in unit-radius AdS2 is Delta = 1.618 (4 in the paper's metric), not the paper-metric 1.207."""
+    from hyperlattice.continuum.massive import omega_from_mass2
+
+    bc1 = cb.boundary_correlator(lat5, mass2=1.0, ads_radius=1, systematic=False)
+    assert bc1.mass2 == pytest.approx(4.0, abs=1e-12) and bc1.delta_continuum == pytest.approx((1 + 5**0.5) / 2)
+    assert (bc1.ads_radius, bc1.mass2_input) == (1.0, 1.0)
+    assert bc1.delta_formulas == pytest.approx({"ads_radius_1": 1.6180339887, "ads_radius_0.5": 1.2071067812})
+    half = cb.boundary_correlator(lat5, mass2=1.0, ads_radius=0.5, systematic=False)
+    assert half.mass2 == pytest.approx(1.0, abs=1e-12) and half.delta_continuum == pytest.approx(0.5 + 0.5 * 2**0.5)
+    # the same physics as the frequency of that mass
+    by_omega = cb.boundary_correlator(lat5, float(omega_from_mass2(4.0)), systematic=False)
+    assert by_omega.delta_lattice == pytest.approx(bc1.delta_lattice, rel=1e-12)
+    assert by_omega.ads_radius == 0.5 and by_omega.mass2_input == pytest.approx(4.0)
+    s = bc1.summary()
+    assert s["mass2_ads_radius_1"] == pytest.approx(1.0) and s["ads_radius"] == 1.0
+
+
+@pytest.mark.parametrize("kwargs,match", [
+    (dict(mass2=1.0), "needs ads_radius"),
+    (dict(mass2=1.0, ads_radius=2.0), "names the convention"),
+    (dict(omega=-3.5, mass2=1.0, ads_radius=1), "not both"),
+    (dict(omega=-3.5, ads_radius=1), "give it with mass2"),
+    (dict(), "give the frequency omega"),
+])
+def test_mass2_refusals(lat5, kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        cb.boundary_correlator(lat5, **kwargs)
+
+
+def test_systematic_error_covers_the_known_offset():
+    """{7,3}, l = 6, omega = -3.5: the lattice Delta is 2 % below the paper-dictionary continuum Delta,
+    ~3 fit errors, but inside its systematic error (the paper's against the improved dictionary), and
+    it lies between the two dictionaries' continuum values."""
+    lat = ring_lattice(7, 3, 6)
+    bc = cb.boundary_correlator(lat, -3.5)
+    offset = abs(bc.delta_lattice - bc.delta_continuum)
+    assert offset > 2.5 * bc.delta_lattice_err                       # "many sigma" with the fit error alone
+    assert offset < bc.delta_lattice_total_err                       # not with the systematic beside it
+    assert bc.delta_continuum_improved < bc.delta_lattice < bc.delta_continuum
+    assert bc.delta_lattice_sys_spacing == pytest.approx(abs(bc.delta_continuum - bc.delta_continuum_improved))
+    # finite l: the same fit on the 5-ring flake
+    five = cb.boundary_correlator(ring_lattice(7, 3, 5), -3.5, systematic=False)
+    assert bc.delta_lattice_sys_rings == pytest.approx(abs(bc.delta_lattice - five.delta_lattice), rel=1e-9)
+    assert bc.delta_lattice_sys == pytest.approx(math.hypot(bc.delta_lattice_sys_spacing, bc.delta_lattice_sys_rings))
+    # without it: NaN, and the total is the fit error
+    bare = cb.boundary_correlator(lat, -3.5, systematic=False)
+    assert math.isnan(bare.delta_lattice_sys) and bare.delta_lattice_total_err == bare.delta_lattice_err
+
+
+def test_delta_curve_carries_the_systematic_error(lat5):
+    dc = cb.delta_curve(lat5, [-3.5, -4.0])
+    one = [cb.boundary_correlator(lat5, w) for w in (-3.5, -4.0)]
+    np.testing.assert_allclose(dc.delta_lattice_sys, [b.delta_lattice_sys for b in one], rtol=1e-9)
+    np.testing.assert_allclose(dc.delta_continuum_improved, [b.delta_continuum_improved for b in one], rtol=1e-12)
+    by_mass = cb.delta_curve(lat5, mass2=dc.mass2 / 4, ads_radius=1, systematic=False)
+    np.testing.assert_allclose(by_mass.omegas, dc.omegas, rtol=1e-12)
+    assert np.all(np.isnan(by_mass.delta_lattice_sys))
+    with pytest.raises(ValueError, match="needs ads_radius"):
+        cb.delta_curve(lat5, mass2=[1.0])

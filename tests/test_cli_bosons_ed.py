@@ -71,3 +71,20 @@ def test_bad_input_one_line_exit_2(argv, needle, capsys):
     assert captured.out == ""
     err = captured.err.strip()
     assert "\n" not in err and needle in err and "Traceback" not in err
+
+
+def test_more_levels_than_states_is_said(capsys):
+    # issue 28 item 6: --levels 8 on a 7-state basis returned 7 levels without a word
+    import json as _json
+
+    from hyperlattice.bosons.ed import bose_hubbard
+    from hyperlattice.graph.lattice import ring_lattice
+
+    res = bose_hubbard(ring_lattice(7, 3, 1), 1, 1, 1.0, levels=8)
+    assert res.energies.size == 7 and res.note == "8 levels asked, but the basis has only 7 states: all 7 are listed."
+    assert bose_hubbard(ring_lattice(7, 3, 1), 1, 1, 1.0, levels=7).note == ""
+    args = ["bosons", "ed", "--rings", "1", "--particles", "1", "--nmax", "1", "--U", "1", "--levels", "8"]
+    assert main(args) == 0
+    assert "note: 8 levels asked, but the basis has only 7 states" in capsys.readouterr().out
+    assert main(args + ["--json"]) == 0
+    assert _json.loads(capsys.readouterr().out)["note"].startswith("8 levels asked")

@@ -5,12 +5,16 @@ import json
 import math
 
 import numpy as np
+import pytest
 
 from hyperlattice.cli import main
 from hyperlattice.compare.boundary import boundary_correlator, outer_ring
 from hyperlattice.graph.lattice import ring_lattice
 
-KEYS = ["p", "q", "rings", "omega", "lambda", "mass2", "delta_continuum", "delta_lattice", "delta_lattice_err"]
+KEYS = ["p", "q", "rings", "omega", "lambda", "mass2", "delta_continuum", "delta_lattice", "delta_lattice_err",
+        "mass2_ads_radius_1", "ads_radius", "mass2_input", "delta_formulas", "delta_continuum_improved",
+        "delta_lattice_stat", "delta_lattice_window", "delta_lattice_sys", "delta_lattice_sys_rings",
+        "delta_lattice_sys_spacing", "delta_lattice_total_err"]
 
 
 def test_json_contract(capsys):
@@ -20,6 +24,33 @@ def test_json_contract(capsys):
     ref = boundary_correlator(ring_lattice(7, 3, 5), -3.2)
     assert d["delta_lattice"] == ref.delta_lattice and d["lambda"] == ref.lam and d["mass2"] == -ref.lam
     assert d["rings"] == 5 and d["omega"] == -3.2
+    assert d["delta_lattice_sys"] == ref.delta_lattice_sys and d["delta_lattice_total_err"] == ref.delta_lattice_total_err
+
+
+def test_mass2_with_ads_radius(capsys):
+    """Issue 28 item 2: --mass2 1 --ads-radius 1 is unit-radius AdS2 (Delta = 1.618), and the output shows
+    both conventions' formulas and the systematic error beside the fit error."""
+    assert main(["boundary", "--rings", "6", "--mass2", "1", "--ads-radius", "1"]) == 0
+    text = capsys.readouterr().out
+    assert "mass^2 = 4 in the paper's metric (AdS radius 1/2) = 1 in unit-radius AdS2" in text
+    assert "1/2 + sqrt(1 + m^2)/2 = 1.207107" in text and "1/2 + sqrt(1/4 + m^2) = 1.618034" in text
+    assert "Delta continuum = 1.618034" in text and "systematic (lattice spacing" in text
+    assert main(["boundary", "--rings", "6", "--mass2", "1", "--ads-radius", "0.5", "--json",
+                 "--no-systematic"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert abs(d["delta_continuum"] - 1.2071067811865475) < 1e-12 and d["delta_lattice_sys"] is None
+
+
+@pytest.mark.parametrize("argv,match", [
+    (["--mass2", "1"], "needs ads_radius"),
+    (["--mass2", "1", "--ads-radius", "2"], "names the convention"),
+    (["--ads-radius", "1"], "give it with --mass2"),
+    (["--mass2", "1", "--ads-radius", "1", "--omega=-3.5"], "not both"),
+])
+def test_mass2_refusals_are_one_line(capsys, argv, match):
+    assert main(["boundary", "--rings", "4", *argv]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and match in err
 
 
 def test_json_beyond_bf_bound_is_null(capsys):

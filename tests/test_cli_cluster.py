@@ -78,3 +78,37 @@ def test_errors_are_one_line(argv, capsys, tmp_path, monkeypatch):
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert len([line for line in err.splitlines() if line.strip()]) == 1 and "Traceback" not in err
+
+
+def test_a_huge_min_sites_is_estimated_and_refused_before_work(capsys, monkeypatch):
+    # issue 28 item 6: --min-sites 100000000 ran on past a minute with no estimate or refusal
+    import hyperlattice.graph.clusters as clusters
+
+    def never(*args, **kwargs):
+        raise AssertionError("the cluster was built")
+
+    monkeypatch.setattr(clusters, "_lookup", never)
+    assert main(["cluster", "--min-sites", "100000000"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "PSL(2,853): 103,441,604 sites" in err and "smaller --min-sites" in err
+
+
+@pytest.mark.parametrize("argv, head", [
+    (["cluster", "--name", "Bolza"], "{8,3} cluster bolza: 16 sites"),             # case, and p from the name
+    (["cluster", "--name", "KLEIN-DUAL"], "{3,7} cluster klein-dual: 24 sites"),
+    (["cluster", "--name", "psl(2,13)"], "{7,3} cluster PSL(2,13)"),
+    (["bosons", "meanfield", "--cluster", "BOLZA"], "{8,3} cluster bolza (16 sites)"),
+    (["bosons", "ed", "--cluster", "bolza", "--particles", "1", "--nmax", "1", "--U", "1", "--levels", "1"],
+     "Bose-Hubbard ED on the {8,3} cluster bolza"),
+    (["dos", "--cluster", "Bolza", "--moments", "20", "--vectors", "2"], None),
+])
+def test_cluster_names_as_people_type_them(argv, head, capsys):
+    # issue 28 item 5: names case-insensitive, p and q taken from a named cluster (no -p 8 needed)
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert head is None or out.startswith(head), out[:200]
+
+
+def test_a_typed_p_still_wins_and_is_checked(capsys):
+    assert main(["cluster", "--name", "bolza", "-p", "7"]) == 2
+    assert "is a {8,3} cluster, not {7,3}" in capsys.readouterr().err

@@ -113,3 +113,24 @@ def test_dictionary_flag_refused_with_flux(capsys):
     assert code == 2 and len(err.strip().splitlines()) == 1
     # the flux path with the default dictionary still works
     assert main(["continuum", "--rings", "3", "--flux", "0.05", "--json"]) == 0
+
+
+def test_many_levels_are_estimated_and_refused_before_work(capsys, monkeypatch):
+    # issue 28 item 6: --levels 100000 ran on past a minute with no estimate or refusal
+    import hyperlattice.continuum.spectrum as spectrum
+
+    def never(*args, **kwargs):
+        raise AssertionError("the levels were computed")
+
+    monkeypatch.setattr(spectrum, "_lowest_states", never)
+    assert main(["continuum", "--levels", "100000"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "up to about 100 min (100,000 levels)" in err and "fewer --levels" in err
+
+
+def test_levels_beyond_the_validated_orders_are_one_physics_sentence():
+    # was "the order m must be at most 1,000", a parameter the user never gave
+    from hyperlattice.continuum.spectrum import continuum_levels
+
+    with pytest.raises(ValueError, match=r"reach angular momenta \|m\| > 1,000.*ask for fewer levels\.$"):
+        continuum_levels(7, 3, rings=10, levels=3500)

@@ -12,7 +12,8 @@ from hyperlattice.graph.butterfly import butterfly
 from hyperlattice.graph.lattice import ring_lattice
 from hyperlattice.graph.spectrum import lowest_levels
 
-SPECTRUM_KEYS = {"p", "q", "rings", "sites", "method", "energies", "n", "m", "residuals"}
+SPECTRUM_KEYS = {"p", "q", "rings", "sites", "method", "energies", "n", "m", "sector", "residuals", "continuum_energies",
+                 "ambiguous", "split"}
 CONTINUUM_KEYS = {"p", "q", "rings", "radius", "h", "energies", "n", "m", "k", "asymptotic"}
 
 
@@ -30,6 +31,7 @@ def test_spectrum_flux_json(capsys):
     ref = lowest_levels(ring_lattice(7, 3, 3), 3, flux=0.1)
     np.testing.assert_allclose(d["energies"], ref.energies, rtol=0, atol=1e-12)
     assert d["m"] == [int(v) for v in ref.m] and d["m"][:2] == [0, 1]
+    assert d["sector"] == [int(v) for v in ref.sector] and d["split"] == []      # a field leaves no +-m pair
 
 
 def test_spectrum_flux_zero_keeps_numbers(capsys):

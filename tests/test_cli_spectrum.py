@@ -8,7 +8,8 @@ import pytest
 from hyperlattice.cli import main
 from hyperlattice.paper_values import paper_value
 
-KEYS = {"p", "q", "rings", "sites", "method", "energies", "n", "m", "residuals"}
+KEYS = {"p", "q", "rings", "sites", "method", "energies", "n", "m", "sector", "residuals", "continuum_energies",
+        "ambiguous", "split"}
 
 
 def run_json(capsys, *argv):
@@ -21,12 +22,13 @@ def test_json_contract(capsys):
     assert set(out) == KEYS
     assert (out["p"], out["q"], out["rings"], out["sites"]) == (7, 3, 5, 847)
     assert out["method"] in ("dense", "sparse", "sector-dense", "sector-sparse", "sector-shift-invert")
-    lengths = {len(out[k]) for k in ("energies", "n", "m", "residuals")}
+    lengths = {len(out[k]) for k in ("energies", "n", "m", "sector", "residuals", "continuum_energies")}
     assert lengths == {4}
     assert out["energies"] == sorted(out["energies"])
     # degenerate +-1 pair listed once per state, +m first
-    assert out["m"] == [0, 1, -1, 2] and out["n"] == [1, 1, 1, 1]
+    assert out["m"] == [0, 1, -1, 2] and out["n"] == [1, 1, 1, 1] and out["sector"] == [0, 1, 6, 2]
     assert out["energies"][1] == out["energies"][2]
+    assert out["ambiguous"] == [] and out["split"] == []
     assert max(out["residuals"]) < 1e-10
     assert abs(out["energies"][0] - paper_value("E0_graph", 5).value) < 5e-4  # paper, Tab1, l = 5
 
@@ -35,7 +37,9 @@ def test_sector_accepts_signed_and_unsigned(capsys):
     a = run_json(capsys, "--rings", "4", "--levels", "3", "--sector", "6")
     b = run_json(capsys, "--rings", "4", "--levels", "3", "--sector", "-1")
     assert a == b
-    assert a["m"] == [-1, -1, -1] and a["n"] == [1, 2, 3]
+    # the lattice knows sector 6 = -1 mod 7; its second level continues the continuum (1, 6), not (2, -1)
+    assert a["sector"] == [6, 6, 6]
+    assert a["m"] == [-1, 6, -1] and a["n"] == [1, 1, 2]
 
 
 def test_line_graph(capsys):
@@ -48,6 +52,31 @@ def test_table_output(capsys):
     assert main(["spectrum", "--rings", "2", "--levels", "3"]) == 0
     text = capsys.readouterr().out
     assert "method=sector-dense" in text and "-2.636404" in text
+    assert "sector" in text.splitlines()[1] and "continuum level each state continues" in text
+
+
+def test_labels_are_the_continuum_levels_the_states_continue(capsys):
+    """Issue 28 item 1: {8,3}, l = 8, ten levels. The lattice knows m only modulo 8: the two states of
+    sector 4 continue the continuum pair (1, +-4), which the lattice splits by ~0.1 %, and the tenth
+    state is (1, 5) (sector 5) - before, they were labelled (2, 4) and (2, 3)."""
+    out = run_json(capsys, "-p", "8", "--rings", "8", "--levels", "10")
+    assert out["m"] == [0, 1, -1, 2, -2, 3, -3, 4, -4, 5]
+    assert out["n"] == [1] * 10
+    assert out["sector"] == [0, 1, 7, 2, 6, 3, 5, 4, 4, 5]
+    assert out["ambiguous"] == []
+    (split,) = out["split"]
+    assert (split["n"], split["m"], split["levels"], split["resolved"]) == (1, 4, [7, 8], True)
+    assert 0.0025 < split["splitting"] < 0.003 and 0.0009 < split["relative"] < 0.0011
+    # the same run as a table says so in words
+    assert main(["spectrum", "-p", "8", "--rings", "8", "--levels", "10"]) == 0
+    text = capsys.readouterr().out
+    assert "splits the continuum pair (n, m) = (1, ±4) by 0.00278 (0.10%)" in text
+
+
+def test_labels_with_flux_match_the_magnetic_levels(capsys):
+    out = run_json(capsys, "--rings", "4", "--levels", "4", "--flux", "0.1")
+    assert out["flux"] == 0.1 and out["split"] == []
+    assert out["m"] == [0, 1, 2, 3] and out["sector"] == [0, 1, 2, 3]
 
 
 @pytest.mark.parametrize("argv,match", [
@@ -108,3 +137,19 @@ def test_a_command_imports_only_its_own_module(capsys):
         main(["spectrm"])
     err = capsys.readouterr().err.strip().splitlines()
     assert info.value.code == 2 and len(err) == 1 and "'scaling'" in err[0] and "'spectrum'" in err[0]
+
+
+def test_levels_stand_alone_when_the_continuum_refuses(capsys, monkeypatch):
+    """A continuum request beyond its cost limit leaves the graph levels with their sectors and says why."""
+    import hyperlattice.compare.levels as lv
+
+    def refuse(spec, **_):
+        raise ValueError("the continuum levels needed would take too long.")
+
+    monkeypatch.setattr(lv, "continuum_labels", refuse)
+    out = run_json(capsys, "--rings", "2", "--levels", "3")
+    assert out["n"] is None and out["m"] is None and out["sector"] == [0, 1, 6]
+    assert out["labels_note"] == "the continuum levels needed would take too long."
+    assert main(["spectrum", "--rings", "2", "--levels", "3"]) == 0
+    text = capsys.readouterr().out
+    assert "no continuum labels: the continuum levels needed would take too long." in text

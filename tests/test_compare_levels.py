@@ -272,3 +272,80 @@ def test_count_bad_input():
         graph_levels_below(None)
     with pytest.raises(ValueError):
         graph_levels_below(ring_lattice(7, 3, 2), cutoff="0")
+
+
+# ----------------------------------------------------------------------------
+# continuum labels of graph levels (issue 28 item 1)
+# ----------------------------------------------------------------------------
+
+def test_side_by_side_labels_agree_for_p8_where_the_lattice_splits_a_pair():
+    """{8,3}: the graph's sector 4 holds the continuum pair (1, +-4), split by the lattice, and the tenth
+    state continues (1, 5); compared by sector alone the labels disagreed at levels 9-10."""
+    from hyperlattice.compare.levels import LabelledSpectrum
+    from hyperlattice.continuum.spectrum import continuum_levels
+    from hyperlattice.graph.spectrum import lowest_levels
+
+    g = lowest_levels(ring_lattice(8, 3, 5), 10)
+    assert g.m.tolist()[7:] == [4, 4, 3] and g.sector.tolist()[7:] == [4, 4, 3]   # the graph's own labels
+    cmp = levels_side_by_side(g, continuum_levels(8, 3, rings=5, levels=10))
+    assert cmp.labels_agree.tolist() == [True] * 10
+    assert isinstance(cmp.graph, LabelledSpectrum)
+    assert cmp.graph.m.tolist() == [0, 1, -1, 2, -2, 3, -3, 4, -4, 5]
+    assert cmp.graph.sector.tolist() == [0, 1, 7, 2, 6, 3, 5, 4, 4, 5]
+    assert cmp.graph.degeneracy.tolist() == [1, 2, 2, 2, 2, 2, 2, 1, 1, 2]
+    (split,) = cmp.graph.splittings
+    assert (split["n"], split["m"], split["levels"], split["resolved"]) == (1, 4, (7, 8), True)
+    assert split["splitting"] == cmp.graph.energies[8] - cmp.graph.energies[7] > 0
+    assert cmp.summary()["split"] == [dict(split, levels=[7, 8])]
+
+
+def test_continuum_labels_round_trip_and_eigenvectors(tmp_path):
+    """The cut pair is completed by the conjugate state (sector 5 = -3 listed as the continuum's (1, 5))."""
+    from hyperlattice.compare.levels import continuum_labels
+    from hyperlattice.graph.operators import hamiltonian
+    from hyperlattice.graph.spectrum import lowest_levels
+
+    lat = ring_lattice(8, 3, 4)
+    g = lowest_levels(lat, 10, eigenvectors=True)
+    lab = continuum_labels(g)
+    assert lab.m.tolist()[-1] == 5 and lab.sector.tolist()[-1] == 5 and g.m.tolist()[-1] == 3
+    h = hamiltonian(lat)
+    v = lab.eigenvectors
+    np.testing.assert_allclose(np.linalg.norm(h @ v - v * lab.energies, axis=0), 0.0, atol=1e-10)
+    # the last column is the complex conjugate of the graph's sector-3 state: the sector-5 state
+    np.testing.assert_allclose(v[:, -1], np.conj(g.eigenvectors[:, -1]), atol=0)
+    back = load_result(lab.save(tmp_path / "lab.json"))
+    assert back.m.tolist() == lab.m.tolist() and back.splittings == lab.splittings
+    assert back.sector.tolist() == lab.sector.tolist()
+
+
+def test_continuum_labels_report_a_tie_as_ambiguous():
+    """Two graph levels of one sector at equal energy that continue different continuum levels: which
+    continues which is undecidable, and both are marked."""
+    from hyperlattice.compare.levels import continuum_labels
+    from hyperlattice.graph.spectrum import Spectrum
+
+    e = np.array([-2.7, -2.5, -2.5])
+    spec = Spectrum(energies=e, n=np.array([1, 2, 3]), m=np.array([0, 0, 0]), errors=np.full(3, 1e-14),
+                    method="sector-dense", description="test", p=7, q=3, rings=3, sites=140,
+                    requested_sector=0)
+    lab = continuum_labels(spec)
+    assert lab.ambiguous.tolist() == [False, True, True]
+    assert "ambiguous continuum label" in lab.notes()[-1]
+    # apart by more than their tolerance: decided
+    spec2 = Spectrum(energies=np.array([-2.7, -2.5, -2.5 + 1e-9]), n=np.array([1, 2, 3]), m=np.array([0, 0, 0]),
+                     errors=np.full(3, 1e-14), method="sector-dense", description="test", p=7, q=3, rings=3,
+                     sites=140, requested_sector=0)
+    assert not continuum_labels(spec2).ambiguous.any()
+
+
+def test_continuum_labels_refuse_what_has_no_sectors():
+    from hyperlattice.compare.levels import continuum_labels
+    from hyperlattice.graph.spectrum import lowest_levels
+
+    lat = ring_lattice(7, 3, 2)
+    broken = lowest_levels(lat, 2, onsite=lambda z, ring: z.real, method="dense")
+    with pytest.raises(ValueError, match="no rotation sectors"):
+        continuum_labels(broken)
+    with pytest.raises(ValueError, match="graph Spectrum"):
+        continuum_labels(_levels([-2.8], [1], [0], "residual", "dense"))

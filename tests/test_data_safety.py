@@ -1,5 +1,6 @@
 """Nothing the user owns is lost: ``--clear-cache`` deletes only the package's own cache entries,
-``sweep --out`` refuses a directory that is not a sweep's, ``qubits`` refuses one file for two outputs.
+``sweep --out`` refuses a directory that is not a sweep's and ``reproduce --out`` one that is not a
+report's, ``qubits`` refuses one file for two outputs.
 
 (Issue 19, item 5; the sweep directory's integrity under two writers is in test_sweep_robust.py.)
 """
@@ -71,8 +72,11 @@ def test_cli_clear_cache_keeps_user_files(how, tmp_path, monkeypatch, capsys):
     else:
         args += ["--cache-dir", str(user)]
     for _ in range(2):                       # the second run clears what the first one stored
-        assert main(args) == 0
-    capsys.readouterr()
+        # a directory holding the user's files is not the report's to write into: refused untouched
+        assert main(args) == (2 if how == "out-is-cache" else 0)
+    err = capsys.readouterr().err
+    if how == "out-is-cache":
+        assert "not a report directory" in err and err.count("\n") == 2
     left = sorted(str(p.relative_to(user)) for p in user.rglob("*"))
     assert set(before) <= set(left)
     assert (user / "thesis" / "c.tex").read_text() == "x"
@@ -90,3 +94,33 @@ def test_qubits_refuses_one_file_for_out_and_edges(second, tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "same file" in err
     assert f.read_text() == "mine\n"            # refused before anything was written
+
+
+def test_reproduce_refuses_a_directory_of_the_users(tmp_path, monkeypatch, capsys):
+    # issue 28 item 6: `reproduce --out DIR` overwrote the user's own report.md and figures in DIR
+    import hyperlattice.report as report
+
+    mine = tmp_path / "paper"
+    mine.mkdir()
+    (mine / "report.md").write_text("my own report")
+    (mine / "fig_fig2.png").write_bytes(b"mine")
+    assert main(["reproduce", "--out", str(mine), "--max-rings", "2", "--no-cache"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "not a report directory" in err and "fig_fig2.png" in err
+    with pytest.raises(ValueError, match="not a report directory"):
+        report.reproduce(mine, max_rings=2, cache=Cache(tmp_path / "c", enabled=False))
+    assert (mine / "report.md").read_text() == "my own report"
+    assert sorted(f.name for f in mine.iterdir()) == ["fig_fig2.png", "report.md"]
+
+
+def test_reproduce_reuses_its_own_directory(tmp_path, monkeypatch):
+    # a new directory is marked when the run starts; a rerun into it (or an empty one) is accepted
+    import hyperlattice.report as report
+    from hyperlattice.report import MARKER
+
+    out = tmp_path / "r"
+    out.mkdir()
+    assert report._out_directory("out_dir", out) == out
+    (out / MARKER).write_text("{}")
+    (out / "report.md").write_text("an earlier run's")
+    assert report._out_directory("out_dir", out) == out

@@ -266,3 +266,34 @@ def test_improved_values_for_73():
         assert float(improved_energy_from_k(math.sqrt(max(lam - 1, 0)))) == pytest.approx(e, abs=1e-12) or lam < 1
     assert map_energy_from_k(0.4) == energy_from_k(0.4)
     assert map_energy_from_k(0.4, dictionary="improved") == improved_energy_from_k(0.4)
+
+
+def test_improved_lambda_of_frequency_below_and_above_the_band():
+    """Below the band the improved map -q P_nu(cosh 2 d0) with real nu (hyp2f1 form) inverts to lambda < 0;
+    above the improved band bottom it is improved_lambda_from_energy; it agrees with the paper's map to
+    first order in h^2."""
+    import math
+
+    from hyperlattice import geometry
+    from hyperlattice.dictionary import (improved_band_bottom, improved_energy_from_lambda,
+                                         improved_lambda_from_energy, improved_lambda_of_frequency,
+                                         lambda_from_energy, spherical_function)
+
+    d0 = geometry.d0(7, 3)
+    for w in (-3.2, -3.5, -5.0):
+        lam = improved_lambda_of_frequency(w)
+        assert lam < 0
+        nu = -0.5 + 0.5 * math.sqrt(1 - lam)
+        assert -3 * float(__import__("mpmath").legenp(nu, 0, math.cosh(2 * d0), type=3).real) == pytest.approx(w, abs=1e-12)
+    assert improved_lambda_of_frequency(-2.9) == improved_lambda_from_energy(-2.9)
+    # the hyp2f1 and Mehler forms meet at the improved band bottom
+    assert improved_lambda_of_frequency(improved_band_bottom()) == pytest.approx(1.0, abs=1e-9)
+    assert improved_energy_from_lambda(0.5) == pytest.approx(-3 * spherical_function(0.5, d0))
+    assert improved_lambda_of_frequency(-3.0) == pytest.approx(0.0, abs=1e-12)
+    # the paper's map is the first order in h^2: near the band bottom lambda_paper / lambda_improved
+    # = 1 + h^2/2 + O(h^4) (from E = -q + q h^2 lambda/4 + q h^4 lambda/8 + O(lambda^2, h^6))
+    h = math.tanh(d0)
+    ratio = lambda_from_energy(-3.0001) / improved_lambda_of_frequency(-3.0001) - 1
+    assert abs(ratio - h * h / 2) < h**4
+    with pytest.raises(ValueError, match="too far below the band"):
+        improved_lambda_of_frequency(-1e300)

@@ -209,7 +209,7 @@ def test_exchange_comparison_refuses_g_zero():
 
     with pytest.raises(ValueError, match="g must be nonzero"):
         exchange_comparison(LAT, -3.1, 0.0)
-    with pytest.raises(ValueError, match="overflows"):
+    with pytest.raises(ValueError, match=r"more than 1e\+06 t: far beyond the circuit-QED regime"):
         exchange_comparison(LAT, -3.1, 1e200)
 
 
@@ -393,3 +393,110 @@ def test_sector_levels_scale_exactly_with_t(t):
         s = lowest_pair(7, 3, 8, t=t)
     np.testing.assert_allclose(s.energies, t * ref.energies, rtol=2e-16 * 4, atol=0)
     assert s.m.tolist() == ref.m.tolist() and s.n.tolist() == ref.n.tolist()
+
+
+def _resolvent_calls():
+    import hyperlattice.compare.boundary as cb
+    import hyperlattice.compare.green as cg
+    import hyperlattice.compare.qubits as cq
+    import hyperlattice.graph.qubits as gq
+
+    return {
+        "compare_green": lambda r: cg.compare_green(LAT, -3.5, 0, resolvent=r),
+        "bound_state": lambda r: gq.bound_state(LAT, 0, -3.5, 0.1, resolvent=r),
+        "spin_model": lambda r: gq.spin_model(LAT, [0, 5], -3.5, 0.1, resolvent=r),
+        "exchange_comparison": lambda r: cq.exchange_comparison(LAT, -3.5, 0.1, resolvent=r),
+        "boundary_correlator": lambda r: cb.boundary_correlator(LAT, -3.5, resolvent=r),
+        "bulk_to_boundary": lambda r: cb.bulk_to_boundary(LAT, -3.5, resolvent=r),
+    }
+
+
+@pytest.mark.parametrize("junk", ["lattice", "array", "object", "other-kind", "other-lattice", "other-t"])
+@pytest.mark.parametrize("func", ["compare_green", "bound_state", "spin_model", "exchange_comparison",
+                                  "boundary_correlator", "bulk_to_boundary"])
+def test_junk_resolvent_is_one_sentence(func, junk):
+    # issue 28 item 6: an object-like junk resolvent= passed the type guard (duck-typed) and ended
+    # as AttributeError inside; a resolvent of another lattice silently gave that lattice's numbers
+    from hyperlattice.graph.green import GraphResolvent
+    from hyperlattice.graph.qubits import BelowBandResolvent
+
+    mine = GraphResolvent if func == "compare_green" else BelowBandResolvent
+    theirs = BelowBandResolvent if func == "compare_green" else GraphResolvent
+    value = {"lattice": LAT, "array": np.zeros(3), "object": type("Thing", (), {})(),
+             "other-kind": theirs(LAT), "other-lattice": mine(ring_lattice(8, 3, 3)),
+             "other-t": mine(LAT, t=2.0)}[junk]
+    if junk == "other-t" and func == "compare_green":
+        value = mine(ring_lattice(7, 3, 3))                   # 112 sites vs 322: another lattice
+    with pytest.raises(ValueError, match=r"^resolvent (must be|belongs|was made)[^\n]*\.$"):
+        _resolvent_calls()[func](value)
+
+
+def test_bound_state_and_spin_model_never_return_inf_or_nan():
+    # issue 28 item 6: large couplings and frequencies far below the band gave inf/NaN fields, or
+    # (g = 1e15) a ConvergenceError after 60 Newton steps that each only doubled E
+    import dataclasses
+
+    from hyperlattice.graph.qubits import bound_state, spin_model
+    from hyperlattice.graph.spectrum import lowest_levels
+
+    b = bound_state(LAT, 0, -3.5, 1e6)                  # the largest g taken: E ~ -g, half qubit
+    assert b.energy == pytest.approx(-1e6, rel=1e-5) and b.qubit_weight == pytest.approx(0.5, rel=1e-5)
+    far = bound_state(LAT, 0, -1e200, 0.1)             # |phi|^2 underflowed: photon was 0/0
+    assert far.energy == -1e200 and far.qubit_weight == 1.0
+    for f in dataclasses.fields(far):
+        v = getattr(far, f.name)
+        if f.name != "decay_length" and isinstance(v, (float, np.ndarray)):
+            assert np.all(np.isfinite(v)), f.name
+    import hyperlattice.compare.qubits as cq
+
+    for call in (lambda: bound_state(LAT, 0, -3.5, 1e15), lambda: spin_model(LAT, [0, 5], -3.5, 1e200),
+                 lambda: cq.exchange_comparison(LAT, -3.5, 1e22)):
+        with pytest.raises(ValueError, match=r"^g = 1e\+\d+ is more than 1e\+06 t: far beyond the circuit-QED"):
+            call()
+    # just below the band at the largest g: G_jj >> 1, and still a finite model
+    close = spin_model(LAT, [0, 5], float(lowest_levels(LAT, 1).energies[0]) - 1e-9, 1e6)
+    assert np.all(np.isfinite(close.couplings)) and np.all(np.isfinite(close.lamb_shift))
+
+
+@pytest.mark.parametrize("call, match", [
+    # issue 28 item 6: absurd inputs reached the solver and ended in a ConvergenceError (or a raw
+    # OverflowError / ZeroDivisionError) after the work; now a sentence before it
+    (lambda: __import__("hyperlattice").lowest_levels(LAT, 2, t=1e300), r"the hopping t = 1e\+300 is beyond 1e\+150"),
+    (lambda: __import__("hyperlattice").lowest_levels(LAT, 2, tol=1e-300), r"tol = 1e-300 is below what float64"),
+    (lambda: __import__("hyperlattice.graph.sectors", fromlist=["x"]).lowest_pair(7, 3, 3, tol=1e-300),
+     r"tol = 1e-300 is below what float64"),
+    (lambda: __import__("hyperlattice.continuum.scba", fromlist=["x"]).scba(-2.9 + 0.2j, 0.5, damping=1e-300),
+     r"damping = 1e-300 moves each iterate only that fraction"),
+    (lambda: __import__("hyperlattice.compare.disorder", fromlist=["x"]).graph_scba(LAT, -2.9 + 0.2j, 0.5,
+                                                                                     damping=1e-300),
+     r"damping = 1e-300 moves each iterate only that fraction"),
+    (lambda: __import__("hyperlattice.graph.walks", fromlist=["x"]).chebyshev_from_walks([1, 0, 3, 0, 15], 1e-300),
+     r"scale = 1e-300 is far below the extent of the spectrum"),
+    (lambda: __import__("hyperlattice.continuum.magnetic", fromlist=["x"]).dirichlet_function(-1e300, 0, 0.5, 0.5),
+     r"kappa must lie within \+-1e\+06"),
+])
+def test_absurd_inputs_are_refused_before_the_solver(call, match):
+    with pytest.raises(ValueError, match=match) as exc:
+        call()
+    assert "\n" not in str(exc.value)
+
+
+@pytest.mark.parametrize("call, match", [
+    (lambda: __import__("hyperlattice.continuum.special", fromlist=["x"]).legendre_p(1e300, 0, 2.0),
+     r"the degree nu must have \|nu\| <= 1e\+06"),
+    (lambda: __import__("hyperlattice.bosons.meanfield", fromlist=["x"]).gutzwiller(LAT, 0.05, 0.5, tol=1e-300),
+     r"tol = 1e-300 is below what float64"),
+    (lambda: __import__("hyperlattice.bosons.gp", fromlist=["x"]).gp_ground_state(LAT, 10.0, 0.5, tol=1e-300),
+     r"tol = 1e-300 is below what float64"),
+])
+def test_absurd_inputs_that_ran_for_minutes_are_refused(call, match):
+    # issue 28 item 6 (the probe of every public function with 1e+-300): these ran on unbounded
+    with pytest.raises(ValueError, match=match):
+        call()
+
+
+def test_a_quadrature_tolerance_below_float64_is_refused():
+    from hyperlattice.compare.sums import disk_integral
+
+    with pytest.raises(ValueError, match=r"rtol = 1e-300 is below what float64 arithmetic can reach"):
+        disk_integral(lambda z: np.ones(z.shape), 0.5, rtol=1e-300)

@@ -142,3 +142,58 @@ def test_environment_variable_hides_cholmod(flake, monkeypatch):
     assert F.factorize(hamiltonian(flake), -3.5).backend == "superlu"
     monkeypatch.setenv(F.BACKEND_ENV, "")
     assert F.resolve_backend("auto") == ("cholmod" if F._cholmod() is not None else "superlu")
+
+
+@pytest.mark.parametrize("backend", ["superlu", "cholmod"])
+@pytest.mark.parametrize("positive", [False, True])
+def test_a_shift_at_an_eigenvalue_is_a_tie_not_a_proof(backend, positive):
+    # issue 28 item 6: sigma = E0 (to rounding) reported negatives = 0 as "proved"
+    import hyperlattice as hl
+    from hyperlattice.graph.factor import FactorizationError, cholmod_available as have_cholmod, factorize
+
+    if backend == "cholmod" and not have_cholmod():
+        pytest.skip("CHOLMOD is not installed")
+    H = hl.hamiltonian(hl.ring_lattice(7, 3, 2)).tocsc()
+    e = np.linalg.eigvalsh(H.toarray())
+    at = factorize(H, float(e[0]), backend=backend, positive=positive)
+    assert at.tie and not at.proved
+    below = factorize(H, float(e[0]) - 1e-3, backend=backend, positive=positive)
+    assert below.proved and not below.tie and below.negatives == 0
+    between = factorize(H, 0.5 * float(e[0] + e[1]), backend=backend)
+    assert between.proved and between.negatives == 1
+    # an exact zero pivot: one sentence, no backend text
+    with pytest.raises(FactorizationError, match=r"singular to working precision \(the shift is an eigenvalue\)\.$"):
+        factorize(sp.diags([1.0, 2.0, 3.0, 4.0]).tocsc(), 2.0, backend=backend, positive=positive)
+
+
+@pytest.mark.parametrize("backend", ["superlu", "cholmod"])
+def test_a_non_symmetric_matrix_is_refused_for_an_inertia_count(backend):
+    from hyperlattice.graph.factor import cholmod_available as have_cholmod, factorize
+
+    if backend == "cholmod" and not have_cholmod():
+        pytest.skip("CHOLMOD is not installed")
+    N = sp.csc_matrix(np.array([[1.0, 2.0], [0.0, 1.0]]))
+    with pytest.raises(ValueError, match=r"must be symmetric for an LDL\^T .* pivoting=True"):
+        factorize(N, 0.0, backend=backend)
+    lu = factorize(N, 0.0, pivoting=True)                # a plain LU takes any matrix
+    assert lu.negatives is None and not lu.proved and np.allclose(N @ lu.solve(np.ones(2)), 1.0)
+
+
+@pytest.mark.parametrize("value", ["junk", "superLU_dist", "0"])
+def test_a_misspelt_backend_variable_is_refused(value, monkeypatch, capsys):
+    # issue 28 item 6: HYPERLATTICE_FACTOR_BACKEND=junk was silently taken as auto
+    from hyperlattice.cli import main
+
+    monkeypatch.setenv("HYPERLATTICE_FACTOR_BACKEND", value)
+    with pytest.raises(ValueError, match=r"HYPERLATTICE_FACTOR_BACKEND = .* is not one of auto, cholmod, superlu"):
+        F.resolve_backend("auto")
+    assert main(["lattice", "--rings", "1"]) == 2           # the CLI refuses before any command runs
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "HYPERLATTICE_FACTOR_BACKEND" in err
+
+
+@pytest.mark.parametrize("value, backend", [("SuperLU", "superlu"), (" auto ", None), ("", None)])
+def test_the_backend_variable_values(value, backend, monkeypatch):
+    monkeypatch.setenv("HYPERLATTICE_FACTOR_BACKEND", value)
+    want = backend or ("cholmod" if F.cholmod_available() else "superlu")
+    assert F.resolve_backend("auto") == want

@@ -440,7 +440,9 @@ def test_butterfly_figure_band_bottom_panel():
     bf = butterfly(ring_lattice(7, 3, 3), np.linspace(0.0, 0.5, 11))
     fig, (ax, zoom) = plt.subplots(1, 2)
     butterfly_figure(bf, max_flux=0.3, points=4, levels=2, ax=ax, density=True, mirror=True, zoom_ax=zoom)
-    assert len(zoom.lines) == 2 and zoom.get_xlim() == (0.0, 0.3)
+    # one curve per continuum level (n, m) that is among the 2 lowest at some flux (issue 28 item 3)
+    assert len(zoom.lines) >= 2 and zoom.get_xlim() == (0.0, 0.3)
+    assert all(ln.get_gid().startswith("continuum n=") for ln in zoom.lines)
     low, high = zoom.get_ylim()
     assert low < bf.energies[0, 0] < high   # the lowest level at f = 0 is in view
     plt.close(fig)

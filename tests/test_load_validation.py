@@ -201,8 +201,13 @@ def test_load_result_refuses_a_tampered_json_file(what, edit, keep, match, tmp_p
     elif not keep:
         data.pop("sha256")
     path.write_text(json.dumps(data))
+    if not keep:
+        # without its checksum the file is refused as such, and read as hand-written it is checked
+        with pytest.raises(ValueError, match="carries no checksum") as exc:
+            load_result(path)
+        _one_sentence(exc, path)
     with pytest.raises(ValueError, match=match) as exc:
-        load_result(path)
+        load_result(path, require_checksum=keep is not False)
     _one_sentence(exc, path)
 
 
@@ -222,8 +227,32 @@ def test_load_result_refuses_a_tampered_npz_file(keep, tmp_path):
     a["energies"] = e
     np.savez(path, **a)
     with pytest.raises(ValueError, match="fails its checksum" if keep else "not ascending") as exc:
+        load_result(path, require_checksum=keep)
+    _one_sentence(exc, path)
+
+
+@pytest.mark.parametrize("suffix", [".json", ".npz"])
+def test_load_result_refuses_a_file_whose_checksum_was_deleted(suffix, tmp_path):
+    # issue 28 item 6: an edited number passed once the sha256 key was deleted (still ascending)
+    path = SPEC.save(tmp_path / f"spec{suffix}")
+    if suffix == ".json":
+        data = json.loads(path.read_text())
+        data.pop("sha256")
+        data["energies"]["data"][0] -= 1e-3
+        path.write_text(json.dumps(data))
+    else:
+        with np.load(path) as f:
+            a = {k: f[k] for k in f.files}
+        meta = json.loads(str(a["__meta__"]))
+        meta.pop("sha256")
+        a["__meta__"] = np.array(json.dumps(meta))
+        a["energies"] = a["energies"] - np.r_[1e-3, np.zeros(len(a["energies"]) - 1)]
+        np.savez(path, **a)
+    with pytest.raises(ValueError, match="carries no checksum.*require_checksum=False") as exc:
         load_result(path)
     _one_sentence(exc, path)
+    back = load_result(path, require_checksum=False)     # read as hand-written: it is consistent
+    assert back.energies[0] == pytest.approx(SPEC.energies[0] - 1e-3)
 
 
 def test_a_deeply_nested_result_file_is_one_sentence(tmp_path):
@@ -232,3 +261,41 @@ def test_a_deeply_nested_result_file_is_one_sentence(tmp_path):
     with pytest.raises(ValueError, match="nested too deeply") as exc:
         load_result(path)
     _one_sentence(exc, path)
+
+
+def _object_npz(path, meta):
+    np.savez(path, __meta__=np.array(json.dumps(meta)), energies=np.array([1, "a", None], dtype=object))
+
+
+def _header_npz(path, meta):
+    np.savez(path, __meta__=np.array(json.dumps(meta)),
+             energies=np.zeros(1, dtype=[(f"f{i}", "f8") for i in range(3000)]))
+
+
+def _digits_json(path, meta):
+    path.write_text('{"type": "Spectrum", "p": ' + "9" * 5000 + "}")
+
+
+@pytest.mark.parametrize("write, suffix, match", [
+    (_object_npz, ".npz", "it holds Python objects"),
+    (_header_npz, ".npz", "array header far larger"),
+    (_digits_json, ".json", "integer of more than 4,300 digits"),
+])
+@pytest.mark.parametrize("loader", ["load_result", "load_lattice"])
+def test_loader_refusals_are_physicist_sentences(write, suffix, match, loader, tmp_path):
+    # issue 28 item 6: numpy's "allow_pickle", "max_header_size" and Python's
+    # "set_int_max_str_digits" advice reached the user, load_result's without the file's name
+    path = tmp_path / f"f{suffix}"
+    meta = {"type": "Spectrum"}
+    write(path, meta)
+    if loader == "load_lattice" and write is not _digits_json:
+        # a lattice archive needs its arrays before any is read: the object array stands for z
+        arrays = {k: v for k, v in _arrays().items() if k != "z"}
+        z = np.array([1, "a"], dtype=object) if write is _object_npz else \
+            np.zeros(1, dtype=[(f"f{i}", "f8") for i in range(3000)])
+        np.savez(path, z=z, **arrays)
+    with pytest.raises(ValueError, match=match) as exc:
+        (load_result if loader == "load_result" else load_lattice)(path)
+    text = _one_sentence(exc, path)
+    for advice in ("allow_pickle", "max_header_size", "set_int_max_str_digits"):
+        assert advice not in text

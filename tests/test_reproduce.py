@@ -20,7 +20,7 @@ from hyperlattice.report.writers import prose
 class _Checker(HTMLParser):
     """Collects tags and every external reference; checks the tag nesting."""
 
-    VOID = {"meta", "img", "br", "hr", "link", "input"}
+    VOID = {"meta", "img", "br", "hr", "link", "input", "wbr"}
 
     def __init__(self):
         super().__init__()
@@ -178,13 +178,19 @@ def test_compare_flags():
 
 def test_side_table_uses_the_paper_values(repro):
     out, summary = repro
-    with open(out / "report" / "table_s1_vs_paper.csv") as fh:
-        rows = list(csv.DictReader(fh))
-    for row, rec in zip(rows, summary["records"]):
-        for key in ("E0_graph", "E0_continuum", "E0_asymptotic", "E1_graph", "E1_continuum", "E1_asymptotic"):
-            pv = paper_value(key, rec["rings"])
-            assert row[f"{key}_paper"] == pv.printed
-            assert row[f"{key}_flag"] == pv.check(rec[key])[0]
+    for level in ("E0", "E1"):
+        with open(out / "report" / f"table_s1_vs_paper_{level}.csv") as fh:
+            rows = list(csv.DictReader(fh))
+        assert rows and list(rows[0])[:2] == ["rings", "flagged"] and len(rows[0]) == 11
+        for row, rec in zip(rows, summary["records"]):
+            flagged = []
+            for kind in ("graph", "continuum", "asymptotic"):
+                key = f"{level}_{kind}"
+                pv = paper_value(key, rec["rings"])
+                assert row[f"{key}_paper"] == pv.printed
+                assert row[f"{key}_flag"] == pv.check(rec[key])[0]
+                flagged += [kind] if row[f"{key}_flag"] else []
+            assert row["flagged"] == ",".join(flagged)
 
 
 def _trends(records):
@@ -395,7 +401,8 @@ def test_every_label_of_the_report_is_in_the_map(repro):
     out, _ = repro
     md = (out / "report" / "report.md").read_text()
     printed = set(PAPER_LABELS.values())
-    for ref in re.findall(r"(?:Eq\. \([A-I]?\d+\)|Fig\. \d+|Table [IVX]+|Appendix [A-I])", md):
+    # "Fig. 8.1", "Table 9.2": the report's own items, numbered by section (writers.item_labels)
+    for ref in re.findall(r"(?:Eq\. \([A-I]?\d+\)|Fig\. \d+(?!\d|\.\d)|Table [IVX]+|Appendix [A-I])", md):
         assert ref in printed, ref
     with pytest.raises(ValueError, match="not a label"):
         Section("x", ("green99",))
@@ -445,3 +452,54 @@ def test_two_band_bottom_intervals_explained(repro):
     with open(out / "report" / "table_band_bottom.csv") as fh:
         row = next(r for r in csv.DictReader(fh) if r["lattice"] == "{7,3}")
     assert bound[1] == pytest.approx(float(row["rigorous_lower"]), abs=1e-5)
+
+
+def test_contents_name_tables_and_figures_as_the_paper_prints_them(repro):
+    """The table of contents and the captions say "Table IV", "Fig. 3", "Table 9.2" (issue 28 item 3),
+    never the internal file stems (``table s1``, ``figure fig2``)."""
+    out, _ = repro
+    md = (out / "report" / "report.md").read_text()
+    toc = md[md.index("## Contents"):md.index('<a id="part-paper">')]
+    for printed in ("Table I", "Table III", "Table IV", "Fig. 1", "Fig. 3", "Fig. 4, upper panels", "Fig. 5",
+                    "Fig. 6", "Fig. 7"):
+        assert f"[{printed}](#" in toc, printed
+    assert not re.search(r"\[(table|figure) [\w]+\]", toc), re.findall(r"\[(?:table|figure) [\w]+\]", toc)
+    assert re.search(r"\[Table \d+\.\d\]\(#table-band-fit\)", toc)
+    html_text = (out / "report" / "report.html").read_text()
+    nav = html_text[html_text.index('<nav class="toc"'):html_text.index("</nav>")]
+    assert ">Table IV</a>" in nav and ">Fig. 3</a>" in nav and ">table s1<" not in nav and ">figure fig2<" not in nav
+    assert "<p class=\"cap\" id=\"table-s1\">Table IV (and the energy rows of Table I)" in html_text
+
+
+def test_every_table_fits_a_1400px_page(repro):
+    """No table of the report is wider than 12 columns (the 19-column side table is split, issue 28 item 3)."""
+    out, _ = repro
+    for path in (out / "report").glob("table_*.csv"):
+        with open(path) as fh:
+            header = next(csv.reader(fh))
+        assert len(header) <= 12, (path.name, len(header))
+
+
+def test_bosons_tables_carry_error_bars_and_solver_tolerances(repro):
+    """Issue 28 item 3: the infinite lattice's lobe tip inherits ρ's error bar; the GP caption says
+    mean filling; the gap and GP tables state their solvers' tolerances and the errors reached."""
+    out, _ = repro
+    with open(out / "report" / "table_bosons_lobes.csv") as fh:
+        lobes = list(csv.DictReader(fh))
+    inf = next(r for r in lobes if r["system"].startswith("infinite"))
+    rho, err = float(inf["lambda_max"]), float(inf["lambda_max_error"])
+    assert 0 < err < 1e-2
+    assert float(inf["tip_t_c_over_U_error"]) == pytest.approx(float(inf["tip_t_c_over_U"]) * err / rho, rel=0.1)
+    assert all(r["lambda_max_error"] and r["tip_t_c_over_U_error"] for r in lobes)
+    md = (out / "report" / "report.md").read_text()
+    assert "at mean filling N/sites = 1" in md and "one boson per site" not in md
+    assert "relative residual ≤ 1e−10" in md or "relative residual ≤ 1e-10" in md
+    with open(out / "report" / "table_bosons_gp.csv") as fh:
+        gp = list(csv.DictReader(fh))
+    for r in gp:
+        assert float(r["residual_graph"]) <= 1e-8 and float(r["residual_continuum"]) <= 1e-8
+        # the continuum μ is printed to 5 decimals: its discretisation error is stated beside it
+        assert 0 < float(r["mu_continuum_error"]) < 1e-4
+    with open(out / "report" / "table_bosons_gap.csv") as fh:
+        gaps = list(csv.DictReader(fh))
+    assert all(0 < float(r["gap_ed_error_bound"]) < 5e-6 for r in gaps)

@@ -122,6 +122,8 @@ def _factories():
             7, 3, rings=3, levels=3),
         "MagneticSpectrum": lambda: __import__("hyperlattice.continuum.magnetic", fromlist=["x"]).magnetic_levels(
             7, 3, rings=3, levels=2, flux=0.1),
+        "LabelledSpectrum": lambda: __import__("hyperlattice.compare.levels", fromlist=["x"]).continuum_labels(
+            __import__("hyperlattice.graph.spectrum", fromlist=["x"]).lowest_levels(ring_lattice(8, 3, 3), 10)),
         "GreenComparison": green,
         "TilingConstants": tiling,
         "ContinuumParameters": lambda: continuum_parameters(1.0, 0.5, 2.0),
@@ -488,7 +490,7 @@ def test_load_bad_files_is_valueerror(tmp_path):
     meta = json.dumps({"type": "Levels", "p": 7})  # fields missing: was a TypeError
     np.savez(tmp_path / "short.npz", __meta__=np.array(meta), energies=np.zeros(2))
     with pytest.raises(ValueError, match="lacks"):
-        load_result(tmp_path / "short.npz")
+        load_result(tmp_path / "short.npz", require_checksum=False)
     np.savez(tmp_path / "meta.npz", __meta__=np.array("[1]"))
     with pytest.raises(ValueError):
         load_result(tmp_path / "meta.npz")

@@ -4,7 +4,6 @@ import numpy as np
 import pytest
 import scipy.linalg as sla
 
-from hyperlattice.errors import ConvergenceError
 from hyperlattice.graph.lattice import ring_lattice
 from hyperlattice.graph.sectors import flake_memory, lowest_pair, sector_block, sector_lattice
 from hyperlattice.graph.spectrum import lowest_levels
@@ -76,8 +75,8 @@ def test_refuses_a_flake_that_does_not_fit_before_allocating():
 
 
 def test_unmet_tolerance_raises():
-    # residuals are ~1e-15: a tolerance far below them cannot be met and must not pass silently
-    with pytest.raises(ConvergenceError, match="residual"):
+    # residuals are ~1e-15: a tolerance far below them cannot be met; refused before work (issue 28)
+    with pytest.raises(ValueError, match="below what float64 arithmetic can reach"):
         lowest_pair(7, 3, 6, tol=1e-20)
 
 

@@ -159,10 +159,14 @@ def test_bad_input(kwargs, match):
 
 def test_unconverged_results_do_not_pass_silently(monkeypatch):
     lat = ring_lattice(7, 3, 3)
-    # an impossible tolerance must raise; one within a factor 100 of the residual warns
-    with pytest.raises(ConvergenceError):
+    # a tolerance below float64's reach is refused before work (issue 28); residuals far above the
+    # tolerance raise, and one within a factor 100 of it warns
+    with pytest.raises(ValueError, match="below what float64 arithmetic can reach"):
         lowest_levels(lat, 2, tol=1e-30)
     real = spectrum_mod._residuals
+    monkeypatch.setattr(spectrum_mod, "_residuals", lambda table, vecs, energies: real(table, vecs, energies) + 1e-3)
+    with pytest.raises(ConvergenceError):
+        lowest_levels(lat, 2, tol=1e-10)
 
     def inflated(table, vecs, energies):
         return real(table, vecs, energies) + 5e-10

@@ -37,8 +37,10 @@ def serial_table(tmp_path_factory):
 
 
 def test_keys_are_idempotent():
-    a = expand_grid("disorder", {"W": [1.0, 1.0, 2.0]})
-    assert len(a) == 2                                  # a point listed twice is one task
+    with pytest.raises(ValueError, match=r"lists W = 1.0 twice"):   # was silently one task (issue 28)
+        expand_grid("disorder", {"W": [1.0, 1.0, 2.0]})
+    a = expand_grid("disorder", {"W": [1.0, 2.0]})
+    assert len(a) == 2 and len(expand_grid("probe", {"x": [1, 1.0]})) == 2   # 1 and 1.0 differ
     assert task_key("disorder", a[0]) == task_key("disorder", dict(reversed(list(a[0].items()))))
     assert task_key("disorder", a[0]) != task_key("disorder", a[1])
     # 1 and 1.0 are different parameters (an int rings, a float W): keys keep the JSON type
@@ -124,8 +126,10 @@ def test_local_cluster_is_bit_identical_to_the_default(serial_table, tmp_path):
     pytest.importorskip("distributed")
     from distributed import Client, LocalCluster
 
-    # the default: a local cluster of worker processes started by the engine
-    rep = run_sweep("disorder", GRID, tmp_path / "default", workers=2, progress=False, timeout=TIMEOUT)
+    # "local": a local cluster of worker processes started by the engine (the default scheduler=None
+    # runs this tiny grid serially: tests/test_sweep_robust.py)
+    rep = run_sweep("disorder", GRID, tmp_path / "default", scheduler="local", workers=2, progress=False,
+                    timeout=TIMEOUT)
     assert rep.ok and "local" in rep.scheduler
     default = read_table(tmp_path / "default")
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=":0") as cluster, \

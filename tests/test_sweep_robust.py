@@ -155,6 +155,7 @@ def test_failures_of_an_earlier_run_are_kept_until_retried(tmp_path, monkeypatch
 
 @pytest.mark.parametrize("argv, match", [
     (["--grid", "x=1,2", "--grid", "x=3"], "given twice"),
+    (["--grid", "x=1,1,2"], "lists x = 1 twice"),
     (["--grid", "x=0:10000000"], "10,000,000 tasks; at most"),
     (["--grid", "x=0:1000", "--grid", "sleep=0,1,2,3,4,5,6,7,8,9", "--grid", "y=0:1000"], "task 'probe' has no"),
 ])
@@ -266,3 +267,47 @@ def test_more_workers_than_cores_are_capped_with_one_warning(tmp_path, capsys, m
                  "--scheduler", "threads", "--workers", "64", "--timeout", "60"])
     err = capsys.readouterr().err
     assert code == 0 and err.count("\n") == 1 and "using 2" in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("text, key", [
+    ('{"task": "probe", "grid": {"x": [1, 2], "x": [3]}, "out": "D"}', "x"),      # dropped x = 1, 2
+    ('{"task": "probe", "task": "disorder", "grid": {"x": [1]}, "out": "D"}', "task"),
+])
+def test_cli_config_with_a_key_given_twice_is_refused(text, key, tmp_path, capsys, monkeypatch):
+    # issue 28 item 6: json keeps the last of two equal keys, so a grid silently lost values
+    monkeypatch.chdir(tmp_path)
+    cfg = tmp_path / "sweep.json"
+    cfg.write_text(text)
+    assert main(["sweep", str(cfg), "--scheduler", "serial"]) == 2
+    assert f"gives the key '{key}' twice" in _err_line(capsys)
+    assert not (tmp_path / "D").exists()                    # refused before any work
+
+
+def test_a_tiny_grid_does_not_start_a_local_cluster(tmp_path, monkeypatch):
+    # issue 28 item 5: the default local cluster cost 6 s for 6 tiny tasks (0.7 s serially)
+    pytest.importorskip("distributed")
+
+    def no_cluster(*args, **kwargs):
+        raise AssertionError("a local cluster was started for a tiny grid")
+
+    monkeypatch.setattr(engine, "_run_dask", no_cluster)
+    rep = engine.run_sweep("probe", {"x": [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]}, tmp_path / "D", progress=False)
+    assert rep.ok and rep.completed == 6
+    assert rep.scheduler.startswith("serial (") and "s of tasks, less than the ~5 s a local cluster" in rep.scheduler
+
+
+def test_a_grid_worth_it_starts_the_local_cluster(tmp_path, monkeypatch):
+    # the first task runs here; when the rest would outlast the cluster's start-up, the rest goes to it
+    pytest.importorskip("distributed")
+    calls = []
+
+    def fake_dask(task, ps, ks, write, retries, failures, bar, on_row, scheduler, workers, timeout):
+        calls.append(len(ps))
+        for p, k in zip(ps, ks):
+            write(k, p, engine.execute(task, p))
+        return "local (2 processes)"
+
+    monkeypatch.setattr(engine, "_run_dask", fake_dask)
+    monkeypatch.setattr(engine, "LOCAL_CLUSTER_SECONDS", 0.0)
+    rep = engine.run_sweep("probe", {"x": [1.0, 2.0, 3.0]}, tmp_path / "D", progress=False)
+    assert calls == [2] and rep.scheduler == "local (2 processes)" and rep.completed == 3

@@ -1,14 +1,42 @@
 """hyperlattice: quantum physics on hyperbolic {p,q} lattices and their continuum limit.
 
-Implements the computational system of Boettcher, Bienias, Belyansky, Kollár and Gorshkov,
-"Quantum simulation of hyperbolic space with circuit QED: from graphs to geometry",
-Phys. Rev. A 102, 032208 (2020).
+The computational system of Boettcher, Bienias, Belyansky, Kollár and Gorshkov, "Quantum
+simulation of hyperbolic space with circuit QED: from graphs to geometry", PRA 102, 032208 (2020).
+Start: ``hl.ring_lattice(7, 3, 4)``, ``hl.lowest_levels(lat, 2)``, ``hl.continuum_levels(7, 3,
+rings=4)``; each name below has its own ``help()``. The command line: ``hyperlattice --help``.
 
-Conventions: metric ``ds^2 = (dx^2+dy^2)/(1-|z|^2)^2`` (curvature -4); h = tanh(d0);
-``Delta_g = (1-|z|^2)^2 (d_x^2 + d_y^2)``; H = -t A (t = 1 unless given); sites are indexed
-0-based, ring by ring, each ring counterclockwise from the smallest polar angle >= 0.
+Index by topic (every name is ``hyperlattice.<name>``)::
 
-Public names are imported lazily so that ``import hyperlattice`` stays cheap.
+    Lattices, geometry  ring_lattice Lattice line_graph ring_sizes site_count edge_count
+                        load_lattice lattice_from_networkx distance tiling_constants
+                        effective_radius lattice_h
+    Graph spectra       lowest_levels full_spectrum full_spectrum_tolerance Spectrum
+                        MatrixSpectrum adjacency hamiltonian incidence sector_hamiltonian
+                        lowest_pair sector_lattice partition_function log_partition_function
+    Continuum           continuum_levels dirichlet_levels ContinuumSpectrum legendre_p legendre_q
+    Dictionary          lambda_from_energy energy_from_lambda continuum_parameters
+                        lattice_parameters field_from_flux flux_from_field
+    Green functions     graph_green continuum_green compare_green
+    Magnetic flux       butterfly Butterfly check_face_fluxes magnetic_levels MagneticSpectrum
+                        landau_levels magnetic_comparison
+    Sums, scaling       frame_angles fit_counting sum_check
+    Infinite lattice    band_bottom plateau_analysis compare_dictionaries Cluster pbc_cluster
+                        list_clusters bloch_hamiltonian band_structure abelian_dos abelian_cover
+                        kpm_dos bulk_dos local_dos closed_walks spectral_radius dos_comparison
+    Below the band      delta_from_omega bf_bound boundary_correlator delta_curve bound_state
+                        spin_model exchange_comparison
+    Disorder            disordered_hamiltonian disorder_ensemble r_scan compare_scba scba
+    Bosons              bose_hubbard charge_gap boson_basis basis_dimension BosonBasis
+                        BoseHubbardLevels ChargeGap gutzwiller mott_lobe mott_lobes lobe_tip
+                        lobe_boundary largest_adjacency_eigenvalue GutzwillerState MottLobe
+                        MottLobeTable gp_ground_state bogoliubov GPState BogoliubovSpectrum
+                        gp_comparison mott_gap_comparison
+    Sweeps, results     run_sweep read_table Result Levels load_result
+
+Conventions: metric ``ds² = (dx² + dy²)/(1 − |z|²)²`` (curvature −4); h = tanh(d0); H = −tA (t = 1
+unless given); sites 0-based, ring by ring, each counterclockwise from the smallest polar angle
+≥ 0. Names are imported lazily (``import hyperlattice`` is cheap), so ``help(hyperlattice)``
+shows this index, not every class.
 """
 
 from __future__ import annotations
@@ -110,6 +138,29 @@ _EXPORTS = {
     "scba": "continuum.scba",
     "run_sweep": "sweep",
     "read_table": "sweep",
+    # interacting bosons (hyperlattice.bosons, and their comparisons with the continuum)
+    "BosonBasis": "bosons.basis",
+    "basis_dimension": "bosons.basis",
+    "boson_basis": "bosons.basis",
+    "BoseHubbardLevels": "bosons.ed",
+    "ChargeGap": "bosons.ed",
+    "bose_hubbard": "bosons.ed",
+    "charge_gap": "bosons.ed",
+    "BogoliubovSpectrum": "bosons.gp",
+    "GPState": "bosons.gp",
+    "bogoliubov": "bosons.gp",
+    "gp_ground_state": "bosons.gp",
+    "GutzwillerState": "bosons.meanfield",
+    "MottLobe": "bosons.meanfield",
+    "MottLobeTable": "bosons.meanfield",
+    "gutzwiller": "bosons.meanfield",
+    "largest_adjacency_eigenvalue": "bosons.meanfield",
+    "lobe_boundary": "bosons.meanfield",
+    "lobe_tip": "bosons.meanfield",
+    "mott_lobe": "bosons.meanfield",
+    "mott_lobes": "bosons.meanfield",
+    "gp_comparison": "compare.bosons",
+    "mott_gap_comparison": "compare.bosons",
 }
 
 __all__ = sorted(_EXPORTS) + ["__version__"]
@@ -126,4 +177,18 @@ def __getattr__(name: str):
 
 
 def __dir__():
+    # ``help(hyperlattice)`` (pydoc) documents every class and function that ``dir`` lists, which
+    # for the whole API is ~6,000 lines; it gets the module's own names and the docstring's index
+    # instead. Everything else (tab completion, ``dir(hyperlattice)``) sees the whole API.
+    import sys
+
+    frame = sys._getframe(1)
+    for _ in range(6):
+        if frame is None:
+            break
+        if frame.f_globals.get("__name__") == "pydoc":
+            # the exports already imported are in globals() too: leave them out, loaded or not
+            return sorted(n for n in globals()
+                          if n not in _EXPORTS and (not n.startswith("_") or n in ("__version__", "__all__")))
+        frame = frame.f_back
     return __all__

@@ -153,6 +153,48 @@ def real(name: str, value, *, minimum: float | None = None, maximum: float | Non
     return v
 
 
+#: largest |t| the level solvers take: the levels scale with t exactly, and squares of entries
+#: of ~1e300 overflow inside the residual checks (a ConvergenceError "residual inf" before)
+MAX_HOPPING = 1e150
+#: smallest residual tolerance a solver can be asked for, relative to the scale of the matrix
+MIN_TOLERANCE = 1e-15
+
+
+def hopping(name: str, value, *, positive: bool = False) -> float:
+    """A hopping amplitude t: a finite real (> 0 with ``positive``) of magnitude at most
+    :data:`MAX_HOPPING`; beyond it, one sentence saying that the levels simply scale with t."""
+    t = positive_real(name, value) if positive else real(name, value)
+    if abs(t) > MAX_HOPPING:
+        raise ValueError(f"{name} = {t:g} is beyond {MAX_HOPPING:g}: the levels are t times those at t = 1, so "
+                         "compute them at t = 1 and scale them.")
+    return t
+
+
+def solver_tolerance(name: str, value, *, floor: float = MIN_TOLERANCE) -> float:
+    """A residual tolerance: positive and not below ``floor``, what float64 arithmetic can reach
+    (tol = 1e-300 ended as a ConvergenceError after the work instead of a refusal before it)."""
+    tol = positive_real(name, value)
+    if tol < floor:
+        raise ValueError(f"{name} = {tol:g} is below what float64 arithmetic can reach (about {floor:g} "
+                         f"relative to the problem's scale); give {name} >= {floor:g}.")
+    return tol
+
+
+def damping(name: str, value, tol: float, max_allowed: int) -> float:
+    """The mixing of a damped fixed-point iteration, 0 < damping <= 1, refused before work when no
+    allowed number of iterations could reach ``tol``: each step moves at most ``damping`` of the way
+    to the target, so a start off the fixed point by O(1) needs log(tol)/log(1 - damping) steps
+    (damping = 1e-300 iterated to the cap and ended in a ConvergenceError). Call it only when the
+    start is off the fixed point (a nonzero self-energy)."""
+    d = real(name, value, minimum=0.0, maximum=1.0, open_min=True)
+    fewest = math.log(tol) / math.log1p(-d) if d < 1.0 else 1.0
+    if fewest > max_allowed:
+        raise ValueError(f"{name} = {d:g} moves each iterate only that fraction of the way: reaching tol = {tol:g} "
+                         f"takes at least {fewest:.3g} iterations, more than the {max_allowed:,} allowed; raise "
+                         f"{name} (0 < {name} <= 1).")
+    return d
+
+
 def positive_real(name: str, value) -> float:
     """A finite float > 0."""
     return real(name, value, minimum=0.0, open_min=True)
@@ -454,6 +496,71 @@ def directory(name: str, value, *, create: bool = True) -> Path:
             raise ValueError(f"{name} {str(path)!r} is not writable (permission denied).")
     except OSError as exc:
         raise _os_error(name, path, exc) from None
+    return path
+
+
+#: environment variable that hides CHOLMOD from the package (``superlu``; see hyperlattice.graph.factor)
+FACTOR_BACKEND_ENV = "HYPERLATTICE_FACTOR_BACKEND"
+
+
+def factor_backend_env() -> str:
+    """The value of :data:`FACTOR_BACKEND_ENV`, lower case: ``""`` (unset, ``auto`` or ``cholmod``:
+    the default choice) or ``"superlu"``; anything else is refused in one sentence (a typo such as
+    ``=junk`` was silently taken as auto). Checked by the CLI before any command runs, and by
+    every backend choice of the API."""
+    raw = os.environ.get(FACTOR_BACKEND_ENV, "")
+    chosen = raw.strip().lower()
+    if chosen in ("superlu", "splu"):
+        return "superlu"
+    if chosen in ("", "auto", "cholmod"):
+        return ""
+    raise ValueError(f"the environment variable {FACTOR_BACKEND_ENV} = {_shown(raw)} is not one of auto, "
+                     "cholmod, superlu; unset it or give one of them.")
+
+
+def file_problem(exc: BaseException) -> str:
+    """What is wrong with a file a loader could not read, in one clause for a physicist.
+
+    numpy and Python phrase some refusals as advice to the programmer (``allow_pickle=True``,
+    ``max_header_size``, ``sys.set_int_max_str_digits()``): loosening them would be wrong for a
+    file hyperlattice did not write, so they become what they mean. Other messages pass as they are.
+    """
+    text = " ".join(str(exc).split()).rstrip(".")
+    low = text.lower()
+    if "allow_pickle" in low and "object arrays" in low:
+        return "it holds Python objects (pickled data), which hyperlattice never writes and does not load"
+    if "max_header_size" in low or "header info length" in low:
+        return "it has an array header far larger than any hyperlattice writes (not loaded, for safety)"
+    if "int_max_str_digits" in low or "integer string conversion" in low:
+        return "it holds an integer of more than 4,300 digits, which no hyperlattice file has"
+    return text or type(exc).__name__
+
+
+def owned_directory(name: str, value, *, marker: str, ours=(), what: str = "the package's") -> Path:
+    """A directory the package may write into without touching anything of the user's.
+
+    It is created when missing; an existing one must hold ``marker`` (the file the package wrote
+    when it first used the directory: a sweep's manifest, a report's ``_report.json``) or be empty
+    apart from the names in ``ours`` (a directory among them must itself be empty). Anything else
+    is refused with one sentence naming a file found, so a user's own files are never overwritten.
+    Used by :class:`hyperlattice.sweep.store.SweepStore` and :func:`hyperlattice.report.reproduce`.
+    """
+    path = directory(name, value)
+    if (path / marker).is_file():
+        return path
+    try:
+        foreign = []
+        for f in sorted(path.iterdir(), key=lambda f: f.name):
+            if f.name not in ours:
+                foreign.append(f.name + ("/" if f.is_dir() else ""))
+            elif f.is_dir() and not f.is_symlink() and any(f.iterdir()):
+                foreign.append(f.name + "/")
+    except OSError as exc:
+        raise ValueError(f"cannot read {name} {str(path)!r}: {exc.strerror or exc}.") from None
+    if foreign:
+        raise ValueError(f"{name} {str(path)!r} is not {what} directory (no {marker}, and it holds "
+                         f"{foreign[0]!r}{' and more' if len(foreign) > 1 else ''}); "
+                         "give a new or empty directory, so that nothing of yours is overwritten.")
     return path
 
 

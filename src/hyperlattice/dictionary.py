@@ -72,6 +72,7 @@ from ._ties import monotone_tolerance
 from .results import Result
 
 __all__ = [
+    "improved_lambda_of_frequency",
     "laplacian_coefficient",
     "hopping_scale",
     "lambda_from_energy",
@@ -1065,6 +1066,76 @@ def improved_lambda_from_energy(energy, p=7, q=3) -> float:
         return 0.0
     return float(brentq(lambda x: -q * spherical_function(x, d0) - e, 0.0, float(grid[top]), xtol=1e-14,
                         rtol=4 * np.finfo(float).eps))
+
+
+def improved_lambda_of_frequency(omega, p=7, q=3) -> float:
+    r"""The improved map's :math:`\lambda` of a real frequency, below the band (:math:`\lambda < 0`) included.
+
+    The improved map :math:`\omega = -q\,\varphi_\lambda(d_0)` (module docstring) holds for any
+    eigenfunction of :math:`-\Delta_g`, also for the growing ones of :math:`\lambda < 0` that the
+    propagator below the band is made of. There :math:`\nu = -\frac12 + \frac12\sqrt{1-\lambda}`
+    is real and :math:`\varphi_\lambda(d_0) = P_\nu(\cosh 2d_0) = {}_2F_1(-\nu, \nu+1; 1;
+    (1 - \cosh 2d_0)/2)` (DLMF 14.3.1 with :math:`\mu = 0`), which rises monotonically as
+    :math:`\lambda` falls; :math:`\lambda` is its root (real :math:`\nu` up to :math:`\lambda = 1`).
+    Above the improved band bottom (:func:`improved_band_bottom`) this is
+    :func:`improved_lambda_from_energy`. The paper's map :func:`lambda_from_energy` is the first
+    order of the same expansion in :math:`h^2`; the difference of the two is the size of the
+    neglected orders, i.e. of the lattice-spacing error of the dictionary at that frequency
+    (:func:`hyperlattice.compare.boundary.boundary_correlator` uses it so).
+
+    Parameters
+    ----------
+    omega : float
+        Real frequency in units of t, with :math:`\lambda(\omega) \ge -10^6`.
+    p : int, optional
+        Polygon size of the {p,q} lattice (default 7).
+    q : int, optional
+        Coordination number (default 3); need :math:`(p-2)(q-2) > 4`.
+
+    Returns
+    -------
+    float
+        :math:`\lambda`, negative below the band bottom :math:`-q`.
+
+    Raises
+    ------
+    ValueError
+        If ``omega`` is not a finite real number, lies above the monotone branch of the improved
+        map, or so far below the band that :math:`\lambda < -10^6`.
+
+    See Also
+    --------
+    lambda_from_energy, improved_lambda_from_energy
+
+    Examples
+    --------
+    >>> from hyperlattice.dictionary import improved_lambda_of_frequency, lambda_from_energy
+    >>> print(f"{improved_lambda_of_frequency(-3.5):.4f} {lambda_from_energy(-3.5):.4f}")
+    -8.0941 -8.7645
+    """
+    from scipy.optimize import brentq
+    from scipy.special import hyp2f1
+
+    p, q = _validate.pq(p, q)
+    w = _validate.real("omega", omega)
+    if w > improved_band_bottom(p, q):
+        return improved_lambda_from_energy(w, p, q)
+    x = (1.0 - math.cosh(2.0 * geometry.d0(p, q))) / 2.0
+
+    def energy(lam: float) -> float:
+        nu = -0.5 + 0.5 * math.sqrt(1.0 - lam)
+        return -q * float(hyp2f1(-nu, nu + 1.0, 1.0, x))
+
+    # nu is real for lambda <= 1 (up to the improved map's band bottom, where the Mehler form of
+    # improved_lambda_from_energy takes over); the two forms agree there to rounding
+    if energy(1.0) <= w:
+        return 1.0
+    lo = -1.0
+    while energy(lo) > w:
+        lo *= 2.0
+        if lo < -1e6:
+            raise ValueError(f"omega = {w:g} lies too far below the band for the improved map (lambda < -1e6).")
+    return float(brentq(lambda lam: energy(lam) - w, lo, 1.0, xtol=1e-13, rtol=4 * np.finfo(float).eps))
 
 
 def improved_band_bottom(p=7, q=3) -> float:

@@ -508,10 +508,15 @@ def _digest(meta: dict, arrays: dict | None = None) -> str:
     return h.hexdigest()
 
 
-def _verify_digest(where: str, meta: dict, arrays: dict | None = None) -> None:
-    """Pop ``meta["sha256"]`` and check it (files without one, e.g. hand-written, are not checked)."""
+def _verify_digest(where: str, meta: dict, arrays: dict | None = None, *, required: bool = False) -> None:
+    """Pop ``meta["sha256"]`` and check it; a file without one (hand-written, or its checksum
+    deleted) is refused when ``required``, else not checked."""
     stored = meta.pop("sha256", None)
     if stored is None:
+        if required:
+            raise ValueError(f"{where} carries no checksum, so an edit of it could not be detected; "
+                             "load_result(path, require_checksum=False) reads a file written by hand "
+                             "(its types and invariants are still checked).")
         return
     try:
         ok = isinstance(stored, str) and stored == _digest(meta, arrays)
@@ -971,12 +976,13 @@ def _registered(tag: str):
 _ALL_IMPORTED: list = []
 
 
-def load_result(path) -> Result:
+def load_result(path, *, require_checksum: bool = True) -> Result:
     """Read any result written by :meth:`Result.save` (``.json`` or ``.npz``), checked.
 
     A file written by this version carries the sha256 of its contents: a mismatch (an edited
-    number, a damaged file) is refused. Every file, also one without a checksum, is then checked
-    for what the result must satisfy: field types (an integer is not a float or a bool, arrays
+    number, a damaged file) is refused, and so is a file without a checksum (deleting the
+    ``sha256`` key would otherwise let any edit through) unless ``require_checksum=False`` says
+    that the file was written by hand. Every file is then checked for what the result must satisfy: field types (an integer is not a float or a bool, arrays
     are numeric), counts not negative, and the result's own invariants (:class:`Levels`: finite,
     ascending energies with one ``n``, ``m`` and error per level; a lattice: its structure).
 
@@ -984,6 +990,9 @@ def load_result(path) -> Result:
     ----------
     path : str or path-like
         A ``.json`` or ``.npz`` file written by :meth:`Result.save`.
+    require_checksum : bool, optional
+        Refuse a file that carries no checksum (default True); False reads a hand-written file,
+        whose field types and invariants are still checked.
 
     Returns
     -------
@@ -994,8 +1003,9 @@ def load_result(path) -> Result:
     Raises
     ------
     ValueError
-        If the file is missing, unreadable, fails its checksum or does not hold a valid saved
-        result; the message (one sentence) names the file.
+        If the file is missing, unreadable, fails its checksum (or has none, with
+        ``require_checksum``) or does not hold a valid saved result; the message (one sentence)
+        names the file.
 
     See Also
     --------
@@ -1015,6 +1025,7 @@ def load_result(path) -> Result:
     """
     from . import _validate
 
+    require_checksum = _validate.flag("require_checksum", require_checksum)
     path = _validate.input_path("path", path, suffixes=(".json", ".npz"))
     where = repr(str(path))
     arrays = None
@@ -1028,12 +1039,18 @@ def load_result(path) -> Result:
                 meta = json.loads(str(data["__meta__"]))
                 arrays = {k: data[k] for k in data.files if k != "__meta__"}
     except (OSError, EOFError, zipfile.BadZipFile, json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise ValueError(f"cannot read a result from {where}: {exc}.") from None
+        raise ValueError(f"cannot read a result from {where}: {_validate.file_problem(exc)}.") from None
     except RecursionError:
         raise ValueError(f"cannot read a result from {where}: it is nested too deeply.") from None
+    except ValueError as exc:
+        # numpy's object-array and header refusals, Python's 4300-digit integer limit: no file name
+        # and programmer's advice (allow_pickle=True, ...) before; one sentence naming the file now
+        if str(exc).startswith(where):
+            raise
+        raise ValueError(f"cannot read a result from {where}: {_validate.file_problem(exc)}.") from None
     if not isinstance(meta, dict):
         raise ValueError(f"{where} is not a saved hyperlattice result.")
-    _verify_digest(where, meta, arrays)
+    _verify_digest(where, meta, arrays, required=require_checksum)
     tag = meta.get("type")
     cls = _registered(tag) if isinstance(tag, str) else None
     if cls is None:
@@ -1086,8 +1103,10 @@ class Levels(Result):
     n : ndarray of int, shape (K,)
         Radial index 1, 2, ... within sector m.
     m : ndarray of int, shape (K,), or None
-        Signed angular momentum in :math:`(-p/2, p/2]` (graph) or :math:`\mathbb Z`
-        (continuum); a pair is listed +m first. None when the rotation is broken.
+        Signed angular momentum in :math:`\mathbb Z` (continuum), or for a graph spectrum its
+        signed rotation sector in :math:`(-p/2, p/2]`, which is the angular momentum only modulo p
+        (:func:`hyperlattice.compare.levels.continuum_labels` gives the continuum (n, m) a graph
+        level continues); a pair is listed +m first. None when the rotation is broken.
     errors : ndarray, shape (K,)
         Per level: the residual :math:`\|H\psi - E\psi\|` (graph) or a bound on the energy
         error (continuum); ``error_kind`` says which.
@@ -1145,7 +1164,7 @@ class Levels(Result):
             return "the radial index n starts at 1"
         if np.any(err < 0):      # NaN stands for an unknown error and is kept
             return "errors must be non-negative"
-        if m is not None and self.error_kind == "residual" and np.any((2 * m <= -self.p) | (2 * m > self.p)):
+        if m is not None and self._m_is_sector() and np.any((2 * m <= -self.p) | (2 * m > self.p)):
             return f"m must lie in (-p/2, p/2] = (-{self.p / 2:g}, {self.p / 2:g}]"
         if k > 1:
             # ascending up to each level's own error and the rounding of the largest energy
@@ -1155,6 +1174,11 @@ class Levels(Result):
                 i = int(np.argmax(np.diff(e) < -slack))
                 return f"the energies are not ascending (E[{i}] = {e[i]:.17g} > E[{i + 1}] = {e[i + 1]:.17g})"
         return None
+
+    def _m_is_sector(self) -> bool:
+        # a graph spectrum's m is its signed rotation sector in (-p/2, p/2]; a continuum m is any
+        # integer (and so is the continuum label a graph level carries once matched)
+        return self.error_kind == "residual"
 
     @property
     def degeneracy(self) -> np.ndarray:
@@ -1176,7 +1200,9 @@ def compare_levels(graph: Levels, continuum: Levels) -> dict:
     r"""Field-by-field comparison of two level lists of equal length.
 
     Returns the relative differences :math:`(E_g - E_c)/|E_g|`, whether the (n, m) labels agree
-    level by level, and both error columns.
+    level by level, and both error columns. The labels are compared as given: a graph spectrum's
+    m is its sector (m mod p); :func:`hyperlattice.compare.levels.levels_side_by_side` compares the
+    continuum labels of the graph levels instead.
 
     Parameters
     ----------

@@ -858,6 +858,9 @@ class BoseHubbardLevels(Result):
         Mean of :math:`\rho_{ij}` over pairs i != j whose distance falls in each bin.
     distance_kind : str
         ``"hyperbolic"`` (flake) or ``"graph x d0"`` (cluster).
+    note : str
+        Empty, or what the caller should know about the request (more levels asked than the
+        basis has states: all of them are listed).
 
     Notes
     -----
@@ -906,10 +909,12 @@ class BoseHubbardLevels(Result):
     distance_bins: np.ndarray | None = None
     correlation: np.ndarray | None = None
     distance_kind: str = ""
+    note: str = ""
 
     def summary(self) -> dict:
         """The CLI view: ``sites, particles, nmax, U, t, dim, energies`` (the contract) and
-        ``m, residuals, method, system`` (plus ``condensate_fraction`` when computed)."""
+        ``m, residuals, method, system`` (plus ``condensate_fraction`` when computed, and ``note``
+        when there is one)."""
         out = {"sites": self.sites, "particles": self.particles, "nmax": self.nmax, "U": self.U,
                "t": self.t, "dim": self.dim, "energies": [float(e) for e in self.energies],
                "m": None if self.m is None else [int(v) for v in self.m],
@@ -917,6 +922,8 @@ class BoseHubbardLevels(Result):
                "p": self.p, "q": self.q, "rings": self.rings, "cluster": self.cluster}
         if self.density is not None:
             out["condensate_fraction"] = float(self.condensate_fraction)
+        if self.note:
+            out["note"] = self.note
         return out
 
 
@@ -1253,6 +1260,8 @@ def bose_hubbard(lattice, particles: int, nmax: int, U: float, *, t: float = 1.0
         _validate.require_memory(f"Lanczos on {dim:,} states ({ncv} vectors)",
                                  basis_memory(g.sites, n, c) + 8.0 * dim * (ncv + 4))
     b = boson_basis(g.sites, n, c)
+    # more levels than states: all of them, and said so (8 asked on a 7-state basis came back as 7)
+    note = f"{k} levels asked, but the basis has only {dim} states: all {dim} are listed." if k > dim else ""
     k = min(k, dim)
     # one level more than asked when observables are wanted: it shows where the ground multiplet ends
     k_out = k
@@ -1344,7 +1353,7 @@ def bose_hubbard(lattice, particles: int, nmax: int, U: float, *, t: float = 1.0
                              nmax=c, U=U, t=t, mu=mu, dim=dim, energies=np.asarray(energies, dtype=float),
                              m=mlab, residuals=np.asarray(resid, dtype=float),
                              tolerance=np.asarray(tol_e, dtype=float), method=route, sector_dims=sector_dims,
-                             seconds=seconds, **extra)
+                             seconds=seconds, note=note, **extra)
 
 
 @dataclass(frozen=True, eq=False)

@@ -50,6 +50,10 @@ _RESIDUAL_TOL = 1e-8
 #: largest U / t accepted (the GP equation is a weak-coupling theory; beyond this the optimiser
 #: works with numbers that mean nothing physically)
 _MAX_COUPLING = 1e6
+#: largest energy scale accepted (float64 ends at 1.8e308; psi^4 and sums need headroom)
+_MAX_ENERGY = 1e300
+#: U N / sites below this fraction of the hopping scale: the minimisation starts at the U = 0 state
+_WEAK = 1e-6
 #: sites up to which the Bogoliubov problem is solved densely
 _DENSE_SITES = 3000
 
@@ -181,14 +185,19 @@ def gp_ground_state(system, particles: float, U: float, t: float = 1.0, *, tol: 
     if U > _MAX_COUPLING * t:
         raise ValueError(f"U = {U:g} is more than {_MAX_COUPLING:g} t: far outside the weak-coupling regime of the "
                          "Gross-Pitaevskii equation (use exact diagonalisation, hyperlattice.bosons.ed).")
-    tol = _validate.positive_real("tol", tol)
+    tol = _validate.solver_tolerance("tol", tol)
     max_iter = _validate.integer("max_iter", max_iter, minimum=1, maximum=10**7)
     _validate.require_memory("the GP minimisation", 8.0 * n * 40 + 12.0 * a.nnz)
     h = (-t) * a
-    x0 = np.ones(n) if psi0 is None else _validate.real_array("psi0", psi0, shape=(n,)).copy()
-    if not np.any(x0):
+    x0 = None if psi0 is None else _validate.real_array("psi0", psi0, shape=(n,)).copy()
+    if x0 is not None and not np.any(x0):
         raise ValueError("psi0 must not be zero.")
-    scale = t * max(1.0, float(np.max(np.asarray(a.sum(axis=1)))))  # an energy scale of H
+    scale = t * max(1.0, float(np.max(np.asarray(a.sum(axis=1))))) if n else t  # an energy scale of H
+    # the energy is about N (U N / sites + scale): refused before work when it (or psi^4 on the way)
+    # would overflow; at 1e308 bosons it came back as NaN and -inf
+    if N * max(U * N / max(n, 1), scale) > _MAX_ENERGY or N * N * U > _MAX_ENERGY:
+        raise ValueError(f"particles = {N:g} at U = {U:g}: the energy (about U N^2/(2 sites) + q t N) lies beyond the "
+                         f"range of float64 numbers ({_MAX_ENERGY:.0e}); give fewer particles.")
 
     def energy_and_gradient(x):
         nx = np.linalg.norm(x)
@@ -203,6 +212,15 @@ def gp_ground_state(system, particles: float, U: float, t: float = 1.0, *, tol: 
     if U == 0.0:
         # linear: sqrt(N) times the single-particle ground state (positive, Perron-Frobenius)
         return _noninteracting(system, a, h, N, t)
+    if x0 is None:
+        if U * N / max(n, 1) <= _WEAK * scale:
+            # weak interaction (U N / sites << t): the state is the single-particle ground state to
+            # O(U N / t). From the uniform start L-BFGS crawled (the energy differences are U-small:
+            # U = 1e-14 stopped at a residual of 2e-6) and Newton's Jacobian H + 3U psi^2 - mu is
+            # singular to rounding there, so start at the U = 0 state, where the residual is O(U N)
+            x0 = _noninteracting(system, a, h, 1.0, t, check=False).psi.copy()
+        else:
+            x0 = np.ones(n)
     res = minimize(energy_and_gradient, x0, jac=True, method="L-BFGS-B",
                    options={"maxiter": max_iter, "gtol": 1e-6 * scale * math.sqrt(N), "ftol": 0.0,
                             "maxcor": 20})
@@ -222,7 +240,7 @@ def gp_ground_state(system, particles: float, U: float, t: float = 1.0, *, tol: 
                    residual=residual, iterations=int(res.nit))
 
 
-def _noninteracting(system, a, h, N: float, t: float) -> GPState:
+def _noninteracting(system, a, h, N: float, t: float, *, check: bool = True) -> GPState:
     n = a.shape[0]
     if hasattr(system, "ring_offsets"):
         from ..graph.spectrum import lowest_levels
@@ -238,7 +256,7 @@ def _noninteracting(system, a, h, N: float, t: float) -> GPState:
     psi = math.sqrt(N) * np.abs(vec) / np.linalg.norm(vec)
     mu = float(psi @ (h @ psi) / N)
     residual = _relative_residual(h, 0.0, psi, mu, N)
-    if residual > _RESIDUAL_TOL:
+    if check and residual > _RESIDUAL_TOL:
         warnings.warn(f"GP ground state at U = 0: relative residual {residual:.1e}.", ConvergenceWarning, stacklevel=3)
     return GPState(label=_system_label(system), t=t, U=0.0, particles=N, psi=psi, mu=mu, energy=mu * N,
                    residual=residual, iterations=0)
@@ -372,17 +390,22 @@ def bogoliubov(state: GPState, system, modes: int = 6) -> BogoliubovSpectrum:
     B = (h + sp.diags(3.0 * state.U * psi2) - state.mu * eye).tocsr()
     norm = float(abs(A).sum(axis=1).max()) * float(abs(B).sum(axis=1).max())
     tol = 64.0 * math.sqrt(np.finfo(float).eps * norm * n)
+    b_error = 16.0 * np.finfo(float).eps * float(abs(B).sum(axis=1).max()) + state.residual * abs(state.mu)
     if n <= _DENSE_SITES:
         bd = B.toarray()
         wb, vb = np.linalg.eigh(bd)
-        if wb[0] <= 0:
+        # B = A + 2U psi^2 > 0, but at tiny U its lowest eigenvalue (~2U psi^2) is below the error
+        # of the computed B (rounding, and mu's error from the state's residual), where it cannot
+        # be told from 0 (U = 1e-14 was refused as "not a GP ground state"): within that error it
+        # counts as 0, which moves omega^2 by at most |A| times the error
+        if wb[0] < -b_error:
             raise ConvergenceError("the Bogoliubov matrix B is not positive definite: the state is not a "
                                    "GP ground state (unconverged, or a state of higher energy).")
-        root = (vb * np.sqrt(wb)) @ vb.T
+        root = (vb * np.sqrt(np.clip(wb, 0.0, None))) @ vb.T
         w2 = np.linalg.eigvalsh(root @ A.toarray() @ root)[:k]
         method = "dense"
     else:
-        w2 = _shift_invert_bdg(A, B, k, norm)
+        w2 = _shift_invert_bdg(A, B, k, norm, b_error)
         method = "shift-invert"
     if np.any(w2 < -tol**2 * 16):
         warnings.warn(f"Bogoliubov: a negative omega^2 = {w2.min():.2e} beyond rounding: the state is not a "
@@ -393,8 +416,9 @@ def bogoliubov(state: GPState, system, modes: int = 6) -> BogoliubovSpectrum:
                               method=method)
 
 
-def _shift_invert_bdg(A: sp.csr_matrix, B: sp.csr_matrix, k: int, norm: float) -> np.ndarray:
-    """ω² nearest a small negative shift: eigsh on the pencil (A, B^-1) with OP = (BA - σ)^-1."""
+def _shift_invert_bdg(A: sp.csr_matrix, B: sp.csr_matrix, k: int, norm: float, b_error: float) -> np.ndarray:
+    """ω² nearest a small negative shift: eigsh on the pencil (A, B^-1) with OP = (BA - σ)^-1.
+    A B whose lowest eigenvalue is within ``b_error`` of 0 is shifted by it (as in the dense case)."""
     import scipy.sparse.linalg as spla
 
     from ..graph.factor import factorize
@@ -402,6 +426,9 @@ def _shift_invert_bdg(A: sp.csr_matrix, B: sp.csr_matrix, k: int, norm: float) -
     n = A.shape[0]
     sigma = -1e-6 * math.sqrt(norm)
     fb = factorize(B, 0.0, positive=True, what="the Bogoliubov matrix B")
+    if fb.negatives not in (0, None):
+        B = (B + b_error * sp.identity(n, format="csr")).tocsr()
+        fb = factorize(B, 0.0, positive=True, what="the Bogoliubov matrix B")
     if fb.negatives not in (0, None):
         raise ConvergenceError("the Bogoliubov matrix B is not positive definite: the state is not a GP "
                                "ground state.")

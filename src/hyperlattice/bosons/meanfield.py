@@ -408,6 +408,13 @@ _KERNEL: dict = {}
 #: sites from which the parallel kernel pays for its thread start-up (measured: a 16-site cluster
 #: iterates 8x faster serially; the l = 12 flake 1.8x faster in parallel on 2 cores)
 _PARALLEL_SITES = 20_000
+#: largest t/U and -mu/U the Gutzwiller iteration takes (beyond: the GP limit, or the empty lattice)
+_MAX_RATIO = 1e6
+#: smallest nonzero |t|/U and |mu|/U (below, the scaled values lose their bits: U = 1e308 with
+#: mu = 0.5 gave a positive energy)
+_MIN_RATIO = 1e-150
+#: largest mean filling mu/U for which the occupation cutoff is chosen (nmax = 2 mu/U + 3 <= 200)
+_MAX_FILLING = 98
 
 
 def _local_kernel(parallel: bool = False):
@@ -664,16 +671,37 @@ def gutzwiller(system, t: float, mu: float, U: float = 1.0, *, nmax: int | None 
     t = _validate.real("t", t, minimum=0.0)
     mu = _validate.real("mu", mu)
     U = _validate.positive_real("U", U)
-    tol = _validate.positive_real("tol", tol)
+    tol = _validate.solver_tolerance("tol", tol)
     max_iter = _validate.integer("max_iter", max_iter, minimum=1, maximum=10**8)
+    # the problem depends on t/U and mu/U only: solved in units of U (U = 1e308 divided by zero
+    # inside, 1e-308 overflowed), energies multiplied back at the end; the ratios are checked here,
+    # in the physics' words, before any work
+    if t / U > _MAX_RATIO:
+        raise ValueError(f"t = {t:g} is more than {_MAX_RATIO:g} U: far in the weakly interacting regime, where "
+                         "the occupation cutoff of the Gutzwiller states cannot hold the condensate "
+                         "(use the Gross-Pitaevskii equation, hyperlattice.bosons.gp).")
+    for name, value in (("t", t), ("mu", mu)):
+        if value != 0 and abs(value) / U < _MIN_RATIO:
+            raise ValueError(f"{name} = {value:g} is less than {_MIN_RATIO:g} U, too small to resolve beside U in "
+                             f"float64 arithmetic; give {name} = 0 or a larger value.")
+    if mu / U < -_MAX_RATIO:
+        raise ValueError(f"mu = {mu:g} is below -{_MAX_RATIO:g} U: the ground state there is the empty lattice "
+                         "(no bosons for mu < -q t); give mu within a few U of the Mott lobes.")
     if nmax is None:
-        nmax = max(4, 2 * math.ceil(max(mu, 0.0) / U) + 3)
+        filling = max(mu, 0.0) / U
+        if filling > _MAX_FILLING:
+            raise ValueError(f"mu = {mu:g} is {filling:.3g} U: the mean filling would be about {filling:.3g} bosons "
+                             f"per site, more than the {_MAX_FILLING} that the Gutzwiller states hold (200 occupations); "
+                             "at such fillings use the Gross-Pitaevskii equation (hyperlattice.bosons.gp).")
+        nmax = max(4, 2 * math.ceil(filling) + 3)
     nmax = _validate.integer("nmax", nmax, minimum=1, maximum=200)
     _validate.require_memory("the Gutzwiller iteration", 8.0 * n_sites * 12 + 12.0 * a.nnz)
     if psi0 is None:
         psi = np.full(n_sites, math.sqrt(max(1.0, mu / U + 1.0)))
     else:
         psi = _validate.real_array("psi0", psi0, shape=(n_sites,)).copy()
+    given = (t, mu, U)
+    scale, t, mu, U = U, t / U, mu / U, 1.0
     kernel = _local_kernel(n_sites >= _PARALLEL_SITES)
     new = np.empty(n_sites)
     dens = np.empty(n_sites)
@@ -696,9 +724,13 @@ def gutzwiller(system, t: float, mu: float, U: float = 1.0, *, nmax: int | None 
                       stacklevel=2)
     phi = t * (a @ psi)
     kernel(phi, phi_prev, U, mu, nmax, new, dens, eps)
-    energy = float(np.sum(eps) + np.dot(phi, psi))
+    energy = float(np.sum(eps) + np.dot(phi, psi)) * scale
+    if not math.isfinite(energy):
+        raise ValueError(f"the Gutzwiller energy at U = {scale:g} lies beyond the range of float64 numbers; "
+                         "give U, t and mu in a smaller unit.")
     # weight of the top occupation: from the local ground states at the final field
     top = _top_weight(phi, U, mu, nmax)
+    t, mu, U = given
     return GutzwillerState(label=_system_label(system), t=t, mu=mu, U=U, nmax=nmax, psi=psi.copy(),
                            density=dens.copy(), energy=energy, iterations=it, residual=residual,
                            converged=converged, cutoff_weight=top)
@@ -763,7 +795,7 @@ def selfconsistent_boundary(system, mu_over_U: float, *, tol: float = 1e-8, t_to
     (0.0832, 0.0833)
     """
     mu_over_U = _validate.real("mu_over_U", mu_over_U)
-    tol = _validate.positive_real("tol", tol)
+    tol = _validate.solver_tolerance("tol", tol)
     t_tol = _validate.positive_real("t_tol", t_tol)
     lam = largest_adjacency_eigenvalue(system)
     guess = lobe_boundary(lam, mu_over_U)

@@ -37,12 +37,36 @@ EXIT_INTERRUPT = 130
 EXIT_TERMINATED = 143
 
 
+class _NegativeNumber:
+    """argparse's test of whether a word after a flag is a (negative) number rather than a flag.
+
+    Its own pattern knows only ``-1`` and ``-0.5``: ``--U -1e-3``, ``--omega -2.5+0.1j`` and
+    ``--mu -inf`` were read as unknown flags ("expected one argument"). Here any word that starts
+    with ``-`` and parses as a real or complex number is one (then checked by the flag's type).
+    """
+
+    @staticmethod
+    def match(text: str) -> bool:
+        if not text.startswith("-") or text.startswith("--") or len(text) < 2:
+            return False
+        word = text.strip().replace(" ", "")
+        for candidate in (word, word.replace("i", "j")):     # -inf, and -1.5i for -1.5j
+            try:
+                complex(candidate)
+            except ValueError:
+                continue
+            return True
+        return False
+
+
 class _OneLineParser(argparse.ArgumentParser):
     """argparse prints usage plus an error; our contract is one line and exit 2."""
 
     def __init__(self, *args, **kwargs) -> None:
         super().__init__(*args, **kwargs)
         from ._common import integer
+
+        self._negative_number_matcher = _NegativeNumber()   # --U -1e-3, --omega -2.5+0.1j
 
         # every ``type=int`` flag of every command: bounded to what the API takes, one sentence
         self.register("type", int, integer)
@@ -129,6 +153,9 @@ def main(argv: list[str] | None = None) -> int:
     if threading.current_thread() is threading.main_thread():
         old_term, installed = signal.signal(signal.SIGTERM, on_sigterm), True
     try:
+        from .._validate import factor_backend_env
+
+        factor_backend_env()        # a misspelt HYPERLATTICE_FACTOR_BACKEND: one line, before any work
         with warnings.catch_warnings(), progress_default(getattr(args, "progress", None)):
             warnings.simplefilter("default")
             warnings.showwarning = show_warning

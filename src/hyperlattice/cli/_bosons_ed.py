@@ -2,14 +2,15 @@
 
 Contract (issue 22): ``--json`` prints one object with the keys ``sites, particles, nmax, U, t,
 dim, energies`` (the lowest eigenvalues of H at mu = 0, ascending) and the extras ``m, residuals,
-method, p, q, rings, cluster`` (and ``condensate_fraction`` with ``--observables``).
+method, p, q, rings, cluster`` (and ``condensate_fraction`` with ``--observables``, ``note`` when the
+result has one, e.g. more levels asked than the basis has states).
 """
 
 from __future__ import annotations
 
 import argparse
 
-from ._common import add_pq, finite_float, integer, positive_int, print_json
+from ._common import add_pq, cluster_pq, finite_float, integer, positive_int, print_json
 
 NAME = "ed"
 ORDER = 10
@@ -29,7 +30,7 @@ def _particles(text: str) -> int:
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     where = parser.add_mutually_exclusive_group(required=True)
     where.add_argument("--rings", type=positive_int, help="a flake of this many rings (1 = one p-gon)")
-    where.add_argument("--cluster", metavar="NAME", help="a periodic cluster, e.g. bolza (-p 8) or klein (-p 7)")
+    where.add_argument("--cluster", metavar="NAME", help="a periodic cluster, e.g. bolza or klein (its p and q unless -p/-q are given)")
     add_pq(parser)
     parser.add_argument("--particles", type=_particles, required=True, help="number of bosons N")
     parser.add_argument("--nmax", type=positive_int, required=True,
@@ -48,7 +49,7 @@ def run(args: argparse.Namespace) -> int:
     from .. import _validate
     from ..bosons.ed import bose_hubbard
 
-    p, q = _validate.pq(args.p, args.q)
+    p, q = _validate.pq(args.p, args.q) if args.cluster is None else cluster_pq(args, args.cluster)
     if args.rings is not None:
         from ..graph.lattice import ring_lattice
 
@@ -73,6 +74,8 @@ def run(args: argparse.Namespace) -> int:
         print(f"  {i:>5} {e:>20.12f} {m:>4} {res.residuals[i]:>10.1e}")
     if res.density is not None:
         print(f"  condensate fraction {res.condensate_fraction:.6f}")
+    if res.note:
+        print(f"  note: {res.note}")
     return 0
 
 

@@ -15,9 +15,10 @@ HELP = "Gross-Pitaevskii ground state and Bogoliubov spectrum, flake vs continuu
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_pq(parser)
     parser.add_argument("--rings", type=int, required=True, help="the flake's ring count l")
-    parser.add_argument("--filling", type=finite_float, default=1.0,
-                        help="bosons per site n = N / sites (default 1); or give --particles")
-    parser.add_argument("--particles", type=finite_float, default=None, help="N, the total number of bosons")
+    size = parser.add_mutually_exclusive_group()     # --filling beside --particles was silently ignored
+    size.add_argument("--filling", type=finite_float, default=None,
+                      help="bosons per site n = N / sites (default 1); or give --particles")
+    size.add_argument("--particles", type=finite_float, default=None, help="N, the total number of bosons")
     parser.add_argument("--U", type=finite_float, required=True, help="on-site interaction U (>= 0)")
     parser.add_argument("--t", type=finite_float, default=1.0, help="hopping t (default 1)")
     parser.add_argument("--modes", type=int, default=5,
@@ -30,7 +31,7 @@ def run(args: argparse.Namespace) -> int:
     from ..graph.lattice import site_count
 
     rings = _validate.integer("--rings", args.rings, minimum=1, maximum=12)
-    filling = args.filling
+    filling = 1.0 if args.filling is None else args.filling
     if args.particles is not None:
         filling = _validate.positive_real("--particles", args.particles) / site_count(args.p, args.q, rings)
     cmp = gp_comparison(args.p, args.q, (rings,), filling=filling, U=args.U, t=args.t, modes=args.modes)

@@ -115,9 +115,29 @@ def plot_file(flag: str, value) -> Path:
     return output_file(flag, path)
 
 
+class DefaultInt(int):
+    """An integer default of a flag: equal to the int, but distinguishable from one the user typed
+    (``-p`` and ``-q`` yield to a named cluster's own p and q unless given)."""
+
+
 def add_pq(parser: argparse.ArgumentParser, *, default_p: int = 7) -> None:
-    parser.add_argument("-p", type=pq_int, default=default_p, help=f"polygon size p (default {default_p})")
-    parser.add_argument("-q", type=pq_int, default=3, help="coordination number q (default 3)")
+    parser.add_argument("-p", type=pq_int, default=DefaultInt(default_p), help=f"polygon size p (default {default_p}, "
+                        "or the named cluster's)")
+    parser.add_argument("-q", type=pq_int, default=DefaultInt(3), help="coordination number q (default 3, or the "
+                        "named cluster's)")
+
+
+def cluster_pq(args: argparse.Namespace, name: str) -> tuple[int, int]:
+    """p and q for the cluster ``name``: the ones typed (``-p``/``-q``), else the named cluster's own
+    (``--cluster bolza`` is {8,3} without ``-p 8``), else the defaults."""
+    from ..graph.clusters import named_schlafli
+
+    own = named_schlafli(name)
+    p, q = args.p, args.q
+    if own is not None:
+        p = own[0] if isinstance(p, DefaultInt) else p
+        q = own[1] if isinstance(q, DefaultInt) else q
+    return _validate.pq(int(p), int(q))
 
 
 def to_jsonable(obj) -> object:
@@ -205,15 +225,20 @@ def estimate_sites(p: int, q: int, rings: int, *, line_graph: bool = False) -> i
     return int(edge_count(p, q, rings) if line_graph else site_count(p, q, rings))
 
 
-def check_work(command: str, seconds: float, max_seconds, detail: str) -> None:
-    """Refuse a run estimated above ``max_seconds`` (ValueError, one sentence); announce one
-    above :data:`ANNOUNCE_SECONDS` on stderr (one line) so that a long run is never silent."""
+def check_work(command: str, seconds: float, max_seconds, detail: str,
+               smaller: str = "fewer rings, a smaller q or fewer values", *, upper: bool = False) -> None:
+    """Refuse a run estimated above ``max_seconds`` (ValueError, one sentence, advising ``smaller``);
+    announce one above :data:`ANNOUNCE_SECONDS` on stderr (one line) so that a long run is never silent.
+    ``upper``: the estimate is an upper bound (the slowest case measured), and is called one."""
     limit = _validate.real("--max-seconds", max_seconds, minimum=0.0, open_min=True)
+    about = "up to about" if upper else "about"
     if seconds > limit:
-        raise ValueError(f"this run would take about {_duration(seconds)} ({detail}), more than --max-seconds "
-                         f"{limit:g}; raise --max-seconds or choose fewer rings, a smaller q or fewer values.")
+        raise ValueError(f"this run could take {about} {_duration(seconds)} ({detail}), more than --max-seconds "
+                         f"{limit:g}; raise --max-seconds or choose {smaller}." if upper else
+                         f"this run would take about {_duration(seconds)} ({detail}), more than --max-seconds "
+                         f"{limit:g}; raise --max-seconds or choose {smaller}.")
     if seconds > ANNOUNCE_SECONDS:
-        sys.stderr.write(f"hyperlattice {command}: note: about {_duration(seconds)} of work ({detail}).\n")
+        sys.stderr.write(f"hyperlattice {command}: note: {about} {_duration(seconds)} of work ({detail}).\n")
 
 
 def _duration(seconds: float) -> str:

@@ -6,7 +6,7 @@ import numpy as np
 
 from .. import _validate
 from ..graph.clusters import list_clusters, pbc_cluster
-from ._common import add_pq, positive_int, print_json
+from ._common import add_max_seconds, add_pq, check_work, cluster_pq, positive_int, print_json
 
 NAME = "cluster"
 ORDER = 22
@@ -25,6 +25,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", metavar="FILE.npz",
                         help="write arrays edges (E x 2, 0-based) and faces (F x p, counterclockwise)")
     parser.add_argument("--json", action="store_true", help="print JSON")
+    add_max_seconds(parser)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -44,7 +45,17 @@ def run(args: argparse.Namespace) -> int:
     if args.out is not None:
         # checked before building, so that a long build never fails at its last step
         out = _validate.output_path("--out", args.out, suffixes=(".npz",))
-    cluster = pbc_cluster(args.p, args.q, args.name, min_sites=args.min_sites)
+    if args.min_sites is not None and args.name is None:
+        # estimated before anything is built (--min-sites 100000000 ran on for minutes unannounced)
+        from ..graph import groups
+        from ..graph.clusters import SECONDS_PER_DART, _psl2_for
+
+        r = _psl2_for(args.p, args.q, args.min_sites)
+        darts = groups.psl2_order(r)
+        check_work("cluster", darts * SECONDS_PER_DART, args.max_seconds,
+                   f"PSL(2,{r}): {darts // args.q:,} sites, {darts:,} darts", "a smaller --min-sites")
+    p, q = (args.p, args.q) if args.name is None else cluster_pq(args, args.name)
+    cluster = pbc_cluster(p, q, args.name, min_sites=args.min_sites)
     if out is not None:
         np.savez(out, edges=np.asarray(cluster.edges), faces=np.asarray(cluster.faces))
     if args.json:

@@ -6,7 +6,7 @@ import csv
 import math
 
 from .. import _validate
-from ._common import add_checkpoint, add_pq, interrupted, open_checkpoint, plot_file, positive_int, print_json
+from ._common import add_checkpoint, add_pq, cluster_pq, interrupted, open_checkpoint, plot_file, positive_int, print_json
 
 NAME = "dos"
 ORDER = 46
@@ -85,6 +85,7 @@ def run(args: argparse.Namespace) -> int:
     if args.cluster is not None:
         from ..graph.clusters import pbc_cluster
 
+        p, q = cluster_pq(args, args.cluster)
         graph = pbc_cluster(p, q, args.cluster)
     else:
         rings = 8 if args.rings is None else args.rings

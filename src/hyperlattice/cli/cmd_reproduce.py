@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from .. import _validate
 from ..cache import Cache
 from ._common import progress_bar
 
@@ -21,12 +20,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..report import reproduce
+    from ..report import _out_directory, reproduce
 
     if not 2 <= args.max_rings <= 14:
         raise ValueError(f"--max-rings must be between 2 and 14, got {args.max_rings}.")
     # every path is checked before the first computation, so a run never fails at its end
-    _validate.directory("--out", args.out)
+    # new, empty or an earlier report's: a directory of the user's is refused, never written into
+    _out_directory("--out", args.out)
     cache = Cache(args.cache_dir, enabled=not args.no_cache)
     if args.clear_cache:
         cache.clear()       # only the package's own entries: the directory may hold the user's files

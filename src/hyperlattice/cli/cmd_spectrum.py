@@ -1,4 +1,5 @@
-"""``hyperlattice spectrum``: lowest levels of H = -A on a {p,q} ring lattice, labelled by (n, m)."""
+"""``hyperlattice spectrum``: lowest levels of H = -A on a {p,q} ring lattice, with their sector and the continuum (n, m)
+they continue."""
 
 from __future__ import annotations
 
@@ -9,11 +10,15 @@ from ._common import add_pq, estimate_sites, finite_float, positive_int, print_j
 
 NAME = "spectrum"
 ORDER = 30
-HELP = "lowest levels of H = -A with angular-momentum labels (n, m) and residuals"
+HELP = "lowest levels of H = -A with their rotation sector, the continuum (n, m) they continue, and residuals"
 DESCRIPTION = (
-    "Lowest eigenvalues of the hopping Hamiltonian H = -A (t = 1) of the {p,q} ring lattice, "
-    "each with its radial index n, signed angular momentum m in (-p/2, p/2] (sectors m and -m "
-    "are degenerate and listed +m first) and residual ||H psi - E psi||."
+    "Lowest eigenvalues of the hopping Hamiltonian H = -A (t = 1) of the {p,q} ring lattice, each with its "
+    "rotation sector k = m mod p (all the lattice knows of the angular momentum), the continuum Dirichlet level "
+    "(n, m) it continues (the j-th level of sector k matched to the j-th continuum level with m = k mod p; ties "
+    "marked ambiguous), its lattice degeneracy and residual ||H psi - E psi||. Degenerate states are listed "
+    "+m first; a continuum pair (n, +-m) that falls into one sector and is split by the lattice is reported "
+    "with its splitting. JSON keys: n, m (continuum labels), sector, energies, residuals, continuum_energies, "
+    "ambiguous, split."
 )
 
 
@@ -65,6 +70,34 @@ def run(args: argparse.Namespace) -> int:
     flux = 0.0 if args.flux is None else args.flux
     # the sector routes show a bar over the sectors (--progress / --no-progress)
     spec = lowest_levels(lattice, args.levels, method=args.method, sector=sector, tol=args.tol, flux=flux)
+    what = "line graph of " if args.line_graph else ""
+    return _report(args, spec, f"{what}{{{args.p},{args.q}}} rings={args.rings} sites={spec.sites} method={spec.method} "
+                               f"time={spec.timings.get('total', 0.0):.2f} s"
+                               + (f" flux={args.flux:g}" if args.flux is not None else ""))
+
+
+def _report(args, spec, header: str) -> int:
+    """Label the levels with the continuum (n, m) they continue, then print the table or the JSON."""
+    from ..compare.levels import continuum_labels
+
+    try:
+        spec = continuum_labels(spec)
+    except ValueError as exc:
+        # the continuum solvers refuse requests beyond their cost limit: the graph levels stand alone
+        why = str(exc)
+        if args.json:
+            out = spec.summary()
+            out.update(n=None, m=None, sector=[int(k) for k in spec.sector], labels_note=why)
+            if args.flux is not None:
+                out["flux"] = float(args.flux)
+            print_json(out)
+            return 0
+        print(header)
+        print(f"{'#':>4} {'E':>20} {'sector':>6} {'residual':>10}")
+        for i, (e, k, r) in enumerate(zip(spec.energies, spec.sector, spec.errors)):
+            print(f"{i + 1:4d} {e:20.14f} {k:6d} {r:10.1e}")
+        print(f"no continuum labels: {why}")
+        return 0
     if args.json:
         out = spec.summary()
         if args.flux is not None:
@@ -72,20 +105,19 @@ def run(args: argparse.Namespace) -> int:
             out["flux"] = float(args.flux)
         print_json(out)
         return 0
-    what = "line graph of " if args.line_graph else ""
-    print(f"{what}{{{args.p},{args.q}}} rings={args.rings} sites={spec.sites} method={spec.method} "
-          f"time={spec.timings.get('total', 0.0):.2f} s"
-          + (f" flux={args.flux:g}" if args.flux is not None else ""))
-    if args.flux:
-        # a field splits m from -m: the degeneracy column of the zero-field table would be wrong
-        print(f"{'E':>20} {'n':>3} {'m':>4} {'residual':>10}")
-        for e, n, m, r in zip(spec.energies, spec.n, spec.m, spec.errors):
-            print(f"{e:20.14f} {n:3d} {m:4d} {r:10.1e}")
-        return 0
-    print(f"{'E':>20} {'n':>3} {'m':>4} {'deg':>3} {'residual':>10}")
-    for e, n, m, d, r in zip(spec.energies, spec.n, spec.m, spec.degeneracy, spec.errors):
-        print(f"{e:20.14f} {n:3d} {m:4d} {d:3d} {r:10.1e}")
-    print("deg = 2: sectors m and -m (= p - m) are degenerate.")
+    print(header)
+    # a field splits sector k from p - k: no degeneracy column then
+    deg = not spec.flux
+    print(f"{'#':>4} {'E':>20} {'n':>3} {'m':>4} {'sector':>6}" + (f" {'deg':>3}" if deg else "") + f" {'residual':>10}")
+    for i, (e, n, m, k, d, r, a) in enumerate(zip(spec.energies, spec.n, spec.m, spec.sector, spec.degeneracy,
+                                                  spec.errors, spec.ambiguous)):
+        print(f"{i + 1:4d} {e:20.14f} {n:3d} {m:4d} {k:6d}" + (f" {d:3d}" if deg else "") + f" {r:10.1e}"
+              + ("  ambiguous" if a else ""))
+    print(f"sector = m mod p is what the lattice knows; {spec.labels}")
+    if not spec.flux:
+        print("deg: degeneracy on the lattice (2: sectors k and p - k are complex conjugates).")
+    for line in spec.notes():
+        print(line)
     return 0
 
 
@@ -116,18 +148,8 @@ def _run_pair(args, levels: int | None = None) -> int:
                 raise ValueError(f"--method pair computes E0 and E1 of the flake only; {flag} is not supported "
                                  "with it.")
     spec = lowest_sector_levels(args.p, args.q, args.rings, 2 if levels is None else levels, tol=args.tol)
-    if args.json:
-        out = spec.summary()
-        if args.flux is not None:
-            out["flux"] = float(args.flux)
-        print_json(out)
-        return 0
-    print(f"{{{args.p},{args.q}}} rings={args.rings} sites={spec.sites} method={spec.method} "
-          f"time={spec.timings.get('total', 0.0):.2f} s")
-    print(f"{'E':>20} {'n':>3} {'m':>4} {'deg':>3} {'residual':>10}")
-    for e, n, m, d, r in zip(spec.energies, spec.n, spec.m, spec.degeneracy, spec.errors):
-        print(f"{e:20.14f} {n:3d} {m:4d} {d:3d} {r:10.1e}")
-    return 0
+    return _report(args, spec, f"{{{args.p},{args.q}}} rings={args.rings} sites={spec.sites} method={spec.method} "
+                               f"time={spec.timings.get('total', 0.0):.2f} s")
 
 
 # every public function above checks its annotated argument types at the door (issue 19)

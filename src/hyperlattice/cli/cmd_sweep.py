@@ -33,7 +33,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="a grid axis: NAME=1,2,3 or NAME=0:100 (repeatable)")
     parser.add_argument("--out", default=None, metavar="DIR", help="sweep directory (created; resumed if present)")
     parser.add_argument("--scheduler", default=None,
-                        help="local (default), threads, serial, or the address of a running Dask scheduler")
+                        help="local, threads, serial, or the address of a running Dask scheduler (default: a local "
+                             "cluster when the grid is worth its ~5 s start-up, else this process)")
     parser.add_argument("--workers", type=positive_int, default=None, help="workers of the local cluster")
     parser.add_argument("--retries", type=int, default=None, help="extra attempts of a failing task (default 2)")
     parser.add_argument("--timeout", type=finite_float, default=None, help="seconds before unfinished tasks fail")
@@ -84,10 +85,28 @@ def _axis(spec: str) -> tuple[str, list]:
     return name, [_value(v) for v in values.split(",")]
 
 
+class _DuplicateKey(ValueError):
+    pass
+
+
+def _no_duplicates(pairs: list) -> dict:
+    """json's object hook: a key given twice in one object is refused (json keeps the last value,
+    so ``"grid": {"x": [1], "x": [2]}`` silently dropped x = 1)."""
+    out: dict = {}
+    for k, v in pairs:
+        if k in out:
+            raise _DuplicateKey(k)
+        out[k] = v
+    return out
+
+
 def _config(path) -> dict:
     p = _validate.input_path("CONFIG", path, suffixes=(".json",))
     try:
-        data = json.loads(p.read_text())
+        data = json.loads(p.read_text(), object_pairs_hook=_no_duplicates)
+    except _DuplicateKey as exc:
+        raise ValueError(f"CONFIG {str(p)!r} gives the key {str(exc)!r} twice in one object; "
+                         "give it once (with all its values).") from None
     except (ValueError, UnicodeDecodeError) as exc:
         raise ValueError(f"CONFIG {str(p)!r} is not valid JSON ({exc}).") from None
     except RecursionError:

@@ -35,6 +35,30 @@ added in quadrature to the window systematic (largest change of Δ when ``depth`
 windows with at least 10 pairs). The residuals are lattice structure, not noise, so the systematic
 dominates.
 
+**Systematic errors of the lattice Δ as a measurement of the continuum Δ** (``delta_lattice_sys``,
+beside ``delta_lattice_err``; both derived from the computation itself):
+
+* *finite ℓ* (``delta_lattice_sys_rings``): :math:`|\Delta(\ell) - \Delta(\ell-1)|`, the same fit
+  (same ω, window depth, first outer-ring source) on the flake with one ring less;
+* *lattice spacing* (``delta_lattice_sys_spacing``): which mass a lattice frequency represents is
+  known only to the order of the dictionary. The paper's map :math:`\lambda = 4(\omega+q)/(qh^2)` is
+  the first order in :math:`h^2` of the improved map :math:`\omega = -q\,\varphi_\lambda(d_0)`
+  (:func:`~hyperlattice.dictionary.improved_lambda_of_frequency`); the difference of the continuum
+  Δ of the two, :math:`|\Delta(\lambda_{\rm paper}) - \Delta(\lambda_{\rm improved})|`, is the size
+  of the neglected orders at this ω.
+
+``delta_lattice_sys`` adds the two in quadrature. Measured ({7,3}, ω = -3.5, ℓ = 10): Δ_lattice =
+2.0194 with fit error 0.0006, finite-ℓ 0.00005 and lattice-spacing 0.055, against Δ_continuum =
+2.0624 (paper's map) and 2.0078 (improved map): the lattice Δ lies between the two maps, and its
+2 % offset from the paper's Δ is the dictionary's own order, not a 76σ disagreement.
+
+**Masses in either convention.** ``mass2`` with ``ads_radius`` (1: unit-radius AdS₂,
+:math:`\Delta = \frac12 + \sqrt{\frac14 + m^2}`; 0.5: the paper's metric, :math:`\Delta = \frac12 +
+\frac12\sqrt{1 + m^2}`) instead of ``omega``: the mass is converted to the paper's metric
+(:func:`~hyperlattice.continuum.massive.mass2_in_paper_metric`) and then to ω; the result keeps the
+number as given (``mass2_input``, ``ads_radius``) and both conventions' formula values at it
+(``delta_formulas``).
+
 Measured ({7,3}, source = first outer-ring site): Δ_lattice changes by less than 1 % between
 :math:`\ell = 6, 8, 10` and differs from Δ_continuum by 1–5 % (largest near the BF bound); see
 ``docs/below-band.md`` for the tables and :func:`delta_curve`.
@@ -42,6 +66,7 @@ Measured ({7,3}, source = first outer-ring site): Δ_lattice changes by less tha
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 import weakref
@@ -50,11 +75,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import _validate
-from ..continuum.massive import bf_bound, delta_from_mass2, mass2_from_omega
-from ..dictionary import green_prefactor, lambda_from_energy
+from ..continuum.massive import (ADS_RADIUS, _ads_radius, bf_bound, delta_formulas, delta_from_mass2,
+                                 mass2_from_omega, mass2_in_paper_metric, omega_from_mass2)
+from ..dictionary import green_prefactor, improved_lambda_of_frequency, lambda_from_energy
 from ..geometry import distance, one_minus_abs2
-from ..graph.lattice import Lattice
-from ..graph.qubits import BelowBandResolvent, _real_omega
+from ..graph.lattice import Lattice, ring_lattice
+from ..graph.qubits import BelowBandResolvent, _real_omega, _resolvent_for
 from ..results import Column, Result
 
 
@@ -343,6 +369,43 @@ def _delta_continuum(omega: float, p: int, q: int) -> float:
     return float(delta_from_mass2(m2)) if m2 >= -1.0 else math.nan
 
 
+def _delta_improved(omega: float, p: int, q: int) -> float:
+    """Continuum Delta at the improved map's lambda of omega (NaN beyond its BF bound or range)."""
+    try:
+        lam = improved_lambda_of_frequency(omega, p, q)
+    except ValueError:
+        return math.nan
+    return float(delta_from_mass2(-lam)) if lam <= 1.0 else math.nan
+
+
+def _frequency(omega, mass2, ads_radius, p: int, q: int) -> tuple[float, float, float]:
+    """(omega, the AdS radius of the mass as given, the mass2 as given) from omega or from mass2 with ads_radius."""
+    if mass2 is None:
+        if ads_radius is not None:
+            raise ValueError("ads_radius names the convention of mass2; give it with mass2, not with omega.")
+        if omega is None:
+            raise ValueError("give the frequency omega, or mass2 with ads_radius.")
+        w = _real_omega("omega", omega)
+        return w, ADS_RADIUS, float(mass2_from_omega(w, p, q))
+    if omega is not None:
+        raise ValueError("give either omega or mass2 (with ads_radius), not both.")
+    m2 = _validate.real("mass2", mass2)
+    if ads_radius is None:
+        raise ValueError("mass2 needs ads_radius, the convention it is given in: 1 (unit-radius AdS2, "
+                         "Delta(Delta-1) = m^2) or 0.5 (the paper's metric, Delta(Delta-1) = m^2/4).")
+    r = _ads_radius(ads_radius)
+    return float(omega_from_mass2(mass2_in_paper_metric(m2, r), p, q)), r, m2
+
+
+def _smaller_flake(lat: Lattice, depth: int) -> tuple[Lattice, np.ndarray, int] | None:
+    """The flake with one ring less, its outer ring and first outer-ring site, or None if too small for the window."""
+    if lat.rings - 1 <= depth:
+        return None
+    small = ring_lattice(lat.p, lat.q, lat.rings - 1)
+    ring = outer_ring(small)
+    return small, ring, int(ring[0])
+
+
 @dataclass(frozen=True, eq=False, kw_only=True)
 class BoundaryCorrelator(Result):
     r"""Boundary two-point function on the outer ring for one source, with the fitted Δ.
@@ -364,6 +427,18 @@ class BoundaryCorrelator(Result):
         Fitted Δ and its uncertainty (module docstring).
     delta_lattice_stat, delta_lattice_window : float
         The two parts of the uncertainty: standard error and window systematic.
+    delta_lattice_sys : float
+        Systematic error of Δ_lattice as a measurement of the continuum Δ (module docstring):
+        ``delta_lattice_sys_rings`` (finite ℓ, :math:`|\Delta(\ell) - \Delta(\ell-1)|`) and
+        ``delta_lattice_sys_spacing`` (lattice spacing, paper's against improved dictionary) in
+        quadrature; NaN where a part is not available (``systematic=False``, too few rings).
+    delta_continuum_improved : float
+        The continuum Δ at the improved dictionary's :math:`\lambda(\omega)`.
+    ads_radius, mass2_input : float
+        The AdS radius the mass was given in (0.5 when ω was given) and the mass² as given.
+    delta_formulas : dict
+        Both conventions' formula values at ``mass2_input``
+        (:func:`~hyperlattice.continuum.massive.delta_formulas`).
     beta : float
         Fitted exponent of :math:`1-|z_i|^2`.
     theta_min : float
@@ -423,13 +498,35 @@ class BoundaryCorrelator(Result):
     continuum_disk: str = "whole"
     #: what solved for ``graph``: backend, factor kind, full H or its mirror-even block ("" when unknown)
     solver: str = ""
+    delta_lattice_sys: float = math.nan
+    delta_lattice_sys_rings: float = math.nan
+    delta_lattice_sys_spacing: float = math.nan
+    delta_continuum_improved: float = math.nan
+    ads_radius: float = ADS_RADIUS
+    mass2_input: float = math.nan
+    delta_formulas: dict = field(default_factory=dict)
+
+    @property
+    def delta_lattice_total_err(self) -> float:
+        """Fit error and systematic error in quadrature (the fit error alone when the systematic is unknown)."""
+        sys = 0.0 if math.isnan(self.delta_lattice_sys) else self.delta_lattice_sys
+        return math.hypot(self.delta_lattice_err, sys)
 
     def summary(self) -> dict:
-        """The ``boundary --json`` contract: p, q, rings, omega, lambda, mass2, delta_continuum,
-        delta_lattice, delta_lattice_err."""
+        """The ``boundary --json`` contract: p, q, rings, omega, lambda, mass2 (paper's metric), delta_continuum,
+        delta_lattice, delta_lattice_err (fit: stat and window), then mass2_ads_radius_1, ads_radius and
+        mass2_input (the mass as given), delta_formulas, delta_continuum_improved, delta_lattice_stat,
+        delta_lattice_window, delta_lattice_sys (with _rings and _spacing) and delta_lattice_total_err."""
         return {"p": self.p, "q": self.q, "rings": self.rings, "omega": self.omega, "lambda": self.lam,
                 "mass2": self.mass2, "delta_continuum": self.delta_continuum, "delta_lattice": self.delta_lattice,
-                "delta_lattice_err": self.delta_lattice_err}
+                "delta_lattice_err": self.delta_lattice_err,
+                "mass2_ads_radius_1": self.mass2 * ADS_RADIUS**2, "ads_radius": self.ads_radius,
+                "mass2_input": self.mass2_input, "delta_formulas": dict(self.delta_formulas),
+                "delta_continuum_improved": self.delta_continuum_improved,
+                "delta_lattice_stat": self.delta_lattice_stat, "delta_lattice_window": self.delta_lattice_window,
+                "delta_lattice_sys": self.delta_lattice_sys, "delta_lattice_sys_rings": self.delta_lattice_sys_rings,
+                "delta_lattice_sys_spacing": self.delta_lattice_sys_spacing,
+                "delta_lattice_total_err": self.delta_lattice_total_err}
 
 
 class _RingFit:
@@ -562,19 +659,25 @@ def _ring_fit(lat: Lattice, source: int, ring: np.ndarray, depth: int) -> _RingF
     return fit
 
 
-def boundary_correlator(lattice: Lattice, omega, source: int | None = None, *, depth: int = 2,
-                        resolvent: BelowBandResolvent | None = None, continuum: bool = True,
-                        continuum_disk: str = "whole") -> BoundaryCorrelator:
+def boundary_correlator(lattice: Lattice, omega=None, source: int | None = None, *, mass2=None, ads_radius=None,
+                        depth: int = 2, resolvent: BelowBandResolvent | None = None, continuum: bool = True,
+                        continuum_disk: str = "whole", systematic: bool = True) -> BoundaryCorrelator:
     r"""Outer-ring correlators :math:`G_{ij}(\omega)` for one source j, the continuum, and the fitted Δ.
 
     Parameters
     ----------
     lattice : Lattice
         A {p,q} ring lattice (site lattice).
-    omega : float
-        Real frequency below the band (:math:`\omega < E_0(\ell)`, checked exactly).
+    omega : float, optional
+        Real frequency below the band (:math:`\omega < E_0(\ell)`, checked exactly). Give it or
+        ``mass2``.
     source : int, optional
         A site of the outer ring (default: its first site).
+    mass2 : float, optional
+        The scalar's mass² instead of ω, in the convention ``ads_radius`` names.
+    ads_radius : {1, 0.5}, required with ``mass2``
+        1: unit-radius AdS₂ (:math:`\Delta = \frac12 + \sqrt{\frac14 + m^2}`, most texts); 0.5: the
+        paper's metric (:math:`\Delta = \frac12 + \frac12\sqrt{1 + m^2}`, the package's ``mass2``).
     depth : int
         Window depth in rings (module docstring).
     resolvent : BelowBandResolvent, optional
@@ -586,20 +689,26 @@ def boundary_correlator(lattice: Lattice, omega, source: int | None = None, *, d
         propagator (default), the Dirichlet disk of radius L at the site positions (NaN beyond L; closest
         to the lattice where it can be summed, ℓ ≤ 6-8, see ``docs/below-band.md``), or the Dirichlet disk
         with the ring mapped onto the circle of its mean depth. Does not change the fit.
+    systematic : bool
+        Also estimate the systematic error of Δ_lattice (module docstring): the same fit on the
+        flake with one ring less (about 40 % more work for {7,3}) and the improved dictionary.
+        Default True.
 
     Returns
     -------
     BoundaryCorrelator
         The outer-ring ``sites`` (counterclockwise), their angles ``theta`` to the source, the
         graph column ``graph`` (:math:`G_{ij}(\omega)`, units of 1/t) and the ``continuum`` column,
-        the fitted ``delta_lattice`` with ``delta_lattice_err``, and ``delta_continuum``
-        (:math:`\frac12 + \frac12\sqrt{1-\lambda}`, NaN beyond the continuum BF bound).
+        the fitted ``delta_lattice`` with ``delta_lattice_err`` (fit) and ``delta_lattice_sys``
+        (finite ℓ and lattice spacing), and ``delta_continuum`` (:math:`\frac12 +
+        \frac12\sqrt{1-\lambda}`, NaN beyond the continuum BF bound).
 
     Raises
     ------
     ValueError
         Bad input, a line-graph lattice, a source off the outer ring, omega not below the band,
-        too few rings for the window (``depth + 1``) or too few pairs.
+        too few rings for the window (``depth + 1``) or too few pairs; both or neither of
+        ``omega`` and ``mass2``, ``mass2`` without ``ads_radius``.
 
     See Also
     --------
@@ -620,16 +729,39 @@ def boundary_correlator(lattice: Lattice, omega, source: int | None = None, *, d
     (315, 483)
     >>> print(f"{bc.delta_lattice:.3f} {bc.delta_continuum:.3f}")
     2.030 2.062
+
+    A mass² of 1 in unit-radius AdS₂ is 4 in the paper's metric:
+
+    >>> bc = hl.boundary_correlator(lat, mass2=1.0, ads_radius=1)
+    >>> round(bc.mass2, 12), round(bc.delta_continuum, 6), {k: round(v, 6) for k, v in bc.delta_formulas.items()}
+    (4.0, 1.618034, {'ads_radius_1': 1.618034, 'ads_radius_0.5': 1.207107})
     """
     lat = _site_lattice(lattice)
-    omega = _real_omega("omega", omega)
+    omega, radius, m2_input = _frequency(omega, mass2, ads_radius, lat.p, lat.q)
     depth = _depth(depth)
     continuum = _validate.flag("continuum", continuum)
+    systematic = _validate.flag("systematic", systematic)
     continuum_disk = _validate.choice("continuum_disk", continuum_disk, CONTINUUM_DISKS)
     ring = outer_ring(lat)
     source = _outer_source(lat, ring, source, depth)
-    res = resolvent if resolvent is not None else BelowBandResolvent(lat)
-    return _boundary_correlator(lat, omega, source, ring, depth, res, continuum, continuum_disk)
+    res = _resolvent_for(resolvent, lat)
+    bc = _boundary_correlator(lat, omega, source, ring, depth, res, continuum, continuum_disk)
+    extra = {"ads_radius": radius, "mass2_input": m2_input, "delta_formulas": delta_formulas(m2_input)}
+    if systematic:
+        d_imp = _delta_improved(omega, lat.p, lat.q)
+        spacing = abs(bc.delta_continuum - d_imp)
+        rings_sys = math.nan
+        small = _smaller_flake(lat, depth)
+        if small is not None:
+            slat, sring, ssrc = small
+            try:
+                g = BelowBandResolvent(slat).column(omega, ssrc)[sring]
+                rings_sys = abs(bc.delta_lattice - _ring_fit(slat, ssrc, sring, depth).fit_with_window(g)[0])
+            except ValueError:        # fewer than 10 pairs in the smaller flake's window
+                pass
+        extra.update(delta_continuum_improved=d_imp, delta_lattice_sys_spacing=spacing,
+                     delta_lattice_sys_rings=rings_sys, delta_lattice_sys=math.hypot(spacing, rings_sys))
+    return dataclasses.replace(bc, **extra)
 
 
 def _outer_source(lat: Lattice, ring: np.ndarray, source, depth: int) -> int:
@@ -676,6 +808,11 @@ class DeltaCurve(Result):
         NaN beyond the continuum BF bound.
     delta_lattice, delta_lattice_err : ndarray
         The fitted lattice Δ and its uncertainty (see :class:`BoundaryCorrelator`).
+    delta_lattice_sys : ndarray
+        Systematic error (finite ℓ and lattice spacing in quadrature, see :class:`BoundaryCorrelator`);
+        NaN without ``systematic``.
+    delta_continuum_improved : ndarray
+        The continuum Δ at the improved dictionary's :math:`\lambda(\omega)`.
     omega_bf : float
         Continuum BF bound :math:`E_\infty`.
     seconds : float
@@ -693,7 +830,8 @@ class DeltaCurve(Result):
 
     COLUMNS = (Column("omega", "omegas", "t"), Column("mass2", "mass2", "curvature units"),
                Column("delta_continuum", "delta_continuum", "1"), Column("delta_lattice", "delta_lattice", "1"),
-               Column("delta_lattice_err", "delta_lattice_err", "1"))
+               Column("delta_lattice_err", "delta_lattice_err", "1"), Column("delta_lattice_sys", "delta_lattice_sys", "1"),
+               Column("delta_continuum_improved", "delta_continuum_improved", "1"))
 
     p: int
     q: int
@@ -705,11 +843,14 @@ class DeltaCurve(Result):
     delta_continuum: np.ndarray
     delta_lattice: np.ndarray
     delta_lattice_err: np.ndarray
+    delta_lattice_sys: np.ndarray
+    delta_continuum_improved: np.ndarray
     omega_bf: float
     seconds: float
 
 
-def delta_curve(lattice: Lattice, omegas, *, source: int | None = None, depth: int = 2) -> DeltaCurve:
+def delta_curve(lattice: Lattice, omegas=None, *, source: int | None = None, depth: int = 2, mass2=None,
+                ads_radius=None, systematic: bool = True) -> DeltaCurve:
     r"""Fitted :math:`\Delta_{\rm lattice}` and :math:`\Delta_{\rm continuum}` for each frequency.
 
     One fill-reducing order per call (CHOLMOD's AMD of the mirror-even block, 10-20 ms at
@@ -722,13 +863,20 @@ def delta_curve(lattice: Lattice, omegas, *, source: int | None = None, depth: i
     ----------
     lattice : Lattice
         A {p,q} ring lattice (site lattice, not a line graph) with more than ``depth`` rings.
-    omegas : array_like of float
+    omegas : array_like of float, optional
         Real frequencies (units of t), each below the band (:math:`\omega < E_0(\ell)`);
-        1 to 1000 of them.
+        1 to 1000 of them. Give them or ``mass2``.
     source : int, optional
         A site of the outer ring (0-based; default: its first site).
     depth : int, optional
         Window depth in rings (module docstring). Default 2.
+    mass2 : array_like of float, optional
+        Masses² instead of frequencies, in the convention ``ads_radius`` names (1: unit-radius
+        AdS₂; 0.5: the paper's metric); see :func:`boundary_correlator`.
+    ads_radius : {1, 0.5}, required with ``mass2``
+    systematic : bool, optional
+        Also the systematic errors (the same fits on the flake with one ring less, and the
+        improved dictionary; :func:`boundary_correlator`). Default True.
 
     Returns
     -------
@@ -758,6 +906,21 @@ def delta_curve(lattice: Lattice, omegas, *, source: int | None = None, depth: i
     [2.062, 2.652]
     """
     lat = _site_lattice(lattice)
+    if mass2 is not None:
+        if omegas is not None:
+            raise ValueError("give either omegas or mass2 (with ads_radius), not both.")
+        m2 = _validate.real_array("mass2", mass2, ndim=1)
+        if ads_radius is None:
+            raise ValueError("mass2 needs ads_radius, the convention it is given in: 1 (unit-radius AdS2, "
+                             "Delta(Delta-1) = m^2) or 0.5 (the paper's metric, Delta(Delta-1) = m^2/4).")
+        if m2.size == 0 or m2.size > _MAX_OMEGAS:
+            raise ValueError(f"give between 1 and {_MAX_OMEGAS} masses, got {m2.size}.")
+        omegas = np.asarray(omega_from_mass2(mass2_in_paper_metric(m2, ads_radius), lat.p, lat.q), float).reshape(-1)
+    elif ads_radius is not None:
+        raise ValueError("ads_radius names the convention of mass2; give it with mass2, not with omegas.")
+    elif omegas is None:
+        raise ValueError("give the frequencies omegas, or mass2 with ads_radius.")
+    systematic = _validate.flag("systematic", systematic)
     om = _validate.real_array("omegas", omegas, ndim=1)
     if om.size == 0 or om.size > _MAX_OMEGAS:
         raise ValueError(f"give between 1 and {_MAX_OMEGAS} frequencies, got {om.size}.")
@@ -774,10 +937,26 @@ def delta_curve(lattice: Lattice, omegas, *, source: int | None = None, depth: i
         w = _real_omega("omega", float(w))
         delta, se, _, _, _, sysw = fit.fit_with_window(res._column_at(w, src, fit.fit_sites), sorted_=True)
         dl[k], de[k], dc[k] = delta, math.hypot(se, sysw), _delta_continuum(w, lat.p, lat.q)
+    ds, di = np.full(om.size, math.nan), np.full(om.size, math.nan)
+    if systematic:
+        di[:] = [_delta_improved(float(w), lat.p, lat.q) for w in om]
+        rings_sys = np.full(om.size, math.nan)
+        small = _smaller_flake(lat, depth)
+        if small is not None:
+            slat, sring, ssrc = small
+            sres, sfit = BelowBandResolvent(slat), _ring_fit(slat, ssrc, sring, depth)
+            for k, w in enumerate(om):
+                try:
+                    rings_sys[k] = abs(dl[k] - sfit.fit_with_window(sres._column_at(float(w), ssrc, sfit.fit_sites),
+                                                                   sorted_=True)[0])
+                except ValueError:    # fewer than 10 pairs in the smaller flake's window
+                    pass
+        ds = np.hypot(np.abs(dc - di), rings_sys)
     return DeltaCurve(p=lat.p, q=lat.q, rings=lat.rings, source=src, depth=_depth(depth), omegas=om,
                       mass2=np.asarray(mass2_from_omega(om, lat.p, lat.q), float).reshape(om.shape),
-                      delta_continuum=dc, delta_lattice=dl, delta_lattice_err=de,
-                      omega_bf=bf_bound(lat.p, lat.q).omega, seconds=time.perf_counter() - t0)
+                      delta_continuum=dc, delta_lattice=dl, delta_lattice_err=de, delta_lattice_sys=ds,
+                      delta_continuum_improved=di, omega_bf=bf_bound(lat.p, lat.q).omega,
+                      seconds=time.perf_counter() - t0)
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
@@ -992,7 +1171,7 @@ def bulk_to_boundary(lattice: Lattice, omega, source: int | None = None, *,
         raise ValueError(f"source {source} is not on the outer ring (sites {ring[0]}..{ring[-1]}).")
     if lat.rings < 4:
         raise ValueError(f"a bulk-to-boundary fit needs at least 4 rings (got {lat.rings}).")
-    res = resolvent if resolvent is not None else BelowBandResolvent(lat)
+    res = _resolvent_for(resolvent, lat)
     g = res.column(omega, source)
     th = float(np.angle(lat.z[source]))
     d = distance(lat.z, lat.z[source])

@@ -877,7 +877,8 @@ def graph_scba(lattice: Lattice, omega, variance: float, *, tol: float = 1e-12, 
     w2 = _validate.real("variance", variance, minimum=0.0, maximum=1e12)
     tol = _validate.real("tol", tol, minimum=1e-15, maximum=1e-2)
     max_iter = _validate.positive_int("max_iter", max_iter, maximum=100_000)
-    damping = _validate.real("damping", damping, minimum=0.0, maximum=1.0, open_min=True)
+    damping = _validate.damping("damping", damping, tol, 100_000) if w2 > 0 else \
+        _validate.real("damping", damping, minimum=0.0, maximum=1.0, open_min=True)
     h0 = disordered_hamiltonian(lattice, disorder(lattice, "box", 0.0)).toarray().astype(complex)
     n = lattice.sites
     sigma = np.zeros(n, complex)

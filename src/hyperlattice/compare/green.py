@@ -252,6 +252,17 @@ class GreenComparison(Result):
                 collapse_measure(self.distance[keep], self.continuum[keep].real, width=width))
 
 
+def _same_bonds(H, lattice: Lattice) -> bool:
+    """Whether the off-diagonal pattern of ``H`` is the edge set of ``lattice``."""
+    n = lattice.sites
+    coo = H.tocoo()
+    upper = (coo.row < coo.col) & (coo.data != 0)
+    have = np.sort(coo.row[upper].astype(np.int64) * n + coo.col[upper])
+    e = np.sort(np.asarray(lattice.edges, dtype=np.int64), axis=1)
+    want = np.sort(e[:, 0] * n + e[:, 1])
+    return have.shape == want.shape and bool(np.array_equal(have, want))
+
+
 def compare_green(lattice: Lattice, omega, source: int, *, tol: float = 1e-12,
                   resolvent: GraphResolvent | None = None) -> GreenComparison:
     r"""Graph column :math:`G_{\cdot j}(\omega)` against the generalised ``eq21``.
@@ -309,7 +320,15 @@ def compare_green(lattice: Lattice, omega, source: int, *, tol: float = 1e-12,
     _validate.lattice(lattice, kind="sites")
     source = _validate.site_index("source", source, lattice.sites)
     omega = _validate.complex_number("omega", omega)
-    res = resolvent if resolvent is not None else GraphResolvent(lattice)
+    if resolvent is None:
+        res = GraphResolvent(lattice)
+    elif not isinstance(resolvent, GraphResolvent):
+        raise ValueError(f"resolvent must be a GraphResolvent of this lattice (or None), got {type(resolvent).__name__}.")
+    elif resolvent.n != lattice.sites or not _same_bonds(resolvent.H, lattice):
+        raise ValueError(f"resolvent belongs to another lattice ({resolvent.n} sites; this one has {lattice.sites}); "
+                         "make it with GraphResolvent(lattice).")
+    else:
+        res = resolvent
     g = res.column(omega, source)
     c, info = continuum_column(lattice, omega, source, tol=tol)
     lam, pref = dictionary_parameters(omega, lattice.p, lattice.q)

@@ -1,5 +1,8 @@
-r"""Graph levels against continuum levels: side by side, their convergence, Z and level counts.
+r"""Graph levels against continuum levels: labels, side by side, their convergence, Z and level counts.
 
+* :func:`continuum_labels` - each graph level's rotation sector k = m mod p (all the lattice knows
+  of m) and the continuum level (n, m) it continues, matched inside its sector by energy order,
+  with ties reported and the continuum pairs the lattice splits measured;
 * :func:`levels_side_by_side` - a graph spectrum and continuum levels (both
   :class:`~hyperlattice.results.Levels`) level by level (``SuppTab1``, ``spec1``, ``spec2``);
 * :func:`relative_error_trend` - the signed relative error :math:`(E_{\rm graph} -
@@ -14,17 +17,21 @@ r"""Graph levels against continuum levels: side by side, their convergence, Z an
 
 from __future__ import annotations
 
+import dataclasses
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from .. import _validate
-from .._ties import classify, stable_order
+from .._ties import classify, degenerate_groups, eigenvalue_tolerance, stable_order
+from ..graph.spectrum import Spectrum
 from ..results import Column, Levels, Result, compare_levels
 
 
 __all__ = [
+    "LabelledSpectrum",
+    "continuum_labels",
     "LevelComparison",
     "levels_side_by_side",
     "RelativeErrorTrend",
@@ -35,6 +42,336 @@ __all__ = [
     "PartitionComparison",
     "partition_functions",
 ]
+
+
+# ----------------------------------------------------------------------------
+# which continuum level each graph level continues
+# ----------------------------------------------------------------------------
+
+@dataclass(frozen=True, eq=False, kw_only=True)
+class LabelledSpectrum(Spectrum):
+    r"""A graph spectrum whose levels carry their rotation sector k and the continuum (n, m) they continue.
+
+    The p-fold rotation multiplies a state of sector k by :math:`e^{2\pi\mathrm i k/p}`, the same
+    phase for every angular momentum :math:`m \equiv k \pmod p`: the lattice knows m only modulo p.
+    The continuum label of a graph level is assigned by :func:`continuum_labels` (matching inside
+    the sector by energy order). The attributes below come in addition to those of
+    :class:`~hyperlattice.graph.spectrum.Spectrum`, whose ``n`` and ``m`` here are the continuum
+    labels.
+
+    Attributes
+    ----------
+    n, m : ndarray of int, shape (K,)
+        Radial index and signed angular momentum (any integer) of the continuum level each state
+        continues. The two states of a continuum pair (n, ±m) that falls into one sector
+        (:math:`2m \equiv 0 \pmod p`, e.g. m = ±4 for p = 8) are split by the lattice into its
+        cos- and sin-like combinations; the lower one is listed as +m (a convention, as in the
+        continuum list, which puts +m first).
+    graph_n, graph_m : ndarray of int, shape (K,)
+        The graph's own labels: index within the sector, and the signed sector in :math:`(-p/2, p/2]`.
+    continuum_energies, continuum_errors : ndarray, shape (K,)
+        Energy (units of t) and error bound of the continuum level each state continues (for a
+        line graph shifted by 2 - q, since away from its flat band :math:`-A_L = B^TB - 2` has the
+        spectrum of :math:`D + A - 2`, i.e. :math:`E + 2 - q` in the interior).
+    ambiguous : ndarray of bool, shape (K,)
+        True where the assignment is a tie: the continuum level lies within the error bounds of
+        another continuum level of the same sector with a different (n, |m|), or the graph level
+        lies within its tolerance of another graph level of the sector that continues a different
+        (n, |m|). The label is then one of the tied ones.
+    splittings : tuple of dict
+        One per continuum pair (n, ±m) of one sector among the levels: ``n``, ``m`` (= \|m\|),
+        ``levels`` (positions of its states in this list; one entry when the partner lies above the
+        computed levels), ``splitting`` (:math:`E_{-m} - E_{+m}`, units of t, None without the
+        partner), ``relative`` (splitting over the mean \|E\|) and ``resolved`` (whether the
+        splitting exceeds the two states' tolerances; False: degenerate within the computation's
+        error).
+    labels : str
+        One sentence on how the labels were assigned (which continuum disk).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.levels import continuum_labels
+    >>> spec = continuum_labels(hl.lowest_levels(hl.ring_lattice(8, 3, 4), 10))
+    >>> spec.sector.tolist(), spec.m.tolist()
+    ([0, 1, 7, 2, 6, 3, 5, 4, 4, 5], [0, 1, -1, 2, -2, 3, -3, 4, -4, 5])
+    >>> s = spec.splittings[0]
+    >>> (s["n"], s["m"], s["levels"], s["resolved"]), f"{s['relative']:.2%}"
+    ((1, 4, (7, 8), True), '1.22%')
+    """
+
+    COLUMNS = (Column("energy", "energies", "t"), Column("n", "n", "1"), Column("m", "m", "1"),
+               Column("sector", "sector", "1"), Column("degeneracy", "degeneracy", "1"),
+               Column("error", "errors", "t"), Column("continuum_energy", "continuum_energies", "t"),
+               Column("ambiguous", "ambiguous", "1"))
+
+    graph_n: np.ndarray
+    graph_m: np.ndarray
+    continuum_energies: np.ndarray
+    continuum_errors: np.ndarray
+    ambiguous: np.ndarray
+    splittings: tuple = ()
+    labels: str = ""
+
+    def _m_is_sector(self) -> bool:
+        return False
+
+    def _check_loaded(self) -> str | None:
+        why = super()._check_loaded()
+        if why is not None:
+            return why
+        k = len(self)
+        for name in ("graph_n", "graph_m", "continuum_energies", "continuum_errors", "ambiguous"):
+            if getattr(self, name).shape != (k,):
+                return f"{name} must have one entry per level ({k})"
+        if np.any((2 * self.graph_m <= -self.p) | (2 * self.graph_m > self.p)):
+            return f"graph_m must lie in (-p/2, p/2] = (-{self.p / 2:g}, {self.p / 2:g}]"
+        if np.any(np.mod(self.m, self.p) != np.mod(self.graph_m, self.p)):
+            return "every continuum m must lie in the level's sector (m = graph_m mod p)"
+        return None
+
+    @property
+    def sector(self) -> np.ndarray:
+        r"""The rotation sector :math:`k = m \bmod p \in \{0, \dots, p-1\}` of each level."""
+        return np.mod(self.graph_m, self.p)
+
+    @property
+    def degeneracy(self) -> np.ndarray:
+        """Degeneracy on the lattice: 2 for the conjugate sectors k, p - k (no field), else 1."""
+        if self.flux:
+            return np.ones(len(self), dtype=int)
+        return np.where((2 * self.graph_m) % self.p == 0, 1, 2)
+
+    def table(self) -> list[dict]:
+        """One dict per level: ``energy, n, m, sector, degeneracy, error, continuum_energy, ambiguous``."""
+        return [{"energy": float(e), "n": int(n), "m": int(m), "sector": int(k), "degeneracy": int(g),
+                 "error": float(r), "continuum_energy": float(c), "ambiguous": bool(a)}
+                for e, n, m, k, g, r, c, a in zip(self.energies, self.n, self.m, self.sector, self.degeneracy,
+                                                  self.errors, self.continuum_energies, self.ambiguous)]
+
+    def summary(self) -> dict:
+        """The ``spectrum`` CLI's JSON: p, q, rings, sites, method, energies, n, m (continuum labels), sector,
+        residuals, continuum_energies, ambiguous (positions), split (the split continuum pairs) (+ flux if nonzero)."""
+        out = {
+            "p": self.p, "q": self.q, "rings": self.rings, "sites": self.sites, "method": self.method,
+            "energies": [float(e) for e in self.energies],
+            "n": [int(v) for v in self.n], "m": [int(v) for v in self.m],
+            "sector": [int(v) for v in self.sector],
+            "residuals": [float(r) for r in self.errors],
+            "continuum_energies": [float(e) for e in self.continuum_energies],
+            "ambiguous": [int(i) for i in np.flatnonzero(self.ambiguous)],
+            "split": [dict(s, levels=list(s["levels"])) for s in self.splittings],
+        }
+        if self.flux != 0.0:
+            out["flux"] = float(self.flux)
+        return out
+
+    def notes(self) -> list[str]:
+        """Sentences on split continuum pairs and ambiguous labels (what the CLI prints under the table)."""
+        out = []
+        for s in self.splittings:
+            where = ", ".join(str(i + 1) for i in s["levels"])
+            if s["splitting"] is None:
+                out.append(f"level {where} continues one of the continuum pair (n, m) = ({s['n']}, ±{s['m']}) "
+                           "(one sector); its partner lies above the levels computed.")
+            elif s["resolved"]:
+                out.append(f"levels {where}: the lattice splits the continuum pair (n, m) = ({s['n']}, ±{s['m']}) "
+                           f"by {s['splitting']:.3g} ({s['relative']:.2%}); +m labels the lower one (a convention).")
+            else:
+                out.append(f"levels {where}: the continuum pair ({s['n']}, ±{s['m']}) stays degenerate within the "
+                           f"computation's error ({s['splitting']:.1e}).")
+        amb = np.flatnonzero(self.ambiguous)
+        if amb.size:
+            out.append("ambiguous continuum label (a tie within the sector) at level"
+                       f"{'s' if amb.size > 1 else ''} {', '.join(str(int(i) + 1) for i in amb)}.")
+        return out
+
+
+def _graph_tolerance(spectrum: Spectrum) -> np.ndarray:
+    """Error bound of each graph level (:func:`hyperlattice._ties.eigenvalue_tolerance`).
+
+    The rounding term uses the sector block size N/p and the largest computed |E| for ||H|| (for the
+    lowest levels of H = -tA, |E_0| is within a few per cent of q|t| >= ||H||); the residual bounds
+    the distance to an exact eigenvalue.
+    """
+    norm = float(np.max(np.abs(spectrum.energies), initial=0.0))
+    block = max(spectrum.sites // spectrum.p, 1)
+    return np.array([eigenvalue_tolerance(norm, block, float(r) if np.isfinite(r) else 0.0)
+                     for r in spectrum.errors])
+
+
+def _continuum_for(spectrum: Spectrum, radius, dictionary: str, states: int):
+    """The ``states`` lowest continuum levels of the flake's disk (with the flake's field)."""
+    where = {"rings": spectrum.rings} if radius is None else {"radius": radius}
+    if spectrum.flux != 0.0:
+        from ..continuum.magnetic import magnetic_levels
+
+        return magnetic_levels(spectrum.p, spectrum.q, levels=states, flux=spectrum.flux, **where)
+    from ..continuum.spectrum import continuum_levels
+
+    return continuum_levels(spectrum.p, spectrum.q, levels=states, dictionary=dictionary, **where)
+
+
+def continuum_labels(spectrum: Spectrum, *, radius: float | None = None, dictionary: str = "paper") -> LabelledSpectrum:
+    r"""Give each graph level its rotation sector k and the continuum level (n, m) it continues.
+
+    The lattice knows the angular momentum only modulo p (the sector :math:`k = m \bmod p`). Inside
+    one sector no symmetry separates the levels, so they do not cross (von Neumann–Wigner) as the
+    lattice deforms into the continuum: the j-th lowest graph level of sector k continues the j-th
+    lowest continuum Dirichlet level with :math:`m \equiv k \pmod p` on the disk of the same flake.
+    For p = 8 the second level of sector 4 is thus (n, m) = (1, -4), not (2, 4): the lattice splits
+    the continuum pair (1, ±4), which falls into one sector, by about 0.1 %.
+
+    Without a field, sectors k and p - k are complex conjugates and exactly degenerate; a pair of them
+    cut by the end of the list is completed by the conjugate state, and degenerate states are listed
+    as the continuum lists them, +m first (:func:`hyperlattice._ties.stable_order` with the
+    continuum labels as keys), so the K states are the same on every machine. Ties are reported in
+    ``ambiguous`` (class docstring); every decision on near-equal energies uses the levels' own error
+    bounds (residuals and rounding for the graph, the root enclosures for the continuum).
+
+    Parameters
+    ----------
+    spectrum : Spectrum
+        Graph levels with rotation sectors (:func:`~hyperlattice.graph.spectrum.lowest_levels` of a
+        ring lattice or its line graph, without a rotation-breaking on-site term).
+    radius : float, optional
+        Disk radius :math:`L \in (0, 1)` of the continuum; default: the dictionary disk of the
+        flake's rings (``eq12``).
+    dictionary : {"paper", "improved"}, optional
+        The continuum map (and disk) of :func:`~hyperlattice.continuum.spectrum.continuum_levels`;
+        with a field the magnetic levels (:func:`~hyperlattice.continuum.magnetic.magnetic_levels`)
+        at the same flux are matched instead.
+
+    Returns
+    -------
+    LabelledSpectrum
+        The same states (energies, residuals, eigenvectors), ``n``, ``m`` the continuum labels,
+        ``sector``, ``graph_n``, ``graph_m``, the matched continuum energies, ``ambiguous`` and
+        ``splittings``.
+
+    Raises
+    ------
+    ValueError
+        If ``spectrum`` is not a graph Spectrum with rotation sectors, or the continuum levels
+        needed would cost more than the continuum solvers accept.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.compare.levels import continuum_labels
+    >>> spec = continuum_labels(hl.lowest_levels(hl.ring_lattice(7, 3, 3), 4, sector=0))
+    >>> spec.n.tolist(), spec.m.tolist(), spec.sector.tolist()
+    ([1, 2, 1, 1], [0, 0, 7, -7], [0, 0, 0, 0])
+    """
+    if isinstance(spectrum, LabelledSpectrum):
+        raise ValueError("these levels already carry continuum labels; pass the graph Spectrum from lowest_levels.")
+    if not isinstance(spectrum, Spectrum):
+        raise ValueError("continuum_labels takes a graph Spectrum (lowest_levels of a ring lattice or line graph).")
+    if spectrum.m is None:
+        raise ValueError("these levels have no rotation sectors (an on-site term breaks the rotation), so no "
+                         "continuum angular momentum can be assigned.")
+    if radius is not None:
+        radius = _validate.real("radius", radius)
+        if not 0.0 < radius < 1.0:
+            raise ValueError(f"the disk radius must lie in (0, 1), got {radius:g}.")
+    dictionary = _validate.choice("dictionary", dictionary, ("paper", "improved"))
+    p = spectrum.p
+    K = len(spectrum)
+    gm, gn = spectrum.m.astype(np.int64), spectrum.n.astype(np.int64)
+    tol_all = _graph_tolerance(spectrum)
+    # the states: those listed, plus the conjugate partner of a pair that the end of the list cut
+    rows, conj = list(range(K)), [False] * K
+    if spectrum.flux == 0.0 and spectrum.requested_sector is None:
+        have = {(int(a), int(b)) for a, b in zip(gm, gn)}
+        for i in range(K):
+            if (2 * int(gm[i])) % p and (-int(gm[i]), int(gn[i])) not in have:
+                rows.append(i)
+                conj.append(True)
+    rows_a, conj_a = np.array(rows, dtype=np.int64), np.array(conj, dtype=bool)
+    e, tol = spectrum.energies[rows_a], tol_all[rows_a]
+    sm = np.where(conj_a, -gm[rows_a], gm[rows_a])
+    sm = np.where(2 * sm <= -p, sm + p, sm)           # -p/2 is the sector p/2
+    sn = gn[rows_a]
+    k = np.mod(sm, p)
+    # rank of each state within its sector: energy order, ties by the solver's index (a tie whose
+    # members continue different levels is reported below)
+    rank = np.empty(e.size, dtype=np.int64)
+    for kk in np.unique(k):
+        sel = np.flatnonzero(k == kk)
+        rank[sel[stable_order(e[sel], tol[sel], sn[sel])]] = np.arange(1, sel.size + 1)
+    need = {int(kk): int(rank[k == kk].max()) for kk in np.unique(k)}
+    # enough continuum states that every sector has one more than the graph needs (its next level
+    # decides whether the match is a tie); a quarter more than the graph's count to start with (the
+    # continuum's cost grows with the count: a short request is repeated 1.5 times larger)
+    states = math.ceil(1.25 * e.size) + p + 1
+    while True:
+        cont = _continuum_for(spectrum, radius, dictionary, states)
+        ck = np.mod(cont.m, p)
+        members = {kk: np.flatnonzero(ck == kk) for kk in need}
+        if all(members[kk].size > need[kk] for kk in need):
+            break
+        states = math.ceil(1.5 * states)
+    cidx = np.array([members[int(kk)][r - 1] for kk, r in zip(k, rank)], dtype=np.int64)
+    cn, cm = cont.n[cidx].astype(np.int64), cont.m[cidx].astype(np.int64)
+    cerr = np.nan_to_num(np.asarray(cont.errors, float), nan=0.0, posinf=0.0)
+    amb = np.zeros(e.size, dtype=bool)
+    for kk, mem in members.items():
+        # continuum ties inside the sector between different (n, |m|)
+        group = degenerate_groups(cont.energies[mem], cerr[mem])
+        key = cont.n[mem] * 100_003 + np.abs(cont.m[mem])
+        for i in np.flatnonzero(k == kk):
+            j = rank[i] - 1
+            amb[i] |= bool(np.any((group == group[j]) & (key != key[j])))
+        # graph ties inside the sector between states that continue different (n, |m|)
+        sel = np.flatnonzero(k == kk)
+        sel = sel[np.argsort(rank[sel])]
+        ggroup = degenerate_groups(e[sel], tol[sel])
+        gkey = cn[sel] * 100_003 + np.abs(cm[sel])
+        for g in np.unique(ggroup):
+            inside = sel[ggroup == g]
+            if np.unique(gkey[ggroup == g]).size > 1:
+                amb[inside] = True
+    order = stable_order(e, tol, np.abs(cm), (cm < 0).astype(np.int64), cn)[:K]
+    pick = rows_a[order]
+    vecs = spectrum.eigenvectors
+    if vecs is not None:
+        cols = vecs[:, pick]
+        if np.any(conj_a[order]):
+            cols = np.where(conj_a[order][None, :], np.conj(cols), cols)
+        vecs = cols
+    e, tol, sm, sn, cn, cm, amb = (a[order] for a in (e, tol, sm, sn, cn, cm, amb))
+    splits = []
+    if spectrum.flux == 0.0:
+        for i in np.flatnonzero((cm > 0) & ((2 * cm) % p == 0)):
+            partner = np.flatnonzero((cn == cn[i]) & (cm == -cm[i]))
+            item = {"n": int(cn[i]), "m": int(cm[i])}
+            if partner.size:
+                j = int(partner[0])
+                split = float(e[j] - e[i])
+                item.update(levels=(int(i), j), splitting=split,
+                            relative=abs(split) / max(0.5 * abs(float(e[i] + e[j])), np.finfo(float).tiny),
+                            resolved=bool(abs(split) > tol[i] + tol[j]))
+            else:
+                item.update(levels=(int(i),), splitting=None, relative=None, resolved=None)
+            splits.append(item)
+        for i in np.flatnonzero((cm < 0) & ((2 * cm) % p == 0)):
+            if not np.any((cn == cn[i]) & (cm == -cm[i])):
+                splits.append({"n": int(cn[i]), "m": int(-cm[i]), "levels": (int(i),), "splitting": None,
+                               "relative": None, "resolved": None})
+    disk = f"L = {radius:.6g}" if radius is not None else f"the {spectrum.rings}-ring dictionary disk (eq12)"
+    labels = (f"n, m: the continuum level each state continues, the j-th lowest graph level of sector k = m mod p "
+              f"matched to the j-th lowest continuum level with m = k mod p on {disk}"
+              + (f" at flux f = {spectrum.flux:g}" if spectrum.flux else f" ({dictionary} dictionary)") + ".")
+    shift = 0.0
+    if spectrum.kind == "line_graph":
+        # the line graph's -A_L = B^T B - 2 has the spectrum of D + A - 2 away from its flat band, i.e.
+        # E_line = E + 2 - q at the interior coordination q: its states continue the shifted levels
+        shift = 2.0 - spectrum.q
+    base = {f.name: getattr(spectrum, f.name) for f in dataclasses.fields(Spectrum)}
+    base.update(energies=e, n=cn, m=cm, errors=spectrum.errors[pick], eigenvectors=vecs)
+    return LabelledSpectrum(**base, graph_n=sn, graph_m=sm, continuum_energies=cont.energies[cidx][order] + shift,
+                            continuum_errors=np.asarray(cont.errors, float)[cidx][order], ambiguous=amb,
+                            splittings=tuple(splits), labels=labels)
 
 
 # ----------------------------------------------------------------------------
@@ -53,7 +390,10 @@ class LevelComparison(Result):
         :math:`(E_{\rm graph} - E_{\rm cont})/|E_{\rm graph}|` of the first K = min(len) levels.
     labels_agree : ndarray of bool, shape (K,), or None
         Whether level k carries the same (n, m) on both sides; None if either side has no m
-        (an on-site term that breaks the rotation).
+        (an on-site term that breaks the rotation). A graph
+        :class:`~hyperlattice.graph.spectrum.Spectrum` is compared through the continuum level
+        each state continues (:func:`continuum_labels`, kept in ``graph``), not through its
+        sector, which gives m only modulo p.
 
     Notes
     -----
@@ -110,10 +450,14 @@ class LevelComparison(Result):
                 for k in range(len(self))]
 
     def summary(self) -> dict:
-        """p, q, methods, error kinds and the level table."""
-        return {"p": self.graph.p, "q": self.graph.q, "graph_method": self.graph.method,
-                "continuum_method": self.continuum.method, "graph_error_kind": self.graph.error_kind,
-                "continuum_error_kind": self.continuum.error_kind, "levels": self.table()}
+        """p, q, methods, error kinds and the level table (+ ``split``: the continuum pairs the lattice
+        splits, when the graph side carries continuum labels)."""
+        out = {"p": self.graph.p, "q": self.graph.q, "graph_method": self.graph.method,
+               "continuum_method": self.continuum.method, "graph_error_kind": self.graph.error_kind,
+               "continuum_error_kind": self.continuum.error_kind, "levels": self.table()}
+        if isinstance(self.graph, LabelledSpectrum):
+            out["split"] = [dict(s, levels=list(s["levels"])) for s in self.graph.splittings]
+        return out
 
 
 def levels_side_by_side(graph: Levels, continuum: Levels) -> LevelComparison:
@@ -131,7 +475,9 @@ def levels_side_by_side(graph: Levels, continuum: Levels) -> LevelComparison:
     -------
     LevelComparison
         The first min(len) levels of both, with the relative difference and whether the
-        (n, m) labels agree level by level.
+        (n, m) labels agree level by level. A graph Spectrum is first given the continuum labels
+        of the levels its states continue (:func:`continuum_labels`, on the continuum's disk), and
+        ``graph`` holds that :class:`LabelledSpectrum`.
 
     Raises
     ------
@@ -156,6 +502,13 @@ def levels_side_by_side(graph: Levels, continuum: Levels) -> LevelComparison:
     if (graph.p, graph.q) != (continuum.p, continuum.q):
         raise ValueError(f"the graph levels are for {{{graph.p},{graph.q}}}, the continuum levels for "
                          f"{{{continuum.p},{continuum.q}}}; compare the same tiling.")
+    if isinstance(graph, Spectrum) and not isinstance(graph, LabelledSpectrum) and graph.m is not None:
+        # the graph's m is its sector; compare the continuum level each state continues, on the
+        # continuum's own disk
+        rings = getattr(continuum, "rings", None)
+        graph = continuum_labels(graph, radius=None if rings == graph.rings else getattr(continuum, "radius", None),
+                                 dictionary=getattr(continuum, "dictionary", "paper"))
+        base = compare_levels(graph, continuum)
     k = base["levels"]
     agree = None
     if graph.m is not None and continuum.m is not None:

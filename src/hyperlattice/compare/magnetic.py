@@ -203,20 +203,19 @@ class MagneticComparison(Result):
 
 
 def _point(p: int, q: int, ell: int, lattice, flux: float, K: int) -> dict:
-    """The K lowest graph levels at one (l, f) and the continuum levels of the same (n, m)."""
-    from ..continuum.magnetic import magnetic_levels
-    from ..graph.spectrum import lowest_levels
+    """The K lowest graph levels at one (l, f) and the continuum levels of the same (n, m).
 
-    gs = lowest_levels(lattice, K, flux=flux)
-    # a few more continuum levels, so the graph's (n, m) are among them
-    cs = magnetic_levels(p, q, rings=ell, levels=K + 4, flux=flux)
-    lookup = {}
-    for e, nn, mm in zip(cs.energies.tolist(), cs.n.tolist(), cs.m.tolist()):
-        lookup.setdefault((nn, mm), e)
+    The graph knows m only modulo p: each state is matched to the continuum level it continues
+    (:func:`hyperlattice.compare.levels.continuum_labels`, the magnetic levels of the same disk and
+    flux), and that level's energy is the continuum side.
+    """
+    from ..graph.spectrum import lowest_levels
+    from .levels import continuum_labels
+
+    gs = continuum_labels(lowest_levels(lattice, K, flux=flux))
     n, m = [int(v) for v in gs.n[:K]], [int(v) for v in gs.m[:K]]
-    # None, not NaN, for a label the continuum did not reach: the point is stored as plain JSON
     return {"n": n, "m": m, "graph": [float(v) for v in gs.energies[:K]],
-            "continuum": [lookup.get((a, b)) for a, b in zip(n, m)]}
+            "continuum": [float(v) for v in gs.continuum_energies[:K]]}
 
 
 def magnetic_comparison(p: int = 7, q: int = 3, *, rings=(3, 4, 5, 6, 7), fluxes=None,

@@ -40,7 +40,7 @@ from ..continuum.massive import delta_from_mass2, mass2_from_omega
 from ..dictionary import dictionary_parameters
 from ..geometry import distance
 from ..graph.lattice import Lattice
-from ..graph.qubits import BelowBandResolvent, _decay_length, _real_omega, bound_state
+from ..graph.qubits import BelowBandResolvent, _coupling, _decay_length, _real_omega, _resolvent_for, bound_state
 from ..results import Column, Result
 
 
@@ -208,13 +208,11 @@ def exchange_comparison(lattice: Lattice, omega_q, g, site: int = 0, *,
     lat = _validate.lattice(lattice)
     site = _validate.site_index("site", site, lat.sites)
     omega_q = _real_omega("omega_q", omega_q)
-    g = _validate.real("g", g)
+    g = _coupling(g)
     if g == 0.0:
         # J = g^2 G vanishes identically: the relative error and the decay lengths would be 0/0
         raise ValueError("g must be nonzero: with g = 0 the exchange J = g^2 G vanishes and there is nothing to compare.")
-    if not math.isfinite(g * g):
-        raise ValueError(f"g = {g:g} is too large: g^2 overflows the float64 range.")
-    res = resolvent if resolvent is not None else BelowBandResolvent(lat)
+    res = _resolvent_for(resolvent, lat)
     gcol = g * g * res.column(omega_q, site)
     ccol = g * g * _continuum_column(lat, omega_q, site)
     d = distance(lat.z, lat.z[site])

@@ -329,6 +329,7 @@ def disk_integral(f: Callable, radius: float, *, angular_points: int = 64,
     # 2**20 points per ring is far past spectral accuracy for any f worth integrating
     angular_points = _validate.integer("angular_points", angular_points, minimum=4, maximum=2 ** 20)
     rtol = _validate.real("rtol", rtol, minimum=0.0, maximum=1.0, open_min=True)
+    rtol = _validate.solver_tolerance("rtol", rtol)      # 1e-300 refined to the point cap (minutes)
     D = math.atanh(L)
 
     def ring_average(d, m, absolute=False):

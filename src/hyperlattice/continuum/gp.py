@@ -530,7 +530,16 @@ def disk_bogoliubov(state: DiskGPState, modes: int = 6, *, max_j: int | None = N
         try:
             chol = cholesky_banded(np.vstack([np.concatenate([[0.0], ko]), b_diag]), lower=False)
         except np.linalg.LinAlgError:
-            raise ConvergenceError("B_j is not positive definite: the state is not the GP ground state.") from None
+            # B_j = A_j + 2U' f^2 with A_0 >= 0 (its zero mode is the Goldstone mode): at tiny U' its
+            # lowest eigenvalue is below the rounding of B (and the error of mu_c, the state's
+            # residual), where it cannot be told from 0; shifted by that error it must factor, and
+            # omega^2 moves by at most |A| times the shift (U = 1e-14 was refused as "not the GP state")
+            delta = _rounding(b_diag, ko, state)
+            try:
+                chol = cholesky_banded(np.vstack([np.concatenate([[0.0], ko]), b_diag + delta]), lower=False)
+            except np.linalg.LinAlgError:
+                raise ConvergenceError("B_j is not positive definite: the state is not the GP ground state."
+                                       ) from None
         upper = sp.diags([chol[1], chol[0, 1:]], [0, 1], format="csr")      # B = U^T U, U upper bidiagonal
         amat = sp.diags([ko, a_diag, ko], [-1, 0, 1], format="csr")
         c = (upper @ amat @ upper.T).todia()                                  # U A U^T ~ A B
@@ -550,6 +559,13 @@ def disk_bogoliubov(state: DiskGPState, modes: int = 6, *, max_j: int | None = N
     order = np.argsort(found_w, kind="stable")[:k]
     return DiskBogoliubov(frequencies=np.asarray(found_w)[order], angular_momenta=np.asarray(found_j)[order],
                           zero_mode=zero)
+
+
+def _rounding(b_diag: np.ndarray, ko: np.ndarray, state) -> float:
+    """The error of the lowest eigenvalue of a tridiagonal B_j (diagonal ``b_diag``, off-diagonal
+    ``ko``): its rounding, 16 eps |B|, plus the error of mu_c (the state's relative residual)."""
+    norm = float(np.max(np.abs(b_diag))) + 2.0 * (float(np.max(np.abs(ko))) if ko.size else 0.0)
+    return 16.0 * np.finfo(float).eps * norm + float(state.residual) * abs(float(state.mu_c))
 
 
 # every public function above checks its arguments at the door (issue 19)

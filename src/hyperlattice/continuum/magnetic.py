@@ -151,6 +151,8 @@ _TOLERANCES = {"xatol": 1e-15, "xrtol": 4.0 * np.finfo(float).eps, "fatol": 0.0,
 MAX_FIELD = 1e4
 #: largest number of levels accepted (about half a minute on one core at 16 ms per level)
 MAX_LEVELS = 2_000
+#: largest |kappa| dirichlet_function takes (checked to 1e6 of both signs; -1e9 and 1e12 fail to converge)
+MAX_KAPPA = 1e6
 
 
 def hypergeometric_parameters(m, B, kappa) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -508,6 +510,10 @@ def dirichlet_function(kappa, m, B, radius) -> np.ndarray:
     [1.0, -1.0]
     """
     kappa = _validate.real_array("kappa", kappa)
+    if np.any(np.abs(kappa) > MAX_KAPPA):
+        # -1e300 divided by zero inside the 2F1 continuation, 1e300 ran on: refused before work
+        raise ValueError(f"kappa must lie within +-{MAX_KAPPA:g} (the range in which the 2F1 continuation is "
+                         f"checked), got {float(np.max(np.abs(kappa))):g} in magnitude.")
     m = np.asarray(_validate.real_array("m", m))
     if np.any(m != np.round(m)) or np.any(np.abs(m) > MAX_ORDER):
         raise ValueError(f"m must be integers with |m| <= {MAX_ORDER}.")

@@ -84,6 +84,9 @@ from ..results import Result
 
 __all__ = [
     "ADS_RADIUS",
+    "ADS_RADII",
+    "mass2_in_paper_metric",
+    "delta_formulas",
     "BF_MASS2",
     "mass2_from_lambda",
     "lambda_from_mass2",
@@ -108,6 +111,83 @@ BF_MASS2 = -1.0 / (4.0 * ADS_RADIUS**2)
 
 
 _BF_SLACK = 1e-12
+
+#: the AdS radii a mass² may be given in: 1 (the unit-radius AdS₂ most texts use,
+#: :math:`ds^2 = 4|dz|^2/(1-|z|^2)^2`, :math:`\Delta(\Delta-1) = m^2`) and 1/2 (the paper's metric,
+#: :math:`\Delta(\Delta-1) = m^2/4`)
+ADS_RADII = (1.0, 0.5)
+
+
+def _ads_radius(ads_radius) -> float:
+    r = _validate.real("ads_radius", ads_radius)
+    if r not in ADS_RADII:
+        raise ValueError(f"ads_radius names the convention of the mass: 1 (unit-radius AdS2, Delta(Delta-1) = m^2) "
+                         f"or 0.5 (the paper's metric, Delta(Delta-1) = m^2/4), got {r:g}.")
+    return r
+
+
+def mass2_in_paper_metric(m2, ads_radius) -> float | np.ndarray:
+    r"""A mass² given in AdS₂ of radius ``ads_radius``, in the paper's metric (:math:`R = 1/2`).
+
+    The dimensionless :math:`m^2R^2` fixes the physics (:math:`\Delta(\Delta-1) = m^2R^2`), so
+    :math:`m^2_{m paper} = m^2 R^2 / (1/2)^2 = 4m^2R^2`: a mass² of 1 in unit-radius AdS₂ is 4 here.
+
+    Parameters
+    ----------
+    m2 : float or array_like of float
+        Mass² in units of :math:`1/R^2` of the named radius.
+    ads_radius : {1, 0.5}
+        The AdS radius the mass is given in (:data:`ADS_RADII`).
+
+    Returns
+    -------
+    float or ndarray of float
+        :math:`m^2` in the paper's metric, as :func:`delta_from_mass2` and :func:`omega_from_mass2` take it.
+
+    Raises
+    ------
+    ValueError
+        Bad input, or a radius other than 1 and 0.5.
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.massive import delta_from_mass2, mass2_in_paper_metric
+    >>> m2 = mass2_in_paper_metric(1.0, ads_radius=1)
+    >>> m2, round(delta_from_mass2(m2), 6)
+    (4.0, 1.618034)
+    """
+    r = _ads_radius(ads_radius)
+    m2 = np.asarray(_scalar_or_array("mass2", m2))
+    return _out(m2 * (r / ADS_RADIUS) ** 2)
+
+
+def delta_formulas(m2) -> dict:
+    r"""Both conventions' formula values of Δ at one number :math:`m^2`, side by side.
+
+    ``"ads_radius_1"``: :math:`rac12 + \sqrt{rac14 + m^2}` (the number read as a mass² in unit-radius
+    AdS₂); ``"ads_radius_0.5"``: :math:`rac12 + rac12\sqrt{1 + m^2}` (read in the paper's metric).
+    The same number gives two different Δ (1.618 and 1.207 at :math:`m^2 = 1`); only the one of
+    the convention the mass was given in applies. NaN below that convention's BF bound.
+
+    Parameters
+    ----------
+    m2 : float
+        The number.
+
+    Returns
+    -------
+    dict
+        ``{"ads_radius_1": float, "ads_radius_0.5": float}``.
+
+    Examples
+    --------
+    >>> from hyperlattice.continuum.massive import delta_formulas
+    >>> {k: round(v, 6) for k, v in delta_formulas(1.0).items()}
+    {'ads_radius_1': 1.618034, 'ads_radius_0.5': 1.207107}
+    """
+    x = _validate.real("mass2", m2)
+    return {"ads_radius_1": 0.5 + math.sqrt(0.25 + x) if x >= -0.25 else math.nan,
+            "ads_radius_0.5": 0.5 + 0.5 * math.sqrt(1.0 + x) if x >= -1.0 else math.nan}
 
 
 def _scalar_or_array(name: str, value) -> float | np.ndarray:

@@ -306,7 +306,8 @@ def scba(omega, variance: float, p: int = 7, q: int = 3, *, local: Callable[[com
     w2 = _validate.real("variance", variance, minimum=0.0, maximum=_MAX_VARIANCE)
     tol = _validate.real("tol", tol, minimum=1e-15, maximum=1e-2)
     max_iter = _validate.positive_int("max_iter", max_iter, maximum=_MAX_ITER)
-    damping = _validate.real("damping", damping, minimum=0.0, maximum=1.0, open_min=True)
+    damping = _validate.damping("damping", damping, tol, _MAX_ITER) if w2 > 0 else \
+        _validate.real("damping", damping, minimum=0.0, maximum=1.0, open_min=True)
     if local is None:
         def local(w):
             return continuum_local_green(w, p, q, tol=max(min(tol, 1e-10), 1e-14))

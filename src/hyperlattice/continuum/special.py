@@ -121,7 +121,8 @@ loses relative accuracy while staying accurate relative to the local envelope.
 Supported domain
 ----------------
 Orders :math:`0 \le m \le` ``MAX_ORDER`` = 1000 (larger orders are refused with a
-``ValueError`` before any work), :math:`1 \le x` (validated to :math:`10^{12}`), complex
+``ValueError`` before any work), degrees :math:`|\nu| \le` ``MAX_DEGREE`` = 1e6 (likewise),
+:math:`1 \le x` (validated to :math:`10^{12}`), complex
 :math:`\nu` validated for conical :math:`k \le 600`, real :math:`\nu \in [-6, 5]` and complex
 :math:`|\nu| \lesssim 50`; up to :math:`|\nu| \approx 10^3` spot checks agree to
 :math:`10^{-10}`. At most :math:`2^{24}` points per call.
@@ -151,6 +152,7 @@ from ..errors import ConvergenceError, ConvergenceWarning, RangeWarning
 
 __all__ = [
     "MAX_ORDER",
+    "MAX_DEGREE",
     "legendre_p",
     "legendre_q",
     "legendre_log_p",
@@ -166,6 +168,7 @@ __all__ = [
 ]
 
 MAX_ORDER = 1000         # largest order m accepted (validated against mpmath up to here)
+MAX_DEGREE = 1e6         # largest |nu| accepted (spot checks to 1e3; 1e6 costs ~1 s, 1e300 minutes)
 _MAX_POINTS = 2**24      # largest broadcast size accepted (refused before allocating)
 _CHUNK = 2**14           # points evaluated at once (bounds the working memory of every method)
 _QUAD_CELLS = 2**21      # points x nodes of the Laplace quadrature held in memory at once
@@ -270,7 +273,12 @@ def _check_x(x, *, allow_one: bool = True) -> np.ndarray:
 
 
 def _check_nu(nu) -> np.ndarray:
-    return _validate.complex_array("the degree nu", nu)
+    nu = _validate.complex_array("the degree nu", nu)
+    if nu.size and float(np.max(np.abs(nu))) > MAX_DEGREE:
+        # nu = 1e300 ran its series for minutes (the validated domain ends near |nu| = 1e3)
+        raise ValueError(f"the degree nu must have |nu| <= {MAX_DEGREE:g} (validated to about 1e3), got "
+                         f"|nu| = {float(np.max(np.abs(nu))):g}.")
+    return nu
 
 
 def _broadcast(nu, m, x, *, allow_one=True):

@@ -974,7 +974,13 @@ def _lowest_states(x: float, K: int, *, check_nodes: bool, x_rounding: float):
         grid = np.arange(npts) * dk
         found, count, m0, done, nb = [], 0, 0, False, 2
         while not done and m0 <= m_cap:
-            block = np.arange(m0, min(m0 + nb, m_cap + 1))
+            if m0 > MAX_ORDER:
+                # the lowest root of order m0 may still lie below kappa: the states asked for reach
+                # beyond the orders the Legendre functions are validated for (was: "the order m must
+                # be at most 1,000", a parameter the user never gave)
+                raise ValueError(f"{what} reach angular momenta |m| > {MAX_ORDER:,}, beyond the range in which "
+                                 "the Legendre functions are validated; ask for fewer levels.")
+            block = np.arange(m0, min(m0 + nb, m_cap + 1, MAX_ORDER + 1))
             spent += npts * block.size
             _refuse_cost(spent, what)
             for mm, cells in zip(block, _scan(block, x, grid)):

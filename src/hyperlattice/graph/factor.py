@@ -42,7 +42,6 @@ sentence; any other backend error into :class:`FactorizationError`.
 
 from __future__ import annotations
 
-import os
 import warnings
 
 import numpy as np
@@ -108,16 +107,17 @@ def _refusal(what: str, needed: float, available: float, allowed: bool = False) 
 #: environment variable that hides CHOLMOD from the package (``superlu``): the SuperLU-only
 #: configuration, for CI and the benchmarks, without uninstalling scikit-sparse; read at every
 #: call, so subprocesses (the CLI) inherit it
-BACKEND_ENV = "HYPERLATTICE_FACTOR_BACKEND"
+BACKEND_ENV = _validate.FACTOR_BACKEND_ENV
 
 
 def _cholmod():
     """scikit-sparse's CHOLMOD module, or None (an optional accelerator, never required).
 
     None as well when the environment variable :data:`BACKEND_ENV` is ``superlu`` (CHOLMOD then
-    behaves exactly as if it were not installed).
+    behaves exactly as if it were not installed); ``auto``, ``cholmod`` or unset change nothing,
+    and any other value is refused (ValueError).
     """
-    if os.environ.get(BACKEND_ENV, "").strip().lower() == "superlu":
+    if _validate.factor_backend_env() == "superlu":      # refuses a value it does not know
         return None
     try:
         from sksparse import cholmod
@@ -415,6 +415,22 @@ class SymbolicAnalysis:
         self.bytes_needed = self._bytes(self.factor_entries)
         self._check(self.bytes_needed, "")
 
+    def _require_hermitian(self) -> None:
+        """Refuse a matrix that is not symmetric (Hermitian): an LDL^T of it counts nothing (a
+        non-symmetric matrix was factorised and its "inertia" reported as proved). Once per matrix."""
+        if getattr(self, "_hermitian_of", None) is self.matrix:
+            return
+        m = self.matrix
+        scale = float(abs(m).max()) if m.nnz else 0.0
+        gap = float(abs(m - m.conj().T).max()) if m.nnz else 0.0
+        if gap > _validate.HERMITIAN_RTOL * scale:
+            kind = "Hermitian" if self.complex else "symmetric"
+            raise ValueError(f"{self.what} must be {kind} for an LDL^T factorisation and its eigenvalue count "
+                             f"(max |H - H^+| = {gap:.3g}, largest entry {scale:.3g}); pivoting=True factorises "
+                             "any matrix by a plain LU.")
+        self._hermitian_of = m
+        self.norm = float(abs(m).sum(axis=0).max()) if m.nnz else 0.0     # ||H||_1 >= ||H||_2
+
     def _bytes(self, factor_entries: int) -> int:
         per_entry = self._item + _ENTRY_OVERHEAD
         copies = 2 if self.backend == "superlu" else 1          # SuperLU stores L and U
@@ -536,7 +552,8 @@ def _backend_error(exc: BaseException, what: str) -> HyperlatticeError:
     if isinstance(exc, MemoryError) or "malloc" in low or "out of memory" in low or "memory" in low:
         return FactorMemoryError(f"the sparse factorisation of {what} ran out of memory "
                                  f"({_gb(available_memory())} available to this process).")
-    if "singular" in low:
+    if "singular" in low or "not positive definite" in low:
+        # CHOLMOD's LDL^T names a zero pivot "not positive definite" (it needs no definiteness)
         return FactorizationError(f"{what} is singular to working precision (the shift is an eigenvalue).")
     first = text.splitlines()[0][:120] if text else type(exc).__name__
     return FactorizationError(f"the sparse factorisation of {what} failed ({type(exc).__name__}: {first}).")
@@ -565,7 +582,9 @@ class Factor:
         factorisation proves nothing (SuperLU took off-diagonal pivots, σ is complex, or
         ``pivoting`` was asked for).
     proved : bool
-        True when ``negatives`` is proved by the factorisation.
+        True when ``negatives`` is proved by the factorisation (False on a :attr:`tie`).
+    tie : bool
+        σ lies within rounding of an eigenvalue: the count may be off by the tied levels.
     positive_definite : bool
         :math:`H - \sigma` proved positive definite (σ below the spectrum).
     kind : str
@@ -596,9 +615,12 @@ class Factor:
         hermitian = not (np.iscomplexobj(sigma) and complex(sigma).imag != 0)
         self.sigma = float(np.real(sigma)) if hermitian else complex(sigma)
         self.negatives = None
-        self.proved = False
+        self._counted = False
+        self._tie = None
         self.positive_definite = False
         what = analysis.what
+        if hermitian and not pivoting:
+            analysis._require_hermitian()
         try:
             if not hermitian or pivoting:
                 self._general(sigma)
@@ -633,7 +655,7 @@ class Factor:
                 pass
             else:
                 self.kind = "LL^T"
-                self.negatives, self.proved, self.positive_definite = 0, True, True
+                self.negatives, self._counted, self.positive_definite = 0, True, True
                 return
         # the simplicial LDL^T: CHOLMOD does not pivot, so D holds the inertia (all D > 0 proves
         # positive definiteness as well as a Cholesky factorisation would)
@@ -677,9 +699,43 @@ class Factor:
             raise FactorizationError(f"the factorisation of {self.analysis.what} at {self._label()} met a zero "
                                      "pivot (the shift is an eigenvalue to working precision).")
         self.negatives = int(np.count_nonzero(d < 0))
-        self.proved = True
+        self._counted = True
         self.positive_definite = self.negatives == 0
         self.pivots = d
+
+    # -- the count, and whether sigma ties with an eigenvalue --
+    @property
+    def tie(self) -> bool:
+        """True when σ lies within rounding of an eigenvalue of H, so that the count of eigenvalues
+        below it is undecided (``proved`` is then False); False for an LU, which counts nothing.
+
+        Rounding is :func:`hyperlattice._ties.eigenvalue_tolerance` of H - σ (16 n ε ‖H - σ‖₁). A
+        tie is found from a pivot of that size, or from one solve: ‖b‖/‖(H - σ)⁻¹b‖ bounds the
+        distance from σ to the spectrum (computed on first use, then kept).
+        """
+        if self._tie is None:
+            self._tie = False
+            if self._counted:
+                from .._ties import eigenvalue_tolerance
+
+                an = self.analysis
+                delta = eigenvalue_tolerance(an.norm + abs(self.sigma), self.n)
+                d = getattr(self, "pivots", None)
+                if d is not None and d.size and float(np.min(np.abs(d))) <= delta:
+                    self._tie = True
+                else:
+                    b = np.random.default_rng(0).standard_normal(self.n)
+                    with np.errstate(over="ignore", invalid="ignore"):
+                        x = self.solve(b)
+                        size = float(np.linalg.norm(x))
+                    self._tie = not np.isfinite(size) or float(np.linalg.norm(b)) <= delta * size
+        return self._tie
+
+    @property
+    def proved(self) -> bool:
+        """True when ``negatives`` is proved by the factorisation: counted by an LDL^T/LL^T, and σ
+        does not tie with an eigenvalue (:attr:`tie`)."""
+        return self._counted and not self.tie
 
     # -- use --
     def solve(self, b: np.ndarray) -> np.ndarray:
@@ -833,8 +889,13 @@ def factorize(mat, sigma=0.0, *, backend: str = "auto", analysis: SymbolicAnalys
         For invalid input.
     FactorMemoryError
         The factor will not fit (refused before work), or a backend ran out of memory.
+    ValueError
+        Also for a matrix that is not symmetric (Hermitian), unless ``pivoting`` (or a complex σ)
+        asks for a plain LU.
     FactorizationError
-        Zero pivot (σ an eigenvalue to working precision) or another backend failure.
+        Zero pivot (σ an eigenvalue to working precision) or another backend failure. A σ
+        within rounding of an eigenvalue that still factorises is reported as ``factor.tie``
+        (and ``proved`` False).
 
     See Also
     --------

@@ -689,11 +689,11 @@ def load_lattice(path) -> Lattice:
                       rotation=arrays["rotation"], kind=str(kind), parent_edges=arrays.get("parent_edges"))
     except (OSError, EOFError, zipfile.BadZipFile, json.JSONDecodeError, UnicodeDecodeError, TypeError,
             OverflowError) as exc:
-        raise ValueError(f"cannot read a lattice from {where}: {exc}.") from None
+        raise ValueError(f"cannot read a lattice from {where}: {_validate.file_problem(exc)}.") from None
     except ValueError as exc:
         if str(exc).startswith(where):
             raise
-        raise ValueError(f"cannot read a lattice from {where}: {str(exc).rstrip('.')}.") from None
+        raise ValueError(f"cannot read a lattice from {where}: {_validate.file_problem(exc)}.") from None
     return _checked(lat, where)
 
 

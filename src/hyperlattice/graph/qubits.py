@@ -69,6 +69,48 @@ MAX_QUBITS = 20_000
 _NEWTON_MAX = 60
 
 
+#: largest |g| / t accepted: circuit-QED couplings are g << t; beyond, the numbers mean nothing
+#: physically (and g^2 G overflowed to inf from |g| ~ 1e154)
+MAX_COUPLING = 1e6
+
+
+def _coupling(g, t: float = 1.0) -> float:
+    """The qubit-photon coupling g: a finite real number with |g| <= :data:`MAX_COUPLING` t."""
+    g = _validate.real("g", g)
+    t = _validate.positive_real("the hopping t", t)
+    if abs(g) > MAX_COUPLING * t:
+        raise ValueError(f"g = {g:g} is more than {MAX_COUPLING:g} t: far beyond the circuit-QED regime "
+                         "(g << t) that the qubit models describe.")
+    return g
+
+
+def _unit(v: np.ndarray) -> np.ndarray:
+    """``v / |v|`` without underflow (entries of ~1e-200 gave 0/0)."""
+    big = float(np.max(np.abs(v))) if v.size else 0.0
+    if big == 0.0:
+        return v.astype(float)
+    w = v / big
+    return w / np.linalg.norm(w)
+
+
+def _resolvent_for(resolvent, lat: Lattice, t: float = 1.0) -> "BelowBandResolvent":
+    """The ``resolvent=`` argument of a function of ``lat``: a new :class:`BelowBandResolvent` for
+    None, else one of this lattice and hopping (anything else was an AttributeError deep inside, or
+    a resolvent of another lattice silently gave that lattice's numbers); one sentence if not."""
+    if resolvent is None:
+        return BelowBandResolvent(lat, t=t)
+    if not isinstance(resolvent, BelowBandResolvent):
+        raise ValueError(f"resolvent must be a BelowBandResolvent of this lattice (or None), "
+                         f"got {type(resolvent).__name__}.")
+    other = resolvent.lattice
+    if other is not lat and (other.sites != lat.sites or not np.array_equal(other.edges, lat.edges)):
+        raise ValueError(f"resolvent belongs to another lattice ({other.sites} sites; this one has {lat.sites}); "
+                         "make it with BelowBandResolvent(lattice).")
+    if resolvent.t != t:
+        raise ValueError(f"resolvent was made with hopping t = {resolvent.t:g}, not t = {t:g}.")
+    return resolvent
+
+
 def _real_omega(name: str, omega) -> float:
     """A real frequency: complex values with a zero imaginary part are accepted."""
     if isinstance(omega, (complex, np.complexfloating)):
@@ -694,20 +736,25 @@ def bound_state(lattice: Lattice, site: int, omega_q, g, *, t: float = 1.0,
     lat = _validate.lattice(lattice)
     site = _validate.site_index("site", site, lat.sites)
     omega_q = _real_omega("omega_q", omega_q)
-    g = _validate.real("g", g)
+    g = _coupling(g, t)
     if g == 0:
         raise ValueError("g must be nonzero (at g = 0 the qubit does not dress the photons).")
     tol = _validate.real("tol", tol, minimum=1e-15, maximum=1e-3)
-    res = resolvent if resolvent is not None else BelowBandResolvent(lat, t=t)
+    res = _resolvent_for(resolvent, lat, t)
     g2 = g * g
     col0 = res.column(omega_q, site)              # refuses omega_q above E0
     e_lead = omega_q - g2 * col0[site]
     # Newton on f(E) = E - omega_q + g^2 G_jj(E): G_jj(E) = sum_n psi_n(j)^2/(E_n - E) is increasing
-    # and convex below the band, so f is too (f' = 1 + g^2 (G^2)_jj). Started at E = omega_q, where
-    # f = g^2 G_jj > 0, the tangent of a convex increasing function lands between the root and the
+    # and convex below the band, so f is too (f' = 1 + g^2 (G^2)_jj). Started at a point above the
+    # root, where f > 0, the tangent of a convex increasing function lands between the root and the
     # current point: the iterates decrease monotonically to E_b and never leave the band gap.
-    E = omega_q
-    col = col0
+    # The start: G_jj(E) >= 1/(E_top - E) with E_top <= t * (largest degree), so the root lies below
+    # the E_up solving (omega_q - E)(E_top - E) = g^2; from omega_q itself a large g took ~log2(g)
+    # doubling steps (g = 1e15 did not converge in 60), from E_up a handful.
+    e_top = t * float(np.bincount(np.asarray(lat.edges).ravel(), minlength=lat.sites).max()) if lat.sites else 0.0
+    e_top = max(e_top, omega_q)
+    E = min(omega_q, 0.5 * (omega_q + e_top) - math.hypot(0.5 * (e_top - omega_q), g))   # no overflow
+    col = col0 if E == omega_q else res.column(E, site)
     for _ in range(_NEWTON_MAX):
         f = E - omega_q + g2 * col[site]
         fp = 1.0 + g2 * float(col @ col)
@@ -725,8 +772,13 @@ def bound_state(lattice: Lattice, site: int, omega_q, g, *, t: float = 1.0,
     v = np.concatenate([phi, [-1.0]]) / math.sqrt(norm2)
     Hq = qubit_hamiltonian(lat, [site], omega_q, g, t=t)
     residual = float(np.linalg.norm(Hq @ v - E * v))
-    photon = np.abs(phi) / math.sqrt(float(phi @ phi))
-    lead = col0 / np.linalg.norm(col0)
+    photon = _unit(np.abs(col))       # scaled first: far below the band |phi|^2 underflowed to 0/0
+    lead = _unit(col0)
+    if not (np.all(np.isfinite(photon)) and np.all(np.isfinite(lead)) and math.isfinite(residual)
+            and math.isfinite(E) and math.isfinite(e_lead)):
+        # decay_length may be NaN by design (too few sites to fit); nothing else may
+        raise ValueError("bound_state: the result for these arguments is not a finite number (it lies beyond "
+                         "the float64 range, about 1.8e308); use a smaller |g| or |omega_q|.")
     d = distance(lat.z, lat.z[site])
     size = float(np.sum(photon**2 * d))
     return BoundState(p=lat.p, q=lat.q, rings=lat.rings, kind=lat.kind, site=site, omega_q=omega_q, g=g,
@@ -897,8 +949,8 @@ def spin_model(lattice: Lattice, sites, omega_q, g, *, t: float = 1.0,
     lat = _validate.lattice(lattice)
     idx = _sites(lat, sites)
     omega_q = _real_omega("omega_q", omega_q)
-    g = _validate.real("g", g)
-    res = resolvent if resolvent is not None else BelowBandResolvent(lat, t=t)
+    g = _coupling(g, t)
+    res = _resolvent_for(resolvent, lat, t)
     G = np.empty((idx.size, idx.size))
     chunk = max(1, int(2**26 // (8 * lat.sites)))      # (N, chunk) right-hand sides within ~64 MB
     for a in range(0, idx.size, chunk):
@@ -916,4 +968,5 @@ def spin_model(lattice: Lattice, sites, omega_q, g, *, t: float = 1.0,
 # every public function above checks its annotated argument types at the door (issue 19)
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
-_guard_public(globals())
+# a coupling or shift beyond the float64 range is refused, never returned as inf/NaN (issue 28)
+_guard_public(globals(), finite=("spin_model",))

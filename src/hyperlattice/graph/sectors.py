@@ -609,7 +609,7 @@ def sector_block(slat: SectorLattice, m: int, *, mirror: str | None = None, t: f
     slat = _check_sector_lattice(slat)
     p = slat.p
     m = signed_sector(m, p)
-    t = _validate.real("the hopping t", t)
+    t = _validate.hopping("the hopping t", t)
     shift = _validate.real("shift", shift)
     mirror = _validate.choice("mirror", mirror, _MIRRORS) if mirror is not None else None
     if mirror in ("even", "odd") and m != 0:
@@ -791,8 +791,8 @@ def lowest_sector_levels(p: int = 7, q: int = 3, rings: int = 3, levels: int = 2
     from .spectrum import Spectrum
 
     t_start = time.perf_counter()
-    t = _validate.positive_real("the hopping t", t)
-    tol = _validate.positive_real("tol", tol)
+    t = _validate.hopping("the hopping t", t, positive=True)
+    tol = _validate.solver_tolerance("tol", tol)
     levels = _validate.positive_int("levels", levels)
     backend = fct.resolve_backend(backend)
     if max_bytes is not None:

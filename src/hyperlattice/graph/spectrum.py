@@ -101,10 +101,15 @@ class Spectrum(Levels):
         unit in which ``t`` was given (units of t for the default t = 1); a degenerate
         :math:`\pm m` pair appears twice (once per state).
     n : ndarray of int, shape (K,)
-        Radial index 1, 2, ... within sector m.
+        Index 1, 2, ... of the level within its rotation sector m.
     m : ndarray of int, shape (K,), or None
-        Signed angular momentum in :math:`(-p/2, p/2]`; the pair +m, -m is listed +m first.
-        ``None`` if the on-site term breaks the rotation (then n just counts levels).
+        The signed rotation sector in :math:`(-p/2, p/2]`; the pair +m, -m is listed +m first.
+        ``None`` if the on-site term breaks the rotation (then n just counts levels). The lattice
+        knows the angular momentum only modulo p (:attr:`sector`): a level of sector m may
+        continue the continuum level of angular momentum m, m - p, m + p, ...; the continuum
+        (n, m) it continues is assigned by
+        :func:`hyperlattice.compare.levels.continuum_labels` (what ``hyperlattice spectrum``
+        prints).
     errors : ndarray, shape (K,)
         :math:`\|H\psi - E\psi\|` of each normalised state (also available as ``residuals``).
     error_kind : str
@@ -125,6 +130,9 @@ class Spectrum(Levels):
         to ``energies[k]``; rows are sites, 0-based ring by ring as in the lattice.
     flux : float
         Flux quanta per p-gon face of a uniform field (0 without field).
+    requested_sector : int or None
+        The signed sector the levels were restricted to (``lowest_levels(..., sector=)``), or
+        None when the K lowest states of all sectors were asked for.
     backend : str
         The sparse factorisation that ran (``"cholmod"`` or ``"superlu"``, see
         :mod:`hyperlattice.graph.factor`), or ``""`` when none did.
@@ -150,14 +158,26 @@ class Spectrum(Levels):
     eigenvectors: np.ndarray | None = None
     flux: float = 0.0
     backend: str = ""
+    requested_sector: int | None = None
 
     @property
     def residuals(self) -> np.ndarray:
         r""":math:`\|H\psi - E\psi\|` of each normalised state (the same array as ``errors``)."""
         return self.errors
 
+    @property
+    def sector(self) -> np.ndarray | None:
+        r"""The rotation sector :math:`k = m \bmod p \in \{0, \dots, p-1\}` of each level (None without rotation).
+
+        This is all the lattice knows of the angular momentum: the p-fold rotation multiplies a
+        state of sector k by :math:`e^{2\pi\mathrm i k/p}`, the same phase for m = k, k - p, k + p, ...
+        """
+        return None if self.m is None else np.mod(self.m, self.p)
+
     def summary(self) -> dict:
-        """The CLI's JSON contract: p, q, rings, sites, method, energies, n, m, residuals (+ flux if nonzero)."""
+        """p, q, rings, sites, method, energies, n, m (index within the sector and signed sector), residuals
+        (+ flux if nonzero). The CLI prints the continuum-labelled form
+        (:class:`hyperlattice.compare.levels.LabelledSpectrum`)."""
         out = {
             "p": self.p, "q": self.q, "rings": self.rings, "sites": self.sites, "method": self.method,
             "energies": [float(e) for e in self.energies],
@@ -328,13 +348,15 @@ def _radial_index(m: np.ndarray) -> np.ndarray:
 def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: OnSite = None,
                   method: str = "auto", sector: int | None = None, eigenvectors: bool = False,
                   tol: float = 1e-10, progress: ProgressFn | None = None, flux: float = 0.0) -> Spectrum:
-    r"""The ``levels`` lowest states of :math:`H = -tA + \mathrm{diag}(V)`, labelled by (n, m).
+    r"""The ``levels`` lowest states of :math:`H = -tA + \mathrm{diag}(V)`, labelled by their rotation sector.
 
     .. math:: H = -t \sum_{\langle ij \rangle} (|i\rangle\langle j| + |j\rangle\langle i|) + \sum_i V_i |i\rangle\langle i|
 
-    Each state is labelled by its angular momentum m (the sector of the p-fold rotation,
-    :math:`m \in (-p/2, p/2]`) and its radial index n = 1, 2, ... within that sector, as the
-    continuum levels are.
+    Each state is labelled by the sector of the p-fold rotation, signed (``m`` in
+    :math:`(-p/2, p/2]`) and as :math:`k = m \bmod p` (``sector``), and by its index n = 1, 2, ...
+    within that sector. The lattice knows the angular momentum only modulo p, so these are the
+    continuum labels (n, m) only for the lowest levels of each sector; the continuum level each
+    state continues is assigned by :func:`hyperlattice.compare.levels.continuum_labels`.
 
     Parameters
     ----------
@@ -437,8 +459,8 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
     _validate.lattice(lattice)
     levels = _validate.positive_int("levels", levels)
     method = _validate.choice("method", method, _METHODS)
-    tol = _validate.positive_real("tol", tol)
-    t = _validate.real("the hopping t", t)
+    tol = _validate.solver_tolerance("tol", tol)
+    t = _validate.hopping("the hopping t", t)
     eigenvectors = _validate.flag("eigenvectors", eigenvectors)
     flux = _flux(flux)
     progress = _validate.progress("progress", progress)
@@ -496,7 +518,7 @@ def _matrix_levels(matrix, levels, *, method, eigenvectors, tol, t_start) -> Mat
     n = h.shape[0]
     levels = _validate.positive_int("levels", levels)
     method = _validate.choice("method", method, _METHODS)
-    tol = _validate.positive_real("tol", tol)
+    tol = _validate.solver_tolerance("tol", tol)
     eigenvectors = _validate.flag("eigenvectors", eigenvectors)
     if levels > n:
         raise ValueError(f"levels = {levels:,} exceeds the {n:,} states of this matrix.")
@@ -662,7 +684,7 @@ def _sector_levels(lattice, levels, t, onsite, sector, want_vecs, tol, progress,
                    + (" (sector -m is the complex conjugate of m)" if sector is None and flux == 0.0 else "") + ".")
     return Spectrum(energies=energies, n=ns, m=ms, errors=res, method=method, description=description, p=p,
                     q=lattice.q, rings=lattice.rings, sites=lattice.sites, kind=lattice.kind, timings=timings,
-                    eigenvectors=vecs, flux=flux, backend="/".join(sorted(backends)))
+                    eigenvectors=vecs, flux=flux, backend="/".join(sorted(backends)), requested_sector=sector)
 
 
 def _full_levels(lattice, levels, t, onsite, method, symmetric, want_vecs, tol, progress, t_start,
@@ -817,7 +839,7 @@ def _full_spectrum(lattice: Lattice, *, t: float, onsite: OnSite, max_sites: int
             e = sla.eigvalsh(h.toarray())
         return e, eigenvalue_tolerance(norm, n)
     _validate.lattice(lattice)
-    t = _validate.real("the hopping t", t)
+    t = _validate.hopping("the hopping t", t)
     max_sites = _validate.positive_int("max_sites", max_sites)
     flux = _flux(flux)
     if lattice.sites > max_sites:

@@ -451,17 +451,22 @@ def chebyshev_from_walks(walks, scale: float, *, sign: int = -1) -> np.ndarray:
     # T_n coefficients by the recurrence T_{n+1} = 2x T_n - T_{n-1}
     out = np.empty(len(w))
     t_prev, t_cur = [1], [0, 1]
-    out[0] = float(m[0])
-    if len(w) > 1:
-        out[1] = float(m[1])
-    for n in range(2, len(w)):
-        t_next = [0] * (n + 1)
-        for k, c in enumerate(t_cur):
-            t_next[k + 1] += 2 * c
-        for k, c in enumerate(t_prev):
-            t_next[k] -= c
-        out[n] = float(sum(c * m[k] for k, c in enumerate(t_next) if c))
-        t_prev, t_cur = t_cur, t_next
+    try:
+        out[0] = float(m[0])
+        if len(w) > 1:
+            out[1] = float(m[1])
+        for n in range(2, len(w)):
+            t_next = [0] * (n + 1)
+            for k, c in enumerate(t_cur):
+                t_next[k + 1] += 2 * c
+            for k, c in enumerate(t_prev):
+                t_next[k] -= c
+            out[n] = float(sum(c * m[k] for k, c in enumerate(t_next) if c))
+            t_prev, t_cur = t_cur, t_next
+    except OverflowError:
+        # a scale far below the spectrum's extent: the moments of A/a grow like (rho/a)^k
+        raise ValueError(f"scale = {a:g} is far below the extent of the spectrum: the Chebyshev moments overflow "
+                         "float64; the KPM scale must cover the spectrum (a >= the largest |E|).") from None
     return out
 
 

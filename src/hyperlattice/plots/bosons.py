@@ -245,7 +245,7 @@ def gp_comparison_figure(cmp: GPComparison, axes=None, path=None):
     >>> from hyperlattice.plots.bosons import gp_comparison_figure
     >>> fig = gp_comparison_figure(gp_comparison(7, 3, rings=(2,), U=0.5, modes=3, cells=200))
     >>> [ax.texts[0].get_text() for ax in fig.axes], fig.axes[0].get_title()
-    (['(a)', '(b)', '(c)'], 'n = 1, U = 0.5 t')
+    (['(a)', '(b)', '(c)'], 'mean filling N/sites = 1, U = 0.5 t')
     >>> plt.close("all")
     """
     import matplotlib.pyplot as plt
@@ -265,7 +265,7 @@ def gp_comparison_figure(cmp: GPComparison, axes=None, path=None):
     ax.set_ylabel("μ / t")
     ax.xaxis.get_major_locator().set_params(integer=True)
     ax.legend(fontsize=8, frameon=False)
-    ax.set_title(f"n = {cmp.filling:g}, U = {cmp.U:g} t", fontsize=9)
+    ax.set_title(f"mean filling N/sites = {cmp.filling:g}, U = {cmp.U:g} t", fontsize=9)
     ax = axes[1]
     prof = cmp.profiles[-1]
     ax.plot(prof["rho"], prof["graph"], "o", label=f"flake ℓ = {prof['rings']}, mean per ring")

@@ -102,8 +102,9 @@ def plot_delta_curve(curves: Sequence[DeltaCurve], ax: Axes | None = None) -> Ax
     -------
     matplotlib.axes.Axes
         The axes with the continuum :math:`\Delta = \frac12 + \frac12\sqrt{1 + m^2}` (from the BF
-        bound m² = -1 on), the lattice Δ with error bars for each curve, the BF bound as a dashed
-        vertical line, and a legend.
+        bound m² = -1 on), the lattice Δ with its fit error bars for each curve and, as a wider
+        light bar, the fit and systematic errors together, the BF bound as a dashed vertical line,
+        and a legend.
 
     Examples
     --------
@@ -124,8 +125,13 @@ def plot_delta_curve(curves: Sequence[DeltaCurve], ax: Axes | None = None) -> Ax
     m2 = np.linspace(max(BF_MASS2, lo), hi, 200)
     ax.plot(m2, delta_from_mass2(m2), "k-", lw=1.2, label=r"continuum $\frac{1}{2} + \frac{1}{2}\sqrt{1+m^2}$")
     for c in curves:
-        ax.errorbar(c.mass2, c.delta_lattice, yerr=c.delta_lattice_err, fmt="o", ms=3, capsize=2,
-                    label=fr"lattice $\ell = {c.rings}$")
+        bars = ax.errorbar(c.mass2, c.delta_lattice, yerr=c.delta_lattice_err, fmt="o", ms=3, capsize=2,
+                           label=fr"lattice $\ell = {c.rings}$")
+        total = np.hypot(c.delta_lattice_err, np.nan_to_num(c.delta_lattice_sys))
+        if np.any(np.isfinite(c.delta_lattice_sys)):
+            # the systematic error (finite l, lattice spacing) beside the fit's, as a lighter bar
+            ax.errorbar(c.mass2, c.delta_lattice, yerr=total, fmt="none", lw=4, alpha=0.25,
+                        color=bars[0].get_color())
     ax.axvline(BF_MASS2, color="0.5", ls="--", lw=1, label="continuum BF bound $m^2 = -1$")
     ax.set_xlabel(r"$m^2 = -\lambda = -4(\omega+q)/(qh^2)$")
     ax.set_ylabel(r"$\Delta$")

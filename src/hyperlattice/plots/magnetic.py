@@ -13,7 +13,7 @@ if TYPE_CHECKING:
 
     from ..graph.butterfly import Butterfly
 
-__all__ = ["continuum_curves", "butterfly_figure", "error_map"]
+__all__ = ["continuum_curves", "continuum_level_curves", "butterfly_figure", "error_map"]
 
 
 def continuum_curves(p: int, q: int, rings: int, fluxes, levels: int = 6) -> tuple[np.ndarray, np.ndarray]:
@@ -69,6 +69,74 @@ def continuum_curves(p: int, q: int, rings: int, fluxes, levels: int = 6) -> tup
     e = np.array([magnetic_levels(p, q, rings=rings, levels=levels, flux=float(fk)).energies[:levels]
                   for fk in f.tolist()])
     return f, e
+
+
+def continuum_level_curves(p: int, q: int, rings: int, fluxes, levels: int = 6) -> dict:
+    """The continuum Dirichlet levels in a magnetic field, each followed through the flux by its (n, m).
+
+    :func:`continuum_curves` returns the k-th lowest level at each flux; where two levels cross, a
+    line joining the k-th values turns a corner (it jumps from one level to the other). Here each
+    level keeps its quantum numbers (radial n, angular m): the curves cross as the levels do. Every
+    level that is among the ``levels`` lowest at some flux of ``fluxes`` is returned over the whole
+    flux range.
+
+    Parameters
+    ----------
+    p, q : int
+        The {p,q} lattice.
+    rings : int
+        Number of rings l of the flake whose disk is used.
+    fluxes : array_like of float
+        Flux values f (flux quanta per p-gon face), one-dimensional.
+    levels : int, optional
+        How many of the lowest levels at each flux select the curves (default 6).
+
+    Returns
+    -------
+    dict
+        ``(n, m) -> energies`` (numpy array, one value per flux, in units of t; NaN where the level
+        was not among the levels computed at that flux), ordered by the energy at the first flux.
+
+    Raises
+    ------
+    ValueError
+        If ``fluxes`` is not a one-dimensional array of real numbers or ``levels`` is not an
+        integer in [1, 50].
+
+    See Also
+    --------
+    continuum_curves : the k-th lowest level at each flux.
+
+    Examples
+    --------
+    >>> from hyperlattice.plots.magnetic import continuum_level_curves
+    >>> curves = continuum_level_curves(7, 3, 5, [0.0, 0.05, 0.1], levels=4)
+    >>> [key for key in curves][:4]
+    [(1, 0), (1, 1), (1, -1), (1, 2)]
+    >>> [round(float(x), 4) for x in curves[(1, 3)]]   # lowest four at f = 0.1, not at f = 0
+    [-2.7442, -2.7717, -2.7718]
+    """
+    from ..continuum.magnetic import magnetic_levels
+
+    from .. import _validate
+
+    f = _validate.real_array("fluxes", fluxes, ndim=1)
+    levels = _validate.integer("levels", levels, minimum=1, maximum=50)
+    # more levels than shown, so that a level chosen at one flux is found at every other
+    spectra = [magnetic_levels(p, q, rings=rings, levels=4 * levels + 4, flux=float(fk)) for fk in f.tolist()]
+    chosen: list = []
+    for sp in spectra:
+        for n, m in zip(sp.n[:levels].tolist(), sp.m[:levels].tolist()):
+            if (n, m) not in chosen:
+                chosen.append((n, m))
+    curves = {key: np.full(f.size, np.nan) for key in chosen}
+    for k, sp in enumerate(spectra):
+        found = {(n, m): e for n, m, e in zip(sp.n.tolist(), sp.m.tolist(), sp.energies.tolist())}
+        for key in chosen:
+            if key in found:
+                curves[key][k] = found[key]
+    first = {key: (np.nanmin(v) if np.isnan(v[0]) else v[0]) for key, v in curves.items()}
+    return {key: curves[key] for key in sorted(chosen, key=lambda k: first[k])}
 
 
 def butterfly_figure(result: Butterfly, *, continuum: bool = True, max_flux: float = 0.3, points: int = 13,
@@ -187,12 +255,14 @@ def butterfly_figure(result: Butterfly, *, continuum: bool = True, max_flux: flo
             ax.scatter(np.repeat(1.0 - result.fluxes[result.fluxes < 0.5], e.shape[1]),
                        result.energies[result.fluxes < 0.5].ravel(), s=0.3, c="k", linewidths=0, rasterized=True)
     if continuum and result.kind == "sites":
-        f, e = continuum_curves(result.p, result.q, result.rings, np.linspace(0.0, max_flux, points), levels)
-        for k in range(e.shape[1]):
-            ax.plot(f, e[:, k], color="tab:red", lw=0.9, label="continuum (Dirichlet disk)" if k == 0 else None)
+        f = np.linspace(0.0, max_flux, points)
+        curves = continuum_level_curves(result.p, result.q, result.rings, f, levels)
+        for k, ((n, m), e_nm) in enumerate(curves.items()):
+            ax.plot(f, e_nm, color="tab:red", lw=0.9, gid=f"continuum n={n} m={m}",
+                    label="continuum (Dirichlet disk)" if k == 0 else None)
         ax.legend(loc="upper right", fontsize=8)
         if zoom_ax is not None:
-            _band_bottom(zoom_ax, result, f, e, max_flux)
+            _band_bottom(zoom_ax, result, f, curves, max_flux, levels)
     if path is not None:
         import matplotlib.pyplot as plt
 
@@ -201,18 +271,25 @@ def butterfly_figure(result: Butterfly, *, continuum: bool = True, max_flux: flo
     return ax
 
 
-def _band_bottom(inset: Axes, result: Butterfly, f: np.ndarray, e: np.ndarray, max_flux: float) -> Axes:
-    """The levels at 0 ≤ f ≤ max_flux near the band bottom as dots and the continuum levels ``e`` at
-    ``f`` as red lines, on ``inset`` (the whole butterfly squeezes both into a corner)."""
+def _band_bottom(inset: Axes, result: Butterfly, f: np.ndarray, curves: dict, max_flux: float,
+                 levels: int) -> Axes:
+    """The levels at 0 ≤ f ≤ max_flux near the band bottom as dots and the continuum levels ``curves``
+    (one per (n, m)) at ``f`` as red lines, on ``inset`` (the whole butterfly squeezes both into a corner)."""
+    # the window: up to the highest of the ``levels`` lowest continuum levels at any flux
+    stacked = np.sort(np.array(list(curves.values())), axis=0)[:levels]
+    e = stacked.T
     fl = np.asarray(result.fluxes, dtype=float)
     sel = (fl >= 0.0) & (fl <= max_flux)
-    lo = float(np.min(result.energies[sel, 0])) if sel.any() else float(np.min(e))
-    hi = float(np.max(e)) + 0.35 * (float(np.max(e)) - lo)
+    lo = float(np.min(result.energies[sel, 0])) if sel.any() else float(np.nanmin(e))
+    hi = float(np.nanmax(e)) + 0.35 * (float(np.nanmax(e)) - lo)
+    # a level that climbs out of the computed ones ends early: keep its end above the window
+    ends = [float(v[np.isfinite(v)][-1]) for v in curves.values() if np.isnan(v[-1]) and np.isfinite(v).any()]
+    hi = min([hi] + [x for x in ends if x > float(np.nanmax(e))])
     en = np.asarray(result.energies, dtype=float)[sel]
     rows, cols = np.nonzero(en <= hi)
     inset.scatter(fl[sel][rows], en[rows, cols], s=1.5, c="k", linewidths=0, rasterized=True)
-    for k in range(e.shape[1]):
-        inset.plot(f, e[:, k], color="tab:red", lw=0.9)
+    for (n, m), e_nm in curves.items():
+        inset.plot(f, e_nm, color="tab:red", lw=0.9, gid=f"continuum n={n} m={m}")
     inset.set_xlim(0.0, max_flux)
     inset.set_ylim(lo - 0.05 * (hi - lo), hi)
     inset.set_xlabel("flux f per p-gon")

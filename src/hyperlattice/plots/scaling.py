@@ -73,7 +73,13 @@ def draw_radial_profile(profile: RadialProfile, ax: Axes | None = None, *, label
     return ax
 
 
-def plot_frame_angles(lattice: Lattice | FrameAngles | None = None, ax: Axes | None = None) -> Axes:
+def _artanh(r):
+    """artanh, finite at the ends of [-1, 1] (the top axis of ``plot_frame_angles`` asks for them)."""
+    return np.arctanh(np.clip(r, -1.0 + 1e-15, 1.0 - 1e-15))
+
+
+def plot_frame_angles(lattice: Lattice | FrameAngles | None = None, ax: Axes | None = None, *,
+                      distance: bool = False) -> Axes:
     r"""Fig. FigScos3delta: :math:`\cos(q\delta_i)` against :math:`r_i`, averaged at equal radius.
 
     :math:`\delta_i` is defined modulo :math:`2\pi/q`, so :math:`\cos(q\delta_i)` (the quantity
@@ -88,6 +94,10 @@ def plot_frame_angles(lattice: Lattice | FrameAngles | None = None, ax: Axes | N
         5-ring {7,3} flake when None.
     ax : matplotlib.axes.Axes, optional
         Where to draw; a new figure and axes when None (the default).
+    distance : bool, optional
+        Plot against the hyperbolic distance :math:`d(r_i, 0) = \operatorname{artanh} r_i` instead
+        of :math:`r_i` (default False), with :math:`r_i` on a second axis on top: the outer rings,
+        crowded below :math:`r = 1`, spread out, and the legend goes above the axes, off the data.
 
     Returns
     -------
@@ -107,13 +117,29 @@ def plot_frame_angles(lattice: Lattice | FrameAngles | None = None, ax: Axes | N
     angles = lattice if isinstance(lattice, FrameAngles) else frame_angles(
         lattice if lattice is not None else ring_lattice(7, 3, 5))
     q = angles.q
-    draw_radial_profile(angle_profile(angles), ax)
-    ax.set_xlabel(r"site radius $r_i$", fontsize=12)
+    profile = angle_profile(angles)
+    if distance:
+        import dataclasses
+
+        profile = dataclasses.replace(profile, r=np.arctanh(profile.r))
+    draw_radial_profile(profile, ax)
     ax.set_ylabel(fr"$\cos({q}\delta_i)$,  $\delta_i=\chi_i-\phi_i$", fontsize=12)
     ax.set_title(fr"$\{{{angles.p},{q}\}}$, {angles.z.size} sites", fontsize=12)
-    ax.set_ylim(-1.08, 1.4)  # headroom for the legend above the data
     ax.tick_params(labelsize=10)
-    ax.legend(fontsize=10, loc="upper center", ncol=2)
+    if distance:
+        ax.set_xlabel(r"hyperbolic distance $d(r_i, 0)$ from the centre", fontsize=12)
+        ax.set_ylim(-1.1, 1.1)
+        top = ax.secondary_xaxis("top", functions=(np.tanh, _artanh))
+        top.set_xlabel(r"site radius $r_i$", fontsize=11)
+        top.set_xticks([0.3, 0.6, 0.8, 0.9, 0.95, 0.98])
+        top.tick_params(labelsize=9)
+        ax.set_title("")
+        ax.legend(fontsize=10, loc="lower center", bbox_to_anchor=(0.5, 1.22), ncol=2, frameon=False,
+                  title=fr"$\{{{angles.p},{q}\}}$, {angles.z.size} sites", title_fontsize=11)
+    else:
+        ax.set_xlabel(r"site radius $r_i$", fontsize=12)
+        ax.set_ylim(-1.08, 1.4)  # headroom for the legend above the data
+        ax.legend(fontsize=10, loc="upper center", ncol=2)
     return ax
 
 

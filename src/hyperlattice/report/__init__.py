@@ -8,7 +8,9 @@ the paper's ~3-digit sparse estimates for l >= 8). Outputs in ``out_dir``:
 * ``report.md`` and ``report.html`` (self-contained: figures embedded as base64 PNG),
 * ``table_*.csv`` / ``table_*.json`` for every table (``table_s1.csv`` is SuppTab1),
 * ``fig_*.png`` and ``fig_*.svg`` for every figure,
-* ``timings.json`` (wall-clock times; kept out of the report so that it is deterministic).
+* ``timings.json`` (wall-clock times; kept out of the report so that it is deterministic),
+* ``_report.json``, which marks the directory as a report's: ``out_dir`` must be new, empty, or
+  hold it (an earlier run's), so that no file of the user's is ever overwritten.
 
 Expensive results (graph spectra, Green functions) are cached with :class:`hyperlattice.cache.Cache`.
 
@@ -29,6 +31,18 @@ from .. import __version__, _validate
 from ..cache import Cache
 
 __all__ = ["reproduce"]
+
+
+#: the file that marks a directory as a report's: written first, so that a rerun may overwrite
+#: the report, and a directory without it and with anything in it is refused (nothing of the
+#: user's is overwritten; the same rule as a sweep's directory)
+MARKER = "_report.json"
+
+
+def _out_directory(name: str, value) -> Path:
+    """The report's output directory, checked (and created) before any work: new, empty, or one an
+    earlier :func:`reproduce` wrote (it holds :data:`MARKER`); anything else is refused in one sentence."""
+    return _validate.owned_directory(name, value, marker=MARKER, what="a report")
 
 
 def reproduce(out_dir: str | Path = "reproduction", max_rings: int = 10, *, cache: Cache | None = None,
@@ -57,7 +71,8 @@ def reproduce(out_dir: str | Path = "reproduction", max_rings: int = 10, *, cach
     ------
     ValueError
         If ``max_rings`` is not an integer in [2, 14], ``cache`` is not a :class:`Cache`, or
-        ``out_dir`` cannot be created or written to.
+        ``out_dir`` cannot be created or written to, or holds files that an earlier run did not
+        write (a directory of the user's is never written into).
 
     See Also
     --------
@@ -96,7 +111,8 @@ def reproduce(out_dir: str | Path = "reproduction", max_rings: int = 10, *, cach
         raise ValueError(f"max_rings must be an integer between 2 and 14, got {max_rings!r}.")
     if cache is not None and not isinstance(cache, Cache):
         raise ValueError(f"cache must be a Cache (or None for the default one), got {type(cache).__name__}.")
-    out = _validate.directory("out_dir", out_dir)
+    out = _out_directory("out_dir", out_dir)
+    (out / MARKER).write_text(json.dumps({"format": "hyperlattice-report/1", "version": __version__}))
     cache = cache if cache is not None else Cache()
     progress = progress or (lambda msg: None)
     timings: dict = {}

@@ -172,8 +172,10 @@ def limits_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[
     fit_rows = []
     for x, r0_, r1_ in zip(central["fit_rings"], central["residuals"], partner["residuals"]):
         i = list(ell).index(x)
-        fit_rows.append([int(x), f"{e0[i]:.12f}", f"{e0[i] + r0_:.12f}", f"{r0_:+.1e}", f"{e1[i]:.12f}",
-                         f"{e1[i] + r1_:.12f}", f"{r1_:+.1e}"])
+        # the fitted values to 9 decimals: the fit residuals are >= 1e-9 and the least-squares solution
+        # moves in the 12th digit with the BLAS thread count (issue 28 item 3)
+        fit_rows.append([int(x), f"{e0[i]:.12f}", f"{e0[i] + r0_:.9f}", f"{r0_:+.1e}", f"{e1[i]:.12f}",
+                         f"{e1[i] + r1_:.9f}", f"{r1_:+.1e}"])
     t_fit = Table("band_fit", ["rings", "E0", "E0_fit", "E0_residual", "E1", "E1_fit", "E1_residual"], fit_rows,
                   "The central extrapolation fits ({7,3}, disk model E_b + M k_m(R_A + s)^2 over the last six "
                   "flakes, m = 0 for E0 and m = 1 for E1) and their residuals.")

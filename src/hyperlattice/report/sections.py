@@ -22,7 +22,7 @@ from . import data
 from .writers import Section, Table, fmt as _fmt, save_figure as _save_figure
 
 __all__ = ["geometry_section", "counts_section", "fig1_section", "spectrum_section", "open_question_text",
-           "fig2_section", "green_section", "scaling_section", "magnetic_section"]
+           "fig2_section", "green_section", "formal_operator_figure", "scaling_section", "magnetic_section"]
 
 #: The butterfly of the report: flake size and number of flux values computed in [0, 1/2] (every
 #: 1/800; the figure mirrors them to [1/2, 1], since E(1 − f) = E(f) on a site flake)
@@ -96,7 +96,7 @@ def geometry_section() -> Section:
                                "radius_constant"], rows,
                   f"Constants of {{p,3}}: r₀ ({cite('Eqr0')}), d₀ = d(r₀, r₀ e^(2πi/p)), h = tanh d₀ "
                   f"({cite('adj6')}), area per site π(1 − 6/p)/4 ({cite('sum1c')}) and c = 4p/(p − 6) in "
-                  f"L = √(N/(N + c)) ({cite('eq12')}).")
+                  f"L = √(N/(N + c)) ({cite('eq12')}).", paper="AppFS table")
     text = ["The p = ∞ column is computed as a limit: cosh d₀ = cos(π/p)/sin(π/q) → 1/sin(π/3), "
             "so d₀ → ½ ln 3 and h → cos(π/3) = 1/2."]
     text += [f"Flagged: {n}" for n in flags]
@@ -155,7 +155,7 @@ def counts_section(max_rings: int) -> Section:
     table = Table("tab1_sizes", ["rings", "N_ring", "N_ring_paper", "N", "N_paper", "N_flag", "N_closed_form",
                                  "L", "L_paper", "L_flag"], rows,
                   f"Sites per ring and in total ({cite('Tab1', 'AppTab1')}), the closed form of the caption of "
-                  f"{cite('Tab1')}, and the effective disk radius L = √(N/(N + 28)) ({cite('eq12')}).")
+                  f"{cite('Tab1')}, and the effective disk radius L = √(N/(N + 28)) ({cite('eq12')}).", paper="Tab1")
     text = ["Counts come from the combinatorial ring construction; the closed form "
             "N = 7[((3+√5)/2)^ℓ + ((3−√5)/2)^ℓ − 2] is printed as an independent check."]
     text += [f"Flagged: {n}" for n in notes]
@@ -195,7 +195,8 @@ def fig1_section(out: Path) -> Section:
     fig, ax = plt.subplots(figsize=(6.2, 5.4), layout="constrained")
     plot_tessellation(rings=3, background_rings=7, ax=ax)
     f = _save_figure(fig, out, "fig1", f"{cite('Fig1')}: the {{7,3}} tessellation in the Poincaré disk (grey, "
-                     "7 rings) and the ℓ = 3 graph (black) with its sites coloured by ring; edges drawn as geodesics.")
+                     "7 rings) and the ℓ = 3 graph (black) with its sites coloured by ring; edges drawn as geodesics.",
+                     paper="Fig1")
     return Section("The {7,3} lattice in the Poincaré disk", ("Fig1", "AppGraph"), [], [], [f], anchor="lattice")
 
 
@@ -291,7 +292,8 @@ def spectrum_section(cache: Cache, max_rings: int, timings: dict,
     Returns
     -------
     section : Section
-        The section (anchor ``"spectrum"``) with the tables ``"s1"``, ``"s1_vs_paper"`` and
+        The section (anchor ``"spectrum"``) with the tables ``"s1"`` (the paper's Table IV),
+        ``"s1_vs_paper_E0"`` and ``"s1_vs_paper_E1"`` (printed beside computed, one level each) and
         ``"graph_vs_continuum"`` and the sentences on the open question.
     records : list of dict
         One dict per l: ``rings``, ``sites``, ``radius``, the six energies of ``SuppTab1``,
@@ -305,7 +307,7 @@ def spectrum_section(cache: Cache, max_rings: int, timings: dict,
     >>> with tempfile.TemporaryDirectory() as d:
     ...     s, records = spectrum_section(Cache(d), 2, {}, lambda msg: None)
     >>> [t.name for t in s.tables], len(records)
-    (['s1', 's1_vs_paper', 'graph_vs_continuum'], 2)
+    (['s1', 's1_vs_paper_E0', 's1_vs_paper_E1', 'graph_vs_continuum'], 2)
     >>> round(records[1]["E0_graph"], 6), round(records[1]["E0_continuum"], 6)
     (-2.636405, -2.570293)
     """
@@ -336,24 +338,31 @@ def spectrum_section(cache: Cache, max_rings: int, timings: dict,
                   f"{cite('SuppTab1')} (and the energy rows of {cite('Tab1')}): lowest levels of H = −A on the "
                   "ℓ-ring {7,3} graph, of H_cont = −3 − (3/4)h²Δ_g on the disk of radius L "
                   f"({cite('spec1', 'spec2')}), and the asymptotic formulas {cite('spec11', 'spec17')} "
-                  f"({cite('eq19')}).")
+                  f"({cite('eq19')}).", paper="SuppTab1")
     # side by side with the paper
-    side_rows = []
-    for rec in records:
-        ell = rec["rings"]
-        if _printed("E0_graph", ell) is None:
-            continue
-        row = [ell]
-        for key in _LEVEL_KEYS:
-            pv = paper_value(key, ell)
-            row += [_fmt(rec[key], 6), pv.printed, pv.check(rec[key])[0]]
-        side_rows.append(row)
-    cols = ["rings"]
-    for key in _LEVEL_KEYS:
-        cols += [key, f"{key}_paper", f"{key}_flag"]
-    side = Table("s1_vs_paper", cols, side_rows,
-                 "Computed values (6 decimals) beside the paper's printed ones; ≠ marks a difference larger than "
-                 "half a unit of the last printed digit.")
+    # side by side with the paper: one table per level (10 columns each, readable at 1400 px), the
+    # flag column first after the ring number so that a disagreement is seen before the digits
+    sides = []
+    for level in ("E0", "E1"):
+        keys = [k for k in _LEVEL_KEYS if k.startswith(level + "_")]
+        side_rows = []
+        for rec in records:
+            ell = rec["rings"]
+            if _printed("E0_graph", ell) is None:
+                continue
+            row = [ell]
+            checks = [(rec[key], paper_value(key, ell)) for key in keys]
+            row += [",".join(k.split("_", 1)[1] for k, (v, pv) in zip(keys, checks) if pv.check(v)[0])]
+            for v, pv in checks:
+                row += [_fmt(v, 6), pv.printed, pv.check(v)[0]]
+            side_rows.append(row)
+        cols = ["rings", "flagged"]
+        for key in keys:
+            cols += [key, f"{key}_paper", f"{key}_flag"]
+        sides.append(Table(f"s1_vs_paper_{level}", cols, side_rows,
+                           f"{level} of {cite('SuppTab1')}: computed values (6 decimals) beside the paper's printed "
+                           "ones; ≠ marks a difference larger than half a unit of the last printed digit, and "
+                           "“flagged” lists the columns of the row that carry one."))
     rings = [r["rings"] for r in records]
     trends = [relative_error_trend(rings, [r[f"{k}_graph"] for r in records], [r[f"{k}_continuum"] for r in records],
                                    level=k) for k in ("E0", "E1")]
@@ -373,7 +382,7 @@ def spectrum_section(cache: Cache, max_rings: int, timings: dict,
     worst = max(r["residual_max"] for r in records) if records[-1]["rings"] >= 10 else None
     text += open_question_text(trends, worst)
     return Section("Ground state and first excited state: graph vs continuum",
-                   ("Tab1", "SuppTab1", "spec1", "spec2", "spec11", "spec17", "eq19"), text, [table, side, rel],
+                   ("Tab1", "SuppTab1", "spec1", "spec2", "spec11", "spec17", "eq19"), text, [table, *sides, rel],
                    anchor="spectrum"), records
 
 
@@ -435,7 +444,7 @@ def fig2_section(records: list[dict], out: Path, progress: Callable[[str], None]
     fig_obj = _save_figure(fig, out, "fig2", f"{cite('Fig2')}: (a) E₀ (blue) and E₁ (orange) of the graph "
                            "(filled) and the continuum disk (open) vs number of rings, with the asymptotes of "
                            f"{cite('eq19')}; (b, the paper's inset) partition function over negative energies for "
-                           "ℓ = 4, graph vs disk.")
+                           "ℓ = 4, graph vs disk.", paper="Fig2")
     zt = Table("fig2_partition_l4", ["beta", "Z_graph", "Z_continuum"],
                [[_fmt(b, 4), _fmt(a, 8), _fmt(c, 8)]
                 for b, a, c in zip(z.beta[::10], z.z_graph[::10], z.z_continuum[::10])],
@@ -446,6 +455,61 @@ def fig2_section(records: list[dict], out: Path, progress: Callable[[str], None]
                   if z.graph_zero_modes else "the graph has no zero mode."))
     return Section("Spectrum vs number of rings; partition function", ("Fig2",), [], [zt], [fig_obj],
                    anchor="levels-vs-rings")
+
+
+def formal_operator_figure(angles, hs: tuple = (None, 0.15, 0.05)):
+    """``FigSh`` as the report draws it: one panel per h and one legend for all, below the panels.
+
+    Each panel of :func:`hyperlattice.plots.scaling.plot_formal_operator` carries its own legend,
+    which covers the data near the boundary; here the panels share one legend in a row of its own
+    under the axes, so no marker is hidden.
+
+    Parameters
+    ----------
+    angles : FrameAngles
+        The flake's frame angles (:func:`hyperlattice.compare.scaling.frame_angles`).
+    hs : tuple of float or None
+        The values of h, one panel each; None is the lattice's own h (default: it, 0.15, 0.05).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure (not yet saved), one axes per h and one figure legend.
+
+    Raises
+    ------
+    ValueError
+        If ``angles`` is not a :class:`~hyperlattice.compare.scaling.FrameAngles`, ``hs`` is empty
+        or longer than 6, or an h is not accepted by ``plot_formal_operator``.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.report.sections import formal_operator_figure
+    >>> fig = formal_operator_figure(hl.frame_angles(hl.ring_lattice(7, 3, 3)))
+    >>> len(fig.axes), [ax.get_legend() for ax in fig.axes], len(fig.legends)
+    (3, [None, None, None], 1)
+    >>> plt.close(fig)
+    """
+    import matplotlib.pyplot as plt
+
+    from ..compare.scaling import FrameAngles
+    from ..plots.scaling import plot_formal_operator
+
+    if not isinstance(angles, FrameAngles):
+        raise ValueError(f"angles must be the FrameAngles of a flake (hyperlattice.frame_angles), got "
+                         f"{type(angles).__name__}.")
+    if not hs or len(hs) > 6:
+        raise ValueError(f"hs must name 1 to 6 values of h (None for the lattice's own), got {len(hs)}.")
+    fig, axes = plt.subplots(1, len(hs), figsize=(13.5, 4.6), layout="constrained", squeeze=False)
+    axes = axes[0]
+    for h, ax in zip(hs, axes):
+        plot_formal_operator(angles, h=angles.h if h is None else h, ax=ax)
+        ax.get_legend().remove()
+    handles, labels = axes[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncol=len(labels), fontsize=11, frameon=False)
+    return fig
 
 
 def scaling_section(out: Path, progress: Callable[[str], None]) -> Section:
@@ -486,7 +550,7 @@ def scaling_section(out: Path, progress: Callable[[str], None]) -> Section:
 
     from ..compare.scaling import frame_angles
     from ..compare.sums import fit_counting
-    from ..plots.scaling import plot_counting, plot_formal_operator, plot_frame_angles
+    from ..plots.scaling import plot_counting, plot_frame_angles
 
     progress("FigS1, FigScos3delta, FigSh")
     figs = []
@@ -495,20 +559,22 @@ def scaling_section(out: Path, progress: Callable[[str], None]) -> Section:
     fig, ax = plt.subplots(figsize=(6.0, 4.2), layout="constrained")
     plot_counting(lat4, ax=ax)
     figs.append(_save_figure(fig, out, "figS1", f"{cite('FigS1')}: counting function N(r) of the ℓ = 4 lattice "
-                             f"against ρ = (1 + r²)/(1 − r²) with the fitted line sρ + b ({cite('sum4')})."))
+                             f"against ρ = (1 + r²)/(1 − r²) with the fitted line sρ + b ({cite('sum4')}).",
+                             paper="FigS1"))
     angles = frame_angles(ring_lattice(7, 3, 5))
-    fig, ax = plt.subplots(figsize=(6.0, 4.2), layout="constrained")
-    plot_frame_angles(angles, ax=ax)
+    fig, ax = plt.subplots(figsize=(8.0, 4.8), layout="constrained")
+    plot_frame_angles(angles, ax=ax, distance=True)
     figs.append(_save_figure(fig, out, "figScos3delta", f"{cite('FigScos3delta')}: cos 3δᵢ, δᵢ = χᵢ − φᵢ, "
-                             "averaged at equal radius for ℓ = 5; red bars mark radii where r ↦ δ is not "
-                             "unique."))
-    hs = (angles.h, 0.15, 0.05)
-    fig, axes = plt.subplots(1, 3, figsize=(13.5, 4.0), layout="constrained")
-    for h, ax in zip(hs, axes):
-        plot_formal_operator(angles, h=h, ax=ax)
-    figs.append(_save_figure(fig, out, "figSh", f"{cite('FigSh')}: A_h f − 3f for f = cos[π d(r, 0)] "
+                             "averaged over the sites of equal radius for ℓ = 5 (847 sites), against the "
+                             "hyperbolic distance from the centre (the paper plots against the radius rᵢ, shown "
+                             "on the top axis: the outer rings, crowded below r = 1 there, are spread out here); "
+                             "red bars span the values at radii where r ↦ δ is not unique.",
+                             paper="FigScos3delta"))
+    figs.append(_save_figure(formal_operator_figure(angles), out, "figSh",
+                             f"{cite('FigSh')}: A_h f − 3f for f = cos[π d(r, 0)] "
                              f"({cite('adj34')}) with the quadratic ({cite('adj35')}) and cubic ({cite('adj36')}) "
-                             f"approximations, at the lattice h = {angles.h:.6f} and two smaller h."))
+                             f"approximations, at the lattice h = {angles.h:.6f} and two smaller h; one legend for "
+                             "the three panels, below them.", paper="FigSh"))
     pv = paper_value("b_counting", 4)
     flag, note = pv.check(fit.intercept)
     t = Table("figS1_fit", ["rings", "slope", "slope_expected", "b", "b_paper", "b_flag"],
@@ -585,7 +651,8 @@ def green_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[s
                                  f"panel): ω = {_omega(omega)}{part}, source site {source} on ring 2; top row ℓ = 6, "
                                  "bottom row ℓ = 3 (the paper's insets). Left: graph G_ij, middle: continuum "
                                  f"prediction of {cite('eq21')} (dot size ∝ |F|^(1/2), blue > 0, red < 0); right: "
-                                 "mean ± standard deviation versus hyperbolic distance, graph and continuum."))
+                                 "mean ± standard deviation versus hyperbolic distance, graph and continuum.",
+                                 paper="Fig3", panel=f"{'upper' if tag == 'a' else 'lower'} panels"))
     rows = []
     for ell in range(3, max(8, min(max_rings, 10)) + 1):
         progress(f"Fig3: graph vs continuum Green function, l = {ell}")
@@ -664,7 +731,7 @@ def magnetic_section(out: Path, progress: Callable[[str], None], cache: Cache | 
     bf = cache.get("butterfly", key, make, expect=Butterfly) if cache is not None else make()
     fig, (ax, zoom) = plt.subplots(1, 2, figsize=(9.5, 5.6), layout="constrained", width_ratios=(3, 1))
     # 240 energy rows: about 2 pixels each at the printed size, several levels per row in a band
-    butterfly_figure(bf, continuum=True, max_flux=0.3, points=13, levels=4, ax=ax, density=True, energy_bins=240,
+    butterfly_figure(bf, continuum=True, max_flux=0.3, points=31, levels=4, ax=ax, density=True, energy_bins=240,
                      mirror=True, zoom_ax=zoom)
     figs = [_save_figure(fig, out, "butterfly", f"Hyperbolic Hofstadter butterfly of the ℓ = {bf.rings} {{7,3}} "
                          f"flake ({bf.sites} sites): all levels at {2 * bf.fluxes.size - 1} flux values f ∈ [0, 1] "
@@ -673,9 +740,11 @@ def magnetic_section(out: Path, progress: Callable[[str], None], cache: Cache | 
                          "transformation), drawn as a density of levels (240 energy rows; grey linear in the "
                          "number of levels per pixel, black from the 98th percentile). (a) The bands are dark; "
                          "the gaps between them are white or crossed only by thin lines, the edge states of the "
-                         "flake (its outer ring holds more than half of its sites). Red: the 4 lowest continuum "
-                         f"Dirichlet levels of the same disk (magnetic_levels, {cite('spec2')} with B = 2πf/A₇) for "
-                         "f ≤ 0.3. (b) The band bottom magnified: the lowest levels of the flake (dots) and the "
+                         "flake (its outer ring holds more than half of its sites). Red: the continuum Dirichlet "
+                         f"levels of the same disk (magnetic_levels, {cite('spec2')} with B = 2πf/A₇) that are among "
+                         "the 4 lowest at some f ≤ 0.3, each drawn as one level (n, m) through the flux, so that "
+                         "levels cross where they cross rather than turning a corner (the steep m = −1 level "
+                         "is drawn until it leaves the 20 lowest levels of the disk). (b) The band bottom magnified: the lowest levels of the flake (dots) and the "
                          "same continuum levels.")]
     # l = 3..7: the 1e-3 contour first appears at l = 6 (docs/magnetic.md has l = 3..12)
     from ..compare.magnetic import MagneticComparison

@@ -22,7 +22,7 @@ import numpy as np
 
 from .. import _validate
 
-__all__ = ["Table", "Figure", "Section", "PARTS", "table_id", "figure_id", "fmt", "save_figure", "write_md",
+__all__ = ["Table", "Figure", "Section", "PARTS", "table_id", "figure_id", "item_labels", "fmt", "save_figure", "write_md",
            "write_html"]
 
 
@@ -40,6 +40,10 @@ class Table:
         One list per row, in column order.
     caption : str
         Caption in the Markdown and HTML report.
+    paper : str
+        The paper's TeX label of the table it reproduces (``"SuppTab1"``), shown as the paper
+        prints it (``"Table IV"``); empty for a table of the report's own (numbered ``Table 9.2``:
+        section 9, second table).
 
     Examples
     --------
@@ -53,6 +57,10 @@ class Table:
     columns: list[str]
     rows: list[list]
     caption: str = ""
+    paper: str = ""
+
+    def __post_init__(self) -> None:
+        _check_paper_label(self.paper)
 
     def write(self, out: Path) -> None:
         """Write the CSV and JSON files into ``out``.
@@ -100,6 +108,11 @@ class Figure:
         Caption in the Markdown and HTML report.
     png : bytes
         The PNG file's bytes (empty when not embedded).
+    paper : str
+        The paper's TeX label of the figure it reproduces (``"Fig2"``), shown as the paper prints it
+        (``"Fig. 3"``); empty for a figure of the report's own (numbered ``Fig. 9.1``).
+    panel : str
+        Which part of the paper's figure, when it takes several (``"upper panels"``).
 
     Examples
     --------
@@ -112,6 +125,20 @@ class Figure:
     name: str
     caption: str
     png: bytes = b""
+    paper: str = ""
+    panel: str = ""
+
+    def __post_init__(self) -> None:
+        _check_paper_label(self.paper)
+
+
+def _check_paper_label(label: str) -> None:
+    from ..paper_labels import cite
+
+    if not isinstance(label, str):
+        raise ValueError(f"paper must be one TeX label of the paper as a string, got {type(label).__name__}.")
+    if label:
+        cite(label)
 
 
 @dataclass
@@ -320,6 +347,66 @@ def figure_id(f: Figure) -> str:
     return f"fig-{_slug(f.name)}"
 
 
+def item_labels(sections: list[Section]) -> dict[int, str]:
+    """The name of each table and figure in the report, as the paper prints it or numbered per section.
+
+    The names are ``"Table IV"`` or ``"Fig. 3"`` (the paper's) and ``"Table 9.2"`` (the report's own).
+    A table or figure that reproduces one of the paper's is named as the paper prints it
+    (:func:`hyperlattice.paper_labels.cite`, plus the panel for a figure split in several); every
+    other one is numbered within its section of the report: ``Table 9.2`` is the second of the
+    report's own tables in section 9, ``Fig. 9.1`` its first own figure. Internal file names
+    (``s1``, ``fig2``) never name an item; they appear only as the files' names.
+
+    Parameters
+    ----------
+    sections : list of Section
+        The sections in the report's order (:func:`write_md` and :func:`write_html` number them
+        1, 2, ... in that order, the paper's first).
+
+    Returns
+    -------
+    dict of int to str
+        ``id()`` of each :class:`Table` and :class:`Figure` -> its name in the report.
+
+    Examples
+    --------
+    >>> from hyperlattice.report.writers import Figure, Section, Table, item_labels
+    >>> t1 = Table("s1", ["rings"], [[1]], paper="SuppTab1")
+    >>> t2 = Table("s1_vs_paper", ["rings"], [[1]])
+    >>> f = Figure("fig3a", "", paper="Fig3", panel="upper panels")
+    >>> names = item_labels([Section("Levels", tables=[t1, t2], figures=[f])])
+    >>> names[id(t1)], names[id(t2)], names[id(f)]
+    ('Table IV', 'Table 1.1', 'Fig. 4, upper panels')
+    """
+    from ..paper_labels import cite
+
+    names: dict[int, str] = {}
+    for n, s in enumerate(_ordered(sections), start=1):
+        own_t = own_f = 0
+        for t in s.tables:
+            if t.paper:
+                names[id(t)] = cite(t.paper)
+            else:
+                own_t += 1
+                names[id(t)] = f"Table {n}.{own_t}"
+        for f in s.figures:
+            if f.paper:
+                names[id(f)] = cite(f.paper) + (f", {f.panel}" if f.panel else "")
+            else:
+                own_f += 1
+                names[id(f)] = f"Fig. {n}.{own_f}"
+    return names
+
+
+def _captioned(label: str, caption: str) -> str:
+    """``"Table 9.2. caption"``; a caption that already opens with the label keeps it once."""
+    caption = caption.strip()
+    base = label.split(",")[0]
+    if caption.startswith(base):
+        return caption
+    return f"{label}. {caption}" if caption else f"{label}."
+
+
 def _ordered(sections: list[Section]) -> list[Section]:
     """The paper's sections first, then those beyond it (each group in the given order)."""
     return [s for part, _, _ in PARTS for s in sections if s.part == part]
@@ -327,6 +414,7 @@ def _ordered(sections: list[Section]) -> list[Section]:
 
 def _toc_md(sections: list[Section]) -> list[str]:
     lines = ["## Contents", ""]
+    names = item_labels(sections)
     n = 0
     for part, heading, pid in PARTS:
         lines.append(f"- [{heading}](#{pid})")
@@ -335,8 +423,8 @@ def _toc_md(sections: list[Section]) -> list[str]:
                 continue
             n += 1
             lines.append(f"  - [{n}. {prose(s.title)}](#{s.id})")
-            items = [f"[table {t.name}](#{table_id(t)})" for t in s.tables]
-            items += [f"[figure {f.name}](#{figure_id(f)})" for f in s.figures]
+            items = [f"[{names[id(t)]}](#{table_id(t)})" for t in s.tables]
+            items += [f"[{names[id(f)]}](#{figure_id(f)})" for f in s.figures]
             if items:
                 lines.append("    - " + " · ".join(items))
     return lines + [""]
@@ -383,7 +471,8 @@ def fmt(x, digits: int = 12) -> str:
     return f"{x:.{digits}f}"
 
 
-def save_figure(fig: matplotlib.figure.Figure, out: Path, name: str, caption: str) -> Figure:
+def save_figure(fig: matplotlib.figure.Figure, out: Path, name: str, caption: str, *, paper: str = "",
+                panel: str = "") -> Figure:
     r"""Write ``fig`` as ``fig_<name>.png`` and ``.svg`` without timestamps, close it, return the Figure.
 
     Before writing, a figure with several panels and no panel letters gets (a), (b), ..., and text is
@@ -400,6 +489,8 @@ def save_figure(fig: matplotlib.figure.Figure, out: Path, name: str, caption: st
         File stem: the files are ``fig_<name>.png`` and ``fig_<name>.svg``.
     caption : str
         The caption printed under the figure in the report.
+    paper, panel : str, optional
+        The paper's TeX label of the figure reproduced and which part of it (see :class:`Figure`).
 
     Returns
     -------
@@ -437,7 +528,7 @@ def save_figure(fig: matplotlib.figure.Figure, out: Path, name: str, caption: st
     (out / f"fig_{name}.png").write_bytes(png)
     fig.savefig(out / f"fig_{name}.svg", format="svg", metadata={"Date": None})
     plt.close(fig)
-    return Figure(name=name, caption=caption, png=png)
+    return Figure(name=name, caption=caption, png=png, paper=paper, panel=panel)
 
 
 #: the width (inches) a report figure is shown at: 1050 px of the page at the PNG's 110 dpi
@@ -463,8 +554,8 @@ def _readable(fig) -> None:
                 t.set_fontsize(floor)
 
 
-def _md_table(t: Table) -> list[str]:
-    lines = [f'<a id="{table_id(t)}"></a>', "", f"*{prose(t.caption)}* (`table_{t.name}.csv`)", "", "| " + " | ".join(t.columns) + " |",
+def _md_table(t: Table, label: str) -> list[str]:
+    lines = [f'<a id="{table_id(t)}"></a>', "", f"*{prose(_captioned(label, t.caption))}* (`table_{t.name}.csv`)", "", "| " + " | ".join(t.columns) + " |",
              "|" + "---|" * len(t.columns)]
     for r in t.rows:
         lines.append("| " + " | ".join(fmt(v) for v in r) + " |")
@@ -523,6 +614,7 @@ def write_md(sections: list[Section], header: list[str], out: Path) -> None:
     """
     out = _validate.directory("out", out, create=False)
     sections = _ordered(sections)
+    names = item_labels(sections)
     lines = list(header) + _toc_md(sections)
     n = 0
     for part, heading, pid in PARTS:
@@ -539,10 +631,10 @@ def write_md(sections: list[Section], header: list[str], out: Path) -> None:
             for p in s.text:
                 lines += [prose(p), ""]
             for t in s.tables:
-                lines += _md_table(t)
+                lines += _md_table(t, names[id(t)])
             for f in s.figures:
-                lines += [f'<a id="{figure_id(f)}"></a>', "", f"![{f.name}](fig_{f.name}.png)", "",
-                          f"*{prose(f.caption)}* (vector: `fig_{f.name}.svg`)", ""]
+                lines += [f'<a id="{figure_id(f)}"></a>', "", f"![{names[id(f)]}](fig_{f.name}.png)", "",
+                          f"*{prose(_captioned(names[id(f)], f.caption))}* (vector: `fig_{f.name}.svg`)", ""]
     (out / "report.md").write_text("\n".join(lines))
 
 
@@ -604,7 +696,7 @@ def write_html(sections: list[Section], header: list[str], out: Path) -> None:
              "nav.toc .items{font-size:0.85em;color:#555}"
              "h2,h3,p.cap,figure{scroll-margin-top:0.5em}"
              "td,th{border:1px solid #bbb;padding:2px 6px;text-align:right}"
-             "th{background:#eee}td.flag{color:#b00;font-weight:bold}"
+             "th{background:#eee;vertical-align:bottom}td{white-space:nowrap}td.flag{color:#b00;font-weight:bold}"
              "img{max-width:100%}figcaption{font-size:0.9em;color:#333}.cap{font-style:italic}</style>",
              "</head>", "<body>"]
     for line in header:
@@ -613,6 +705,7 @@ def write_html(sections: list[Section], header: list[str], out: Path) -> None:
         elif line:
             parts.append(f"<p>{_code(prose(line))}</p>")
     sections = _ordered(sections)
+    names = item_labels(sections)
     parts.append('<nav class="toc" id="contents"><h2>Contents</h2><ul>')
     n = 0
     for part, heading, pid in PARTS:
@@ -621,8 +714,8 @@ def write_html(sections: list[Section], header: list[str], out: Path) -> None:
             if s.part != part:
                 continue
             n += 1
-            items = [f'<a href="#{table_id(t)}">table {e(t.name)}</a>' for t in s.tables]
-            items += [f'<a href="#{figure_id(f)}">figure {e(f.name)}</a>' for f in s.figures]
+            items = [f'<a href="#{table_id(t)}">{e(names[id(t)])}</a>' for t in s.tables]
+            items += [f'<a href="#{figure_id(f)}">{e(names[id(f)])}</a>' for f in s.figures]
             sub = f'<br><span class="items">{" · ".join(items)}</span>' if items else ""
             parts.append(f'<li><a href="#{s.id}">{n}. {e(prose(s.title))}</a>{sub}</li>')
         parts.append("</ul></li>")
@@ -643,10 +736,11 @@ def write_html(sections: list[Section], header: list[str], out: Path) -> None:
             for p in s.text:
                 parts.append(f"<p>{_code(prose(p))}</p>")
             for t in s.tables:
-                parts.append(f'<p class="cap" id="{table_id(t)}">{_code(prose(t.caption))} '
+                parts.append(f'<p class="cap" id="{table_id(t)}">{_code(prose(_captioned(names[id(t)], t.caption)))} '
                              f'(<code>table_{e(t.name)}.csv</code>)</p>')
-                parts.append('<div class="scroll"><table><thead><tr>' + "".join(f"<th>{e(c)}</th>" for c in t.columns)
-                             + "</tr></thead><tbody>")
+                # headers may break after an underscore (E0_continuum_paper): a wide table fits the page
+                heads = "".join("<th>" + e(c).replace("_", "_<wbr>") + "</th>" for c in t.columns)
+                parts.append(f'<div class="scroll"><table><thead><tr>{heads}</tr></thead><tbody>')
                 for r in t.rows:
                     cells = []
                     for c, v in zip(t.columns, r):
@@ -656,8 +750,9 @@ def write_html(sections: list[Section], header: list[str], out: Path) -> None:
                 parts.append("</tbody></table></div>")
             for f in s.figures:
                 b64 = base64.b64encode(f.png).decode("ascii")
-                parts.append(f'<figure id="{figure_id(f)}"><img alt="{e(f.name)}" src="data:image/png;base64,{b64}">'
-                             f"<figcaption>{_code(prose(f.caption))}</figcaption></figure>")
+                parts.append(f'<figure id="{figure_id(f)}"><img alt="{e(names[id(f)])}" '
+                             f'src="data:image/png;base64,{b64}">'
+                             f"<figcaption>{_code(prose(_captioned(names[id(f)], f.caption)))}</figcaption></figure>")
     parts += ["</body>", "</html>", ""]
     (out / "report.html").write_text("\n".join(parts))
 

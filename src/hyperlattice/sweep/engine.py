@@ -1,7 +1,10 @@
 """The sweep engine: a grid of independent tasks on dask.distributed, streamed into a resumable table.
 
-* **Where it runs.** ``scheduler=None`` (or ``"local"``) starts a ``distributed.LocalCluster`` on
-  this machine (one single-threaded worker process per core, no set-up, shut down at the end);
+* **Where it runs.** ``"local"`` starts a ``distributed.LocalCluster`` on this machine (one
+  single-threaded worker process per core, no set-up, shut down at the end); ``scheduler=None``
+  does the same only when the grid is worth it: the first task runs in this process, and when the
+  rest would take less than :data:`LOCAL_CLUSTER_SECONDS` (the cluster's start-up) they run here
+  too, and the report's ``scheduler`` says so;
   ``"threads"`` the same with worker threads in this process; an address such as
   ``"tcp://10.0.0.5:8786"`` connects to a running scheduler (a cluster started by hand or by
   dask-jobqueue on SLURM/PBS, see docs/sweeps.md); a ``distributed.Client`` is used as given;
@@ -9,7 +12,7 @@
   writing the same table.
 * **Idempotent keys.** A task's key is its task name and a hash of its parameters
   (:func:`task_key`): the same task always has the same key, so a rerun skips every key whose row
-  is on disk (resumable), a grid that lists a point twice runs it once, and a task that a dying
+  is on disk (resumable), a grid that lists a value twice is refused, and a task that a dying
   worker leaves half-done is recomputed by the scheduler under the same key and written once.
 * **Streaming.** Rows are collected as futures complete (``distributed.as_completed``) and written
   every ``flush_seconds`` as one atomically renamed part file; the table is consolidated at the
@@ -198,14 +201,13 @@ def expand_grid(task: str, grid: dict) -> list[dict]:
     Returns
     -------
     list of dict
-        One complete parameter dict per grid point (the task's defaults filled in), each point
-        once even when the grid lists it twice.
+        One complete parameter dict per grid point (the task's defaults filled in).
 
     Raises
     ------
     ValueError
-        For an unknown task or parameter, an empty value list, a value of the wrong kind, a
-        point the task's check refuses, or more points than :func:`run_sweep` accepts
+        For an unknown task or parameter, an empty value list, a value listed twice, a value of
+        the wrong kind, a point the task's check refuses, or more points than :func:`run_sweep` accepts
         (:data:`MAX_TASKS`, fewer when memory is short).
 
     Examples
@@ -229,6 +231,14 @@ def expand_grid(task: str, grid: dict) -> list[dict]:
         names.append(name)
         values.append([_canonical(v) for v in vals])
     check_grid_size(math.prod(len(v) for v in values))
+    for name, vals in zip(names, values):
+        # a value listed twice was silently one task: the user's count of points was not the run's
+        seen_values: set[str] = set()
+        for v in vals:
+            text = json.dumps(v)            # 1 and 1.0 stay apart, as in the task keys
+            if text in seen_values:
+                raise ValueError(f"the grid lists {name} = {v!r} twice; give each value once.")
+            seen_values.add(text)
     out, seen = [], set()
     for combo in itertools.product(*values):
         params = dict(defaults)
@@ -236,7 +246,7 @@ def expand_grid(task: str, grid: dict) -> list[dict]:
         params = {k: _canonical(v) for k, v in params.items()}
         spec.check(params)
         key = task_key(task, params)
-        if key not in seen:         # a point listed twice is one task
+        if key not in seen:         # distinct values give distinct keys; kept as a guard
             seen.add(key)
             out.append(params)
     return out
@@ -260,7 +270,8 @@ class SweepReport(Result):
         What ran the tasks: ``"serial"``, ``"local (n processes)"`` / ``"local (n threads)"`` (a
         local Dask cluster), ``"client <address>"`` or the scheduler's address, or
         ``"nothing to do"`` when every row was on disk and no Dask scheduler was needed (a serial
-        run keeps ``"serial"``).
+        run keeps ``"serial"``); with the default scheduler, ``"serial (about x s of tasks, less
+        than ...)"`` when the grid was too small to be worth starting a local cluster.
     total : int
         Grid points of this run.
     skipped : int
@@ -343,6 +354,11 @@ def _run_serial(task, todo, keys, write, retries, failures, bar, on_row, deadlin
                 on_row(key)
         if bar is not None:
             bar.update(1)
+
+
+#: Seconds a default local cluster takes to start (measured 5-6 s on the project's 2-core machine,
+#: 2026-11-26): with ``scheduler=None`` a grid whose tasks would take less runs serially.
+LOCAL_CLUSTER_SECONDS = 5.0
 
 
 #: Seconds to reach a scheduler at an address (distributed's own default is 30 s, each retry
@@ -678,8 +694,33 @@ def run_sweep(task: str, grid: dict, path, *, scheduler=None, workers: int | Non
     try:
         if todo:
             ps, ks = [p for p, _ in todo], [k for _, k in todo]
-            if serial:
-                deadline = None if timeout is None else time.monotonic() + timeout
+            deadline = None if timeout is None else time.monotonic() + timeout
+            if scheduler is None and not serial:
+                # the default local cluster costs ~LOCAL_CLUSTER_SECONDS to start (6 s for 6 tiny
+                # tasks against 0.7 s serially): tasks run here one by one while the rest, at the
+                # pace of those after the first (which pays the imports), would take less than
+                # that; the cluster starts only for a rest that is worth it, else the run says why not
+                t_start, t_first = time.perf_counter(), None
+                while ps:
+                    _run_serial(spec.name, ps[:1], ks[:1], write, retries, failures, bar, on_row, deadline)
+                    ps, ks = ps[1:], ks[1:]
+                    now = time.perf_counter()
+                    ran = len(todo) - len(ps)
+                    if t_first is None:
+                        # the first alone decides only when it outlasts the start-up by itself
+                        t_first = now
+                        if ps and now - t_start > LOCAL_CLUSTER_SECONDS:
+                            break
+                        continue
+                    if (now - t_first) / (ran - 1) * len(ps) > LOCAL_CLUSTER_SECONDS:
+                        break
+                if not ps:
+                    serial = True
+                    label = (f"serial ({time.perf_counter() - t_start:.2g} s of tasks, less than the "
+                             f"~{LOCAL_CLUSTER_SECONDS:g} s a local cluster takes to start)")
+            if not ps:
+                pass
+            elif serial:
                 _run_serial(spec.name, ps, ks, write, retries, failures, bar, on_row, deadline)
             else:
                 with _quiet_distributed():

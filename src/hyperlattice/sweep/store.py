@@ -216,20 +216,8 @@ class SweepStore:
     """
 
     def __init__(self, path, *, backend: str | None = None) -> None:
-        self.path = _validate.directory("the sweep directory", path)
-        if not (self.path / _MANIFEST).exists():
-            try:
-                foreign = sorted(f.name for f in self.path.iterdir() if f.name not in _OURS_BEFORE_MANIFEST)
-                parts = self.path / "parts"
-                if parts.is_dir() and any(parts.iterdir()):
-                    foreign.append("parts/")
-            except OSError as exc:
-                raise ValueError(f"cannot read the sweep directory {str(self.path)!r}: "
-                                 f"{exc.strerror or exc}.") from None
-            if foreign:
-                raise ValueError(f"{str(self.path)!r} is not a sweep directory (no {_MANIFEST}, and it holds "
-                                 f"{foreign[0]!r}{' and more' if len(foreign) > 1 else ''}); "
-                                 "give a new or empty directory.")
+        self.path = _validate.owned_directory("the sweep directory", path, marker=_MANIFEST,
+                                              ours=_OURS_BEFORE_MANIFEST, what="a sweep")
         self.lock = FileLock(str(self.path / _LOCK), timeout=LOCK_TIMEOUT)
         self.parts = self.path / "parts"
         self.parts.mkdir(exist_ok=True)

@@ -1,0 +1,178 @@
+"""Every flag of every command is used by at least one invocation that runs (issue 28, item 5).
+
+:data:`INVOCATIONS` lists cheap, valid command lines; :func:`test_every_flag_is_exercised` walks the
+argparse parsers of :mod:`hyperlattice.cli` (every command and subcommand, found as the user finds
+them) and fails with the list of flags that no invocation uses: a new flag needs an entry here, so
+that no flag is dead (``bosons meanfield --plot`` could never work, and nothing noticed).
+:func:`test_invocation_runs` runs each line (exit code 0). ``--help``, ``--version`` and
+``--progress``/``--no-progress`` (one shared mechanism of every command) are left out of the count.
+
+Command lines also take negative numbers as values, as people type them: ``--U -1``,
+``--omega -2.5+0.1j``, ``--U -1e-3`` (:func:`test_negative_numbers_are_values`).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+import pytest
+
+from hyperlattice.cli import build_parser, main
+
+#: flags no invocation needs to use (shared by every command, or printing and exiting)
+SHARED = {"--help", "--version", "--progress", "--no-progress"}
+
+#: (argv, marks); "{tmp}" is the test's temporary directory. One entry per behaviour, cheap sizes.
+INVOCATIONS = [
+    ["reproduce", "--out", "{tmp}/r", "--max-rings", "2", "--cache-dir", "{tmp}/cache", "--clear-cache"],
+    ["reproduce", "--out", "{tmp}/r2", "--no-cache"],
+    ["geometry", "-p", "7", "-q", "3", "--json"],
+    ["lattice", "-p", "7", "-q", "3", "--rings", "2", "--line-graph", "--out", "{tmp}/lat.npz", "--json"],
+    ["cluster", "--list", "--max-sites", "100"],
+    ["cluster", "-p", "7", "-q", "3", "--name", "klein", "--out", "{tmp}/klein.npz", "--json"],
+    ["cluster", "--min-sites", "50", "--max-seconds", "60"],
+    ["spectrum", "-p", "7", "-q", "3", "--rings", "3", "--levels", "2", "--sector", "1", "--method", "sector", "--tol", "1e-9", "--json"],
+    ["spectrum", "--rings", "2", "--line-graph", "--flux", "0.1"],
+    ["butterfly", "-p", "7", "-q", "3", "--rings", "2", "--fluxes", "3", "--out", "{tmp}/b.png", "--table", "{tmp}/b.csv", "--continuum",
+     "--max-seconds", "120", "--checkpoint", "{tmp}/bc", "--json"],
+    ["butterfly", "--rings", "1", "--fluxes", "2", "--line-graph"],
+    ["fluxmap", "-p", "7", "-q", "3", "--rings", "2", "--fluxes", "2", "--fmax", "0.1", "--levels", "1", "--out", "{tmp}/f.png",
+     "--table", "{tmp}/f.csv", "--checkpoint", "{tmp}/fc", "--json"],
+    ["continuum", "-p", "7", "-q", "3", "--radius", "0.5", "--levels", "2", "--dictionary", "improved", "--max-seconds", "60", "--json"],
+    ["continuum", "--rings", "3", "--flux", "0.1"],
+    ["disorder", "-p", "7", "-q", "3", "--rings", "2", "--W", "0.1", "--realizations", "2", "--seed", "1", "--model", "resonator",
+     "--omega0", "4", "--line-graph", "--no-ipr", "--plot", "{tmp}/d.png", "--max-seconds", "60", "--json"],
+    ["sweep", "--task", "probe", "--grid", "x=1,2", "--out", "{tmp}/s", "--scheduler", "serial", "--workers", "1",
+     "--retries", "0", "--timeout", "60", "--json"],
+    ["sweep", "{tmp}/sweep.json", "--scheduler", "serial"],
+    ["dos", "-p", "7", "-q", "3", "--rings", "3", "--moments", "16", "--vectors", "2", "--seed", "1", "--kind", "phase", "--exclude", "1",
+     "--points", "11", "--out", "{tmp}/dos.csv", "--plot", "{tmp}/dos.png", "--checkpoint", "{tmp}/dc", "--json"],
+    ["dos", "--cluster", "klein", "--moments", "16", "--vectors", "2", "--keep-uniform"],
+    ["dos", "--rings", "3", "--site", "0", "--moments", "16"],
+    ["green", "-p", "7", "-q", "3", "--rings", "3", "--omega", "-2.5+0.1j", "--site", "0", "--tol", "1e-10", "--out", "{tmp}/g.csv",
+     "--max-seconds", "60", "--json"],
+    ["boundary", "-p", "7", "-q", "3", "--rings", "4", "--omega", "-3.2", "--site", "112", "--depth", "2", "--continuum-disk", "dirichlet",
+     "--out", "{tmp}/bd.csv", "--plot", "{tmp}/bd.png", "--json"],
+    ["qubits", "-p", "7", "-q", "3", "--rings", "3", "--omega-q", "-3.2", "--g", "0.05", "--site", "0", "--qubit-sites", "0,10",
+     "--threshold", "0.1", "--out", "{tmp}/q.csv", "--edges", "{tmp}/e.csv", "--json"],
+    ["qubits", "--rings", "2", "--line-graph", "--omega-q", "-4.1"],
+    ["scaling", "angles", "-p", "7", "-q", "3", "--rings", "3", "--plot", "{tmp}/a.png", "--json"],
+    ["scaling", "operator", "-p", "7", "-q", "3", "--rings", "3", "--h", "0.1", "--function", "gaussian", "--plot", "{tmp}/o.png", "--json"],
+    ["scaling", "convergence", "-p", "7", "-q", "3", "--rings", "3", "--function", "gaussian", "--h-min", "0.02", "--h-max", "0.05",
+     "--points", "3", "--json"],
+    ["scaling", "counting", "-p", "7", "-q", "3", "--rings", "4", "--window", "complete", "--slope", "1.0", "--plot", "{tmp}/c.png",
+     "--json"],
+    ["scaling", "sums", "-p", "7", "-q", "3", "--rings", "3", "--function", "gaussian", "--json"],
+    ["dictionary", "-p", "7", "-q", "3", "--t", "1", "--mu", "-0.5", "--U", "0.1", "--inverse", "--json"],
+    ["bosons", "ed", "--rings", "1", "-p", "7", "-q", "3", "--particles", "2", "--nmax", "2", "--U", "-1", "--t", "1",
+     "--levels", "2", "--method", "sectors", "--observables", "--json"],
+    ["bosons", "ed", "--cluster", "bolza", "--particles", "1", "--nmax", "1", "--U", "1"],
+    ["bosons", "meanfield", "-p", "7", "-q", "3", "--rings", "2", "--filling", "1", "--points", "3", "--continuum", "--t", "0.01",
+     "--mu", "0.5", "--plot", "{tmp}/m.png", "--json"],
+    ["bosons", "meanfield", "--cluster", "klein", "--points", "3"],
+    ["bosons", "meanfield", "--infinite", "--points", "3"],
+    ["bosons", "gp", "-p", "7", "-q", "3", "--rings", "2", "--filling", "1", "--U", "0.5", "--t", "1", "--modes", "3", "--json"],
+    ["bosons", "gp", "--rings", "2", "--particles", "35", "--U", "0.5"],
+]
+
+
+def _parsers(parser: argparse.ArgumentParser, path=()):
+    """(command words, parser) of every command and subcommand, as argparse builds them."""
+    subs = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
+    if path and not subs:
+        yield path, parser
+    for action in subs:
+        for name, sub in action.choices.items():
+            yield from _parsers(sub, path + (name,))
+
+
+def _flags(parser: argparse.ArgumentParser) -> dict:
+    """option string -> the flag's name (its longest spelling); a positional as <dest>."""
+    out = {}
+    for a in parser._actions:
+        if isinstance(a, argparse._SubParsersAction):
+            continue
+        name = max(a.option_strings, key=len) if a.option_strings else f"<{a.dest}>"
+        if name in SHARED or any(o in SHARED for o in a.option_strings):
+            continue
+        for o in a.option_strings or [name]:
+            out[o] = name
+    return out
+
+
+def _used(argv: list[str], parsers: dict) -> set:
+    """The (command, flag) pairs one command line uses."""
+    for n in (2, 1):
+        words = tuple(argv[:n])
+        if words in parsers:
+            flags = _flags(parsers[words])
+            used = set()
+            positional = [f for f in flags.values() if f.startswith("<")]
+            for w in argv[n:]:
+                key = w.split("=", 1)[0] if w.startswith("--") else w
+                if key in flags:
+                    used.add((" ".join(words), flags[key]))
+                elif not w.startswith("-") and positional and w.endswith(".json"):
+                    used.add((" ".join(words), positional[0]))
+            return used
+    raise AssertionError(f"no command in {argv}")
+
+
+def test_every_flag_is_exercised():
+    parsers = dict(_parsers(build_parser()))
+    everything = {(" ".join(words), flag) for words, p in parsers.items() for flag in set(_flags(p).values())}
+    used = set().union(*(_used(argv, parsers) for argv in INVOCATIONS))
+    missing = sorted(everything - used)
+    assert not missing, ("flags that no command line of tests/test_cli_every_flag.py uses (add one to "
+                         "INVOCATIONS): " + ", ".join(f"`{c} {f}`" for c, f in missing))
+
+
+def _fake_reproduce(out_dir, max_rings, *, cache, progress):
+    # the flags, not the paper, are under test (the full run is tests/test_reproduce.py)
+    return {"out_dir": str(out_dir), "sections": [], "seconds": 0.0,
+            "cache_hits": cache.hits, "cache_misses": cache.misses, "cache_reused": cache.reused}
+
+
+def _slow(argv: list[str]) -> bool:
+    # the two lines above ~5 s (a butterfly with its continuum overlay; rho of the infinite lattice)
+    return argv[0] == "butterfly" and "--continuum" in argv or "--infinite" in argv
+
+
+@pytest.mark.parametrize("argv", [pytest.param(a, id=" ".join(a[:2]) + f" #{i}",
+                                               marks=[pytest.mark.slow] if _slow(a) else [])
+                                  for i, a in enumerate(INVOCATIONS)])
+def test_invocation_runs(argv, tmp_path, monkeypatch, capsys):
+    import hyperlattice.report as report
+
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setenv("HYPERLATTICE_CACHE", str(tmp_path / "cache"))
+    monkeypatch.setattr(report, "reproduce", _fake_reproduce)
+    (tmp_path / "sweep.json").write_text(json.dumps({"task": "probe", "grid": {"x": [1.0]}, "out": str(tmp_path / "s2")}))
+    words = [w.replace("{tmp}", str(tmp_path)) for w in argv]
+    code = main(words + ["--no-progress"])
+    err = capsys.readouterr().err
+    assert code == 0, err
+    assert "Traceback" not in err
+
+
+@pytest.mark.parametrize("argv, shown", [
+    (["bosons", "ed", "--rings", "1", "--particles", "2", "--nmax", "2", "--U", "-1e-3", "--levels", "1", "--json"],
+     '"U": -0.001'),
+    (["bosons", "ed", "--rings", "1", "--particles", "2", "--nmax", "2", "--U", "-1", "--levels", "1", "--json"],
+     '"U": -1.0'),
+    (["green", "--rings", "2", "--omega", "-2.5+0.1j", "--site", "0", "--json"], None),
+    (["dictionary", "--mu", "-3.5", "--json"], None),
+])
+def test_negative_numbers_are_values(argv, shown, capsys):
+    # issue 28 item 5: argparse took "-1e-3" and "-2.5+0.1j" for unknown flags ("expected one argument")
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert shown is None or shown in out
+
+
+def test_a_negative_infinity_is_refused_as_a_number(capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["bosons", "ed", "--rings", "1", "--particles", "2", "--nmax", "2", "--U", "-inf"])
+    assert exc.value.code == 2
+    assert "expected a finite number, got '-inf'" in capsys.readouterr().err
