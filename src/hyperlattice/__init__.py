@@ -68,7 +68,7 @@ _EXPORTS = {
     "hamiltonian": "graph.operators",
     "incidence": "graph.operators",
     "sector_hamiltonian": "graph.symmetry",
-    "Spectrum": "graph.spectrum",
+    "Spectrum": "graph.levels",
     "MatrixSpectrum": "graph.spectrum",
     "lowest_levels": "graph.spectrum",
     "full_spectrum": "graph.spectrum",
