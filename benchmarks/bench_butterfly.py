@@ -5,7 +5,7 @@ sectors, at least 20x faster than dense ``scipy.linalg.eigvalsh`` of the full N 
 matrix at the same flux values, measured side by side in one run.
 
 Both sides run in this process on the same lattice. The sector side is
-:func:`hyperlattice.graph.flux.butterfly` at all ``--fluxes`` values in [0, 1] (building the
+:func:`hyperlattice.graph.butterfly.butterfly` at all ``--fluxes`` values in [0, 1] (building the
 p blocks included). The dense side builds ``hamiltonian(lattice, flux=f).toarray()`` and calls
 ``eigvalsh`` at ``--dense-fluxes`` of those values spread over [0, 1] (default 10: one dense solve
 takes seconds); its time per flux value is multiplied by ``--fluxes`` to give the dense time
@@ -28,7 +28,7 @@ import scipy.linalg as sla
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _machine import machine  # noqa: E402
 
-from hyperlattice.graph.flux import butterfly  # noqa: E402
+from hyperlattice.graph.butterfly import butterfly  # noqa: E402
 from hyperlattice.graph.lattice import ring_lattice  # noqa: E402
 from hyperlattice.graph.operators import hamiltonian  # noqa: E402
 

@@ -8,7 +8,7 @@ import pytest
 
 from hyperlattice.cli import main
 from hyperlattice.continuum.magnetic import magnetic_levels
-from hyperlattice.graph.flux import butterfly
+from hyperlattice.graph.butterfly import butterfly
 from hyperlattice.graph.lattice import ring_lattice
 from hyperlattice.graph.spectrum import lowest_levels
 
@@ -115,7 +115,7 @@ def test_bad_values_one_line_exit_2(capsys, tmp_path, monkeypatch, argv, words):
 
 
 def test_butterfly_output_checked_before_computing(capsys, monkeypatch, tmp_path):
-    import hyperlattice.graph.flux as flux
+    import hyperlattice.graph.butterfly as flux
 
     def boom(*a, **k):
         raise AssertionError("computed before checking --out")

@@ -56,7 +56,7 @@ def test_named_examples():
     from hyperlattice.continuum import magnetic as kmag
     from hyperlattice.continuum import scba
     from hyperlattice.graph import groups
-    from hyperlattice.sweep.engine import task_key
+    from hyperlattice.sweep.keys import task_key
 
     lat2 = ring_lattice(7, 3, 2)
     cases = [

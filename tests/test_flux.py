@@ -9,9 +9,10 @@ import scipy.sparse as sp
 
 from hyperlattice import geometry, ring_lattice
 from hyperlattice.graph import flux as F
+from hyperlattice.graph.butterfly import butterfly
 from hyperlattice.graph.lattice import line_graph
 from hyperlattice.graph.operators import hamiltonian
-from hyperlattice.graph.solvers import full_table
+from hyperlattice.graph.operators import full_table
 from hyperlattice.graph.spectrum import Spectrum, full_spectrum, lowest_levels
 from hyperlattice.graph.symmetry import sector_hamiltonian, sector_table, signed_sector
 from hyperlattice.results import Result
@@ -310,7 +311,7 @@ def test_largest_flux_accepted():
 def test_butterfly_matches_the_dense_spectrum():
     lat = ring_lattice(7, 3, 3)
     fluxes = np.array([0.0, 0.1, 0.35, 1.0, -0.2])
-    bf = F.butterfly(lat, fluxes)
+    bf = butterfly(lat, fluxes)
     assert bf.energies.shape == (5, lat.sites) and bf.m.shape == (5, lat.sites)
     for k, f in enumerate(fluxes):
         dense = sla.eigvalsh(hamiltonian(lat, flux=f).toarray())
@@ -334,7 +335,7 @@ def test_butterfly_line_graph_and_plot():
     import matplotlib.pyplot as plt
 
     lg = line_graph(ring_lattice(7, 3, 2))
-    bf = F.butterfly(lg, np.linspace(0, 1, 4))
+    bf = butterfly(lg, np.linspace(0, 1, 4))
     assert bf.kind == "line_graph"
     assert np.max(np.abs(bf.energies[2] - sla.eigvalsh(hamiltonian(lg, flux=2 / 3).toarray()))) < 1e-12
     ax = bf.plot()
@@ -345,17 +346,17 @@ def test_butterfly_line_graph_and_plot():
 @pytest.mark.parametrize("bad", [[], [[0.1]], ["a"], [np.nan], [0.1, 2e6]])
 def test_butterfly_bad_fluxes(bad):
     with pytest.raises(ValueError):
-        F.butterfly(ring_lattice(7, 3, 2), bad)
+        butterfly(ring_lattice(7, 3, 2), bad)
 
 
 def test_butterfly_refuses_large_before_allocating():
     lat = ring_lattice(7, 3, 4)
     with pytest.raises(ValueError, match="max_sites"):
-        F.butterfly(lat, [0.1], max_sites=100)
+        butterfly(lat, [0.1], max_sites=100)
     with pytest.raises(ValueError, match="too large"):
-        F.butterfly(lat, np.zeros(700_000))
+        butterfly(lat, np.zeros(700_000))
     with pytest.raises(ValueError, match="rotation"):
-        F.butterfly(lat, [0.1], onsite=np.arange(lat.sites, dtype=float))
+        butterfly(lat, [0.1], onsite=np.arange(lat.sites, dtype=float))
 
 
 @pytest.mark.slow
@@ -415,8 +416,8 @@ def test_butterfly_figure_mirror_draws_the_other_half_of_the_period():
     from hyperlattice.plots.magnetic import butterfly_figure
 
     lat = ring_lattice(7, 3, 3)
-    half = F.butterfly(lat, np.linspace(0.0, 0.5, 6))
-    whole = F.butterfly(lat, np.linspace(0.0, 1.0, 11))
+    half = butterfly(lat, np.linspace(0.0, 0.5, 6))
+    whole = butterfly(lat, np.linspace(0.0, 1.0, 11))
     a = butterfly_figure(half, continuum=False, density=True, energy_bins=60, mirror=True)
     b = butterfly_figure(whole, continuum=False, density=True, energy_bins=60)
     assert np.array_equal(a.images[0].get_array(), b.images[0].get_array())
@@ -424,7 +425,7 @@ def test_butterfly_figure_mirror_draws_the_other_half_of_the_period():
     with pytest.raises(ValueError, match=r"\[0, 1/2\]"):
         butterfly_figure(whole, continuum=False, density=True, mirror=True)
     with pytest.raises(ValueError, match="site flake"):
-        butterfly_figure(F.butterfly(line_graph(ring_lattice(7, 3, 2)), [0.0, 0.5]), continuum=False, mirror=True)
+        butterfly_figure(butterfly(line_graph(ring_lattice(7, 3, 2)), [0.0, 0.5]), continuum=False, mirror=True)
     for bad in ("x", -1, float("nan")):      # refused before any drawing, not an AttributeError
         with pytest.raises(ValueError, match="zoom_ax must be a matplotlib Axes"):
             butterfly_figure(half, continuum=True, zoom_ax=bad)
@@ -436,7 +437,7 @@ def test_butterfly_figure_band_bottom_panel():
 
     from hyperlattice.plots.magnetic import butterfly_figure
 
-    bf = F.butterfly(ring_lattice(7, 3, 3), np.linspace(0.0, 0.5, 11))
+    bf = butterfly(ring_lattice(7, 3, 3), np.linspace(0.0, 0.5, 11))
     fig, (ax, zoom) = plt.subplots(1, 2)
     butterfly_figure(bf, max_flux=0.3, points=4, levels=2, ax=ax, density=True, mirror=True, zoom_ax=zoom)
     # one curve per continuum level (n, m) that is among the 2 lowest at some flux (issue 28 item 3)

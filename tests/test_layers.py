@@ -222,3 +222,36 @@ def test_a_result_without_a_drawing_says_so():
             NoFigureProbe(value=1.0).plot()
     finally:   # tests/test_results.py walks every registered type: leave no probe behind
         _REGISTRY.pop("NoFigureProbe")
+
+
+#: order inside the sub-packages whose modules import each other (lowest first): every import
+#: between two of their modules, also a lazy one, points to an earlier module, so a level request
+#: flows down once (spectrum chooses the route -> sectors / symmetry build the blocks -> factor and
+#: solvers solve) and flux, operators and symmetry are leaves below every route (issue 28, item 9)
+INNER_ORDER = {
+    "graph": ("lattice", "groups", "flux", "operators", "symmetry", "solvers", "factor", "walks", "clusters",
+              "bands", "disorder", "kpm", "green", "qubits", "levels", "sectors", "spectrum", "butterfly"),
+    "sweep": ("tasks", "keys", "store", "engine"),
+}
+
+
+@pytest.mark.parametrize("package", sorted(INNER_ORDER))
+def test_imports_inside_a_package_point_down(edges, package):
+    order = INNER_ORDER[package]
+    prefix = f"hyperlattice.{package}."
+    mods = sorted(m for m in edges if m.startswith(prefix))
+    unknown = [m for m in mods if m[len(prefix):] not in order]
+    assert not unknown, f"give these modules a place in INNER_ORDER[{package!r}]: {unknown}"
+    rank = {name: k for k, name in enumerate(order)}
+    upward = [f"{m}:{line} imports {t}" + ("" if top else " (lazily)")
+              for m in mods for t, line, top in edges[m]
+              if t.startswith(prefix) and t != m and rank[t[len(prefix):]] > rank[m[len(prefix):]]]
+    assert not upward, f"imports inside {package}/ must point to an earlier module of INNER_ORDER:\n" + "\n".join(upward)
+
+
+@pytest.mark.parametrize("leaf", ["flux", "operators", "symmetry"])
+def test_graph_leaves_import_no_route_or_solver(edges, leaf):
+    """flux, operators and symmetry import neither the route (spectrum), the sector flakes, nor the solvers."""
+    banned = {f"hyperlattice.graph.{m}" for m in ("solvers", "factor", "sectors", "spectrum", "butterfly")}
+    found = [t for t, _, _ in edges[f"hyperlattice.graph.{leaf}"] if t in banned]
+    assert not found, f"graph/{leaf}.py imports {found}"

@@ -253,7 +253,7 @@ def test_interrupt_without_checkpoint_says_nothing_was_kept(monkeypatch, capsys)
 
 
 def test_a_checkpoint_serves_only_its_own_lattice(tmp_path):
-    from hyperlattice.graph.flux import butterfly
+    from hyperlattice.graph.butterfly import butterfly
     from hyperlattice.graph.lattice import line_graph, ring_lattice
 
     lat = ring_lattice(7, 3, 2)

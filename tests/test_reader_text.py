@@ -157,7 +157,7 @@ def _figures():
 
     from hyperlattice.compare.boundary import lattice_bf_bound
     from hyperlattice.compare.magnetic import magnetic_comparison
-    from hyperlattice.graph.flux import butterfly
+    from hyperlattice.graph.butterfly import butterfly
     from hyperlattice.plots.magnetic import butterfly_figure, error_map
 
     fig, (ax, zoom) = plt.subplots(1, 2)

@@ -115,7 +115,7 @@ def _factories():
             ring_lattice(7, 3, 2), 1.0, realizations=2, seed=1),
         "DirichletTable": lambda: __import__("hyperlattice.continuum.spectrum", fromlist=["x"]).dirichlet_levels(
             7, 3, rings=3, n_max=2, m_max=3),
-        "Butterfly": lambda: __import__("hyperlattice.graph.flux", fromlist=["x"]).butterfly(
+        "Butterfly": lambda: __import__("hyperlattice.graph.butterfly", fromlist=["x"]).butterfly(
             ring_lattice(7, 3, 2), [0.0, 0.1, 0.25]),
         # Levels are checked when read back (integer n, ascending energies): real data, not samples
         "ContinuumSpectrum": lambda: __import__("hyperlattice.continuum.spectrum", fromlist=["x"]).continuum_levels(

@@ -11,7 +11,7 @@ from hyperlattice.errors import ConvergenceError, ConvergenceWarning
 from hyperlattice.graph import solvers
 from hyperlattice.graph.lattice import line_graph, ring_lattice
 from hyperlattice.graph.operators import hamiltonian
-from hyperlattice.graph.solvers import SectorTable, full_table
+from hyperlattice.graph.operators import SectorTable, _fixed_width, full_table
 from hyperlattice.graph.symmetry import sector_table
 
 
@@ -40,7 +40,7 @@ def test_fixed_width_pads_with_zero_weight_self_loops():
     rows = np.array([0, 0, 2])
     cols = np.array([1, 2, 0])
     vals = np.array([1.0, 2.0, 3.0])
-    tc, tv = solvers._fixed_width(3, rows, cols, vals)
+    tc, tv = _fixed_width(3, rows, cols, vals)
     assert tc.shape == (3, 2) and tc.dtype == np.int32
     assert tc[0].tolist() == [1, 2] and tv[0].tolist() == [1.0, 2.0]
     assert tc[1].tolist() == [1, 1] and tv[1].tolist() == [0.0, 0.0]   # empty row: itself, weight 0

@@ -376,7 +376,7 @@ class Cache:
 def checkpoint_cache(checkpoint) -> Cache | None:
     """The cache that keeps the finished points of a long multi-point run (``checkpoint=`` of
     :func:`~hyperlattice.compare.magnetic.magnetic_comparison` and
-    :func:`~hyperlattice.graph.flux.butterfly`): ``checkpoint`` itself if it is a :class:`Cache`,
+    :func:`~hyperlattice.graph.butterfly.butterfly`): ``checkpoint`` itself if it is a :class:`Cache`,
     a new one in the directory it names, or None (nothing kept).
 
     Parameters

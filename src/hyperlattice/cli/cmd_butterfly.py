@@ -51,7 +51,7 @@ def run(args: argparse.Namespace) -> int:
     """Compute the butterfly and write the figure / table; bad input raises ValueError (exit 2)."""
     import numpy as np
 
-    from ..graph.flux import butterfly
+    from ..graph.butterfly import butterfly
     from ..graph.lattice import line_graph, ring_lattice
 
     # every output is checked before the computation, so a long run never fails at its end

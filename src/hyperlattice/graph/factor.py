@@ -49,7 +49,8 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from .. import _validate
-from ..errors import HyperlatticeError
+from ..errors import ConvergenceError, HyperlatticeError
+from .solvers import _lanczos_ritz
 
 __all__ = ["Factor", "SymbolicAnalysis", "analyze", "factorize", "shift_invert_lowest", "lowest_eigenpairs",
            "available_memory",
@@ -1132,9 +1133,6 @@ def lowest_eigenpairs(mat, k: int, *, tol: float = 1e-10, backend: str = "auto",
     >>> [round(float(x), 6) for x in e], info["proved"]
     ([-2.786702, -2.626896, -2.626896], True)
     """
-    from ..errors import ConvergenceError
-    from .solvers import _lanczos_ritz
-
     label = _text("label", label)
     mat = _as_square(mat, label)
     n = mat.shape[0]

@@ -10,6 +10,7 @@ index arrays (no entry-by-entry construction), with sorted column indices.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Callable, Union
 
 import numpy as np
@@ -19,7 +20,7 @@ from .. import _validate
 from .flux import _flux, edge_phases
 from .lattice import Lattice
 
-__all__ = ["adjacency", "hamiltonian", "incidence", "onsite_values"]
+__all__ = ["adjacency", "hamiltonian", "incidence", "onsite_values", "SectorTable", "full_table"]
 
 OnSite = Union[None, float, np.ndarray, Callable[[np.ndarray, np.ndarray], np.ndarray]]
 
@@ -265,6 +266,159 @@ def incidence(lattice: Lattice) -> sp.csr_matrix:
     rows = e.T.ravel()
     cols = np.concatenate([np.arange(n_e), np.arange(n_e)])
     return sp.csr_matrix((np.ones(2 * n_e), (rows, cols)), shape=(lattice.sites, n_e))
+
+
+# ----------------------------------------------------------------------------
+# the neighbour table
+# ----------------------------------------------------------------------------
+
+@dataclass(frozen=True, eq=False)
+class SectorTable:
+    """A Hamiltonian block as a fixed-width neighbour table (what the kernels consume).
+
+    Row ``i`` of the block acts as ``(H x)_i = diag[i] x_i + sum_k weights[i, k] x[cols[i, k]]``;
+    unused slots point at ``i`` itself with weight 0.
+
+    Attributes
+    ----------
+    m : int or None
+        Signed sector of the block, None for the whole Hamiltonian.
+    cols : ndarray of int32, shape (n, width)
+        Column (orbit or site, 0-based) of each slot.
+    weights : ndarray of float64 or complex128, shape (n, width)
+        Matrix element of each slot: :math:`-t` times the Bloch (and Peierls) phase, since
+        :math:`H = -tA`.
+    diag : ndarray of float64, shape (n,)
+        The diagonal: the on-site energies (units of t; zeros without an on-site term).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.symmetry import sector_table
+    >>> block = sector_table(hl.ring_lattice(7, 3, 2), 1)
+    >>> block.m, block.size, block.is_complex
+    (1, 5, True)
+    >>> [round(x, 6) for x in block.bounds()]
+    [-3.0, 3.0]
+    """
+
+    m: int | None
+    cols: np.ndarray
+    weights: np.ndarray
+    diag: np.ndarray
+
+    @property
+    def size(self) -> int:
+        """Dimension n of the block."""
+        return int(self.diag.shape[0])
+
+    @property
+    def is_complex(self) -> bool:
+        """True for complex Hermitian blocks (sectors m not in {0, p/2})."""
+        return bool(np.iscomplexobj(self.weights))
+
+    def bounds(self) -> tuple[float, float]:
+        """Gershgorin bounds (lo, hi) on the spectrum of the block."""
+        radius = np.abs(self.weights).sum(axis=1)
+        return float(np.min(self.diag - radius)), float(np.max(self.diag + radius))
+
+    def to_csr(self) -> sp.csr_matrix:
+        """The block as a CSR matrix with sorted indices and no explicit zeros."""
+        n, w = self.cols.shape
+        rows = np.repeat(np.arange(n), w)
+        mat = sp.csr_matrix((self.weights.ravel(), (rows, self.cols.ravel())), shape=(n, n))
+        mat = mat + sp.diags(self.diag.astype(mat.dtype), format="csr")
+        mat.eliminate_zeros()
+        mat.sort_indices()
+        return mat.tocsr()
+
+
+def _fixed_width(n: int, rows: np.ndarray, cols: np.ndarray, vals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Pack (row, col, value) entries into n x width arrays, padding with (row, 0)."""
+    order = np.argsort(rows, kind="stable")
+    rows, cols, vals = rows[order], cols[order], vals[order]
+    counts = np.bincount(rows, minlength=n)
+    width = max(1, int(counts.max()) if counts.size else 1)
+    start = np.zeros(n, dtype=np.int64)
+    np.cumsum(counts[:-1], out=start[1:])
+    slot = np.arange(rows.shape[0]) - start[rows]
+    table_cols = np.repeat(np.arange(n, dtype=np.int32)[:, None], width, axis=1)
+    table_vals = np.zeros((n, width), dtype=vals.dtype)
+    table_cols[rows, slot] = cols
+    table_vals[rows, slot] = vals
+    return table_cols, table_vals
+
+
+def _real_onsite(lattice: Lattice, onsite: OnSite) -> np.ndarray | None:
+    """The on-site term as float64 values (None if absent); a complex term must be real."""
+    v = onsite_values(lattice, onsite)
+    if v is None:
+        return None
+    if np.iscomplexobj(v):
+        if np.any(v.imag != 0):
+            raise ValueError("the on-site term must be real so that H is Hermitian.")
+        v = v.real
+    return v.astype(np.float64)
+
+
+def full_table(lattice: Lattice, t: float = 1.0, onsite: OnSite = None, flux: float = 0.0) -> SectorTable:
+    """The whole Hamiltonian :math:`H = -tA + V` as a fixed-width table (``m`` is None).
+
+    With a nonzero ``flux`` the hops carry the Peierls phases of :mod:`hyperlattice.graph.flux`.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        Site lattice or line graph.
+    t : float, optional
+        Hopping amplitude, the energy unit; default 1.
+    onsite : scalar, array or callable, optional
+        On-site term V in units of t; default None.
+    flux : float, optional
+        Flux quanta f per p-gon face; default 0.
+
+    Returns
+    -------
+    SectorTable
+        ``m`` None, ``cols`` and ``weights`` (N, width) with unused slots pointing at the row
+        itself with weight 0, ``diag`` (N,); complex weights for nonzero flux.
+
+    Raises
+    ------
+    ValueError
+        For an invalid lattice, t, flux or on-site term.
+
+    See Also
+    --------
+    hyperlattice.graph.symmetry.sector_table, hyperlattice.graph.operators.hamiltonian
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.graph.operators import full_table
+    >>> table = full_table(hl.ring_lattice(7, 3, 2))
+    >>> table.m, table.size, table.cols.shape, table.is_complex
+    (None, 35, (35, 3), False)
+    >>> full_table(hl.ring_lattice(7, 3, 2), flux=0.1).is_complex
+    True
+    """
+    _validate.lattice(lattice)
+    t = _validate.real("the hopping t", t)
+    flux = _flux(flux)
+    e = lattice.edges.astype(np.int64)
+    n = lattice.sites
+    rows = np.concatenate([e[:, 0], e[:, 1]])
+    cols = np.concatenate([e[:, 1], e[:, 0]])
+    if flux != 0.0:
+        hop = -t * np.exp(1j * edge_phases(lattice, flux))
+        vals = np.concatenate([hop, hop.conj()])
+    else:
+        vals = np.full(rows.shape[0], -t)
+    tc, tv = _fixed_width(n, rows, cols, vals)
+    v = _real_onsite(lattice, onsite)
+    diag = np.zeros(n) if v is None else v
+    return SectorTable(m=None, cols=tc, weights=tv, diag=diag)
+
 
 
 # every public function above checks its annotated argument types at the door (issue 19)

@@ -41,7 +41,12 @@ from .. import _validate
 from .. import geometry
 from .._ties import eigenvalue_tolerance, stable_order
 from ..errors import ConvergenceError
+from . import factor as fct
+from .factor import available_memory
 from .lattice import _check_pq, _type_counts
+from .levels import Spectrum
+from .solvers import _check_residuals, _lanczos_ritz, _single_threaded_blas
+from .symmetry import signed_sector
 
 __all__ = ["SectorLattice", "sector_lattice", "sector_block", "lowest_pair", "lowest_sector_levels", "flake_memory"]
 
@@ -160,8 +165,6 @@ def flake_memory(p: int, q: int, rings: int) -> int:
 
 def _check_flake_size(p: int, q: int, rings: int, max_bytes) -> int:
     """Full-lattice site count, or ValueError when the sector build will not fit."""
-    from .factor import available_memory
-
     # the address-space limit and the cgroup count too, not only free RAM
     limit = available_memory() if max_bytes is None else _validate.positive_int("max_bytes", max_bytes)
     per_site = _BYTES_PER_SITE_SECTORS
@@ -604,8 +607,6 @@ def sector_block(slat: SectorLattice, m: int, *, mirror: str | None = None, t: f
     >>> round(float(np.linalg.eigvalsh(sector_block(slat, 0).toarray())[0]), 6)   # E0
     -2.786702
     """
-    from .symmetry import signed_sector
-
     slat = _check_sector_lattice(slat)
     p = slat.p
     m = signed_sector(m, p)
@@ -786,9 +787,6 @@ def lowest_sector_levels(p: int = 7, q: int = 3, rings: int = 3, levels: int = 2
     >>> spec.n.tolist(), spec.m.tolist()
     ([1, 1, 1, 1], [0, 1, -1, 2])
     """
-    from . import factor as fct
-    from .solvers import _check_residuals, _lanczos_ritz, _single_threaded_blas
-    from .spectrum import Spectrum
 
     t_start = time.perf_counter()
     t = _validate.hopping("the hopping t", t, positive=True)

@@ -35,8 +35,7 @@ import scipy.sparse as sp
 from .. import _validate
 from .flux import _flux, edge_phases
 from .lattice import Lattice
-from .operators import OnSite
-from .solvers import SectorTable, _fixed_width, _real_onsite
+from .operators import OnSite, SectorTable, _fixed_width, _real_onsite
 
 __all__ = [
     "RotationOrbits",

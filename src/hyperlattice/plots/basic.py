@@ -22,7 +22,7 @@ if TYPE_CHECKING:
     from ..bosons.meanfield import MottLobe
     from ..continuum.spectrum import DirichletTable
     from ..graph.bands import AbelianDOS, Bands
-    from ..graph.flux import Butterfly
+    from ..graph.butterfly import Butterfly
     from ..graph.kpm import KPMDos
     from ..graph.lattice import Lattice
     from ..graph.qubits import BoundState
@@ -159,7 +159,7 @@ def plot_butterfly(bf: Butterfly, ax: Axes | None = None, *, color: str = "k", s
     ----------
     bf : Butterfly
         The spectra of a flake against the flux f (flux quanta per p-gon face), from
-        :func:`~hyperlattice.graph.flux.butterfly`.
+        :func:`~hyperlattice.graph.butterfly.butterfly`.
     ax : matplotlib.axes.Axes, optional
             Where to draw; a new figure and axes when None (the default).
     color : str, optional

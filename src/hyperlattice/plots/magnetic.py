@@ -11,7 +11,7 @@ from . import _check_axes, new_axes
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-    from ..graph.flux import Butterfly
+    from ..graph.butterfly import Butterfly
 
 __all__ = ["continuum_curves", "continuum_level_curves", "butterfly_figure", "error_map"]
 
@@ -162,7 +162,7 @@ def butterfly_figure(result: Butterfly, *, continuum: bool = True, max_flux: flo
     Parameters
     ----------
     result : Butterfly
-        The spectra against the flux, from :func:`~hyperlattice.graph.flux.butterfly`.
+        The spectra against the flux, from :func:`~hyperlattice.graph.butterfly.butterfly`.
     continuum : bool, optional
         Overlay the continuum levels (site flakes only; default True).
     max_flux : float, optional

@@ -717,11 +717,11 @@ def magnetic_section(out: Path, progress: Callable[[str], None], cache: Cache | 
     import numpy as np
 
     from ..compare.magnetic import magnetic_comparison
-    from ..graph.flux import butterfly
+    from ..graph.butterfly import butterfly
     from ..plots.magnetic import butterfly_figure
 
     progress("beyond the paper: magnetic flux")
-    from ..graph.flux import Butterfly
+    from ..graph.butterfly import Butterfly
 
     # 401 fluxes in [0, 1/2] (every 1/800, 801 columns once mirrored: about one per pixel of the
     # printed figure) on the 847-site l = 5 flake: 13 s on the loaded 2-core machine, cached. l = 6

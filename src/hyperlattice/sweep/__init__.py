@@ -7,7 +7,8 @@ failures, :mod:`.store` for the on-disk table, :mod:`.tasks` for what can be swe
 
 from __future__ import annotations
 
-from .engine import SweepReport, expand_grid, have_dask, run_sweep, task_key
+from .engine import SweepReport, expand_grid, have_dask, run_sweep
+from .keys import task_key
 from .store import SweepStore, SweepTable, have_pyarrow, read_table
 from .tasks import TASKS, Task, get_task
 

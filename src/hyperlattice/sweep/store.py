@@ -11,7 +11,7 @@ Layout of a sweep directory::
 
 Integrity, whatever runs write to one directory (at once or one after another):
 
-* A row is keyed by its task and parameters only (:func:`~hyperlattice.sweep.engine.task_key`),
+* A row is keyed by its task and parameters only (:func:`~hyperlattice.sweep.keys.task_key`),
   never by a run's grid position, so the table holds each key exactly once (the rows of one key
   are identical: tasks are deterministic).
 * ``index`` is not stored in the parts: it is the row's position in the *merged* grid, computed
@@ -59,6 +59,7 @@ import numpy as np
 from filelock import FileLock, Timeout
 
 from .. import __version__, _validate
+from .keys import _grid_keys
 
 __all__ = ["SweepStore", "SweepTable", "read_table", "have_pyarrow", "FORMAT"]
 
@@ -407,8 +408,6 @@ class SweepStore:
 
     def _positions(self, keys: list[str]) -> list[int]:
         """Each key's position in the merged grid (see the module docstring); unknown keys last."""
-        from .engine import _grid_keys
-
         meta = self._manifest()
         wanted = set(keys)
         pos: dict[str, int] = {}
