@@ -42,7 +42,7 @@ MIN_BINS = 32
 
 @dataclass(frozen=True)
 class Binning:
-    """The binning analysis of one observable.
+    r"""The binning analysis of one observable.
 
     Attributes
     ----------
@@ -51,14 +51,14 @@ class Binning:
     error : float
         The plateau error (the largest-level error with at least :data:`MIN_BINS` bins).
     errors : ndarray
-        :math:`\\sigma_l` per level l = 0, 1, ... (level l merges :math:`2^l` input bins).
+        :math:`\sigma_l` per level l = 0, 1, ... (level l merges :math:`2^l` input bins).
     counts : ndarray of int
         Bins per level.
     tau_int : float
         Integrated autocorrelation time in units of the input bin (a sweep when the input bins are
-        single sweeps): :math:`\\tau = \\tfrac12 (\\sigma_{\\mathrm{plateau}}/\\sigma_0)^2` times the
+        single sweeps): :math:`\tau = \tfrac12 (\sigma_{\mathrm{plateau}}/\sigma_0)^2` times the
         input bin length ``bin_size`` or from the single-measurement variance (0.5 for
-        uncorrelated sweeps: :math:`\\sigma^2 = 2\\tau\\,\\mathrm{var}/n`).
+        uncorrelated sweeps: :math:`\sigma^2 = 2\tau\,\mathrm{var}/n`).
     level : int
         The plateau level used.
     converged : bool
@@ -85,7 +85,7 @@ def _levels(x: np.ndarray):
 
 
 def binning(bins, bin_size: int = 1, variance: float | None = None) -> Binning:
-    """Binning analysis of the bin means ``bins`` (1-d), each the mean of ``bin_size`` measurements.
+    r"""Binning analysis of the bin means ``bins`` (1-d), each the mean of ``bin_size`` measurements.
 
     Parameters
     ----------
@@ -141,7 +141,7 @@ def binning(bins, bin_size: int = 1, variance: float | None = None) -> Binning:
 
 
 def plateau_bins(bins, nmin: int = MIN_BINS) -> np.ndarray:
-    """Merge bins (rows, pairwise) while at least ``2 * nmin`` remain: the bins of the plateau level."""
+    r"""Merge bins (rows, pairwise) while at least ``2 * nmin`` remain: the bins of the plateau level."""
     y = np.asarray(bins, dtype=float)
     while y.shape[0] >= 2 * nmin:
         k = y.shape[0] // 2
@@ -150,7 +150,7 @@ def plateau_bins(bins, nmin: int = MIN_BINS) -> np.ndarray:
 
 
 def jackknife(func: Callable, *bins) -> tuple[float, float]:
-    """Jackknife estimate and error of ``func(*means)`` from bins (rows = bins) of each argument.
+    r"""Jackknife estimate and error of ``func(*means)`` from bins (rows = bins) of each argument.
 
     Parameters
     ----------
@@ -162,8 +162,8 @@ def jackknife(func: Callable, *bins) -> tuple[float, float]:
     Returns
     -------
     (value, error) : tuple of float
-        The bias-corrected estimate :math:`n f(\\bar x) - (n-1)\\overline{f_{(k)}}` and the jackknife
-        error :math:`\\sqrt{(n-1)/n \\sum_k (f_{(k)} - \\overline{f_{(k)}})^2}`.
+        The bias-corrected estimate :math:`n f(\bar x) - (n-1)\overline{f_{(k)}}` and the jackknife
+        error :math:`\sqrt{(n-1)/n \sum_k (f_{(k)} - \overline{f_{(k)}})^2}`.
 
     Examples
     --------
@@ -189,9 +189,9 @@ def jackknife(func: Callable, *bins) -> tuple[float, float]:
 
 
 def combine_independent(values, errors, weights) -> tuple[float, float]:
-    """Mean of independent estimates weighted by ``weights`` (e.g. sweeps), with the propagated error.
+    r"""Mean of independent estimates weighted by ``weights`` (e.g. sweeps), with the propagated error.
 
-    :math:`\\bar x = \\sum_c w_c x_c / W`, :math:`\\sigma = \\sqrt{\\sum_c w_c^2 \\sigma_c^2}/W`:
+    :math:`\bar x = \sum_c w_c x_c / W`, :math:`\sigma = \sqrt{\sum_c w_c^2 \sigma_c^2}/W`:
     each chain is an unbiased estimate, the chains are independent.
     """
     v = np.asarray(values, dtype=float)

@@ -36,7 +36,7 @@ _M64 = 0xFFFFFFFFFFFFFFFF
 
 
 def seed_state(seed: int) -> np.ndarray:
-    """The four xoshiro256** state words from an integer seed, through splitmix64 (pure Python)."""
+    r"""The four xoshiro256** state words from an integer seed, through splitmix64 (pure Python)."""
     x = int(seed) & _M64
     out = np.empty(4, dtype=np.uint64)
     for k in range(4):
@@ -70,14 +70,13 @@ def _next(s):  # pragma: no cover - jitted
 
 @numba.njit(cache=True, inline="always")
 def _uniform(s):  # pragma: no cover - jitted
-    """A double in [0, 1) from the top 53 bits."""
+    r"""A double in [0, 1) from the top 53 bits."""
     return np.float64(_next(s) >> np.uint64(11)) * 1.1102230246251565e-16
 
 
 @numba.njit(cache=True, inline="always")
 def _below(s, m):  # pragma: no cover - jitted
-    """An integer in [0, m) (m < 2**53; the bias of the multiply is below 2**-40 for m < 2**13... negligible
-    for every m the kernels use, and deterministic)."""
+    r"""An integer in [0, m) by scaling a 53-bit uniform (bias below m / 2**53: negligible)."""
     k = np.int64(_uniform(s) * m)
     return k if k < m else m - 1
 
@@ -88,7 +87,7 @@ def _below(s, m):  # pragma: no cover - jitted
 
 @numba.njit(cache=True, inline="always")
 def _vertex_weight(b, s0, s1, s2, s3, bi, bj, tb, cb, esite, sq, nmax):  # pragma: no cover - jitted
-    """Matrix element <s2 s3| H_b |s0 s1> of the bond operator (0 when not allowed)."""
+    r"""Matrix element <s2 s3| H_b |s0 s1> of the bond operator (0 when not allowed)."""
     if s0 < 0 or s1 < 0 or s2 < 0 or s3 < 0 or s0 > nmax or s1 > nmax or s2 > nmax or s3 > nmax:
         return 0.0
     if s0 == s2:
@@ -109,9 +108,9 @@ def _vertex_weight(b, s0, s1, s2, s3, bi, bj, tb, cb, esite, sq, nmax):  # pragm
 
 @numba.njit(cache=True)
 def _diagonal_update(ops, state, nops, beta, bi, bj, cb, esite, rng, occ_sum, last, offd, measure):  # pragma: no cover
-    """Insert/remove diagonal operators (Sandvik's acceptance with a uniformly chosen bond).
+    r"""Insert/remove diagonal operators (Sandvik's acceptance with a uniformly chosen bond).
 
-    When ``measure`` is set, ``occ_sum[i]`` gains :math:`\\sum_p n_i(p)` over the M time slices
+    When ``measure`` is set, ``occ_sum[i]`` gains :math:`\sum_p n_i(p)` over the M time slices
     of the configuration (integers) and ``offd[b]`` the number of off-diagonal operators on b.
     Returns the new number of operators.
     """
@@ -161,10 +160,10 @@ def _diagonal_update(ops, state, nops, beta, bi, bj, cb, esite, rng, occ_sum, la
 @numba.njit(cache=True)
 def _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
                  vpos, link, legs, first, lastleg, wind, crossing, gacc, gdist, measure_green):  # pragma: no cover
-    """Directed-loop update (Syljuåsen & Sandvik 2002; bosons: Syljuåsen 2003) with the
+    r"""Directed-loop update (Syljuåsen & Sandvik 2002; bosons: Syljuåsen 2003) with the
     Metropolized-Gibbs exit probabilities. Returns (legs visited, loops done).
 
-    ``gacc[c]`` accumulates the worm estimator of :math:`\\langle a_k^\\dagger a_l\\rangle` for the
+    ``gacc[c]`` accumulates the worm estimator of :math:`\langle a_k^\dagger a_l\rangle` for the
     site pairs of class ``gdist[k, l]`` (see :func:`hyperlattice.bosons.sse.qmc`, Notes).
     """
     nsites = state.shape[0]
@@ -295,7 +294,7 @@ def _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
 @numba.njit(cache=True)
 def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj, tb, cb, esite, sq, nmax,
         rng, sbins, scur, sinfo, vbins, vcur, vinfo, loopstat):  # pragma: no cover - jitted
-    """Run ``nsweeps`` sweeps. Returns (ops, nops, nloops) (``ops`` is reallocated when it grows).
+    r"""Run ``nsweeps`` sweeps. Returns (ops, nops, nloops) (``ops`` is reallocated when it grows).
 
     Thermalisation (``thermalize``): after each sweep the string grows to M = 4n/3 when
     n > 3M/4 (Sandvik), and the loops per sweep are set so that about ``target_legs`` x n
