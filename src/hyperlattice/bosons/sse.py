@@ -472,7 +472,7 @@ class _Chain:
     FIELDS = ("ops", "state", "rng", "sbins", "scur", "sinfo", "vbins", "vcur", "vinfo", "loopstat", "counters",
               "gbins", "gcur", "ginfo")
 
-    def __init__(self, model: _Model, seed: int, green: _Green):
+    def __init__(self, model: _Model, seed: int, green: _Green, length: int = 16):
         from . import _sse_kernels as K
 
         nv = model.sites + model.bi.size + green.ncls
@@ -480,7 +480,9 @@ class _Chain:
         self.gbins = np.zeros((max(green.blocks, 1), g, g))
         self.gcur = np.zeros((g, g))
         self.ginfo = np.array([0, 1, 0], dtype=np.int64)
-        self.ops = np.full(16, -1, dtype=np.int64)
+        # the first string length: a quarter of the expected bound, so that the 4/3 growth per
+        # thermalisation sweep reaches a large string in a few sweeps, not in dozens
+        self.ops = np.full(max(16, int(length)), -1, dtype=np.int64)
         self.state = np.zeros(model.sites, dtype=np.int64)
         self.rng = K.seed_state(seed)
         self.sbins = np.zeros((_SCALAR_BINS, 5))
@@ -658,13 +660,13 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
     if model.bi.size == 0:
         raise ValueError("the graph has no bonds: the sites are independent (use exact_thermal).")
     eps, esite, cb = _weights(model, U, mu, nmax)
-    _check_memory(model, beta, cb, nmax, U, mu)
+    bound = _check_memory(model, beta, cb, nmax, U, mu)
     from . import _sse_kernels as K
 
     sq = np.sqrt(np.arange(nmax + 2, dtype=float))
     green = _green_setup(model, measure_green)
     tables = _exit_tables(model, esite, cb, nmax, sq)
-    chain = _Chain(model, seed, green)
+    chain = _Chain(model, seed, green, length=min(bound / 4, 1e8))
     fp = _fingerprint(model, U, mu, t, beta, nmax, seed, thermalization) + f"-green{int(measure_green)}"
     ckpt = None
     if checkpoint is not None:
