@@ -70,7 +70,7 @@ import scipy.sparse as sp
 from .. import _validate, mcstats
 from .._progress import progress_bar
 from ..errors import HyperlatticeError
-from ..results import Column, Result
+from ..results import Column, Result, to_jsonable
 
 __all__ = ["QMCResult", "qmc", "merge_chains", "QMCWarning", "OFFSET"]
 
@@ -312,9 +312,9 @@ class QMCResult(Result):
                 "bins", "bin_size", "converged", "mean_operators", "seconds")
         out = {"type": self.TYPE}
         for k in keys:
-            out[k] = getattr(self, k)
-        out["tau_int"] = {k: float(v) for k, v in self.tau_int.items()}
-        out["notes"] = list(self.notes)
+            out[k] = to_jsonable(getattr(self, k))
+        out["tau_int"] = to_jsonable(dict(self.tau_int))
+        out["notes"] = to_jsonable(list(self.notes))
         return out
 
     def table(self) -> list[dict]:
