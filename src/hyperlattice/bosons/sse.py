@@ -602,6 +602,13 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
     chain; κ and other derived quantities from the jackknife of the plateau-level bins. Sweeps
     beyond the last complete bin (fewer than ``bin_size``) are not counted in the averages.
 
+    No superfluid stiffness is measured. The winding-number estimator
+    :math:`\Upsilon_\gamma = \langle W_\gamma^2\rangle/\beta` needs, per edge, how often it crosses
+    each non-contractible cycle γ of the surface (a homology basis, e.g. from a tree-cotree
+    decomposition); a :class:`~hyperlattice.graph.clusters.Cluster` is a regular map given by its
+    rotation system only and carries no such crossing data, and an adjacency matrix carries none
+    either. The condensate fraction is the superfluid indicator offered instead.
+
     Sites without bonds (an adjacency with empty rows) are refused: their on-site energy has no
     bond to live on in this decomposition.
 
