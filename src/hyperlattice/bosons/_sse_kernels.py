@@ -1,0 +1,578 @@
+r"""numba kernels of the stochastic series expansion (SSE) of the Bose–Hubbard model.
+
+Imported on first use by :mod:`hyperlattice.bosons.sse` (never at package import), compiled with
+``cache=True``. The front end owns validation, memory checks and statistics; these kernels only
+move the Markov chain and accumulate raw sums.
+
+Configuration
+-------------
+* ``state[i]``: occupation of site i in the imaginary-time slice 0;
+* ``ops[p]``, p = 0..M-1: -1 for the identity, else ``4*b + k`` for bond b with k = 0 (the
+  diagonal vertex), 1 (:math:`a_i^\dagger a_j`, site i = ``bi[b]`` gains a boson) or 2
+  (:math:`a_j^\dagger a_i`);
+* the vertex list of the loop update: vertex v (the v-th non-identity operator) has legs
+  4v + 0 (site i, below), 4v + 1 (site j, below), 4v + 2 (site i, above), 4v + 3 (site j, above);
+  ``link`` joins each leg to the next/previous leg on the same site (periodic in imaginary time).
+
+Random numbers
+--------------
+The kernels draw from their own xoshiro256** generator (Blackman & Vigna 2018) whose whole state
+is four uint64 words passed in and out as an array. numba's built-in ``np.random`` inside njit
+keeps a hidden per-thread state that cannot be read or restored exactly, so a checkpoint could
+not continue a chain bit-identically; with an explicit state array it can (and two chains with
+different seeds are independent streams seeded through splitmix64).
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+# ----------------------------------------------------------------------------
+# xoshiro256** (public-domain algorithm of Blackman & Vigna), state = uint64[4]
+# ----------------------------------------------------------------------------
+
+_M64 = 0xFFFFFFFFFFFFFFFF
+
+
+def seed_state(seed: int) -> np.ndarray:
+    r"""The four xoshiro256** state words from an integer seed, through splitmix64 (pure Python)."""
+    x = int(seed) & _M64
+    out = np.empty(4, dtype=np.uint64)
+    for k in range(4):
+        x = (x + 0x9E3779B97F4A7C15) & _M64
+        z = x
+        z = ((z ^ (z >> 30)) * 0xBF58476D1CE4E5B9) & _M64
+        z = ((z ^ (z >> 27)) * 0x94D049BB133111EB) & _M64
+        out[k] = z ^ (z >> 31)
+    if not np.any(out):
+        out[0] = 1
+    return out
+
+
+@numba.njit(cache=True, inline="always")
+def _rotl(x, k):  # pragma: no cover - jitted
+    return (x << np.uint64(k)) | (x >> np.uint64(64 - k))
+
+
+@numba.njit(cache=True, inline="always")
+def _next(s):  # pragma: no cover - jitted
+    result = _rotl(s[1] * np.uint64(5), 7) * np.uint64(9)
+    t = s[1] << np.uint64(17)
+    s[2] ^= s[0]
+    s[3] ^= s[1]
+    s[1] ^= s[2]
+    s[0] ^= s[3]
+    s[2] ^= t
+    s[3] = _rotl(s[3], 45)
+    return result
+
+
+@numba.njit(cache=True, inline="always")
+def _uniform(s):  # pragma: no cover - jitted
+    r"""A double in [0, 1) from the top 53 bits."""
+    return np.float64(_next(s) >> np.uint64(11)) * 1.1102230246251565e-16
+
+
+@numba.njit(cache=True, inline="always")
+def _below(s, m):  # pragma: no cover - jitted
+    r"""An integer in [0, m) by scaling a 53-bit uniform (bias below m / 2**53: negligible)."""
+    k = np.int64(_uniform(s) * m)
+    return k if k < m else m - 1
+
+
+# ----------------------------------------------------------------------------
+# vertex weights
+# ----------------------------------------------------------------------------
+
+@numba.njit(cache=True, inline="always")
+def _vertex_weight(b, s0, s1, s2, s3, bi, bj, tb, cb, esite, sq, nmax):  # pragma: no cover - jitted
+    r"""Matrix element <s2 s3| H_b |s0 s1> of the bond operator (0 when not allowed)."""
+    if s0 < 0 or s1 < 0 or s2 < 0 or s3 < 0 or s0 > nmax or s1 > nmax or s2 > nmax or s3 > nmax:
+        return 0.0
+    if s0 == s2:
+        if s1 != s3:
+            return 0.0
+        return cb[b] - esite[bi[b], s0] - esite[bj[b], s1]
+    if s0 + s1 != s2 + s3:
+        return 0.0
+    d = s2 - s0
+    if d == 1 or d == -1:
+        return tb[b] * sq[max(s0, s2)] * sq[max(s1, s3)]
+    return 0.0
+
+
+# ----------------------------------------------------------------------------
+# one Monte Carlo sweep: diagonal update, then directed loops
+# ----------------------------------------------------------------------------
+
+@numba.njit(cache=True)
+def _diagonal_update(ops, state, nops, beta, bi, bj, cb, esite, rng, occ_sum, last, offd, measure):  # pragma: no cover
+    r"""Insert/remove diagonal operators (Sandvik's acceptance with a uniformly chosen bond).
+
+    When ``measure`` is set, ``occ_sum[i]`` gains :math:`\sum_p n_i(p)` over the M time slices
+    of the configuration (integers) and ``offd[b]`` the number of off-diagonal operators on b.
+    Returns the new number of operators.
+    """
+    m = ops.shape[0]
+    nb = bi.shape[0]
+    bnb = beta * nb
+    if measure:
+        for i in range(state.shape[0]):
+            last[i] = 0
+    for p in range(m):
+        op = ops[p]
+        if op < 0:
+            b = _below(rng, nb)
+            w = cb[b] - esite[bi[b], state[bi[b]]] - esite[bj[b], state[bj[b]]]
+            if _uniform(rng) * (m - nops) < bnb * w:
+                ops[p] = 4 * b
+                nops += 1
+        else:
+            b = op >> 2
+            k = op & 3
+            if k == 0:
+                w = cb[b] - esite[bi[b], state[bi[b]]] - esite[bj[b], state[bj[b]]]
+                if _uniform(rng) * bnb * w < m - nops + 1:
+                    ops[p] = -1
+                    nops -= 1
+            else:
+                i = bi[b]
+                j = bj[b]
+                if measure:
+                    occ_sum[i] += state[i] * (p + 1 - last[i])
+                    occ_sum[j] += state[j] * (p + 1 - last[j])
+                    last[i] = p + 1
+                    last[j] = p + 1
+                    offd[b] += 1
+                if k == 1:
+                    state[i] += 1
+                    state[j] -= 1
+                else:
+                    state[i] -= 1
+                    state[j] += 1
+    if measure:
+        for i in range(state.shape[0]):
+            occ_sum[i] += state[i] * (m - last[i])
+    return nops
+
+
+@numba.njit(cache=True, inline="always")
+def _exit_weights(w, b, le, d, s0, s1, s2, s3, bi, bj, tb, cb, esite, sq, nmax):  # pragma: no cover - jitted
+    r"""Weights of the four exits of a vertex entered at leg ``le`` with change ``d`` (already applied)."""
+    for x in range(4):
+        dx = -d if (x >> 1) == (le >> 1) else d
+        a0 = s0 + dx if x == 0 else s0
+        a1 = s1 + dx if x == 1 else s1
+        a2 = s2 + dx if x == 2 else s2
+        a3 = s3 + dx if x == 3 else s3
+        w[x] = _vertex_weight(b, a0, a1, a2, a3, bi, bj, tb, cb, esite, sq, nmax)
+
+
+@numba.njit(cache=True, inline="always")
+def _cumulative(w, le):  # pragma: no cover - jitted
+    r"""Turn exit weights into cumulative exit probabilities (in place), Metropolized Gibbs.
+
+    :math:`P(le \to x) = \min[w_x/(Z - w_{le}), w_x/(Z - w_x)]` for x != le (the bounce le keeps
+    the rest); it satisfies :math:`w_{le} P(le\to x) = w_x P(x \to le)` and bounces less than
+    heat bath. Entries x != le become the running sums over the other exits in leg order; a
+    uniform r beyond all of them means the bounce.
+    """
+    z = w[0] + w[1] + w[2] + w[3]
+    wl = w[le]
+    acc = 0.0
+    for x in range(4):
+        wx = w[x]
+        if x == le:
+            w[x] = -1.0             # never below a uniform r: the bounce is what no other exit takes
+            continue
+        if wx > 0.0:
+            pr = wx / (z - wl)
+            alt = wx / (z - wx)
+            acc += alt if alt < pr else pr
+        w[x] = acc
+
+
+@numba.njit(cache=True)
+def exit_table(bclass_rep, bi, bj, tb, cb, esite, sq, nmax):  # pragma: no cover - jitted
+    r"""Cumulative exit probabilities per bond class, vertex code, entrance leg and sign of the change."""
+    kk = nmax + 1
+    ncode = kk ** 4
+    out = np.zeros((bclass_rep.shape[0], ncode, 4, 2, 4))
+    w = np.empty(4)
+    for c in range(bclass_rep.shape[0]):
+        b = bclass_rep[c]
+        for code in range(ncode):
+            s0 = code % kk
+            s1 = (code // kk) % kk
+            s2 = (code // (kk * kk)) % kk
+            s3 = code // (kk * kk * kk)
+            for le in range(4):
+                for di in range(2):
+                    d = 1 if di == 0 else -1
+                    _exit_weights(w, b, le, d, s0, s1, s2, s3, bi, bj, tb, cb, esite, sq, nmax)
+                    _cumulative(w, le)
+                    for x in range(4):
+                        out[c, code, le, di, x] = w[x]
+    return out
+
+
+@numba.njit(cache=True, inline="always")
+def _gaps(leg, link, n):  # pragma: no cover - jitted
+    r"""(first gap, number of gaps) of the segment that ends at ``leg``; gap g lies just below vertex g.
+
+    A segment runs from the upper leg of vertex a to the lower leg of the next vertex c on the
+    same site and covers the gaps a+1 .. c (cyclically): c - a of them, all n when a == c.
+    """
+    v = leg >> 2
+    w = link[leg] >> 2
+    if (leg & 3) >= 2:
+        a = v
+        c = w
+    else:
+        a = w
+        c = v
+    ln = (c - a) % n
+    if ln == 0:
+        ln = n
+    return (a + 1) % n, ln
+
+
+@numba.njit(cache=True, inline="always")
+def _overlap(a, la, b, lb, n):  # pragma: no cover - jitted
+    r"""Length of the intersection of the cyclic gap ranges [a, a+la) and [b, b+lb) (mod n)."""
+    tot = 0
+    for shift in (-n, 0, n):
+        lo = max(a, b + shift)
+        hi = min(a + la, b + lb + shift)
+        if hi > lo:
+            tot += hi - lo
+    return tot
+
+
+@numba.njit(cache=True, inline="always")
+def _pair_class(k, l, gmode, gclass, zr, zi, omz, hbin, ncls):  # pragma: no cover - jitted
+    r"""Distance class of the site pair (k, l): from the table, or from the hyperbolic distance."""
+    if gmode == 1:
+        return gclass[k, l]
+    dx = zr[k] - zr[l]
+    dy = zi[k] - zi[l]
+    # the package's distance (curvature -4): arcsinh(|z - z'| / sqrt((1 - |z|^2)(1 - |z'|^2)))
+    c = int(np.arcsinh(np.sqrt((dx * dx + dy * dy) / (omz[k] * omz[l]))) / hbin + 0.5)
+    return c if c < ncls else ncls - 1
+
+
+@numba.njit(cache=True)
+def _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
+                 vpos, link, legs, first, lastleg, gmode, gfull, gcur, gclass, zr, zi, omz, hbin, vcur, voff,
+                 ncls, gsign, ptab, bclass, ntab):  # pragma: no cover
+    r"""Directed-loop update (Syljuåsen & Sandvik 2002; bosons: Syljuåsen 2003) with the
+    Metropolized-Gibbs exit probabilities. Returns the number of vertex passages.
+
+    With ``gmode`` > 0 every position of the head on a segment (after each exit) adds the worm
+    estimator of the equal-time one-body density matrix, :math:`N_{\mathrm{gap}}\sqrt{n_h n_t}`
+    (the gaps shared by head and tail segment times the boson matrix elements of the two
+    discontinuities), to :math:`G_{kl}` (k the site whose segment jumps up by one: :math:`a_k^\dagger`),
+    in the full matrix ``gcur`` (``gfull``) and in ``vcur[voff + class(k, l)]``.
+    """
+    nsites = state.shape[0]
+    for i in range(nsites):
+        first[i] = -1
+        lastleg[i] = -1
+    m = ops.shape[0]
+    # vertex list and links in O(M + sites)
+    v = 0
+    for p in range(m):
+        op = ops[p]
+        if op < 0:
+            continue
+        b = op >> 2
+        k = op & 3
+        i = bi[b]
+        j = bj[b]
+        vpos[v] = p
+        l0 = 4 * v
+        legs[l0] = state[i]
+        legs[l0 + 1] = state[j]
+        if k == 1:
+            state[i] += 1
+            state[j] -= 1
+        elif k == 2:
+            state[i] -= 1
+            state[j] += 1
+        legs[l0 + 2] = state[i]
+        legs[l0 + 3] = state[j]
+        if lastleg[i] >= 0:
+            link[l0] = lastleg[i]
+            link[lastleg[i]] = l0
+        else:
+            first[i] = l0
+        lastleg[i] = l0 + 2
+        if lastleg[j] >= 0:
+            link[l0 + 1] = lastleg[j]
+            link[lastleg[j]] = l0 + 1
+        else:
+            first[j] = l0 + 1
+        lastleg[j] = l0 + 3
+        v += 1
+    for i in range(nsites):
+        if first[i] >= 0:
+            link[first[i]] = lastleg[i]
+            link[lastleg[i]] = first[i]
+    nlegs = 4 * nops
+    visited = 0
+    w = np.empty(4)
+    kk = nmax + 1
+    if nops > 0:
+        for _ in range(nloops):
+            j0 = _below(rng, nlegs)
+            d0 = 1 if _uniform(rng) < 0.5 else -1
+            new = legs[j0] + d0
+            if new < 0 or new > nmax:
+                continue
+            legs[j0] = new
+            t0 = link[j0]
+            jl = j0
+            d = d0
+            if gmode > 0:
+                tv = j0 >> 2
+                tsite = bj[ops[vpos[tv]] >> 2] if (j0 & 1) else bi[ops[vpos[tv]] >> 2]
+                tg, tl = _gaps(j0, link, nops)
+                # the tail segment jumps up (a^dagger at tsite) when its upper end holds more bosons
+                tup = (legs[t0] > legs[j0]) if (j0 & 3) >= 2 else (legs[j0] > legs[t0])
+            while True:
+                vv = jl >> 2
+                le = jl & 3
+                b = ops[vpos[vv]] >> 2
+                base = 4 * vv
+                s0 = legs[base]
+                s1 = legs[base + 1]
+                s2 = legs[base + 2]
+                s3 = legs[base + 3]
+                r = _uniform(rng)
+                ex = le
+                if ntab > 0:
+                    # tabulated exit probabilities of this bond class (cumulative over x)
+                    di = 0 if d > 0 else 1
+                    row = ptab[bclass[b], s0 + kk * (s1 + kk * (s2 + kk * s3)), le, di]
+                    for x in range(4):
+                        if r < row[x]:
+                            ex = x
+                            break
+                else:
+                    _exit_weights(w, b, le, d, s0, s1, s2, s3, bi, bj, tb, cb, esite, sq, nmax)
+                    _cumulative(w, le)
+                    for x in range(4):
+                        if r < w[x]:
+                            ex = x
+                            break
+                dx = -d if (ex >> 1) == (le >> 1) else d
+                xl = base + ex
+                visited += 1
+                if gmode > 0:
+                    hsite = bj[b] if (ex & 1) else bi[b]
+                    if hsite != tsite:
+                        hg, hl = _gaps(xl, link, nops)
+                        ov = _overlap(hg, hl, tg, tl, nops)
+                        if ov > 0:
+                            hx = legs[xl] + dx
+                            hy = legs[link[xl]]
+                            # the tail's states shift when the head passed through its segment
+                            val = 2.0 * ov * sq[max(legs[j0], legs[t0])] * sq[max(hx, hy)]
+                            if tup:
+                                k = tsite
+                                l = hsite
+                            else:
+                                k = hsite
+                                l = tsite
+                            if gfull:
+                                gcur[k, l] += val
+                            c = _pair_class(k, l, gmode, gclass, zr, zi, omz, hbin, ncls)
+                            vcur[voff + c] += val * gsign[k] * gsign[l]
+                if xl == j0 or xl == t0:
+                    legs[xl] += dx
+                    if legs[j0] == legs[t0]:
+                        break
+                    legs[xl] -= dx
+                nxt = link[xl]
+                legs[xl] += dx
+                legs[nxt] += dx
+                jl = nxt
+                d = dx
+    # operator types and the time-0 state from the legs
+    for vv in range(nops):
+        base = 4 * vv
+        b = ops[vpos[vv]] >> 2
+        if legs[base] == legs[base + 2]:
+            ops[vpos[vv]] = 4 * b
+        elif legs[base + 2] > legs[base]:
+            ops[vpos[vv]] = 4 * b + 1
+        else:
+            ops[vpos[vv]] = 4 * b + 2
+    for i in range(nsites):
+        if first[i] >= 0:
+            state[i] = legs[first[i]]
+        else:
+            # no operator acts on site i: the weight does not depend on n_i (the on-site energy is
+            # inside the bond vertices), so n_i is uniform over 0..nmax
+            state[i] = _below(rng, nmax + 1)
+    return visited
+
+
+@numba.njit(cache=True)
+def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj, tb, cb, esite, sq, nmax,
+        rng, sbins, scur, sinfo, vbins, vcur, vinfo, loopstat, gmode, gclass, zr, zi, omz, hbin, ncls,
+        gbins, gcur, ginfo, gsign, ptab, bclass):  # pragma: no cover - jitted
+    r"""Run ``nsweeps`` sweeps. Returns (ops, nops, nloops) (``ops`` is reallocated when it grows).
+
+    Thermalisation (``thermalize``): after each sweep the string grows to M = 4n/3 when
+    n > 3M/4 (Sandvik), and the loops per sweep are set so that about ``target_legs`` x n
+    vertex legs are visited per sweep (from the running mean loop length in ``loopstat``).
+
+    Measurement: per sweep the scalars (n, n^2, N, N^2, N^4) are added to ``scur`` and the site
+    occupation sums / M and per-bond off-diagonal counts to ``vcur``; a bin of ``sinfo[1]``
+    (``vinfo[1]``) sweeps is closed into ``sbins`` (``vbins``); when the bin array is full its
+    bins are merged pairwise and the bin size doubles. The whole accumulation is a deterministic
+    function of the sweep sequence (checkpoint-independent).
+
+    Green function (``gmode`` > 0, measurement only): the worm sums per distance class go to the
+    last ``ncls`` entries of ``vcur``; with ``gbins`` of more than one site, the full matrix
+    (diagonal: the site occupations) to ``gcur`` and blocks of it to ``gbins`` (``ginfo`` as above).
+    """
+    nsites = state.shape[0]
+    nbonds = bi.shape[0]
+    m = ops.shape[0]
+    occ = np.zeros(nsites, dtype=np.int64)
+    last = np.zeros(nsites, dtype=np.int64)
+    offd = np.zeros(nbonds, dtype=np.int64)
+    first = np.empty(nsites, dtype=np.int64)
+    lastleg = np.empty(nsites, dtype=np.int64)
+    cap = max(m, 16)
+    vpos = np.empty(cap, dtype=np.int64)
+    link = np.empty(4 * cap, dtype=np.int64)
+    legs = np.empty(4 * cap, dtype=np.int64)
+    nv = vcur.shape[0]
+    ntab = ptab.shape[0]
+    gfull = gbins.shape[1] == nsites and nsites > 1
+    voff = nsites + nbonds
+    for sweep in range(nsweeps):
+        measure = not thermalize
+        if measure:
+            for i in range(nsites):
+                occ[i] = 0
+            for b in range(nbonds):
+                offd[b] = 0
+        nops = _diagonal_update(ops, state, nops, beta, bi, bj, cb, esite, rng, occ, last, offd, measure)
+        if measure:
+            ntot = 0
+            for i in range(nsites):
+                ntot += state[i]
+            fn = float(nops)
+            fN = float(ntot)
+            scur[0] += fn
+            scur[1] += fn * fn
+            scur[2] += fN
+            scur[3] += fN * fN
+            scur[4] += fN * fN * fN * fN
+            for i in range(nsites):
+                vcur[i] += occ[i] / m
+            if gfull:
+                for i in range(nsites):
+                    gcur[i, i] += occ[i] / m
+            for b in range(nbonds):
+                vcur[nsites + b] += offd[b]
+        if ops.shape[0] > cap:
+            cap = ops.shape[0]
+            vpos = np.empty(cap, dtype=np.int64)
+            link = np.empty(4 * cap, dtype=np.int64)
+            legs = np.empty(4 * cap, dtype=np.int64)
+        gm = 0 if thermalize else gmode
+        visited = _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
+                               vpos, link, legs, first, lastleg, gm, gfull, gcur, gclass,
+                               zr, zi, omz, hbin, vcur, voff, ncls, gsign, ptab, bclass, ntab)
+        if thermalize:
+            loopstat[0] += visited
+            loopstat[1] += nloops
+            # loops per sweep from the mean loop length so far (aborted starts included)
+            mean_len = loopstat[0] / max(loopstat[1], 1.0)
+            want = target_legs * nops / max(mean_len, 1e-3)
+            nloops = int(min(max(want, 1.0), 1e9))
+            if nops > 0.75 * m:
+                newm = (4 * nops) // 3 + 8
+                new = np.full(newm, -1, dtype=np.int64)
+                # spread the operators evenly (their order is what matters)
+                k = 0
+                for p in range(m):
+                    if ops[p] >= 0:
+                        new[(k * newm) // nops] = ops[p]
+                        k += 1
+                ops = new
+                m = newm
+        else:
+            # close bins
+            sinfo[2] += 1
+            if sinfo[2] == sinfo[1]:
+                nb = sinfo[0]
+                for k in range(scur.shape[0]):
+                    sbins[nb, k] = scur[k]
+                    scur[k] = 0.0
+                sinfo[0] = nb + 1
+                sinfo[2] = 0
+                if sinfo[0] == sbins.shape[0]:
+                    half = sbins.shape[0] // 2
+                    for a in range(half):
+                        for k in range(scur.shape[0]):
+                            sbins[a, k] = sbins[2 * a, k] + sbins[2 * a + 1, k]
+                    sinfo[0] = half
+                    sinfo[1] *= 2
+            vinfo[2] += 1
+            if vinfo[2] == vinfo[1]:
+                nb = vinfo[0]
+                for k in range(nv):
+                    vbins[nb, k] = vcur[k]
+                    vcur[k] = 0.0
+                vinfo[0] = nb + 1
+                vinfo[2] = 0
+                if vinfo[0] == vbins.shape[0]:
+                    half = vbins.shape[0] // 2
+                    for a in range(half):
+                        for k in range(nv):
+                            vbins[a, k] = vbins[2 * a, k] + vbins[2 * a + 1, k]
+                    vinfo[0] = half
+                    vinfo[1] *= 2
+            if gfull:
+                ginfo[2] += 1
+                if ginfo[2] == ginfo[1]:
+                    nb = ginfo[0]
+                    gbins[nb] = gcur
+                    gcur[:, :] = 0.0
+                    ginfo[0] = nb + 1
+                    ginfo[2] = 0
+                    if ginfo[0] == gbins.shape[0]:
+                        half = gbins.shape[0] // 2
+                        for a in range(half):
+                            gbins[a] = gbins[2 * a] + gbins[2 * a + 1]
+                        ginfo[0] = half
+                        ginfo[1] *= 2
+    return ops, nops, nloops
+
+
+@numba.njit(cache=True)
+def pair_counts(zr, zi, omz, hbin, ncls):  # pragma: no cover - jitted
+    r"""Ordered site pairs (k != l) and their summed hyperbolic distance per distance class."""
+    cnt = np.zeros(ncls, dtype=np.int64)
+    dsum = np.zeros(ncls)
+    n = zr.shape[0]
+    for k in range(n):
+        for l in range(n):
+            if k == l:
+                continue
+            dx = zr[k] - zr[l]
+            dy = zi[k] - zi[l]
+            d = np.arcsinh(np.sqrt((dx * dx + dy * dy) / (omz[k] * omz[l])))
+            c = int(d / hbin + 0.5)
+            if c >= ncls:
+                c = ncls - 1
+            cnt[c] += 1
+            dsum[c] += d
+    return cnt, dsum
