@@ -491,9 +491,10 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
                                vpos, link, legs, first, lastleg, gm, gfull, gcur, gclass,
                                zr, zi, omz, hbin, vcur, voff, ncls, gsign, ptab, bclass, ntab)
         if thermalize:
-            loopstat[0] += visited
-            loopstat[1] += nloops
-            # loops per sweep from the mean loop length so far (aborted starts included)
+            # loops per sweep from the recent mean loop length (aborted starts included); the sums
+            # decay so that the short loops of the first sweeps, on a short string, are forgotten
+            loopstat[0] = 0.9 * loopstat[0] + visited
+            loopstat[1] = 0.9 * loopstat[1] + nloops
             mean_len = loopstat[0] / max(loopstat[1], 1.0)
             want = target_legs * nops / max(mean_len, 1e-3)
             nloops = int(min(max(want, 1.0), 1e9))
