@@ -14,7 +14,9 @@ continuum/ only):
 
 * ``basis``, ``ed`` -- exact diagonalisation in a number-conserving basis with an occupation cutoff;
 * ``meanfield`` -- site-decoupled (Gutzwiller) mean field and the Mott lobes;
-* ``gp`` -- discrete and continuum Gross–Pitaevskii ground states and Bogoliubov spectra.
+* ``gp`` -- discrete and continuum Gross–Pitaevskii ground states and Bogoliubov spectra;
+* ``sse`` (kernels in ``_sse_kernels``) -- stochastic series expansion quantum Monte Carlo at finite
+  temperature, and ``thermal`` -- its exact reference, full diagonalisation over all particle numbers.
 """
 
 from __future__ import annotations
@@ -22,6 +24,8 @@ from __future__ import annotations
 from .basis import BosonBasis, basis_dimension, boson_basis
 from .ed import BoseHubbardLevels, ChargeGap, bose_hubbard, charge_gap
 from .gp import BogoliubovSpectrum, GPState, bogoliubov, gp_ground_state
+from .sse import QMCResult, QMCWarning, merge_chains, qmc
+from .thermal import exact_thermal
 from .meanfield import (GutzwillerState, MottLobe, MottLobeTable, gutzwiller, largest_adjacency_eigenvalue,
                         lobe_boundary, lobe_tip, mott_lobe, mott_lobes)
 
@@ -33,4 +37,6 @@ __all__: list[str] = [
     # mean field (item 2)
     "GutzwillerState", "MottLobe", "MottLobeTable", "gutzwiller", "largest_adjacency_eigenvalue", "lobe_boundary",
     "lobe_tip", "mott_lobe", "mott_lobes",
+    # quantum Monte Carlo (issue 27) and its exact reference
+    "QMCResult", "QMCWarning", "qmc", "merge_chains", "exact_thermal",
 ]
