@@ -84,7 +84,7 @@ def test_checkpoint_resume_is_the_uninterrupted_chain(tmp_path, capsys):
     (["--rings", "1", "--nmax", "2", "--U", "1", "--mu", "1", "--beta", "1", "--t", "0"], "t = 0"),
     (["--rings", "1", "-p", "5", "--nmax", "2", "--U", "1", "--mu", "1", "--beta", "1"], "{5,3}"),
     (["--cluster", "klein", "-p", "8", "--nmax", "2", "--U", "1", "--mu", "1", "--beta", "1"], "klein"),
-    (["--rings", "3", "--nmax", "5", "--U", "1", "--mu", "1", "--beta", "1e12"], "memory"),
+    (["--rings", "3", "--nmax", "5", "--U", "1", "--mu", "1", "--beta", "1e12"], "allocate"),
 ])
 def test_bad_input_one_line_exit_2(argv, needle, capsys):
     try:
