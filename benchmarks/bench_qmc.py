@@ -201,7 +201,7 @@ def scale(sweeps: int, therm: int, seed: int) -> None:
         warnings.simplefilter("always", QMCWarning)
         c0, w0 = time.process_time(), time.perf_counter()
         r = qmc(lat, U=U, mu=mu, beta=beta, nmax=nmax, sweeps=sweeps, thermalization=therm, seed=seed,
-                progress=None)
+                progress=True)
         cpu, wall = time.process_time() - c0, time.perf_counter() - w0
     print(f"  E = {r.energy:.2f} ± {r.energy_err:.2f}, n = {r.density:.5f} ± {r.density_err:.5f}, "
           f"kappa = {r.compressibility:.4f} ± {r.compressibility_err:.4f}, tau_E = {r.tau_int.get('energy'):.1f}")
@@ -237,8 +237,10 @@ def main(argv=None) -> int:
     ap.add_argument("--points", default=None, help="comma-separated point numbers (1-based) of the table")
     ap.add_argument("--validate", action="store_true", help="check both codes against exact thermal averages first")
     ap.add_argument("--scale", action="store_true", help="only the 10^4-site run")
-    ap.add_argument("--scale-sweeps", type=int, default=200, help="measurement sweeps of the scale run")
-    ap.add_argument("--scale-therm", type=int, default=200, help="thermalisation sweeps of the scale run")
+    ap.add_argument("--scale-sweeps", type=int, default=20, help="measurement sweeps of the scale run")
+    ap.add_argument("--scale-therm", type=int, default=60,
+                    help="thermalisation sweeps of the scale run (the string grows by 4/3 per sweep from 100 "
+                         "operators: about 40 sweeps to reach the ~10^6 of this point)")
     ap.add_argument("--profile", action="store_true", help="only profile hyperlattice on one point")
     ap.add_argument("--workdir", default=None, help="keep ALPS's files here (default: a temporary directory)")
     args = ap.parse_args(argv)
