@@ -106,3 +106,14 @@ def test_checkpoint_that_is_a_file_is_refused(tmp_path, capsys):
     assert code == 2
     captured = capsys.readouterr()
     assert captured.out == "" and "--checkpoint" in captured.err and "not a directory" in captured.err
+
+
+def test_progress_bar_goes_to_stderr_and_the_json_stays_clean(capsys, monkeypatch):
+    from hyperlattice import _progress
+
+    monkeypatch.setattr(_progress, "DELAY", 0.0)
+    code = main(["bosons", "qmc", *HEPTAGON, "--nmax", "2", "--U", "4", "--mu", "1", "--beta", "1",
+                 "--sweeps", "300", "--thermalization", "100", "--seed", "4", "--json", "--progress"])
+    out, err = capsys.readouterr()
+    assert code == 0 and json.loads(out)["sweeps"] == 300
+    assert "qmc" in err and "400/400" in err
