@@ -157,14 +157,63 @@ def _diagonal_update(ops, state, nops, beta, bi, bj, cb, esite, rng, occ_sum, la
     return nops
 
 
+@numba.njit(cache=True, inline="always")
+def _gaps(leg, link, n):  # pragma: no cover - jitted
+    """(first gap, number of gaps) of the segment that ends at ``leg``; gap g lies just below vertex g.
+
+    A segment runs from the upper leg of vertex a to the lower leg of the next vertex c on the
+    same site and covers the gaps a+1 .. c (cyclically): c - a of them, all n when a == c.
+    """
+    v = leg >> 2
+    w = link[leg] >> 2
+    if (leg & 3) >= 2:
+        a = v
+        c = w
+    else:
+        a = w
+        c = v
+    ln = (c - a) % n
+    if ln == 0:
+        ln = n
+    return (a + 1) % n, ln
+
+
+@numba.njit(cache=True, inline="always")
+def _overlap(a, la, b, lb, n):  # pragma: no cover - jitted
+    """Length of the intersection of the cyclic gap ranges [a, a+la) and [b, b+lb) (mod n)."""
+    tot = 0
+    for shift in (-n, 0, n):
+        lo = max(a, b + shift)
+        hi = min(a + la, b + lb + shift)
+        if hi > lo:
+            tot += hi - lo
+    return tot
+
+
+@numba.njit(cache=True, inline="always")
+def _pair_class(k, l, gmode, gclass, zr, zi, omz, hbin, ncls):  # pragma: no cover - jitted
+    """Distance class of the site pair (k, l): from the table, or from the hyperbolic distance."""
+    if gmode == 1:
+        return gclass[k, l]
+    dx = zr[k] - zr[l]
+    dy = zi[k] - zi[l]
+    # the package's distance (curvature -4): arcsinh(|z - z'| / sqrt((1 - |z|^2)(1 - |z'|^2)))
+    c = int(np.arcsinh(np.sqrt((dx * dx + dy * dy) / (omz[k] * omz[l]))) / hbin + 0.5)
+    return c if c < ncls else ncls - 1
+
+
 @numba.njit(cache=True)
 def _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
-                 vpos, link, legs, first, lastleg, wind, crossing, gacc, gdist, measure_green):  # pragma: no cover
+                 vpos, link, legs, first, lastleg, gmode, gfull, gcur, gclass, zr, zi, omz, hbin, vcur, voff,
+                 ncls, gsign):  # pragma: no cover
     r"""Directed-loop update (Syljuåsen & Sandvik 2002; bosons: Syljuåsen 2003) with the
-    Metropolized-Gibbs exit probabilities. Returns (legs visited, loops done).
+    Metropolized-Gibbs exit probabilities. Returns the number of vertex passages.
 
-    ``gacc[c]`` accumulates the worm estimator of :math:`\langle a_k^\dagger a_l\rangle` for the
-    site pairs of class ``gdist[k, l]`` (see :func:`hyperlattice.bosons.sse.qmc`, Notes).
+    With ``gmode`` > 0 every position of the head on a segment (after each exit) adds the worm
+    estimator of the equal-time one-body density matrix, :math:`N_{\mathrm{gap}}\sqrt{n_h n_t}`
+    (the gaps shared by head and tail segment times the boson matrix elements of the two
+    discontinuities), to :math:`G_{kl}` (k the site whose segment jumps up by one: :math:`a_k^\dagger`),
+    in the full matrix ``gcur`` (``gfull``) and in ``vcur[voff + class(k, l)]``.
     """
     nsites = state.shape[0]
     for i in range(nsites):
@@ -224,6 +273,12 @@ def _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
             t0 = link[j0]
             jl = j0
             d = d0
+            if gmode > 0:
+                tv = j0 >> 2
+                tsite = bj[ops[vpos[tv]] >> 2] if (j0 & 1) else bi[ops[vpos[tv]] >> 2]
+                tg, tl = _gaps(j0, link, nops)
+                # the tail segment jumps up (a^dagger at tsite) when its upper end holds more bosons
+                tup = (legs[t0] > legs[j0]) if (j0 & 3) >= 2 else (legs[j0] > legs[t0])
             while True:
                 vv = jl >> 2
                 le = jl & 3
@@ -261,6 +316,26 @@ def _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
                 dx = -d if (ex >> 1) == (le >> 1) else d
                 xl = base + ex
                 visited += 1
+                if gmode > 0:
+                    hsite = bj[b] if (ex & 1) else bi[b]
+                    if hsite != tsite:
+                        hg, hl = _gaps(xl, link, nops)
+                        ov = _overlap(hg, hl, tg, tl, nops)
+                        if ov > 0:
+                            hx = legs[xl] + dx
+                            hy = legs[link[xl]]
+                            # the tail's states shift when the head passed through its segment
+                            val = 2.0 * ov * sq[max(legs[j0], legs[t0])] * sq[max(hx, hy)]
+                            if tup:
+                                k = tsite
+                                l = hsite
+                            else:
+                                k = hsite
+                                l = tsite
+                            if gfull:
+                                gcur[k, l] += val
+                            c = _pair_class(k, l, gmode, gclass, zr, zi, omz, hbin, ncls)
+                            vcur[voff + c] += val * gsign[k] * gsign[l]
                 if xl == j0 or xl == t0:
                     legs[xl] += dx
                     if legs[j0] == legs[t0]:
@@ -293,7 +368,8 @@ def _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
 
 @numba.njit(cache=True)
 def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj, tb, cb, esite, sq, nmax,
-        rng, sbins, scur, sinfo, vbins, vcur, vinfo, loopstat):  # pragma: no cover - jitted
+        rng, sbins, scur, sinfo, vbins, vcur, vinfo, loopstat, gmode, gclass, zr, zi, omz, hbin, ncls,
+        gbins, gcur, ginfo, gsign):  # pragma: no cover - jitted
     r"""Run ``nsweeps`` sweeps. Returns (ops, nops, nloops) (``ops`` is reallocated when it grows).
 
     Thermalisation (``thermalize``): after each sweep the string grows to M = 4n/3 when
@@ -305,6 +381,10 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
     (``vinfo[1]``) sweeps is closed into ``sbins`` (``vbins``); when the bin array is full its
     bins are merged pairwise and the bin size doubles. The whole accumulation is a deterministic
     function of the sweep sequence (checkpoint-independent).
+
+    Green function (``gmode`` > 0, measurement only): the worm sums per distance class go to the
+    last ``ncls`` entries of ``vcur``; with ``gbins`` of more than one site, the full matrix
+    (diagonal: the site occupations) to ``gcur`` and blocks of it to ``gbins`` (``ginfo`` as above).
     """
     nsites = state.shape[0]
     nbonds = bi.shape[0]
@@ -318,9 +398,9 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
     vpos = np.empty(cap, dtype=np.int64)
     link = np.empty(4 * cap, dtype=np.int64)
     legs = np.empty(4 * cap, dtype=np.int64)
-    dummy_i = np.zeros((1, 1), dtype=np.int64)
-    dummy_f = np.zeros(1)
     nv = vcur.shape[0]
+    gfull = gbins.shape[1] == nsites and nsites > 1
+    voff = nsites + nbonds
     for sweep in range(nsweeps):
         measure = not thermalize
         if measure:
@@ -342,6 +422,9 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
             scur[4] += fN * fN * fN * fN
             for i in range(nsites):
                 vcur[i] += occ[i] / m
+            if gfull:
+                for i in range(nsites):
+                    gcur[i, i] += occ[i] / m
             for b in range(nbonds):
                 vcur[nsites + b] += offd[b]
         if ops.shape[0] > cap:
@@ -350,7 +433,8 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
             link = np.empty(4 * cap, dtype=np.int64)
             legs = np.empty(4 * cap, dtype=np.int64)
         visited = _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
-                               vpos, link, legs, first, lastleg, dummy_i, dummy_i, dummy_f, dummy_i, False)
+                               vpos, link, legs, first, lastleg, 0 if thermalize else gmode, gfull, gcur, gclass,
+                               zr, zi, omz, hbin, vcur, voff, ncls, gsign)
         if thermalize:
             loopstat[0] += visited
             loopstat[1] += nloops
@@ -401,4 +485,39 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
                             vbins[a, k] = vbins[2 * a, k] + vbins[2 * a + 1, k]
                     vinfo[0] = half
                     vinfo[1] *= 2
+            if gfull:
+                ginfo[2] += 1
+                if ginfo[2] == ginfo[1]:
+                    nb = ginfo[0]
+                    gbins[nb] = gcur
+                    gcur[:, :] = 0.0
+                    ginfo[0] = nb + 1
+                    ginfo[2] = 0
+                    if ginfo[0] == gbins.shape[0]:
+                        half = gbins.shape[0] // 2
+                        for a in range(half):
+                            gbins[a] = gbins[2 * a] + gbins[2 * a + 1]
+                        ginfo[0] = half
+                        ginfo[1] *= 2
     return ops, nops, nloops
+
+
+@numba.njit(cache=True)
+def pair_counts(zr, zi, omz, hbin, ncls):  # pragma: no cover - jitted
+    """Ordered site pairs (k != l) and their summed hyperbolic distance per distance class."""
+    cnt = np.zeros(ncls, dtype=np.int64)
+    dsum = np.zeros(ncls)
+    n = zr.shape[0]
+    for k in range(n):
+        for l in range(n):
+            if k == l:
+                continue
+            dx = zr[k] - zr[l]
+            dy = zi[k] - zi[l]
+            d = np.arcsinh(np.sqrt((dx * dx + dy * dy) / (omz[k] * omz[l])))
+            c = int(d / hbin + 0.5)
+            if c >= ncls:
+                c = ncls - 1
+            cnt[c] += 1
+            dsum[c] += d
+    return cnt, dsum

@@ -105,6 +105,7 @@ class _Model:
     gauge: np.ndarray       # s_i = +-1
     degree: np.ndarray
     z: np.ndarray | None    # Poincaré-disk coordinates (flakes) or None
+    d0: float | None        # edge length of the {p,q} lattice (flakes and clusters)
     label: str
     kind: str               # "flake", "cluster" or "graph"
 
@@ -124,22 +125,28 @@ def _matrix(system):
             raise ValueError("the adjacency matrix must have finite entries.")
         if mat.nnz and abs(mat - mat.T).max() > 0:
             raise ValueError("the adjacency matrix must be symmetric.")
-        return mat, None, "graph", f"graph of {mat.shape[0]} sites"
+        return mat, None, None, "graph", f"graph of {mat.shape[0]} sites"
     if hasattr(system, "neighbours") and hasattr(system, "genus"):                  # a Cluster
-        return (sp.csr_matrix(system.adjacency(), dtype=np.float64), None, "cluster",
+        from .. import geometry
+
+        return (sp.csr_matrix(system.adjacency(), dtype=np.float64), None, float(geometry.d0(system.p, system.q)),
+                "cluster",
                 f"{{{system.p},{system.q}}} cluster {system.name}")
     if hasattr(system, "ring_offsets") and hasattr(system, "neighbours"):           # a Lattice
         from ..graph.operators import adjacency
 
+        from .. import geometry
+
         lat = _validate.lattice(system, kind="sites")
-        return (sp.csr_matrix(adjacency(lat), dtype=np.float64), np.asarray(lat.z, dtype=complex), "flake",
+        return (sp.csr_matrix(adjacency(lat), dtype=np.float64), np.asarray(lat.z, dtype=complex),
+                float(geometry.d0(lat.p, lat.q)), "flake",
                 f"{{{lat.p},{lat.q}}} flake, l = {lat.rings}")
     raise ValueError(f"system must be a flake, a periodic cluster or an adjacency matrix, got "
                      f"{_validate._shown(system)}.")
 
 
 def _model(system, t: float) -> _Model:
-    mat, z, kind, label = _matrix(system)
+    mat, z, d0, kind, label = _matrix(system)
     n = mat.shape[0]
     up = sp.triu(mat, k=1).tocoo()
     keep = up.data != 0
@@ -173,7 +180,7 @@ def _model(system, t: float) -> _Model:
                              "use exact diagonalisation or mean field instead.")
     tb = np.abs(hop).astype(float)
     degree = np.bincount(np.concatenate([bi, bj]), minlength=n).astype(np.int64)
-    return _Model(n, bi, bj, tb, gauge, degree, z, label, kind)
+    return _Model(n, bi, bj, tb, gauge, degree, z, d0, label, kind)
 
 
 # ----------------------------------------------------------------------------
@@ -226,6 +233,21 @@ class QMCResult(Result):
     bond_kinetic, bond_kinetic_err : ndarray, shape (B,)
         :math:`\langle a_i^\dagger a_j + a_j^\dagger a_i\rangle` per bond (the nearest-neighbour
         one-body density matrix, twice its real part).
+    green_distance, green, green_err : ndarray or None
+        The equal-time one-body density matrix :math:`G(i,j) = \langle a_i^\dagger a_j\rangle`
+        (i != j) averaged over the site pairs of each distance class: their mean distance, the
+        average and its error (None when not measured). Classes: hyperbolic distance in bins of
+        :math:`d_0/2` on flakes, graph distance on clusters (times :math:`d_0`) and adjacencies
+        (hops); pairs in different components form a last class at distance inf.
+    green_pairs : ndarray of int or None
+        Ordered site pairs per class.
+    distance_kind : str
+        ``"hyperbolic"``, ``"graph x d0"``, ``"graph (hops)"`` or ``""`` (not measured).
+    green_matrix : ndarray, shape (M, M), or None
+        The full G (diagonal: :math:`\langle n_i\rangle`), stored up to :data:`G_FULL_MAX` sites.
+    condensate_fraction, condensate_fraction_err : float
+        Largest eigenvalue of G over :math:`\langle N\rangle` (Penrose–Onsager), jackknife error
+        over blocks of the chain; nan when G is not stored.
     mean_operators : float
         Mean length n of the operator string.
     string_length : int
@@ -267,6 +289,14 @@ class QMCResult(Result):
     bonds: np.ndarray
     bond_kinetic: np.ndarray
     bond_kinetic_err: np.ndarray
+    green_distance: np.ndarray | None
+    green: np.ndarray | None
+    green_err: np.ndarray | None
+    green_pairs: np.ndarray | None
+    distance_kind: str
+    green_matrix: np.ndarray | None
+    condensate_fraction: float
+    condensate_fraction_err: float
     mean_operators: float
     string_length: int
     loops_per_sweep: int
@@ -330,6 +360,83 @@ def _isolated(model: _Model, eps: np.ndarray, beta: float) -> tuple[float, float
     return k * e1, k * n1, k * (n2 - n1 * n1), dens
 
 
+#: largest system whose full one-body density matrix G(i, j) is accumulated (condensate fraction)
+G_FULL_MAX = 2000
+
+
+@dataclass(frozen=True)
+class _Green:
+    mode: int               # 0: off, 1: class table, 2: classes from the disk coordinates
+    gclass: np.ndarray
+    zr: np.ndarray
+    zi: np.ndarray
+    omz: np.ndarray
+    hbin: float
+    ncls: int
+    pairs: np.ndarray       # ordered pairs per class
+    distance: np.ndarray    # mean pair distance per class
+    kind: str               # "hyperbolic", "graph x d0", "graph (hops)" or ""
+    blocks: int             # blocks of the full G (0: not stored)
+    note: str
+
+
+def _green_setup(model: _Model, measure: bool) -> _Green:
+    from .. import geometry
+
+    empty_i = np.zeros((1, 1), dtype=np.int64)
+    one = np.ones(1)
+    off = _Green(0, empty_i, one, one, one, 1.0, 1, np.zeros(1, dtype=np.int64), np.zeros(1), "", 0, "")
+    if not measure:
+        return off
+    n = model.sites
+    if n <= G_FULL_MAX:
+        blocks = 8 if n <= 1000 else 4
+        if model.z is not None:
+            hbin = model.d0 / 2
+            dist = np.asarray(geometry.distance(model.z[:, None], model.z[None, :], check=False), dtype=float)
+            kind = "hyperbolic"
+        else:
+            from scipy.sparse.csgraph import shortest_path
+
+            adj = sp.csr_matrix((np.ones(model.bi.size), (model.bi, model.bj)), shape=(n, n))
+            dist = shortest_path(adj, directed=False, unweighted=True)
+            if model.d0 is not None:
+                dist = dist * model.d0
+                hbin = model.d0
+                kind = "graph x d0"
+            else:
+                hbin = 1.0
+                kind = "graph (hops)"
+        finite = np.isfinite(dist)
+        cls = np.zeros((n, n), dtype=np.int64)
+        cls[finite] = np.rint(dist[finite] / hbin).astype(np.int64)
+        top = int(cls.max()) + 1
+        cls[~finite] = top                     # pairs in different components
+        ncls = top + 1
+        off_diag = ~np.eye(n, dtype=bool)
+        pairs = np.bincount(cls[off_diag], minlength=ncls)
+        dsum = np.bincount(cls[off_diag & finite], weights=dist[off_diag & finite], minlength=ncls)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            mean = np.where(pairs > 0, dsum / np.maximum(pairs, 1), np.nan)
+        mean[top] = np.inf if pairs[top] else np.nan
+        return _Green(1, cls, one, one, one, hbin, ncls, pairs, mean, kind, blocks, "")
+    if model.z is not None:
+        from . import _sse_kernels as K
+
+        z = model.z
+        omz = np.asarray(geometry.one_minus_abs2(z), dtype=float)
+        hbin = model.d0 / 2
+        rmax = float(np.max(np.arctanh(np.minimum(np.abs(z), 1 - 1e-16))))
+        ncls = int(2 * rmax / hbin) + 3
+        pairs, dsum = K.pair_counts(z.real.copy(), z.imag.copy(), omz, hbin, ncls)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            mean = np.where(pairs > 0, dsum / np.maximum(pairs, 1), np.nan)
+        return _Green(2, empty_i, z.real.copy(), z.imag.copy(), omz, hbin, ncls, pairs, mean, "hyperbolic", 0,
+                      f"the full G(i, j) is not stored above {G_FULL_MAX} sites: no condensate fraction.")
+    return off.__class__(**{**off.__dict__, "note": f"G(i, j) is not measured on a graph without coordinates of more "
+                                                   f"than {G_FULL_MAX} sites."})
+
+
 def _fingerprint(model: _Model, U, mu, t, beta, nmax, seed, thermalization) -> str:
     h = hashlib.sha256()
     for a in (model.bi, model.bj, model.tb, model.gauge):
@@ -342,12 +449,17 @@ def _fingerprint(model: _Model, U, mu, t, beta, nmax, seed, thermalization) -> s
 class _Chain:
     """The full state of one Markov chain (what a checkpoint stores)."""
 
-    FIELDS = ("ops", "state", "rng", "sbins", "scur", "sinfo", "vbins", "vcur", "vinfo", "loopstat", "counters")
+    FIELDS = ("ops", "state", "rng", "sbins", "scur", "sinfo", "vbins", "vcur", "vinfo", "loopstat", "counters",
+              "gbins", "gcur", "ginfo")
 
-    def __init__(self, model: _Model, seed: int):
+    def __init__(self, model: _Model, seed: int, green: _Green):
         from . import _sse_kernels as K
 
-        nv = model.sites + model.bi.size
+        nv = model.sites + model.bi.size + green.ncls
+        g = model.sites if green.blocks else 1
+        self.gbins = np.zeros((max(green.blocks, 1), g, g))
+        self.gcur = np.zeros((g, g))
+        self.ginfo = np.array([0, 1, 0], dtype=np.int64)
         self.ops = np.full(16, -1, dtype=np.int64)
         self.state = np.zeros(model.sites, dtype=np.int64)
         self.rng = K.seed_state(seed)
@@ -381,11 +493,12 @@ class _Chain:
         except (OSError, KeyError, EOFError) as exc:
             raise ValueError(f"the checkpoint {str(path)!r} cannot be read ({exc}).") from None
 
-    def advance(self, K, n: int, thermalize: bool, beta, model, tb, cb, esite, sq, nmax) -> None:
+    def advance(self, K, n: int, thermalize: bool, beta, model, tb, cb, esite, sq, nmax, g: _Green) -> None:
         ops, nops, nloops = K.run(n, thermalize, _TARGET_LEGS, self.ops, self.state, int(self.counters[0]),
                                   int(self.counters[1]), beta, model.bi, model.bj, tb, cb, esite, sq, nmax,
                                   self.rng, self.sbins, self.scur, self.sinfo, self.vbins, self.vcur, self.vinfo,
-                                  self.loopstat)
+                                  self.loopstat, g.mode, g.gclass, g.zr, g.zi, g.omz, g.hbin, g.ncls,
+                                  self.gbins, self.gcur, self.ginfo, model.gauge)
         self.ops = ops
         self.counters[0] = nops
         self.counters[1] = nloops
@@ -437,8 +550,9 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
         the same arguments (``sweeps`` may grow) resumes from it, bit-identically to an
         uninterrupted run.
     measure_green : bool, optional
-        Accepted for the API; the equal-time Green function beyond nearest neighbours is not
-        measured in this version (see Notes).
+        Measure the equal-time one-body density matrix :math:`G(i,j)` with the worm estimator of
+        the directed loops (default True; see Notes), by distance class, and the full matrix and
+        the condensate fraction up to :data:`G_FULL_MAX` sites.
     progress : bool, optional
         Progress bar on stderr (default: when a terminal watches, see :mod:`hyperlattice._progress`).
 
@@ -466,6 +580,25 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
     beyond the last complete bin (fewer than ``bin_size``) are not counted in the averages.
 
     Sites without bonds (an adjacency with empty rows) are independent and added exactly.
+
+    The one-body density matrix comes from the loop construction (Dorneich & Troyer, PRE 64,
+    066701 (2001), in the directed-loop form): while a loop is open, the configurations with its
+    two discontinuities (the tail, where it started, and the head) are visited with a frequency
+    proportional to their weight, :math:`\prod_v W_v / (8n)` per directed head state and loop
+    started (the start picks one of 4n legs and one of two directions). A configuration with
+    :math:`a_k^\dagger` and :math:`a_l` on two segments of sites k != l stands for every insertion of
+    :math:`a_k^\dagger a_l` into one of the :math:`N_{\mathrm{gap}}` gaps between consecutive
+    operators that both segments span, each with weight :math:`1/n` of the cyclic average; it is
+    reached by 8 directed head states (which discontinuity is the tail, its end, the head's
+    direction). Hence
+
+    .. math::
+
+        \langle a_k^\dagger a_l\rangle = \frac{1}{N_{\mathrm{loops}}}
+        \Big\langle\sum_{\text{head steps}} N_{\mathrm{gap}} \sqrt{n_k^> n_l^>}\Big\rangle,
+
+    with :math:`n^>` the larger occupation on each discontinuous segment and :math:`N_{\mathrm{loops}}`
+    every loop started (aborted starts included). Checked against :func:`exact_thermal`.
 
     Examples
     --------
@@ -505,8 +638,9 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
     from . import _sse_kernels as K
 
     sq = np.sqrt(np.arange(nmax + 2, dtype=float))
-    chain = _Chain(model, seed)
-    fp = _fingerprint(model, U, mu, t, beta, nmax, seed, thermalization)
+    green = _green_setup(model, measure_green)
+    chain = _Chain(model, seed, green)
+    fp = _fingerprint(model, U, mu, t, beta, nmax, seed, thermalization) + f"-green{int(measure_green)}"
     ckpt = None
     if checkpoint is not None:
         ckpt = _validate.directory("checkpoint", checkpoint) / "qmc_chain.npz"
@@ -526,7 +660,7 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
             left = (thermalization - chain.counters[2]) if therm else (sweeps - chain.counters[3])
             n = int(min(chunk, left))
             t0 = time.perf_counter()
-            chain.advance(K, n, therm, beta, model, model.tb, cb, esite, sq, nmax)
+            chain.advance(K, n, therm, beta, model, model.tb, cb, esite, sq, nmax, green)
             dt = time.perf_counter() - t0
             bar.update(n)
             # chunks of about half a second (the split never changes the chain)
@@ -538,11 +672,11 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
         chain.save(ckpt, fp)
     seconds = time.perf_counter() - start
     return _analyse(chain, model, U=U, mu=mu, t=t, beta=beta, nmax=nmax, sweeps=sweeps,
-                    thermalization=thermalization, seed=seed, cb=cb, eps=eps, seconds=seconds)
+                    thermalization=thermalization, seed=seed, cb=cb, eps=eps, seconds=seconds, green=green)
 
 
 def _analyse(chain: _Chain, model: _Model, *, U, mu, t, beta, nmax, sweeps, thermalization, seed, cb, eps,
-             seconds) -> QMCResult:
+             seconds, green: _Green) -> QMCResult:
     nb, bs = int(chain.sinfo[0]), int(chain.sinfo[1])
     notes = []
     if nb < 2:
@@ -583,15 +717,48 @@ def _analyse(chain: _Chain, model: _Model, *, U, mu, t, beta, nmax, sweeps, ther
                 notes.append(f"the {name} of the first and second half of the measurements differ by "
                              f"{diff / math.hypot(sa, sb):.1f} sigma: thermalisation ({thermalization} sweeps) "
                              "was too short.")
-    for note in notes:
-        warnings.warn(note, QMCWarning, stacklevel=3)
     vnb, vbs = int(chain.vinfo[0]), int(chain.vinfo[1])
     vb = chain.vbins[:vnb] / vbs
     sd = vb[:, :M].mean(axis=0) + dens_iso
     sd_err = vb[:, :M].std(axis=0, ddof=1) / math.sqrt(vnb) if vnb > 1 else np.full(M, np.nan)
+    nbd = model.bi.size
     kin_scale = model.gauge[model.bi] * model.gauge[model.bj] / (beta * model.tb)
-    kin = vb[:, M:].mean(axis=0) * kin_scale
-    kin_err = (vb[:, M:].std(axis=0, ddof=1) / math.sqrt(vnb) if vnb > 1 else np.nan) * np.abs(kin_scale)
+    kin = vb[:, M:M + nbd].mean(axis=0) * kin_scale
+    kin_err = (vb[:, M:M + nbd].std(axis=0, ddof=1) / math.sqrt(vnb) if vnb > 1 else np.nan) * np.abs(kin_scale)
+    nloops = float(chain.counters[1])
+    g_dist = g_val = g_err = g_pairs = None
+    g_mat = None
+    cf = cf_err = math.nan
+    if green.mode:
+        keep = green.pairs > 0
+        per = vb[:, M + nbd:][:, keep] / (nloops * green.pairs[keep])
+        g_dist, g_pairs = green.distance[keep], green.pairs[keep]
+        g_val = per.mean(axis=0)
+        g_err = per.std(axis=0, ddof=1) / math.sqrt(vnb) if vnb > 1 else np.full(g_val.shape, np.nan)
+    if green.note:
+        notes.append(green.note)
+    if green.blocks:
+        gnb, gbs = int(chain.ginfo[0]), int(chain.ginfo[1])
+        blocks = chain.gbins[:gnb] / gbs
+        eye = np.eye(M, dtype=bool)
+        sgn = np.outer(model.gauge, model.gauge)
+
+        def physical(gsum):
+            g = np.where(eye, gsum, gsum / nloops)
+            return 0.5 * (g + g.T) * sgn
+
+        def fraction(gmean):
+            g = physical(gmean)
+            return float(np.linalg.eigvalsh(g)[-1] / np.trace(g))
+
+        g_mat = physical(blocks.mean(axis=0)) + np.diag(dens_iso)
+        if gnb >= 2:
+            cf, cf_err = mcstats.jackknife(fraction, blocks)
+        else:
+            cf = fraction(blocks.mean(axis=0))
+    for note in notes:
+        if note != green.note:
+            warnings.warn(note, QMCWarning, stacklevel=3)
     return QMCResult(
         system=model.label, sites=M, U=U, mu=mu, t=t, beta=beta, nmax=nmax, sweeps=sweeps,
         thermalization=thermalization, seed=seed, seeds=(seed,), chains=1,
@@ -600,6 +767,9 @@ def _analyse(chain: _Chain, model: _Model, *, U, mu, t, beta, nmax, sweeps, ther
         bins=int(plateau.shape[0]), bin_size=int(bs * (nb // plateau.shape[0])), converged=converged,
         notes=tuple(notes), site_density=sd, site_density_err=sd_err,
         bonds=np.stack([model.bi, model.bj], axis=1), bond_kinetic=kin, bond_kinetic_err=kin_err,
+        green_distance=g_dist, green=g_val, green_err=g_err, green_pairs=g_pairs,
+        distance_kind=green.kind, green_matrix=g_mat, condensate_fraction=float(cf),
+        condensate_fraction_err=float(cf_err),
         mean_operators=float(mean[0]), string_length=int(chain.ops.size), loops_per_sweep=int(chain.counters[1]),
         seconds=float(seconds))
 
@@ -652,6 +822,22 @@ def merge_chains(results) -> QMCResult:
     kin = sum(wc * r.bond_kinetic for wc, r in zip(w, res)) / tot
     kin_err = np.sqrt(sum((wc * r.bond_kinetic_err) ** 2 for wc, r in zip(w, res))) / tot
     tau = {k: float(sum(wc * r.tau_int.get(k, math.nan) for wc, r in zip(w, res)) / tot) for k in ref.tau_int}
+    g = {"green_distance": ref.green_distance, "green_pairs": ref.green_pairs, "distance_kind": ref.distance_kind,
+         "green": None, "green_err": None, "green_matrix": None}
+    if all(r.green is not None and r.green.shape == ref.green.shape for r in res):
+        g["green"] = sum(wc * r.green for wc, r in zip(w, res)) / tot
+        g["green_err"] = np.sqrt(sum((wc * r.green_err) ** 2 for wc, r in zip(w, res))) / tot
+    else:
+        g["green_distance"] = g["green_pairs"] = None
+        g["distance_kind"] = ""
+    if all(r.green_matrix is not None for r in res):
+        g["green_matrix"] = sum(wc * r.green_matrix for wc, r in zip(w, res)) / tot
+    cf = [r.condensate_fraction for r in res]
+    if all(np.isfinite(cf)):
+        g["condensate_fraction"], g["condensate_fraction_err"] = mcstats.combine_independent(
+            cf, [r.condensate_fraction_err for r in res], w)
+    else:
+        g["condensate_fraction"] = g["condensate_fraction_err"] = math.nan
     notes = tuple(f"chain {r.seed}: {n}" for r in res for n in r.notes)
     return QMCResult(
         system=ref.system, sites=ref.sites, U=ref.U, mu=ref.mu, t=ref.t, beta=ref.beta, nmax=ref.nmax,
@@ -662,7 +848,7 @@ def merge_chains(results) -> QMCResult:
         bonds=ref.bonds, bond_kinetic=kin, bond_kinetic_err=kin_err,
         mean_operators=float(sum(wc * r.mean_operators for wc, r in zip(w, res)) / tot),
         string_length=int(max(r.string_length for r in res)), loops_per_sweep=int(ref.loops_per_sweep),
-        seconds=float(sum(r.seconds for r in res)), **vals)
+        seconds=float(sum(r.seconds for r in res)), **vals, **g)
 
 
 _validate.guard_public(globals())
