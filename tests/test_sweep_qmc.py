@@ -35,6 +35,9 @@ def test_grid_runs_resumes_and_merges_like_merge_chains(tmp_path):
     for k in ("energy", "energy_err", "density", "density_err", "compressibility", "compressibility_err"):
         assert getattr(got, k) == pytest.approx(getattr(ref, k), rel=1e-12, abs=1e-15), k
     assert np.allclose(got.site_density, ref.site_density, rtol=1e-12, atol=0)
+    assert got.condensate_fraction == pytest.approx(ref.condensate_fraction, rel=1e-12)
+    if ref.green is not None:
+        assert np.allclose(got.green, ref.green, rtol=1e-12, atol=0)
     # and right: within 4 sigma of the exact thermal averages
     ex = exact_thermal(lat, U=8.0, mu=4.0, beta=1.0, nmax=2)
     for k in ("energy", "density", "compressibility"):

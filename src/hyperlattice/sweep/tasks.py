@@ -18,7 +18,8 @@ Registered tasks:
     ``p, q, rings, cluster, nmax, U, t, mu, beta, sweeps, thermalization, seed`` (``cluster``
     None: the flake of ``rings`` rings; a name: that periodic cluster, ``rings`` unused). Outputs
     the scalar observables with errors and ``tau_*``, ``converged``, ``notes``,
-    ``thermalization_sweeps``, the site densities and bond kinetic energies; a grid over ``seed`` gives independent chains, merged per point by
+    ``thermalization_sweeps``, the site densities, bond kinetic energies, the equal-time Green
+    function by distance class and the condensate fraction (not the full G matrix); a grid over ``seed`` gives independent chains, merged per point by
     :func:`merge_qmc` (:func:`hyperlattice.bosons.merge_chains`). A chain's wall-clock time is
     not stored (rows are pure functions of the parameters).
 ``probe``
@@ -163,7 +164,9 @@ def _check_levels(params: dict) -> None:
 #: the fields of a QMCResult a ``qmc`` row stores under their own names (the rest: see _qmc)
 _QMC_SCALARS = ("system", "sites", "energy", "energy_err", "density", "density_err",
                 "compressibility", "compressibility_err", "bins", "bin_size", "mean_operators", "string_length",
-                "loops_per_sweep")
+                "loops_per_sweep", "condensate_fraction", "condensate_fraction_err", "distance_kind")
+#: the 1-d arrays of the equal-time Green function by distance class (empty when not measured)
+_QMC_GREEN = ("green_distance", "green", "green_err", "green_pairs")
 _QMC_TAUS = ("energy", "density", "compressibility")
 #: separates the notes of a chain in the ``notes`` column
 _NOTES_SEP = " | "
@@ -201,6 +204,9 @@ def _qmc(p: int = 7, q: int = 3, rings: int = 3, cluster: str | None = None, nma
     row["bond_j"] = np.asarray(r.bonds, np.int64)[:, 1]
     row["bond_kinetic"] = np.asarray(r.bond_kinetic, float)
     row["bond_kinetic_err"] = np.asarray(r.bond_kinetic_err, float)
+    for k in _QMC_GREEN:     # G(d) by distance class; the full matrix (2-d) is not a table column
+        v = getattr(r, k)
+        row[k] = np.zeros(0) if v is None else np.asarray(v, float)
     return row
 
 
@@ -250,7 +256,7 @@ def merge_qmc(table) -> list:
     list of QMCResult
         One result per point, in the order of the points' first rows, from
         :func:`hyperlattice.bosons.merge_chains` of that point's chains (``chains``, ``seeds``).
-        ``seconds`` is 0 (a row does not store it).
+        ``seconds`` is 0 and ``green_matrix`` None (a row stores neither).
 
     Raises
     ------
@@ -289,7 +295,8 @@ def merge_qmc(table) -> list:
             bonds=np.column_stack([np.asarray(row["bond_i"], np.int64), np.asarray(row["bond_j"], np.int64)]),
             bond_kinetic=np.asarray(row["bond_kinetic"], float),
             bond_kinetic_err=np.asarray(row["bond_kinetic_err"], float), seconds=0.0,
-            sweeps=int(row["sweeps"]), thermalization=int(row["thermalization_sweeps"]),
+            sweeps=int(row["sweeps"]), thermalization=int(row["thermalization_sweeps"]), green_matrix=None,
+            **{k: (np.asarray(row[k], float) if len(row[k]) else None) for k in _QMC_GREEN},
             **{k: row[k] for k in _QMC_SCALARS})
         groups.setdefault(tuple(_point_value(row[k]) for k in point_keys), []).append(r)
     return [merge_chains(chains) for chains in groups.values()]
