@@ -183,11 +183,12 @@ def _worker(job: str) -> None:
 
     def bins(name):
         # ALPS keeps the sums of complete bins of 2^k measurements (k grows with the run) and
-        # one partial bin: the bin size is the power of 2 that leaves fewer than one bin over
+        # one partial bin of at most 2^k: the bin size is the power of 2 that leaves at most one
+        # bin over (seen: 2272 measurements in 70 bins of 32)
         data = np.asarray(ar[base + name + "/timeseries/data"], float)
         count = int(ar[base + name + "/count"])
         size = 1 << int(np.floor(np.log2(count / len(data))))
-        if not 0 <= count - size * len(data) < size:
+        if not 0 <= count - size * len(data) <= size:
             sys.exit(f"cannot read the bins of {name!r}: {count} measurements in {len(data)} bins")
         return data / size, count
 
