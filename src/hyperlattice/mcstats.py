@@ -62,8 +62,9 @@ class Binning:
     level : int
         The plateau level used.
     converged : bool
-        Whether the errors of the last three usable levels agree within twice their statistical
-        uncertainty (a plateau was reached); False also when fewer than three levels qualify.
+        Whether the error stopped growing: the last level's error exceeds the error two levels
+        below by less than three times its own statistical uncertainty :math:`1/\sqrt{2(n-1)}`
+        (n bins); False also when fewer than three levels qualify.
     """
 
     mean: float
@@ -129,12 +130,13 @@ def binning(bins, bin_size: int = 1, variance: float | None = None) -> Binning:
         tau = 0.5 * (err / errs[0]) ** 2 * bin_size
     else:
         tau = 0.5 * bin_size if err == 0 else math.inf
-    # plateau: the last three levels agree within 2 x the error of the error of the last one
+    # plateau: the error has stopped growing. Neighbouring levels are strongly correlated, so the
+    # test compares the last level with the one two below it and flags only a rise beyond three
+    # times the statistical uncertainty of the last level's error (a downward fluctuation is noise).
     converged = False
     if level >= 2:
-        tail = errs[level - 2:level + 1]
         rel = 1.0 / math.sqrt(2.0 * (counts[level] - 1))
-        converged = bool(np.all(np.abs(tail - err) <= 2.0 * rel * err + 1e-300) or err == 0.0)
+        converged = bool(err <= errs[level - 2] * (1.0 + 3.0 * rel) or err == 0.0)
     elif err == 0.0:
         converged = True
     return Binning(mean, err, errs, counts, float(tau), level, converged)

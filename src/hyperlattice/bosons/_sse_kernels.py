@@ -158,8 +158,68 @@ def _diagonal_update(ops, state, nops, beta, bi, bj, cb, esite, rng, occ_sum, la
 
 
 @numba.njit(cache=True, inline="always")
+def _exit_weights(w, b, le, d, s0, s1, s2, s3, bi, bj, tb, cb, esite, sq, nmax):  # pragma: no cover - jitted
+    r"""Weights of the four exits of a vertex entered at leg ``le`` with change ``d`` (already applied)."""
+    for x in range(4):
+        dx = -d if (x >> 1) == (le >> 1) else d
+        a0 = s0 + dx if x == 0 else s0
+        a1 = s1 + dx if x == 1 else s1
+        a2 = s2 + dx if x == 2 else s2
+        a3 = s3 + dx if x == 3 else s3
+        w[x] = _vertex_weight(b, a0, a1, a2, a3, bi, bj, tb, cb, esite, sq, nmax)
+
+
+@numba.njit(cache=True, inline="always")
+def _cumulative(w, le):  # pragma: no cover - jitted
+    r"""Turn exit weights into cumulative exit probabilities (in place), Metropolized Gibbs.
+
+    :math:`P(le \to x) = \min[w_x/(Z - w_{le}), w_x/(Z - w_x)]` for x != le (the bounce le keeps
+    the rest); it satisfies :math:`w_{le} P(le\to x) = w_x P(x \to le)` and bounces less than
+    heat bath. Entries x != le become the running sums over the other exits in leg order; a
+    uniform r beyond all of them means the bounce.
+    """
+    z = w[0] + w[1] + w[2] + w[3]
+    wl = w[le]
+    acc = 0.0
+    for x in range(4):
+        wx = w[x]
+        if x == le:
+            w[x] = -1.0             # never below a uniform r: the bounce is what no other exit takes
+            continue
+        if wx > 0.0:
+            pr = wx / (z - wl)
+            alt = wx / (z - wx)
+            acc += alt if alt < pr else pr
+        w[x] = acc
+
+
+@numba.njit(cache=True)
+def exit_table(bclass_rep, bi, bj, tb, cb, esite, sq, nmax):  # pragma: no cover - jitted
+    r"""Cumulative exit probabilities per bond class, vertex code, entrance leg and sign of the change."""
+    kk = nmax + 1
+    ncode = kk ** 4
+    out = np.zeros((bclass_rep.shape[0], ncode, 4, 2, 4))
+    w = np.empty(4)
+    for c in range(bclass_rep.shape[0]):
+        b = bclass_rep[c]
+        for code in range(ncode):
+            s0 = code % kk
+            s1 = (code // kk) % kk
+            s2 = (code // (kk * kk)) % kk
+            s3 = code // (kk * kk * kk)
+            for le in range(4):
+                for di in range(2):
+                    d = 1 if di == 0 else -1
+                    _exit_weights(w, b, le, d, s0, s1, s2, s3, bi, bj, tb, cb, esite, sq, nmax)
+                    _cumulative(w, le)
+                    for x in range(4):
+                        out[c, code, le, di, x] = w[x]
+    return out
+
+
+@numba.njit(cache=True, inline="always")
 def _gaps(leg, link, n):  # pragma: no cover - jitted
-    """(first gap, number of gaps) of the segment that ends at ``leg``; gap g lies just below vertex g.
+    r"""(first gap, number of gaps) of the segment that ends at ``leg``; gap g lies just below vertex g.
 
     A segment runs from the upper leg of vertex a to the lower leg of the next vertex c on the
     same site and covers the gaps a+1 .. c (cyclically): c - a of them, all n when a == c.
@@ -180,7 +240,7 @@ def _gaps(leg, link, n):  # pragma: no cover - jitted
 
 @numba.njit(cache=True, inline="always")
 def _overlap(a, la, b, lb, n):  # pragma: no cover - jitted
-    """Length of the intersection of the cyclic gap ranges [a, a+la) and [b, b+lb) (mod n)."""
+    r"""Length of the intersection of the cyclic gap ranges [a, a+la) and [b, b+lb) (mod n)."""
     tot = 0
     for shift in (-n, 0, n):
         lo = max(a, b + shift)
@@ -192,7 +252,7 @@ def _overlap(a, la, b, lb, n):  # pragma: no cover - jitted
 
 @numba.njit(cache=True, inline="always")
 def _pair_class(k, l, gmode, gclass, zr, zi, omz, hbin, ncls):  # pragma: no cover - jitted
-    """Distance class of the site pair (k, l): from the table, or from the hyperbolic distance."""
+    r"""Distance class of the site pair (k, l): from the table, or from the hyperbolic distance."""
     if gmode == 1:
         return gclass[k, l]
     dx = zr[k] - zr[l]
@@ -205,7 +265,7 @@ def _pair_class(k, l, gmode, gclass, zr, zi, omz, hbin, ncls):  # pragma: no cov
 @numba.njit(cache=True)
 def _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
                  vpos, link, legs, first, lastleg, gmode, gfull, gcur, gclass, zr, zi, omz, hbin, vcur, voff,
-                 ncls, gsign):  # pragma: no cover
+                 ncls, gsign, ptab, bclass, ntab):  # pragma: no cover
     r"""Directed-loop update (Syljuåsen & Sandvik 2002; bosons: Syljuåsen 2003) with the
     Metropolized-Gibbs exit probabilities. Returns the number of vertex passages.
 
@@ -262,6 +322,7 @@ def _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
     nlegs = 4 * nops
     visited = 0
     w = np.empty(4)
+    kk = nmax + 1
     if nops > 0:
         for _ in range(nloops):
             j0 = _below(rng, nlegs)
@@ -288,31 +349,23 @@ def _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
                 s1 = legs[base + 1]
                 s2 = legs[base + 2]
                 s3 = legs[base + 3]
-                z = 0.0
-                for x in range(4):
-                    dx = -d if (x >> 1) == (le >> 1) else d
-                    a0 = s0 + dx if x == 0 else s0
-                    a1 = s1 + dx if x == 1 else s1
-                    a2 = s2 + dx if x == 2 else s2
-                    a3 = s3 + dx if x == 3 else s3
-                    w[x] = _vertex_weight(b, a0, a1, a2, a3, bi, bj, tb, cb, esite, sq, nmax)
-                    z += w[x]
-                # Metropolized Gibbs: P(le -> x) = min(w_x / (Z - w_le), w_x / (Z - w_x)), x != le
-                wl = w[le]
                 r = _uniform(rng)
                 ex = le
-                acc = 0.0
-                for x in range(4):
-                    if x == le or w[x] <= 0.0:
-                        continue
-                    pr = w[x] / (z - wl)
-                    alt = w[x] / (z - w[x])
-                    if alt < pr:
-                        pr = alt
-                    acc += pr
-                    if r < acc:
-                        ex = x
-                        break
+                if ntab > 0:
+                    # tabulated exit probabilities of this bond class (cumulative over x)
+                    di = 0 if d > 0 else 1
+                    row = ptab[bclass[b], s0 + kk * (s1 + kk * (s2 + kk * s3)), le, di]
+                    for x in range(4):
+                        if r < row[x]:
+                            ex = x
+                            break
+                else:
+                    _exit_weights(w, b, le, d, s0, s1, s2, s3, bi, bj, tb, cb, esite, sq, nmax)
+                    _cumulative(w, le)
+                    for x in range(4):
+                        if r < w[x]:
+                            ex = x
+                            break
                 dx = -d if (ex >> 1) == (le >> 1) else d
                 xl = base + ex
                 visited += 1
@@ -369,7 +422,7 @@ def _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
 @numba.njit(cache=True)
 def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj, tb, cb, esite, sq, nmax,
         rng, sbins, scur, sinfo, vbins, vcur, vinfo, loopstat, gmode, gclass, zr, zi, omz, hbin, ncls,
-        gbins, gcur, ginfo, gsign):  # pragma: no cover - jitted
+        gbins, gcur, ginfo, gsign, ptab, bclass):  # pragma: no cover - jitted
     r"""Run ``nsweeps`` sweeps. Returns (ops, nops, nloops) (``ops`` is reallocated when it grows).
 
     Thermalisation (``thermalize``): after each sweep the string grows to M = 4n/3 when
@@ -399,6 +452,7 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
     link = np.empty(4 * cap, dtype=np.int64)
     legs = np.empty(4 * cap, dtype=np.int64)
     nv = vcur.shape[0]
+    ntab = ptab.shape[0]
     gfull = gbins.shape[1] == nsites and nsites > 1
     voff = nsites + nbonds
     for sweep in range(nsweeps):
@@ -432,9 +486,10 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
             vpos = np.empty(cap, dtype=np.int64)
             link = np.empty(4 * cap, dtype=np.int64)
             legs = np.empty(4 * cap, dtype=np.int64)
+        gm = 0 if thermalize else gmode
         visited = _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
-                               vpos, link, legs, first, lastleg, 0 if thermalize else gmode, gfull, gcur, gclass,
-                               zr, zi, omz, hbin, vcur, voff, ncls, gsign)
+                               vpos, link, legs, first, lastleg, gm, gfull, gcur, gclass,
+                               zr, zi, omz, hbin, vcur, voff, ncls, gsign, ptab, bclass, ntab)
         if thermalize:
             loopstat[0] += visited
             loopstat[1] += nloops
@@ -504,7 +559,7 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
 
 @numba.njit(cache=True)
 def pair_counts(zr, zi, omz, hbin, ncls):  # pragma: no cover - jitted
-    """Ordered site pairs (k != l) and their summed hyperbolic distance per distance class."""
+    r"""Ordered site pairs (k != l) and their summed hyperbolic distance per distance class."""
     cnt = np.zeros(ncls, dtype=np.int64)
     dsum = np.zeros(ncls)
     n = zr.shape[0]

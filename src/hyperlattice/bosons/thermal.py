@@ -84,7 +84,7 @@ def exact_thermal(system, *, U: float, mu: float, beta: float, nmax: int, t: flo
     >>> from hyperlattice.bosons import exact_thermal
     >>> ex = exact_thermal(hl.ring_lattice(7, 3, 1), U=4.0, mu=1.0, beta=2.0, nmax=2)
     >>> round(ex["density"], 6), ex["states"]
-    (0.723826, 2187)
+    (0.97273, 2187)
     """
     U = _validate.real("U", U)
     mu = _validate.real("mu", mu)
