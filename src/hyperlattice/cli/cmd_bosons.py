@@ -1,4 +1,5 @@
-"""``hyperlattice bosons <what>``: the Bose–Hubbard model (exact diagonalisation, mean field, Gross–Pitaevskii).
+"""``hyperlattice bosons <what>``: the Bose–Hubbard model (exact diagonalisation, mean field,
+Gross–Pitaevskii, quantum Monte Carlo).
 
 Each ``<what>`` lives in its own module ``hyperlattice.cli._bosons_<what>`` that defines ``NAME``,
 ``HELP``, ``ORDER``, ``add_arguments(parser)`` and ``run(args) -> int`` (the layout of the
@@ -13,7 +14,7 @@ import pkgutil
 
 NAME = "bosons"
 ORDER = 90
-HELP = "interacting bosons (Bose-Hubbard): exact diagonalisation, mean field, Gross-Pitaevskii"
+HELP = "interacting bosons (Bose-Hubbard): exact diagonalisation, mean field, Gross-Pitaevskii, quantum Monte Carlo"
 
 
 def _subcommands() -> list:

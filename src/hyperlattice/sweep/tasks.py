@@ -13,6 +13,15 @@ Registered tasks:
 ``levels``
     The lowest levels of a flake with flux (:func:`hyperlattice.graph.spectrum.lowest_levels`):
     ``p, q, rings, line_graph, flux, levels``; outputs ``E`` (array) and ``E0``, ``E1``.
+``qmc``
+    One Markov chain of the Bose–Hubbard quantum Monte Carlo (:func:`hyperlattice.bosons.qmc`):
+    ``p, q, rings, cluster, nmax, U, t, mu, beta, sweeps, thermalization, seed`` (``cluster``
+    None: the flake of ``rings`` rings; a name: that periodic cluster, ``rings`` unused). Outputs
+    the scalar observables with errors and ``tau_*``, ``converged``, ``notes``,
+    ``thermalization_sweeps``, the site densities, bond kinetic energies, the equal-time Green
+    function by distance class and the condensate fraction (not the full G matrix); a grid over ``seed`` gives independent chains, merged per point by
+    :func:`merge_qmc` (:func:`hyperlattice.bosons.merge_chains`). A chain's wall-clock time is
+    not stored (rows are pure functions of the parameters).
 ``probe``
     ``x -> x**2`` after sleeping ``sleep`` seconds: measures the engine's own overhead and
     exercises its fault handling; no physics.
@@ -33,7 +42,7 @@ import numpy as np
 
 from .. import _validate
 
-__all__ = ["Task", "TASKS", "get_task", "blas_one_thread"]
+__all__ = ["Task", "TASKS", "get_task", "blas_one_thread", "merge_qmc"]
 
 _LOCK = threading.Lock()
 _DEPTH = 0
@@ -152,6 +161,152 @@ def _check_levels(params: dict) -> None:
     _validate.positive_int("levels", params["levels"], maximum=1000)
 
 
+#: the fields of a QMCResult a ``qmc`` row stores under their own names (the rest: see _qmc)
+_QMC_SCALARS = ("system", "sites", "energy", "energy_err", "density", "density_err",
+                "compressibility", "compressibility_err", "bins", "bin_size", "mean_operators", "string_length",
+                "loops_per_sweep", "condensate_fraction", "condensate_fraction_err", "distance_kind")
+#: the 1-d arrays of the equal-time Green function by distance class (empty when not measured)
+_QMC_GREEN = ("green_distance", "green", "green_err", "green_pairs")
+_QMC_TAUS = ("energy", "density", "compressibility")
+#: separates the notes of a chain in the ``notes`` column
+_NOTES_SEP = " | "
+
+
+def _qmc_system(p: int, q: int, rings: int, cluster):
+    if cluster is None:
+        return _lattice(p, q, rings, False)
+    from ..graph.clusters import pbc_cluster
+
+    return pbc_cluster(p, q, cluster)
+
+
+def _qmc(p: int = 7, q: int = 3, rings: int = 3, cluster: str | None = None, nmax: int = 2, U: float = 10.0,
+         t: float = 1.0, mu: float = 5.0, beta: float = 4.0, sweeps: int = 5000, thermalization: int | None = None,
+         seed: int = 0) -> dict:
+    import warnings
+
+    from ..bosons import QMCWarning, qmc
+
+    with warnings.catch_warnings():
+        # the row keeps what a warning says: ``converged`` and ``notes``
+        warnings.simplefilter("ignore", QMCWarning)
+        r = qmc(_qmc_system(p, q, rings, cluster), U=U, mu=mu, beta=beta, nmax=nmax, t=t, sweeps=sweeps,
+                thermalization=thermalization, seed=seed, progress=False)
+    row = {k: getattr(r, k) for k in _QMC_SCALARS}
+    # an output never reuses a parameter's name (the table holds both): the thermalisation actually run
+    row["thermalization_sweeps"] = int(r.thermalization)
+    row.update({f"tau_{k}": float(r.tau_int.get(k, math.nan)) for k in _QMC_TAUS})
+    row["converged"] = bool(r.converged)
+    row["notes"] = _NOTES_SEP.join(r.notes)
+    row["site_density"] = np.asarray(r.site_density, float)
+    row["site_density_err"] = np.asarray(r.site_density_err, float)
+    row["bond_i"] = np.asarray(r.bonds, np.int64)[:, 0]
+    row["bond_j"] = np.asarray(r.bonds, np.int64)[:, 1]
+    row["bond_kinetic"] = np.asarray(r.bond_kinetic, float)
+    row["bond_kinetic_err"] = np.asarray(r.bond_kinetic_err, float)
+    for k in _QMC_GREEN:     # G(d) by distance class; the full matrix (2-d) is not a table column
+        v = getattr(r, k)
+        row[k] = np.zeros(0) if v is None else np.asarray(v, float)
+    return row
+
+
+def _check_qmc(params: dict) -> None:
+    p, q = _validate.pq(params["p"], params["q"])
+    if params["cluster"] is None:
+        _validate.positive_int("rings", params["rings"], maximum=40)
+    else:
+        from ..graph.clusters import pbc_cluster
+
+        pbc_cluster(p, q, params["cluster"])        # refuses an unknown name in one sentence
+    _validate.positive_int("nmax", params["nmax"], maximum=1000)
+    for name in ("U", "t", "mu"):
+        _validate.real(name, params[name])
+    if params["t"] == 0:
+        raise ValueError("t = 0 leaves no bond term; the sites are independent.")
+    beta = _validate.real("beta", params["beta"])
+    if not beta > 0:
+        raise ValueError(f"beta must be positive, got {beta!r}.")
+    _validate.positive_int("sweeps", params["sweeps"])
+    if params["thermalization"] is not None:
+        _validate.integer("thermalization", params["thermalization"], minimum=0)
+    _validate.integer("seed", params["seed"], minimum=0)
+    # the operator string grows with beta * bonds: the engine's own estimate refuses a point that will
+    # not fit, before the grid runs
+    from ..bosons.sse import _check_memory, _model, _weights
+
+    model = _model(_qmc_system(p, q, params["rings"], params["cluster"]), float(params["t"]))
+    U, mu, nmax = float(params["U"]), float(params["mu"]), int(params["nmax"])
+    _, _, cb = _weights(model, U, mu, nmax)
+    try:
+        _check_memory(model, beta, cb, nmax, U, mu)
+    except MemoryError as exc:
+        raise ValueError(str(exc)) from None
+
+
+def merge_qmc(table) -> list:
+    """The chains of a ``qmc`` sweep merged per grid point (all parameters but ``seed``).
+
+    Parameters
+    ----------
+    table : SweepTable, str or path-like
+        A sweep's table (:func:`~hyperlattice.sweep.read_table`) or its directory.
+
+    Returns
+    -------
+    list of QMCResult
+        One result per point, in the order of the points' first rows, from
+        :func:`hyperlattice.bosons.merge_chains` of that point's chains (``chains``, ``seeds``).
+        ``seconds`` is 0 and ``green_matrix`` None (a row stores neither).
+
+    Raises
+    ------
+    ValueError
+        If the table is not a ``qmc`` sweep.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from hyperlattice.sweep import run_sweep
+    >>> from hyperlattice.sweep.tasks import merge_qmc
+    >>> where = os.path.join(tempfile.mkdtemp(), "lobe")
+    >>> grid = {"rings": 1, "nmax": 2, "U": 8.0, "mu": [2.0, 4.0], "beta": 1.0, "sweeps": 1000, "seed": [1, 2]}
+    >>> _ = run_sweep("qmc", grid, where, scheduler="serial", progress=False)
+    >>> [(r.mu, r.chains, r.seeds) for r in merge_qmc(where)]
+    [(2.0, 2, (1, 2)), (4.0, 2, (1, 2))]
+    """
+    from ..bosons import merge_chains
+    from ..bosons.sse import QMCResult
+    from .store import SweepTable, read_table
+
+    if not isinstance(table, SweepTable):
+        table = read_table(table)
+    if table.metadata.get("task") != "qmc":
+        raise ValueError(f"merge_qmc reads a qmc sweep, not a {table.metadata.get('task')!r} sweep.")
+    point_keys = [k for k in get_task("qmc").defaults if k != "seed"]
+    groups: dict = {}
+    for row in table.rows():
+        r = QMCResult(
+            U=float(row["U"]), mu=float(row["mu"]), t=float(row["t"]), beta=float(row["beta"]),
+            nmax=int(row["nmax"]), seed=int(row["seed"]), seeds=(int(row["seed"]),), chains=1,
+            tau_int={k: float(row[f"tau_{k}"]) for k in _QMC_TAUS}, converged=bool(row["converged"]),
+            notes=tuple(n for n in str(row["notes"]).split(_NOTES_SEP) if n),
+            site_density=np.asarray(row["site_density"], float),
+            site_density_err=np.asarray(row["site_density_err"], float),
+            bonds=np.column_stack([np.asarray(row["bond_i"], np.int64), np.asarray(row["bond_j"], np.int64)]),
+            bond_kinetic=np.asarray(row["bond_kinetic"], float),
+            bond_kinetic_err=np.asarray(row["bond_kinetic_err"], float), seconds=0.0,
+            sweeps=int(row["sweeps"]), thermalization=int(row["thermalization_sweeps"]), green_matrix=None,
+            **{k: (np.asarray(row[k], float) if len(row[k]) else None) for k in _QMC_GREEN},
+            **{k: row[k] for k in _QMC_SCALARS})
+        groups.setdefault(tuple(_point_value(row[k]) for k in point_keys), []).append(r)
+    return [merge_chains(chains) for chains in groups.values()]
+
+
+def _point_value(v):
+    """A hashable, exact stand-in of a parameter value (floats by repr)."""
+    return repr(v) if isinstance(v, float) else v
+
+
 def _probe(x: float = 0.0, sleep: float = 0.0) -> dict:
     if sleep:
         time.sleep(sleep)
@@ -201,7 +356,7 @@ class Task:
 
 
 TASKS = {t.name: t for t in (Task("disorder", _disorder, _check_disorder), Task("levels", _levels, _check_levels),
-                             Task("probe", _probe, _check_probe))}
+                             Task("qmc", _qmc, _check_qmc), Task("probe", _probe, _check_probe))}
 
 
 def get_task(name) -> Task:
@@ -210,7 +365,7 @@ def get_task(name) -> Task:
     Parameters
     ----------
     name : str
-        ``"disorder"``, ``"levels"`` or ``"probe"`` (the keys of :data:`TASKS`).
+        ``"disorder"``, ``"levels"``, ``"qmc"`` or ``"probe"`` (the keys of :data:`TASKS`).
 
     Returns
     -------

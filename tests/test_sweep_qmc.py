@@ -1,0 +1,81 @@
+"""The ``qmc`` sweep task: a tiny lobe grid through the serial path, chains merged per point."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from hyperlattice.sweep import read_table, run_sweep
+from hyperlattice.sweep.engine import expand_grid
+from hyperlattice.sweep.tasks import execute, get_task, merge_qmc
+
+GRID = {"rings": 1, "nmax": 2, "U": 8.0, "mu": [2.0, 4.0], "beta": 1.0, "sweeps": 1500, "seed": [1, 2, 3]}
+
+
+def test_grid_runs_resumes_and_merges_like_merge_chains(tmp_path):
+    where = tmp_path / "lobe"
+    rep = run_sweep("qmc", GRID, where, scheduler="serial", progress=False)
+    assert rep.ok and rep.total == 6 and rep.completed == 6
+    again = run_sweep("qmc", GRID, where, scheduler="serial", progress=False)
+    assert again.completed == 0 and again.skipped == 6
+    table = read_table(where)
+    assert len(table) == 6 and set(table.columns["sites"].tolist()) == {7}
+    merged = merge_qmc(where)
+    assert [r.mu for r in merged] == [2.0, 4.0]
+    assert all(r.chains == 3 and sorted(r.seeds) == [1, 2, 3] and r.sweeps == 4500 for r in merged)
+
+    # the same as the API: three chains by qmc, merged by merge_chains
+    from hyperlattice import ring_lattice
+    from hyperlattice.bosons import exact_thermal, merge_chains, qmc
+
+    lat = ring_lattice(7, 3, 1)
+    ref = merge_chains([qmc(lat, U=8.0, mu=4.0, beta=1.0, nmax=2, sweeps=1500, seed=s, progress=False)
+                        for s in (1, 2, 3)])
+    got = merged[1]
+    for k in ("energy", "energy_err", "density", "density_err", "compressibility", "compressibility_err"):
+        assert getattr(got, k) == pytest.approx(getattr(ref, k), rel=1e-12, abs=1e-15), k
+    assert np.allclose(got.site_density, ref.site_density, rtol=1e-12, atol=0)
+    assert got.condensate_fraction == pytest.approx(ref.condensate_fraction, rel=1e-12)
+    if ref.green is not None:
+        assert np.allclose(got.green, ref.green, rtol=1e-12, atol=0)
+    # and right: within 4 sigma of the exact thermal averages
+    ex = exact_thermal(lat, U=8.0, mu=4.0, beta=1.0, nmax=2)
+    for k in ("energy", "density", "compressibility"):
+        exact = ex[k] if isinstance(ex, dict) else getattr(ex, k)
+        assert abs(getattr(got, k) - exact) < 4 * getattr(got, k + "_err"), k
+
+
+def test_a_row_is_a_pure_function_of_its_parameters():
+    params = dict(get_task("qmc").defaults, rings=1, nmax=2, U=4.0, mu=1.0, beta=1.0, sweeps=400, seed=7)
+    a, b = execute("qmc", params), execute("qmc", params)
+    assert a.keys() == b.keys() and "seconds" not in a
+    for k in a:
+        assert np.array_equal(np.asarray(a[k]), np.asarray(b[k])), k
+
+
+def test_cluster_point():
+    params = dict(get_task("qmc").defaults, cluster="bolza", p=8, nmax=1, U=0.0, mu=0.0, beta=0.5,
+                  sweeps=400, seed=1)
+    row = execute("qmc", params)
+    assert row["sites"] == 16 and len(row["site_density"]) == 16 and len(row["bond_i"]) == 24
+
+
+@pytest.mark.parametrize("grid,needle", [
+    ({"beta": 0.0}, "beta must be positive"),
+    ({"nmax": 0}, "nmax"),
+    ({"t": 0.0}, "t = 0"),
+    ({"cluster": "nowhere"}, "nowhere"),
+    ({"seed": -1}, "seed"),
+    ({"rings": 3, "nmax": 5, "beta": 1e12}, "allocate"),
+    ({"colour": 1}, "no parameter"),
+])
+def test_grid_refused_before_work(grid, needle):
+    with pytest.raises(ValueError, match=None) as info:
+        expand_grid("qmc", grid)
+    assert needle in str(info.value) and "\n" not in str(info.value)
+
+
+def test_merge_refuses_other_sweeps(tmp_path):
+    run_sweep("probe", {"x": [1.0]}, tmp_path / "p", scheduler="serial", progress=False)
+    with pytest.raises(ValueError, match="qmc sweep"):
+        merge_qmc(tmp_path / "p")
