@@ -14,7 +14,8 @@ continuum/ only):
 
 * ``basis``, ``ed`` -- exact diagonalisation in a number-conserving basis with an occupation cutoff;
 * ``meanfield`` -- site-decoupled (Gutzwiller) mean field and the Mott lobes;
-* ``gp`` -- discrete and continuum Gross–Pitaevskii ground states and Bogoliubov spectra.
+* ``gp`` -- discrete and continuum Gross–Pitaevskii ground states and Bogoliubov spectra;
+* ``strong_coupling`` -- the third-order t/U expansion of the Mott-lobe boundaries on any graph.
 """
 
 from __future__ import annotations
@@ -24,6 +25,8 @@ from .ed import BoseHubbardLevels, ChargeGap, bose_hubbard, charge_gap
 from .gp import BogoliubovSpectrum, GPState, bogoliubov, gp_ground_state
 from .meanfield import (GutzwillerState, MottLobe, MottLobeTable, gutzwiller, largest_adjacency_eigenvalue,
                         lobe_boundary, lobe_tip, mott_lobe, mott_lobes)
+from .strong_coupling import (StrongCouplingLobe, excitation_energies, hypercubic_boundaries, strong_coupling_lobe,
+                              strong_coupling_tip)
 
 __all__: list[str] = [
     # exact diagonalisation (issue 22, item 1)
@@ -33,4 +36,6 @@ __all__: list[str] = [
     # mean field (item 2)
     "GutzwillerState", "MottLobe", "MottLobeTable", "gutzwiller", "largest_adjacency_eigenvalue", "lobe_boundary",
     "lobe_tip", "mott_lobe", "mott_lobes",
+    # strong-coupling expansion (issue 27, item 4)
+    "StrongCouplingLobe", "excitation_energies", "hypercubic_boundaries", "strong_coupling_lobe", "strong_coupling_tip",
 ]
