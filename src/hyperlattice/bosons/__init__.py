@@ -15,6 +15,8 @@ continuum/ only):
 * ``basis``, ``ed`` -- exact diagonalisation in a number-conserving basis with an occupation cutoff;
 * ``meanfield`` -- site-decoupled (Gutzwiller) mean field and the Mott lobes;
 * ``gp`` -- discrete and continuum Gross–Pitaevskii ground states and Bogoliubov spectra;
+* ``sse`` (kernels in ``_sse_kernels``) -- stochastic series expansion quantum Monte Carlo at finite
+  temperature, and ``thermal`` -- its exact reference, full diagonalisation over all particle numbers;
 * ``strong_coupling`` -- the third-order t/U expansion of the Mott-lobe boundaries on any graph.
 """
 
@@ -23,6 +25,8 @@ from __future__ import annotations
 from .basis import BosonBasis, basis_dimension, boson_basis
 from .ed import BoseHubbardLevels, ChargeGap, bose_hubbard, charge_gap
 from .gp import BogoliubovSpectrum, GPState, bogoliubov, gp_ground_state
+from .sse import QMCResult, QMCWarning, merge_chains, qmc
+from .thermal import exact_thermal
 from .meanfield import (GutzwillerState, MottLobe, MottLobeTable, gutzwiller, largest_adjacency_eigenvalue,
                         lobe_boundary, lobe_tip, mott_lobe, mott_lobes)
 from .strong_coupling import (StrongCouplingLobe, excitation_energies, hypercubic_boundaries, strong_coupling_lobe,
@@ -36,6 +40,8 @@ __all__: list[str] = [
     # mean field (item 2)
     "GutzwillerState", "MottLobe", "MottLobeTable", "gutzwiller", "largest_adjacency_eigenvalue", "lobe_boundary",
     "lobe_tip", "mott_lobe", "mott_lobes",
+    # quantum Monte Carlo (issue 27) and its exact reference
+    "QMCResult", "QMCWarning", "qmc", "merge_chains", "exact_thermal",
     # strong-coupling expansion (issue 27, item 4)
     "StrongCouplingLobe", "excitation_energies", "hypercubic_boundaries", "strong_coupling_lobe", "strong_coupling_tip",
 ]

@@ -1,0 +1,668 @@
+r"""Quantum Monte Carlo of the Bose–Hubbard model on any graph: stochastic series expansion (SSE)
+with directed loops.
+
+.. math::
+
+    H = -\sum_{\langle ij\rangle} t_{ij} (a_i^\dagger a_j + \mathrm{h.c.})
+        + \frac{U}{2} \sum_i n_i (n_i - 1) - \mu \sum_i n_i ,
+    \qquad t_{ij} = t A_{ij} \ge 0 ,
+
+grand canonical at inverse temperature β, with the occupation cutoff :math:`n_i \le n_{\max}`
+(:math:`n_{\max} = 1`: hard-core bosons, the spin-1/2 XY model). :math:`A` is the adjacency
+of a flake, of a periodic cluster, or any symmetric matrix of couplings.
+
+Algorithm
+---------
+Sandvik's SSE (Sandvik, PRB 59, R14157 (1999)) with the directed-loop update of Syljuåsen and
+Sandvik, PRE 66, 046701 (2002), for soft-core bosons as in Syljuåsen, PRE 67, 046701 (2003).
+The Hamiltonian is written as :math:`H = -\sum_b H_b + \sum_b C_b` over the bonds b = (i, j);
+the bond operator carries the hopping and the on-site energy split over the bonds of each site
+(:math:`z_i` = number of bonds of site i):
+
+.. math::
+
+    \langle n_i n_j | H_b | n_i n_j\rangle = C_b - \frac{\epsilon(n_i)}{z_i} - \frac{\epsilon(n_j)}{z_j},
+    \qquad \epsilon(n) = \frac U2 n(n-1) - \mu n,
+
+    \langle n_i \pm 1, n_j \mp 1 | H_b | n_i n_j\rangle = t_b \sqrt{\max(n_i, n_i \pm 1)\,\max(n_j, n_j \mp 1)},
+
+with :math:`C_b = \max \epsilon_i/z_i + \max \epsilon_j/z_j + c\,t_b` (:data:`OFFSET` c keeps
+every diagonal vertex away from weight zero, which would trap the loops). Every vertex weight is
+non-negative: there is no sign problem for :math:`t_{ij} \ge 0`. A sweep is one diagonal update
+(insertion/removal of diagonal operators at every slot of the string of length M) and a fixed
+number of directed loops; a loop's head leaves each vertex through the Metropolized-Gibbs choice
+among the four legs (:math:`P(i\to k) = \min[w_k/(Z-w_i), w_k/(Z-w_k)]`, Liu, Statist.
+Comput. 6, 113 (1996)), which bounces far less than heat bath in the Mott insulator.
+
+Estimators (per sweep; n = number of operators, N = number of bosons, conserved along τ):
+
+* energy :math:`\langle H\rangle = -\langle n\rangle/\beta + \sum_b C_b`;
+* density :math:`\langle N\rangle / M`; compressibility
+  :math:`\kappa = \beta(\langle N^2\rangle - \langle N\rangle^2)/M` (jackknife over bins);
+* site density :math:`\langle n_i\rangle` averaged over the M time slices of each configuration;
+* bond kinetic energy :math:`\langle a_i^\dagger a_j + a_j^\dagger a_i\rangle = \langle n_b\rangle/(\beta t_b)`
+  (:math:`n_b` the off-diagonal operators on b).
+
+Sign structure
+--------------
+Negative couplings are accepted when a gauge :math:`a_i \to s_i a_i`, :math:`s_i = \pm 1`, makes
+every :math:`t_{ij} s_i s_j` non-negative (e.g. t < 0 on a bipartite graph); the chain runs on the
+transformed model and the off-diagonal correlations are transformed back
+(:math:`G_{ij} \to s_i s_j G_{ij}`). Otherwise, and for complex hopping (a flux), the weights
+cannot all be positive and :func:`qmc` refuses.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+import time
+import warnings
+from collections import deque
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import scipy.sparse as sp
+
+from .. import _validate, mcstats
+from .._progress import progress_bar
+from ..errors import HyperlatticeError
+from ..results import Column, Result
+
+__all__ = ["QMCResult", "qmc", "merge_chains", "QMCWarning", "OFFSET"]
+
+#: diagonal-vertex offset c in units of the bond hopping (see the module docstring)
+OFFSET = 0.5
+#: scalar bins kept per chain (binning analysis resolution) and bins of the site-resolved arrays
+_SCALAR_BINS = 2048
+_VECTOR_BINS = 32
+#: vertex legs visited by the loops per sweep, in units of the string's n operators (8n: each of
+#: the 4n legs about twice)
+_TARGET_LEGS = 8.0
+#: seconds of work between checkpoint writes
+_CHECKPOINT_SECONDS = 60.0
+#: bytes per operator slot (ops, vertex positions, links and leg states)
+_BYTES_PER_OP = 8 * (4 / 3) + 8 + 32 + 32
+
+
+class QMCWarning(UserWarning):
+    """A Monte Carlo chain returned, but thermalisation or the binning plateau is in doubt."""
+
+
+# ----------------------------------------------------------------------------
+# the model: bonds, gauge, isolated sites
+# ----------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class _Model:
+    sites: int
+    bi: np.ndarray
+    bj: np.ndarray
+    tb: np.ndarray          # gauged hopping, all > 0
+    gauge: np.ndarray       # s_i = +-1
+    degree: np.ndarray
+    z: np.ndarray | None    # Poincaré-disk coordinates (flakes) or None
+    label: str
+    kind: str               # "flake", "cluster" or "graph"
+
+
+def _matrix(system):
+    if sp.issparse(system) or isinstance(system, np.ndarray):
+        mat = sp.csr_matrix(system)
+        if mat.ndim != 2 or mat.shape[0] != mat.shape[1] or mat.shape[0] == 0:
+            raise ValueError(f"the adjacency matrix must be square and non-empty, got shape {mat.shape}.")
+        if np.iscomplexobj(mat.data):
+            if np.any(mat.data.imag != 0):
+                raise ValueError("complex hopping (a magnetic flux) gives the quantum Monte Carlo a sign problem; "
+                                 "use exact diagonalisation or mean field instead.")
+            mat = sp.csr_matrix(mat.real)
+        mat = sp.csr_matrix(mat, dtype=np.float64)
+        if not np.all(np.isfinite(mat.data)):
+            raise ValueError("the adjacency matrix must have finite entries.")
+        if mat.nnz and abs(mat - mat.T).max() > 0:
+            raise ValueError("the adjacency matrix must be symmetric.")
+        return mat, None, "graph", f"graph of {mat.shape[0]} sites"
+    if hasattr(system, "neighbours") and hasattr(system, "genus"):                  # a Cluster
+        return (sp.csr_matrix(system.adjacency(), dtype=np.float64), None, "cluster",
+                f"{{{system.p},{system.q}}} cluster {system.name}")
+    if hasattr(system, "ring_offsets") and hasattr(system, "neighbours"):           # a Lattice
+        from ..graph.operators import adjacency
+
+        lat = _validate.lattice(system, kind="sites")
+        return (sp.csr_matrix(adjacency(lat), dtype=np.float64), np.asarray(lat.z, dtype=complex), "flake",
+                f"{{{lat.p},{lat.q}}} flake, l = {lat.rings}")
+    raise ValueError(f"system must be a flake, a periodic cluster or an adjacency matrix, got "
+                     f"{_validate._shown(system)}.")
+
+
+def _model(system, t: float) -> _Model:
+    mat, z, kind, label = _matrix(system)
+    n = mat.shape[0]
+    up = sp.triu(mat, k=1).tocoo()
+    keep = up.data != 0
+    bi = up.row[keep].astype(np.int64)
+    bj = up.col[keep].astype(np.int64)
+    hop = t * up.data[keep]
+    gauge = np.ones(n)
+    if np.any(hop < 0):
+        # a Z2 gauge s_i with s_i s_j t_ij >= 0 on every bond, by breadth-first search
+        sgn = sp.csr_matrix((np.sign(hop), (bi, bj)), shape=(n, n))
+        sgn = (sgn + sgn.T).tocsr()
+        seen = np.zeros(n, dtype=bool)
+        for root in range(n):
+            if seen[root]:
+                continue
+            seen[root] = True
+            queue = deque([root])
+            while queue:
+                u = queue.popleft()
+                for k in range(sgn.indptr[u], sgn.indptr[u + 1]):
+                    w = sgn.indices[k]
+                    want = gauge[u] * sgn.data[k]
+                    if not seen[w]:
+                        seen[w] = True
+                        gauge[w] = want
+                        queue.append(w)
+        if np.any(gauge[bi] * gauge[bj] * hop < 0):
+            why = ("t < 0 on a graph that is not bipartite" if np.all(hop <= 0) else
+                   "couplings of mixed sign that no gauge a_i -> -a_i makes all non-negative")
+            raise ValueError(f"{why} gives the quantum Monte Carlo a sign problem (frustrated hopping); "
+                             "use exact diagonalisation or mean field instead.")
+    tb = np.abs(hop).astype(float)
+    degree = np.bincount(np.concatenate([bi, bj]), minlength=n).astype(np.int64)
+    return _Model(n, bi, bj, tb, gauge, degree, z, label, kind)
+
+
+# ----------------------------------------------------------------------------
+# the result
+# ----------------------------------------------------------------------------
+
+@dataclass(frozen=True, eq=False, kw_only=True)
+class QMCResult(Result):
+    r"""Thermal averages of the Bose–Hubbard model from one SSE chain (or several merged).
+
+    Attributes
+    ----------
+    system : str
+        What was simulated (``"{7,3} flake, l = 3"``, a cluster name, or ``"graph of M sites"``).
+    sites : int
+        Number of sites M.
+    U, mu, t, beta : float
+        Interaction, chemical potential, hopping scale and inverse temperature (energies in the
+        unit of t; β in its inverse).
+    nmax : int
+        Occupation cutoff.
+    sweeps, thermalization : int
+        Measured and thermalisation sweeps (summed over chains after :func:`merge_chains`).
+    seed : int or None
+        The seed of the chain (None for merged chains: see ``seeds``).
+    seeds : tuple of int
+        Seeds of every chain in the result.
+    chains : int
+        Number of independent chains merged.
+    energy, energy_err : float
+        :math:`\langle H\rangle` (total, the :math:`-\mu N` term included) and its error.
+    density, density_err : float
+        :math:`\langle N\rangle/M` and its error.
+    compressibility, compressibility_err : float
+        :math:`\kappa = \beta(\langle N^2\rangle - \langle N\rangle^2)/M` (jackknife).
+    tau_int : dict
+        Integrated autocorrelation time in sweeps per observable (``energy``, ``density``,
+        ``compressibility``): :math:`\sigma^2 = 2\tau\,\mathrm{var}/n_{\mathrm{sweeps}}`.
+    bins, bin_size : int
+        Number of plateau-level bins of the scalar observables and their length in sweeps.
+    converged : bool
+        True when the binning errors of all scalar observables reached a plateau and the first and
+        second half of the measurements agree (see :func:`qmc`, Notes).
+    notes : tuple of str
+        What was noticed (the same sentences are issued as :class:`QMCWarning`).
+    site_density, site_density_err : ndarray, shape (M,)
+        :math:`\langle n_i\rangle` and its error.
+    bonds : ndarray of int, shape (B, 2)
+        The bonds (i < j).
+    bond_kinetic, bond_kinetic_err : ndarray, shape (B,)
+        :math:`\langle a_i^\dagger a_j + a_j^\dagger a_i\rangle` per bond (the nearest-neighbour
+        one-body density matrix, twice its real part).
+    mean_operators : float
+        Mean length n of the operator string.
+    string_length : int
+        The string length M_L fixed after thermalisation.
+    loops_per_sweep : int
+        Directed loops per sweep (fixed after thermalisation).
+    seconds : float
+        Wall-clock seconds of the run (summed over chains).
+    """
+
+    COLUMNS = (Column("site_density", "site_density", "bosons"),
+               Column("site_density_err", "site_density_err", "bosons"))
+
+    system: str
+    sites: int
+    U: float
+    mu: float
+    t: float
+    beta: float
+    nmax: int
+    sweeps: int
+    thermalization: int
+    seed: int | None
+    seeds: tuple
+    chains: int
+    energy: float
+    energy_err: float
+    density: float
+    density_err: float
+    compressibility: float
+    compressibility_err: float
+    tau_int: dict
+    bins: int
+    bin_size: int
+    converged: bool
+    notes: tuple
+    site_density: np.ndarray
+    site_density_err: np.ndarray
+    bonds: np.ndarray
+    bond_kinetic: np.ndarray
+    bond_kinetic_err: np.ndarray
+    mean_operators: float
+    string_length: int
+    loops_per_sweep: int
+    seconds: float
+
+    def summary(self) -> dict:
+        """The JSON view: the scalar observables with errors, tau_int, the run's size and flags."""
+        keys = ("system", "sites", "U", "mu", "t", "beta", "nmax", "sweeps", "thermalization", "seed", "chains",
+                "energy", "energy_err", "density", "density_err", "compressibility", "compressibility_err",
+                "bins", "bin_size", "converged", "mean_operators", "seconds")
+        out = {"type": self.TYPE}
+        for k in keys:
+            out[k] = getattr(self, k)
+        out["tau_int"] = {k: float(v) for k, v in self.tau_int.items()}
+        out["notes"] = list(self.notes)
+        return out
+
+    def table(self) -> list[dict]:
+        """One row per scalar observable: ``observable, value, error, tau_int``."""
+        rows = []
+        for name in ("energy", "density", "compressibility"):
+            rows.append({"observable": name, "value": float(getattr(self, name)),
+                         "error": float(getattr(self, name + "_err")), "tau_int": float(self.tau_int.get(name, math.nan))})
+        return rows
+
+    def __str__(self) -> str:
+        lines = [f"SSE QMC, {self.system}: U = {self.U:g}, mu = {self.mu:g}, t = {self.t:g}, beta = {self.beta:g}, "
+                 f"nmax = {self.nmax}, {self.sweeps} sweeps, {self.chains} chain(s)"]
+        for r in self.table():
+            lines.append(f"  {r['observable']:<16} {r['value']: .6f} +- {r['error']:.6f}   tau_int = {r['tau_int']:.2f}")
+        if not self.converged:
+            lines.append("  not converged: " + " ".join(self.notes))
+        return "\n".join(lines)
+
+
+# ----------------------------------------------------------------------------
+# the chain
+# ----------------------------------------------------------------------------
+
+def _weights(model: _Model, U: float, mu: float, nmax: int):
+    n = np.arange(nmax + 1, dtype=float)
+    eps = 0.5 * U * n * (n - 1) - mu * n
+    z = np.maximum(model.degree, 1).astype(float)
+    esite = eps[None, :] / z[:, None]
+    cb = esite[model.bi].max(axis=1) + esite[model.bj].max(axis=1) + OFFSET * model.tb
+    return eps, np.ascontiguousarray(esite), cb
+
+
+def _isolated(model: _Model, eps: np.ndarray, beta: float) -> tuple[float, float, float, np.ndarray]:
+    """Exact (energy, <N>, var N, site density) of the sites without bonds (independent sites)."""
+    iso = model.degree == 0
+    k = int(iso.sum())
+    dens = np.zeros(model.sites)
+    if k == 0:
+        return 0.0, 0.0, 0.0, dens
+    n = np.arange(eps.size, dtype=float)
+    w = np.exp(-beta * (eps - eps.min()))
+    w /= w.sum()
+    e1, n1, n2 = float(w @ eps), float(w @ n), float(w @ n ** 2)
+    dens[iso] = n1
+    return k * e1, k * n1, k * (n2 - n1 * n1), dens
+
+
+def _fingerprint(model: _Model, U, mu, t, beta, nmax, seed, thermalization) -> str:
+    h = hashlib.sha256()
+    for a in (model.bi, model.bj, model.tb, model.gauge):
+        h.update(np.ascontiguousarray(a).tobytes())
+    h.update(json.dumps([model.sites, U, mu, t, beta, nmax, seed, thermalization, OFFSET, _TARGET_LEGS,
+                         _SCALAR_BINS, _VECTOR_BINS]).encode())
+    return h.hexdigest()
+
+
+class _Chain:
+    """The full state of one Markov chain (what a checkpoint stores)."""
+
+    FIELDS = ("ops", "state", "rng", "sbins", "scur", "sinfo", "vbins", "vcur", "vinfo", "loopstat", "counters")
+
+    def __init__(self, model: _Model, seed: int):
+        from . import _sse_kernels as K
+
+        nv = model.sites + model.bi.size
+        self.ops = np.full(16, -1, dtype=np.int64)
+        self.state = np.zeros(model.sites, dtype=np.int64)
+        self.rng = K.seed_state(seed)
+        self.sbins = np.zeros((_SCALAR_BINS, 5))
+        self.scur = np.zeros(5)
+        self.sinfo = np.array([0, 1, 0], dtype=np.int64)      # bins filled, bin size, sweeps in current bin
+        self.vbins = np.zeros((_VECTOR_BINS, nv))
+        self.vcur = np.zeros(nv)
+        self.vinfo = np.array([0, 1, 0], dtype=np.int64)
+        self.loopstat = np.zeros(2)
+        # nops, nloops, thermalisation sweeps done, measurement sweeps done
+        self.counters = np.array([0, 1, 0, 0], dtype=np.int64)
+
+    def save(self, path: Path, fingerprint: str) -> None:
+        tmp = path.with_name(path.name + ".tmp.npz")
+        np.savez(tmp, fingerprint=np.array(fingerprint), **{k: getattr(self, k) for k in self.FIELDS})
+        os.replace(tmp, path)
+
+    def load(self, path: Path, fingerprint: str) -> None:
+        try:
+            with np.load(path, allow_pickle=False) as data:
+                if str(data["fingerprint"]) != fingerprint:
+                    raise ValueError(f"the checkpoint {str(path)!r} belongs to a run with other parameters "
+                                     "(system, U, mu, t, beta, nmax, seed or thermalization); use another directory.")
+                for k in self.FIELDS:
+                    want = getattr(self, k)
+                    got = np.array(data[k])
+                    if got.dtype != want.dtype or (k not in ("ops",) and got.shape != want.shape):
+                        raise ValueError(f"the checkpoint {str(path)!r} is damaged (field {k}).")
+                    setattr(self, k, got)
+        except (OSError, KeyError, EOFError) as exc:
+            raise ValueError(f"the checkpoint {str(path)!r} cannot be read ({exc}).") from None
+
+    def advance(self, K, n: int, thermalize: bool, beta, model, tb, cb, esite, sq, nmax) -> None:
+        ops, nops, nloops = K.run(n, thermalize, _TARGET_LEGS, self.ops, self.state, int(self.counters[0]),
+                                  int(self.counters[1]), beta, model.bi, model.bj, tb, cb, esite, sq, nmax,
+                                  self.rng, self.sbins, self.scur, self.sinfo, self.vbins, self.vcur, self.vinfo,
+                                  self.loopstat)
+        self.ops = ops
+        self.counters[0] = nops
+        self.counters[1] = nloops
+        self.counters[2 if thermalize else 3] += n
+
+
+def _check_memory(model: _Model, beta: float, cb: np.ndarray, nmax: int, U: float, mu: float) -> float:
+    """The expected string length bound beta * sum_b max vertex weight; refuse when it won't fit."""
+    n = np.arange(nmax + 1, dtype=float)
+    eps = 0.5 * U * n * (n - 1) - mu * n
+    z = np.maximum(model.degree, 1).astype(float)
+    emin = eps.min() / z
+    wmax = np.maximum(cb - emin[model.bi] - emin[model.bj], model.tb * nmax)
+    bound = beta * float(wmax.sum()) + 16
+    need = _BYTES_PER_OP * bound * 1.5 + 8.0 * (model.sites + model.bi.size) * (_VECTOR_BINS + 8)
+    _validate.require_memory(f"the SSE operator string (expected up to {bound:,.0f} operators at beta = {beta:g})",
+                             need)
+    return bound
+
+
+def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, sweeps: int = 20000,
+        thermalization: int | None = None, seed: int | None = None, checkpoint=None,
+        measure_green: bool = True, progress=None) -> QMCResult:
+    r"""Grand-canonical SSE quantum Monte Carlo of the Bose–Hubbard model (one Markov chain).
+
+    Parameters
+    ----------
+    system : Lattice, Cluster or sparse matrix
+        A flake (:func:`~hyperlattice.ring_lattice`), a periodic cluster
+        (:func:`~hyperlattice.graph.clusters.pbc_cluster`) or a symmetric adjacency matrix (bond
+        hopping :math:`t_{ij} = t A_{ij}`; negative entries only when a gauge removes the signs).
+    U, mu : float
+        On-site interaction and chemical potential (units of the hopping).
+    beta : float
+        Inverse temperature, > 0.
+    nmax : int
+        Occupation cutoff, >= 1 (1: hard-core bosons).
+    t : float, optional
+        Hopping scale (default 1). t < 0 is accepted on bipartite graphs only.
+    sweeps : int, optional
+        Measurement sweeps (default 20000).
+    thermalization : int, optional
+        Thermalisation sweeps (default ``max(200, sweeps // 5)``), during which the string
+        length and the loops per sweep adapt; they are frozen afterwards.
+    seed : int, optional
+        Seed of the chain's generator; None draws one (stored in the result).
+    checkpoint : str or path, optional
+        A directory: the chain state is saved there every minute and at the end, and a rerun with
+        the same arguments (``sweeps`` may grow) resumes from it, bit-identically to an
+        uninterrupted run.
+    measure_green : bool, optional
+        Accepted for the API; the equal-time Green function beyond nearest neighbours is not
+        measured in this version (see Notes).
+    progress : bool, optional
+        Progress bar on stderr (default: when a terminal watches, see :mod:`hyperlattice._progress`).
+
+    Returns
+    -------
+    QMCResult
+
+    Raises
+    ------
+    ValueError
+        On bad input, a sign problem, or a checkpoint of another run.
+    MemoryError
+        When the operator string (about :math:`\beta \sum_b W_b^{\max}` operators) will not fit.
+
+    Warns
+    -----
+    QMCWarning
+        When a binning error has not reached its plateau or the two halves of the measurements
+        disagree by more than 4σ (thermalisation in doubt).
+
+    Notes
+    -----
+    Errors come from a binning analysis (:mod:`hyperlattice.mcstats`) of up to 2048 bins per
+    chain; κ and other derived quantities from the jackknife of the plateau-level bins. Sweeps
+    beyond the last complete bin (fewer than ``bin_size``) are not counted in the averages.
+
+    Sites without bonds (an adjacency with empty rows) are independent and added exactly.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons import qmc
+    >>> r = qmc(hl.ring_lattice(7, 3, 1), U=4.0, mu=1.0, beta=2.0, nmax=2, sweeps=4000, seed=1, progress=False)
+    >>> r.sites, abs(r.density - 0.7238) < 4 * r.density_err + 0.005
+    (7, True)
+    """
+    U = _validate.real("U", U)
+    mu = _validate.real("mu", mu)
+    if isinstance(t, complex) or np.iscomplexobj(t):
+        if complex(t).imag != 0:
+            raise ValueError("complex hopping (a magnetic flux) gives the quantum Monte Carlo a sign problem; "
+                             "use exact diagonalisation or mean field instead.")
+        t = complex(t).real
+    t = _validate.real("t", t)
+    beta = _validate.real("beta", beta)
+    if not beta > 0:
+        raise ValueError(f"beta must be positive, got {beta!r}.")
+    nmax = _validate.integer("nmax", nmax, minimum=1, maximum=1000)
+    sweeps = _validate.integer("sweeps", sweeps, minimum=1)
+    if thermalization is None:
+        thermalization = max(200, sweeps // 5)
+    thermalization = _validate.integer("thermalization", thermalization, minimum=0)
+    if seed is None:
+        seed = int(np.random.SeedSequence().entropy % (2**63))
+    seed = _validate.integer("seed", seed, minimum=0)
+    measure_green = _validate.flag("measure_green", measure_green)
+    if t == 0:
+        raise ValueError("t = 0 leaves no bond term; the sites are independent (use exact_thermal).")
+    model = _model(system, t)
+    if model.bi.size == 0:
+        raise ValueError("the graph has no bonds: the sites are independent (use exact_thermal).")
+    eps, esite, cb = _weights(model, U, mu, nmax)
+    _check_memory(model, beta, cb, nmax, U, mu)
+    from . import _sse_kernels as K
+
+    sq = np.sqrt(np.arange(nmax + 2, dtype=float))
+    chain = _Chain(model, seed)
+    fp = _fingerprint(model, U, mu, t, beta, nmax, seed, thermalization)
+    ckpt = None
+    if checkpoint is not None:
+        ckpt = _validate.directory("checkpoint", checkpoint) / "qmc_chain.npz"
+        if ckpt.exists():
+            chain.load(ckpt, fp)
+            if chain.counters[3] > sweeps:
+                raise ValueError(f"the checkpoint already holds {int(chain.counters[3])} measured sweeps, more than "
+                                 f"the {sweeps} asked for.")
+    start = time.perf_counter()
+    last_save = start
+    total = thermalization + sweeps
+    with progress_bar(total, "qmc", unit="sweep", progress=progress) as bar:
+        bar.update(int(chain.counters[2] + chain.counters[3]))
+        chunk = 16
+        while chain.counters[2] < thermalization or chain.counters[3] < sweeps:
+            therm = bool(chain.counters[2] < thermalization)
+            left = (thermalization - chain.counters[2]) if therm else (sweeps - chain.counters[3])
+            n = int(min(chunk, left))
+            t0 = time.perf_counter()
+            chain.advance(K, n, therm, beta, model, model.tb, cb, esite, sq, nmax)
+            dt = time.perf_counter() - t0
+            bar.update(n)
+            # chunks of about half a second (the split never changes the chain)
+            chunk = int(max(1, min(4 * chunk, n * 0.5 / max(dt, 1e-6))))
+            if ckpt is not None and time.perf_counter() - last_save > _CHECKPOINT_SECONDS:
+                chain.save(ckpt, fp)
+                last_save = time.perf_counter()
+    if ckpt is not None:
+        chain.save(ckpt, fp)
+    seconds = time.perf_counter() - start
+    return _analyse(chain, model, U=U, mu=mu, t=t, beta=beta, nmax=nmax, sweeps=sweeps,
+                    thermalization=thermalization, seed=seed, cb=cb, eps=eps, seconds=seconds)
+
+
+def _analyse(chain: _Chain, model: _Model, *, U, mu, t, beta, nmax, sweeps, thermalization, seed, cb, eps,
+             seconds) -> QMCResult:
+    nb, bs = int(chain.sinfo[0]), int(chain.sinfo[1])
+    notes = []
+    if nb < 2:
+        raise HyperlatticeError("too few sweeps for an error estimate (fewer than two complete bins).")
+    raw = chain.sbins[:nb] / bs                    # bin means of n, n^2, N, N^2, N^4
+    e_iso, n_iso, var_iso, dens_iso = _isolated(model, eps, beta)
+    csum = float(cb.sum())
+    M = model.sites
+    nsw = nb * bs
+    mean = raw.mean(axis=0)
+    var_n = max(mean[1] - mean[0] ** 2, 0.0)
+    var_N = max(mean[3] - mean[2] ** 2, 0.0)
+    var_N2 = max(mean[4] - mean[3] ** 2, 0.0)
+    en = mcstats.binning(-raw[:, 0] / beta + csum + e_iso, bs, variance=var_n / beta ** 2)
+    de = mcstats.binning((raw[:, 2] + n_iso) / M, bs, variance=var_N / M ** 2)
+    n2 = mcstats.binning(raw[:, 3], bs, variance=var_N2)
+    plateau = mcstats.plateau_bins(raw[:, 2:4])
+    kap, kap_err = mcstats.jackknife(lambda a, b: beta * (b - a * a) / M, plateau[:, 0], plateau[:, 1])
+    kap += beta * var_iso / M
+    tau = {"energy": en.tau_int, "density": de.tau_int, "compressibility": n2.tau_int}
+    converged = True
+    for name, b in (("energy", en), ("density", de), ("N^2", n2)):
+        if not b.converged:
+            converged = False
+            notes.append(f"the binning error of {name} has not reached a plateau ({nsw} sweeps, tau_int = "
+                         f"{b.tau_int:.3g} sweeps): run longer.")
+    # thermalisation check: the halves of the measurement phase agree
+    pl = mcstats.plateau_bins(np.stack([-raw[:, 0] / beta, raw[:, 2] / M], axis=1))
+    h = pl.shape[0] // 2
+    if h >= 2:
+        for k, name in ((0, "energy"), (1, "density")):
+            a, b = pl[:h, k], pl[h:2 * h, k]
+            sa = a.std(ddof=1) / math.sqrt(h)
+            sb = b.std(ddof=1) / math.sqrt(h)
+            diff = abs(a.mean() - b.mean())
+            if diff > 4 * math.hypot(sa, sb) and diff > 1e-12 * (1 + abs(a.mean())):
+                converged = False
+                notes.append(f"the {name} of the first and second half of the measurements differ by "
+                             f"{diff / math.hypot(sa, sb):.1f} sigma: thermalisation ({thermalization} sweeps) "
+                             "was too short.")
+    for note in notes:
+        warnings.warn(note, QMCWarning, stacklevel=3)
+    vnb, vbs = int(chain.vinfo[0]), int(chain.vinfo[1])
+    vb = chain.vbins[:vnb] / vbs
+    sd = vb[:, :M].mean(axis=0) + dens_iso
+    sd_err = vb[:, :M].std(axis=0, ddof=1) / math.sqrt(vnb) if vnb > 1 else np.full(M, np.nan)
+    kin_scale = model.gauge[model.bi] * model.gauge[model.bj] / (beta * model.tb)
+    kin = vb[:, M:].mean(axis=0) * kin_scale
+    kin_err = (vb[:, M:].std(axis=0, ddof=1) / math.sqrt(vnb) if vnb > 1 else np.nan) * np.abs(kin_scale)
+    return QMCResult(
+        system=model.label, sites=M, U=U, mu=mu, t=t, beta=beta, nmax=nmax, sweeps=sweeps,
+        thermalization=thermalization, seed=seed, seeds=(seed,), chains=1,
+        energy=en.mean, energy_err=en.error, density=de.mean, density_err=de.error,
+        compressibility=float(kap), compressibility_err=float(kap_err), tau_int=tau,
+        bins=int(plateau.shape[0]), bin_size=int(bs * (nb // plateau.shape[0])), converged=converged,
+        notes=tuple(notes), site_density=sd, site_density_err=sd_err,
+        bonds=np.stack([model.bi, model.bj], axis=1), bond_kinetic=kin, bond_kinetic_err=kin_err,
+        mean_operators=float(mean[0]), string_length=int(chain.ops.size), loops_per_sweep=int(chain.counters[1]),
+        seconds=float(seconds))
+
+
+def merge_chains(results) -> QMCResult:
+    r"""Merge independent chains (same model, different seeds) into one result.
+
+    Each chain is an unbiased estimate; the merged value is the sweep-weighted mean
+    :math:`\bar x = \sum_c s_c x_c / S` with :math:`\sigma = \sqrt{\sum_c s_c^2\sigma_c^2}/S`
+    (:func:`hyperlattice.mcstats.combine_independent`), per observable and per site.
+
+    Parameters
+    ----------
+    results : sequence of QMCResult
+        Chains of the same model (system, sites, U, mu, t, beta, nmax), distinct seeds.
+
+    Returns
+    -------
+    QMCResult
+        ``chains`` = their number, ``sweeps`` and ``seconds`` summed, ``seed`` None and ``seeds``
+        all seeds; ``tau_int`` the sweep-weighted mean; ``converged`` only if every chain was.
+
+    Raises
+    ------
+    ValueError
+        If the list is empty, holds other objects, chains of different models, or a seed twice.
+    """
+    res = list(results) if not isinstance(results, QMCResult) else [results]
+    if not res or not all(isinstance(r, QMCResult) for r in res):
+        raise ValueError("merge_chains takes a non-empty list of QMCResult.")
+    ref = res[0]
+    for r in res[1:]:
+        for k in ("system", "sites", "U", "mu", "t", "beta", "nmax"):
+            if getattr(r, k) != getattr(ref, k):
+                raise ValueError(f"merge_chains needs chains of one model; {k} differs ({getattr(ref, k)!r} vs "
+                                 f"{getattr(r, k)!r}).")
+        if r.bonds.shape != ref.bonds.shape or not np.array_equal(r.bonds, ref.bonds):
+            raise ValueError("merge_chains needs chains of one model; the bonds differ.")
+    seeds = tuple(s for r in res for s in r.seeds)
+    if len(set(seeds)) != len(seeds):
+        raise ValueError("merge_chains needs independent chains, but a seed occurs twice.")
+    w = np.array([r.sweeps for r in res], dtype=float)
+    vals = {}
+    for name in ("energy", "density", "compressibility"):
+        vals[name], vals[name + "_err"] = mcstats.combine_independent(
+            [getattr(r, name) for r in res], [getattr(r, name + "_err") for r in res], w)
+    tot = w.sum()
+    sd = sum(wc * r.site_density for wc, r in zip(w, res)) / tot
+    sd_err = np.sqrt(sum((wc * r.site_density_err) ** 2 for wc, r in zip(w, res))) / tot
+    kin = sum(wc * r.bond_kinetic for wc, r in zip(w, res)) / tot
+    kin_err = np.sqrt(sum((wc * r.bond_kinetic_err) ** 2 for wc, r in zip(w, res))) / tot
+    tau = {k: float(sum(wc * r.tau_int.get(k, math.nan) for wc, r in zip(w, res)) / tot) for k in ref.tau_int}
+    notes = tuple(f"chain {r.seed}: {n}" for r in res for n in r.notes)
+    return QMCResult(
+        system=ref.system, sites=ref.sites, U=ref.U, mu=ref.mu, t=ref.t, beta=ref.beta, nmax=ref.nmax,
+        sweeps=int(tot), thermalization=int(sum(r.thermalization for r in res)), seed=None, seeds=seeds,
+        chains=int(sum(r.chains for r in res)), tau_int=tau,
+        bins=int(sum(r.bins for r in res)), bin_size=int(max(r.bin_size for r in res)),
+        converged=all(r.converged for r in res), notes=notes, site_density=sd, site_density_err=sd_err,
+        bonds=ref.bonds, bond_kinetic=kin, bond_kinetic_err=kin_err,
+        mean_operators=float(sum(wc * r.mean_operators for wc, r in zip(w, res)) / tot),
+        string_length=int(max(r.string_length for r in res)), loops_per_sweep=int(ref.loops_per_sweep),
+        seconds=float(sum(r.seconds for r in res)), **vals)
+
+
+_validate.guard_public(globals())
