@@ -1,6 +1,6 @@
 """The QMC Mott-lobe comparison (compare/qmc_lobe.py, plots/qmc_lobe.py) on tiny fast scans.
 
-The stored scan (docs/data/qmc_lobe_scan.json, from tools/qmc_lobe_scan.py) is read and checked for
+The stored scan (src/hyperlattice/report/qmc_lobe_scan.json, from benchmarks/qmc_lobe_scan.py) is read and checked for
 consistency; the QMC runs here are a few hundred sweeps on the heptagon, compared with exact
 thermal averages of the same graph (bosons.exact_thermal), so the boundary finder is checked
 against the number it estimates.
@@ -17,7 +17,7 @@ import pytest
 import hyperlattice as hl
 from hyperlattice.compare import qmc_lobe as ql
 
-SCAN = Path(__file__).resolve().parent.parent / "docs" / "data" / "qmc_lobe_scan.json"
+SCAN = Path(ql.__file__).resolve().parent.parent / "report" / "qmc_lobe_scan.json"
 
 
 def test_square_lattice_builder():
@@ -122,7 +122,7 @@ def test_stored_scan_is_consistent():
 
 @pytest.mark.slow
 def test_xy_qubits_against_exact():
-    out = ql.xy_qubit_check(rings=2, ring=1, beta=20.0, sweeps=3000, seed=11)
+    out = ql.xy_qubit_check(rings=2, ring=1, beta_J=10.0, sweeps=3000, seed=11)
     assert out["qubits"] == 7 and out["lamb_shift_spread"] < 1e-9
     for key, dev in out["deviation_sigma"].items():
         assert dev < 4.0, (key, out)

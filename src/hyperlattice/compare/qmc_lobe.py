@@ -267,6 +267,9 @@ class QMCLobe(Result):
         The {7,3} mean-field tip through the spectral radius ρ.
     rho : float
         ρ of the infinite {7,3} lattice (the extrapolated band bottom).
+    continuum : dict
+        ``lambda_max`` (minus the continuum's band bottom, the paper's map) and its mean-field
+        ``tip_mean_field``.
     square : dict
         The square-lattice reference: ``exact``, ``exact_err``, ``mean_field``, ``strong_coupling``.
     """
@@ -277,6 +280,7 @@ class QMCLobe(Result):
     systems: list
     infinite_tip_mean_field: float
     rho: float
+    continuum: dict
     square: dict
 
     def summary(self) -> dict:
@@ -299,8 +303,44 @@ def _system(spec: str):
     raise ValueError(f"unknown system {spec!r}: use flake:L, cluster:NAME or square:L.")
 
 
+def _continuum_bottom() -> float:
+    """The paper's continuum band bottom -3 + (3/4) h^2 of {7,3}: E(lambda = 1), the spectrum's edge."""
+    from ..dictionary import energy_from_lambda
+
+    return float(energy_from_lambda(1.0, 7, 3))
+
+
+def _gap_extrapolation(rows: list) -> dict:
+    """The QMC gap mu_+ - mu_- at each t/U with both sides, and its linear extrapolation to zero.
+
+    A finite graph has no transition: its gap stays open. The straight line through the gaps of the
+    two largest t/U, continued to zero, is the pseudo-tip of that graph (an estimate with the
+    curvature of the gap neglected; NaN with fewer than two points).
+    """
+    by_x: dict = {}
+    for r in rows:
+        by_x.setdefault(r["t_over_U"], {})[r["side"]] = r
+    gaps = []
+    for x in sorted(by_x):
+        d = by_x[x]
+        if "plus" in d and "minus" in d:
+            gaps.append((x, d["plus"]["mu"] - d["minus"]["mu"], math.hypot(d["plus"]["mu_err"], d["minus"]["mu_err"])))
+    out = {"qmc_gaps": [list(g) for g in gaps], "tip_qmc_extrapolated": math.nan, "tip_qmc_extrapolated_err": math.nan}
+    if len(gaps) >= 2:
+        (x1, g1, e1), (x2, g2, e2) = gaps[-2], gaps[-1]
+        slope = (g2 - g1) / (x2 - x1)
+        if slope < 0:
+            xc = x2 - g2 / slope
+            # d xc / d g1 and d xc / d g2 of the two-point line
+            d1 = -(x2 - xc) / (g1 - g2) if g1 != g2 else math.nan
+            d2 = (x1 - xc) / (g1 - g2) if g1 != g2 else math.nan
+            out["tip_qmc_extrapolated"] = xc
+            out["tip_qmc_extrapolated_err"] = math.hypot(d1 * e1, d2 * e2)
+    return out
+
+
 def load_scan(path) -> dict:
-    """The stored scan (JSON written by tools/qmc_lobe_scan.py): ``{"meta": ..., "boundaries": [...]}``."""
+    """The stored scan (JSON written by benchmarks/qmc_lobe_scan.py): ``{"meta": ..., "boundaries": [...]}``."""
     p = _validate.input_path("path", path, suffixes=(".json",))
     with open(p, encoding="utf-8") as fh:
         data = json.load(fh)
@@ -356,7 +396,7 @@ def qmc_lobe(scan: dict, *, points: int = 41) -> QMCLobe:
                         "tip_strong_coupling": tip_sc, "t_line": xs.tolist(), "mf_plus": mf_p.tolist(),
                         "mf_minus": mf_m.tolist(), "sc_plus": sp_.tolist(), "sc_minus": sm_.tolist()})
     rows = []
-    for b in scan["boundaries"]:
+    for b in sorted(scan["boundaries"], key=lambda b: (specs.index(b["system"]), b["t_over_U"], b["side"])):
         g, lam = info[b["system"]]
         x = float(b["t_over_U"])
         sp_, sm_ = excitation_energies(g, [x])
@@ -366,25 +406,36 @@ def qmc_lobe(scan: dict, *, points: int = 41) -> QMCLobe:
                      "side": b["side"], "mu": float(b["mu"]), "mu_err": float(b["mu_err"]),
                      "mu_mean_field": float(mf_p[0] if plus else mf_m[0]),
                      "mu_strong_coupling": float(sp_[0] if plus else sm_[0]), "lambda_max": lam})
+    for sysd in systems:
+        sysd.update(_gap_extrapolation([r for r in rows if r["system"] == sysd["system"]]))
+        g, _ = info[sysd["system"]]
+        beta_t = max((r["beta_t"] for r in rows if r["system"] == sysd["system"]), default=math.nan)
+        sysd["beta_t"] = beta_t
+        sysd["beta_splitting"] = boundary_offset(g, beta_t)["beta_splitting"] if math.isfinite(beta_t) else math.nan
     from .limits import band_bottom   # the report's route to rho (extrapolated band bottom)
 
     rho = float(band_bottom(7, 3, schur_window=None).rho)
     tip_inf = float(lobe_tip(rho)[1])
     square_sc = strong_coupling_tip(square_lattice(4))[0]
-    return QMCLobe(rows=rows, systems=systems, infinite_tip_mean_field=tip_inf, rho=rho,
+    # the continuum's band bottom: the paper's map E = -q + (q/4) h^2 lambda at lambda = 1, where the
+    # spectrum of -Delta_g on the hyperbolic plane (curvature -4) starts; its mean-field tip is the
+    # continuum's reading of the same formula
+    lam_cont = -float(_continuum_bottom())
+    continuum = {"lambda_max": lam_cont, "tip_mean_field": float(lobe_tip(lam_cont)[1])}
+    return QMCLobe(rows=rows, systems=systems, infinite_tip_mean_field=tip_inf, rho=rho, continuum=continuum,
                    square={"exact": SQUARE_TIP_EXACT[0], "exact_err": SQUARE_TIP_EXACT[1],
                            "mean_field": SQUARE_TIP_MEAN_FIELD, "strong_coupling": square_sc})
 
 
 def xy_qubit_check(rings: int = 2, omega_q: float = -3.5, g: float = 0.5, *, ring: int = 1, mu: float = 0.0,
-                   beta: float = 20.0, sweeps: int = 4000, seed: int = 3) -> dict:
+                   beta_J: float = 10.0, sweeps: int = 4000, seed: int = 3) -> dict:
     r"""Hard-core bosons (the XY model) on the exchange couplings of qubits, QMC against exact.
 
     Qubits on every site of ring ``ring`` of an ℓ-ring {7,3} flake (one rotation orbit, so every
     qubit has the same Lamb shift and a uniform chemical potential is exact) with the exchange
     :math:`J_{kl}` of :func:`hyperlattice.graph.qubits.spin_model`; the spin model
     :math:`H = -\sum_{k\neq l} J_{kl}\sigma_k^+\sigma_l^- - \mu\sum_k n_k` (all-to-all, J > 0: no
-    sign problem) at inverse temperature β (units of t), by QMC with nmax = 1 and by
+    sign problem) at inverse temperature :math:`\beta = \beta_J / J_{\max}`, by QMC with nmax = 1 and by
     :func:`hyperlattice.bosons.exact_thermal`.
 
     Parameters
@@ -395,8 +446,8 @@ def xy_qubit_check(rings: int = 2, omega_q: float = -3.5, g: float = 0.5, *, rin
         Qubit frequency (below the band) and coupling, units of t. Default -3.5, 0.5.
     mu : float, optional
         Chemical potential of the excitations (the frame), units of t. Default 0.
-    beta : float, optional
-        Inverse temperature in 1/t. Default 20.
+    beta_J : float, optional
+        Inverse temperature in units of the largest exchange, :math:`\beta J_{\max}`. Default 10.
     sweeps : int, optional
         QMC sweeps. Default 4000.
     seed : int, optional
@@ -424,11 +475,12 @@ def xy_qubit_check(rings: int = 2, omega_q: float = -3.5, g: float = 0.5, *, rin
     J = np.array(model.couplings)
     np.fill_diagonal(J, 0.0)
     A = sp.csr_matrix(J)
+    beta = _validate.positive_real("beta_J", beta_J) / float(J.max())
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         r = qmc(A, U=0.0, mu=mu, beta=beta, nmax=1, t=1.0, sweeps=sweeps, seed=seed, progress=False)
     ex = exact_thermal(A, U=0.0, mu=mu, beta=beta, nmax=1, t=1.0)
-    out = {"qubits": int(sites.size), "J_max": float(J.max()), "beta_J": float(beta * J.max()),
+    out = {"qubits": int(sites.size), "J_max": float(J.max()), "beta": beta, "beta_J": float(beta * J.max()),
            "lamb_shift_spread": float(np.ptp(model.lamb_shift)),
            "qmc": {}, "exact": {}, "deviation_sigma": {}, "warnings": [str(w.message) for w in caught]}
     for key in ("energy", "density", "compressibility"):

@@ -1,12 +1,12 @@
-"""QMC scan of the n = 1 Mott-lobe boundaries (issue 27, item 4): writes docs/data/qmc_lobe_scan.json.
+"""QMC scan of the n = 1 Mott-lobe boundaries (issue 27, item 4): writes src/hyperlattice/report/qmc_lobe_scan.json.
 
 Each point is one boundary mu_+ or mu_- of one graph at one t/U, located by Newton steps on
 <N> - (M +- 1/2) (hyperlattice.compare.qmc_lobe.qmc_boundary). The file is rewritten after every
 point and points already in it are skipped, so an interrupted scan resumes. Heavy: it is not run by
 the tests (they read the stored file and check the table/figure code on a tiny scan).
 
-    PYTHONPATH=src python tools/qmc_lobe_scan.py            # the stored scan (about 30 min on 1 core)
-    PYTHONPATH=src python tools/qmc_lobe_scan.py --points flake:1@0.04 --beta 5 --sweeps 200 --out /tmp/x.json
+    PYTHONPATH=src python benchmarks/qmc_lobe_scan.py            # the stored scan (about 30 min on 1 core)
+    PYTHONPATH=src python benchmarks/qmc_lobe_scan.py --points flake:1@0.04 --beta 5 --sweeps 200 --out /tmp/x.json
 """
 
 from __future__ import annotations
@@ -35,7 +35,7 @@ def main(argv=None) -> int:
     ap.add_argument("--sweeps", type=int, default=400, help="sweeps per Newton step (default 400)")
     ap.add_argument("--iterations", type=int, default=3)
     ap.add_argument("--nmax", type=int, default=3)
-    ap.add_argument("--out", default=os.path.join(os.path.dirname(__file__), "..", "docs", "data",
+    ap.add_argument("--out", default=os.path.join(os.path.dirname(__file__), "..", "src", "hyperlattice", "report",
                                                   "qmc_lobe_scan.json"))
     args = ap.parse_args(argv)
     from hyperlattice.compare.qmc_lobe import _system, qmc_boundary
@@ -45,7 +45,7 @@ def main(argv=None) -> int:
     if os.path.exists(args.out):
         with open(args.out, encoding="utf-8") as fh:
             data = json.load(fh)
-    data["meta"] = {"command": "PYTHONPATH=src python tools/qmc_lobe_scan.py", "beta_t": args.beta,
+    data["meta"] = {"command": "PYTHONPATH=src python benchmarks/qmc_lobe_scan.py", "beta_t": args.beta,
                     "sweeps_per_step": args.sweeps, "iterations": args.iterations, "nmax": args.nmax,
                     "machine": platform.machine(), "python": platform.python_version()}
     done = {(b["system"], b["t_over_U"], b["side"], b["beta_t"]) for b in data["boundaries"]}
