@@ -45,22 +45,18 @@ def test_mean_field_boundaries_meet_at_the_tip():
     assert ql.SQUARE_TIP_MEAN_FIELD == pytest.approx(lobe_tip(4.0)[1])
 
 
+@pytest.mark.slow          # QMC kernels compile; minutes on a loaded machine
 def test_heptagon_boundary_against_exact_thermal():
-    # the Newton finder on <N>(mu) = M + 1/2: with exact thermal averages instead of QMC it must
-    # land on the exact finite-T crossing, and the QMC version within its error bar of it
-    from scipy.optimize import brentq
-
+    # the Newton finder on <N>(mu) = M + 1/2: at the QMC estimate the exact thermal <N> of the same
+    # graph, beta and cutoff must be M + 1/2 within the estimate's error (times the exact slope)
     lat = hl.ring_lattice(7, 3, 1)
     x, beta = 0.08, 5.0
     U = 1 / x
-
-    def excess(mu):
-        return hl.bosons.exact_thermal(lat, U=U, mu=mu * U, beta=beta, nmax=3)["density"] * 7 - 7.5
-
-    exact = brentq(excess, 0.5, 0.9, xtol=1e-7)
     b = ql.qmc_boundary(lat, x, "plus", beta_t=beta, sweeps=600, iterations=2, seed=5)
     assert b["sites"] == 7 and len(b["steps"]) == 2 and b["mu_err"] > 0
-    assert abs(b["mu"] - exact) < 4 * b["mu_err"] + 1e-3
+    ex = hl.bosons.exact_thermal(lat, U=U, mu=b["mu"] * U, beta=beta, nmax=3)
+    slope = ex["compressibility"] * 7 * U          # d<N>/d(mu/U)
+    assert abs(ex["density"] * 7 - 7.5) < slope * (4 * b["mu_err"] + 1e-3)
 
 
 def test_finite_temperature_offset_statement():
@@ -95,8 +91,9 @@ def test_lobe_assembly_and_figure(tmp_path):
     assert hept["tip_strong_coupling"] == pytest.approx(0.2152504, rel=1e-6)
     assert lobe.square["strong_coupling"] == pytest.approx(0.0679604, rel=1e-6)
     assert lobe.infinite_tip_mean_field == pytest.approx(0.058335, abs=2e-6)
-    row = lobe.rows[0]
+    row = next(r for r in lobe.rows if r["system"] == "flake:1" and r["side"] == "plus")
     assert row["mu_strong_coupling"] == pytest.approx(0.689472, abs=1e-6)
+    assert [r["side"] for r in lobe.rows[:2]] == ["minus", "plus"]
     ax = plot_qmc_lobe_system(lobe, "flake:1")
     assert len(ax.lines) >= 4 and ax.get_xlabel() == "t/U"
     fig = qmc_lobe_figure(lobe, tmp_path / "lobe.png")
@@ -126,3 +123,16 @@ def test_xy_qubits_against_exact():
     assert out["qubits"] == 7 and out["lamb_shift_spread"] < 1e-9
     for key, dev in out["deviation_sigma"].items():
         assert dev < 4.0, (key, out)
+
+
+@pytest.mark.slow          # strong-coupling tips and rho of every graph of the stored scan
+def test_report_section(tmp_path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from hyperlattice.report.qmc_lobe import qmc_lobe_section
+
+    sec = qmc_lobe_section(tmp_path, lambda msg: None)
+    assert sec.anchor == "qmc-lobe" and len(sec.tables) == 2 and len(sec.figures) == 1
+    assert (tmp_path / "fig_qmc_lobe.png").exists()
+    assert "0.058335" in " ".join(sec.text) and "stored scan" in sec.provenance[0]

@@ -387,7 +387,8 @@ def qmc_lobe(scan: dict, *, points: int = 41) -> QMCLobe:
         tip_sc = strong_coupling_tip(g)[0]
         tip_mf = lobe_tip(lam)[1]
         top = max(tip_sc if math.isfinite(tip_sc) else 0.0, tip_mf) * 1.05
-        xs = np.linspace(0.0, top, points)
+        # the mean-field tip itself is on the grid, so that the drawn lobe closes
+        xs = np.union1d(np.linspace(0.0, top, points), [tip_mf * (1.0 - 1e-12)])
         sp_, sm_ = excitation_energies(g, xs)
         mf_p, mf_m = mean_field_boundaries(lam, xs)
         sites = int(g.shape[0]) if sp.issparse(g) else int(g.sites)
