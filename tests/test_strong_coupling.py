@@ -149,6 +149,9 @@ def test_sparse_and_dense_paths_agree(monkeypatch):
     monkeypatch.setattr(sc, "_DENSE_SITES", 10)
     sparse = sc.excitation_energies(lat, [0.03, 0.08])
     assert np.allclose(dense, sparse, atol=1e-9)
+    # t = 0 on the sparse route: the atomic limit, not an ARPACK error on the zero matrix
+    mp, mm = sc.excitation_energies(lat, [0.0])
+    assert mp[0] == 1.0 and mm[0] == 0.0
 
 
 def test_lobe_result_round_trip():

@@ -177,6 +177,8 @@ def excitation_matrices(system, filling: int = 1) -> dict:
 
 def _lowest(mat: sp.csr_matrix, v0=None) -> tuple[float, np.ndarray]:
     m = mat.shape[0]
+    if not np.any(mat.data):          # t = 0: the zero matrix (ARPACK refuses a zero operator)
+        return 0.0, np.full(m, 1.0 / np.sqrt(m))
     if m <= _DENSE_SITES:
         w, v = np.linalg.eigh(mat.toarray())
         return float(w[0]), v[:, 0]
