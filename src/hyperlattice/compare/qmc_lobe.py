@@ -107,7 +107,7 @@ def mean_field_boundaries(lambda_max: float, t_over_U) -> tuple[np.ndarray, np.n
     >>> from hyperlattice.compare.qmc_lobe import mean_field_boundaries
     >>> mp, mm = mean_field_boundaries(4.0, [0.0, 0.02])
     >>> [round(float(v), 6) for v in mp], [round(float(v), 6) for v in mm]
-    ([1.0, 0.760555], [0.0, 0.159445])
+    ([1.0, 0.822767], [0.0, 0.097233])
     """
     lam = _validate.positive_real("lambda_max", lambda_max)
     x = _validate.real_array("t_over_U", t_over_U)
@@ -150,7 +150,7 @@ def boundary_offset(system, beta_t: float) -> dict:
     >>> from hyperlattice.compare.qmc_lobe import boundary_offset
     >>> off = boundary_offset(hl.ring_lattice(7, 3, 1), 10.0)
     >>> round(off["splitting_over_t"], 6), round(off["beta_splitting"], 4)
-    (0.753020, 7.5302)
+    (1.506041, 15.0604)
     """
     from ..bosons.meanfield import _adjacency
 
