@@ -446,7 +446,8 @@ def xy_qubit_check(rings: int = 2, omega_q: float = -3.5, g: float = 0.5, *, rin
     omega_q, g : float, optional
         Qubit frequency (below the band) and coupling, units of t. Default -3.5, 0.5.
     mu : float, optional
-        Chemical potential of the excitations (the frame), units of t. Default 0.
+        Chemical potential of the excitations (the frame), units of t, within 10 J_max of 0.
+        Default 0.
     beta_J : float, optional
         Inverse temperature in units of the largest exchange, :math:`\beta J_{\max}`. Default 10.
     sweeps : int, optional
@@ -477,6 +478,10 @@ def xy_qubit_check(rings: int = 2, omega_q: float = -3.5, g: float = 0.5, *, rin
     np.fill_diagonal(J, 0.0)
     A = sp.csr_matrix(J)
     beta = _validate.positive_real("beta_J", beta_J) / float(J.max())
+    mu = _validate.real("mu", mu)
+    if abs(mu) > 10.0 * float(J.max()):
+        # the check is about the XY model's own scale; far outside it the system is empty or full
+        raise ValueError(f"mu must lie within 10 J_max = {10.0 * float(J.max()):.4g} of 0 for this check, got {mu:g}.")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         r = qmc(A, U=0.0, mu=mu, beta=beta, nmax=1, t=1.0, sweeps=sweeps, seed=seed, progress=False)

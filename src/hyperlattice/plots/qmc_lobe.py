@@ -19,6 +19,11 @@ __all__ = ["plot_qmc_lobe_system", "plot_qmc_lobe", "qmc_lobe_figure"]
 _NAMES = {"flake": "{7,3} flake, ℓ = ", "cluster": "{7,3} cluster ", "square": "square lattice, L = "}
 
 
+def _check(lobe) -> None:
+    if not (hasattr(lobe, "systems") and hasattr(lobe, "rows") and hasattr(lobe, "square")):
+        raise ValueError(f"lobe must be a QMCLobe (from compare.qmc_lobe.qmc_lobe), got {type(lobe).__name__}.")
+
+
 def _title(spec: str, sites: int) -> str:
     kind, _, arg = spec.partition(":")
     return f"{_NAMES.get(kind, kind)}{arg} ({sites} sites)"
@@ -46,6 +51,9 @@ def plot_qmc_lobe_system(lobe: QMCLobe, system: str, ax: Axes | None = None) -> 
     ValueError
         If ``system`` is not in ``lobe``.
     """
+    _check(lobe)
+    if not isinstance(system, str):
+        raise ValueError(f"system must be a string such as 'flake:3', got {type(system).__name__}.")
     spec = next((s for s in lobe.systems if s["system"] == system), None)
     if spec is None:
         raise ValueError(f"system {system!r} is not in this lobe; it has {[s['system'] for s in lobe.systems]}.")
@@ -73,6 +81,7 @@ def plot_qmc_lobe_system(lobe: QMCLobe, system: str, ax: Axes | None = None) -> 
 
 def plot_qmc_lobe(lobe: QMCLobe, ax: Axes | None = None) -> Axes:
     """The first graph of ``lobe`` (the drawing :meth:`QMCLobe.plot` uses); see :func:`qmc_lobe_figure` for all."""
+    _check(lobe)
     return plot_qmc_lobe_system(lobe, lobe.systems[0]["system"], ax=ax)
 
 
@@ -94,6 +103,7 @@ def qmc_lobe_figure(lobe: QMCLobe, path=None):
 
     from .. import _validate
 
+    _check(lobe)
     k = len(lobe.systems)
     cols = min(3, k)
     rows = (k + cols - 1) // cols
