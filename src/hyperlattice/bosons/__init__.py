@@ -16,7 +16,8 @@ continuum/ only):
 * ``meanfield`` -- site-decoupled (Gutzwiller) mean field and the Mott lobes;
 * ``gp`` -- discrete and continuum Gross–Pitaevskii ground states and Bogoliubov spectra;
 * ``sse`` (kernels in ``_sse_kernels``) -- stochastic series expansion quantum Monte Carlo at finite
-  temperature, and ``thermal`` -- its exact reference, full diagonalisation over all particle numbers.
+  temperature, and ``thermal`` -- its exact reference, full diagonalisation over all particle numbers;
+* ``strong_coupling`` -- the third-order t/U expansion of the Mott-lobe boundaries on any graph.
 """
 
 from __future__ import annotations
@@ -28,6 +29,8 @@ from .sse import QMCResult, QMCWarning, merge_chains, qmc
 from .thermal import exact_thermal
 from .meanfield import (GutzwillerState, MottLobe, MottLobeTable, gutzwiller, largest_adjacency_eigenvalue,
                         lobe_boundary, lobe_tip, mott_lobe, mott_lobes)
+from .strong_coupling import (StrongCouplingLobe, excitation_energies, hypercubic_boundaries, strong_coupling_lobe,
+                              strong_coupling_tip)
 
 __all__: list[str] = [
     # exact diagonalisation (issue 22, item 1)
@@ -39,4 +42,6 @@ __all__: list[str] = [
     "lobe_tip", "mott_lobe", "mott_lobes",
     # quantum Monte Carlo (issue 27) and its exact reference
     "QMCResult", "QMCWarning", "qmc", "merge_chains", "exact_thermal",
+    # strong-coupling expansion (issue 27, item 4)
+    "StrongCouplingLobe", "excitation_energies", "hypercubic_boundaries", "strong_coupling_lobe", "strong_coupling_tip",
 ]

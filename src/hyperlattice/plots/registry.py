@@ -12,7 +12,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from ..results import register_plotter
-from . import basic, bosons, boundary, disorder, dos, green, limits, magnetic, paper, scaling
+from . import basic, bosons, boundary, disorder, dos, green, limits, magnetic, paper, qmc_lobe, scaling
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -52,6 +52,7 @@ _DRAWINGS = {
     "MottLobeTable": bosons.plot_mott_lobes,
     # comparisons
     "GPComparison": _gp_comparison,
+    "QMCLobe": qmc_lobe.plot_qmc_lobe,
     "BoundaryCorrelator": boundary.plot_boundary_correlator,
     "DeltaCurve": _delta_curve,
     "LatticeBFBound": boundary.plot_bf_bound,

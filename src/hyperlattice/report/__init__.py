@@ -102,6 +102,7 @@ def reproduce(out_dir: str | Path = "reproduction", max_rings: int = 10, *, cach
     from . import sections as sec
     from .below_band import holography_section, qubits_section
     from .bosons import bosons_section
+    from .qmc_lobe import qmc_lobe_section
     from .disorder import disorder_section
     from .infinite import band_interval_sentence, infinite_section
     from .limits import limits_section
@@ -130,7 +131,7 @@ def reproduce(out_dir: str | Path = "reproduction", max_rings: int = 10, *, cach
     infinite = infinite_section(out, progress)
     infinite.text.append(band_interval_sentence(limits, infinite))
     beyond = [magnetic, limits, infinite, holography_section(out, progress), qubits_section(out, progress),
-              disorder_section(out, progress), bosons_section(out, progress)]
+              disorder_section(out, progress), bosons_section(out, progress), qmc_lobe_section(out, progress)]
     # the paper's sections in the order the paper prints them (main text, then the appendices), then the rest
     sections = [fig1, counts, spec_section, fig2, green, scaling, geometry] + beyond
 

@@ -1,0 +1,138 @@
+"""The QMC Mott-lobe comparison (compare/qmc_lobe.py, plots/qmc_lobe.py) on tiny fast scans.
+
+The stored scan (src/hyperlattice/report/qmc_lobe_scan.json, from benchmarks/qmc_lobe_scan.py) is read and checked for
+consistency; the QMC runs here are a few hundred sweeps on the heptagon, compared with exact
+thermal averages of the same graph (bosons.exact_thermal), so the boundary finder is checked
+against the number it estimates.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import hyperlattice as hl
+from hyperlattice.compare import qmc_lobe as ql
+
+SCAN = Path(ql.__file__).resolve().parent.parent / "report" / "qmc_lobe_scan.json"
+
+
+def test_square_lattice_builder():
+    A = ql.square_lattice(5)
+    assert A.shape == (25, 25) and (A != A.T).nnz == 0
+    assert np.all(np.asarray(A.sum(axis=1)).ravel() == 4)
+    # translation invariant: the spectrum of the torus is 2cos(2pi a/L) + 2cos(2pi b/L)
+    k = 2 * np.pi * np.arange(5) / 5
+    ref = np.sort((2 * np.cos(k)[:, None] + 2 * np.cos(k)[None, :]).ravel())
+    assert np.allclose(np.linalg.eigvalsh(A.toarray()), ref)
+    with pytest.raises(ValueError, match="L"):
+        ql.square_lattice(2)
+
+
+def test_mean_field_boundaries_meet_at_the_tip():
+    from hyperlattice.bosons.meanfield import lobe_boundary, lobe_tip
+
+    lam = 2.9
+    x_tip = lobe_tip(lam)[1]
+    mp, mm = ql.mean_field_boundaries(lam, [0.5 * x_tip, x_tip * (1 - 1e-9), 1.1 * x_tip])
+    assert mp[0] > mm[0] and abs(mp[1] - mm[1]) < 1e-3 and math.isnan(mp[2])
+    # the roots are the mean-field boundary of bosons.meanfield read the other way
+    assert lobe_boundary(lam, mp[0]) == pytest.approx(0.5 * x_tip, rel=1e-10)
+    assert lobe_boundary(lam, mm[0]) == pytest.approx(0.5 * x_tip, rel=1e-10)
+    assert ql.SQUARE_TIP_MEAN_FIELD == pytest.approx(lobe_tip(4.0)[1])
+
+
+@pytest.mark.slow          # QMC kernels compile; minutes on a loaded machine
+def test_heptagon_boundary_against_exact_thermal():
+    # the Newton finder on <N>(mu) = M + 1/2: at the QMC estimate the exact thermal <N> of the same
+    # graph, beta and cutoff must be M + 1/2 within the estimate's error (times the exact slope)
+    lat = hl.ring_lattice(7, 3, 1)
+    x, beta = 0.08, 5.0
+    U = 1 / x
+    b = ql.qmc_boundary(lat, x, "plus", beta_t=beta, sweeps=600, iterations=2, seed=5)
+    assert b["sites"] == 7 and len(b["steps"]) == 2 and b["mu_err"] > 0
+    ex = hl.bosons.exact_thermal(lat, U=U, mu=b["mu"] * U, beta=beta, nmax=3)
+    slope = ex["compressibility"] * 7 * U          # d<N>/d(mu/U)
+    assert abs(ex["density"] * 7 - 7.5) < slope * (4 * b["mu_err"] + 1e-3)
+
+
+def test_finite_temperature_offset_statement():
+    off = ql.boundary_offset(hl.ring_lattice(7, 3, 1), 5.0)
+    # heptagon: lambda_1 = 2, lambda_2 = 2 cos(2 pi/7)
+    assert off["splitting_over_t"] == pytest.approx(2 * (2 - 2 * math.cos(2 * math.pi / 7)))
+    assert off["beta_splitting"] == pytest.approx(5 * off["splitting_over_t"])
+
+
+def _tiny_scan():
+    return {"meta": {"beta_t": 5.0}, "boundaries": [
+        {"system": "flake:1", "sites": 7, "t_over_U": 0.08, "beta_t": 5.0, "side": "plus", "mu": 0.69, "mu_err": 0.01},
+        {"system": "flake:1", "sites": 7, "t_over_U": 0.08, "beta_t": 5.0, "side": "minus", "mu": 0.13,
+         "mu_err": 0.01},
+        {"system": "square:4", "sites": 16, "t_over_U": 0.04, "beta_t": 5.0, "side": "plus", "mu": 0.8,
+         "mu_err": float("nan")},
+    ]}
+
+
+def test_lobe_assembly_and_figure(tmp_path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from hyperlattice.plots.qmc_lobe import plot_qmc_lobe_system, qmc_lobe_figure
+
+    lobe = ql.qmc_lobe(_tiny_scan(), points=11)
+    assert [s["system"] for s in lobe.systems] == ["flake:1", "square:4"]
+    hept = lobe.systems[0]
+    assert hept["lambda_max"] == pytest.approx(2.0) and hept["tip_mean_field"] == pytest.approx(0.1715729 / 2, rel=1e-6)
+    assert hept["tip_strong_coupling"] == pytest.approx(0.2152504, rel=1e-6)
+    assert lobe.square["strong_coupling"] == pytest.approx(0.0679604, rel=1e-6)
+    assert lobe.infinite_tip_mean_field == pytest.approx(0.058335, abs=2e-6)
+    row = next(r for r in lobe.rows if r["system"] == "flake:1" and r["side"] == "plus")
+    assert row["mu_strong_coupling"] == pytest.approx(0.689472, abs=1e-6)
+    assert [r["side"] for r in lobe.rows[:2]] == ["minus", "plus"]
+    ax = plot_qmc_lobe_system(lobe, "flake:1")
+    assert len(ax.lines) >= 4 and ax.get_xlabel() == "t/U"
+    fig = qmc_lobe_figure(lobe, tmp_path / "lobe.png")
+    assert (tmp_path / "lobe.png").stat().st_size > 1000 and len(fig.axes) == 2
+    assert lobe.plot() is not None
+    plt.close("all")
+    with pytest.raises(ValueError, match="not in this lobe"):
+        plot_qmc_lobe_system(lobe, "flake:9")
+
+
+def test_stored_scan_is_consistent():
+    if not SCAN.exists():
+        pytest.skip("no stored scan")
+    data = ql.load_scan(SCAN)
+    assert data["meta"]["beta_t"] > 0 and data["boundaries"]
+    for b in data["boundaries"]:
+        assert b["side"] in ("plus", "minus") and b["steps"]
+        last = b["steps"][-1]
+        # the estimate is one Newton step from the last run, within a few temperatures of it
+        assert abs(b["mu"] - last["mu"]) <= 3.0 * b["t_over_U"] / b["beta_t"] + 1e-12
+        assert 0.0 < b["mu"] < 1.0
+
+
+@pytest.mark.slow
+def test_xy_qubits_against_exact():
+    out = ql.xy_qubit_check(rings=2, ring=1, beta_J=10.0, sweeps=3000, seed=11)
+    assert out["qubits"] == 7 and out["lamb_shift_spread"] < 1e-9
+    for key, dev in out["deviation_sigma"].items():
+        assert dev < 4.0, (key, out)
+
+
+@pytest.mark.slow          # strong-coupling tips and rho of every graph of the stored scan
+def test_report_section(tmp_path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from hyperlattice.report.qmc_lobe import qmc_lobe_section
+
+    sec = qmc_lobe_section(tmp_path, lambda msg: None)
+    assert sec.anchor == "qmc-lobe" and len(sec.tables) == 2 and len(sec.figures) == 1
+    assert (tmp_path / "fig_qmc_lobe.png").exists()
+    assert "0.058335" in " ".join(sec.text) and "stored scan" in sec.provenance[0]
