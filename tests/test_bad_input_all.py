@@ -98,6 +98,7 @@ CALLS = {
     # every argument has a default, but the defaults are the report's sizes (rings 3-7, 800 cells:
     # seconds per call, and tens of seconds under load for an accepted filling=10**140)
     "hyperlattice.compare.bosons.gp_comparison": (dict(rings=(2,), modes=3, cells=200), set()),
+    "hyperlattice.bosons.meanfield.mott_lobes": (dict(rings=(2,), points=21), set()),  # default: 7 flakes to l = 12
     "hyperlattice.graph.factor.analyze": (dict(mat=H), set()),
     "hyperlattice.graph.factor.factorize": (dict(mat=H, sigma=-3.5), set()),
     "hyperlattice.graph.factor.lowest_eigenpairs": (dict(mat=H, k=2), set()),
