@@ -188,6 +188,7 @@ def counts_l4():
     return graph_levels_below(ring_lattice(7, 3, 4)), continuum_levels_below(7, 3, rings=4)
 
 
+@pytest.mark.slow
 def test_continuum_count_degeneracy_matches_continuum_levels(counts_l4):
     """Regression: every m != 0 level is the pair +-m (degeneracy 2), whatever its n.
 
@@ -218,6 +219,7 @@ def test_graph_count_and_partition_function_agree_with_graph_spectrum(counts_l4)
     assert g.counting([g.energies[0] - 1, g.energies[0], 0.0]).tolist() == [0, 1, 146]
 
 
+@pytest.mark.slow
 def test_partition_functions(counts_l4):
     g, c = counts_l4
     beta = np.linspace(0.05, 6.0, 120)
