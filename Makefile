@@ -27,10 +27,12 @@ setup: $(STAMP)
 run: $(STAMP)
 	$(BIN)/hyperlattice reproduce --out reproduction
 
-# pytest on WORKERS processes (pytest-xdist; --dist loadgroup keeps a docs page's examples on one
-# worker, in page order), each with two BLAS threads
+# pytest on WORKERS processes (pytest-xdist), each with two BLAS threads; --dist loadfile keeps a
+# test file on one worker: a docs page's examples run in page order in one namespace, and a
+# module-scoped fixture is built once (loadgroup would be finer, but its xdist_group marks are
+# not applied under pytest 9: xdist 3.8 renames item._nodeid, which pytest 9 no longer reads)
 WORKERS ?= 2
-PYTEST  := $(BIN)/python -m pytest -n $(WORKERS) --dist loadgroup --blas-threads 2
+PYTEST  := $(BIN)/python -m pytest -n $(WORKERS) --dist loadfile --blas-threads 2
 
 test: $(STAMP)
 	$(PYTEST) -m "not slow"

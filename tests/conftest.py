@@ -76,33 +76,11 @@ MACHINE_INDEPENDENCE_FILES = frozenset({
 })
 
 
-def _module_fixture_group(item):
-    """The module's path when the test uses a module-scoped fixture of its own module, else None.
-
-    Under pytest-xdist (``make test``: ``-n 2 --dist loadgroup``) the tests of one module are
-    spread over the workers, and a module-scoped fixture is then set up once per worker that
-    runs one of its tests: the same heavy set-up twice. Such tests form one xdist group, so their
-    fixture is built once; the module's other tests are still spread."""
-    info = getattr(item, "_fixtureinfo", None)
-    if info is None:
-        return None
-    module = item.nodeid.split("::", 1)[0]
-    for defs in info.name2fixturedefs.values():
-        if defs and defs[-1].scope == "module" and defs[-1].baseid == module:
-            return module
-    return None
-
-
-@pytest.hookimpl(tryfirst=True)  # before pytest-xdist reads the xdist_group marks
 def pytest_collection_modifyitems(config, items):
     mark = pytest.mark.machine_independence
     for item in items:
         if item.path.name in MACHINE_INDEPENDENCE_FILES:
             item.add_marker(mark)
-        if item.get_closest_marker("xdist_group") is None:
-            group = _module_fixture_group(item)
-            if group is not None:
-                item.add_marker(pytest.mark.xdist_group(group))
     if not config.getoption("--run-heavy"):
         heavy = [item for item in items if item.get_closest_marker("heavy") is not None]
         if heavy:

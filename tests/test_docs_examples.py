@@ -38,9 +38,6 @@ def _examples():
             if spec.options.skip:
                 marks.append(pytest.mark.skip(reason=spec.options.skip))
             rel = page.relative_to(ROOT)
-            # a page's examples run in one process, in page order (shared namespace, working
-            # directory): with pytest-xdist (make test: -n 2 --dist loadgroup) one worker per page
-            marks.append(pytest.mark.xdist_group(str(rel)))
             params.append(pytest.param(example, id=f"{rel}:{example.line}-{spec.kind}", marks=marks))
     return params
 
