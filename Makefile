@@ -1,12 +1,15 @@
 # Two entry points (see README):
 #   make run   - set up a virtualenv in .venv and run the main job
-#   make test  - set up the same virtualenv and run the test suite
+#   make test  - set up the same virtualenv and run the test suite's fast tier (all but `slow`)
+# and for CI / before a release:
+#   make test-slow - the slow tier alone (tests marked @pytest.mark.slow)
+#   make test-all  - both tiers in one run
 PYTHON ?= python3
 VENV   ?= .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: run test setup bench docs clean
+.PHONY: run test test-slow test-all setup bench docs clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -24,8 +27,21 @@ setup: $(STAMP)
 run: $(STAMP)
 	$(BIN)/hyperlattice reproduce --out reproduction
 
+# pytest on WORKERS processes (pytest-xdist), each with two BLAS threads; --dist loadfile keeps a
+# test file on one worker: a docs page's examples run in page order in one namespace, and a
+# module-scoped fixture is built once (loadgroup would be finer, but its xdist_group marks are
+# not applied under pytest 9: xdist 3.8 renames item._nodeid, which pytest 9 no longer reads)
+WORKERS ?= 2
+PYTEST  := $(BIN)/python -m pytest -n $(WORKERS) --dist loadfile --blas-threads 2
+
 test: $(STAMP)
-	$(BIN)/python -m pytest --blas-threads 2
+	$(PYTEST) -m "not slow"
+
+test-slow: $(STAMP)
+	$(PYTEST) -m slow
+
+test-all: $(STAMP)
+	$(PYTEST)
 
 # the documentation site (docs/_build/html): the docs pages and the API reference from the
 # docstrings, warnings as errors

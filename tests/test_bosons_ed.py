@@ -109,7 +109,8 @@ def test_basis_refuses_before_allocating():
 # ----------------------------------------------------------------------------
 
 @pytest.mark.parametrize("lat,n,c,U,t,mu", [(HEPTAGON, 3, 2, 1.7, 1.0, 0.3), (HEPTAGON, 2, 3, -0.8, 0.6, 0.0),
-                                            (OCTAGON, 4, 1, 5.0, 1.0, 0.0), (HEPTAGON, 7, 2, 4.0, -1.3, 0.0)])
+                                            (OCTAGON, 4, 1, 5.0, 1.0, 0.0),
+                                            pytest.param(HEPTAGON, 7, 2, 4.0, -1.3, 0.0, marks=pytest.mark.slow)])
 def test_hamiltonian_equals_kronecker_construction(lat, n, c, U, t, mu):
     ref, occ = _kron_hamiltonian(lat, n, c, U, t, mu)
     b = boson_basis(lat.sites, n, c)
@@ -123,6 +124,7 @@ def test_hamiltonian_equals_kronecker_construction(lat, n, c, U, t, mu):
     assert res.method == "sectors"
 
 
+@pytest.mark.slow
 def test_matrix_free_equals_csr_and_dense():
     b = boson_basis(BOLZA.sites, 5, 2)
     h = ed.hamiltonian(b, BOLZA, 3.0, 0.7, 0.2)
@@ -206,8 +208,10 @@ def test_hard_core_limit():
 # sectors
 # ----------------------------------------------------------------------------
 
-@pytest.mark.parametrize("lat,n,c", [(HEPTAGON, 3, 2), (HEPTAGON, 7, 1), (OCTAGON, 4, 2), (BOLZA, 3, 2),
-                                     (pbc_cluster(7, 3, "klein"), 2, 2)])
+@pytest.mark.parametrize("lat,n,c", [(HEPTAGON, 3, 2), (HEPTAGON, 7, 1),
+                                     pytest.param(OCTAGON, 4, 2, marks=pytest.mark.slow),
+                                     pytest.param(BOLZA, 3, 2, marks=pytest.mark.slow),
+                                     pytest.param(pbc_cluster(7, 3, "klein"), 2, 2, marks=pytest.mark.slow)])
 def test_sectors_add_up_to_the_full_problem(lat, n, c):
     g = ed.bose_hubbard_graph(lat)
     assert g.rotation is not None
@@ -264,6 +268,7 @@ def test_hard_core_particle_hole(lat):
     assert np.abs(e1 - e2).max() < TOL
 
 
+@pytest.mark.slow
 def test_t_to_minus_t_only_on_bipartite_graphs():
     # a_i -> -a_i on one sublattice maps t onto -t: holds on bipartite graphs ({8,3} flakes; Bolza is
     # bipartite too), fails on the heptagon (odd cycle)
@@ -313,6 +318,7 @@ def test_one_body_density_matrix_against_kronecker():
     assert np.abs(ed.density_profile(b, psi) - np.diag(ref_rho)).max() < TOL
 
 
+@pytest.mark.slow
 def test_observables_of_the_result():
     res = ed.bose_hubbard(HEPTAGON, 7, 2, 4.0, levels=2)
     assert abs(res.density.sum() - 7) < TOL

@@ -39,6 +39,7 @@ def test_graph_gp_equation_residual_and_mu_is_dE_dN():
     assert (up - down) == pytest.approx(s.mu, rel=1e-5)
 
 
+@pytest.mark.slow
 def test_bogoliubov_real_positive_with_goldstone_mode_dense_and_sparse_agree():
     s = gp_ground_state(LAT, 315.0, 0.5)
     dense = bogoliubov(s, LAT, 6)
@@ -68,6 +69,7 @@ def test_continuum_u_to_zero_gives_the_dirichlet_level():
 
 
 @pytest.mark.parametrize("winding", [0, 1])
+@pytest.mark.slow
 def test_continuum_two_discretisations_agree(winding):
     L, _ = disk_radius_for_rings(4)
     cp = continuum_parameters(1.0, 0.0, 0.5)
@@ -82,6 +84,7 @@ def test_continuum_two_discretisations_agree(winding):
     assert fine.mu_c == pytest.approx(shoot.mu_c, rel=1e-5)
 
 
+@pytest.mark.slow
 def test_continuum_bogoliubov_goldstone_and_degenerate_pairs():
     L, _ = disk_radius_for_rings(4)
     cp = continuum_parameters(1.0, 0.0, 0.5)
@@ -94,6 +97,7 @@ def test_continuum_bogoliubov_goldstone_and_degenerate_pairs():
     assert healing_length(s) == pytest.approx(math.sqrt(cp.t_prime / (cp.U_prime * np.max(s.f**2))))
 
 
+@pytest.mark.slow
 def test_vortex_costs_energy():
     L, _ = disk_radius_for_rings(4)
     cp = continuum_parameters(1.0, 0.0, 0.5)
@@ -102,6 +106,7 @@ def test_vortex_costs_energy():
     assert vortex.energy > ground.energy and vortex.f[0] < 1e-2 * ground.f[0]
 
 
+@pytest.mark.slow
 def test_comparison_weak_interaction_agrees_better_than_strong():
     from hyperlattice.compare.bosons import gp_comparison
 

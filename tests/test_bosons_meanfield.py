@@ -77,6 +77,7 @@ def test_flake_is_inhomogeneous_and_obeys_the_linear_criterion():
     assert not mf.gutzwiller(lat, 0.8 * tc, 0.4, 1.0).superfluid
 
 
+@pytest.mark.slow
 def test_lambda_max_grows_with_the_flake_towards_rho():
     lams = [mf.largest_adjacency_eigenvalue(hl.ring_lattice(7, 3, ell)) for ell in (2, 3, 4, 5, 6)]
     assert np.all(np.diff(lams) > 0)
@@ -114,6 +115,7 @@ def test_unconverged_iteration_warns_with_its_residual():
     assert not st.converged
 
 
+@pytest.mark.slow
 def test_mott_lobes_table_flakes_continuum_clusters_infinite():
     table = mf.mott_lobes(7, 3, rings=(3, 5), clusters=("klein",))
     kinds = [r["kind"] for r in table.rows()]
@@ -184,6 +186,7 @@ def test_mean_field_gap_closes_at_the_lobe_tip():
     assert gap == pytest.approx(inside[-1] - inside[0], abs=1e-5)   # grid spacing 2.5e-6
 
 
+@pytest.mark.slow
 def test_ed_charge_gap_against_mean_field_on_the_heptagon():
     from hyperlattice.compare.bosons import mott_gap_comparison
 

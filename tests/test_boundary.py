@@ -248,6 +248,7 @@ def test_source_on_a_mirror_axis_uses_the_even_block_without_losing_tiny_entries
 # -- continuum side: whole disk vs Dirichlet disk of radius L (issue 14, item 2) --
 
 @pytest.mark.parametrize("omega", [-3.5, -3.2])
+@pytest.mark.slow
 def test_dirichlet_disk_continuum_is_closer_to_the_lattice(lat5, omega):
     from hyperlattice.dictionary import disk_radius_for_rings
 

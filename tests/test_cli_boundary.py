@@ -101,6 +101,7 @@ def test_errors_exit_2(capsys, tmp_path):
         assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
 
 
+@pytest.mark.slow
 def test_csv_dirichlet_continuum_keeps_the_columns(tmp_path, capsys):
     out = tmp_path / "d.csv"
     assert main(["boundary", "--rings", "5", "--omega=-3.2", "--continuum-disk", "dirichlet", "--out", str(out)]) == 0

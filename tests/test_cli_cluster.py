@@ -12,6 +12,7 @@ from hyperlattice.cli import main
 KEYS = ["name", "p", "q", "sites", "edges", "faces", "genus", "systole"]
 
 
+@pytest.mark.slow
 def test_list_json(capsys):
     assert main(["cluster", "-p", "8", "-q", "3", "--list", "--json", "--max-sites", "5000"]) == 0
     entries = json.loads(capsys.readouterr().out)
@@ -23,6 +24,7 @@ def test_list_json(capsys):
     assert (bolza["sites"], bolza["edges"], bolza["faces"], bolza["genus"]) == (16, 24, 6, 2)
 
 
+@pytest.mark.slow
 def test_list_default_reaches_1e5(capsys):
     assert main(["cluster", "-p", "7", "-q", "3", "--list", "--json"]) == 0
     entries = json.loads(capsys.readouterr().out)

@@ -107,6 +107,7 @@ def test_dictionary_flag_same_keys_default_paper(capsys):
     assert code == 0 and "improved dictionary" in text
 
 
+@pytest.mark.slow
 def test_dictionary_flag_refused_with_flux(capsys):
     code = main(["continuum", "--rings", "3", "--flux", "0.05", "--dictionary", "improved"])
     err = capsys.readouterr().err

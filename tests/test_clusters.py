@@ -110,6 +110,7 @@ def test_locally_the_lattice_large():
     assert np.array_equal(cluster[:ell], lattice[:ell]) and cluster[ell] > lattice[ell]
 
 
+@pytest.mark.slow
 def test_walks_from_every_site_agree():
     # vertex-transitivity, which the one-vertex systole relies on: same counts from all sites
     c = C.pbc_cluster(7, 3, "PSL(2,13)")

@@ -183,11 +183,14 @@ def test_side_by_side_with_the_package_spectra():
 # levels below zero and the partition functions of the Fig2 inset
 # ----------------------------------------------------------------------------
 
+# the l = 4 counts take seconds (every continuum level below zero, by root finding), so the tests
+# that use them are all in the slow tier: a fast one would pay for the fixture alone
 @pytest.fixture(scope="module")
 def counts_l4():
     return graph_levels_below(ring_lattice(7, 3, 4)), continuum_levels_below(7, 3, rings=4)
 
 
+@pytest.mark.slow
 def test_continuum_count_degeneracy_matches_continuum_levels(counts_l4):
     """Regression: every m != 0 level is the pair +-m (degeneracy 2), whatever its n.
 
@@ -207,6 +210,7 @@ def test_continuum_count_degeneracy_matches_continuum_levels(counts_l4):
     assert ref.energies[-1] < 0 < continuum_levels(7, 3, rings=4, levels=c.states + 1).energies[-1]
 
 
+@pytest.mark.slow
 def test_graph_count_and_partition_function_agree_with_graph_spectrum(counts_l4):
     from hyperlattice.graph.spectrum import partition_function
 
@@ -218,6 +222,7 @@ def test_graph_count_and_partition_function_agree_with_graph_spectrum(counts_l4)
     assert g.counting([g.energies[0] - 1, g.energies[0], 0.0]).tolist() == [0, 1, 146]
 
 
+@pytest.mark.slow
 def test_partition_functions(counts_l4):
     g, c = counts_l4
     beta = np.linspace(0.05, 6.0, 120)
@@ -237,6 +242,7 @@ def test_partition_functions(counts_l4):
         partition_functions(g, c, [-1.0])
 
 
+@pytest.mark.slow
 def test_partition_function_overflow_is_refused_and_log_is_finite(counts_l4):
     g, _ = counts_l4
     with pytest.raises(ValueError, match="overflows"):
@@ -245,6 +251,7 @@ def test_partition_function_overflow_is_refused_and_log_is_finite(counts_l4):
     assert np.isfinite(lz).all() and lz[0] == pytest.approx(-1000.0 * g.energies[0], rel=1e-12)
 
 
+@pytest.mark.slow
 def test_count_round_trip_and_plot(counts_l4, tmp_path):
     import matplotlib.pyplot as plt
 

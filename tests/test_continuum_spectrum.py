@@ -42,7 +42,8 @@ def test_supp_tab1_continuum_rows(ell, e0, e0a, e1, e1a):
     assert spec.radius == pytest.approx(math.sqrt(_n73(ell) / (_n73(ell) + 28)), rel=1e-14)
 
 
-@pytest.mark.parametrize("radius,m,n", [(0.5, 0, 1), (0.7454, 2, 2), (0.99, 1, 3), (0.2, 4, 1)])
+@pytest.mark.parametrize("radius,m,n", [(0.5, 0, 1), pytest.param(0.7454, 2, 2, marks=pytest.mark.slow),
+                                         pytest.param(0.99, 1, 3, marks=pytest.mark.slow), (0.2, 4, 1)])
 def test_roots_against_mpmath_findroot(radius, m, n):
     """Independent reference: mpmath.legenp at 30 digits and findroot from our bracket mid."""
     k = dirichlet_roots(m, radius, n_roots=n)[n - 1]
@@ -52,6 +53,7 @@ def test_roots_against_mpmath_findroot(radius, m, n):
     assert k == pytest.approx(float(ref), rel=1e-12)
 
 
+@pytest.mark.slow
 def test_roots_robust_over_radii_with_node_check():
     for radius in (0.1, 0.3, 0.9, 1 - 1e-4, 1 - 1e-9):
         k = dirichlet_roots(np.arange(11), radius, n_roots=5, check_nodes=True)
@@ -268,7 +270,8 @@ def _mp_root(radius, m, k0):
     return mp.findroot(lambda kk: mp.re(mp.legenp(mp.mpc(-0.5, kk / 2), m, x, type=3)), mp.mpf(k0))
 
 
-@pytest.mark.parametrize("radius,levels", [(0.5, 1), (0.95, 1), (0.999999, 1), (0.01, 2), (1e-4, 1)])
+@pytest.mark.parametrize("radius,levels", [(0.5, 1), (0.95, 1), (0.999999, 1),
+                                           pytest.param(0.01, 2, marks=pytest.mark.slow), (1e-4, 1)])
 def test_error_bound_holds_against_a_40_digit_root(radius, levels):
     spec = continuum_levels(7, 3, radius=radius, levels=levels)
     assert spec.error_kind == "energy error bound" and spec.method == "dirichlet-roots"

@@ -24,9 +24,17 @@ def _examples():
     params = []
     for page in PAGES:
         document = parse_file(page)
+        chain: set = set()  # the tiers of the Python block whose namespace the next 'continue' uses
         for example in document.examples():
             spec = example.parsed
-            marks = [getattr(pytest.mark, m) for m in spec.options.markers()]
+            tiers = set(spec.options.markers())
+            if spec.kind == "python":
+                # a block that continues a slow (or heavy) one needs its namespace, so it runs in
+                # that block's tier: `make test` (-m "not slow") never runs it without its start
+                if spec.options.cont:
+                    tiers |= chain
+                chain = tiers
+            marks = [getattr(pytest.mark, m) for m in sorted(tiers)]
             if spec.options.skip:
                 marks.append(pytest.mark.skip(reason=spec.options.skip))
             rel = page.relative_to(ROOT)

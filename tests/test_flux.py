@@ -228,6 +228,7 @@ def test_independent_gauge_gives_the_same_spectrum(name):
         assert np.max(np.abs(other - full_spectrum(lat, flux=f))) < 1e-10
 
 
+@pytest.mark.slow
 def test_independent_gauge_l5():
     lat = ring_lattice(7, 3, 5)
     theta = _least_norm_phases(lat, 0.23)

@@ -115,6 +115,7 @@ def test_bulk_moments_agree_with_walks_within_errors():
     assert np.abs(z).max() < 5.0
 
 
+@pytest.mark.slow
 def test_table_and_csr_kernels_agree_and_parallel_equals_serial():
     t = _prism(40)
     a = kpm_dos(t, 40, vectors=3, seed=0)

@@ -168,7 +168,7 @@ def test_lattice_is_immutable():
         lat.p = 8
 
 
-@pytest.mark.parametrize("rings", [3, 5, 7])
+@pytest.mark.parametrize("rings", [3, 5, pytest.param(7, marks=pytest.mark.slow)])
 def test_same_sites_and_bonds_as_hypertiling(rings, hypertiling_73):
     """hypertiling's {3,7} SRS tiling centred on a vertex has our {7,3} sites as cells.
 

@@ -81,6 +81,7 @@ def test_disk_fit_recovers_its_own_model():
     assert np.max(np.abs(fit.residuals)) < 1e-12
 
 
+@pytest.mark.slow
 def test_extrapolation_predicts_larger_flakes(band73):
     """Fitted on l <= 11, the model predicts E0 and E1 at l = 12..14 within its error bar."""
     ell, e0, e1 = reference_levels(7, 3)

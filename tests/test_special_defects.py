@@ -132,7 +132,16 @@ def test_q_poles_are_value_errors():
 # the input door: ValueError with a plain sentence for every public function
 # ----------------------------------------------------------------------------
 
-BAD_VALUES = [None, np.nan, np.inf, True, "a", ["a", "b"], [[1, 2], [1, 2, 3]], [1, None], {"a": 1}, object()]
+class _Opaque:
+    """A plain object of no numeric kind, with a fixed repr: the test ids must be the same in
+    every process (pytest-xdist's workers compare their collections; object()'s repr holds
+    its address)."""
+
+    def __repr__(self):
+        return "object()"
+
+
+BAD_VALUES = [None, np.nan, np.inf, True, "a", ["a", "b"], [[1, 2], [1, 2, 3]], [1, None], {"a": 1}, _Opaque()]
 BAD_ORDERS = BAD_VALUES + [-1, 1.5, 10**30]
 BAD_X = BAD_VALUES + [0.5, 2 + 1j]
 
