@@ -7,7 +7,8 @@ import pytest
 
 from hyperlattice.sweep import read_table, run_sweep
 from hyperlattice.sweep.engine import expand_grid
-from hyperlattice.sweep.tasks import execute, get_task, merge_qmc
+from hyperlattice.sweep.qmc import merge_qmc
+from hyperlattice.sweep.tasks import execute, get_task
 
 GRID = {"rings": 1, "nmax": 2, "U": 8.0, "mu": [2.0, 4.0], "beta": 1.0, "sweeps": 1500, "seed": [1, 2, 3]}
 

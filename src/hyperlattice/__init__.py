@@ -31,6 +31,9 @@ Index by topic (every name is ``hyperlattice.<name>``)::
                         lobe_boundary largest_adjacency_eigenvalue GutzwillerState MottLobe
                         MottLobeTable gp_ground_state bogoliubov GPState BogoliubovSpectrum
                         gp_comparison mott_gap_comparison
+    Bosons, QMC         qmc merge_chains exact_thermal QMCResult QMCWarning strong_coupling_lobe
+                        strong_coupling_tip excitation_energies hypercubic_boundaries StrongCouplingLobe
+                        qmc_lobe qmc_boundary
     Sweeps, results     run_sweep read_table Result Levels load_result
 
 Conventions: metric ``ds² = (dx² + dy²)/(1 − |z|²)²`` (curvature −4); h = tanh(d0); H = −tA (t = 1
@@ -161,6 +164,19 @@ _EXPORTS = {
     "mott_lobes": "bosons.meanfield",
     "gp_comparison": "compare.bosons",
     "mott_gap_comparison": "compare.bosons",
+    # quantum Monte Carlo and the strong-coupling expansion (issue 27)
+    "qmc": "bosons.sse",
+    "merge_chains": "bosons.sse",
+    "QMCResult": "bosons.sse",
+    "QMCWarning": "bosons.sse",
+    "exact_thermal": "bosons.thermal",
+    "StrongCouplingLobe": "bosons.strong_coupling",
+    "excitation_energies": "bosons.strong_coupling",
+    "hypercubic_boundaries": "bosons.strong_coupling",
+    "strong_coupling_lobe": "bosons.strong_coupling",
+    "strong_coupling_tip": "bosons.strong_coupling",
+    "qmc_lobe": "compare.qmc_lobe",
+    "qmc_boundary": "compare.qmc_lobe",
 }
 
 __all__ = sorted(_EXPORTS) + ["__version__"]
