@@ -409,6 +409,18 @@ def _client_for(scheduler, workers: int | None, timeout: float | None = None):
             raise
         return client, cluster, f"local ({n} {'processes' if processes else 'threads'})", True
     wait = _connect_wait(timeout)
+    if str(scheduler).startswith("inproc://"):
+        # an in-process address is known to this process's registry or to nobody: asked for one that
+        # is not there, distributed waits for it (it hung inside a pytest-xdist worker)
+        from distributed.comm.inproc import global_manager
+
+        try:
+            listener = global_manager.get_listener_for(str(scheduler)[len("inproc://"):])
+        except Exception:       # not even an address of this host and process
+            listener = None
+        if listener is None:
+            raise HyperlatticeError(f"no Dask scheduler {scheduler} runs in this process (an inproc:// address "
+                                    "is only valid inside the process that started it).")
     _probe_tcp(scheduler, wait)     # again: run_sweep's probe may be long past
     try:
         with dask.config.set({"distributed.comm.timeouts.connect": f"{wait}s"}):
