@@ -215,3 +215,15 @@ def test_mcstats():
     v, err = mcstats.jackknife(lambda m: m * m, white[:100] + 3.0)
     assert abs(v - 9.0) < 5 * err
     assert mcstats.combine_independent([1.0, 3.0], [1.0, 1.0], [1, 1]) == (2.0, math.sqrt(2) / 2)
+
+
+def test_a_string_still_filling_up_is_flagged_not_silently_measured():
+    """One thermalisation sweep at beta = 20 leaves the operator string full: the result says so."""
+    import hyperlattice as hl
+    from hyperlattice.bosons import QMCWarning, qmc
+
+    with pytest.warns(QMCWarning) as rec:
+        r = qmc(hl.ring_lattice(7, 3, 2), U=6.0, mu=3.0, beta=20.0, nmax=3, sweeps=4, thermalization=1, seed=1,
+                progress=False)
+    assert not r.converged
+    assert any("operator string" in str(w.message) and "nearly full" in str(w.message) for w in rec)

@@ -752,6 +752,14 @@ def _analyse(chain: _Chain, model: _Model, *, U, mu, t, beta, nmax, sweeps, ther
                 notes.append(f"the {name} of the first and second half of the measurements differ by "
                              f"{diff / math.hypot(sa, sb):.1f} sigma: thermalisation ({thermalization} sweeps) "
                              "was too short.")
+    # the string length M is frozen after thermalisation: a string that was still filling up (bins
+    # whose mean n comes within 10 % of M) truncated the expansion, and every estimate is biased
+    length = int(chain.ops.shape[0])
+    if nb and float(raw[:, 0].max()) > 0.9 * length:
+        converged = False
+        notes.append(f"the operator string (length {length}) was nearly full during the measurements "
+                     f"(up to {float(raw[:, 0].max()):.0f} operators): thermalisation ({thermalization} sweeps) was "
+                     "too short for it to grow; the results are biased, run with more thermalization sweeps.")
     vnb, vbs = int(chain.vinfo[0]), int(chain.vinfo[1])
     vb = chain.vbins[:vnb] / vbs
     sd = vb[:, :M].mean(axis=0) + dens_iso
