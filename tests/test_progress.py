@@ -220,7 +220,7 @@ def test_fluxmap_resumes_to_the_same_table(tmp_path, monkeypatch, capsys):
 
 
 def test_butterfly_resumes_to_the_same_table(tmp_path, monkeypatch, capsys):
-    from hyperlattice.graph import symmetry
+    from hyperlattice.graph import butterfly as symmetry   # the module whose sector_table the butterfly calls
 
     words = ["butterfly", "--rings", "3", "--fluxes", "6"]
     plain = tmp_path / "plain.csv"

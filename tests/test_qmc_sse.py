@@ -80,7 +80,8 @@ def test_gauge_for_negative_hopping_on_a_bipartite_graph():
     a = _ring(6)
     kw = dict(U=3.0, mu=1.0, beta=1.5, nmax=2)
     ex = exact_thermal(a, t=-1.0, **kw)
-    r = qmc(a, t=-1.0, sweeps=6000, thermalization=1000, seed=2, progress=False, **kw)
+    # G comes from the loops' head steps: about 2 legs per operator per sweep, so 24,000 sweeps
+    r = qmc(a, t=-1.0, sweeps=24000, thermalization=1000, seed=2, progress=False, **kw)
     _check(r, ex)
     assert np.all(r.bond_kinetic < 0)
     assert np.all(np.abs(r.bond_kinetic - ex["bond_kinetic"]) < 4.5 * r.bond_kinetic_err)
@@ -153,7 +154,7 @@ def test_resume_is_bit_identical(tmp_path):
 
 
 def test_reproducible_and_seeds_differ():
-    kw = dict(U=3.0, mu=1.0, beta=2.0, nmax=2, sweeps=500, thermalization=100, progress=False)
+    kw = dict(U=3.0, mu=1.0, beta=2.0, nmax=2, sweeps=2000, thermalization=200, progress=False)
     a, b, c = qmc(HEPTAGON, seed=1, **kw), qmc(HEPTAGON, seed=1, **kw), qmc(HEPTAGON, seed=2, **kw)
     assert a.energy == b.energy and a.density == b.density
     assert a.energy != c.energy
@@ -177,7 +178,7 @@ def test_merge_chains():
 
 
 def test_result_round_trip_and_summary():
-    r = qmc(HEPTAGON, U=3.0, mu=1.0, beta=1.0, nmax=2, sweeps=500, thermalization=100, seed=4, progress=False)
+    r = qmc(HEPTAGON, U=3.0, mu=1.0, beta=1.0, nmax=2, sweeps=2000, thermalization=200, seed=4, progress=False)
     back = Result.from_dict(json.loads(r.to_json()))
     assert isinstance(back, QMCResult) and back.energy == r.energy
     assert np.array_equal(back.green_matrix, r.green_matrix)

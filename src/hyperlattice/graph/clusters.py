@@ -767,6 +767,7 @@ def named_schlafli(name: str) -> tuple[int, int] | None:
     return None if entry is None else (entry[0], entry[1])
 
 
+@functools.lru_cache(maxsize=64)
 def _cached(p: int, q: int, name: str) -> Cluster:
     table = _known_table()
     name = _canonical_name(name)
