@@ -33,6 +33,8 @@ from typing import Callable
 
 import numpy as np
 
+from . import _validate
+
 __all__ = ["Binning", "binning", "jackknife", "combine_independent", "MIN_BINS"]
 
 #: fewest bins a level may have to count in the plateau search (the error of the error of a
@@ -113,7 +115,7 @@ def binning(bins, bin_size: int = 1, variance: float | None = None) -> Binning:
     >>> round(b.error * 64, 1), b.converged, round(b.tau_int, 1)
     (1.0, True, 0.5)
     """
-    x = np.asarray(bins, dtype=float).ravel()
+    x = _validate.real_array("bins", bins).ravel()
     n = x.size
     if n < 2:
         return Binning(float(x.mean()) if n else math.nan, math.nan, np.array([math.nan]), np.array([n]),
@@ -144,7 +146,10 @@ def binning(bins, bin_size: int = 1, variance: float | None = None) -> Binning:
 
 def plateau_bins(bins, nmin: int = MIN_BINS) -> np.ndarray:
     r"""Merge bins (rows, pairwise) while at least ``2 * nmin`` remain: the bins of the plateau level."""
-    y = np.asarray(bins, dtype=float)
+    y = _validate.real_array("bins", bins)
+    if y.ndim not in (1, 2):
+        raise ValueError("bins must be a 1-d array of bin values or a 2-d array (bins x observables).")
+    nmin = _validate.positive_int("nmin", nmin)
     while y.shape[0] >= 2 * nmin:
         k = y.shape[0] // 2
         y = 0.5 * (y[:2 * k:2] + y[1:2 * k:2])
@@ -176,7 +181,13 @@ def jackknife(func: Callable, *bins) -> tuple[float, float]:
     >>> float(v), round(float(e), 6), round(float(x.std(ddof=1) / np.sqrt(10)), 6)
     (4.5, 0.957427, 0.957427)
     """
-    arrs = [np.asarray(b, dtype=float) for b in bins]
+    if not callable(func):
+        raise ValueError("func must be a function of the observables' means.")
+    if not bins:
+        raise ValueError("jackknife needs at least one array of bins.")
+    arrs = [_validate.real_array("bins", b) for b in bins]
+    if any(a.ndim == 0 for a in arrs):
+        raise ValueError("bins must be arrays with one entry per bin, not single numbers.")
     n = arrs[0].shape[0]
     if any(a.shape[0] != n for a in arrs):
         raise ValueError("every argument of jackknife needs the same number of bins.")
@@ -196,8 +207,15 @@ def combine_independent(values, errors, weights) -> tuple[float, float]:
     :math:`\bar x = \sum_c w_c x_c / W`, :math:`\sigma = \sqrt{\sum_c w_c^2 \sigma_c^2}/W`:
     each chain is an unbiased estimate, the chains are independent.
     """
-    v = np.asarray(values, dtype=float)
-    e = np.asarray(errors, dtype=float)
-    w = np.asarray(weights, dtype=float)
+    v = _validate.real_array("values", values, ndim=1)
+    w = _validate.real_array("weights", weights, ndim=1)
+    try:        # an error may be NaN (a chain too short for its own error bar), never complex or text
+        e = np.asarray(errors, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        raise ValueError("errors must be real numbers, one per estimate.") from None
+    if not (v.shape == e.shape == w.shape) or v.size == 0:
+        raise ValueError("values, errors and weights must have one entry per estimate, at least one.")
+    if np.any(w < 0) or not float(w.sum()) > 0:
+        raise ValueError("weights must be non-negative with a positive sum.")
     tot = float(w.sum())
     return float(np.sum(w * v) / tot), float(math.sqrt(float(np.sum((w * e) ** 2))) / tot)

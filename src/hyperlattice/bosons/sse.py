@@ -840,7 +840,12 @@ def merge_chains(results) -> QMCResult:
     ValueError
         If the list is empty, holds other objects, chains of different models, or a seed twice.
     """
-    res = list(results) if not isinstance(results, QMCResult) else [results]
+    if isinstance(results, QMCResult):
+        res = [results]
+    elif isinstance(results, (list, tuple)):
+        res = list(results)
+    else:
+        raise ValueError("results must be a list of QMCResult (independent chains of one model).")
     if not res or not all(isinstance(r, QMCResult) for r in res):
         raise ValueError("merge_chains takes a non-empty list of QMCResult.")
     ref = res[0]
