@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import argparse
 
-from ._common import add_pq, finite_float, integer, positive_int, print_json
+from ._common import add_pq, cluster_pq, finite_float, integer, positive_int, print_json
 
 NAME = "qmc"
 ORDER = 40
@@ -53,7 +53,7 @@ def _beta(text: str) -> float:
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     where = parser.add_mutually_exclusive_group(required=True)
     where.add_argument("--rings", type=positive_int, help="a flake of this many rings (1 = one p-gon)")
-    where.add_argument("--cluster", metavar="NAME", help="a periodic cluster, e.g. bolza (-p 8) or klein (-p 7)")
+    where.add_argument("--cluster", metavar="NAME", help="a periodic cluster, e.g. bolza or klein (its p and q unless -p/-q are given)")
     add_pq(parser)
     parser.add_argument("--nmax", type=positive_int, required=True,
                         help="occupation cutoff per site (1 = hard-core bosons)")
@@ -75,7 +75,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def _system(args: argparse.Namespace):
     from .. import _validate
 
-    p, q = _validate.pq(args.p, args.q)
+    p, q = _validate.pq(args.p, args.q) if args.cluster is None else cluster_pq(args, args.cluster)
     if args.rings is not None:
         from ..graph.lattice import ring_lattice
 
