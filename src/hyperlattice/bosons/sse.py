@@ -260,6 +260,14 @@ class QMCResult(Result):
         Directed loops per sweep (fixed after thermalisation).
     seconds : float
         Wall-clock seconds of the run (summed over chains).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons import qmc
+    >>> r = qmc(hl.ring_lattice(7, 3, 1), U=4.0, mu=1.0, beta=1.0, nmax=2, sweeps=2000, seed=1, progress=False)
+    >>> r.sites, r.nmax, sorted(r.tau_int)[:2]
+    (7, 2, ['compressibility', 'density'])
     """
 
     COLUMNS = (Column("site_density", "site_density", "bosons"),
@@ -839,6 +847,16 @@ def merge_chains(results) -> QMCResult:
     ------
     ValueError
         If the list is empty, holds other objects, chains of different models, or a seed twice.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons import merge_chains, qmc
+    >>> runs = [qmc(hl.ring_lattice(7, 3, 1), U=4.0, mu=1.0, beta=1.0, nmax=2, sweeps=2000, seed=s,
+    ...             progress=False) for s in (1, 2)]
+    >>> m = merge_chains(runs)
+    >>> m.chains, m.sweeps, m.seeds
+    (2, 4000, (1, 2))
     """
     if isinstance(results, QMCResult):
         res = [results]

@@ -432,6 +432,8 @@ class BoundaryCorrelator(Result):
         ``delta_lattice_sys_rings`` (finite ℓ, :math:`|\Delta(\ell) - \Delta(\ell-1)|`) and
         ``delta_lattice_sys_spacing`` (lattice spacing, paper's against improved dictionary) in
         quadrature; NaN where a part is not available (``systematic=False``, too few rings).
+    delta_lattice_sys_rings, delta_lattice_sys_spacing : float
+        The two parts of ``delta_lattice_sys`` (finite ℓ and lattice spacing).
     delta_continuum_improved : float
         The continuum Δ at the improved dictionary's :math:`\lambda(\omega)`.
     ads_radius, mass2_input : float
