@@ -285,7 +285,26 @@ class QMCLobe(Result):
 
     def summary(self) -> dict:
         return {"rows": self.rows, "infinite_tip_mean_field": self.infinite_tip_mean_field, "square": self.square,
-                "systems": [{k: v for k, v in s.items() if not isinstance(v, list)} for s in self.systems]}
+                "systems": [{k: v for k, v in s.items() if not isinstance(v, list)} if isinstance(s, dict) else s
+                            for s in self.systems]}
+
+    def _row_values(self, key: str) -> np.ndarray:
+        return np.array([float(r[key]) if isinstance(r, dict) else math.nan for r in self.rows], dtype=float)
+
+    @property
+    def t_over_U(self) -> np.ndarray:
+        """t/U of each QMC boundary point (the table's first column)."""
+        return self._row_values("t_over_U")
+
+    @property
+    def mu(self) -> np.ndarray:
+        """mu/U of each QMC boundary point."""
+        return self._row_values("mu")
+
+    @property
+    def mu_err(self) -> np.ndarray:
+        """The error bar of ``mu`` (units of U)."""
+        return self._row_values("mu_err")
 
 
 def _system(spec: str):
