@@ -311,7 +311,7 @@ def test_magnetic_section(repro):
 
 
 PAPER_ORDER = ["lattice", "sizes", "spectrum", "levels-vs-rings", "green", "scaling", "geometry"]
-BEYOND_ORDER = ["magnetic", "band-bottom", "infinite", "holography", "qubits", "disorder", "bosons"]
+BEYOND_ORDER = ["magnetic", "band-bottom", "infinite", "holography", "qubits", "disorder", "bosons", "qmc-lobe"]
 
 
 def _html(repro):

@@ -99,7 +99,7 @@ def qmc_lobe_section(out: Path, progress: Callable[[str], None]) -> Section:
                "levels, 2t(λ1 − λ2); βδ ≫ 1 means the finite-temperature boundary is the ground state's.")
     sq = lobe.square
     text = [
-        "Beyond mean field, the question of issue 27: where the n = 1 Mott lobe of the Bose–Hubbard model ends on a "
+        "Beyond mean field: where the n = 1 Mott lobe of the Bose–Hubbard model ends on a "
         "{7,3} graph, from a sign-free quantum Monte Carlo (SSE), against Gutzwiller mean field and the third-order "
         "strong-coupling expansion of Freericks and Monien written for the graph's own walk counts. Each QMC point "
         "is the chemical potential where ⟨N⟩ = M ± 1/2: on a finite graph the ground state's E0(M±1) − E0(M).",
