@@ -8,6 +8,7 @@ import pytest
 from hyperlattice.cli import main
 
 
+@pytest.mark.slow
 def test_pair_equals_the_default_solver(capsys):
     assert main(["spectrum", "--rings", "6", "--json"]) == 0
     ref = json.loads(capsys.readouterr().out)

@@ -156,6 +156,7 @@ def test_kpm_takes_a_complex_hermitian_matrix(lat):
     assert np.all(np.abs(dos.mu - exact) <= 5 * dos.mu_err + 1e-12)
 
 
+@pytest.mark.slow
 def test_a_hugely_degenerate_lowest_level_is_refused_before_allocating():
     """The zero matrix of 10^7 rows: every level is 0, so the proof that no level was missed asks
     ARPACK for n - 2 of them, an n x n basis (728 TiB). Refused with one sentence, nothing allocated."""

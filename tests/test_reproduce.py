@@ -160,6 +160,7 @@ def test_report_flags_the_known_misprints(repro):
         assert label in md, label
 
 
+@pytest.mark.slow
 def test_rerun_uses_cache_and_is_deterministic(repro, tmp_path):
     out, first = repro
     again = reproduce(tmp_path / "again", max_rings=4, cache=Cache(out / "cache"))
@@ -249,6 +250,7 @@ def test_open_question_sentences_other_branches():
     assert open_question_text([t])[0].endswith("does not settle into a monotone trend within the computed range.")
 
 
+@pytest.mark.slow
 def test_fig2_partition_table_matches_api(repro):
     """Z and Z' of the Fig2 inset are the compare.levels results; every +-m pair counts twice."""
     from hyperlattice.compare.levels import continuum_levels_below, graph_levels_below, partition_functions

@@ -46,6 +46,7 @@ def test_ten_lowest_levels_of_the_sector_route_with_multiplicity(rings):
     np.testing.assert_allclose(spec.energies, ref, rtol=0, atol=1e-12)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("flux", [0.05, 0.31])
 def test_shift_invert_with_flux_on_complex_hermitian_blocks(flux):
     # l = 8 (15,435 sites): blocks of 2,205 > DENSE_MAX, complex Hermitian with flux, so every

@@ -90,6 +90,7 @@ def test_count_does_not_depend_on_the_sign_of_rounding(monkeypatch):
                                    ref.partition_function(np.array([0.5, 2.0])), rtol=1e-13)
 
 
+@pytest.mark.slow
 def test_partition_comparison_reports_the_zero_modes():
     z = partition_functions(graph_levels_below(ring_lattice(7, 3, 4)), continuum_levels_below(7, 3, rings=4),
                             np.array([1.0]))
