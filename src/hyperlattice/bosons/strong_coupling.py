@@ -67,9 +67,9 @@ is :math:`\Delta/U = 1 - 6x + 5x^2 + 6x^3`.
 
 References
 ----------
-.. [1] J. K. Freericks and H. Monien, Phys. Rev. B 53, 2691 (1996): strong-coupling expansion of
-   the Bose–Hubbard phase diagram to third order in t/U (hypercubic lattices).
-.. [2] J. K. Freericks and H. Monien, Europhys. Lett. 26, 545 (1994).
+* J. K. Freericks and H. Monien, Phys. Rev. B 53, 2691 (1996): strong-coupling expansion of
+  the Bose–Hubbard phase diagram to third order in t/U (hypercubic lattices).
+* J. K. Freericks and H. Monien, Europhys. Lett. 26, 545 (1994).
 """
 
 from __future__ import annotations

@@ -75,9 +75,9 @@ class LabelledSpectrum(Spectrum):
         spectrum of :math:`D + A - 2`, i.e. :math:`E + 2 - q` in the interior).
     ambiguous : ndarray of bool, shape (K,)
         True where the assignment is a tie: the continuum level lies within the error bounds of
-        another continuum level of the same sector with a different (n, |m|), or the graph level
+        another continuum level of the same sector with a different ``(n, |m|)``, or the graph level
         lies within its tolerance of another graph level of the sector that continues a different
-        (n, |m|). The label is then one of the tied ones.
+        ``(n, |m|)``. The label is then one of the tied ones.
     splittings : tuple of dict
         One per continuum pair (n, ±m) of one sector among the levels: ``n``, ``m`` (= \|m\|),
         ``levels`` (positions of its states in this list; one entry when the partner lies above the

@@ -151,7 +151,7 @@ _TOLERANCES = {"xatol": 1e-15, "xrtol": 4.0 * np.finfo(float).eps, "fatol": 0.0,
 MAX_FIELD = 1e4
 #: largest number of levels accepted (about half a minute on one core at 16 ms per level)
 MAX_LEVELS = 2_000
-#: largest |kappa| dirichlet_function takes (checked to 1e6 of both signs; -1e9 and 1e12 fail to converge)
+#: largest kappa magnitude dirichlet_function takes (checked to 1e6 of both signs; -1e9 and 1e12 fail to converge)
 MAX_KAPPA = 1e6
 
 

@@ -130,7 +130,7 @@ def mass2_in_paper_metric(m2, ads_radius) -> float | np.ndarray:
     r"""A mass² given in AdS₂ of radius ``ads_radius``, in the paper's metric (:math:`R = 1/2`).
 
     The dimensionless :math:`m^2R^2` fixes the physics (:math:`\Delta(\Delta-1) = m^2R^2`), so
-    :math:`m^2_{m paper} = m^2 R^2 / (1/2)^2 = 4m^2R^2`: a mass² of 1 in unit-radius AdS₂ is 4 here.
+    :math:`m^2_{\rm paper} = m^2 R^2 / (1/2)^2 = 4m^2R^2`: a mass² of 1 in unit-radius AdS₂ is 4 here.
 
     Parameters
     ----------
@@ -164,8 +164,8 @@ def mass2_in_paper_metric(m2, ads_radius) -> float | np.ndarray:
 def delta_formulas(m2) -> dict:
     r"""Both conventions' formula values of Δ at one number :math:`m^2`, side by side.
 
-    ``"ads_radius_1"``: :math:`rac12 + \sqrt{rac14 + m^2}` (the number read as a mass² in unit-radius
-    AdS₂); ``"ads_radius_0.5"``: :math:`rac12 + rac12\sqrt{1 + m^2}` (read in the paper's metric).
+    ``"ads_radius_1"``: :math:`\frac12 + \sqrt{\frac14 + m^2}` (the number read as a mass² in unit-radius
+    AdS₂); ``"ads_radius_0.5"``: :math:`\frac12 + \frac12\sqrt{1 + m^2}` (read in the paper's metric).
     The same number gives two different Δ (1.618 and 1.207 at :math:`m^2 = 1`); only the one of
     the convention the mass was given in applies. NaN below that convention's BF bound.
 

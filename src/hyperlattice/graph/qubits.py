@@ -69,13 +69,13 @@ MAX_QUBITS = 20_000
 _NEWTON_MAX = 60
 
 
-#: largest |g| / t accepted: circuit-QED couplings are g << t; beyond, the numbers mean nothing
-#: physically (and g^2 G overflowed to inf from |g| ~ 1e154)
+#: largest coupling magnitude g / t accepted: circuit-QED couplings are g << t; beyond, the numbers mean nothing
+#: physically (and g^2 G overflowed to inf from g ~ 1e154)
 MAX_COUPLING = 1e6
 
 
 def _coupling(g, t: float = 1.0) -> float:
-    """The qubit-photon coupling g: a finite real number with |g| <= :data:`MAX_COUPLING` t."""
+    """The qubit-photon coupling g: a finite real number with :math:`|g| \\le` :data:`MAX_COUPLING` t."""
     g = _validate.real("g", g)
     t = _validate.positive_real("the hopping t", t)
     if abs(g) > MAX_COUPLING * t:
