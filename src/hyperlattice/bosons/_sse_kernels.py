@@ -323,9 +323,19 @@ def _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
     visited = 0
     w = np.empty(4)
     kk = nmax + 1
+    # a directed loop closes with probability one, but a configuration far from equilibrium (a
+    # string still filling up) can hold a nearly deterministic cycle that misses the tail for
+    # millions of steps: a loop longer than maxlen steps undoes this sweep's loop update (the legs
+    # are restored) and is counted, so that the result can say so
+    maxlen = 200 * nlegs + 100000
+    aborted = False
+    saved = legs[:nlegs].copy() if nops > 0 else legs[:0].copy()
     if nops > 0:
         for _ in range(nloops):
+            if aborted:
+                break
             j0 = _below(rng, nlegs)
+            steps = 0
             d0 = 1 if _uniform(rng) < 0.5 else -1
             new = legs[j0] + d0
             if new < 0 or new > nmax:
@@ -369,6 +379,11 @@ def _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
                 dx = -d if (ex >> 1) == (le >> 1) else d
                 xl = base + ex
                 visited += 1
+                steps += 1
+                if steps > maxlen:
+                    legs[:nlegs] = saved
+                    aborted = True
+                    break
                 if gmode > 0:
                     hsite = bj[b] if (ex & 1) else bi[b]
                     if hsite != tsite:
@@ -416,7 +431,7 @@ def _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
             # no operator acts on site i: the weight does not depend on n_i (the on-site energy is
             # inside the bond vertices), so n_i is uniform over 0..nmax
             state[i] = _below(rng, nmax + 1)
-    return visited
+    return -1 - visited if aborted else visited
 
 
 @numba.njit(cache=True)
@@ -490,6 +505,9 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
         visited = _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
                                vpos, link, legs, first, lastleg, gm, gfull, gcur, gclass,
                                zr, zi, omz, hbin, vcur, voff, ncls, gsign, ptab, bclass, ntab)
+        if visited < 0:     # a runaway loop: this sweep's loop update was undone (counted)
+            visited = -1 - visited
+            loopstat[2] += 1
         if thermalize:
             # loops per sweep from the recent mean loop length (aborted starts included); the sums
             # decay so that the short loops of the first sweeps, on a short string, are forgotten
@@ -497,7 +515,8 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
             loopstat[1] = 0.9 * loopstat[1] + nloops
             mean_len = loopstat[0] / max(loopstat[1], 1.0)
             want = target_legs * nops / max(mean_len, 1e-3)
-            nloops = int(min(max(want, 1.0), 1e9))
+            # at most a few loops per operator: a loop visits at least its first vertex
+            nloops = int(min(max(want, 1.0), 4.0 * (nops + 16)))
             if nops > 0.75 * m:
                 newm = (4 * nops) // 3 + 8
                 new = np.full(newm, -1, dtype=np.int64)

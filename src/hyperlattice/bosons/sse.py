@@ -500,7 +500,7 @@ class _Chain:
         self.vbins = np.zeros((_VECTOR_BINS, nv))
         self.vcur = np.zeros(nv)
         self.vinfo = np.array([0, 1, 0], dtype=np.int64)
-        self.loopstat = np.zeros(2)
+        self.loopstat = np.zeros(3)       # decayed legs visited, decayed loops, undone loop updates
         # nops, nloops, thermalisation sweeps done, measurement sweeps done
         self.counters = np.array([0, 1, 0, 0], dtype=np.int64)
 
@@ -763,6 +763,11 @@ def _analyse(chain: _Chain, model: _Model, *, U, mu, t, beta, nmax, sweeps, ther
     # the string length M is frozen after thermalisation: a string that was still filling up (bins
     # whose mean n comes within 10 % of M) truncated the expansion, and every estimate is biased
     length = int(chain.ops.shape[0])
+    if chain.loopstat[2] > 0:
+        converged = False
+        notes.append(f"{int(chain.loopstat[2])} sweep(s) had a directed loop longer than the cap (200 x the "
+                     "number of vertex legs) and their loop update was undone: the configuration was far from "
+                     "equilibrium; run with more thermalization sweeps.")
     if nb and float(raw[:, 0].max()) > 0.9 * length:
         converged = False
         notes.append(f"the operator string (length {length}) was nearly full during the measurements "
