@@ -79,10 +79,11 @@ OFFSET = 0.5
 #: scalar bins kept per chain (binning analysis resolution) and bins of the site-resolved arrays
 _SCALAR_BINS = 2048
 _VECTOR_BINS = 32
-#: vertex legs visited by the loops per sweep, in units of the string's n operators (2n: half of
-#: the 4n legs; on the l = 3 flake at U = 6, mu = 3, beta = 4 the efficiency 1/(sigma_E^2 CPU s) was
-#: 2.2x that of 8n and the same as 1n, whose tau_int is longer)
-_TARGET_LEGS = 2.0
+#: vertex legs visited by the loops per sweep, in units of the string's n operators (8n: each of
+#: the 4n legs about twice). 2n gave 1.3x dirloop_sse's efficiency for the energy on the l = 3
+#: superfluid point (benchmarks/bench_qmc.py) but too few loops for the worm estimator of G on
+#: small graphs (one loop per sweep on a 6-site ring); kept at 8n until G has its own loop budget
+_TARGET_LEGS = 8.0
 #: seconds of work between checkpoint writes
 _CHECKPOINT_SECONDS = 60.0
 #: bytes per operator slot (ops, vertex positions, links and leg states)
