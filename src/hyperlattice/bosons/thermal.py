@@ -53,12 +53,15 @@ import scipy.sparse as sp
 from .. import _validate
 from ..results import Column, Result
 
-__all__ = ["exact_thermal", "ThermalAverages", "sector_dimensions", "MAX_STATES", "BLOCK_MAX", "WORK_MAX"]
+__all__ = ["exact_thermal", "ThermalAverages", "sector_dimensions", "MAX_STATES", "BLOCK_MAX", "WORK_MAX",
+           "AUTO_SECTORS"]
 
 #: largest Fock space (all particle numbers) of the ``"dense"`` route
 MAX_STATES = 20_000
 #: largest block (states of one N, or of one sector of one N) diagonalised densely
 BLOCK_MAX = 5_000
+#: method="auto" takes the sector route (when there is a rotation) once an N block exceeds this size
+AUTO_SECTORS = 1_000
 #: largest total work: sum over the diagonalised blocks of d^3 (complex blocks counted 4 times);
 #: the Bolza cluster with hard-core bosons is about 1.7e11 (a few minutes on one loaded core)
 WORK_MAX = 6e11
@@ -398,13 +401,18 @@ def _plan(sites, nmax, g, method, label):
     """(route, p, largest block, work) of a problem, refused in one sentence when it will not fit."""
     dense_states = (nmax + 1) ** sites
     if method == "auto":
-        method = "dense" if dense_states <= MAX_STATES or g is None else "sectors"
+        from .basis import basis_dimension
+
+        small = dense_states <= MAX_STATES and basis_dimension(sites, sites * nmax // 2, nmax) <= AUTO_SECTORS
+        method = "dense" if small or g is None else "sectors"
     if method == "sectors" and g is None:
         raise ValueError(f"the {label} has no rotation symmetry to split the blocks with; use method='dense'.")
     if method == "dense":
         if dense_states > MAX_STATES:
+            have = (f"{dense_states:,}" if dense_states < 10**15
+                    else f"about 10^{int(sites * math.log10(nmax + 1))}")
             raise ValueError(f"exact_thermal diagonalises at most {MAX_STATES:,} Fock states without symmetry "
-                             f"sectors, and {sites} sites with nmax = {nmax} have {dense_states:,}.")
+                             f"sectors, and {sites} sites with nmax = {nmax} have {have}.")
         from .basis import basis_dimension
 
         dims = [basis_dimension(sites, n, nmax) for n in range(sites * nmax + 1)]
@@ -412,11 +420,18 @@ def _plan(sites, nmax, g, method, label):
     p = g.p
     from .basis import basis_dimension
 
+    if sites * nmax > 4096:
+        # the largest block is at least the average one: (nmax + 1)^M / (M nmax + 1) states, over p sectors
+        k = int(sites * math.log10(nmax + 1) - math.log10(sites * nmax + 1) - math.log10(p))
+        raise ValueError(f"exact_thermal diagonalises at most {BLOCK_MAX:,} states per block densely, and the "
+                         f"{label} with nmax = {nmax} has sectors of more than 10^{k} states.")
+
     # a sector holds at least D_N / p states: refuse a hopeless problem before counting exactly
     low = basis_dimension(sites, sites * nmax // 2, nmax) // p          # the middle block is the largest
     if low > BLOCK_MAX:
         raise ValueError(f"exact_thermal diagonalises at most {BLOCK_MAX:,} states per block densely, and the "
-                         f"{label} with nmax = {nmax} has sectors of more than {low:,} states.")
+                         f"{label} with nmax = {nmax} has sectors of more than "
+                         f"{f'{low:,}' if low < 10**15 else f'10^{len(str(low)) - 1}'} states.")
     dims = sector_dimensions(g.rotation, nmax)
     big, work, where = 0, 0.0, (0, 0)
     for n in range(dims.shape[0]):
@@ -464,7 +479,8 @@ def exact_thermal(system, *, U: float, mu: float, beta: float, nmax: int, t: flo
     method : {"auto", "dense", "sectors"}, optional
         ``"dense"``: every N block of the whole Fock space (at most :data:`MAX_STATES` states);
         ``"sectors"``: every N block split by the rotation of a flake or cluster (see the module
-        docstring); ``"auto"`` (default): dense when the Fock space fits, else sectors.
+        docstring); ``"auto"`` (default): sectors when the system has a rotation and an N block
+        exceeds :data:`AUTO_SECTORS` states, else dense.
     one_body : bool, optional
         Also the site densities, :math:`G_{ij}`, the bond kinetic terms and the condensate fraction
         (default True). False needs eigenvalues only: faster, and the spectrum is kept for reuse.
