@@ -711,13 +711,14 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
     1. *Open configurations.* A loop in progress is a string with two unit discontinuities, the
        tail (where it started) and the head, each on a segment (a piece of one site's worldline
        between two consecutive vertices). Its weight is :math:`W(Y) = \prod_v W_v`, every vertex
-       with its own leg states. The directed-loop equations
+       with its own leg states (times the factor :math:`\beta^n (M_L - n)!/M_L!` that every
+       configuration of n operators in a string of length :math:`M_L` shares). The directed-loop equations
        :math:`W_v(s) P(e \to x\,|\,s) = W_v(s') P(x \to e\,|\,s')` balance each step of the head
        against the reversed step (the head on the same segment, moving the other way), so the
        stationary measure of an open state is :math:`c\,W(Y)` for either direction of the head,
        with one constant c.
     2. *The constant.* A loop starts from a closed configuration C at one of the 4n legs with one
-       of the two changes ±1 (probability :math:`1/8n`) and makes its first exit; the reverse is
+       of the two changes ±1 (probability :math:`1/(8n)`) and makes its first exit; the reverse is
        the last exit of a loop that heals the tail at that leg. Balancing the two with the vertex
        equation gives :math:`c = \pi(C)/(8n\,W(C))`: per closed configuration visited, i.e. per loop
        started, a directed open state is visited :math:`W(Y)/(8nZ)` times on average,
