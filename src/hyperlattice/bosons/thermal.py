@@ -399,10 +399,10 @@ def _sector_blocks(g, U, t, nmax, vectors):
 
 def _plan(sites, nmax, g, method, label):
     """(route, p, largest block, work) of a problem, refused in one sentence when it will not fit."""
+    from .basis import basis_dimension
+
     dense_states = (nmax + 1) ** sites
     if method == "auto":
-        from .basis import basis_dimension
-
         small = dense_states <= MAX_STATES and basis_dimension(sites, sites * nmax // 2, nmax) <= AUTO_SECTORS
         method = "dense" if small or g is None else "sectors"
     if method == "sectors" and g is None:
@@ -413,13 +413,9 @@ def _plan(sites, nmax, g, method, label):
                     else f"about 10^{int(sites * math.log10(nmax + 1))}")
             raise ValueError(f"exact_thermal diagonalises at most {MAX_STATES:,} Fock states without symmetry "
                              f"sectors, and {sites} sites with nmax = {nmax} have {have}.")
-        from .basis import basis_dimension
-
         dims = [basis_dimension(sites, n, nmax) for n in range(sites * nmax + 1)]
         return "dense", 1, max(dims), float(sum(d ** 3 for d in dims))
     p = g.p
-    from .basis import basis_dimension
-
     if sites * nmax > 4096:
         # the largest block is at least the average one: (nmax + 1)^M / (M nmax + 1) states, over p sectors
         k = int(sites * math.log10(nmax + 1) - math.log10(sites * nmax + 1) - math.log10(p))
@@ -430,7 +426,7 @@ def _plan(sites, nmax, g, method, label):
     low = basis_dimension(sites, sites * nmax // 2, nmax) // p          # the middle block is the largest
     if low > BLOCK_MAX:
         raise ValueError(f"exact_thermal diagonalises at most {BLOCK_MAX:,} states per block densely, and the "
-                         f"{label} with nmax = {nmax} has sectors of more than "
+                         f"{label} with nmax = {nmax} has sectors of at least "
                          f"{f'{low:,}' if low < 10**15 else f'10^{len(str(low)) - 1}'} states.")
     dims = sector_dimensions(g.rotation, nmax)
     big, work, where = 0, 0.0, (0, 0)
