@@ -127,6 +127,10 @@ CALLS = {
     _BED + "one_body_density_matrix": (dict(basis=BB, psi=BPSI), set()),
     _BED + "condensate_fraction": (dict(rho=np.eye(7) * 2 / 7, particles=2), set()),
     _BED + "correlation_vs_distance": (dict(rho=np.eye(7), distance=np.ones((7, 7)), width=0.5), set()),
+    # issue 27: the exact thermal reference (hard-core heptagon, 128 states) and the QMC memory estimate
+    "hyperlattice.bosons.thermal.exact_thermal": (dict(system=HEPT, U=2.0, mu=0.5, beta=1.0, nmax=1), set()),
+    "hyperlattice.bosons.thermal.sector_dimensions": (dict(rotation=[1, 2, 3, 0], nmax=1), set()),
+    "hyperlattice.bosons.sse.qmc_memory": (dict(system=HEPT, U=2.0, mu=0.5, beta=1.0, nmax=1), set()),
 }
 
 

@@ -21,7 +21,7 @@ def test_error_bars_cover_the_exact_value():
     for seed in range(40):
         r = qmc(HEPTAGON, sweeps=3000, thermalization=500, seed=100 + seed, progress=False, **kw)
         for name in ("energy", "density", "compressibility"):
-            z = abs(getattr(r, name) - ex[name]) / getattr(r, name + "_err")
+            z = abs(getattr(r, name) - getattr(ex, name)) / getattr(r, name + "_err")
             hits1 += z < 1
             hits2 += z < 2
             total += 1
@@ -46,11 +46,11 @@ def test_soft_core_nmax3_and_bolza_like_cluster():
     ex = exact_thermal(HEPTAGON, **kw)
     r = qmc(HEPTAGON, sweeps=20000, thermalization=2000, seed=3, progress=False, **kw)
     for name in ("energy", "density", "compressibility"):
-        assert abs(getattr(r, name) - ex[name]) < 4 * getattr(r, name + "_err")
+        assert abs(getattr(r, name) - getattr(ex, name)) < 4 * getattr(r, name + "_err")
     c = hl.graph.clusters.pbc_cluster(5, 5, "PSL(2,5)")
     kw = dict(U=0.0, mu=-0.5, beta=2.0, nmax=1)
     ex = exact_thermal(c, **kw)
     r = qmc(c, sweeps=10000, thermalization=1000, seed=4, progress=False, **kw)
     for name in ("energy", "density", "compressibility"):
-        assert abs(getattr(r, name) - ex[name]) < 4 * getattr(r, name + "_err")
-    assert np.all(np.abs(r.green_matrix - ex["green"])[~np.eye(12, dtype=bool)] < 0.05)
+        assert abs(getattr(r, name) - getattr(ex, name)) < 4 * getattr(r, name + "_err")
+    assert np.all(np.abs(r.green_matrix - ex.green)[~np.eye(12, dtype=bool)] < 0.05)

@@ -55,8 +55,8 @@ def test_heptagon_boundary_against_exact_thermal():
     b = ql.qmc_boundary(lat, x, "plus", beta_t=beta, sweeps=600, iterations=2, seed=5)
     assert b["sites"] == 7 and len(b["steps"]) == 2 and b["mu_err"] > 0
     ex = hl.bosons.exact_thermal(lat, U=U, mu=b["mu"] * U, beta=beta, nmax=3)
-    slope = ex["compressibility"] * 7 * U          # d<N>/d(mu/U)
-    assert abs(ex["density"] * 7 - 7.5) < slope * (4 * b["mu_err"] + 1e-3)
+    slope = ex.compressibility * 7 * U          # d<N>/d(mu/U)
+    assert abs(ex.density * 7 - 7.5) < slope * (4 * b["mu_err"] + 1e-3)
 
 
 def test_finite_temperature_offset_statement():

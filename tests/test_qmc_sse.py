@@ -31,7 +31,7 @@ def _ring(n: int, weights=None) -> sp.csr_matrix:
 def _check(r, ex, names=("energy", "density", "compressibility"), k=4.0):
     for name in names:
         v, e = getattr(r, name), getattr(r, name + "_err")
-        assert abs(v - ex[name]) < k * e + 1e-9, (name, v, e, ex[name])
+        assert abs(v - getattr(ex, name)) < k * e + 1e-9, (name, v, e, getattr(ex, name))
 
 
 HEPTAGON = hl.ring_lattice(7, 3, 1)
@@ -52,15 +52,15 @@ def test_qmc_matches_exact_thermal(system, kw, sweeps):
     r = qmc(system, sweeps=sweeps, thermalization=1000, seed=11, progress=False, **kw)
     _check(r, ex)
     # site densities and the nearest-neighbour one-body density matrix (operator counts)
-    assert np.all(np.abs(r.site_density - ex["site_density"]) < 4.5 * r.site_density_err + 1e-9)
-    assert np.all(np.abs(r.bond_kinetic - ex["bond_kinetic"]) < 4.5 * r.bond_kinetic_err + 1e-9)
+    assert np.all(np.abs(r.site_density - ex.site_density) < 4.5 * r.site_density_err + 1e-9)
+    assert np.all(np.abs(r.bond_kinetic - ex.bond_kinetic) < 4.5 * r.bond_kinetic_err + 1e-9)
 
 
 def test_green_function_and_condensate_fraction():
     kw = dict(U=4.0, mu=1.0, beta=2.0, nmax=2)
     ex = exact_thermal(HEPTAGON, **kw)
     r = qmc(HEPTAGON, sweeps=8000, thermalization=1000, seed=5, progress=False, **kw)
-    g = ex["green"]
+    g = ex.green
     d = hl.geometry.distance(HEPTAGON.z[:, None], HEPTAGON.z[None, :], check=False)
     assert r.distance_kind == "hyperbolic"
     cls = np.rint(d / (hl.geometry.d0(7, 3) / 2))          # the classes: bins of d0 / 2
@@ -71,7 +71,7 @@ def test_green_function_and_condensate_fraction():
         assert abs(val - g[sel].mean()) < 4 * err, (dist, val, err, g[sel].mean())
     # the worm estimator at distance d0 agrees with the operator-count estimator of the bonds
     assert abs(2 * r.green[0] - r.bond_kinetic.mean()) < 4 * math.hypot(2 * r.green_err[0], r.bond_kinetic_err.mean())
-    assert abs(r.condensate_fraction - ex["condensate_fraction"]) < 4 * r.condensate_fraction_err
+    assert abs(r.condensate_fraction - ex.condensate_fraction) < 4 * r.condensate_fraction_err
     assert r.green_matrix.shape == (7, 7)
 
 
@@ -83,8 +83,8 @@ def test_gauge_for_negative_hopping_on_a_bipartite_graph():
     r = qmc(a, t=-1.0, sweeps=6000, thermalization=1000, seed=2, progress=False, **kw)
     _check(r, ex)
     assert np.all(r.bond_kinetic < 0)
-    assert np.all(np.abs(r.bond_kinetic - ex["bond_kinetic"]) < 4.5 * r.bond_kinetic_err)
-    assert np.all(np.abs(r.green_matrix - ex["green"]) < 0.05)
+    assert np.all(np.abs(r.bond_kinetic - ex.bond_kinetic) < 4.5 * r.bond_kinetic_err)
+    assert np.all(np.abs(r.green_matrix - ex.green) < 0.05)
 
 
 def test_weighted_adjacency():
@@ -197,8 +197,8 @@ def test_exact_thermal_low_temperature_is_the_ground_state():
     kw = dict(U=6.0, mu=2.0, nmax=2)
     levels = [hl.bosons.bose_hubbard(HEPTAGON, n, 2, 6.0, mu=2.0, levels=1).energies[0] for n in range(0, 15)]
     ex = exact_thermal(HEPTAGON, beta=60.0, **kw)
-    assert ex["energy"] == pytest.approx(min(levels), abs=1e-6)
-    assert ex["density"] * 7 == pytest.approx(int(np.argmin(levels)), abs=1e-6)
+    assert ex.energy == pytest.approx(min(levels), abs=1e-6)
+    assert ex.density * 7 == pytest.approx(int(np.argmin(levels)), abs=1e-6)
 
 
 def test_mcstats():

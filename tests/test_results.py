@@ -195,6 +195,7 @@ def _beyond_factories():
         # results with one row per site (or grid point), found by the audit below
         from hyperlattice.bosons.gp import gp_ground_state
         from hyperlattice.bosons.meanfield import gutzwiller
+        from hyperlattice.bosons.thermal import exact_thermal
         from hyperlattice.compare import boundary, qubits as cq
         from hyperlattice.continuum import gp as cgp
         from hyperlattice.graph.disorder import disorder
@@ -205,6 +206,7 @@ def _beyond_factories():
 
         return {"GPState": lambda: gp_ground_state(ring_lattice(7, 3, 2), 10.0, 0.5),
                 "GutzwillerState": lambda: gutzwiller(ring_lattice(7, 3, 2), 0.1, 0.5),
+                "ThermalAverages": lambda: exact_thermal(ring_lattice(7, 3, 1), U=4.0, mu=1.0, beta=2.0, nmax=1),
                 "BoundState": lambda: bound_state(ring_lattice(7, 3, 3), 0, -3.5, 0.2),
                 "BoundaryCorrelator": lambda: boundary.boundary_correlator(ring_lattice(7, 3, 4), -3.5),
                 "BulkToBoundary": lambda: boundary.bulk_to_boundary(ring_lattice(7, 3, 4), -3.5),

@@ -72,7 +72,7 @@ from .._progress import progress_bar
 from ..errors import HyperlatticeError
 from ..results import Column, Result, to_jsonable
 
-__all__ = ["QMCResult", "qmc", "merge_chains", "QMCWarning", "OFFSET"]
+__all__ = ["QMCResult", "qmc", "qmc_memory", "merge_chains", "QMCWarning", "OFFSET"]
 
 #: diagonal-vertex offset c in units of the bond hopping (see the module docstring)
 OFFSET = 0.5
@@ -538,8 +538,8 @@ class _Chain:
         self.counters[2 if thermalize else 3] += n
 
 
-def _check_memory(model: _Model, beta: float, cb: np.ndarray, nmax: int, U: float, mu: float) -> float:
-    """The expected string length bound beta * sum_b max vertex weight; refuse when it won't fit."""
+def _memory_need(model: _Model, beta: float, cb: np.ndarray, nmax: int, U: float, mu: float) -> tuple[float, float]:
+    """(string length bound beta * sum_b max vertex weight, bytes expected for the chain)."""
     n = np.arange(nmax + 1, dtype=float)
     eps = 0.5 * U * n * (n - 1) - mu * n
     z = np.maximum(model.degree, 1).astype(float)
@@ -547,9 +547,74 @@ def _check_memory(model: _Model, beta: float, cb: np.ndarray, nmax: int, U: floa
     wmax = np.maximum(cb - emin[model.bi] - emin[model.bj], model.tb * nmax)
     bound = beta * float(wmax.sum()) + 16
     need = _BYTES_PER_OP * bound * 1.5 + 8.0 * (model.sites + model.bi.size) * (_VECTOR_BINS + 8)
+    return bound, need
+
+
+def _check_memory(model: _Model, beta: float, cb: np.ndarray, nmax: int, U: float, mu: float) -> float:
+    """The expected string length bound beta * sum_b max vertex weight; refuse when it won't fit."""
+    bound, need = _memory_need(model, beta, cb, nmax, U, mu)
     _validate.require_memory(f"the SSE operator string (expected up to {bound:,.0f} operators at beta = {beta:g})",
                              need)
     return bound
+
+
+def qmc_memory(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0) -> int:
+    r"""Bytes a :func:`qmc` chain is expected to need, as its refusal computes them (nothing is allocated).
+
+    The operator string of the SSE holds about :math:`\beta \sum_b W_b^{\max}` operators at most
+    (:math:`W_b^{\max}` the largest vertex weight of bond b, energy unit of t, β its inverse); each
+    slot costs the string, vertex, link and leg arrays, with a margin of 1.5 for the string's
+    growth, plus the site- and bond-resolved bins. :func:`qmc` refuses (MemoryError) when this
+    exceeds the memory the process may still allocate; the sweep task ``qmc`` refuses a grid
+    point with the same number before the grid runs.
+
+    Parameters
+    ----------
+    system : Lattice, Cluster or sparse matrix
+        As in :func:`qmc`.
+    U, mu : float
+        On-site interaction and chemical potential (units of the hopping).
+    beta : float
+        Inverse temperature, > 0.
+    nmax : int
+        Occupation cutoff, >= 1.
+    t : float, optional
+        Hopping scale (default 1).
+
+    Returns
+    -------
+    int
+        Bytes, as :func:`qmc`'s refusal counts them. Not included: the bins of the full one-body
+        density matrix when ``measure_green`` (:math:`9 M^2` floats up to 1000 sites,
+        :math:`5 M^2` up to :data:`G_FULL_MAX`), a few MB for M = 1000.
+
+    Raises
+    ------
+    ValueError
+        On bad input or a sign problem (as :func:`qmc`).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons import qmc_memory
+    >>> qmc_memory(hl.ring_lattice(7, 3, 1), U=4.0, mu=1.0, beta=2.0, nmax=2) < 2**20
+    True
+    """
+    U = _validate.real("U", U)
+    mu = _validate.real("mu", mu)
+    t = _validate.real("t", t)
+    beta = _validate.real("beta", beta)
+    if not beta > 0:
+        raise ValueError(f"beta must be positive, got {beta!r}.")
+    nmax = _validate.integer("nmax", nmax, minimum=1, maximum=1000)
+    if t == 0:
+        raise ValueError("t = 0 leaves no bond term; the sites are independent (use exact_thermal).")
+    model = _model(system, t)
+    if model.bi.size == 0:
+        raise ValueError("the graph has no bonds: the sites are independent (use exact_thermal).")
+    _, _, cb = _weights(model, U, mu, nmax)
+    _, need = _memory_need(model, beta, cb, nmax, U, mu)
+    return int(math.ceil(need))
 
 
 def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, sweeps: int = 20000,
@@ -623,25 +688,61 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
     bond to live on in this decomposition.
 
     The one-body density matrix comes from the loop construction (Dorneich & Troyer, PRE 64,
-    066701 (2001), in the directed-loop form): while a loop is open, the configurations with its
-    two discontinuities (the tail, where it started, and the head) are visited with a frequency
-    proportional to their weight :math:`\prod_v W_v`. A configuration with :math:`a_k^\dagger` and
-    :math:`a_l` on segments of two sites k != l stands for every insertion of :math:`a_k^\dagger a_l`
-    into one of the :math:`N_{\mathrm{gap}}` gaps between consecutive operators that both segments
-    span, each with weight :math:`1/n` of the cyclic average of the trace. The estimator is
+    066701 (2001); in the directed-loop form of Syljuåsen & Sandvik, PRE 66, 046701 (2002) and
+    Syljuåsen, PRE 67, 046701 (2003)). At each position of the head (after every exit from a
+    vertex), when head and tail lie on segments of two different sites, the kernel adds
 
     .. math::
 
-        \langle a_k^\dagger a_l\rangle = \frac{2}{N_{\mathrm{loops}}}
-        \Big\langle\sum_{\text{head steps}} N_{\mathrm{gap}} \sqrt{n_k^> n_l^>}\Big\rangle,
+        X_{kl} = N_{\mathrm{gap}} \sqrt{n_k^>\, n_l^>}
 
-    with :math:`n^>` the larger occupation on each discontinuous segment and :math:`N_{\mathrm{loops}}`
-    every loop started (aborted starts included). The normalisation 2 is the one measured against
-    :func:`exact_thermal` (heptagon with nmax = 1, 2, 3, a bipartite ring with t < 0; see
-    ``tests/test_qmc_sse.py``); the naive count (eight directed head states per configuration,
-    each visited with :math:`1/(8n)` per loop) predicts 1, and the missing factor has not been
-    derived here. The nearest-neighbour value is cross-checked against the independent estimator
-    ``bond_kinetic`` from the operator counts.
+    to :math:`G_{kl}` (k the site whose segment jumps up by one, :math:`a_k^\dagger`; :math:`n^>`
+    the larger occupation on each discontinuous segment; :math:`N_{\mathrm{gap}}` the number of
+    gaps between consecutive operators that both segments span), and the estimator is
+
+    .. math::
+
+        \langle a_k^\dagger a_l\rangle = \frac{2}{N_{\mathrm{loops}}}\Big\langle\sum_{\text{head positions}}
+        X_{kl}\Big\rangle ,
+
+    :math:`N_{\mathrm{loops}}` every loop started, aborted starts included. The factor 2 follows
+    from the loop's weights:
+
+    1. *Open configurations.* A loop in progress is a string with two unit discontinuities, the
+       tail (where it started) and the head, each on a segment (a piece of one site's worldline
+       between two consecutive vertices). Its weight is :math:`W(Y) = \prod_v W_v`, every vertex
+       with its own leg states (times the factor :math:`\beta^n (M_L - n)!/M_L!` that every
+       configuration of n operators in a string of length :math:`M_L` shares). The directed-loop equations
+       :math:`W_v(s) P(e \to x\,|\,s) = W_v(s') P(x \to e\,|\,s')` balance each step of the head
+       against the reversed step (the head on the same segment, moving the other way), so the
+       stationary measure of an open state is :math:`c\,W(Y)` for either direction of the head,
+       with one constant c.
+    2. *The constant.* A loop starts from a closed configuration C at one of the 4n legs with one
+       of the two changes ±1 (probability :math:`1/(8n)`) and makes its first exit; the reverse is
+       the last exit of a loop that heals the tail at that leg. Balancing the two with the vertex
+       equation gives :math:`c = \pi(C)/(8n\,W(C))`: per closed configuration visited, i.e. per loop
+       started, a directed open state is visited :math:`W(Y)/(8nZ)` times on average,
+       :math:`Z = \sum_C W(C)`. The start leg is not part of the state: the same Y follows from a
+       start at either end of the tail's segment (from two different C), and nothing after the
+       start depends on which.
+    3. *Counting.* One physical configuration with :math:`a_k^\dagger` on a segment of site k and
+       :math:`a_l` on a segment of site :math:`l \ne k` is four directed states: either
+       discontinuity can be the head, and the head can move up or down its segment. Per loop the
+       estimator's sum therefore has mean :math:`\sum_Y 4\,W(Y) X_{kl}(Y)/(8nZ)`.
+    4. *The observable.* :math:`\mathrm{Tr}(a_k^\dagger a_l e^{-\beta H}) = \sum_n \frac{\beta^n}{n!}
+       \mathrm{Tr}(a_k^\dagger a_l H^n)`; by the cyclic trace the pair can sit in any of the n gaps
+       of the string, each with weight 1/n, and its matrix elements are
+       :math:`\sqrt{n_k^>}\sqrt{n_l^>}`, so :math:`\langle a_k^\dagger a_l\rangle = \sum_Y W(Y)
+       X_{kl}(Y)/(nZ)`.
+
+    Comparing 3 and 4, the sum per loop has mean :math:`\langle a_k^\dagger a_l\rangle/2`: the
+    factor is 2 = 8/4. (An earlier count took the start leg as part of the state, eight directed
+    states per configuration, and predicted 1.) Nothing in it depends on whether k and l are
+    neighbours, on the cutoff (the loop moves one boson at a time, so each discontinuity is one
+    :math:`a^\dagger` or :math:`a` with matrix element :math:`\sqrt{n^>}`) or on the graph; the tests
+    compare G(i, j) with :func:`exact_thermal` for neighbours and farther pairs at nmax = 1, 2, 3
+    (``tests/test_qmc_green.py``, ``tests/test_qmc_sse.py``), and the nearest-neighbour value with
+    the independent estimator ``bond_kinetic`` from the operator counts.
 
     Examples
     --------

@@ -511,8 +511,8 @@ def xy_qubit_check(rings: int = 2, omega_q: float = -3.5, g: float = 0.5, *, rin
     for key in ("energy", "density", "compressibility"):
         v, e = getattr(r, key), getattr(r, key + "_err")
         out["qmc"][key], out["qmc"][key + "_err"] = float(v), float(e)
-        out["exact"][key] = float(ex[key])
-        out["deviation_sigma"][key] = float(abs(v - ex[key]) / e) if e > 0 else (0.0 if v == ex[key] else math.inf)
+        out["exact"][key] = float(getattr(ex, key))
+        out["deviation_sigma"][key] = float(abs(v - getattr(ex, key)) / e) if e > 0 else (0.0 if v == getattr(ex, key) else math.inf)
     return out
 
 

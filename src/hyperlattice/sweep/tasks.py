@@ -232,13 +232,12 @@ def _check_qmc(params: dict) -> None:
     _validate.integer("seed", params["seed"], minimum=0)
     # the operator string grows with beta * bonds: the engine's own estimate refuses a point that will
     # not fit, before the grid runs
-    from ..bosons.sse import _check_memory, _model, _weights
+    from ..bosons.sse import qmc_memory
 
-    model = _model(_qmc_system(p, q, params["rings"], params["cluster"]), float(params["t"]))
-    U, mu, nmax = float(params["U"]), float(params["mu"]), int(params["nmax"])
-    _, _, cb = _weights(model, U, mu, nmax)
+    need = qmc_memory(_qmc_system(p, q, params["rings"], params["cluster"]), U=float(params["U"]),
+                      mu=float(params["mu"]), beta=beta, nmax=int(params["nmax"]), t=float(params["t"]))
     try:
-        _check_memory(model, beta, cb, nmax, U, mu)
+        _validate.require_memory(f"the SSE operator string at beta = {beta:g}", need)
     except MemoryError as exc:
         raise ValueError(str(exc)) from None
 
