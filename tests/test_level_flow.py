@@ -1,0 +1,142 @@
+"""A level request flows down once (issue 28, item 9), followed as data with a profiler.
+
+:func:`trace_modules` runs a call under :func:`sys.setprofile` and counts, for every module of the
+package, how often the running code *enters* it: a call whose callee lies in the module and
+whose nearest calling frame of the package lies outside it (a maximal run of frames of one
+module on the stack counts once; the ``_validate`` guard wrapper of every public function is
+transparent, and frames without a caller, the profiler's view of numba-compiled kernels, are
+skipped). docs/architecture.md quotes the counts measured before and after the restructuring.
+
+The design gives: the route (``graph/spectrum.py``) enters ``graph/sectors.py`` once (the
+sector-only flake route: build, block builder, solve and assembly behind one call) and
+``graph/symmetry.py`` at most twice (once to ask whether V is rotation invariant, which chooses
+the route, and once to build every sector block of a built lattice); no lower module calls back
+up into the route or the sector modules.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+
+import pytest
+
+import hyperlattice
+import hyperlattice as hl
+
+PACKAGE = os.path.dirname(hyperlattice.__file__) + os.sep
+#: the guard wrapper of every public function (and the checks it runs): not a step of the flow
+TRANSPARENT = {"hyperlattice._validate"}
+
+
+def _module(code) -> str | None:
+    path = code.co_filename
+    if not path.startswith(PACKAGE):
+        return None
+    name = "hyperlattice." + path[len(PACKAGE):].removesuffix(".py").replace(os.sep, ".")
+    name = name.removesuffix(".__init__")
+    return None if name in TRANSPARENT else name
+
+
+def trace_modules(func, *args, **kwargs):
+    """(result, entries, runs): calls into each module from outside it, and the executing module over time.
+
+    ``runs`` is the sequence of modules whose code runs, one entry per maximal run (calls and
+    returns both move it), for reading the flow; ``entries`` counts only the calls.
+    """
+    entries: dict[str, int] = {}
+    runs: list[str] = []
+
+    def nearest(frame):
+        while frame is not None:
+            name = _module(frame.f_code)
+            if name is not None:
+                return name
+            frame = frame.f_back
+        return None
+
+    def profile(frame, event, arg):
+        if event not in ("call", "return"):
+            return
+        name = _module(frame.f_code)
+        if name is None or frame.f_back is None:
+            return
+        if event == "call":
+            if nearest(frame.f_back) != name:
+                entries[name] = entries.get(name, 0) + 1
+            now = name
+        else:
+            now = nearest(frame.f_back)
+        if now is not None and (not runs or runs[-1] != now):
+            runs.append(now)
+
+    old = sys.getprofile()
+    sys.setprofile(profile)
+    try:
+        out = func(*args, **kwargs)
+    finally:
+        sys.setprofile(old)
+    return out, entries, runs
+
+
+SECTORS = "hyperlattice.graph.sectors"
+SYMMETRY = "hyperlattice.graph.symmetry"
+
+
+def _counts(func, *args, **kwargs):
+    func(*args, **kwargs)          # compile and import first: the traced call is the request alone
+    out, entries, runs = trace_modules(func, *args, **kwargs)
+    return out, entries.get(SECTORS, 0), entries.get(SYMMETRY, 0), runs
+
+
+def test_the_tracer_counts_entries_not_internal_calls():
+    from hyperlattice.graph import symmetry
+
+    lat = hl.ring_lattice(7, 3, 2)
+    _, entries, runs = trace_modules(symmetry.rotation_orbits, lat)
+    assert entries.get(SYMMETRY) == 1
+    assert runs[0] == SYMMETRY
+
+
+def test_flake_route_enters_sectors_once():
+    """{8,3} with 8 rings takes the sector-only route: one call into sectors.py, symmetry only for the route."""
+    lat = hl.ring_lattice(8, 3, 8)
+    spec, n_sectors, n_symmetry, runs = _counts(hl.lowest_levels, lat, 10)
+    assert spec.method == "sector-shift-invert"
+    assert n_sectors == 1, runs
+    assert n_symmetry <= 1, runs
+
+
+@pytest.mark.parametrize("onsite", [None, 0.25])
+def test_sector_route_enters_symmetry_twice_at_most(onsite):
+    """The {7,3} flake with 4 rings takes the sector route: all blocks from one call into symmetry.py."""
+    lat = hl.ring_lattice(7, 3, 4)
+    spec, n_sectors, n_symmetry, runs = _counts(hl.lowest_levels, lat, 6, onsite=onsite)
+    assert spec.method == "sector-dense"
+    assert n_sectors == 0
+    assert n_symmetry <= 2, runs
+
+
+def test_sector_route_with_eigenvectors_and_flux():
+    lat = hl.ring_lattice(7, 3, 3)
+    spec, n_sectors, n_symmetry, runs = _counts(hl.lowest_levels, lat, 4, eigenvectors=True, flux=0.1)
+    assert spec.eigenvectors is not None
+    assert n_sectors == 0
+    assert n_symmetry <= 3, runs     # the route's question, the blocks, the lift of the states
+
+
+def test_cli_spectrum_enters_sectors_once(capsys):
+    from hyperlattice.cli import main
+
+    _, n_sectors, n_symmetry, runs = _counts(main, ["spectrum", "-p", "8", "--rings", "8", "--levels", "10"])
+    capsys.readouterr()
+    assert n_sectors == 1, runs
+    assert n_symmetry <= 1, runs
+
+
+def test_mott_gap_comparison_flows_down():
+    from hyperlattice.compare.bosons import mott_gap_comparison
+
+    _, n_sectors, n_symmetry, runs = _counts(mott_gap_comparison, hl.ring_lattice(7, 3, 1), [0.0, 0.05])
+    assert n_sectors == 0
+    assert n_symmetry <= 2, runs
