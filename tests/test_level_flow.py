@@ -39,13 +39,15 @@ def _module(code) -> str | None:
 
 
 def trace_modules(func, *args, **kwargs):
-    """(result, entries, runs): calls into each module from outside it, and the executing module over time.
+    """(result, entries, runs, arrows): calls into each module from outside it, the executing module over
+    time, and the (caller, callee) module pairs of those calls.
 
     ``runs`` is the sequence of modules whose code runs, one entry per maximal run (calls and
     returns both move it), for reading the flow; ``entries`` counts only the calls.
     """
     entries: dict[str, int] = {}
     runs: list[str] = []
+    arrows: set[tuple[str | None, str]] = set()
 
     def nearest(frame):
         while frame is not None:
@@ -62,8 +64,10 @@ def trace_modules(func, *args, **kwargs):
         if name is None or frame.f_back is None:
             return
         if event == "call":
-            if nearest(frame.f_back) != name:
+            caller = nearest(frame.f_back)
+            if caller != name:
                 entries[name] = entries.get(name, 0) + 1
+                arrows.add((caller, name))
             now = name
         else:
             now = nearest(frame.f_back)
@@ -76,7 +80,7 @@ def trace_modules(func, *args, **kwargs):
         out = func(*args, **kwargs)
     finally:
         sys.setprofile(old)
-    return out, entries, runs
+    return out, entries, runs, arrows
 
 
 SECTORS = "hyperlattice.graph.sectors"
@@ -85,7 +89,7 @@ SYMMETRY = "hyperlattice.graph.symmetry"
 
 def _counts(func, *args, **kwargs):
     func(*args, **kwargs)          # compile and import first: the traced call is the request alone
-    out, entries, runs = trace_modules(func, *args, **kwargs)
+    out, entries, runs, _ = trace_modules(func, *args, **kwargs)
     return out, entries.get(SECTORS, 0), entries.get(SYMMETRY, 0), runs
 
 
@@ -93,7 +97,7 @@ def test_the_tracer_counts_entries_not_internal_calls():
     from hyperlattice.graph import symmetry
 
     lat = hl.ring_lattice(7, 3, 2)
-    _, entries, runs = trace_modules(symmetry.rotation_orbits, lat)
+    _, entries, runs, _ = trace_modules(symmetry.rotation_orbits, lat)
     assert entries.get(SYMMETRY) == 1
     assert runs[0] == SYMMETRY
 
@@ -140,3 +144,22 @@ def test_mott_gap_comparison_flows_down():
     _, n_sectors, n_symmetry, runs = _counts(mott_gap_comparison, hl.ring_lattice(7, 3, 1), [0.0, 0.05])
     assert n_sectors == 0
     assert n_symmetry <= 2, runs
+
+
+@pytest.mark.parametrize("request_", ["flake", "sector", "flux-vectors", "sparse", "onsite-dense"])
+def test_every_call_of_a_level_request_points_down(request_):
+    """At run time too, inside graph/ every call goes to an earlier module of INNER_ORDER (no callback up)."""
+    from test_layers import INNER_ORDER
+
+    calls = {
+        "flake": lambda: hl.lowest_levels(hl.ring_lattice(8, 3, 8), 6),
+        "sector": lambda: hl.lowest_levels(hl.ring_lattice(7, 3, 4), 6, onsite=lambda z, ring: 0.1 * ring),
+        "flux-vectors": lambda: hl.lowest_levels(hl.ring_lattice(7, 3, 3), 4, eigenvectors=True, flux=0.1),
+        "sparse": lambda: hl.lowest_levels(hl.ring_lattice(7, 3, 4), 4, method="sparse"),
+        "onsite-dense": lambda: hl.lowest_levels(hl.ring_lattice(7, 3, 3), 4, onsite=lambda z, ring: z.real),
+    }
+    calls[request_]()
+    _, _, _, arrows = trace_modules(calls[request_])
+    rank = {f"hyperlattice.graph.{m}": k for k, m in enumerate(INNER_ORDER["graph"])}
+    up = sorted(f"{a} -> {b}" for a, b in arrows if a in rank and b in rank and rank[b] > rank[a])
+    assert not up, "calls pointing up inside graph/:\n" + "\n".join(up)
