@@ -1,11 +1,11 @@
 """A level request flows down once (issue 28, item 9), followed as data with a profiler.
 
-:func:`trace_modules` runs a call under :func:`sys.setprofile` and counts, for every module of the
-package, how often the running code *enters* it: a call whose callee lies in the module and
-whose nearest calling frame of the package lies outside it (a maximal run of frames of one
-module on the stack counts once; the ``_validate`` guard wrapper of every public function is
-transparent, and frames without a caller, the profiler's view of numba-compiled kernels, are
-skipped). docs/architecture.md quotes the counts measured before and after the restructuring.
+``trace_modules`` (benchmarks/level_flow.py, the script whose table docs/architecture.md quotes)
+runs a call under :func:`sys.setprofile` and counts, for every module of the package, how often the
+running code *enters* it: a call whose callee lies in the module and whose nearest calling frame
+of the package lies outside it (a maximal run of frames of one module on the stack counts once;
+the ``_validate`` guard wrapper of every public function is transparent, and frames without a
+caller, the profiler's view of numba-compiled kernels, are skipped).
 
 The design gives: the route (``graph/spectrum.py``) enters ``graph/sectors.py`` once (the
 sector-only flake route: build, block builder, solve and assembly behind one call) and
@@ -16,75 +16,19 @@ up into the route or the sector modules.
 
 from __future__ import annotations
 
-import os
-import sys
+import importlib.util
+from pathlib import Path
 
 import pytest
 
-import hyperlattice
 import hyperlattice as hl
 
-PACKAGE = os.path.dirname(hyperlattice.__file__) + os.sep
-#: the guard wrapper of every public function (and the checks it runs): not a step of the flow
-TRANSPARENT = {"hyperlattice._validate"}
-
-
-def _module(code) -> str | None:
-    path = code.co_filename
-    if not path.startswith(PACKAGE):
-        return None
-    name = "hyperlattice." + path[len(PACKAGE):].removesuffix(".py").replace(os.sep, ".")
-    name = name.removesuffix(".__init__")
-    return None if name in TRANSPARENT else name
-
-
-def trace_modules(func, *args, **kwargs):
-    """(result, entries, runs, arrows): calls into each module from outside it, the executing module over
-    time, and the (caller, callee) module pairs of those calls.
-
-    ``runs`` is the sequence of modules whose code runs, one entry per maximal run (calls and
-    returns both move it), for reading the flow; ``entries`` counts only the calls.
-    """
-    entries: dict[str, int] = {}
-    runs: list[str] = []
-    arrows: set[tuple[str | None, str]] = set()
-
-    def nearest(frame):
-        while frame is not None:
-            name = _module(frame.f_code)
-            if name is not None:
-                return name
-            frame = frame.f_back
-        return None
-
-    def profile(frame, event, arg):
-        if event not in ("call", "return"):
-            return
-        name = _module(frame.f_code)
-        if name is None or frame.f_back is None:
-            return
-        if event == "call":
-            caller = nearest(frame.f_back)
-            if caller != name:
-                entries[name] = entries.get(name, 0) + 1
-                arrows.add((caller, name))
-            now = name
-        else:
-            now = nearest(frame.f_back)
-        if now is not None and (not runs or runs[-1] != now):
-            runs.append(now)
-
-    old = sys.getprofile()
-    sys.setprofile(profile)
-    try:
-        out = func(*args, **kwargs)
-    finally:
-        sys.setprofile(old)
-    return out, entries, runs, arrows
-
-
-SECTORS = "hyperlattice.graph.sectors"
-SYMMETRY = "hyperlattice.graph.symmetry"
+_spec = importlib.util.spec_from_file_location(
+    "level_flow", Path(__file__).resolve().parents[1] / "benchmarks" / "level_flow.py")
+level_flow = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(level_flow)
+trace_modules = level_flow.trace_modules
+SECTORS, SYMMETRY = level_flow.SECTORS, level_flow.SYMMETRY
 
 
 def _counts(func, *args, **kwargs):
