@@ -825,10 +825,15 @@ def lowest_sector_levels(p: int = 7, q: int = 3, rings: int = 3, levels: int = 2
         if levels > sectors.sites:
             raise ValueError(f"levels = {levels:,} exceeds the {sectors.sites:,} states of this flake.")
         with _single_threaded_blas():
-            blocks = _Blocks(sectors, t, timings)                                    # built in one place
-            plan = _plan_solve(sectors.p, sectors.q, sectors.size, levels, blocks.dims())   # the route
+            # the block builder (every real block, built in one place), the plan (which blocks and how: a
+            # pure function), the proved search (each block solved through graph/factor and graph/solvers)
+            blocks = _Blocks(sectors, t, timings)
+            plan = _plan_solve(sectors.p, sectors.q, sectors.size, levels, blocks.dims())
             solved = _solve(plan, blocks, _Solves(plan, blocks, t, tol_h, backend, max_bytes, bar, timings))
-        return _assemble(plan, solved, sectors, tol_h, t_start, timings)
+        # checked here, so that a warning names the caller's line (stacklevel 4 of _check_residuals)
+        _check_residuals(np.array([lv[3] for lv in solved.states[:levels]]), tol_h,
+                         f"{{{sectors.p},{sectors.q}}} flake with {sectors.rings} rings")
+        return _assemble(plan, solved, sectors, t_start, timings)      # the labelled levels
 
 
 #: real blocks of at most this many rows (or at most 2k + 2 for k levels) are diagonalised densely
@@ -1073,8 +1078,7 @@ def _solve(plan: _Plan, blocks: _Blocks, solves: _Solves) -> _Solved:
     return _Solved(states=states, counts=counts, x=x, backend=solves.backend_ran)
 
 
-def _assemble(plan: _Plan, solved: _Solved, slat: SectorLattice, tol: float, t_start: float,
-              timings: dict) -> Spectrum:
+def _assemble(plan: _Plan, solved: _Solved, slat: SectorLattice, t_start: float, timings: dict) -> Spectrum:
     """The labelled Spectrum of the K lowest states: signed sector m (+m before -m) and radial index n."""
     p, q, levels, states = plan.p, plan.q, plan.levels, solved.states
     chosen = states[:levels]
@@ -1093,7 +1097,6 @@ def _assemble(plan: _Plan, solved: _Solved, slat: SectorLattice, tol: float, t_s
                      if o[1][0] == m and o[0] < lv[0] - (o[3] + lv[3] + 2.0 * plan.floor_tol)})
         ms.append(signed)
         ns.append(below + 1)
-    _check_residuals(res, tol, f"{{{p},{q}}} flake with {slat.rings} rings")
     timings["solve"] = time.perf_counter() - t_start - timings["build"]
     timings["total"] = time.perf_counter() - t_start
     proved = all(c is not None for c in solved.counts.values())
