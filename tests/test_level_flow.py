@@ -47,9 +47,10 @@ def test_the_tracer_counts_entries_not_internal_calls():
 
 
 def test_flake_route_enters_sectors_once():
-    """{8,3} with 8 rings takes the sector-only route: one call into sectors.py, symmetry only for the route."""
-    lat = hl.ring_lattice(8, 3, 8)
-    spec, n_sectors, n_symmetry, runs = _counts(hl.lowest_levels, lat, 10)
+    """{7,3} with 7 rings (841 orbits) takes the sector-only route: one call into sectors.py, symmetry only
+    for the route's question (docs/architecture.md follows the {8,3} flake with 8 rings the same way)."""
+    lat = hl.ring_lattice(7, 3, 7)
+    spec, n_sectors, n_symmetry, runs = _counts(hl.lowest_levels, lat, 5)
     assert spec.method == "sector-shift-invert"
     assert n_sectors == 1, runs
     assert n_symmetry <= 1, runs
@@ -76,12 +77,13 @@ def test_sector_route_with_eigenvectors_and_flux():
 def test_cli_spectrum_enters_sectors_once(capsys):
     from hyperlattice.cli import main
 
-    _, n_sectors, n_symmetry, runs = _counts(main, ["spectrum", "-p", "8", "--rings", "8", "--levels", "10"])
+    _, n_sectors, n_symmetry, runs = _counts(main, ["spectrum", "-p", "7", "--rings", "7", "--levels", "5"])
     capsys.readouterr()
     assert n_sectors == 1, runs
     assert n_symmetry <= 1, runs
 
 
+@pytest.mark.slow
 def test_mott_gap_comparison_flows_down():
     from hyperlattice.compare.bosons import mott_gap_comparison
 
@@ -96,7 +98,7 @@ def test_every_call_of_a_level_request_points_down(request_):
     from test_layers import INNER_ORDER
 
     calls = {
-        "flake": lambda: hl.lowest_levels(hl.ring_lattice(8, 3, 8), 6),
+        "flake": lambda: hl.lowest_levels(hl.ring_lattice(7, 3, 7), 5),
         "sector": lambda: hl.lowest_levels(hl.ring_lattice(7, 3, 4), 6, onsite=lambda z, ring: 0.1 * ring),
         "flux-vectors": lambda: hl.lowest_levels(hl.ring_lattice(7, 3, 3), 4, eigenvectors=True, flux=0.1),
         "sparse": lambda: hl.lowest_levels(hl.ring_lattice(7, 3, 4), 4, method="sparse"),
@@ -107,3 +109,59 @@ def test_every_call_of_a_level_request_points_down(request_):
     rank = {f"hyperlattice.graph.{m}": k for k, m in enumerate(INNER_ORDER["graph"])}
     up = sorted(f"{a} -> {b}" for a, b in arrows if a in rank and b in rank and rank[b] > rank[a])
     assert not up, "calls pointing up inside graph/:\n" + "\n".join(up)
+
+
+# ----------------------------------------------------------------------------
+# the route and the plan are pure functions of the request
+# ----------------------------------------------------------------------------
+
+def _route(method="auto", *, p=7, sites=5887, kind="sites", levels=5, t=1.0, onsite=None, flux=0.0, sector=None,
+           eigenvectors=False, symmetric=True):
+    from hyperlattice.graph.spectrum import _choose_route
+
+    return _choose_route(method, p=p, sites=sites, kind=kind, levels=levels, t=t, onsite=onsite, flux=flux,
+                         sector=sector, eigenvectors=eigenvectors, symmetric=symmetric)
+
+
+def test_the_route_is_chosen_from_the_request_alone():
+    assert _route() == _route()     # a frozen value: the same request, the same route
+    big = _route()
+    assert big.flake and big.method == "sector"
+    assert not _route(sites=2240).flake                      # 320 orbits: the dense blocks are as fast
+    assert _route("shift-invert", sites=2240).flake          # asked for: whenever it applies
+    assert not _route(levels=5887 // 2 + 1).flake            # more than half the states
+    for plain_breaker in ({"onsite": 0.5}, {"flux": 0.1}, {"sector": 1}, {"eigenvectors": True},
+                          {"kind": "line"}, {"t": -1.0}):
+        assert not _route(**plain_breaker).flake, plain_breaker
+    assert _route(symmetric=False, onsite=1.0, sites=100).method == "dense"
+    assert _route(symmetric=False, onsite=1.0, sites=10**5).method == "sparse"
+    assert _route("dense").method == "dense" and not _route("dense").flake
+    with pytest.raises(ValueError, match="a single sector needs method='sector'"):
+        _route("dense", sector=1)
+    with pytest.raises(ValueError, match="not invariant under the p-fold rotation"):
+        _route("sector", symmetric=False, onsite=1.0)
+
+
+def test_the_command_line_asks_the_same_rule():
+    from hyperlattice.graph.spectrum import _flake_route_applies
+
+    # before any lattice exists, --method shift-invert takes the sector-only route for any number of levels
+    assert _flake_route_applies(7, 112, 100, "shift-invert", plain=True, built=False)
+    assert not _flake_route_applies(7, 112, 100, "shift-invert", plain=True)
+    assert not _flake_route_applies(7, 5887, 5, "sector", plain=True, built=False)
+    assert _flake_route_applies(7, 5887, 5, "auto", plain=True, built=False) == \
+        _flake_route_applies(7, 5887, 5, "auto", plain=True)
+
+
+def test_the_sector_only_plan_is_pure():
+    from hyperlattice.graph.sectors import _plan_solve
+
+    dims = {"even": 9, "odd": 7, "real": 16}
+    plan = _plan_solve(7, 3, 16, 2, dims)
+    assert plan.specs == ((0, "even"), (0, "odd"), (1, "real"), (2, "real"), (3, "real"))
+    assert plan.start == "pair" and plan.floor_tol > 0
+    assert _plan_solve(7, 3, 16, 5, dims).start == "estimate"
+    assert [plan.states(s) for s in plan.specs] == [1, 1, 2, 2, 2]
+    assert _plan_solve(8, 3, 16, 5, dims).states((4, "real")) == 1      # m = p/2 is its own partner
+    assert (0, "odd") not in _plan_solve(7, 3, 16, 5, {**dims, "odd": 0}).specs
+    assert plan.dense(400, 1) and not plan.dense(401, 1) and plan.dense(1000, 499)
