@@ -24,6 +24,14 @@ Perron-Frobenius) lies in the even half of m = 0.
 Lanczos and proves that no other level lies below :math:`E_1` by Sylvester's law of inertia
 (a symmetric :math:`LDL^T` factorisation of every block shifted to just below :math:`E_1`
 counts its eigenvalues below the shift).
+
+:func:`lowest_sector_levels` runs in four parts, each in one place: the plan (``_plan_solve``, a
+pure function: which real blocks, how the search starts, which blocks are small enough for dense
+eigh), the block builder (``_Blocks``: every real block of the flake, built on demand from the
+shared pattern of its kind), the proved search (``_solve``; each block is solved by
+:mod:`hyperlattice.graph.factor` or :mod:`hyperlattice.graph.solvers`, and counted by Sylvester
+inertia through the factor) and the assembly of the labelled :class:`~hyperlattice.graph.levels.Spectrum`
+(``_assemble``). :func:`~hyperlattice.graph.spectrum.lowest_levels` reaches all of it through one call.
 """
 
 from __future__ import annotations

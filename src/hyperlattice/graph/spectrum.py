@@ -31,7 +31,10 @@ apply; but H is complex, :math:`H_{-m} \ne \overline{H_m}`, and all p sectors ar
 The solvers themselves live in :mod:`hyperlattice.graph.factor` (shift-invert, inertia),
 :mod:`hyperlattice.graph.sectors` (the sector-only route) and :mod:`hyperlattice.graph.solvers`
 (fixed-width tables, Chebyshev-accelerated Lanczos, residual checks); this module chooses among
-them and labels the levels.
+them and labels the levels. The route is chosen once, by ``_choose_route`` (a pure function of the
+request; the command line asks the same rule, ``_flake_route_applies``, before building a lattice);
+the blocks a route needs are built by one call (:mod:`hyperlattice.graph.sectors` for the
+sector-only flakes, ``_sector_blocks`` of :mod:`hyperlattice.graph.symmetry` for a built lattice).
 
 Every returned level carries its residual :math:`\|H\psi - E\psi\|` for the normalised
 state, evaluated with the true H (a sector residual equals the full residual of the lifted
