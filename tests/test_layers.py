@@ -249,9 +249,36 @@ def test_imports_inside_a_package_point_down(edges, package):
     assert not upward, f"imports inside {package}/ must point to an earlier module of INNER_ORDER:\n" + "\n".join(upward)
 
 
-@pytest.mark.parametrize("leaf", ["flux", "operators", "symmetry"])
-def test_graph_leaves_import_no_route_or_solver(edges, leaf):
-    """flux, operators and symmetry import neither the route (spectrum), the sector flakes, nor the solvers."""
-    banned = {f"hyperlattice.graph.{m}" for m in ("solvers", "factor", "sectors", "spectrum", "butterfly")}
-    found = [t for t, _, _ in edges[f"hyperlattice.graph.{leaf}"] if t in banned]
-    assert not found, f"graph/{leaf}.py imports {found}"
+#: the leaves of a level request: the graph modules each may import (lazily too). Nothing else of graph/,
+#: so no block builder of flakes (sectors), solver (solvers, factor), route (spectrum) or anything that uses
+#: them; flux holds the Peierls phases, operators the matrices and tables (with those phases), symmetry the
+#: rotation orbits and the Bloch blocks of a built lattice (issue 28, item 9)
+LEAVES = {
+    "flux": {"lattice"},
+    "operators": {"lattice", "flux"},
+    "symmetry": {"lattice", "flux", "operators"},
+}
+
+
+@pytest.mark.parametrize("leaf", sorted(LEAVES))
+def test_graph_leaves_import_only_the_primitives_below_them(edges, leaf):
+    """flux, operators and symmetry import of graph/ only the primitives listed in LEAVES."""
+    prefix = "hyperlattice.graph."
+    found = sorted({t for t, _, _ in edges[prefix + leaf]
+                    if t.startswith(prefix) and t[len(prefix):] not in LEAVES[leaf]})
+    assert not found, f"graph/{leaf}.py imports {found}; a leaf imports of graph/ only {sorted(LEAVES[leaf])}"
+    # and below graph/ only the bottom layers (the package root, errors, _validate, geometry, ...; dictionary)
+    low = sorted({t for t, _, _ in edges[prefix + leaf] if not t.startswith(prefix) and _layer(t) > 1})
+    assert not low, f"graph/{leaf}.py imports {low}"
+
+
+def test_the_leaf_rule_sees_a_forbidden_import(tmp_path):
+    """The checker itself: symmetry importing sectors lazily is reported."""
+    probe = tmp_path / "hyperlattice"
+    (probe / "graph").mkdir(parents=True)
+    (probe / "graph" / "symmetry.py").write_text("from .lattice import Lattice\n\ndef f():\n    from .sectors import x\n")
+    modules = {"hyperlattice", "hyperlattice.graph", "hyperlattice.graph.symmetry", "hyperlattice.graph.lattice",
+               "hyperlattice.graph.sectors"}
+    found = _imports(probe / "graph" / "symmetry.py", modules, root=probe)
+    assert ("hyperlattice.graph.sectors", 4, False) in found
+    assert "sectors" not in LEAVES["symmetry"]

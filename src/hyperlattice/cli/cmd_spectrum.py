@@ -122,18 +122,17 @@ def _report(args, spec, header: str) -> int:
 
 
 def _sector_only(args, sector) -> bool:
-    """The request is one the sector-only route answers, and its blocks are big enough to pay (the API's rule)."""
+    """The request is one the sector-only route answers, and its blocks are big enough to pay: the API's
+    rule (graph.spectrum._flake_route_applies), asked before any lattice is built."""
     from ..graph.lattice import _check_pq, _type_counts
-    from ..graph.spectrum import _SECTOR_ONLY_MIN
+    from ..graph.spectrum import _flake_route_applies
 
-    if args.line_graph or sector is not None or args.flux:
+    plain = not (args.line_graph or sector is not None or args.flux)
+    if not plain:
         return False
     p, q = _check_pq(args.p, args.q)
-    if args.method == "shift-invert":
-        return True
-    counts, _ = _type_counts(p, q, args.rings, stop_above=2**62)
-    sites = sum(counts)
-    return sites // p > _SECTOR_ONLY_MIN and args.levels <= sites // 2
+    sites = sum(_type_counts(p, q, args.rings, stop_above=2**62)[0])
+    return _flake_route_applies(p, sites, args.levels, args.method, plain=True, built=False)
 
 
 def _run_pair(args, levels: int | None = None) -> int:

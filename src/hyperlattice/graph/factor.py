@@ -1074,6 +1074,40 @@ def shift_invert_lowest(mat, k: int, factor: Factor, tol: float, label: str):
     return energies, vecs, res, solves[0]
 
 
+def _proved_shift_lowest(mat, k: int, analysis: SymbolicAnalysis, tol: float, label: str, *, what: str,
+                         below: float | None = None, ritz: np.ndarray | None = None, scale: float = 1.0):
+    r"""The k lowest eigenvalues of a real symmetric block: a shift σ below them, proved, then shift-invert.
+
+    σ starts just below ``below`` (a known lower bound of the block's levels, 1e-6 ``scale`` under
+    it) or just below the k-th Ritz value of ``ritz`` (upper bounds of the levels, ascending) and
+    steps down, doubling its distance, until the factorisation of :math:`B - \sigma` (from
+    ``analysis``, the block's symbolic analysis) shows no eigenvalue below it; Lanczos on
+    :math:`(B - \sigma)^{-1}` (:func:`shift_invert_lowest`) then gives the k lowest.
+
+    Returns ``(energies, residuals, sigma, solves)``; raises ConvergenceError when no shift below
+    the block's lowest level is found in 60 steps (``what`` names the block).
+    """
+    if below is not None:
+        theta = np.array([below])
+        delta = 1e-6 * scale
+    else:
+        theta = ritz
+        spread = max(float(theta[-1] - theta[0]), 1e-3 * scale)
+        # theta[k-1] >= the k-th level (interlacing): step below it until the factor proves nothing below sigma
+        delta = max(float(theta[min(k, theta.shape[0] - 1)] - theta[min(k, theta.shape[0]) - 1]), 1e-4 * spread)
+    for _ in range(60):
+        sigma = float(theta[min(k, theta.shape[0]) - 1]) - delta
+        factor = analysis.factor(sigma, positive=True, matrix=mat)
+        if factor.negatives == 0 or factor.negatives is None:
+            break
+        delta *= 2.0
+    else:  # pragma: no cover - the spectrum is bounded by the Gershgorin disc
+        raise ConvergenceError(f"{what}: no shift below its lowest level found.")
+    e, v, res, solves = shift_invert_lowest(mat, k, factor, tol, label)
+    del v
+    return e, res, sigma, solves
+
+
 def lowest_eigenpairs(mat, k: int, *, tol: float = 1e-10, backend: str = "auto", label: str = "block",
                       max_bytes: int | None = None, analysis: SymbolicAnalysis | None = None):
     r"""The k lowest eigenpairs of a sparse Hermitian matrix by shift-invert Lanczos, with an inertia proof.

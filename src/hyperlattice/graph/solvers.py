@@ -293,6 +293,13 @@ def _dense_lowest(table: SectorTable, k: int) -> tuple[np.ndarray, np.ndarray]:
 # symmetric factorisations, shift-invert and Sylvester inertia: graph/factor.py (the one layer)
 # ----------------------------------------------------------------------------
 
+def _dense_block_lowest(mat: sp.spmatrix, k: int) -> tuple[np.ndarray, np.ndarray]:
+    """The k lowest eigenvalues of a small sparse block by LAPACK ``eigh`` of all of it, and their residuals."""
+    w, v = sla.eigh(mat.toarray())
+    e, v = w[:k], v[:, :k]
+    return e, np.linalg.norm(mat @ v - v * e[None, :], axis=0)
+
+
 def _lanczos_ritz(mat: sp.spmatrix, steps: int) -> np.ndarray:
     """Ritz values of a short plain Lanczos run on a real symmetric matrix (upper bounds, ascending)."""
     return _plain_lanczos(lambda x: mat @ x, np.random.default_rng(12345).standard_normal(mat.shape[0]), steps)

@@ -31,7 +31,10 @@ apply; but H is complex, :math:`H_{-m} \ne \overline{H_m}`, and all p sectors ar
 The solvers themselves live in :mod:`hyperlattice.graph.factor` (shift-invert, inertia),
 :mod:`hyperlattice.graph.sectors` (the sector-only route) and :mod:`hyperlattice.graph.solvers`
 (fixed-width tables, Chebyshev-accelerated Lanczos, residual checks); this module chooses among
-them and labels the levels.
+them and labels the levels. The route is chosen once, by ``_choose_route`` (a pure function of the
+request; the command line asks the same rule, ``_flake_route_applies``, before building a lattice);
+the blocks a route needs are built by one call (:mod:`hyperlattice.graph.sectors` for the
+sector-only flakes, ``_sector_blocks`` of :mod:`hyperlattice.graph.symmetry` for a built lattice).
 
 Every returned level carries its residual :math:`\|H\psi - E\psi\|` for the normalised
 state, evaluated with the true H (a sector residual equals the full residual of the lifted
@@ -58,7 +61,7 @@ from .flux import _flux
 from .lattice import Lattice
 from .levels import Spectrum  # noqa: F401  (defined below this module, re-exported)
 from .operators import OnSite, hamiltonian, onsite_values
-from .sectors import lowest_sector_levels, sector_lattice
+from .sectors import _flake_levels
 from .solvers import (
     ProgressFn,
     _check_residuals,
@@ -68,13 +71,7 @@ from .solvers import (
     _single_threaded_blas,
     full_table,
 )
-from .symmetry import (
-    lift,
-    rotation_invariant,
-    rotation_orbits,
-    sector_table,
-    signed_sector,
-)
+from .symmetry import _lift_columns, _sector_blocks, rotation_invariant, signed_sector
 
 __all__ = ["MatrixSpectrum", "lowest_levels", "full_spectrum", "full_spectrum_tolerance", "partition_function", "log_partition_function",
            "DENSE_MAX"]
@@ -368,21 +365,18 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
     p = lattice.p
     if sector is not None:
         sector = signed_sector(sector, p)
-    symmetric = rotation_invariant(lattice, onsite)
-    if method in ("auto", "shift-invert") and _sector_only_applies(lattice, levels, t, onsite, sector,
-                                                                    eigenvectors, flux, method):
-        spec = _sector_only_levels(lattice, levels, t, tol, progress, t_start)
+    # the route, chosen once from the request (graph/symmetry answers the one question it needs: is V
+    # invariant under the rotation); then the blocks are built in one call and solved below
+    route = _choose_route(method, p=p, sites=lattice.sites, kind=lattice.kind, levels=levels, t=t,
+                          onsite=onsite, flux=flux, sector=sector, eigenvectors=eigenvectors,
+                          symmetric=rotation_invariant(lattice, onsite))
+    if route.flake:
+        # the sector-only route: graph/sectors builds the flake sector by sector, its blocks, solves and
+        # labels, behind one call (None: the lattice is not the plain flake it rebuilds)
+        spec = _flake_levels(lattice, levels, t, tol, progress)
         if spec is not None:
-            return spec
-    if method == "shift-invert":
-        method = "sector"
-    if method == "auto":
-        method = "sector" if symmetric else ("dense" if lattice.sites <= DENSE_MAX else "sparse")
-    if sector is not None and method != "sector":
-        raise ValueError("a single sector needs method='sector' (or 'auto').")
-    if method == "sector" and not symmetric:
-        raise ValueError("the on-site term is not invariant under the p-fold rotation, so H has no "
-                         "angular-momentum sectors; use method='dense' or 'sparse'.")
+            return dataclasses.replace(spec, timings={**spec.timings, "total": time.perf_counter() - t_start})
+    method = route.method
     if method == "dense":
         # refused before allocating (issue 19: ell = 9 asked LAPACK for 12.2 GiB): the matrix, eigh's
         # copy of it and its work space, ~3 N^2 numbers
@@ -394,8 +388,8 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
     with _single_threaded_blas():
         if method == "sector":
             return _sector_levels(lattice, levels, t, onsite, sector, eigenvectors, tol, progress, t_start, flux)
-        return _full_levels(lattice, levels, t, onsite, method, symmetric, eigenvectors, tol, progress, t_start,
-                            flux)
+        return _full_levels(lattice, levels, t, onsite, method, route.symmetric, eigenvectors, tol, progress,
+                            t_start, flux)
 
 
 def _matrix_only(*, t=1.0, onsite=None, sector=None, flux=0.0) -> None:
@@ -468,52 +462,75 @@ def _energy_scale(lattice, t: float, onsite) -> float:
 _SECTOR_ONLY_MIN = 400
 
 
-def _sector_only_applies(lattice, levels, t, onsite, sector, want_vecs, flux, method) -> bool:
-    """True when the request is one the sector-only shift-invert route answers (the plain flake H = -tA)."""
-    if onsite is not None or flux != 0.0 or sector is not None or want_vecs or not t > 0:
-        return False
-    if lattice.kind != "sites" or lattice.sites < 2:
-        return False
-    if method == "auto" and lattice.sites // lattice.p <= _SECTOR_ONLY_MIN:
-        return False
-    return levels <= lattice.sites // 2
+@dataclass(frozen=True)
+class _Route:
+    """The route of a level request on a lattice, chosen once by :func:`_choose_route`.
+
+    ``flake``: try the sector-only route first (the plain flake rebuilt sector by sector,
+    :mod:`hyperlattice.graph.sectors`); ``method`` is the route that reads the built lattice
+    (``"sector"``, ``"dense"`` or ``"sparse"``), taken otherwise, or when the lattice is not the plain
+    flake; ``symmetric``: V is invariant under the rotation (so the levels carry sectors).
+    """
+
+    method: str
+    flake: bool
+    symmetric: bool
 
 
-def _sector_only_levels(lattice, levels, t, tol, progress, t_start) -> Spectrum | None:
-    """:func:`~hyperlattice.graph.sectors.lowest_sector_levels` of the flake, or None when the lattice is not
-    the plain {p,q} ring flake that the sector-only build reproduces (then the caller's route runs)."""
+def _flake_route_applies(p: int, sites: int, levels: int, method: str, *, plain: bool, built: bool = True) -> bool:
+    """True when the sector-only route answers the request and pays (the one rule, also the CLI's).
 
-    try:
-        slat = sector_lattice(lattice.p, lattice.q, lattice.rings)
-    except ValueError:
-        return None
-    # the same flake: same sites, same edges, same degree histogram (a rewired or loaded-and-edited
-    # lattice takes the route that reads its own edges)
-    degrees = np.bincount(np.asarray(lattice.edges).ravel(), minlength=lattice.sites)
-    orbit_deg = np.bincount(slat.rows, minlength=slat.size)
-    if (slat.sites != lattice.sites or slat.rows.shape[0] * lattice.p != 2 * lattice.edges.shape[0]
-            or not np.array_equal(np.bincount(degrees), lattice.p * np.bincount(orbit_deg))):
-        return None
-    spec = lowest_sector_levels(sectors=slat, levels=levels, t=t, tol=tol, progress=progress)
-    timings = dict(spec.timings)
-    timings["total"] = time.perf_counter() - t_start
-    return dataclasses.replace(spec, timings=timings)
+    ``plain``: the request is the plain flake H = -tA, t > 0 (no on-site term, flux, single sector or
+    eigenvectors, not a line graph). ``"auto"`` takes it for blocks of more than ``_SECTOR_ONLY_MIN``
+    orbits and at most half the states; ``"shift-invert"`` whenever it applies. ``built=False`` (the
+    command line, before any lattice exists) lets ``"shift-invert"`` ask for any number of levels.
+    """
+    if not plain or sites < 2 or method not in ("auto", "shift-invert"):
+        return False
+    if method == "shift-invert" and not built:
+        return True
+    if method == "auto" and sites // p <= _SECTOR_ONLY_MIN:
+        return False
+    return levels <= sites // 2
+
+
+def _choose_route(method: str, *, p: int, sites: int, kind: str, levels: int, t: float, onsite, flux: float,
+                  sector: int | None, eigenvectors: bool, symmetric: bool) -> _Route:
+    """The route of a (validated) level request: a pure function of the request, no work, no allocation.
+
+    Raises ValueError for a request no route answers (a single sector with a full-matrix method, a
+    rotation-breaking V with ``method="sector"``).
+    """
+    plain = (onsite is None and flux == 0.0 and sector is None and not eigenvectors and t > 0
+             and kind == "sites")
+    flake = _flake_route_applies(p, sites, levels, method, plain=plain)
+    if method == "shift-invert":
+        method = "sector"
+    if method == "auto":
+        method = "sector" if symmetric else ("dense" if sites <= DENSE_MAX else "sparse")
+    if sector is not None and method != "sector":
+        raise ValueError("a single sector needs method='sector' (or 'auto').")
+    if method == "sector" and not symmetric:
+        raise ValueError("the on-site term is not invariant under the p-fold rotation, so H has no "
+                         "angular-momentum sectors; use method='dense' or 'sparse'.")
+    return _Route(method=method, flake=flake, symmetric=symmetric)
 
 
 def _sector_levels(lattice, levels, t, onsite, sector, want_vecs, tol, progress, t_start, flux=0.0) -> Spectrum:
     p = lattice.p
-    orbits = rotation_orbits(lattice)
-    size = orbits.size
     timings = {"setup": time.perf_counter() - t_start}
     if sector is None and flux != 0.0:
         # with flux H is complex: H_{-m} is not the conjugate of H_m, every sector is its own
-        wanted = {signed_sector(m, p): levels for m in range(p)}
+        wanted = {(m - p if m > p / 2 else m): levels for m in range(p)}   # signed: m in (-p/2, p/2]
     elif sector is None:
         # m and -m are conjugate blocks: solve m = 0..floor(p/2). The K lowest states contain at
         # most K levels of a non-degenerate sector and ceil(K/2) of a paired one.
         wanted = {m: (levels if (2 * m) % p == 0 else (levels + 1) // 2) for m in range(p // 2 + 1)}
     else:
         wanted = {sector: levels}
+    # every block the request needs, built in one call (graph/symmetry: orbits, V and the phases once)
+    blocks = _sector_blocks(lattice, list(wanted), t, onsite, flux=flux)
+    size = blocks.size
     if sector is not None and levels > size:
         raise ValueError(f"sector {sector} has only {size} levels, fewer than the {levels} requested.")
     per_method = set()
@@ -526,7 +543,7 @@ def _sector_levels(lattice, levels, t, onsite, sector, want_vecs, tol, progress,
         for m, k_m in wanted.items():
             t0 = time.perf_counter()
             k_m = min(k_m, size)
-            table = sector_table(lattice, m, t, onsite, orbits=orbits, flux=flux)
+            table = blocks.tables[m]
             if size <= DENSE_MAX or size < 2 * k_m + 3:  # ARPACK needs a basis larger than k + 1
                 e, v = _dense_lowest(table, k_m)
                 per_method.add("dense")
@@ -562,10 +579,7 @@ def _sector_levels(lattice, levels, t, onsite, sector, want_vecs, tol, progress,
     res = np.array([r[3] for r in found])
     vecs = None
     if want_vecs:
-        cols = [lift(orbits, r[1], r[4]) for r in found]
-        if any(np.iscomplexobj(c) for c in cols):
-            cols = [c.astype(np.complex128) for c in cols]
-        vecs = np.column_stack(cols)
+        vecs = _lift_columns(blocks.orbits, [r[1] for r in found], [r[4] for r in found])
     timings["solve"] = sum(v for k, v in timings.items() if k.startswith("sector"))
     timings["total"] = time.perf_counter() - t_start
     method = "sector-" + ("shift-invert" if "shift-invert" in per_method
@@ -750,10 +764,10 @@ def _full_spectrum(lattice: Lattice, *, t: float, onsite: OnSite, max_sites: int
     _validate.require_memory(f"the full spectrum of {lattice.sites:,} sites (dense eigh of "
                              f"{n_block:,} x {n_block:,} blocks)", 3.0 * n_block**2 * (16 if flux else 8))
     if symmetric:
-        orbits = rotation_orbits(lattice)
+        blocks = _sector_blocks(lattice, range(lattice.p), t, onsite, flux=flux)
         parts, largest = [], 1
-        for m in range(lattice.p):
-            block = sector_table(lattice, m, t, onsite, orbits=orbits, flux=flux).to_csr().toarray()
+        for block in blocks.tables.values():
+            block = block.to_csr().toarray()
             largest = max(largest, block.shape[0])
             parts.append(sla.eigvalsh(block))
         return np.sort(np.concatenate(parts)), eigenvalue_tolerance(norm, largest)

@@ -300,6 +300,13 @@ def sector_table(lattice: Lattice, m: int, t: float = 1.0, onsite: OnSite = None
     if v is not None and not rotation_invariant(lattice, v):
         raise ValueError("the on-site term is not invariant under the p-fold rotation, so H has no "
                          "angular-momentum sectors; use method='dense' or 'sparse'.")
+    return _table(lattice, m, t, v, orbits, edge_phases(lattice, flux) if flux != 0.0 else None)
+
+
+def _table(lattice: Lattice, m: int, t: float, v: np.ndarray | None, orbits: RotationOrbits,
+           theta: np.ndarray | None) -> SectorTable:
+    """The block H_m (m signed) from checked input: on-site values v (or None), Peierls phases theta (or None)."""
+    p = int(lattice.p)
     orbit, shift = orbits.orbit, orbits.shift
     e = lattice.edges.astype(np.int64)
     i, j = e[:, 0], e[:, 1]
@@ -310,11 +317,10 @@ def sector_table(lattice: Lattice, m: int, t: float = 1.0, onsite: OnSite = None
     rows = np.concatenate([orbit[i[a]], orbit[j[b]]])
     cols = np.concatenate([orbit[j[a]], orbit[i[b]]])
     s = np.concatenate([shift[j[a]], shift[i[b]]])
-    if flux != 0.0:
+    if theta is not None:
         # row i (a representative) hops from j with theta_ij; the rows of the reversed edges
         # (j a representative) get theta_ji = -theta_ij. The gauge is rotation invariant, so
         # the phase of the representative's copy of the edge is that of every copy.
-        theta = edge_phases(lattice, flux)
         phase = np.concatenate([theta[a], -theta[b]])
         vals = -t * np.exp(1j * (2 * np.pi * ((m * s) % p) / p + phase))
     elif 2 * m % p == 0:
@@ -325,6 +331,42 @@ def sector_table(lattice: Lattice, m: int, t: float = 1.0, onsite: OnSite = None
     tc, tv = _fixed_width(orbits.size, rows, cols, vals)
     diag = np.zeros(orbits.size) if v is None else v[orbits.representatives].copy()
     return SectorTable(m=m, cols=tc, weights=tv, diag=diag)
+
+
+@dataclass(frozen=True, eq=False)
+class _SectorBlocks:
+    """The Bloch blocks of a built lattice that one request needs, built together by :func:`_sector_blocks`.
+
+    Attributes
+    ----------
+    orbits : RotationOrbits
+        The orbits of the rotation (for lifting sector vectors).
+    size : int
+        N/p, the dimension of every block.
+    tables : dict
+        Signed sector m -> :class:`~hyperlattice.graph.operators.SectorTable` of :math:`H_m`.
+    """
+
+    orbits: RotationOrbits
+    size: int
+    tables: dict
+
+
+def _sector_blocks(lattice: Lattice, ms, t: float, onsite: OnSite = None, *, flux: float = 0.0) -> _SectorBlocks:
+    """Every block H_m, m in ``ms``, of a built lattice in one call: the orbits, the on-site values and the
+    Peierls phases are computed once for all of them (the block builder of the routes in graph/spectrum).
+
+    The caller has validated t and flux and checked that V is rotation invariant (:func:`rotation_invariant`).
+    """
+    orbits = rotation_orbits(lattice)
+    v = _real_onsite(lattice, onsite)
+    theta = edge_phases(lattice, flux) if flux != 0.0 else None
+    p = int(lattice.p)
+    tables = {}
+    for m in ms:
+        m = signed_sector(m, p)
+        tables[m] = _table(lattice, m, t, v, orbits, theta)
+    return _SectorBlocks(orbits=orbits, size=orbits.size, tables=tables)
 
 
 def sector_hamiltonian(lattice: Lattice, m: int, t: float = 1.0, onsite: OnSite = None,
@@ -441,6 +483,15 @@ def lift(orbits: RotationOrbits, m: int, phi: np.ndarray) -> np.ndarray:
         phase = phase.real
     out = phi[orbits.orbit]
     return out * (phase[:, None] if out.ndim == 2 else phase)
+
+
+def _lift_columns(orbits: RotationOrbits, ms, phis) -> np.ndarray:
+    """The lattice states of sector vectors ``phis[k]`` of sectors ``ms[k]``, as the columns of one array
+    (complex when any is)."""
+    cols = [lift(orbits, m, phi) for m, phi in zip(ms, phis)]
+    if any(np.iscomplexobj(c) for c in cols):
+        cols = [c.astype(np.complex128) for c in cols]
+    return np.column_stack(cols)
 
 
 # every public function above checks its annotated argument types at the door (issue 19)
