@@ -357,8 +357,8 @@ def test_scan_columns_failing_their_residual_are_factorised_again(monkeypatch):
 
     def optimistic(*a, **k):
         # stop after 3 steps and claim convergence: only the true residual can catch it
-        Q, Y, done, inv = lanczos(*a[:5], 3, *a[6:], **k)
-        return Q, Y, np.ones_like(done), inv
+        Q, Y, done, inv, top = lanczos(*a[:5], 3, *a[6:], **k)
+        return Q, Y, np.ones_like(done), inv, top
 
     monkeypatch.setattr(green, "_shifted_lanczos", optimistic)
     monkeypatch.setattr(green, "_SECTOR_MIN", 1)
