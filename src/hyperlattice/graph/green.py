@@ -19,8 +19,25 @@ every column they return:
   all shifted systems share one Krylov space of K (Lanczos; the Galerkin solution of each
   shift is the conjugate-gradient one, since :math:`1 - \delta K` is positive definite for
   ω below the spectrum). Each shift is accepted only when its true residual
-  :math:`\|b - (H-\omega)x\|` meets the backward-error bound :data:`_SCAN_BACKWARD`;
-  the others are factorised one by one as before.
+  :math:`r = b - (H-\omega)x` meets the backward-error bound :data:`_SCAN_BACKWARD` and the
+  proved forward bound :math:`\|x - x^*\| \le \|r\|/\delta` is at most :data:`_FORWARD_TOL`
+  times :math:`\|x^*\|`; the others are factorised one by one as before.
+
+**Proved error bounds.** Below the band :math:`H - \omega` is positive definite with smallest
+eigenvalue :math:`E_0 - \omega`, so any :math:`\delta \le E_0 - \omega` turns a residual into
+an error bound. Lower bounds of :math:`E_0`: the Gershgorin bound, every ω whose
+positive-definite factorisation succeeded, and a Collatz–Wielandt bound
+:math:`E_0 \ge \min_i (Zv)_i/v_i` (:func:`_e0_lower_bound`, Z = diagonal minus the moduli of
+the off-diagonal entries) from a positive approximate ground state v (the scan's top Ritz
+vector, or three steps of inverse iteration from the constant vector); for complex ω,
+:math:`\delta = |\mathrm{Im}\,\omega|`. :attr:`GraphResolvent.report` gives, per ω of the last
+call, the route, the backward error and the proved relative error bound (NaN where no δ is
+known: inside the band, or a ground state that changes sign).
+
+Conjugate gradients on :math:`H - \omega` for one column were measured and not adopted: at
+ℓ = 12 (725,760 sites, source 10) they need 43, 190 and 267 iterations for a relative residual
+of 1e-12 at ω = −3.5, −2.95 and −2.935, one sparse product each (6 ms), against 0.4 s for
+CHOLMOD's whole analyse + factor + solve.
 """
 
 from __future__ import annotations
