@@ -564,6 +564,7 @@ class GraphResolvent:
         self._e0_lower = -np.inf
         self._routes: dict = {}
         self._last = None
+        self._many_direct = False
         #: what the last :func:`graph_green` call did, per omega: ``route`` (``"dense"``,
         #: ``"factorisation"``, ``"rotation sectors"``, ``"pivoted LU"``, ``"krylov scan"``),
         #: ``backward_error`` (the largest normwise backward error
@@ -636,7 +637,11 @@ class GraphResolvent:
         """A factorisation of H - omega that proves it positive definite, or None (then omega is in the band)."""
         from .factor import analyze
 
-        sectors = self._sector_factor(what) if self._sector_ok else None
+        # several omegas in a row: one full analysis and one real factorisation per omega are
+        # cheaper than p/2 + 1 sector blocks (three of them complex) per omega; the sectors win
+        # for one omega, where the full matrix's analysis is most of the cost
+        full = self._many_direct and self._sectors is None
+        sectors = self._sector_factor(what) if self._sector_ok and not full else None
         if sectors is not None:
             lu = sectors.factor(omega)
         else:
@@ -1043,6 +1048,8 @@ def graph_green(lattice, omega, source=None, targets=None, *, t: float = 1.0, on
     pre, full = res._scan(oms, src) if oms.size > 1 else (set(), None)
     # the scan's output array is the result when all targets are wanted (no copy)
     in_place = full is not None and tg is None
+    direct = [i for i, w in enumerate(oms) if i not in pre and w.imag == 0 and w.real < res._upper]
+    res._many_direct = len(direct) >= 3
     out = None
     routes, back, fwd = [], np.full(oms.size, np.nan), np.full(oms.size, np.nan)
     for i, w in enumerate(oms):
@@ -1070,6 +1077,7 @@ def graph_green(lattice, omega, source=None, targets=None, *, t: float = 1.0, on
         if out is None:
             out = np.empty((oms.size,) + np.shape(block), dtype=complex)
         out[i] = block
+    res._many_direct = False
     if in_place:
         return full[:, :, 0] if one else full
     return out
