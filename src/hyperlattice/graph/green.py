@@ -543,6 +543,11 @@ class GraphResolvent:
             nonempty = np.flatnonzero(np.diff(self.H.indptr))
             colsum[nonempty] = np.add.reduceat(absdata, self.H.indptr[nonempty])
         self.norm = float(colsum.max()) if self.H.nnz else 0.0
+        # the rounding of a computed residual b - (H - omega) x is at most gamma (|b| + (|H| +
+        # |omega|)|x|) entrywise, gamma = (d + 2) eps / (1 - (d + 2) eps) for d entries per row:
+        # added to every residual norm a proved error bound is built from
+        d_row = int(np.diff(self.H.indptr).max()) if self.n else 0
+        self._gamma = (d_row + 2) * np.finfo(float).eps / (1.0 - (d_row + 2) * np.finfo(float).eps)
         self._eig = None
         self._lu = None
         self._lu_omega = None
@@ -656,6 +661,10 @@ class GraphResolvent:
             self._proved_below = max(self._proved_below, omega)
         return lu
 
+    def _proved_residual(self, rn, xn, omega, bn):
+        """A computed residual norm plus the bound of its rounding (see ``_gamma``)."""
+        return rn + self._gamma * (bn + (self.norm + np.abs(omega)) * xn)
+
     def _delta_lower(self, omega):
         """A proved lower bound of the distance from real omega to the spectrum (<= 0: none known)."""
         e0 = max(self._lower, self._e0_lower, self._proved_below)
@@ -674,7 +683,7 @@ class GraphResolvent:
         back = rn / ((self.norm + abs(omega)) * xn + np.linalg.norm(rhs, axis=0))
         delta = abs(omega.imag) if omega.imag != 0 else float(self._delta_lower(omega.real))
         if delta > 0:
-            err = rn / delta
+            err = self._proved_residual(rn, xn, omega, np.linalg.norm(rhs, axis=0)) / delta
             fwd = np.where(err < xn, err / np.maximum(xn - err, np.finfo(float).tiny), np.inf)
         else:
             fwd = np.full(rn.shape, np.nan)
@@ -878,7 +887,9 @@ class GraphResolvent:
                             rn[lo + r_i] = np.sqrt(np.einsum("i,i->", r, r))
                             xn[lo + r_i] = np.sqrt(np.einsum("i,i->", x, x))
                     back = rn / (hn[some] * xn + 1.0)
-                    fwd = np.where(delta[some] > 0, rn / np.where(delta[some] > 0, delta[some], 1.0), np.inf)
+                    fwd = np.where(delta[some] > 0,
+                                   self._proved_residual(rn, xn, pending[some], 1.0)
+                                   / np.where(delta[some] > 0, delta[some], 1.0), np.inf)
                     ok = (np.isfinite(rn) & (back <= _SCAN_BACKWARD)
                           & (fwd <= _FORWARD_TOL * (xn - fwd)))
                     done[some] = ok
