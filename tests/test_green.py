@@ -484,3 +484,37 @@ def test_direct_route_reports_a_proved_bound_where_it_can(lat3):
         else:                             # in the band: no proved distance to the spectrum
             assert rep["route"] == ["pivoted LU"] and np.isnan(rep["error_bound"][0])
         assert rep["backward_error"][0] < 1e-14
+
+
+def test_several_direct_omegas_share_one_full_factorisation(monkeypatch):
+    from hyperlattice.graph import green
+
+    monkeypatch.setattr(green, "_SECTOR_MIN", 1)
+    lat = ring_lattice(7, 3, 4)
+    oms = np.array([-3.4, -3.2, -3.0, -2.9])             # too few for the scan
+    res = GraphResolvent(lat)
+    got = graph_green(res, oms, 10)
+    ref = _exact_columns(hamiltonian(lat), oms, [10])[:, :, 0]
+    np.testing.assert_allclose(got, ref, rtol=0, atol=1e-12 * np.abs(ref).max())
+    assert res.report["route"] == ["factorisation"] * 4 and not res._sectors
+    # one omega: the sector blocks (their analysis is p times smaller)
+    res = GraphResolvent(lat)
+    graph_green(res, -2.9, 10)
+    assert res.report["route"] == ["rotation sectors"]
+
+
+def test_prefaulted_arrays_are_zero_writable_and_of_the_asked_shape():
+    from hyperlattice.graph.green import _prefaulted, _Rows
+
+    for shape, dtype in [((3, 5), float), ((4, 300_000), complex), ((700_000,), float)]:
+        a = _prefaulted(shape, dtype)
+        assert a.shape == shape and a.dtype == np.dtype(dtype) and a.flags.writeable
+        assert not np.any(a)
+        a[...] = 1.0
+        assert np.all(a == 1.0)
+    rows = _Rows(10, block=3)
+    for k in range(7):
+        rows.new()[:] = k
+    assert len(rows) == 7
+    stacked = np.concatenate([blk for _, blk in rows.parts()])
+    np.testing.assert_array_equal(stacked[:, 0], np.arange(7))
