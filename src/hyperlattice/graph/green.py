@@ -304,10 +304,18 @@ class _SectorSolve:
 
 
 def _csr_matvec(A: sp.csr_matrix, x: np.ndarray, out: np.ndarray) -> np.ndarray:
-    """out += A @ x for a CSR matrix (SciPy's kernel, into a buffer that is reused)."""
-    from scipy.sparse import _sparsetools
+    """out += A @ x for a CSR matrix (SciPy's kernel, into a buffer that is reused).
 
-    _sparsetools.csr_matvec(A.shape[0], A.shape[1], A.indptr, A.indices, A.data, x, out)
+    SciPy's compiled kernel when its private module is there (no temporary of length n), else the
+    public product.
+    """
+    try:
+        from scipy.sparse import _sparsetools
+        kernel = _sparsetools.csr_matvec
+    except (ImportError, AttributeError):                 # pragma: no cover - other SciPy layouts
+        out += A @ x
+        return out
+    kernel(A.shape[0], A.shape[1], A.indptr, A.indices, A.data, x, out)
     return out
 
 
