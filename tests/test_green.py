@@ -357,8 +357,8 @@ def test_scan_columns_failing_their_residual_are_factorised_again(monkeypatch):
 
     def optimistic(*a, **k):
         # stop after 3 steps and claim convergence: only the true residual can catch it
-        Q, Y, done, inv = lanczos(*a[:5], 3, *a[6:], **k)
-        return Q, Y, np.ones_like(done), inv
+        Q, Y, done, inv, top = lanczos(*a[:5], 3, *a[6:], **k)
+        return Q, Y, np.ones_like(done), inv, top
 
     monkeypatch.setattr(green, "_shifted_lanczos", optimistic)
     monkeypatch.setattr(green, "_SECTOR_MIN", 1)
@@ -375,3 +375,146 @@ def test_scan_near_the_spectrum_is_still_refused(lat3):
     oms = np.concatenate([np.linspace(-3.6, E[0] - 0.01, 24), [E[0]]])
     with pytest.raises(ValueError, match="spectrum"):
         graph_green(lat3, oms, 10)
+
+
+# -- certified errors: the bound reported is a true bound of the error -----------------------
+
+def _exact_columns(H, oms, src):
+    """Columns of (H - omega)^{-1} for the sources, by a dense solve in extended care (float64, LAPACK)."""
+    A = H.toarray() if sp.issparse(H) else np.asarray(H)
+    eye = np.eye(A.shape[0])
+    return np.stack([np.linalg.solve(A - w * eye, eye[:, src]) for w in oms])
+
+
+@pytest.mark.parametrize("t", [1.0, 0.7])
+def test_e0_lower_bound_is_below_the_lowest_level_and_tight_at_the_ground_state(t):
+    from hyperlattice.graph.green import _e0_lower_bound
+
+    lat = ring_lattice(7, 3, 4)
+    rng = np.random.default_rng(3)
+    for onsite in (None, rng.uniform(-0.5, 0.5, lat.sites)):
+        H = hamiltonian(lat, t=t, onsite=onsite)
+        E, V = np.linalg.eigh(H.toarray())
+        phi = np.abs(V[:, 0])
+        assert _e0_lower_bound(H, phi) <= E[0]
+        assert _e0_lower_bound(H, phi) > E[0] - 1e-10               # tight at the Perron vector
+        for _ in range(5):                                           # any positive vector: a bound
+            assert _e0_lower_bound(H, phi * rng.uniform(0.5, 2.0, lat.sites)) <= E[0]
+        assert _e0_lower_bound(H, np.ones(lat.sites)) <= E[0]
+    # a vector with a zero or negative entry proves nothing
+    assert _e0_lower_bound(H, phi - phi.max() / 2) == -np.inf
+    assert _e0_lower_bound(H, np.zeros(lat.sites)) == -np.inf
+
+
+def test_e0_lower_bound_holds_for_a_hamiltonian_that_is_not_a_z_matrix():
+    from hyperlattice.graph.green import _e0_lower_bound
+
+    lat = ring_lattice(7, 3, 3)
+    H = hamiltonian(lat, t=-1.0)           # +A: positive hopping, the ground state changes sign
+    E = np.linalg.eigvalsh(H.toarray())
+    rng = np.random.default_rng(5)
+    for _ in range(5):
+        assert _e0_lower_bound(H, rng.uniform(0.1, 1.0, lat.sites)) <= E[0]
+
+
+@pytest.mark.parametrize("sectors", [True, False])
+def test_scan_error_bound_is_true_and_meets_the_tolerance(sectors, monkeypatch):
+    from hyperlattice.graph import green
+
+    monkeypatch.setattr(green, "_SECTOR_MIN", 1 if sectors else 10**9)
+    lat = ring_lattice(7, 3, 5)
+    oms, e0 = _scan_omegas(lat, 48, top_gap=0.002)
+    res = GraphResolvent(lat)
+    got = graph_green(res, oms, [4, 600])
+    exact = _exact_columns(hamiltonian(lat), oms, [4, 600])
+    rep = res.report
+    # the scan takes (almost) all; a shift it cannot certify is factorised, and bounded too
+    assert rep["route"].count("krylov scan") >= oms.size - 2, rep["route"]
+    assert set(rep["route"]) <= {"krylov scan", "factorisation", "rotation sectors"}
+    scanned = np.array(rep["route"]) == "krylov scan"
+    # within _FORWARD_TOL, or (next to the band edge) within twice what the rounding of the
+    # residual alone allows
+    xn = np.linalg.norm(got.real, axis=1).min(axis=1)
+    floor = res._gamma * (1 + (res.norm + np.abs(oms)) * xn) / (res._delta_lower(oms) * xn)
+    assert np.all(rep["error_bound"][scanned] <= np.maximum(green._FORWARD_TOL, 2.2 * floor[scanned]))
+    assert np.sum(rep["error_bound"][scanned] > green._FORWARD_TOL) <= 2
+    assert np.all(np.isfinite(rep["error_bound"]))      # the factorised ones are bounded as well
+    assert np.all(rep["backward_error"] <= green._SCAN_BACKWARD)
+    # the proved lower bound of E0 lies below E0 (and close to it)
+    assert e0 - 1e-6 < res._e0_lower <= e0
+    for w, block, ref, bound in zip(oms, got, exact, rep["error_bound"]):
+        err = np.linalg.norm(block - ref, axis=0) / np.linalg.norm(ref, axis=0)
+        # the dense reference itself carries ~ cond * eps: the bound holds up to that
+        cond = (np.abs(e0) + 3.0 + abs(w)) / (e0 - w)
+        assert np.all(err <= bound + 4 * cond * np.finfo(float).eps), (w, err, bound)
+
+
+def test_scan_without_a_positive_ground_state_factorises_what_it_cannot_certify():
+    # t < 0: H = +A, whose ground state changes sign, so the Ritz vector proves no lower bound of
+    # E0; only omegas below a factorised anchor have a proved distance to the spectrum
+    lat = ring_lattice(7, 3, 5)
+    H = hamiltonian(lat, t=-1.0)
+    e0 = float(np.linalg.eigvalsh(H.toarray())[0])
+    oms = np.linspace(e0 - 0.6, e0 - 0.004, 30)
+    res = GraphResolvent(lat, t=-1.0)
+    got = graph_green(res, oms, 7)
+    ref = _exact_columns(H, oms, [7])[:, :, 0]
+    np.testing.assert_allclose(got, ref, rtol=0, atol=1e-11 * np.abs(ref).max())
+    rep = res.report
+    for route, bound in zip(rep["route"], rep["error_bound"]):
+        if route == "krylov scan":
+            assert bound <= 1e-12
+    assert any(r != "krylov scan" for r in rep["route"])
+
+
+def test_direct_route_reports_a_proved_bound_where_it_can(lat3):
+    H = hamiltonian(lat3)
+    E = np.linalg.eigvalsh(H.toarray())
+    res = GraphResolvent(lat3)
+    for w in (-3.4, -2.9, E[0] - 1e-3, -2.5 + 0.1j, 0.3):
+        col = graph_green(res, w, 10)
+        ref = np.linalg.solve(H.toarray() - w * np.eye(lat3.sites), np.eye(lat3.sites)[:, 10])
+        rep = res.report
+        err = np.linalg.norm(col - ref) / np.linalg.norm(ref)
+        if isinstance(w, complex) or w < E[0]:
+            assert rep["route"][0] in ("factorisation", "pivoted LU")
+            bound = rep["error_bound"][0]
+            cond = (3.0 + abs(w)) / np.min(np.abs(E - w))
+            assert np.isfinite(bound) and err <= bound + 4 * cond * np.finfo(float).eps, (w, err, bound)
+        else:                             # in the band: no proved distance to the spectrum
+            assert rep["route"] == ["pivoted LU"] and np.isnan(rep["error_bound"][0])
+        assert rep["backward_error"][0] < 1e-14
+
+
+def test_several_direct_omegas_share_one_full_factorisation(monkeypatch):
+    from hyperlattice.graph import green
+
+    monkeypatch.setattr(green, "_SECTOR_MIN", 1)
+    lat = ring_lattice(7, 3, 4)
+    oms = np.array([-3.4, -3.2, -3.0, -2.9])             # too few for the scan
+    res = GraphResolvent(lat)
+    got = graph_green(res, oms, 10)
+    ref = _exact_columns(hamiltonian(lat), oms, [10])[:, :, 0]
+    np.testing.assert_allclose(got, ref, rtol=0, atol=1e-12 * np.abs(ref).max())
+    assert res.report["route"] == ["factorisation"] * 4 and not res._sectors
+    # one omega: the sector blocks (their analysis is p times smaller)
+    res = GraphResolvent(lat)
+    graph_green(res, -2.9, 10)
+    assert res.report["route"] == ["rotation sectors"]
+
+
+def test_prefaulted_arrays_are_zero_writable_and_of_the_asked_shape():
+    from hyperlattice.graph.green import _prefaulted, _Rows
+
+    for shape, dtype in [((3, 5), float), ((4, 300_000), complex), ((700_000,), float)]:
+        a = _prefaulted(shape, dtype)
+        assert a.shape == shape and a.dtype == np.dtype(dtype) and a.flags.writeable
+        assert not np.any(a)
+        a[...] = 1.0
+        assert np.all(a == 1.0)
+    rows = _Rows(10, block=3)
+    for k in range(7):
+        rows.new()[:] = k
+    assert len(rows) == 7
+    stacked = np.concatenate([blk for _, blk in rows.parts()])
+    np.testing.assert_array_equal(stacked[:, 0], np.arange(7))
