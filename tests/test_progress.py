@@ -283,7 +283,11 @@ def test_a_signal_stops_the_command_with_one_line_and_keeps_the_points(tmp_path,
     env = dict(os.environ, HYPERLATTICE_CACHE=str(tmp_path / "cache"))
     cmd = [sys.executable, "-m", "hyperlattice", "butterfly", "--rings", "5", "--fluxes", "5000",
            "--checkpoint", str(ck), "--max-seconds", "1e5"]
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    # a shell starts a background job (`make test &`, some CI runners) with SIGINT ignored, and the
+    # children inherit that: Python then installs no KeyboardInterrupt handler and the command ran to
+    # its end (exit 0). Ctrl-C reaches a foreground command with the default action, as here.
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:
         deadline = time.monotonic() + 120
         while not list(ck.glob("*/butterfly-point-*.json")):
@@ -298,8 +302,8 @@ def test_a_signal_stops_the_command_with_one_line_and_keeps_the_points(tmp_path,
             proc.communicate()
     assert proc.returncode == code, err
     # l = 5 and 5,000 fluxes (about a minute of work): the run cannot finish between the first kept
-    # point and the signal, however loaded the machine (l = 4 with 2,000 fluxes, ~1 s, once did);
-    # a run that long announces its estimate first, one note line
+    # point and the signal, however loaded the machine; a run that long announces its estimate
+    # first, one note line
     note, _, rest = err.partition("\n")
     assert note.startswith("hyperlattice butterfly: note: about ") and " s of work " in note, err
     line = _one_line(rest)
