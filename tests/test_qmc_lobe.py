@@ -132,10 +132,19 @@ def test_report_section(tmp_path):
     matplotlib.use("Agg")
     from hyperlattice.report.qmc_lobe import qmc_lobe_section
 
+    from hyperlattice.report.qmc_lobe import extrapolation_rows, headline, stored_scan, tip_rows
+
     sec = qmc_lobe_section(tmp_path, lambda msg: None)
-    assert sec.anchor == "qmc-lobe" and len(sec.tables) == 2 and len(sec.figures) == 1
-    assert (tmp_path / "fig_qmc_lobe.png").exists()
+    assert sec.anchor == "qmc-lobe" and len(sec.tables) == 3 and len(sec.figures) == 2
+    assert (tmp_path / "fig_qmc_lobe.png").exists() and (tmp_path / "fig_qmc_tip.png").exists()
     assert "0.058335" in " ".join(sec.text) and "stored scan" in sec.provenance[0]
+    # the section's tables and verdict are the analysis of the committed scan
+    lobe = ql.qmc_lobe(stored_scan())
+    assert sec.tables[1].rows == tip_rows(lobe) and sec.tables[2].rows == extrapolation_rows(lobe)
+    h = headline(lobe)
+    assert h["cluster"] is not None and f"{h['cluster']['tip']:.4f}" in " ".join(sec.text)
+    # mean field, which drops the fluctuations that stabilise the Mott state, ends the lobe earlier than the QMC
+    assert h["cluster"]["tip"] > h["cluster"]["mean_field"]
 
 
 # ---------------------------------------------------------------------------------------------

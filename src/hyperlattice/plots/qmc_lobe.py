@@ -211,7 +211,7 @@ def qmc_tip_figure(lobe: QMCLobe, path=None):
     a2.set_xlabel("1/M (sites)")
     a2.set_ylabel("(t/U) at the tip")
     a2.set_xlim(left=-0.001)
-    a2.legend(fontsize=6, frameon=False, loc="lower right")
+    a2.legend(fontsize=6, frameon=False, loc="upper left")
     fig.tight_layout()
     if path is not None:
         fig.savefig(_validate.output_path("path", path, suffixes=(".png", ".svg")), dpi=130)

@@ -115,6 +115,13 @@ TIP_HEADER = ["graph", "sites", "βt", "nmax", "βδ", "tip mean field", "tip st
 EXTRAPOLATION_HEADER = ["graphs", "βt", "sizes", "x∞ (1/M)", "x∞ (1/√M)", "x∞"]
 
 
+def _check_lobe(lobe) -> None:
+    from ..compare.qmc_lobe import QMCLobe
+
+    if not isinstance(lobe, QMCLobe):
+        raise ValueError(f"lobe must be a QMCLobe (from compare.qmc_lobe.qmc_lobe), got {type(lobe).__name__}.")
+
+
 def _pm(v: float, e: float, d: int = 4) -> str:
     return "—" if not math.isfinite(v) else f"{v:.{d}f} ± {_f(e, d)}"
 
@@ -132,6 +139,7 @@ def tip_rows(lobe) -> list:
     list of list of str
         In the columns of :data:`TIP_HEADER`.
     """
+    _check_lobe(lobe)
     out = []
     for s in lobe.systems:
         for d in sorted(s["tips"], key=lambda d: (-d["beta_t"], -d["nmax"])):
@@ -146,6 +154,7 @@ def tip_rows(lobe) -> list:
 
 def extrapolation_rows(lobe) -> list:
     """The rows of the extrapolation table (:data:`EXTRAPOLATION_HEADER`)."""
+    _check_lobe(lobe)
     out = []
     for f in lobe.finite_size:
         out.append([f["kind"] + "s", f"{f['beta_t']:g}", " + ".join(str(m) for m in f["sites"]),
@@ -170,6 +179,7 @@ def headline(lobe) -> dict:
         ``off_cluster`` (same graph), ``off_infinite`` (both infinite-lattice mean-field tips
         against x∞), ``off_square``.
     """
+    _check_lobe(lobe)
     z3 = (3.0 - 2.0 * math.sqrt(2.0)) / 3.0
     clusters = [s for s in lobe.systems if s["system"].startswith("cluster:")
                 and any(math.isfinite(d["tip"]) and d["nmax"] == 3 for d in s["tips"])]
@@ -193,6 +203,7 @@ def headline(lobe) -> dict:
 
 def verdict(lobe) -> list:
     """The section's sentences, every number from :func:`headline` and the lobe."""
+    _check_lobe(lobe)
     sq = lobe.square
     h = headline(lobe)
     text = [
