@@ -56,6 +56,8 @@ def main(argv=None) -> int:
           f"continuum lambda = {lobe.continuum['lambda_max']:.6f}, tip {lobe.continuum['tip_mean_field']:.6f}")
     print(f"square lattice: exact tip {sq['exact']:.5f}({round(sq['exact_err'] * 1e5)}), mean field "
           f"{sq['mean_field']:.5f} ({h['off_square']:.0%} low), strong coupling {sq['strong_coupling']:.5f}")
+    print(f"simple cubic lattice: exact tip {sq['cubic_exact']:.5f}({round(sq['cubic_exact_err'] * 1e5)}), "
+          f"mean field {sq['cubic_mean_field']:.5f} ({h['off_cubic']:.0%} low)")
     if h["cluster"]:
         c = h["cluster"]
         print(f"largest cluster {c['system']} ({c['sites']} sites, beta t = {c['beta_t']:g}): pseudo-tip "

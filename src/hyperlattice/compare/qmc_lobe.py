@@ -38,6 +38,7 @@ from .. import _validate
 from ..results import Column, Result
 
 __all__ = ["square_lattice", "mean_field_boundaries", "qmc_boundary", "QMCLobe", "qmc_lobe", "SQUARE_TIP_EXACT",
+           "CUBIC_TIP_EXACT",
            "gap_tip", "size_extrapolation", "combine_steps", "LINEAR_WINDOW",
            "SQUARE_TIP_MEAN_FIELD", "load_scan", "xy_qubit_check"]
 
@@ -45,6 +46,9 @@ __all__ = ["square_lattice", "mean_field_boundaries", "qmc_boundary", "QMCLobe",
 SQUARE_TIP_EXACT = (1.0 / 16.7424, 0.0054 / 16.7424**2)
 #: mean field on the square lattice: (t/U)_c = (3 - 2 sqrt 2)/z, z = 4
 SQUARE_TIP_MEAN_FIELD = (3.0 - 2.0 * math.sqrt(2.0)) / 4.0
+#: the exact n = 1 tip of the simple cubic lattice (z = 6), (U/t)_c = 29.34(2): Capogrosso-Sansone,
+#: Prokof'ev and Svistunov, PRB 75, 134302 (2007); mean field there is (3 - 2 sqrt 2)/6
+CUBIC_TIP_EXACT = (1.0 / 29.34, 0.02 / 29.34**2)
 
 
 def square_lattice(L: int) -> sp.csr_matrix:
@@ -354,7 +358,8 @@ class QMCLobe(Result):
         ``lambda_max`` (minus the continuum's band bottom, the paper's map) and its mean-field
         ``tip_mean_field``.
     square : dict
-        The square-lattice reference: ``exact``, ``exact_err``, ``mean_field``, ``strong_coupling``.
+        The square-lattice reference: ``exact``, ``exact_err``, ``mean_field``, ``strong_coupling``;
+        and the simple cubic one: ``cubic_exact``, ``cubic_exact_err``, ``cubic_mean_field``.
     finite_size : list of dict
         Per ``kind`` ("cluster" or "flake") and ``beta_t`` with two or more sizes: the pseudo-tips
         extrapolated in 1/M (``tip``, ``tip_err``) and in :math:`1/\sqrt M` (``tip_sqrt_form``),
@@ -743,7 +748,9 @@ def qmc_lobe(scan: dict, *, points: int = 41) -> QMCLobe:
     continuum = {"lambda_max": lam_cont, "tip_mean_field": float(lobe_tip(lam_cont)[1])}
     return QMCLobe(rows=rows, systems=systems, infinite_tip_mean_field=tip_inf, rho=rho, continuum=continuum,
                    finite_size=finite_size, square={"exact": SQUARE_TIP_EXACT[0], "exact_err": SQUARE_TIP_EXACT[1],
-                           "mean_field": SQUARE_TIP_MEAN_FIELD, "strong_coupling": square_sc})
+                           "mean_field": SQUARE_TIP_MEAN_FIELD, "strong_coupling": square_sc,
+                           "cubic_exact": CUBIC_TIP_EXACT[0], "cubic_exact_err": CUBIC_TIP_EXACT[1],
+                           "cubic_mean_field": (3.0 - 2.0 * math.sqrt(2.0)) / 6.0})
 
 
 def xy_qubit_check(rings: int = 2, omega_q: float = -3.5, g: float = 0.5, *, ring: int = 1, mu: float = 0.0,
