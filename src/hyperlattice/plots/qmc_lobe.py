@@ -164,7 +164,8 @@ def qmc_tip_figure(lobe: QMCLobe, path=None):
            and s["sites"] >= MIN_SITES_EXTRAPOLATION]
     for i, s in enumerate(big):
         colour = cmap(i % 10)
-        tips = sorted(s["tips"], key=lambda d: -d["beta_t"])
+        # the fitted, filled series: the lowest temperature with the production cutoff nmax = 3
+        tips = sorted(s["tips"], key=lambda d: (d["nmax"] != 3, -d["beta_t"], d["nmax"]))
         for j, d in enumerate(tips):
             if not d["gaps"]:
                 continue
@@ -182,7 +183,7 @@ def qmc_tip_figure(lobe: QMCLobe, path=None):
                 xs = np.linspace(fx.min(), d["tip_sqrt"], 40)
                 ps = np.polyfit(fx, gl**2, 1)
                 a1.plot(xs, np.sqrt(np.clip(np.polyval(ps, xs), 0, None)), ":", color=colour, lw=0.8)
-            if math.isfinite(d["tip"]):
+            if math.isfinite(d["tip"]) and d["nmax"] == 3:
                 a2.errorbar([1.0 / s["sites"]], [d["tip"]], yerr=[d["tip_err"]], fmt="o" if j == 0 else "s",
                             ms=5, color=colour, mfc=None if j == 0 else "none", capsize=2)
     a1.axhline(0.0, color="0.6", lw=0.6)
