@@ -1,10 +1,12 @@
-"""The tables and figure of docs/qmc-lobe.md from the stored QMC lobe scan (issue 27, item 4).
+"""The tables and figures of docs/qmc-lobe.md from the stored QMC lobe scan (issue 27, item 4).
 
 Reads the stored scan (src/hyperlattice/report/qmc_lobe_scan.json, written by benchmarks/qmc_lobe_scan.py), adds Gutzwiller mean
-field and the third-order strong-coupling expansion on the same graphs, prints two Markdown tables
-(the boundaries; the tips per graph) and the reference numbers, and writes docs/img/qmc_lobe.png.
+field and the third-order strong-coupling expansion on the same graphs, fits the pseudo-tips and
+their size extrapolation, prints three Markdown tables (the boundaries; the tips per graph and
+temperature; the extrapolation) and the reference numbers, and writes docs/img/qmc_lobe.png and
+docs/img/qmc_tip.png.
 
-Usage: ``python benchmarks/table_qmc_lobe.py [--scan FILE] [--figure FILE]`` (about 30 s).
+Usage: ``python benchmarks/table_qmc_lobe.py [--scan FILE] [--figure FILE] [--tip-figure FILE]`` (about a minute).
 """
 
 from __future__ import annotations
@@ -18,41 +20,56 @@ def _f(x, d=4):
     return "—" if not math.isfinite(x) else f"{x:.{d}f}"
 
 
+def _table(header, rows):
+    print("| " + " | ".join(header) + " |")
+    print("|" + "---|" * len(header))
+    for r in rows:
+        print("| " + " | ".join(r) + " |")
+    print()
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--scan", default=None, help="a scan file (default: the one stored in the package)")
     ap.add_argument("--figure", default="docs/img/qmc_lobe.png")
+    ap.add_argument("--tip-figure", default="docs/img/qmc_tip.png")
     args = ap.parse_args(argv)
     import matplotlib
 
     matplotlib.use("Agg")
     from hyperlattice.compare.qmc_lobe import load_scan, qmc_lobe
-    from hyperlattice.plots.qmc_lobe import qmc_lobe_figure
-    from hyperlattice.report.qmc_lobe import stored_scan
+    from hyperlattice.plots.qmc_lobe import qmc_lobe_figure, qmc_tip_figure
+    from hyperlattice.report.qmc_lobe import (EXTRAPOLATION_HEADER, TIP_HEADER, extrapolation_rows, headline,
+                                              stored_scan, tip_rows)
 
     lobe = qmc_lobe(load_scan(args.scan) if args.scan else stored_scan())
-    print("| graph | sites | t/U | βt | side | μ/U QMC | μ/U mean field | μ/U strong coupling |")
-    print("|---|---|---|---|---|---|---|---|")
-    for r in lobe.rows:
-        err = _f(r["mu_err"])
-        print(f"| {r['system']} | {r['sites']} | {r['t_over_U']:.2f} | {r['beta_t']:g} | {r['side']} | "
-              f"{r['mu']:.4f} ± {err} | {_f(r['mu_mean_field'])} | {_f(r['mu_strong_coupling'])} |")
-    print()
-    print("| graph | sites | λ_max | tip mean field | tip strong coupling | QMC pseudo-tip | βδ |")
-    print("|---|---|---|---|---|---|---|")
-    for s in lobe.systems:
-        tq = s["tip_qmc_extrapolated"]
-        tq = f"{tq:.3f} ± {s['tip_qmc_extrapolated_err']:.3f}" if math.isfinite(tq) else "—"
-        print(f"| {s['system']} | {s['sites']} | {s['lambda_max']:.4f} | {s['tip_mean_field']:.4f} | "
-              f"{s['tip_strong_coupling']:.4f} | {tq} | {s['beta_splitting']:.1f} |")
-    print()
+    _table(["graph", "sites", "t/U", "βt", "nmax", "side", "μ/U QMC", "μ/U mean field", "μ/U strong coupling"],
+           [[r["system"], str(r["sites"]), f"{r['t_over_U']:.2f}", f"{r['beta_t']:g}", str(r["nmax"]), r["side"],
+             f"{r['mu']:.4f} ± {_f(r['mu_err'])}", _f(r["mu_mean_field"]), _f(r["mu_strong_coupling"])]
+            for r in lobe.rows])
+    _table(TIP_HEADER, tip_rows(lobe))
+    _table(EXTRAPOLATION_HEADER, extrapolation_rows(lobe))
     sq = lobe.square
+    h = headline(lobe)
     print(f"infinite {{7,3}}: rho = {lobe.rho:.5f}, mean-field tip {lobe.infinite_tip_mean_field:.6f}; "
+          f"3-regular graph: mean-field tip {h['mf_cluster']:.4f}; "
           f"continuum lambda = {lobe.continuum['lambda_max']:.6f}, tip {lobe.continuum['tip_mean_field']:.6f}")
     print(f"square lattice: exact tip {sq['exact']:.5f}({round(sq['exact_err'] * 1e5)}), mean field "
-          f"{sq['mean_field']:.5f}, strong coupling {sq['strong_coupling']:.5f}")
+          f"{sq['mean_field']:.5f} ({h['off_square']:.0%} low), strong coupling {sq['strong_coupling']:.5f}")
+    print(f"simple cubic lattice: exact tip {sq['cubic_exact']:.5f}({round(sq['cubic_exact_err'] * 1e5)}), "
+          f"mean field {sq['cubic_mean_field']:.5f} ({h['off_cubic']:.0%} low)")
+    if h["cluster"]:
+        c = h["cluster"]
+        print(f"largest cluster {c['system']} ({c['sites']} sites, beta t = {c['beta_t']:g}): pseudo-tip "
+              f"{c['tip']:.4f} +- {c['tip_err']:.4f}; mean field on it {c['mean_field']:.4f} ({h['off_cluster']:.0%} low)")
+    if h["infinite"]:
+        f = h["infinite"]
+        print(f"clusters extrapolated (beta t = {f['beta_t']:g}): {f['tip']:.4f} +- {f['tip_err']:.4f}; mean field "
+              f"{h['off_infinite_cluster']:.0%} low (z = 3), {h['off_infinite_rho']:.0%} low (rho)")
     Path(args.figure).parent.mkdir(parents=True, exist_ok=True)
     qmc_lobe_figure(lobe, args.figure)
+    Path(args.tip_figure).parent.mkdir(parents=True, exist_ok=True)
+    qmc_tip_figure(lobe, args.tip_figure)
     return 0
 
 

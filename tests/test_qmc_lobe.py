@@ -132,7 +132,126 @@ def test_report_section(tmp_path):
     matplotlib.use("Agg")
     from hyperlattice.report.qmc_lobe import qmc_lobe_section
 
+    from hyperlattice.report.qmc_lobe import extrapolation_rows, headline, stored_scan, tip_rows
+
     sec = qmc_lobe_section(tmp_path, lambda msg: None)
-    assert sec.anchor == "qmc-lobe" and len(sec.tables) == 2 and len(sec.figures) == 1
-    assert (tmp_path / "fig_qmc_lobe.png").exists()
+    assert sec.anchor == "qmc-lobe" and len(sec.tables) == 3 and len(sec.figures) == 2
+    assert (tmp_path / "fig_qmc_lobe.png").exists() and (tmp_path / "fig_qmc_tip.png").exists()
     assert "0.058335" in " ".join(sec.text) and "stored scan" in sec.provenance[0]
+    # the section's tables and verdict are the analysis of the committed scan
+    lobe = ql.qmc_lobe(stored_scan())
+    assert sec.tables[1].rows == tip_rows(lobe) and sec.tables[2].rows == extrapolation_rows(lobe)
+    h = headline(lobe)
+    assert h["cluster"] is not None and f"{h['cluster']['tip']:.4f}" in " ".join(sec.text)
+    # mean field, which drops the fluctuations that stabilise the Mott state, ends the lobe earlier than the QMC
+    assert h["cluster"]["tip"] > h["cluster"]["mean_field"]
+
+
+# ---------------------------------------------------------------------------------------------
+# the tip analysis (gap extrapolation, size extrapolation, Newton-run combination) on synthetic data
+# ---------------------------------------------------------------------------------------------
+
+def test_gap_lines_bracket_the_mean_field_tip():
+    # Gutzwiller's gap on a 3-regular graph closes as a square root (z nu = 1/2): the Delta^2 line
+    # through three points below the tip lands within 1 % of it (from below: Delta^2 is convex), the
+    # Delta line overshoots; the midpoint's error covers the true tip
+    from hyperlattice.bosons.meanfield import lobe_tip
+
+    lam = 3.0
+    xc = lobe_tip(lam)[1]
+    x = xc * np.array([0.80, 0.87, 0.94])
+    mp, mm = ql.mean_field_boundaries(lam, x)
+    gap, err = mp - mm, np.full(3, 1e-4)
+    sq = ql.gap_tip(x, gap, err, form="sqrt")
+    li = ql.gap_tip(x, gap, err, form="linear")
+    assert sq["tip"] < xc < li["tip"]
+    assert abs(sq["tip"] / xc - 1) < 0.01
+    mid = 0.5 * (sq["tip"] + li["tip"])
+    assert abs(mid - xc) < 0.5 * (li["tip"] - sq["tip"])
+    # with four points the free power law finds the mean-field exponent
+    x4 = xc * np.array([0.80, 0.85, 0.90, 0.95])
+    mp, mm = ql.mean_field_boundaries(lam, x4)
+    pw = ql.gap_tip(x4, mp - mm, np.full(4, 1e-4), form="power")
+    assert pw["exponent"] == pytest.approx(0.5, abs=0.05) and pw["tip"] == pytest.approx(xc, rel=0.01)
+
+
+def test_gap_tip_error_bars_cover():
+    # straight-line gaps with Gaussian noise: the stated 1-sigma interval holds the true tip about
+    # 68 % of the time (400 synthetic data sets, fixed seed), 2 sigma about 95 %
+    rng = np.random.default_rng(7)
+    x = np.array([0.06, 0.07, 0.08, 0.09])
+    true = 0.1
+    g0 = 12.0 * (true - x)
+    err = np.full(4, 0.01)
+    z = []
+    for _ in range(400):
+        r = ql.gap_tip(x, g0 + err * rng.standard_normal(4), err, form="linear")
+        z.append((r["tip"] - true) / r["tip_err"])
+    z = np.abs(np.array(z))
+    assert 0.60 < np.mean(z < 1) < 0.78
+    assert 0.90 < np.mean(z < 2) < 0.99
+
+
+def test_gap_tip_refuses_bad_input():
+    with pytest.raises(ValueError, match="two points"):
+        ql.gap_tip([0.05], [0.1], [0.01])
+    with pytest.raises(ValueError, match="one length"):
+        ql.gap_tip([0.05, 0.06], [0.1], [0.01])
+    with pytest.raises(ValueError, match="four points"):
+        ql.gap_tip([0.05, 0.06, 0.07], [0.3, 0.2, 0.1], [0.01] * 3, form="power")
+    # a gap that grows with t/U has no tip
+    assert math.isnan(ql.gap_tip([0.05, 0.06], [0.1, 0.2], [0.01, 0.01])["tip"])
+
+
+def test_size_extrapolation_is_a_weighted_line():
+    m = np.array([56, 364, 2000])
+    tips = 0.07 + 0.9 / m
+    r = ql.size_extrapolation(m, tips, [0.001] * 3)
+    assert r["tip"] == pytest.approx(0.07, abs=1e-12) and r["slope"] == pytest.approx(0.9) and r["chi2"] < 1e-20
+    # two sizes: the error is the propagated one, x_inf = (M2 x2 - M1 x1)/(M2 - M1)
+    r2 = ql.size_extrapolation([100, 400], [0.07, 0.064], [0.001, 0.001])
+    assert r2["tip"] == pytest.approx((400 * 0.064 - 100 * 0.07) / 300)
+    assert r2["tip_err"] == pytest.approx(math.hypot(400 / 300, 100 / 300) * 0.001)
+    r3 = ql.size_extrapolation([100, 400], [0.07, 0.064], [0.001, 0.001], power=0.5)
+    assert r3["tip"] == pytest.approx((20 * 0.064 - 10 * 0.07) / 10)
+    with pytest.raises(ValueError, match="two sizes"):
+        ql.size_extrapolation([100, 100], [0.07, 0.06], [0.001, 0.001])
+
+
+def test_combine_steps_window_and_scatter():
+    M, x, beta = 20, 0.1, 5.0
+    U = 1 / x
+    kap = 0.1          # slope dN/d(mu/U) = kappa M U = 20
+
+    def run(mu, N):
+        return {"mu": mu, "N": N, "N_err": 0.02, "kappa": kap, "kappa_err": 0.0}
+
+    # a run far from M + 1/2 is left out; the two inside agree on 0.50
+    steps = [run(0.40, 19.0), run(0.50 + 0.05 / 20, 20.55), run(0.50 - 0.05 / 20, 20.45)]
+    mu, err, used = ql.combine_steps(steps, "plus", M, x, beta)
+    assert used == 2 and mu == pytest.approx(0.50) and err == pytest.approx(0.001 / math.sqrt(2))
+    # two runs that disagree by 10 sigma: the error grows with the scatter (Birge ratio)
+    steps = [run(0.50, 20.5), run(0.52, 20.5)]
+    mu, err, used = ql.combine_steps(steps, "plus", M, x, beta)
+    assert mu == pytest.approx(0.51) and err == pytest.approx(0.01, rel=1e-6)
+    assert math.isnan(ql.combine_steps([run(0.4, 19.0)], "plus", M, x, beta)[0])
+
+
+def test_stored_scan_matches_its_analysis():
+    # every stored boundary is the combination of its own Newton runs (the analysis the report reads),
+    # and every graph/temperature of the tip scan has both sides at each t/U
+    from hyperlattice.report.qmc_lobe import SCAN_COMMAND
+
+    data = ql.load_scan(SCAN)
+    assert data["meta"]["command"] == SCAN_COMMAND
+    pairs: dict = {}
+    for b in data["boundaries"]:
+        mu, err, used = ql.combine_steps(b["steps"], b["side"], b["sites"], b["t_over_U"], b["beta_t"])
+        if "steps_used" in b:
+            # no run inside the window: the boundary is the last Newton estimate, as in the analysis
+            assert used == b["steps_used"] and (used == 0 or mu == pytest.approx(b["mu"], abs=1e-12))
+        elif used:        # scans stored before the combination: within 3 errors of the last Newton step
+            assert abs(mu - b["mu"]) < 3 * math.hypot(err, b["mu_err"]) + 1e-3
+        pairs.setdefault((b["system"], b["beta_t"], b.get("nmax", 3), b["t_over_U"]), set()).add(b["side"])
+    tip_graphs = {k for k in pairs if k[1] in (4.0, 8.0)}
+    assert tip_graphs and all(pairs[k] == {"plus", "minus"} for k in tip_graphs)

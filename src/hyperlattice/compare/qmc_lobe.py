@@ -38,12 +38,17 @@ from .. import _validate
 from ..results import Column, Result
 
 __all__ = ["square_lattice", "mean_field_boundaries", "qmc_boundary", "QMCLobe", "qmc_lobe", "SQUARE_TIP_EXACT",
+           "CUBIC_TIP_EXACT",
+           "gap_tip", "size_extrapolation", "combine_steps", "LINEAR_WINDOW",
            "SQUARE_TIP_MEAN_FIELD", "load_scan", "xy_qubit_check"]
 
 #: the exact n = 1 tip of the square lattice, (U/t)_c = 16.7424(54): Capogrosso-Sansone et al., PRA 77, 015602 (2008)
 SQUARE_TIP_EXACT = (1.0 / 16.7424, 0.0054 / 16.7424**2)
 #: mean field on the square lattice: (t/U)_c = (3 - 2 sqrt 2)/z, z = 4
 SQUARE_TIP_MEAN_FIELD = (3.0 - 2.0 * math.sqrt(2.0)) / 4.0
+#: the exact n = 1 tip of the simple cubic lattice (z = 6), (U/t)_c = 29.34(2): Capogrosso-Sansone,
+#: Prokof'ev and Svistunov, PRB 75, 134302 (2007); mean field there is (3 - 2 sqrt 2)/6
+CUBIC_TIP_EXACT = (1.0 / 29.34, 0.02 / 29.34**2)
 
 
 def square_lattice(L: int) -> sp.csr_matrix:
@@ -168,7 +173,8 @@ def boundary_offset(system, beta_t: float) -> dict:
 
 
 def qmc_boundary(system, t_over_U: float, side: str, *, beta_t: float = 10.0, sweeps: int = 2000, nmax: int = 3,
-                 seed: int = 1, iterations: int = 3, mu_start: float | None = None) -> dict:
+                 seed: int = 1, iterations: int = 3, mu_start: float | None = None,
+                 thermalization: int | None = None) -> dict:
     r"""One boundary :math:`\mu_\pm/U` of the n = 1 lobe on a finite graph from QMC (Newton on ⟨N⟩).
 
     Parameters
@@ -191,6 +197,8 @@ def qmc_boundary(system, t_over_U: float, side: str, *, beta_t: float = 10.0, sw
         Newton steps, 1 to 10. Default 3.
     mu_start : float, optional
         Starting μ/U; default the third-order strong-coupling value.
+    thermalization : int, optional
+        Thermalisation sweeps of each run (default that of :func:`~hyperlattice.bosons.qmc`).
 
     Returns
     -------
@@ -223,13 +231,14 @@ def qmc_boundary(system, t_over_U: float, side: str, *, beta_t: float = 10.0, sw
     for k in range(iterations):
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
+            # only N and N^2 are needed: the one-body density matrix (worm estimator) is not measured
             r = qmc(system, U=U, mu=mu * U, beta=beta, nmax=nmax, t=1.0, sweeps=sweeps, seed=seed + k,
-                    progress=False)
+                    thermalization=thermalization, measure_green=False, progress=False)
         M = r.sites
         target = M + (0.5 if side == "plus" else -0.5)
         N, N_err = r.density * M, r.density_err * M
         slope, slope_err = r.compressibility * M * U, r.compressibility_err * M * U     # dN/d(mu/U)
-        steps.append({"mu": mu, "N": N, "N_err": N_err, "kappa": r.compressibility,
+        steps.append({"mu": mu, "N": N, "N_err": N_err, "kappa": r.compressibility, "seconds": r.seconds,
                       "kappa_err": r.compressibility_err, "tau_int": dict(r.tau_int), "converged": bool(r.converged),
                       "warnings": [str(w.message) for w in caught]})
         delta = N - target
@@ -246,8 +255,83 @@ def qmc_boundary(system, t_over_U: float, side: str, *, beta_t: float = 10.0, sw
         else:
             err = math.nan
         mu = estimate
+    comb, comb_err, used = combine_steps(steps, side, M, x, beta)
+    if used:
+        estimate, err = comb, comb_err
     return {"mu": estimate, "mu_err": err, "steps": steps, "sites": steps and M, "t_over_U": x, "beta_t": beta,
-            "side": side, "sweeps": sweeps, "nmax": nmax}
+            "side": side, "sweeps": sweeps, "nmax": nmax, "steps_used": used}
+
+
+#: graphs below this size stay out of the size extrapolation: the heptagon and the l = 2 flake (35
+#: sites) have their pseudo-tips at t/U > 0.12, twice the lattice's, far from any scaling form
+MIN_SITES_EXTRAPOLATION = 50
+
+#: a Newton step's run enters the boundary estimate when its <N> is within this of M +- 1/2: for a
+#: two-level step (a logistic in mu) the straight line then misplaces the middle by < 0.04 T
+LINEAR_WINDOW = 0.15
+
+
+def combine_steps(steps: list, side: str, sites: int, t_over_U: float, beta_t: float) -> tuple[float, float, int]:
+    r"""The boundary from every Newton run whose ⟨N⟩ lies near M ± 1/2 (weighted mean of their estimates).
+
+    Each run at :math:`\mu_k` gives :math:`\mu_k - (\langle N\rangle_k - N^*)/(\beta M\kappa_k)`;
+    runs with :math:`|\langle N\rangle_k - N^*| <` :data:`LINEAR_WINDOW` (where the straight line is
+    accurate to a small fraction of T) are averaged with weights from their errors (⟨N⟩ and κ).
+
+    Parameters
+    ----------
+    steps : list of dict
+        The ``steps`` of :func:`qmc_boundary` (``mu``, ``N``, ``N_err``, ``kappa``, ``kappa_err``).
+    side : {"plus", "minus"}
+    sites : int
+    t_over_U, beta_t : float
+
+    Returns
+    -------
+    mu, mu_err : float
+        μ±/U and its error (NaN, NaN when no run qualifies).
+    used : int
+        How many runs entered.
+
+    Raises
+    ------
+    ValueError
+        If an argument is out of range.
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.qmc_lobe import combine_steps
+    >>> st = [{"mu": 0.50, "N": 10.55, "N_err": 0.02, "kappa": 0.05, "kappa_err": 0.001},
+    ...       {"mu": 0.49, "N": 10.45, "N_err": 0.02, "kappa": 0.05, "kappa_err": 0.001}]
+    >>> mu, err, used = combine_steps(st, "plus", 10, 0.1, 5.0)
+    >>> round(mu, 4), used
+    (0.495, 2)
+    """
+    side = _validate.choice("side", side, ("plus", "minus"))
+    M = _validate.integer("sites", sites, minimum=1, maximum=10**9)
+    x = _validate.positive_real("t_over_U", t_over_U)
+    beta = _validate.positive_real("beta_t", beta_t)
+    target = M + (0.5 if side == "plus" else -0.5)
+    U = 1.0 / x
+    est, wts = [], []
+    for s_ in steps:
+        delta = s_["N"] - target
+        slope, slope_err = s_["kappa"] * M * U, s_["kappa_err"] * M * U
+        if abs(delta) >= LINEAR_WINDOW or not slope > 0 or not s_["N_err"] > 0:
+            continue
+        e = math.hypot(s_["N_err"] / slope, delta * slope_err / slope**2)
+        est.append(s_["mu"] - delta / slope)
+        wts.append(1.0 / e**2)
+    if not est:
+        return math.nan, math.nan, 0
+    w = np.array(wts)
+    mu = float(np.dot(w, est) / w.sum())
+    err = float(1.0 / math.sqrt(w.sum()))
+    if len(est) > 1:
+        # the runs must agree: a scatter larger than their errors widens the error (Birge ratio)
+        chi2 = float(np.dot(w, (np.array(est) - mu) ** 2))
+        err *= max(1.0, math.sqrt(chi2 / (len(est) - 1)))
+    return mu, err, len(est)
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -257,12 +341,15 @@ class QMCLobe(Result):
     Attributes
     ----------
     rows : list of dict
-        One per QMC boundary: ``system``, ``sites``, ``t_over_U``, ``beta_t``, ``side``, ``mu``,
+        One per QMC boundary: ``system``, ``sites``, ``t_over_U``, ``beta_t``, ``nmax``, ``side``, ``mu``,
         ``mu_err``, ``mu_mean_field``, ``mu_strong_coupling`` (all μ/U), ``lambda_max``.
     systems : list of dict
         One per graph: ``system``, ``sites``, ``lambda_max``, ``tip_mean_field``,
-        ``tip_strong_coupling`` (t/U), and the lines ``t_line``, ``mf_plus``, ``mf_minus``,
-        ``sc_plus``, ``sc_minus``.
+        ``tip_strong_coupling`` (t/U), the lines ``t_line``, ``mf_plus``, ``mf_minus``,
+        ``sc_plus``, ``sc_minus``, ``splitting_over_t`` (δ/t of :func:`boundary_offset`) and
+        ``tips``: one dict per (``beta_t``, ``nmax``) with the QMC ``gaps`` (t/U, Δ, error) and the
+        pseudo-tips of :func:`gap_tip` (``tip``, ``tip_err``: Δ² form; ``tip_linear``,
+        ``tip_linear_err``), ``chi2``, ``dof``, ``beta_splitting``.
     infinite_tip_mean_field : float
         The {7,3} mean-field tip through the spectral radius ρ.
     rho : float
@@ -271,7 +358,12 @@ class QMCLobe(Result):
         ``lambda_max`` (minus the continuum's band bottom, the paper's map) and its mean-field
         ``tip_mean_field``.
     square : dict
-        The square-lattice reference: ``exact``, ``exact_err``, ``mean_field``, ``strong_coupling``.
+        The square-lattice reference: ``exact``, ``exact_err``, ``mean_field``, ``strong_coupling``;
+        and the simple cubic one: ``cubic_exact``, ``cubic_exact_err``, ``cubic_mean_field``.
+    finite_size : list of dict
+        Per ``kind`` ("cluster" or "flake") and ``beta_t`` with two or more sizes: the pseudo-tips
+        extrapolated in 1/M (``tip``, ``tip_err``) and in :math:`1/\sqrt M` (``tip_sqrt_form``),
+        ``systematic`` their difference, ``sites``.
     """
 
     COLUMNS = (Column("t_over_U", "t_over_U", "1"), Column("mu", "mu", "U"), Column("mu_err", "mu_err", "U"))
@@ -282,6 +374,7 @@ class QMCLobe(Result):
     rho: float
     continuum: dict
     square: dict
+    finite_size: list = dataclasses.field(default_factory=list)
 
     def summary(self) -> dict:
         return {"rows": self.rows, "infinite_tip_mean_field": self.infinite_tip_mean_field, "square": self.square,
@@ -329,33 +422,218 @@ def _continuum_bottom() -> float:
     return float(energy_from_lambda(1.0, 7, 3))
 
 
-def _gap_extrapolation(rows: list) -> dict:
-    """The QMC gap mu_+ - mu_- at each t/U with both sides, and its linear extrapolation to zero.
+def gap_tip(t_over_U, gap, gap_err, *, form: str = "sqrt") -> dict:
+    r"""The pseudo-tip of a finite graph: its Mott gap :math:`\Delta = \mu_+ - \mu_-` continued to zero.
 
-    A finite graph has no transition: its gap stays open. The straight line through the gaps of the
-    two largest t/U, continued to zero, is the pseudo-tip of that graph (an estimate with the
-    curvature of the gap neglected; NaN with fewer than two points).
+    A finite graph has no transition and keeps a gap; near the tip of the infinite lattice the gap
+    closes as :math:`\Delta \propto (x_c - x)^{z\nu}` (x = t/U). Mean field (Gutzwiller) has
+    :math:`z\nu = 1/2`: its gap is :math:`\Delta^2 = (1-\lambda x)^2 - 4\lambda x`, a straight line in
+    x up to a term :math:`\lambda^2x^2` that is 3 % of the linear term at the tip. ``form="sqrt"``
+    fits :math:`\Delta^2 = a + bx` (the mean-field form), ``form="linear"`` fits
+    :math:`\Delta = a + bx` (zν = 1); both by weighted least squares, :math:`x_c = -a/b`. Because
+    the gap curve is concave in x, the straight line in Δ overshoots the tip and the one in Δ²
+    (convex) undershoots it: the two bracket it when the exponent lies between 1/2 and 1.
+
+    Parameters
+    ----------
+    t_over_U, gap, gap_err : array_like of float
+        At least two points with gap > 0 and gap_err > 0 (units of U).
+    form : {"sqrt", "linear", "power"}, optional
+        The fitted form (default "sqrt"). ``"power"`` fits :math:`\Delta = A(x_c - x)^{p}` with the
+        exponent p = zν free (at least four points).
+
+    Returns
+    -------
+    dict
+        ``tip`` (x_c), ``tip_err`` (from the fit's covariance, scaled by :math:`\sqrt{\chi^2/\nu}`
+        when that exceeds 1), ``chi2``, ``dof``, ``slope``, ``points``, ``form``; for "power" also
+        ``exponent`` and ``exponent_err``. ``tip`` is NaN when the gap does not decrease with x
+        (or the power fit fails).
+
+    Raises
+    ------
+    ValueError
+        If the arrays differ in length, hold non-finite values, or fewer than two usable points.
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.qmc_lobe import gap_tip
+    >>> r = gap_tip([0.05, 0.06, 0.07], [0.6, 0.5, 0.4], [0.01, 0.01, 0.01], form="linear")
+    >>> round(r["tip"], 6), r["dof"]
+    (0.11, 1)
     """
-    by_x: dict = {}
-    for r in rows:
-        by_x.setdefault(r["t_over_U"], {})[r["side"]] = r
-    gaps = []
-    for x in sorted(by_x):
-        d = by_x[x]
-        if "plus" in d and "minus" in d:
-            gaps.append((x, d["plus"]["mu"] - d["minus"]["mu"], math.hypot(d["plus"]["mu_err"], d["minus"]["mu_err"])))
-    out = {"qmc_gaps": [list(g) for g in gaps], "tip_qmc_extrapolated": math.nan, "tip_qmc_extrapolated_err": math.nan}
-    if len(gaps) >= 2:
-        (x1, g1, e1), (x2, g2, e2) = gaps[-2], gaps[-1]
-        slope = (g2 - g1) / (x2 - x1)
-        if slope < 0:
-            xc = x2 - g2 / slope
-            # d xc / d g1 and d xc / d g2 of the two-point line
-            d1 = -(x2 - xc) / (g1 - g2) if g1 != g2 else math.nan
-            d2 = (x1 - xc) / (g1 - g2) if g1 != g2 else math.nan
-            out["tip_qmc_extrapolated"] = xc
-            out["tip_qmc_extrapolated_err"] = math.hypot(d1 * e1, d2 * e2)
+    form = _validate.choice("form", form, ("sqrt", "linear", "power"))
+    x = _validate.real_array("t_over_U", t_over_U)
+    g = _validate.real_array("gap", gap)
+    e = _validate.real_array("gap_err", gap_err)
+    if not (x.shape == g.shape == e.shape) or x.ndim != 1:
+        raise ValueError("t_over_U, gap and gap_err must be 1-d arrays of one length.")
+    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(g)) and np.all(np.isfinite(e))):
+        raise ValueError("t_over_U, gap and gap_err must be finite.")
+    keep = (g > 0) & (e > 0)
+    x, g, e = x[keep], g[keep], e[keep]
+    if x.size < 2 or np.unique(x).size < 2:
+        raise ValueError("the gap extrapolation needs at least two points at different t/U with gap > 0.")
+    if form == "power":
+        return _power_fit(x, g, e)
+    y, s = (g * g, 2.0 * g * e) if form == "sqrt" else (g, e)
+    w = 1.0 / s**2
+    X = np.stack([np.ones_like(x), x], axis=1)
+    cov = np.linalg.inv(X.T @ (X * w[:, None]))
+    a, b = cov @ (X.T @ (w * y))
+    chi2 = float(np.sum(w * (y - a - b * x) ** 2))
+    dof = int(x.size - 2)
+    if dof > 0 and chi2 / dof > 1.0:
+        cov = cov * (chi2 / dof)
+    out = {"form": form, "points": int(x.size), "chi2": chi2, "dof": dof, "slope": float(b),
+           "tip": math.nan, "tip_err": math.nan}
+    if b < 0:
+        xc = -a / b
+        grad = np.array([-1.0 / b, a / b**2])          # d xc / d(a, b)
+        out["tip"] = float(xc)
+        out["tip_err"] = float(math.sqrt(max(grad @ cov @ grad, 0.0)))
     return out
+
+
+def _power_fit(x: np.ndarray, g: np.ndarray, e: np.ndarray) -> dict:
+    """Delta = A (x_c - x)^p by weighted least squares, started from the straight-line fit."""
+    from scipy.optimize import curve_fit
+
+    if np.unique(x).size < 4:
+        raise ValueError("the power-law gap fit needs at least four points at different t/U.")
+    out = {"form": "power", "points": int(x.size), "chi2": math.nan, "dof": int(x.size - 3), "slope": math.nan,
+           "tip": math.nan, "tip_err": math.nan, "exponent": math.nan, "exponent_err": math.nan}
+    lin = gap_tip(x, g, e, form="linear")
+    if not math.isfinite(lin["tip"]):
+        return out
+    xmax = float(x.max())
+
+    def model(xx, amp, xc, p):
+        return amp * np.clip(xc - xx, 1e-12, None) ** p
+
+    p0 = (-lin["slope"], max(lin["tip"], xmax * (1 + 1e-6)), 1.0)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            par, cov = curve_fit(model, x, g, p0=p0, sigma=e, absolute_sigma=True, maxfev=20000,
+                                 bounds=([0.0, xmax * (1 + 1e-9), 0.05], [np.inf, np.inf, 5.0]))
+    except (RuntimeError, ValueError):
+        return out
+    chi2 = float(np.sum(((g - model(x, *par)) / e) ** 2))
+    if out["dof"] > 0 and chi2 / out["dof"] > 1.0:
+        cov = cov * (chi2 / out["dof"])
+    err = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+    if not np.all(np.isfinite(err)):
+        return out
+    out.update({"chi2": chi2, "tip": float(par[1]), "tip_err": float(err[1]), "exponent": float(par[2]),
+                "exponent_err": float(err[2]), "slope": -float(par[0])})
+    return out
+
+
+def size_extrapolation(sites, tip, tip_err, *, power: float = 1.0) -> dict:
+    r"""Extrapolate pseudo-tips to the infinite graph: :math:`x_c(M) = x_\infty + c\,M^{-p}`.
+
+    Weighted least squares over the graphs (with two graphs the line passes through both and the
+    error is the propagated one).
+
+    Parameters
+    ----------
+    sites : array_like of int
+        Graph sizes M (at least two different).
+    tip, tip_err : array_like of float
+        Pseudo-tips and their errors (> 0).
+    power : float, optional
+        p > 0 (default 1: corrections in 1/M).
+
+    Returns
+    -------
+    dict
+        ``tip`` (:math:`x_\infty`), ``tip_err``, ``slope`` (c), ``power``, ``chi2``, ``dof``, ``sites``.
+
+    Raises
+    ------
+    ValueError
+        If the arrays differ in length or hold fewer than two sizes.
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.qmc_lobe import size_extrapolation
+    >>> r = size_extrapolation([100, 400], [0.07, 0.064], [0.001, 0.001])
+    >>> round(r["tip"], 6), round(r["tip_err"], 6)
+    (0.062, 0.001374)
+    """
+    m = _validate.real_array("sites", sites)
+    v = _validate.real_array("tip", tip)
+    e = _validate.real_array("tip_err", tip_err)
+    p = _validate.positive_real("power", power)
+    if not (m.shape == v.shape == e.shape) or m.ndim != 1:
+        raise ValueError("sites, tip and tip_err must be 1-d arrays of one length.")
+    if np.unique(m).size < 2 or np.any(m <= 0) or np.any(~np.isfinite(v)) or np.any(~(e > 0)):
+        raise ValueError("the size extrapolation needs at least two sizes with finite tips and errors > 0.")
+    u = m ** (-p)
+    w = 1.0 / e**2
+    X = np.stack([np.ones_like(u), u], axis=1)
+    cov = np.linalg.inv(X.T @ (X * w[:, None]))
+    a, c = cov @ (X.T @ (w * v))
+    chi2 = float(np.sum(w * (v - a - c * u) ** 2))
+    dof = int(m.size - 2)
+    if dof > 0 and chi2 / dof > 1.0:
+        cov = cov * (chi2 / dof)
+    return {"tip": float(a), "tip_err": float(math.sqrt(cov[0, 0])), "slope": float(c), "power": p, "chi2": chi2,
+            "dof": dof, "sites": [int(k) for k in m]}
+
+
+def _gaps(rows: list) -> list:
+    """(beta_t, nmax, [(x, gap, err), ...]) for each temperature and cutoff of one graph's rows."""
+    by: dict = {}
+    for r in rows:
+        by.setdefault((r["beta_t"], r.get("nmax", 3)), {}).setdefault(r["t_over_U"], {})[r["side"]] = r
+    out = []
+    for (beta, nmax), xs in sorted(by.items()):
+        gaps = []
+        for x in sorted(xs):
+            d = xs[x]
+            if "plus" in d and "minus" in d:
+                gaps.append((x, d["plus"]["mu"] - d["minus"]["mu"], math.hypot(d["plus"]["mu_err"],
+                                                                                d["minus"]["mu_err"])))
+        out.append((beta, nmax, gaps))
+    return out
+
+
+def _gap_extrapolation(rows: list) -> list:
+    r"""The pseudo-tips of one graph, one dict per (beta t, nmax) with at least two gaps.
+
+    Both straight lines (Δ² and Δ against t/U, :func:`gap_tip`) through the three largest t/U,
+    where the gap is smallest; the pseudo-tip is their midpoint and its error adds half their
+    difference (the unknown exponent zν, between the mean-field 1/2 and 1) to the statistical
+    errors. With four or more points the free power law gives zν as a diagnostic.
+    """
+    tips = []
+    for beta, nmax, gaps in _gaps(rows):
+        gaps = [gp for gp in gaps if math.isfinite(gp[1]) and math.isfinite(gp[2]) and gp[1] > 0 and gp[2] > 0]
+        d = {"beta_t": beta, "nmax": nmax, "gaps": [list(gp) for gp in gaps], "tip": math.nan, "tip_err": math.nan,
+             "tip_sqrt": math.nan, "tip_sqrt_err": math.nan, "tip_linear": math.nan, "tip_linear_err": math.nan,
+             "chi2_sqrt": math.nan, "chi2_linear": math.nan, "dof": 0, "exponent": math.nan,
+             "exponent_err": math.nan, "tip_power": math.nan, "tip_power_err": math.nan}
+        if len(gaps) >= 2:
+            use = gaps[-3:]
+            xs, gs, es = (np.array(c) for c in zip(*use))
+            sq = gap_tip(xs, gs, es, form="sqrt")
+            li = gap_tip(xs, gs, es, form="linear")
+            d.update({"tip_sqrt": sq["tip"], "tip_sqrt_err": sq["tip_err"], "chi2_sqrt": sq["chi2"], "dof": sq["dof"],
+                      "tip_linear": li["tip"], "tip_linear_err": li["tip_err"], "chi2_linear": li["chi2"],
+                      "fit_points": [u[0] for u in use]})
+            if math.isfinite(sq["tip"]) and math.isfinite(li["tip"]):
+                d["tip"] = 0.5 * (sq["tip"] + li["tip"])
+                d["tip_err"] = math.sqrt(0.25 * (sq["tip_err"] ** 2 + li["tip_err"] ** 2)
+                                         + (0.5 * (li["tip"] - sq["tip"])) ** 2)
+        if len(gaps) >= 4:
+            xs, gs, es = (np.array(c) for c in zip(*gaps))
+            pw = gap_tip(xs, gs, es, form="power")
+            d.update({"exponent": pw["exponent"], "exponent_err": pw["exponent_err"], "tip_power": pw["tip"],
+                      "tip_power_err": pw["tip_err"]})
+        tips.append(d)
+    return tips
 
 
 def load_scan(path) -> dict:
@@ -422,16 +700,42 @@ def qmc_lobe(scan: dict, *, points: int = 41) -> QMCLobe:
         sp_, sm_ = excitation_energies(g, [x])
         mf_p, mf_m = mean_field_boundaries(lam, [x])
         plus = b["side"] == "plus"
+        mu_b, mu_e = float(b["mu"]), float(b["mu_err"])
+        if b.get("steps") and all(k in b["steps"][0] for k in ("N", "N_err", "kappa", "kappa_err")):
+            c_mu, c_err, used = combine_steps(b["steps"], b["side"], int(b["sites"]), x, float(b["beta_t"]))
+            if used:
+                mu_b, mu_e = c_mu, c_err
         rows.append({"system": b["system"], "sites": int(b["sites"]), "t_over_U": x, "beta_t": float(b["beta_t"]),
-                     "side": b["side"], "mu": float(b["mu"]), "mu_err": float(b["mu_err"]),
+                     "nmax": int(b.get("nmax", 3)), "side": b["side"], "mu": mu_b,
+                     "mu_err": mu_e,
                      "mu_mean_field": float(mf_p[0] if plus else mf_m[0]),
                      "mu_strong_coupling": float(sp_[0] if plus else sm_[0]), "lambda_max": lam})
     for sysd in systems:
-        sysd.update(_gap_extrapolation([r for r in rows if r["system"] == sysd["system"]]))
         g, _ = info[sysd["system"]]
-        beta_t = max((r["beta_t"] for r in rows if r["system"] == sysd["system"]), default=math.nan)
-        sysd["beta_t"] = beta_t
-        sysd["beta_splitting"] = boundary_offset(g, beta_t)["beta_splitting"] if math.isfinite(beta_t) else math.nan
+        tips = _gap_extrapolation([r for r in rows if r["system"] == sysd["system"]])
+        for d in tips:
+            d["beta_splitting"] = boundary_offset(g, d["beta_t"])["beta_splitting"]
+        sysd["tips"] = tips
+        sysd["splitting_over_t"] = boundary_offset(g, 1.0)["splitting_over_t"]
+    # the infinite lattice from the periodic clusters (no boundary): x_c(M) = x_inf + c/M, and with
+    # c/sqrt(M) as the alternative form (the difference is a systematic error of the extrapolation)
+    finite_size = []
+    betas = sorted({d["beta_t"] for s_ in systems for d in s_["tips"]})
+    for beta in betas:
+        for kind in ("cluster", "flake"):
+            pts = [(s_["sites"], d["tip"], d["tip_err"]) for s_ in systems if s_["system"].startswith(kind + ":")
+                   if s_["sites"] >= MIN_SITES_EXTRAPOLATION
+                   for d in s_["tips"] if d["beta_t"] == beta and d["nmax"] == 3 and math.isfinite(d["tip"])
+                   and d["tip_err"] > 0]
+            if len({p_[0] for p_ in pts}) < 2:
+                continue
+            m_, v_, e_ = zip(*pts)
+            one = size_extrapolation(m_, v_, e_, power=1.0)
+            half = size_extrapolation(m_, v_, e_, power=0.5)
+            finite_size.append({"kind": kind, "beta_t": beta, "sites": one["sites"], "tip": one["tip"],
+                                "tip_err": one["tip_err"], "tip_sqrt_form": half["tip"],
+                                "tip_sqrt_form_err": half["tip_err"],
+                                "systematic": abs(one["tip"] - half["tip"])})
     from .limits import band_bottom   # the report's route to rho (extrapolated band bottom)
 
     rho = float(band_bottom(7, 3, schur_window=None).rho)
@@ -443,8 +747,10 @@ def qmc_lobe(scan: dict, *, points: int = 41) -> QMCLobe:
     lam_cont = -float(_continuum_bottom())
     continuum = {"lambda_max": lam_cont, "tip_mean_field": float(lobe_tip(lam_cont)[1])}
     return QMCLobe(rows=rows, systems=systems, infinite_tip_mean_field=tip_inf, rho=rho, continuum=continuum,
-                   square={"exact": SQUARE_TIP_EXACT[0], "exact_err": SQUARE_TIP_EXACT[1],
-                           "mean_field": SQUARE_TIP_MEAN_FIELD, "strong_coupling": square_sc})
+                   finite_size=finite_size, square={"exact": SQUARE_TIP_EXACT[0], "exact_err": SQUARE_TIP_EXACT[1],
+                           "mean_field": SQUARE_TIP_MEAN_FIELD, "strong_coupling": square_sc,
+                           "cubic_exact": CUBIC_TIP_EXACT[0], "cubic_exact_err": CUBIC_TIP_EXACT[1],
+                           "cubic_mean_field": (3.0 - 2.0 * math.sqrt(2.0)) / 6.0})
 
 
 def xy_qubit_check(rings: int = 2, omega_q: float = -3.5, g: float = 0.5, *, ring: int = 1, mu: float = 0.0,

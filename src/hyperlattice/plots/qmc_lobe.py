@@ -14,8 +14,10 @@ if TYPE_CHECKING:
 
     from ..compare.qmc_lobe import QMCLobe
 
-__all__ = ["plot_qmc_lobe_system", "plot_qmc_lobe", "qmc_lobe_figure"]
+__all__ = ["plot_qmc_lobe_system", "plot_qmc_lobe", "qmc_lobe_figure", "qmc_tip_figure"]
 
+_MARKERS = ("o", "s", "^", "D")
+_COLOURS = ("k", "tab:red", "tab:green", "tab:purple")
 _NAMES = {"flake": "{7,3} flake, ℓ = ", "cluster": "{7,3} cluster ", "square": "square lattice, L = "}
 
 
@@ -64,13 +66,18 @@ def plot_qmc_lobe_system(lobe: QMCLobe, system: str, ax: Axes | None = None) -> 
     ax.plot(x, spec["sc_plus"], "-", color="tab:orange", lw=1.2, label="strong coupling, 3rd order")
     ax.plot(x, spec["sc_minus"], "-", color="tab:orange", lw=1.2)
     rows = [r for r in lobe.rows if r["system"] == system and math.isfinite(r["mu"])]
-    if rows:
-        tx = [r["t_over_U"] for r in rows]
-        mu = [r["mu"] for r in rows]
-        err = [r["mu_err"] if math.isfinite(r["mu_err"]) else 0.0 for r in rows]
-        beta = sorted({r["beta_t"] for r in rows})
-        ax.errorbar(tx, mu, yerr=err, fmt="o", ms=4, color="k", capsize=2,
-                    label=f"QMC, βt = {', '.join(f'{b:g}' for b in beta)}")
+    # one style per (beta t, nmax) over the whole lobe, so that every panel and the legend agree
+    every = sorted({(r["beta_t"], r.get("nmax", 3)) for r in lobe.rows}, key=lambda k: (-k[0], -k[1]))
+    groups = sorted({(r["beta_t"], r.get("nmax", 3)) for r in rows}, key=every.index)
+    for beta, nmax in groups:
+        k = every.index((beta, nmax))
+        sel = [r for r in rows if r["beta_t"] == beta and r.get("nmax", 3) == nmax]
+        tx = [r["t_over_U"] for r in sel]
+        mu = [r["mu"] for r in sel]
+        err = [r["mu_err"] if math.isfinite(r["mu_err"]) else 0.0 for r in sel]
+        label = f"QMC, βt = {beta:g}" + ("" if nmax == 3 else f", nmax = {nmax}")
+        ax.errorbar(tx, mu, yerr=err, fmt=_MARKERS[k % len(_MARKERS)], ms=4, color=_COLOURS[k % len(_COLOURS)],
+                    mfc="none" if k else None, capsize=2, label=label)
     ax.set_xlim(0.0, x[-1])
     ax.set_ylim(-0.05, 1.05)
     ax.set_xlabel("t/U")
@@ -112,9 +119,101 @@ def qmc_lobe_figure(lobe: QMCLobe, path=None):
         plot_qmc_lobe_system(lobe, spec["system"], ax=ax)
     for ax in axes.ravel()[k:]:
         ax.set_visible(False)
-    handles, labels = axes.ravel()[0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=8, frameon=False)
+    seen: dict = {}
+    for ax in axes.ravel()[:k]:
+        for h, lab in zip(*ax.get_legend_handles_labels()):
+            seen.setdefault(lab, h)
+    fig.legend(list(seen.values()), list(seen.keys()), loc="lower center", ncol=min(len(seen), 5), fontsize=8,
+               frameon=False)
     fig.tight_layout(rect=(0, 0.06, 1, 1))
+    if path is not None:
+        fig.savefig(_validate.output_path("path", path, suffixes=(".png", ".svg")), dpi=130)
+    return fig
+
+
+def qmc_tip_figure(lobe: QMCLobe, path=None):
+    """The tip analysis: the QMC gap against t/U with its two straight-line fits, and the pseudo-tips against 1/M.
+
+    Left: Δ = μ+ − μ− of each graph (filled: the lowest temperature, open: the others) with the
+    straight lines in Δ (solid) and Δ² (dotted, drawn as its square root) through the three largest
+    t/U. Right: the pseudo-tip of each graph and temperature against 1/M, with the mean-field tips
+    (3 − 2√2)/3 of any 3-regular graph and (3 − 2√2)/ρ of the infinite lattice through ρ, and the
+    1/M extrapolations of the periodic clusters.
+
+    Parameters
+    ----------
+    lobe : QMCLobe
+        From :func:`~hyperlattice.compare.qmc_lobe.qmc_lobe`.
+    path : str or path, optional
+        A .png or .svg file to write.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    import matplotlib.pyplot as plt
+
+    from .. import _validate
+
+    _check(lobe)
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(9.6, 3.8))
+    cmap = plt.get_cmap("tab10")
+    from ..compare.qmc_lobe import MIN_SITES_EXTRAPOLATION
+
+    big = [s for s in lobe.systems if any(len(d["gaps"]) >= 2 for d in s.get("tips", []))
+           and s["sites"] >= MIN_SITES_EXTRAPOLATION]
+    for i, s in enumerate(big):
+        colour = cmap(i % 10)
+        # the fitted, filled series: the lowest temperature with the production cutoff nmax = 3
+        tips = sorted(s["tips"], key=lambda d: (d["nmax"] != 3, -d["beta_t"], d["nmax"]))
+        for j, d in enumerate(tips):
+            if not d["gaps"]:
+                continue
+            g = np.array(d["gaps"])
+            lab = f"{_title(s['system'], s['sites'])}, βt = {d['beta_t']:g}" + ("" if d["nmax"] == 3 else
+                                                                                f", nmax = {d['nmax']}")
+            a1.errorbar(g[:, 0], g[:, 1], yerr=g[:, 2], fmt="o" if j == 0 else "s", ms=4, color=colour,
+                        mfc=None if j == 0 else "none", capsize=2, label=lab)
+            if j == 0 and math.isfinite(d["tip_linear"]) and math.isfinite(d["tip_sqrt"]):
+                fx = np.array(d.get("fit_points", g[-3:, 0]))
+                xl = np.linspace(fx.min(), d["tip_linear"], 20)
+                gl = np.interp(fx, g[:, 0], g[:, 1])
+                pl = np.polyfit(fx, gl, 1)
+                a1.plot(xl, np.polyval(pl, xl), "-", color=colour, lw=0.8)
+                xs = np.linspace(fx.min(), d["tip_sqrt"], 40)
+                ps = np.polyfit(fx, gl**2, 1)
+                a1.plot(xs, np.sqrt(np.clip(np.polyval(ps, xs), 0, None)), ":", color=colour, lw=0.8)
+            if math.isfinite(d["tip"]) and d["nmax"] == 3:
+                a2.errorbar([1.0 / s["sites"]], [d["tip"]], yerr=[d["tip_err"]], fmt="o" if j == 0 else "s",
+                            ms=5, color=colour, mfc=None if j == 0 else "none", capsize=2)
+    a1.axhline(0.0, color="0.6", lw=0.6)
+    a1.set_xlabel("t/U")
+    a1.set_ylabel("gap (μ+ − μ−)/U")
+    a1.legend(fontsize=6, frameon=False)
+    a2.axhline(lobe.infinite_tip_mean_field, ls="--", color="tab:blue", lw=1,
+               label=f"mean field, infinite lattice (ρ): {lobe.infinite_tip_mean_field:.4f}")
+    z3 = (3.0 - 2.0 * math.sqrt(2.0)) / 3.0
+    a2.axhline(z3, ls="-.", color="tab:cyan", lw=1, label=f"mean field, 3-regular cluster: {z3:.4f}")
+    for f in lobe.finite_size:
+        if f["kind"] != "cluster":
+            continue
+        m = np.array(f["sites"], dtype=float)
+        u = np.linspace(0.0, 1.0 / m.min() * 1.05, 20)
+        a2.errorbar([0.0], [f["tip"]], yerr=[math.hypot(f["tip_err"], f["systematic"])], fmt="*", ms=9,
+                    color="k", capsize=2, label=f"clusters → 1/M = 0, βt = {f['beta_t']:g}")
+        # the line through the cluster tips (exact with two sizes)
+        k = [s for s in lobe.systems if s["system"].startswith("cluster:")]
+        pts = [(1.0 / s["sites"], d["tip"]) for s in k for d in s["tips"]
+               if d["beta_t"] == f["beta_t"] and d["nmax"] == 3 and math.isfinite(d["tip"])]
+        if len(pts) >= 2:
+            pu, pv = np.array(pts).T
+            c = np.polyfit(pu, pv, 1)
+            a2.plot(u, np.polyval(c, u), "k-", lw=0.6)
+    a2.set_xlabel("1/M (sites)")
+    a2.set_ylabel("(t/U) at the tip")
+    a2.set_xlim(left=-0.001)
+    a2.legend(fontsize=6, frameon=False, loc="upper left")
+    fig.tight_layout()
     if path is not None:
         fig.savefig(_validate.output_path("path", path, suffixes=(".png", ".svg")), dpi=130)
     return fig
