@@ -442,7 +442,7 @@ def _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
 @numba.njit(cache=True)
 def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj, tb, cb, esite, sq, nmax,
         rng, sbins, scur, sinfo, vbins, vcur, vinfo, loopstat, gmode, gclass, zr, zi, omz, hbin, ncls,
-        gbins, gcur, ginfo, gsign, ptab, bclass, eps, gloops):  # pragma: no cover - jitted
+        gbins, gcur, ginfo, gsign, ptab, bclass, eps, green_legs):  # pragma: no cover - jitted
     r"""Run ``nsweeps`` sweeps. Returns (ops, nops, nloops) (``ops`` is reallocated when it grows).
 
     Thermalisation (``thermalize``): after each sweep the string grows to M = 4n/3 when
@@ -461,8 +461,9 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
     Green function (``gmode`` > 0, measurement only): the worm sums per distance class go to the
     last ``ncls`` entries of ``vcur``; with ``gbins`` of more than one site, the full matrix
     (diagonal: the site occupations) to ``gcur`` and blocks of it to ``gbins`` (``ginfo`` as above).
-    A measured sweep with the Green function runs ``max(nloops, gloops)`` loops (the estimator's own
-    loop budget; the update alone needs fewer); every other sweep runs ``nloops``.
+    A measured sweep with the Green function runs ``max(nloops, loopstat[3])`` loops: the estimator's
+    own budget, set in thermalisation like ``nloops`` but for ``green_legs`` x n legs (the update
+    alone needs fewer); every other sweep runs ``nloops``.
     """
     nsites = state.shape[0]
     nbonds = bi.shape[0]
@@ -525,7 +526,7 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
             link = np.empty(4 * cap, dtype=np.int64)
             legs = np.empty(4 * cap, dtype=np.int64)
         gm = 0 if thermalize else gmode
-        nl = max(nloops, gloops) if gm > 0 else nloops
+        nl = max(nloops, int(loopstat[3])) if gm > 0 else nloops
         visited = _loop_update(ops, state, nops, nl, bi, bj, tb, cb, esite, sq, nmax, rng,
                                vpos, link, legs, first, lastleg, gm, gfull, gcur, gclass,
                                zr, zi, omz, hbin, vcur, voff, ncls, gsign, ptab, bclass, ntab)
@@ -541,6 +542,8 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
             want = target_legs * nops / max(mean_len, 1e-3)
             # at most a few loops per operator: a loop visits at least its first vertex
             nloops = int(min(max(want, 1.0), 4.0 * (nops + 16)))
+            # the Green-function estimator's loops per measured sweep (its own leg budget)
+            loopstat[3] = float(int(min(max(want * green_legs / target_legs, 1.0), 4.0 * (nops + 16))))
             if nops > 0.75 * m:
                 newm = (4 * nops) // 3 + 8
                 new = np.full(newm, -1, dtype=np.int64)

@@ -506,7 +506,8 @@ class _Chain:
         self.vbins = np.zeros((_VECTOR_BINS, nv))
         self.vcur = np.zeros(nv)
         self.vinfo = np.array([0, 1, 0], dtype=np.int64)
-        self.loopstat = np.zeros(3)       # decayed legs visited, decayed loops, undone loop updates
+        # decayed legs visited, decayed loops, undone loop updates, loops of a measured sweep with G
+        self.loopstat = np.zeros(4)
         # nops, nloops, thermalisation sweeps done, measurement sweeps done
         self.counters = np.array([0, 1, 0, 0], dtype=np.int64)
 
@@ -530,11 +531,10 @@ class _Chain:
         except (OSError, KeyError, EOFError) as exc:
             raise ValueError(f"the checkpoint {str(path)!r} cannot be read ({exc}).") from None
 
-    def green_loops(self, g: _Green) -> int:
-        """Loops of a measured sweep with the Green function (0 without): the G estimator's budget."""
-        if not g.mode:
-            return 0
-        return max(int(self.counters[1]), int(math.ceil(self.counters[1] * _GREEN_LEGS / _TARGET_LEGS)))
+    def green_loops(self) -> int:
+        """Loops of a measured sweep with the Green function (the G estimator's budget, set in
+        thermalisation for :data:`_GREEN_LEGS`)."""
+        return max(int(self.counters[1]), int(self.loopstat[3]))
 
     def advance(self, K, n: int, thermalize: bool, beta, model, tb, cb, esite, sq, nmax, g: _Green,
                 tables, eps) -> None:
@@ -543,7 +543,7 @@ class _Chain:
                                   self.rng, self.sbins, self.scur, self.sinfo, self.vbins, self.vcur, self.vinfo,
                                   self.loopstat, g.mode, g.gclass, g.zr, g.zi, g.omz, g.hbin, g.ncls,
                                   self.gbins, self.gcur, self.ginfo, model.gauge, tables[0], tables[1],
-                                  eps, self.green_loops(g))
+                                  eps, _GREEN_LEGS)
         self.ops = ops
         self.counters[0] = nops
         self.counters[1] = nloops
@@ -793,7 +793,7 @@ def _analyse(chain: _Chain, model: _Model, *, U, mu, t, beta, nmax, sweeps, ther
     kin_scale = model.gauge[model.bi] * model.gauge[model.bj] / (beta * model.tb)
     kin = vb[:, M:M + nbd].mean(axis=0) * kin_scale
     kin_err = (vb[:, M:M + nbd].std(axis=0, ddof=1) / math.sqrt(vnb) if vnb > 1 else np.nan) * np.abs(kin_scale)
-    nloops = float(chain.green_loops(green))     # loops of a measured sweep with G
+    nloops = float(chain.green_loops())     # loops of a measured sweep with G
     g_dist = g_val = g_err = g_pairs = None
     g_mat = None
     cf = cf_err = math.nan
