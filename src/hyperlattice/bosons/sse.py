@@ -30,13 +30,20 @@ with :math:`C_b = \max \epsilon_i/z_i + \max \epsilon_j/z_j + c\,t_b` (:data:`OF
 every diagonal vertex away from weight zero, which would trap the loops). Every vertex weight is
 non-negative: there is no sign problem for :math:`t_{ij} \ge 0`. A sweep is one diagonal update
 (insertion/removal of diagonal operators at every slot of the string of length M) and a fixed
-number of directed loops; a loop's head leaves each vertex through the Metropolized-Gibbs choice
+number of directed loops (about 2n vertex legs per sweep; 8n on measured sweeps when G is
+measured, the worm estimator's own budget); a loop's head leaves each vertex through the Metropolized-Gibbs choice
 among the four legs (:math:`P(i\to k) = \min[w_k/(Z-w_i), w_k/(Z-w_k)]`, Liu, Statist.
 Comput. 6, 113 (1996)), which bounces far less than heat bath in the Mott insulator.
 
 Estimators (per sweep; n = number of operators, N = number of bosons, conserved along τ):
 
-* energy :math:`\langle H\rangle = -\langle n\rangle/\beta + \sum_b C_b`;
+* energy :math:`\langle H\rangle = \big\langle \tfrac1M \sum_{p=0}^{M-1} \sum_i \epsilon(n_i(p))\big\rangle
+  - \langle n_{\mathrm{offd}}\rangle/\beta`: the diagonal (site) energy averaged over the M time
+  slices of each configuration (a diagonal observable, Sandvik, AIP Conf. Proc. 1297, 135 (2010))
+  plus the kinetic energy from the number of off-diagonal operators. It is unbiased like the
+  textbook :math:`-\langle n\rangle/\beta + \sum_b C_b`, whose variance carries
+  :math:`\langle n\rangle/\beta^2` from the constant :math:`C_b` (which must cover every occupation
+  up to :math:`n_{\max}`: n is large in a Mott insulator); the slice average has none of it;
 * density :math:`\langle N\rangle / M`; compressibility
   :math:`\kappa = \beta(\langle N^2\rangle - \langle N\rangle^2)/M` (jackknife over bins);
 * site density :math:`\langle n_i\rangle` averaged over the M time slices of each configuration;
