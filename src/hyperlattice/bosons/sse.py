@@ -30,7 +30,7 @@ with :math:`C_b = \max \epsilon_i/z_i + \max \epsilon_j/z_j + c\,t_b` (:data:`OF
 every diagonal vertex away from weight zero, which would trap the loops). Every vertex weight is
 non-negative: there is no sign problem for :math:`t_{ij} \ge 0`. A sweep is one diagonal update
 (insertion/removal of diagonal operators at every slot of the string of length M) and a fixed
-number of directed loops (about 2n vertex legs per sweep; 8n on measured sweeps when G is
+number of directed loops (about 4n vertex legs per sweep; 8n on measured sweeps when G is
 measured, the worm estimator's own budget); a loop's head leaves each vertex through the Metropolized-Gibbs choice
 among the four legs (:math:`P(i\to k) = \min[w_k/(Z-w_i), w_k/(Z-w_k)]`, Liu, Statist.
 Comput. 6, 113 (1996)), which bounces far less than heat bath in the Mott insulator.
@@ -89,12 +89,14 @@ _VECTOR_BINS = 32
 #: per-sweep scalars accumulated by the kernel: n, n^2, N, N^2, N^4, E, E^2
 _SCALARS = 7
 #: vertex legs visited by the loops per sweep, in units of the string's n operators (the update's
-#: budget, set from the efficiency of the energy in benchmarks/bench_qmc.py)
-_TARGET_LEGS = 2.0
+#: budget: on the l = 3 superfluid point at beta = 2, 1n / 2n / 4n / 8n / 16n gave energy
+#: efficiencies of about 2.2 / 2.8 / 3.0-3.2 / 2.7 / 3.0 (three seeds each), a plateau from 4n;
+#: deep in a Mott lobe fewer legs are cheaper, but there the estimator is ~100x ahead anyway)
+_TARGET_LEGS = 4.0
 #: the Green-function estimator's own budget: a measured sweep with ``measure_green`` runs the
 #: loops of this many legs per operator (each of the 4n legs about twice), so that G is averaged
-#: over enough head positions even on small graphs (the update's 2n is one loop per sweep on a
-#: 6-site ring)
+#: over enough head positions even on small graphs (the update's 4n is one or two loops per
+#: sweep on a 6-site ring)
 _GREEN_LEGS = 8.0
 #: seconds of work between checkpoint writes
 _CHECKPOINT_SECONDS = 60.0
