@@ -475,9 +475,10 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
     first = np.empty(nsites, dtype=np.int64)
     lastleg = np.empty(nsites, dtype=np.int64)
     cap = max(m, 16)
-    vpos = np.empty(cap, dtype=np.int64)
-    link = np.empty(4 * cap, dtype=np.int64)
-    legs = np.empty(4 * cap, dtype=np.int64)
+    # int32 vertex positions, links and leg states: half the memory traffic of the loop's link chase
+    vpos = np.empty(cap, dtype=np.int32)
+    link = np.empty(4 * cap, dtype=np.int32)
+    legs = np.empty(4 * cap, dtype=np.int32)
     nv = vcur.shape[0]
     ntab = ptab.shape[0]
     gfull = gbins.shape[1] == nsites and nsites > 1
@@ -522,9 +523,9 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
                 vcur[nsites + b] += offd[b]
         if ops.shape[0] > cap:
             cap = ops.shape[0]
-            vpos = np.empty(cap, dtype=np.int64)
-            link = np.empty(4 * cap, dtype=np.int64)
-            legs = np.empty(4 * cap, dtype=np.int64)
+            vpos = np.empty(cap, dtype=np.int32)
+            link = np.empty(4 * cap, dtype=np.int32)
+            legs = np.empty(4 * cap, dtype=np.int32)
         gm = 0 if thermalize else gmode
         nl = max(nloops, int(loopstat[3])) if gm > 0 else nloops
         visited = _loop_update(ops, state, nops, nl, bi, bj, tb, cb, esite, sq, nmax, rng,

@@ -100,8 +100,8 @@ _TARGET_LEGS = 4.0
 _GREEN_LEGS = 8.0
 #: seconds of work between checkpoint writes
 _CHECKPOINT_SECONDS = 60.0
-#: bytes per operator slot (ops, vertex positions, links and leg states)
-_BYTES_PER_OP = 8 * (4 / 3) + 8 + 32 + 32
+#: bytes per operator slot (ops int64 with the 4/3 headroom; int32 vertex positions, links and leg states)
+_BYTES_PER_OP = 8 * (4 / 3) + 4 + 16 + 16
 
 
 class QMCWarning(UserWarning):
