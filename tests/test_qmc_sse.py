@@ -229,3 +229,20 @@ def test_a_string_still_filling_up_is_flagged_not_silently_measured():
                 progress=False)
     assert not r.converged
     assert any("operator string" in str(w.message) and "nearly full" in str(w.message) for w in rec)
+
+
+def test_empty_system_at_large_beta_mu_returns_a_result():
+    """Hard-core bosons at beta |mu| = 269 (an empty lattice, all-to-all weak couplings).
+
+    Found by the lobe helper through compare.qmc_lobe.xy_qubit_check: almost every loop start is
+    refused there (n_i - 1 < 0), the mean loop length is ~0, and the loops per sweep were set to
+    ~10^9, so the kernel ran for hours and an interrupt surfaced as numba's "SystemError ...
+    returned a result with an exception set". The loops per sweep are now capped at 4 per operator.
+    """
+    n = 7
+    a = sp.csr_matrix(0.0372 * (np.ones((n, n)) - np.eye(n)))
+    kw = dict(U=0.0, mu=-1.0, beta=268.6, nmax=1)
+    r = qmc(a, sweeps=300, thermalization=200, seed=1, progress=False, measure_green=False, **kw)
+    ex = exact_thermal(a, **kw)
+    assert r.loops_per_sweep <= 4 * (r.string_length + 16)
+    assert abs(r.density) < 1e-6 and abs(r.energy - ex["energy"]) < 1e-6

@@ -107,12 +107,14 @@ def _vertex_weight(b, s0, s1, s2, s3, bi, bj, tb, cb, esite, sq, nmax):  # pragm
 # ----------------------------------------------------------------------------
 
 @numba.njit(cache=True)
-def _diagonal_update(ops, state, nops, beta, bi, bj, cb, esite, rng, occ_sum, last, offd, measure):  # pragma: no cover
+def _diagonal_update(ops, state, nops, beta, bi, bj, cb, esite, rng, occ_sum, last, offd, measure,
+                     hist):  # pragma: no cover
     r"""Insert/remove diagonal operators (Sandvik's acceptance with a uniformly chosen bond).
 
     When ``measure`` is set, ``occ_sum[i]`` gains :math:`\sum_p n_i(p)` over the M time slices
-    of the configuration (integers) and ``offd[b]`` the number of off-diagonal operators on b.
-    Returns the new number of operators.
+    of the configuration (integers), ``hist[k]`` the number of (site, slice) pairs with occupation
+    k (the slice-weighted occupation histogram, for the diagonal energy) and ``offd[b]`` the
+    number of off-diagonal operators on b. Returns the new number of operators.
     """
     m = ops.shape[0]
     nb = bi.shape[0]
@@ -142,6 +144,8 @@ def _diagonal_update(ops, state, nops, beta, bi, bj, cb, esite, rng, occ_sum, la
                 if measure:
                     occ_sum[i] += state[i] * (p + 1 - last[i])
                     occ_sum[j] += state[j] * (p + 1 - last[j])
+                    hist[state[i]] += p + 1 - last[i]
+                    hist[state[j]] += p + 1 - last[j]
                     last[i] = p + 1
                     last[j] = p + 1
                     offd[b] += 1
@@ -154,6 +158,7 @@ def _diagonal_update(ops, state, nops, beta, bi, bj, cb, esite, rng, occ_sum, la
     if measure:
         for i in range(state.shape[0]):
             occ_sum[i] += state[i] * (m - last[i])
+            hist[state[i]] += m - last[i]
     return nops
 
 
@@ -437,15 +442,18 @@ def _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
 @numba.njit(cache=True)
 def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj, tb, cb, esite, sq, nmax,
         rng, sbins, scur, sinfo, vbins, vcur, vinfo, loopstat, gmode, gclass, zr, zi, omz, hbin, ncls,
-        gbins, gcur, ginfo, gsign, ptab, bclass):  # pragma: no cover - jitted
+        gbins, gcur, ginfo, gsign, ptab, bclass, eps, green_legs):  # pragma: no cover - jitted
     r"""Run ``nsweeps`` sweeps. Returns (ops, nops, nloops) (``ops`` is reallocated when it grows).
 
     Thermalisation (``thermalize``): after each sweep the string grows to M = 4n/3 when
     n > 3M/4 (Sandvik), and the loops per sweep are set so that about ``target_legs`` x n
     vertex legs are visited per sweep (from the running mean loop length in ``loopstat``).
 
-    Measurement: per sweep the scalars (n, n^2, N, N^2, N^4) are added to ``scur`` and the site
-    occupation sums / M and per-bond off-diagonal counts to ``vcur``; a bin of ``sinfo[1]``
+    Measurement: per sweep the scalars (n, n^2, N, N^2, N^4, E, E^2) are added to ``scur`` and the
+    site occupation sums / M and per-bond off-diagonal counts to ``vcur``. E is the energy estimator
+    :math:`E = \frac1M\sum_p\sum_i \epsilon(n_i(p)) - n_{\mathrm{offd}}/\beta` (``eps[k]`` the
+    on-site energy of occupation k, averaged over the M time slices; :math:`n_{\mathrm{offd}}` the
+    off-diagonal operators); a bin of ``sinfo[1]``
     (``vinfo[1]``) sweeps is closed into ``sbins`` (``vbins``); when the bin array is full its
     bins are merged pairwise and the bin size doubles. The whole accumulation is a deterministic
     function of the sweep sequence (checkpoint-independent).
@@ -453,6 +461,9 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
     Green function (``gmode`` > 0, measurement only): the worm sums per distance class go to the
     last ``ncls`` entries of ``vcur``; with ``gbins`` of more than one site, the full matrix
     (diagonal: the site occupations) to ``gcur`` and blocks of it to ``gbins`` (``ginfo`` as above).
+    A measured sweep with the Green function runs ``max(nloops, loopstat[3])`` loops: the estimator's
+    own budget, set in thermalisation like ``nloops`` but for ``green_legs`` x n legs (the update
+    alone needs fewer); every other sweep runs ``nloops``.
     """
     nsites = state.shape[0]
     nbonds = bi.shape[0]
@@ -460,12 +471,14 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
     occ = np.zeros(nsites, dtype=np.int64)
     last = np.zeros(nsites, dtype=np.int64)
     offd = np.zeros(nbonds, dtype=np.int64)
+    hist = np.zeros(eps.shape[0], dtype=np.int64)
     first = np.empty(nsites, dtype=np.int64)
     lastleg = np.empty(nsites, dtype=np.int64)
     cap = max(m, 16)
-    vpos = np.empty(cap, dtype=np.int64)
-    link = np.empty(4 * cap, dtype=np.int64)
-    legs = np.empty(4 * cap, dtype=np.int64)
+    # int32 vertex positions, links and leg states: half the memory traffic of the loop's link chase
+    vpos = np.empty(cap, dtype=np.int32)
+    link = np.empty(4 * cap, dtype=np.int32)
+    legs = np.empty(4 * cap, dtype=np.int32)
     nv = vcur.shape[0]
     ntab = ptab.shape[0]
     gfull = gbins.shape[1] == nsites and nsites > 1
@@ -477,7 +490,9 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
                 occ[i] = 0
             for b in range(nbonds):
                 offd[b] = 0
-        nops = _diagonal_update(ops, state, nops, beta, bi, bj, cb, esite, rng, occ, last, offd, measure)
+            for k in range(hist.shape[0]):
+                hist[k] = 0
+        nops = _diagonal_update(ops, state, nops, beta, bi, bj, cb, esite, rng, occ, last, offd, measure, hist)
         if measure:
             ntot = 0
             for i in range(nsites):
@@ -489,6 +504,16 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
             scur[2] += fN
             scur[3] += fN * fN
             scur[4] += fN * fN * fN * fN
+            # energy: slice-averaged diagonal (site) energy minus off-diagonal operators / beta
+            ediag = 0.0
+            for k in range(hist.shape[0]):
+                ediag += hist[k] * eps[k]
+            nod = 0
+            for b in range(nbonds):
+                nod += offd[b]
+            fE = ediag / m - nod / beta
+            scur[5] += fE
+            scur[6] += fE * fE
             for i in range(nsites):
                 vcur[i] += occ[i] / m
             if gfull:
@@ -498,11 +523,12 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
                 vcur[nsites + b] += offd[b]
         if ops.shape[0] > cap:
             cap = ops.shape[0]
-            vpos = np.empty(cap, dtype=np.int64)
-            link = np.empty(4 * cap, dtype=np.int64)
-            legs = np.empty(4 * cap, dtype=np.int64)
+            vpos = np.empty(cap, dtype=np.int32)
+            link = np.empty(4 * cap, dtype=np.int32)
+            legs = np.empty(4 * cap, dtype=np.int32)
         gm = 0 if thermalize else gmode
-        visited = _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
+        nl = max(nloops, int(loopstat[3])) if gm > 0 else nloops
+        visited = _loop_update(ops, state, nops, nl, bi, bj, tb, cb, esite, sq, nmax, rng,
                                vpos, link, legs, first, lastleg, gm, gfull, gcur, gclass,
                                zr, zi, omz, hbin, vcur, voff, ncls, gsign, ptab, bclass, ntab)
         if visited < 0:     # a runaway loop: this sweep's loop update was undone (counted)
@@ -517,6 +543,8 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
             want = target_legs * nops / max(mean_len, 1e-3)
             # at most a few loops per operator: a loop visits at least its first vertex
             nloops = int(min(max(want, 1.0), 4.0 * (nops + 16)))
+            # the Green-function estimator's loops per measured sweep (its own leg budget)
+            loopstat[3] = float(int(min(max(want * green_legs / target_legs, 1.0), 4.0 * (nops + 16))))
             if nops > 0.75 * m:
                 newm = (4 * nops) // 3 + 8
                 new = np.full(newm, -1, dtype=np.int64)

@@ -30,13 +30,20 @@ with :math:`C_b = \max \epsilon_i/z_i + \max \epsilon_j/z_j + c\,t_b` (:data:`OF
 every diagonal vertex away from weight zero, which would trap the loops). Every vertex weight is
 non-negative: there is no sign problem for :math:`t_{ij} \ge 0`. A sweep is one diagonal update
 (insertion/removal of diagonal operators at every slot of the string of length M) and a fixed
-number of directed loops; a loop's head leaves each vertex through the Metropolized-Gibbs choice
+number of directed loops (about 4n vertex legs per sweep; 8n on measured sweeps when G is
+measured, the worm estimator's own budget); a loop's head leaves each vertex through the Metropolized-Gibbs choice
 among the four legs (:math:`P(i\to k) = \min[w_k/(Z-w_i), w_k/(Z-w_k)]`, Liu, Statist.
 Comput. 6, 113 (1996)), which bounces far less than heat bath in the Mott insulator.
 
 Estimators (per sweep; n = number of operators, N = number of bosons, conserved along τ):
 
-* energy :math:`\langle H\rangle = -\langle n\rangle/\beta + \sum_b C_b`;
+* energy :math:`\langle H\rangle = \big\langle \tfrac1M \sum_{p=0}^{M-1} \sum_i \epsilon(n_i(p))\big\rangle
+  - \langle n_{\mathrm{offd}}\rangle/\beta`: the diagonal (site) energy averaged over the M time
+  slices of each configuration (a diagonal observable, Sandvik, AIP Conf. Proc. 1297, 135 (2010))
+  plus the kinetic energy from the number of off-diagonal operators. It is unbiased like the
+  textbook :math:`-\langle n\rangle/\beta + \sum_b C_b`, whose variance carries
+  :math:`\langle n\rangle/\beta^2` from the constant :math:`C_b` (which must cover every occupation
+  up to :math:`n_{\max}`: n is large in a Mott insulator); the slice average has none of it;
 * density :math:`\langle N\rangle / M`; compressibility
   :math:`\kappa = \beta(\langle N^2\rangle - \langle N\rangle^2)/M` (jackknife over bins);
 * site density :math:`\langle n_i\rangle` averaged over the M time slices of each configuration;
@@ -79,15 +86,22 @@ OFFSET = 0.5
 #: scalar bins kept per chain (binning analysis resolution) and bins of the site-resolved arrays
 _SCALAR_BINS = 2048
 _VECTOR_BINS = 32
-#: vertex legs visited by the loops per sweep, in units of the string's n operators (8n: each of
-#: the 4n legs about twice). 2n gave 1.3x dirloop_sse's efficiency for the energy on the l = 3
-#: superfluid point (benchmarks/bench_qmc.py) but too few loops for the worm estimator of G on
-#: small graphs (one loop per sweep on a 6-site ring); kept at 8n until G has its own loop budget
-_TARGET_LEGS = 8.0
+#: per-sweep scalars accumulated by the kernel: n, n^2, N, N^2, N^4, E, E^2
+_SCALARS = 7
+#: vertex legs visited by the loops per sweep, in units of the string's n operators (the update's
+#: budget: on the l = 3 superfluid point at beta = 2, 1n / 2n / 4n / 8n / 16n gave energy
+#: efficiencies of about 2.2 / 2.8 / 3.0-3.2 / 2.7 / 3.0 (three seeds each), a plateau from 4n;
+#: deep in a Mott lobe fewer legs are cheaper, but there the estimator is ~100x ahead anyway)
+_TARGET_LEGS = 4.0
+#: the Green-function estimator's own budget: a measured sweep with ``measure_green`` runs the
+#: loops of this many legs per operator (each of the 4n legs about twice), so that G is averaged
+#: over enough head positions even on small graphs (the update's 4n is one or two loops per
+#: sweep on a 6-site ring)
+_GREEN_LEGS = 8.0
 #: seconds of work between checkpoint writes
 _CHECKPOINT_SECONDS = 60.0
-#: bytes per operator slot (ops, vertex positions, links and leg states)
-_BYTES_PER_OP = 8 * (4 / 3) + 8 + 32 + 32
+#: bytes per operator slot (ops int64 with the 4/3 headroom; int32 vertex positions, links and leg states)
+_BYTES_PER_OP = 8 * (4 / 3) + 4 + 16 + 16
 
 
 class QMCWarning(UserWarning):
@@ -472,7 +486,7 @@ def _fingerprint(model: _Model, U, mu, t, beta, nmax, seed, thermalization) -> s
     for a in (model.bi, model.bj, model.tb, model.gauge):
         h.update(np.ascontiguousarray(a).tobytes())
     h.update(json.dumps([model.sites, U, mu, t, beta, nmax, seed, thermalization, OFFSET, _TARGET_LEGS,
-                         _SCALAR_BINS, _VECTOR_BINS]).encode())
+                         _GREEN_LEGS, _SCALAR_BINS, _VECTOR_BINS, _SCALARS]).encode())
     return h.hexdigest()
 
 
@@ -495,13 +509,14 @@ class _Chain:
         self.ops = np.full(max(16, int(length)), -1, dtype=np.int64)
         self.state = np.zeros(model.sites, dtype=np.int64)
         self.rng = K.seed_state(seed)
-        self.sbins = np.zeros((_SCALAR_BINS, 5))
-        self.scur = np.zeros(5)
+        self.sbins = np.zeros((_SCALAR_BINS, _SCALARS))
+        self.scur = np.zeros(_SCALARS)
         self.sinfo = np.array([0, 1, 0], dtype=np.int64)      # bins filled, bin size, sweeps in current bin
         self.vbins = np.zeros((_VECTOR_BINS, nv))
         self.vcur = np.zeros(nv)
         self.vinfo = np.array([0, 1, 0], dtype=np.int64)
-        self.loopstat = np.zeros(3)       # decayed legs visited, decayed loops, undone loop updates
+        # decayed legs visited, decayed loops, undone loop updates, loops of a measured sweep with G
+        self.loopstat = np.zeros(4)
         # nops, nloops, thermalisation sweeps done, measurement sweeps done
         self.counters = np.array([0, 1, 0, 0], dtype=np.int64)
 
@@ -525,13 +540,19 @@ class _Chain:
         except (OSError, KeyError, EOFError) as exc:
             raise ValueError(f"the checkpoint {str(path)!r} cannot be read ({exc}).") from None
 
+    def green_loops(self) -> int:
+        """Loops of a measured sweep with the Green function (the G estimator's budget, set in
+        thermalisation for :data:`_GREEN_LEGS`)."""
+        return max(int(self.counters[1]), int(self.loopstat[3]))
+
     def advance(self, K, n: int, thermalize: bool, beta, model, tb, cb, esite, sq, nmax, g: _Green,
-                tables) -> None:
+                tables, eps) -> None:
         ops, nops, nloops = K.run(n, thermalize, _TARGET_LEGS, self.ops, self.state, int(self.counters[0]),
                                   int(self.counters[1]), beta, model.bi, model.bj, tb, cb, esite, sq, nmax,
                                   self.rng, self.sbins, self.scur, self.sinfo, self.vbins, self.vcur, self.vinfo,
                                   self.loopstat, g.mode, g.gclass, g.zr, g.zi, g.omz, g.hbin, g.ncls,
-                                  self.gbins, self.gcur, self.ginfo, model.gauge, tables[0], tables[1])
+                                  self.gbins, self.gcur, self.ginfo, model.gauge, tables[0], tables[1],
+                                  eps, _GREEN_LEGS)
         self.ops = ops
         self.counters[0] = nops
         self.counters[1] = nloops
@@ -805,7 +826,7 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
             left = (thermalization - chain.counters[2]) if therm else (sweeps - chain.counters[3])
             n = int(min(chunk, left))
             t0 = time.perf_counter()
-            chain.advance(K, n, therm, beta, model, model.tb, cb, esite, sq, nmax, green, tables)
+            chain.advance(K, n, therm, beta, model, model.tb, cb, esite, sq, nmax, green, tables, eps)
             dt = time.perf_counter() - t0
             bar.update(n)
             # chunks of about half a second (the split never changes the chain)
@@ -826,16 +847,15 @@ def _analyse(chain: _Chain, model: _Model, *, U, mu, t, beta, nmax, sweeps, ther
     notes = []
     if nb < 2:
         raise HyperlatticeError("too few sweeps for an error estimate (fewer than two complete bins).")
-    raw = chain.sbins[:nb] / bs                    # bin means of n, n^2, N, N^2, N^4
+    raw = chain.sbins[:nb] / bs                    # bin means of n, n^2, N, N^2, N^4, E, E^2
     e_iso, n_iso, var_iso, dens_iso = _isolated(model, eps, beta)
-    csum = float(cb.sum())
     M = model.sites
     nsw = nb * bs
     mean = raw.mean(axis=0)
-    var_n = max(mean[1] - mean[0] ** 2, 0.0)
     var_N = max(mean[3] - mean[2] ** 2, 0.0)
     var_N2 = max(mean[4] - mean[3] ** 2, 0.0)
-    en = mcstats.binning(-raw[:, 0] / beta + csum + e_iso, bs, variance=var_n / beta ** 2)
+    var_E = max(mean[6] - mean[5] ** 2, 0.0)
+    en = mcstats.binning(raw[:, 5] + e_iso, bs, variance=var_E)
     de = mcstats.binning((raw[:, 2] + n_iso) / M, bs, variance=var_N / M ** 2)
     n2 = mcstats.binning(raw[:, 3], bs, variance=var_N2)
     plateau = mcstats.plateau_bins(raw[:, 2:4])
@@ -849,7 +869,7 @@ def _analyse(chain: _Chain, model: _Model, *, U, mu, t, beta, nmax, sweeps, ther
             notes.append(f"the binning error of {name} has not reached a plateau ({nsw} sweeps, tau_int = "
                          f"{b.tau_int:.3g} sweeps): run longer.")
     # thermalisation check: the halves of the measurement phase agree
-    pl = mcstats.plateau_bins(np.stack([-raw[:, 0] / beta, raw[:, 2] / M], axis=1))
+    pl = mcstats.plateau_bins(np.stack([raw[:, 5], raw[:, 2] / M], axis=1))
     h = pl.shape[0] // 2
     if h >= 2:
         for k, name in ((0, "energy"), (1, "density")):
@@ -883,7 +903,7 @@ def _analyse(chain: _Chain, model: _Model, *, U, mu, t, beta, nmax, sweeps, ther
     kin_scale = model.gauge[model.bi] * model.gauge[model.bj] / (beta * model.tb)
     kin = vb[:, M:M + nbd].mean(axis=0) * kin_scale
     kin_err = (vb[:, M:M + nbd].std(axis=0, ddof=1) / math.sqrt(vnb) if vnb > 1 else np.nan) * np.abs(kin_scale)
-    nloops = float(chain.counters[1])
+    nloops = float(chain.green_loops())     # loops of a measured sweep with G
     g_dist = g_val = g_err = g_pairs = None
     g_mat = None
     cf = cf_err = math.nan
