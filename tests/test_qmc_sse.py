@@ -245,4 +245,4 @@ def test_empty_system_at_large_beta_mu_returns_a_result():
     r = qmc(a, sweeps=300, thermalization=200, seed=1, progress=False, measure_green=False, **kw)
     ex = exact_thermal(a, **kw)
     assert r.loops_per_sweep <= 4 * (r.string_length + 16)
-    assert abs(r.density) < 1e-6 and abs(r.energy - ex["energy"]) < 1e-6
+    assert abs(r.density) < 1e-6 and abs(r.energy - ex.energy) < 1e-6
