@@ -240,3 +240,21 @@ def test_merge_round_trip_and_bad_windings(tmp_path):
         qmc(a, U=1.0, mu=0.0, beta=1.0, nmax=1, sweeps=10, windings=(bonds, w * 0.5))
     with pytest.raises(ValueError, match="windings must be"):
         qmc(a, U=1.0, mu=0.0, beta=1.0, nmax=1, sweeps=10, windings="torus")
+
+
+@pytest.mark.slow
+def test_square_lattice_tip_crossing_reduced():
+    """The engine check, reduced (about a minute): rho_s L of L = 4 and 6 at beta t = L cross
+    within 1.0 of the exact (U/t)_c = 16.7424 (measured 16.9 +- 0.3, docs/qmc.md)."""
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "square_lattice_tip.py"
+    spec = importlib.util.spec_from_file_location("square_lattice_tip", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    Us = [15.0, 16.7, 18.5]
+    rows = {L: [mod.point(L, U, 2000, 3, 0.37, 1)[1] for U in Us] for L in (4, 6)}
+    uc, err = mod.crossing(Us, [r.rho_s * 4 for r in rows[4]], [r.rho_s_err * 4 for r in rows[4]],
+                           [r.rho_s * 6 for r in rows[6]], [r.rho_s_err * 6 for r in rows[6]])
+    assert abs(uc - 16.7424) < 1.0, (uc, err)
