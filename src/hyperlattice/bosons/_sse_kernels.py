@@ -162,6 +162,52 @@ def _diagonal_update(ops, state, nops, beta, bi, bj, cb, esite, rng, occ_sum, la
     return nops
 
 
+@numba.njit(cache=True)
+def winding_moments(ops, wind, w, scur, col):  # pragma: no cover - jitted
+    r"""Winding numbers of the configuration: add their second moments to ``scur[col:]``.
+
+    ``wind[b]`` (int64, shape (B, D)) is the winding :math:`w_b \in \mathbb Z^D` of the directed
+    bond ``bi[b] -> bj[b]`` (the reverse direction has :math:`-w_b`); :math:`\sum_b w_b` over the
+    bonds of a closed walk is the walk's homology class (D = 2 on a torus, 2g on a genus-g
+    surface). Every off-diagonal operator moves one boson along its bond, so
+
+    .. math:: W = \sum_{p:\ \text{off-diagonal}} \pm w_{b(p)}
+
+    (+ for a hop i -> j, k = 2, :math:`a_j^\dagger a_i`; - for j -> i, k = 1) is the total
+    winding of the world lines over the imaginary-time period: an integer vector, because the
+    world lines close (the state at the end of the string is the state at its start). The
+    diagonal update never changes the off-diagonal operators, so one pass over ``ops`` at any
+    point of the sweep gives W. Adds :math:`W_a W_b` (a <= b, row-major upper triangle) to
+    ``scur[col:col + D(D+1)/2]`` and :math:`(W \cdot W)^2` to the next entry (the variance of
+    the stiffness estimator, for its autocorrelation time). ``w`` (int64, D) is scratch.
+
+    A separate O(M) pass, called by :func:`run` only when D > 0 (periodic graphs with windings),
+    so the other kernels are unchanged and a run without windings does no extra work.
+    """
+    d = wind.shape[1]
+    for a in range(d):
+        w[a] = 0
+    for p in range(ops.shape[0]):
+        op = ops[p]
+        if op < 0 or (op & 3) == 0:
+            continue
+        b = op >> 2
+        if (op & 3) == 2:               # a_j^dagger a_i: a boson hops i -> j along the bond
+            for a in range(d):
+                w[a] += wind[b, a]
+        else:                           # a_i^dagger a_j: j -> i
+            for a in range(d):
+                w[a] -= wind[b, a]
+    k = col
+    ww = 0.0
+    for a in range(d):
+        ww += float(w[a] * w[a])
+        for c in range(a, d):
+            scur[k] += float(w[a] * w[c])
+            k += 1
+    scur[k] += ww * ww
+
+
 @numba.njit(cache=True, inline="always")
 def _exit_weights(w, b, le, d, s0, s1, s2, s3, bi, bj, tb, cb, esite, sq, nmax):  # pragma: no cover - jitted
     r"""Weights of the four exits of a vertex entered at leg ``le`` with change ``d`` (already applied)."""
@@ -442,7 +488,7 @@ def _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
 @numba.njit(cache=True)
 def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj, tb, cb, esite, sq, nmax,
         rng, sbins, scur, sinfo, vbins, vcur, vinfo, loopstat, gmode, gclass, zr, zi, omz, hbin, ncls,
-        gbins, gcur, ginfo, gsign, ptab, bclass, eps, green_legs):  # pragma: no cover - jitted
+        gbins, gcur, ginfo, gsign, ptab, bclass, eps, green_legs, wind):  # pragma: no cover - jitted
     r"""Run ``nsweeps`` sweeps. Returns (ops, nops, nloops) (``ops`` is reallocated when it grows).
 
     Thermalisation (``thermalize``): after each sweep the string grows to M = 4n/3 when
@@ -464,6 +510,10 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
     A measured sweep with the Green function runs ``max(nloops, loopstat[3])`` loops: the estimator's
     own budget, set in thermalisation like ``nloops`` but for ``green_legs`` x n legs (the update
     alone needs fewer); every other sweep runs ``nloops``.
+
+    Winding numbers (``wind`` of shape (B, D), D > 0, measurement only): the moments of
+    :func:`winding_moments` go to the scalar sums after the first seven (``scur[7:]``); with
+    D = 0 nothing is done.
     """
     nsites = state.shape[0]
     nbonds = bi.shape[0]
@@ -483,6 +533,7 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
     ntab = ptab.shape[0]
     gfull = gbins.shape[1] == nsites and nsites > 1
     voff = nsites + nbonds
+    wvec = np.zeros(wind.shape[1], dtype=np.int64)
     for sweep in range(nsweeps):
         measure = not thermalize
         if measure:
@@ -514,6 +565,8 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
             fE = ediag / m - nod / beta
             scur[5] += fE
             scur[6] += fE * fE
+            if wind.shape[1] > 0:       # winding numbers (superfluid stiffness): periodic graphs only
+                winding_moments(ops, wind, wvec, scur, 7)
             for i in range(nsites):
                 vcur[i] += occ[i] / m
             if gfull:

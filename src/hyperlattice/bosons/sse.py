@@ -202,6 +202,64 @@ def _model(system, t: float) -> _Model:
     return _Model(n, bi, bj, tb, gauge, degree, z, d0, label, kind)
 
 
+def _bond_windings(system, model: _Model, windings) -> tuple[np.ndarray, str]:
+    r"""Integer windings of the model's bonds (B, D) and, when there are none, the reason.
+
+    ``windings``: None (automatic: a Cluster's :func:`~hyperlattice.graph.bands.edge_windings`,
+    nothing otherwise), False (off), a :class:`~hyperlattice.graph.bands.Windings`, or a pair
+    ``(edges, w)``: edges (E, 2) and the integer winding w (E, D) of each directed edge
+    ``edges[k, 0] -> edges[k, 1]``, every bond of the graph exactly once.
+    """
+    nb = model.bi.size
+    none = np.zeros((nb, 0), dtype=np.int64)
+    if windings is False:
+        return none, "not asked for (windings=False)."
+    if windings is None:
+        if model.kind == "cluster":
+            from ..graph.bands import edge_windings
+
+            windings = edge_windings(system)
+        elif model.kind == "flake":
+            return none, ("an open flake has no non-contractible cycles, so no winding number: use the "
+                          "condensate fraction.")
+        else:
+            return none, ("an adjacency matrix carries no windings: pass windings= (e.g. "
+                          "compare.qmc_lobe.square_lattice_windings(L) for the L x L torus).")
+    if hasattr(windings, "edges") and hasattr(windings, "windings"):
+        edges, w = windings.edges, windings.windings
+    elif isinstance(windings, (tuple, list)) and len(windings) == 2:
+        edges, w = windings
+    else:
+        raise ValueError("windings must be None, False, a Windings (graph.bands.edge_windings) or a pair "
+                         "(edges, windings) of arrays of shapes (E, 2) and (E, D).")
+    try:
+        edges = np.asarray(edges)
+        w = np.asarray(w)
+    except (TypeError, ValueError):
+        raise ValueError("windings must be a pair of integer arrays (edges (E, 2), windings (E, D)).") from None
+    if (edges.ndim != 2 or edges.shape[1:] != (2,) or w.ndim != 2 or w.shape[0] != edges.shape[0]
+            or w.shape[1] < 1 or edges.dtype.kind not in "iu" or w.dtype.kind not in "iu"):
+        raise ValueError(f"windings must be integer arrays of shapes (E, 2) and (E, D) with D >= 1, got "
+                         f"{edges.shape} and {w.shape}.")
+    if w.shape[1] > 64:
+        raise ValueError(f"at most 64 winding components are measured, got {w.shape[1]}.")
+    n = model.sites
+    if edges.size and (edges.min() < 0 or edges.max() >= n):
+        raise ValueError(f"the edges of windings must be sites 0..{n - 1}.")
+    lo = np.minimum(edges[:, 0], edges[:, 1]).astype(np.int64)
+    hi = np.maximum(edges[:, 0], edges[:, 1]).astype(np.int64)
+    sign = np.where(edges[:, 0] < edges[:, 1], 1, -1).astype(np.int64)
+    keys = lo * n + hi
+    order = np.argsort(keys, kind="stable")
+    bond_keys = model.bi * n + model.bj
+    if keys.size != nb or np.any(np.diff(keys[order]) == 0) or np.any(keys[order] != np.sort(bond_keys)):
+        raise ValueError(f"windings must give every bond of the graph exactly once ({nb} bonds, "
+                         f"{keys.size} edges given).")
+    pos = np.searchsorted(keys[order], bond_keys)
+    out = (w.astype(np.int64) * sign[:, None])[order[pos]]
+    return np.ascontiguousarray(out), ""
+
+
 # ----------------------------------------------------------------------------
 # the result
 # ----------------------------------------------------------------------------
@@ -275,6 +333,22 @@ class QMCResult(Result):
         Directed loops per sweep (fixed after thermalisation).
     seconds : float
         Wall-clock seconds of the run (summed over chains).
+    stiffness, stiffness_err : ndarray, shape (D, D), or None
+        The superfluid stiffness tensor :math:`\Upsilon_{ab} = \langle W_a W_b\rangle/\beta` from
+        the winding numbers :math:`W \in \mathbb Z^D` of the world lines around the D
+        non-contractible cycles (D = 2 on a torus, 2g on a genus-g cluster; see :func:`qmc`,
+        Notes), in the energy unit of U, mu and t, and its error (binning). None when the graph
+        carries no windings (``stiffness_note`` says why).
+    rho_s, rho_s_err : float
+        :math:`\operatorname{tr}\Upsilon/D = \langle W\cdot W\rangle/(D\beta)`: on the L x L
+        square torus the usual :math:`\rho_s = \langle W_x^2 + W_y^2\rangle/(2\beta)`; its
+        autocorrelation time is ``tau_int["stiffness"]``. nan without windings.
+    stiffness_geometric, stiffness_geometric_err : float
+        :math:`(\det\Upsilon)^{1/D}` (jackknife), unchanged by a change of the integer homology
+        basis (``rho_s`` of a genus-g cluster depends on the basis); equal to :math:`\rho_s` for an
+        isotropic torus. nan without windings.
+    stiffness_note : str
+        Why ``stiffness`` is None ("" when measured).
 
     Examples
     --------
@@ -328,15 +402,25 @@ class QMCResult(Result):
     string_length: int
     loops_per_sweep: int
     seconds: float
+    stiffness: np.ndarray | None = None
+    stiffness_err: np.ndarray | None = None
+    rho_s: float = math.nan
+    rho_s_err: float = math.nan
+    stiffness_geometric: float = math.nan
+    stiffness_geometric_err: float = math.nan
+    stiffness_note: str = "not measured."
 
     def summary(self) -> dict:
         """The JSON view: the scalar observables with errors, tau_int, the run's size and flags."""
         keys = ("system", "sites", "U", "mu", "t", "beta", "nmax", "sweeps", "thermalization", "seed", "chains",
                 "energy", "energy_err", "density", "density_err", "compressibility", "compressibility_err",
-                "bins", "bin_size", "converged", "mean_operators", "seconds")
+                "bins", "bin_size", "converged", "mean_operators", "seconds", "rho_s", "rho_s_err",
+                "stiffness_geometric", "stiffness_geometric_err")
         out = {"type": self.TYPE}
         for k in keys:
             out[k] = to_jsonable(getattr(self, k))
+        out["stiffness"] = to_jsonable(self.stiffness.tolist() if self.stiffness is not None else None)
+        out["stiffness_err"] = to_jsonable(self.stiffness_err.tolist() if self.stiffness_err is not None else None)
         out["tau_int"] = to_jsonable(dict(self.tau_int))
         out["notes"] = to_jsonable(list(self.notes))
         return out
@@ -347,6 +431,9 @@ class QMCResult(Result):
         for name in ("energy", "density", "compressibility"):
             rows.append({"observable": name, "value": float(getattr(self, name)),
                          "error": float(getattr(self, name + "_err")), "tau_int": float(self.tau_int.get(name, math.nan))})
+        if self.stiffness is not None:
+            rows.append({"observable": "rho_s", "value": float(self.rho_s), "error": float(self.rho_s_err),
+                         "tau_int": float(self.tau_int.get("stiffness", math.nan))})
         return rows
 
     def __str__(self) -> str:
@@ -481,10 +568,12 @@ def _green_setup(model: _Model, measure: bool) -> _Green:
                                                    f"than {G_FULL_MAX} sites."})
 
 
-def _fingerprint(model: _Model, U, mu, t, beta, nmax, seed, thermalization) -> str:
+def _fingerprint(model: _Model, U, mu, t, beta, nmax, seed, thermalization, wind=None) -> str:
     h = hashlib.sha256()
     for a in (model.bi, model.bj, model.tb, model.gauge):
         h.update(np.ascontiguousarray(a).tobytes())
+    if wind is not None and wind.shape[1]:
+        h.update(b"windings" + np.ascontiguousarray(wind).tobytes())
     h.update(json.dumps([model.sites, U, mu, t, beta, nmax, seed, thermalization, OFFSET, _TARGET_LEGS,
                          _GREEN_LEGS, _SCALAR_BINS, _VECTOR_BINS, _SCALARS]).encode())
     return h.hexdigest()
@@ -496,7 +585,7 @@ class _Chain:
     FIELDS = ("ops", "state", "rng", "sbins", "scur", "sinfo", "vbins", "vcur", "vinfo", "loopstat", "counters",
               "gbins", "gcur", "ginfo")
 
-    def __init__(self, model: _Model, seed: int, green: _Green, length: int = 16):
+    def __init__(self, model: _Model, seed: int, green: _Green, length: int = 16, windings: int = 0):
         from . import _sse_kernels as K
 
         nv = model.sites + model.bi.size + green.ncls
@@ -509,8 +598,10 @@ class _Chain:
         self.ops = np.full(max(16, int(length)), -1, dtype=np.int64)
         self.state = np.zeros(model.sites, dtype=np.int64)
         self.rng = K.seed_state(seed)
-        self.sbins = np.zeros((_SCALAR_BINS, _SCALARS))
-        self.scur = np.zeros(_SCALARS)
+        # n, n^2, N, N^2, N^4, E, E^2 (_SCALARS), then with D windings: W_a W_b (a <= b) and (W.W)^2
+        ncol = _SCALARS + (windings * (windings + 1) // 2 + 1 if windings else 0)
+        self.sbins = np.zeros((_SCALAR_BINS, ncol))
+        self.scur = np.zeros(ncol)
         self.sinfo = np.array([0, 1, 0], dtype=np.int64)      # bins filled, bin size, sweeps in current bin
         self.vbins = np.zeros((_VECTOR_BINS, nv))
         self.vcur = np.zeros(nv)
@@ -546,13 +637,13 @@ class _Chain:
         return max(int(self.counters[1]), int(self.loopstat[3]))
 
     def advance(self, K, n: int, thermalize: bool, beta, model, tb, cb, esite, sq, nmax, g: _Green,
-                tables, eps) -> None:
+                tables, eps, wind) -> None:
         ops, nops, nloops = K.run(n, thermalize, _TARGET_LEGS, self.ops, self.state, int(self.counters[0]),
                                   int(self.counters[1]), beta, model.bi, model.bj, tb, cb, esite, sq, nmax,
                                   self.rng, self.sbins, self.scur, self.sinfo, self.vbins, self.vcur, self.vinfo,
                                   self.loopstat, g.mode, g.gclass, g.zr, g.zi, g.omz, g.hbin, g.ncls,
                                   self.gbins, self.gcur, self.ginfo, model.gauge, tables[0], tables[1],
-                                  eps, _GREEN_LEGS)
+                                  eps, _GREEN_LEGS, wind)
         self.ops = ops
         self.counters[0] = nops
         self.counters[1] = nloops
@@ -640,7 +731,7 @@ def qmc_memory(system, *, U: float, mu: float, beta: float, nmax: int, t: float 
 
 def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, sweeps: int = 20000,
         thermalization: int | None = None, seed: int | None = None, checkpoint=None,
-        measure_green: bool = True, progress=None) -> QMCResult:
+        measure_green: bool = True, windings=None, progress=None) -> QMCResult:
     r"""Grand-canonical SSE quantum Monte Carlo of the Bose–Hubbard model (one Markov chain).
 
     Parameters
@@ -672,6 +763,14 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
         Measure the equal-time one-body density matrix :math:`G(i,j)` with the worm estimator of
         the directed loops (default True; see Notes), by distance class, and the full matrix and
         the condensate fraction up to :data:`G_FULL_MAX` sites.
+    windings : Windings or (edges, windings) or False, optional
+        Integer windings :math:`w_b \in \mathbb Z^D` of the bonds for the superfluid stiffness
+        (see Notes): by default those of a periodic cluster
+        (:func:`~hyperlattice.graph.bands.edge_windings`) and none for a flake or a matrix; for an
+        adjacency matrix give a :class:`~hyperlattice.graph.bands.Windings` or a pair of integer
+        arrays ``(edges (E, 2), w (E, D))``, w the winding of the directed edge
+        ``edges[k, 0] -> edges[k, 1]``, every bond once (the L x L torus:
+        :func:`hyperlattice.compare.qmc_lobe.square_lattice_windings`). False: not measured.
     progress : bool, optional
         Progress bar on stderr (default: when a terminal watches, see :mod:`hyperlattice._progress`).
 
@@ -698,12 +797,36 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
     chain; κ and other derived quantities from the jackknife of the plateau-level bins. Sweeps
     beyond the last complete bin (fewer than ``bin_size``) are not counted in the averages.
 
-    No superfluid stiffness is measured. The winding-number estimator
-    :math:`\Upsilon_\gamma = \langle W_\gamma^2\rangle/\beta` needs, per edge, how often it crosses
-    each non-contractible cycle γ of the surface (a homology basis, e.g. from a tree-cotree
-    decomposition); a :class:`~hyperlattice.graph.clusters.Cluster` is a regular map given by its
-    rotation system only and carries no such crossing data, and an adjacency matrix carries none
-    either. The condensate fraction is the superfluid indicator offered instead.
+    **Superfluid stiffness.** A flat U(1) connection on the graph, a phase :math:`\theta\cdot w_b`
+    on the hopping :math:`a_j^\dagger a_i` along each directed bond (:math:`\theta \in \mathbb R^D`),
+    is a twist :math:`\theta_a` around the a-th non-contractible cycle when :math:`w_b \in \mathbb Z^D`
+    is an integer 1-cocycle whose sum along a closed walk is the walk's homology class (its
+    coordinates in a basis of :math:`H_1(\Sigma;\mathbb Z) = \mathbb Z^D`; D = 2 on a torus,
+    D = 2g on a closed orientable surface of genus g; the cluster windings come from a
+    tree-cotree decomposition, :func:`~hyperlattice.graph.bands.edge_windings`). In the expansion
+    every off-diagonal operator then carries :math:`e^{\pm i\theta\cdot w_b}`, a configuration
+    the phase :math:`e^{i\theta\cdot W}` with W the total winding of its world lines (an
+    integer vector), so :math:`Z(\theta)/Z(0) = \langle e^{i\theta\cdot W}\rangle` exactly and,
+    with :math:`\langle W\rangle = 0` (time reversal),
+
+    .. math::
+
+        F(\theta) - F(0) = \tfrac12 \theta^{\mathsf T}\Upsilon\theta + O(\theta^4), \qquad
+        \Upsilon_{ab} = \frac{\langle W_a W_b\rangle}{\beta}.
+
+    On the d-dimensional torus this is Pollock and Ceperley's winding-number formula (PRB 36,
+    8343 (1987)), :math:`\rho_s = \langle W^2\rangle L^{2-d}/(d\beta)`; for the L x L square
+    torus (d = 2) the twist free energy of a uniform phase gradient :math:`\theta/L` is
+    :math:`\tfrac12\rho_s\theta^2` per direction, so :math:`\Upsilon = \rho_s` and
+    ``rho_s`` = :math:`\langle W_x^2 + W_y^2\rangle/(2\beta)`. On a genus-g surface the same
+    expansion defines :math:`\Upsilon` as the response to twists around the 2g cycles of the
+    homology basis (no length factors: a cluster has no uniform phase gradient); it is a
+    bilinear form on :math:`H^1(\Sigma;\mathbb R)`, so its matrix depends on the basis, and
+    ``stiffness_geometric`` :math:`= (\det\Upsilon)^{1/D}` does not (an integer change of basis
+    has determinant ±1). It is exact at every β on the finite graph (the thermal response, not
+    only the ground state's). An open flake has no non-contractible cycle (W = 0 always): there
+    the condensate fraction is the superfluid indicator; an adjacency matrix carries no windings
+    unless they are given.
 
     Sites without bonds (an adjacency with empty rows) are refused: their on-site energy has no
     bond to live on in this decomposition.
@@ -798,6 +921,7 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
     model = _model(system, t)
     if model.bi.size == 0:
         raise ValueError("the graph has no bonds: the sites are independent (use exact_thermal).")
+    wind, wind_note = _bond_windings(system, model, windings)
     eps, esite, cb = _weights(model, U, mu, nmax)
     bound = _check_memory(model, beta, cb, nmax, U, mu)
     from . import _sse_kernels as K
@@ -805,8 +929,8 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
     sq = np.sqrt(np.arange(nmax + 2, dtype=float))
     green = _green_setup(model, measure_green)
     tables = _exit_tables(model, esite, cb, nmax, sq)
-    chain = _Chain(model, seed, green, length=min(bound / 4, 1e8))
-    fp = _fingerprint(model, U, mu, t, beta, nmax, seed, thermalization) + f"-green{int(measure_green)}"
+    chain = _Chain(model, seed, green, length=min(bound / 4, 1e8), windings=wind.shape[1])
+    fp = _fingerprint(model, U, mu, t, beta, nmax, seed, thermalization, wind) + f"-green{int(measure_green)}"
     ckpt = None
     if checkpoint is not None:
         ckpt = _validate.directory("checkpoint", checkpoint) / "qmc_chain.npz"
@@ -826,7 +950,7 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
             left = (thermalization - chain.counters[2]) if therm else (sweeps - chain.counters[3])
             n = int(min(chunk, left))
             t0 = time.perf_counter()
-            chain.advance(K, n, therm, beta, model, model.tb, cb, esite, sq, nmax, green, tables, eps)
+            chain.advance(K, n, therm, beta, model, model.tb, cb, esite, sq, nmax, green, tables, eps, wind)
             dt = time.perf_counter() - t0
             bar.update(n)
             # chunks of about half a second (the split never changes the chain)
@@ -838,11 +962,44 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
         chain.save(ckpt, fp)
     seconds = time.perf_counter() - start
     return _analyse(chain, model, U=U, mu=mu, t=t, beta=beta, nmax=nmax, sweeps=sweeps,
-                    thermalization=thermalization, seed=seed, cb=cb, eps=eps, seconds=seconds, green=green)
+                    thermalization=thermalization, seed=seed, cb=cb, eps=eps, seconds=seconds, green=green,
+                    ndim=int(wind.shape[1]), wind_note=wind_note)
+
+
+def _stiffness(raw: np.ndarray, bs: int, beta: float, d: int, notes: list) -> dict:
+    """Stiffness tensor, tr/D and det^(1/D) with errors from the winding moments in ``raw[:, _SCALARS:]``."""
+    iu = np.triu_indices(d)
+    ncol = iu[0].size
+    mom = raw[:, _SCALARS:_SCALARS + ncol] / beta                       # bin means of W_a W_b / beta
+    Y = np.zeros((d, d))
+    Yerr = np.zeros((d, d))
+    for k, (a, b) in enumerate(zip(*iu)):
+        bb = mcstats.binning(mom[:, k], bs)
+        Y[a, b] = Y[b, a] = bb.mean
+        Yerr[a, b] = Yerr[b, a] = bb.error
+    diag = np.flatnonzero(iu[0] == iu[1])
+    ww = raw[:, _SCALARS + diag].sum(axis=1)                     # bin means of W.W
+    var = max(float(raw[:, _SCALARS + ncol].mean()) - float(ww.mean()) ** 2, 0.0)
+    rs = mcstats.binning(ww / (d * beta), bs, variance=var / (d * beta) ** 2)
+    if not rs.converged:
+        notes.append(f"the binning error of the stiffness has not reached a plateau ({raw.shape[0] * bs} sweeps, "
+                     f"tau_int = {rs.tau_int:.3g} sweeps): run longer.")
+    plateau = mcstats.plateau_bins(mom)
+
+    def geometric(m):
+        y = np.zeros((d, d))
+        y[iu] = m
+        y = y + np.triu(y, 1).T
+        return float(max(np.linalg.det(y), 0.0) ** (1.0 / d))
+
+    geo, geo_err = mcstats.jackknife(geometric, plateau)
+    return dict(stiffness=Y, stiffness_err=Yerr, rho_s=float(rs.mean), rho_s_err=float(rs.error),
+                stiffness_geometric=float(geo), stiffness_geometric_err=float(geo_err), stiffness_note="",
+                tau=float(rs.tau_int), converged=bool(rs.converged))
 
 
 def _analyse(chain: _Chain, model: _Model, *, U, mu, t, beta, nmax, sweeps, thermalization, seed, cb, eps,
-             seconds, green: _Green) -> QMCResult:
+             seconds, green: _Green, ndim: int = 0, wind_note: str = "") -> QMCResult:
     nb, bs = int(chain.sinfo[0]), int(chain.sinfo[1])
     notes = []
     if nb < 2:
@@ -863,6 +1020,11 @@ def _analyse(chain: _Chain, model: _Model, *, U, mu, t, beta, nmax, sweeps, ther
     kap += beta * var_iso / M
     tau = {"energy": en.tau_int, "density": de.tau_int, "compressibility": n2.tau_int}
     converged = True
+    stiff = {"stiffness_note": wind_note}
+    if ndim:
+        stiff = _stiffness(raw, bs, beta, ndim, notes)
+        tau["stiffness"] = stiff.pop("tau")
+        converged = stiff.pop("converged")
     for name, b in (("energy", en), ("density", de), ("N^2", n2)):
         if not b.converged:
             converged = False
@@ -949,7 +1111,7 @@ def _analyse(chain: _Chain, model: _Model, *, U, mu, t, beta, nmax, sweeps, ther
         distance_kind=green.kind, green_matrix=g_mat, condensate_fraction=float(cf),
         condensate_fraction_err=float(cf_err),
         mean_operators=float(mean[0]), string_length=int(chain.ops.size), loops_per_sweep=int(chain.counters[1]),
-        seconds=float(seconds))
+        seconds=float(seconds), **stiff)
 
 
 def merge_chains(results) -> QMCResult:
@@ -1031,6 +1193,14 @@ def merge_chains(results) -> QMCResult:
             cf, [r.condensate_fraction_err for r in res], w)
     else:
         g["condensate_fraction"] = g["condensate_fraction_err"] = math.nan
+    st = {"stiffness_note": ref.stiffness_note or "not measured in every chain."}
+    if all(r.stiffness is not None and r.stiffness.shape == ref.stiffness.shape for r in res):
+        st = {"stiffness": sum(wc * r.stiffness for wc, r in zip(w, res)) / tot,
+              "stiffness_err": np.sqrt(sum((wc * r.stiffness_err) ** 2 for wc, r in zip(w, res))) / tot,
+              "stiffness_note": ""}
+        for name in ("rho_s", "stiffness_geometric"):
+            st[name], st[name + "_err"] = mcstats.combine_independent(
+                [getattr(r, name) for r in res], [getattr(r, name + "_err") for r in res], w)
     notes = tuple(f"chain {r.seed}: {n}" for r in res for n in r.notes)
     return QMCResult(
         system=ref.system, sites=ref.sites, U=ref.U, mu=ref.mu, t=ref.t, beta=ref.beta, nmax=ref.nmax,
@@ -1041,7 +1211,7 @@ def merge_chains(results) -> QMCResult:
         bonds=ref.bonds, bond_kinetic=kin, bond_kinetic_err=kin_err,
         mean_operators=float(sum(wc * r.mean_operators for wc, r in zip(w, res)) / tot),
         string_length=int(max(r.string_length for r in res)), loops_per_sweep=int(ref.loops_per_sweep),
-        seconds=float(sum(r.seconds for r in res)), **vals, **g)
+        seconds=float(sum(r.seconds for r in res)), **vals, **g, **st)
 
 
 _validate.guard_public(globals())

@@ -37,7 +37,7 @@ import scipy.sparse as sp
 from .. import _validate
 from ..results import Column, Result
 
-__all__ = ["square_lattice", "mean_field_boundaries", "qmc_boundary", "QMCLobe", "qmc_lobe", "SQUARE_TIP_EXACT",
+__all__ = ["square_lattice", "square_lattice_windings", "mean_field_boundaries", "qmc_boundary", "QMCLobe", "qmc_lobe", "SQUARE_TIP_EXACT",
            "CUBIC_TIP_EXACT",
            "gap_tip", "size_extrapolation", "combine_steps", "LINEAR_WINDOW",
            "SQUARE_TIP_MEAN_FIELD", "load_scan", "xy_qubit_check"]
@@ -82,6 +82,54 @@ def square_lattice(L: int) -> sp.csr_matrix:
     cols = np.concatenate([np.roll(idx, 1, 0).ravel(), np.roll(idx, 1, 1).ravel()])
     a = sp.csr_matrix((np.ones(rows.size), (rows, cols)), shape=(L * L, L * L))
     return (a + a.T).tocsr()
+
+
+def square_lattice_windings(L: int) -> tuple[np.ndarray, np.ndarray]:
+    r"""Windings of the bonds of the periodic L × L square lattice (:func:`square_lattice`).
+
+    The directed bond from site (i, j) to (i + 1, j) has winding (1, 0) when it crosses the seam
+    (i = L − 1, i + 1 → 0) and (0, 0) otherwise; (i, j) → (i, j + 1) likewise (0, 1) at j = L − 1.
+    The sum along a closed walk is then its winding around the two cycles of the torus, so a
+    QMC configuration's total :math:`W = (W_x, W_y)` counts how often the world lines wind
+    around each direction: pass the result as ``windings=`` to :func:`hyperlattice.bosons.qmc`
+    for the superfluid stiffness :math:`\rho_s = \langle W_x^2 + W_y^2\rangle/(2\beta)`.
+
+    Parameters
+    ----------
+    L : int
+        Linear size, 3 to 4096 (as :func:`square_lattice`).
+
+    Returns
+    -------
+    edges : ndarray of int64, shape (2L², 2)
+        The bonds (i < j, site (x, y) is ``x * L + y``).
+    windings : ndarray of int64, shape (2L², 2)
+        The winding of the directed bond ``edges[k, 0] -> edges[k, 1]``.
+
+    Raises
+    ------
+    ValueError
+        If L is out of range.
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.qmc_lobe import square_lattice_windings
+    >>> edges, w = square_lattice_windings(3)
+    >>> edges.shape, int(abs(w).sum(axis=0)[0]), int(abs(w).sum(axis=0)[1])
+    ((18, 2), 3, 3)
+    """
+    L = _validate.integer("L", L, minimum=3, maximum=4096)
+    idx = np.arange(L * L).reshape(L, L)
+    src = np.concatenate([idx.ravel(), idx.ravel()])
+    dst = np.concatenate([np.roll(idx, -1, 0).ravel(), np.roll(idx, -1, 1).ravel()])
+    w = np.zeros((2 * L * L, 2), dtype=np.int64)
+    w[: L * L, 0] = (idx // L == L - 1).ravel()            # (x, y) -> (x + 1, y) across the seam
+    w[L * L:, 1] = (idx % L == L - 1).ravel()              # (x, y) -> (x, y + 1) across the seam
+    flip = src > dst
+    w[flip] *= -1
+    edges = np.stack([np.minimum(src, dst), np.maximum(src, dst)], axis=1).astype(np.int64)
+    order = np.argsort(edges[:, 0] * L * L + edges[:, 1], kind="stable")
+    return edges[order], w[order]
 
 
 def mean_field_boundaries(lambda_max: float, t_over_U) -> tuple[np.ndarray, np.ndarray]:
