@@ -185,11 +185,11 @@ def test_winding_is_zero_on_a_tree_and_for_a_coboundary():
     assert r.rho_s_err == 0.0 and np.all(r.stiffness == 0) and r.rho_s == 0.0
     # a flake: no windings by default, and a coboundary has none either
     flake = hl.ring_lattice(7, 3, 2)
-    r = qmc(flake, U=2.0, mu=0.5, beta=1.0, nmax=2, sweeps=500, seed=1, progress=False)
+    r = qmc(flake, U=2.0, mu=0.5, beta=1.0, nmax=2, sweeps=2000, seed=1, progress=False)
     assert r.stiffness is None and "open flake" in r.stiffness_note and math.isnan(r.rho_s)
     A = sp.triu(adjacency(flake), k=1).tocoo()
     f = rng.integers(-5, 6, size=(flake.sites, 3))
-    r = qmc(flake, U=2.0, mu=0.5, beta=1.0, nmax=2, sweeps=500, seed=1, progress=False,
+    r = qmc(flake, U=2.0, mu=0.5, beta=1.0, nmax=2, sweeps=2000, seed=1, progress=False,
             windings=(np.stack([A.row, A.col], 1), f[A.col] - f[A.row]))
     assert np.all(r.stiffness == 0)
 
