@@ -670,6 +670,33 @@ def _check_memory(model: _Model, beta: float, cb: np.ndarray, nmax: int, U: floa
     return bound
 
 
+def _physical_inputs(U, mu, t, beta, nmax) -> tuple:
+    """The model's numbers checked at the door, as :func:`qmc` and :func:`qmc_memory` take them."""
+    U = _validate.real("U", U)
+    mu = _validate.real("mu", mu)
+    if isinstance(t, complex) or np.iscomplexobj(t):
+        if complex(t).imag != 0:
+            raise ValueError("complex hopping (a magnetic flux) gives the quantum Monte Carlo a sign problem; "
+                             "use exact diagonalisation or mean field instead.")
+        t = complex(t).real
+    t = _validate.real("t", t)
+    beta = _validate.real("beta", beta)
+    if not beta > 0:
+        raise ValueError(f"beta must be positive, got {beta!r}.")
+    nmax = _validate.integer("nmax", nmax, minimum=1, maximum=1000)
+    if t == 0:
+        raise ValueError("t = 0 leaves no bond term; the sites are independent (use exact_thermal).")
+    return U, mu, t, beta, nmax
+
+
+def _bonded_model(system, t: float) -> "_Model":
+    """:func:`_model`, refusing a graph without bonds (its sites are independent)."""
+    model = _model(system, t)
+    if model.bi.size == 0:
+        raise ValueError("the graph has no bonds: the sites are independent (use exact_thermal).")
+    return model
+
+
 def qmc_memory(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0) -> int:
     r"""Bytes a :func:`qmc` chain is expected to need, as its refusal computes them (nothing is allocated).
 
@@ -712,18 +739,8 @@ def qmc_memory(system, *, U: float, mu: float, beta: float, nmax: int, t: float 
     >>> qmc_memory(hl.ring_lattice(7, 3, 1), U=4.0, mu=1.0, beta=2.0, nmax=2) < 2**20
     True
     """
-    U = _validate.real("U", U)
-    mu = _validate.real("mu", mu)
-    t = _validate.real("t", t)
-    beta = _validate.real("beta", beta)
-    if not beta > 0:
-        raise ValueError(f"beta must be positive, got {beta!r}.")
-    nmax = _validate.integer("nmax", nmax, minimum=1, maximum=1000)
-    if t == 0:
-        raise ValueError("t = 0 leaves no bond term; the sites are independent (use exact_thermal).")
-    model = _model(system, t)
-    if model.bi.size == 0:
-        raise ValueError("the graph has no bonds: the sites are independent (use exact_thermal).")
+    U, mu, t, beta, nmax = _physical_inputs(U, mu, t, beta, nmax)
+    model = _bonded_model(system, t)
     _, _, cb = _weights(model, U, mu, nmax)
     _, need = _memory_need(model, beta, cb, nmax, U, mu)
     return int(math.ceil(need))
@@ -896,18 +913,7 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
     >>> r.sites, abs(r.density - 0.97273) < 4 * r.density_err   # exact_thermal: 0.97273
     (7, True)
     """
-    U = _validate.real("U", U)
-    mu = _validate.real("mu", mu)
-    if isinstance(t, complex) or np.iscomplexobj(t):
-        if complex(t).imag != 0:
-            raise ValueError("complex hopping (a magnetic flux) gives the quantum Monte Carlo a sign problem; "
-                             "use exact diagonalisation or mean field instead.")
-        t = complex(t).real
-    t = _validate.real("t", t)
-    beta = _validate.real("beta", beta)
-    if not beta > 0:
-        raise ValueError(f"beta must be positive, got {beta!r}.")
-    nmax = _validate.integer("nmax", nmax, minimum=1, maximum=1000)
+    U, mu, t, beta, nmax = _physical_inputs(U, mu, t, beta, nmax)
     sweeps = _validate.integer("sweeps", sweeps, minimum=1)
     if thermalization is None:
         thermalization = max(200, sweeps // 5)
@@ -916,11 +922,7 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
         seed = int(np.random.SeedSequence().entropy % (2**63))
     seed = _validate.integer("seed", seed, minimum=0)
     measure_green = _validate.flag("measure_green", measure_green)
-    if t == 0:
-        raise ValueError("t = 0 leaves no bond term; the sites are independent (use exact_thermal).")
-    model = _model(system, t)
-    if model.bi.size == 0:
-        raise ValueError("the graph has no bonds: the sites are independent (use exact_thermal).")
+    model = _bonded_model(system, t)
     wind, wind_note = _bond_windings(system, model, windings)
     eps, esite, cb = _weights(model, U, mu, nmax)
     bound = _check_memory(model, beta, cb, nmax, U, mu)
