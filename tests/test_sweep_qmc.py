@@ -51,7 +51,9 @@ def test_a_row_is_a_pure_function_of_its_parameters():
     a, b = execute("qmc", params), execute("qmc", params)
     assert a.keys() == b.keys() and "seconds" not in a
     for k in a:
-        assert np.array_equal(np.asarray(a[k]), np.asarray(b[k])), k
+        x, y = np.asarray(a[k]), np.asarray(b[k])
+        # the stiffness of a flake is nan (no winding numbers): nan equals nan here
+        assert np.array_equal(x, y, equal_nan=x.dtype.kind == "f"), k
 
 
 def test_cluster_point():
@@ -59,6 +61,65 @@ def test_cluster_point():
                   sweeps=400, seed=1)
     row = execute("qmc", params)
     assert row["sites"] == 16 and len(row["site_density"]) == 16 and len(row["bond_i"]) == 24
+
+
+def test_cluster_rows_carry_the_stiffness_and_merge_it_like_merge_chains(tmp_path):
+    # a periodic cluster has winding numbers: the row stores rho_s, det^(1/D), the D x D tensor and
+    # their errors, the same numbers as the API's chain with the same seed
+    from hyperlattice.bosons import merge_chains, qmc
+    from hyperlattice.graph.clusters import pbc_cluster
+
+    grid = {"cluster": "bolza", "p": 8, "nmax": 1, "U": 0.0, "mu": 0.2, "beta": 1.0, "sweeps": 600, "seed": [1, 2]}
+    run_sweep("qmc", grid, tmp_path / "bolza", scheduler="serial", progress=False)
+    rows = read_table(tmp_path / "bolza").rows()
+    bolza = pbc_cluster(8, 3, "bolza")
+    api = [qmc(bolza, U=0.0, mu=0.2, beta=1.0, nmax=1, sweeps=600, seed=s, progress=False) for s in (1, 2)]
+    for row, ref in zip(rows, api):
+        assert row["stiffness_dim"] == 4 and row["stiffness_note"] == ""          # genus 2: D = 4
+        for k in ("rho_s", "rho_s_err", "stiffness_geometric", "stiffness_geometric_err"):
+            assert np.isfinite(row[k]) and row[k] == getattr(ref, k), k
+        assert row["rho_s_err"] > 0 and row["tau_stiffness"] == ref.tau_int["stiffness"]
+        assert np.array_equal(np.asarray(row["stiffness"]), ref.stiffness.ravel())
+        assert np.array_equal(np.asarray(row["stiffness_err"]), ref.stiffness_err.ravel())
+    (merged,) = merge_qmc(tmp_path / "bolza")
+    ref = merge_chains(api)
+    assert merged.stiffness.shape == (4, 4) and merged.stiffness_note == ""
+    assert np.allclose(merged.stiffness, ref.stiffness, rtol=1e-12, atol=0)
+    assert np.allclose(merged.stiffness_err, ref.stiffness_err, rtol=1e-12, atol=0)
+    for k in ("rho_s", "rho_s_err", "stiffness_geometric", "stiffness_geometric_err"):
+        assert getattr(merged, k) == pytest.approx(getattr(ref, k), rel=1e-12), k
+    assert merged.tau_int["stiffness"] == pytest.approx(ref.tau_int["stiffness"], rel=1e-12)
+
+
+def test_a_flake_row_says_why_there_is_no_stiffness():
+    params = dict(get_task("qmc").defaults, rings=1, nmax=2, U=4.0, mu=1.0, beta=1.0, sweeps=200, seed=7)
+    row = execute("qmc", params)
+    assert row["stiffness_dim"] == 0 and len(row["stiffness"]) == 0 and np.isnan(row["rho_s"])
+    assert "flake" in row["stiffness_note"]
+
+
+def _documented_columns() -> set:
+    """The column names of the table of a qmc row in docs/qmc.md."""
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "qmc.md").read_text(encoding="utf-8")
+    start = text.index("a row of the `qmc` task holds these columns")
+    names, in_table = set(), False
+    for line in text[start:].splitlines()[1:]:
+        if line.startswith("|"):
+            in_table = True
+            first = line.split(" | ")[0]
+            names.update(re.findall(r"`([a-z_]+)`", first))
+        elif in_table:
+            break
+    return names
+
+
+def test_the_documented_columns_are_the_row():
+    params = dict(get_task("qmc").defaults, rings=1, nmax=2, U=4.0, mu=1.0, beta=1.0, sweeps=200, seed=7)
+    row = execute("qmc", params)
+    assert _documented_columns() == set(row)
 
 
 @pytest.mark.parametrize("grid,needle", [

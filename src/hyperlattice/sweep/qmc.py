@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from .store import SweepTable, read_table
-from .tasks import _NOTES_SEP, _QMC_GREEN, _QMC_SCALARS, _QMC_TAUS, _point_value, get_task
+from .tasks import _NOTES_SEP, _QMC_GREEN, _QMC_SCALARS, _QMC_STIFFNESS, _QMC_TAUS, _point_value, get_task
 
 __all__ = ["merge_qmc"]
 
@@ -54,10 +54,12 @@ def merge_qmc(table) -> list:
     point_keys = [k for k in get_task("qmc").defaults if k != "seed"]
     groups: dict = {}
     for row in table.rows():
+        tau = {k: float(row[f"tau_{k}"]) for k in _QMC_TAUS}
+        st = _stiffness(row, tau)
         r = QMCResult(
             U=float(row["U"]), mu=float(row["mu"]), t=float(row["t"]), beta=float(row["beta"]),
             nmax=int(row["nmax"]), seed=int(row["seed"]), seeds=(int(row["seed"]),), chains=1,
-            tau_int={k: float(row[f"tau_{k}"]) for k in _QMC_TAUS}, converged=bool(row["converged"]),
+            tau_int=tau, converged=bool(row["converged"]),
             notes=tuple(n for n in str(row["notes"]).split(_NOTES_SEP) if n),
             site_density=np.asarray(row["site_density"], float),
             site_density_err=np.asarray(row["site_density_err"], float),
@@ -66,9 +68,23 @@ def merge_qmc(table) -> list:
             bond_kinetic_err=np.asarray(row["bond_kinetic_err"], float), seconds=0.0,
             sweeps=int(row["sweeps"]), thermalization=int(row["thermalization_sweeps"]), green_matrix=None,
             **{k: (np.asarray(row[k], float) if len(row[k]) else None) for k in _QMC_GREEN},
-            **{k: row[k] for k in _QMC_SCALARS})
+            **{k: row[k] for k in _QMC_SCALARS}, **st)
         groups.setdefault(tuple(_point_value(row[k]) for k in point_keys), []).append(r)
     return [merge_chains(chains) for chains in groups.values()]
+
+
+def _stiffness(row, tau: dict) -> dict:
+    """The stiffness fields of a QMCResult from a row (tables written before they were stored: none)."""
+    d = int(row["stiffness_dim"]) if "stiffness_dim" in row else 0
+    if d == 0:
+        return {"stiffness_note": str(row["stiffness_note"]) if "stiffness_note" in row
+                else "not stored in this sweep's table."}
+    tau["stiffness"] = float(row["tau_stiffness"])
+    out = {k: float(row[k]) for k in _QMC_STIFFNESS}
+    for k in ("stiffness", "stiffness_err"):
+        out[k] = np.asarray(row[k], float).reshape(d, d)
+    out["stiffness_note"] = ""
+    return out
 
 
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402

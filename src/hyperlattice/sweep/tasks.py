@@ -19,7 +19,11 @@ Registered tasks:
     None: the flake of ``rings`` rings; a name: that periodic cluster, ``rings`` unused). Outputs
     the scalar observables with errors and ``tau_*``, ``converged``, ``notes``,
     ``thermalization_sweeps``, the site densities, bond kinetic energies, the equal-time Green
-    function by distance class and the condensate fraction (not the full G matrix); a grid over ``seed`` gives independent chains, merged per point by
+    function by distance class and the condensate fraction (not the full G matrix), and on a
+    periodic cluster the superfluid stiffness from the winding numbers (``rho_s``,
+    ``stiffness_geometric``, their ``_err``, ``tau_stiffness``, the D x D tensor ``stiffness`` and
+    ``stiffness_err`` flattened row by row with ``stiffness_dim`` = D; nan, empty and 0 on a flake,
+    ``stiffness_note`` says why; the columns: docs/qmc.md); a grid over ``seed`` gives independent chains, merged per point by
     :func:`hyperlattice.sweep.qmc.merge_qmc` (:func:`hyperlattice.bosons.merge_chains`). A chain's wall-clock time is
     not stored (rows are pure functions of the parameters).
 ``probe``
@@ -168,6 +172,8 @@ _QMC_SCALARS = ("system", "sites", "energy", "energy_err", "density", "density_e
 #: the 1-d arrays of the equal-time Green function by distance class (empty when not measured)
 _QMC_GREEN = ("green_distance", "green", "green_err", "green_pairs")
 _QMC_TAUS = ("energy", "density", "compressibility")
+#: the stiffness scalars of a ``qmc`` row (nan without winding numbers: an open flake)
+_QMC_STIFFNESS = ("rho_s", "rho_s_err", "stiffness_geometric", "stiffness_geometric_err")
 #: separates the notes of a chain in the ``notes`` column
 _NOTES_SEP = " | "
 
@@ -207,6 +213,15 @@ def _qmc(p: int = 7, q: int = 3, rings: int = 3, cluster: str | None = None, nma
     for k in _QMC_GREEN:     # G(d) by distance class; the full matrix (2-d) is not a table column
         v = getattr(r, k)
         row[k] = np.zeros(0) if v is None else np.asarray(v, float)
+    # the superfluid stiffness from the winding numbers (a periodic cluster): the D x D tensor row by
+    # row (a column holds 1-d arrays), D in ``stiffness_dim``; empty, 0 and nan on a flake
+    row.update({k: float(getattr(r, k)) for k in _QMC_STIFFNESS})
+    row["tau_stiffness"] = float(r.tau_int.get("stiffness", math.nan))
+    row["stiffness_dim"] = 0 if r.stiffness is None else int(r.stiffness.shape[0])
+    for k in ("stiffness", "stiffness_err"):
+        v = getattr(r, k)
+        row[k] = np.zeros(0) if v is None else np.asarray(v, float).ravel()
+    row["stiffness_note"] = r.stiffness_note
     return row
 
 
