@@ -74,6 +74,10 @@ INVOCATIONS = [
      "--json", "--no-progress"],
     ["bosons", "qmc", "--cluster", "bolza", "--nmax", "1", "--U", "0", "--mu", "0", "--beta", "0.5",
      "--sweeps", "400", "--seed", "1", "--progress"],
+    ["bosons", "qmc", "--adjacency", "{tmp}/square.npz", "--windings", "{tmp}/square_windings.npy", "--nmax", "1",
+     "--U", "0", "--mu", "0.3", "--beta", "0.5", "--sweeps", "200", "--seed", "1", "--json"],
+    ["bosons", "qmc", "--cluster", "klein", "--no-windings", "--nmax", "1", "--U", "0", "--mu", "0", "--beta", "0.5",
+     "--sweeps", "200", "--seed", "1"],
     ["bosons", "meanfield", "-p", "7", "-q", "3", "--rings", "2", "--filling", "1", "--points", "3", "--continuum", "--t", "0.01",
      "--mu", "0.5", "--plot", "{tmp}/m.png", "--json"],
     ["bosons", "meanfield", "--cluster", "klein", "--points", "3"],
@@ -140,6 +144,22 @@ def _fake_reproduce(out_dir, max_rings, *, cache, progress):
             "cache_hits": cache.hits, "cache_misses": cache.misses, "cache_reused": cache.reused}
 
 
+def _square_torus_files(where) -> None:
+    """square.npz (the 3 x 3 torus's adjacency) and square_windings.npy (its windings in the CLI's edge order)."""
+    import numpy as np
+    import scipy.sparse as sp
+
+    from hyperlattice.cli._bosons_qmc import edges
+    from hyperlattice.compare.qmc_lobe import square_lattice, square_lattice_windings
+
+    adj = square_lattice(3)
+    sp.save_npz(where / "square.npz", sp.csr_matrix(adj))
+    pairs, w = square_lattice_windings(3)
+    lookup = {(int(i), int(j)): row for (i, j), row in zip(pairs, w)}
+    lookup.update({(int(j), int(i)): -row for (i, j), row in zip(pairs, w)})
+    np.save(where / "square_windings.npy", np.array([lookup[(int(i), int(j))] for i, j in edges(adj)]))
+
+
 def _slow(argv: list[str]) -> bool:
     # the two lines above ~5 s (a butterfly with its continuum overlay; rho of the infinite lattice)
     return argv[0] == "butterfly" and "--continuum" in argv or "--infinite" in argv
@@ -155,6 +175,7 @@ def test_invocation_runs(argv, tmp_path, monkeypatch, capsys):
     monkeypatch.setenv("HYPERLATTICE_CACHE", str(tmp_path / "cache"))
     monkeypatch.setattr(report, "reproduce", _fake_reproduce)
     (tmp_path / "sweep.json").write_text(json.dumps({"task": "probe", "grid": {"x": [1.0]}, "out": str(tmp_path / "s2")}))
+    _square_torus_files(tmp_path)
     words = [w.replace("{tmp}", str(tmp_path)) for w in argv]
     code = main(words + ["--no-progress"])
     err = capsys.readouterr().err

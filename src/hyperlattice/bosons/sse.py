@@ -224,7 +224,8 @@ def _bond_windings(system, model: _Model, windings) -> tuple[np.ndarray, str]:
                           "condensate fraction.")
         else:
             return none, ("an adjacency matrix carries no windings: pass windings= (e.g. "
-                          "compare.qmc_lobe.square_lattice_windings(L) for the L x L torus).")
+                          "compare.qmc_lobe.square_lattice_windings(L) for the L x L torus; on the command "
+                          "line --windings FILE.npy).")
     if hasattr(windings, "edges") and hasattr(windings, "windings"):
         edges, w = windings.edges, windings.windings
     elif isinstance(windings, (tuple, list)) and len(windings) == 2:
@@ -421,6 +422,7 @@ class QMCResult(Result):
             out[k] = to_jsonable(getattr(self, k))
         out["stiffness"] = to_jsonable(self.stiffness.tolist() if self.stiffness is not None else None)
         out["stiffness_err"] = to_jsonable(self.stiffness_err.tolist() if self.stiffness_err is not None else None)
+        out["stiffness_note"] = self.stiffness_note
         out["tau_int"] = to_jsonable(dict(self.tau_int))
         out["notes"] = to_jsonable(list(self.notes))
         return out

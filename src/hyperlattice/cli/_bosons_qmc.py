@@ -6,12 +6,21 @@ energy_err, density, density_err, compressibility, compressibility_err, tau_int`
 total <H>, the -mu N term included; density and compressibility per site; ``tau_int`` the
 integrated autocorrelation times in sweeps by observable), then the rest of
 :meth:`hyperlattice.bosons.QMCResult.summary` (the parameters, ``seed``, ``bins``,
-``converged``, ``notes``...).
+``converged``, ``notes``...), among them the superfluid stiffness from the winding numbers:
+``rho_s, rho_s_err, stiffness_geometric, stiffness_geometric_err, stiffness, stiffness_err``
+(the D x D tensor) and ``tau_int["stiffness"]`` when the graph has windings (a periodic cluster,
+or ``--windings FILE.npy``), null otherwise, and ``stiffness_note`` saying why.
+
+The graph: a flake (``--rings``), a periodic cluster (``--cluster``) or a user's adjacency matrix
+(``--adjacency FILE``). Its edges, in the order a ``--windings`` file follows, are the pairs
+(i, j) with i < j and A_ij != 0 sorted by i, then j (:func:`edges`).
 """
 
 from __future__ import annotations
 
 import argparse
+
+import numpy as np
 
 from ._common import add_pq, cluster_pq, finite_float, integer, positive_int, print_json
 
@@ -20,9 +29,17 @@ ORDER = 40
 HELP = "quantum Monte Carlo (SSE): thermal energy, density and compressibility with error bars"
 DESCRIPTION = ("Thermal averages of H = -t sum<ij>(a_i^+ a_j + h.c.) + (U/2) sum n_i(n_i-1) - mu sum n_i at "
                "inverse temperature BETA with at most NMAX bosons per site (NMAX = 1: hard-core), by "
-               "stochastic series expansion with directed loops, on a {p,q} flake (--rings) or a periodic "
-               "cluster (--cluster, names from 'hyperlattice cluster --list'). Errors from a binning analysis; "
-               "the energy is the total <H> (the -mu N term included), density and compressibility per site.")
+               "stochastic series expansion with directed loops, on a {p,q} flake (--rings), a periodic "
+               "cluster (--cluster, names from 'hyperlattice cluster --list') or a graph of your own "
+               "(--adjacency). Errors from a binning analysis; "
+               "the energy is the total <H> (the -mu N term included), density and compressibility per site. "
+               "On a periodic cluster (or with --windings) the superfluid stiffness from the winding numbers "
+               "is measured too: JSON keys rho_s, rho_s_err, stiffness_geometric, stiffness_geometric_err, "
+               "stiffness and stiffness_err (D x D), tau_int.stiffness; null without windings, "
+               "stiffness_note says why.")
+
+#: largest number of sites of an --adjacency file (the same bound as a flake's)
+MAX_ADJACENCY_SITES = 10_000_000
 
 #: the contract's keys, first in the JSON object, in this order
 KEYS = ("sites", "energy", "energy_err", "density", "density_err", "compressibility", "compressibility_err",
@@ -54,6 +71,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     where = parser.add_mutually_exclusive_group(required=True)
     where.add_argument("--rings", type=positive_int, help="a flake of this many rings (1 = one p-gon)")
     where.add_argument("--cluster", metavar="NAME", help="a periodic cluster, e.g. bolza or klein (its p and q unless -p/-q are given)")
+    where.add_argument("--adjacency", metavar="FILE",
+                       help="a graph of your own: a symmetric adjacency matrix, .npz written by "
+                            "scipy.sparse.save_npz or a dense .npy (couplings t*A_ij >= 0; -p/-q unused)")
     add_pq(parser)
     parser.add_argument("--nmax", type=positive_int, required=True,
                         help="occupation cutoff per site (1 = hard-core bosons)")
@@ -69,12 +89,90 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--checkpoint", default=None, metavar="DIR",
                         help="save the chain in DIR (created) every minute and at the end; the same command "
                              "(more --sweeps allowed) resumes it, bit-identically")
-    parser.add_argument("--json", action="store_true", help="print JSON")
+    wind = parser.add_mutually_exclusive_group()
+    wind.add_argument("--windings", metavar="FILE.npy",
+                      help="winding numbers of the edges for the superfluid stiffness: an integer array of "
+                           "shape (edges, D), row k the windings around the D cycles of the k-th edge (i, j), "
+                           "i < j, A_ij != 0, sorted by i then j, counted from i to j (on a cluster it replaces "
+                           "the automatic tree-cotree windings)")
+    wind.add_argument("--no-windings", action="store_true",
+                      help="do not measure the stiffness (a periodic cluster measures it by default)")
+    parser.add_argument("--json", action="store_true",
+                        help="print JSON: sites, energy(_err), density(_err), compressibility(_err), tau_int "
+                             "first, then the parameters, seed, bins, converged, notes and the stiffness keys")
+
+
+def _adjacency(value):
+    """The matrix of ``--adjacency FILE`` (.npz of scipy.sparse.save_npz or a dense .npy)."""
+    import scipy.sparse as sp
+
+    from .. import _validate
+
+    path = _validate.input_path("--adjacency", value, suffixes=(".npz", ".npy"))
+    try:
+        if path.suffix == ".npz":
+            mat = sp.load_npz(path)
+        else:
+            mat = np.load(path, allow_pickle=False)
+    except Exception as exc:  # numpy's and zipfile's many ways of saying "not this kind of file"
+        what = ("a sparse matrix written by scipy.sparse.save_npz" if path.suffix == ".npz"
+                else "a dense array written by numpy.save")
+        raise ValueError(f"--adjacency {str(path)!r} is not {what}: {_validate.file_problem(exc)}.") from None
+    if not (sp.issparse(mat) or isinstance(mat, np.ndarray)) or mat.ndim != 2 or mat.shape[0] != mat.shape[1]:
+        raise ValueError(f"--adjacency {str(path)!r} must hold a square matrix, got shape "
+                         f"{getattr(mat, 'shape', None)}.")
+    if mat.shape[0] == 0 or mat.shape[0] > MAX_ADJACENCY_SITES:
+        raise ValueError(f"--adjacency {str(path)!r} must have 1 to {MAX_ADJACENCY_SITES:,} sites, got "
+                         f"{mat.shape[0]:,}.")
+    if mat.dtype.kind not in "biufc":
+        raise ValueError(f"--adjacency {str(path)!r} must hold numbers, got {mat.dtype}.")
+    return sp.csr_matrix(mat)
+
+
+def edges(system) -> np.ndarray:
+    """The edges (i, j), i < j, of a flake, cluster or matrix, sorted by i then j: the rows of a windings file."""
+    import scipy.sparse as sp
+
+    if sp.issparse(system):
+        mat = system
+    elif hasattr(system, "genus"):
+        mat = system.adjacency()
+    else:
+        from ..graph.operators import adjacency
+
+        mat = adjacency(system)
+    up = sp.coo_matrix(sp.triu(sp.csr_matrix(mat), k=1))
+    keep = up.data != 0
+    pairs = np.column_stack([up.row[keep], up.col[keep]]).astype(np.int64)
+    return pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))]
+
+
+def _windings(value, system):
+    """``--windings FILE.npy`` as the (edges, windings) pair :func:`hyperlattice.bosons.qmc` takes."""
+    from .. import _validate
+
+    path = _validate.input_path("--windings", value, suffixes=(".npy",))
+    try:
+        w = np.load(path, allow_pickle=False)
+    except Exception as exc:
+        raise ValueError(f"--windings {str(path)!r} is not an array written by numpy.save: "
+                         f"{_validate.file_problem(exc)}.") from None
+    pairs = edges(system)
+    if not isinstance(w, np.ndarray) or w.dtype.kind not in "iu":
+        raise ValueError(f"--windings {str(path)!r} must hold integers (the winding of each edge around each "
+                         f"cycle), got {getattr(w, 'dtype', type(w).__name__)}.")
+    if w.ndim != 2 or w.shape[0] != len(pairs) or not 1 <= w.shape[1] <= 64:
+        raise ValueError(f"--windings {str(path)!r} must be an array of shape (edges, D) with one row per edge "
+                         f"(i, j), i < j, sorted by i then j ({len(pairs)} edges) and 1 <= D <= 64, got shape "
+                         f"{w.shape}.")
+    return pairs, w.astype(np.int64)
 
 
 def _system(args: argparse.Namespace):
     from .. import _validate
 
+    if args.adjacency is not None:
+        return _adjacency(args.adjacency)
     p, q = _validate.pq(args.p, args.q) if args.cluster is None else cluster_pq(args, args.cluster)
     if args.rings is not None:
         from ..graph.lattice import ring_lattice
@@ -91,8 +189,9 @@ def run(args: argparse.Namespace) -> int:
 
     checkpoint = None if args.checkpoint is None else _validate.directory("--checkpoint", args.checkpoint)
     system = _system(args)
+    windings = False if args.no_windings else None if args.windings is None else _windings(args.windings, system)
     res = qmc(system, U=args.U, mu=args.mu, beta=args.beta, nmax=args.nmax, t=args.t, sweeps=args.sweeps,
-              thermalization=args.thermalization, seed=args.seed, checkpoint=checkpoint)
+              thermalization=args.thermalization, seed=args.seed, checkpoint=checkpoint, windings=windings)
     if args.json:
         summary = res.summary()
         out = {k: summary[k] for k in KEYS}
