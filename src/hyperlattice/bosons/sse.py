@@ -652,7 +652,18 @@ class _Chain:
         self.counters[2 if thermalize else 3] += n
 
 
-def _memory_need(model: _Model, beta: float, cb: np.ndarray, nmax: int, U: float, mu: float) -> tuple[float, float]:
+def _green_bytes(sites: int, measure: bool) -> float:
+    """Bytes of the full G(i, j): its bins and running sum (blocks + 1 matrices of M x M floats), and
+    the setup's and the analysis's temporaries (distances, classes, masks, the eigen-decomposition:
+    about 6 more)."""
+    if not measure or sites > G_FULL_MAX:
+        return 0.0
+    blocks = 8 if sites <= 1000 else 4
+    return 8.0 * sites * sites * (blocks + 1 + 6)
+
+
+def _memory_need(model: _Model, beta: float, cb: np.ndarray, nmax: int, U: float, mu: float,
+                 measure_green: bool = True) -> tuple[float, float]:
     """(string length bound beta * sum_b max vertex weight, bytes expected for the chain)."""
     n = np.arange(nmax + 1, dtype=float)
     eps = 0.5 * U * n * (n - 1) - mu * n
@@ -660,15 +671,39 @@ def _memory_need(model: _Model, beta: float, cb: np.ndarray, nmax: int, U: float
     emin = eps.min() / z
     wmax = np.maximum(cb - emin[model.bi] - emin[model.bj], model.tb * nmax)
     bound = beta * float(wmax.sum()) + 16
-    need = _BYTES_PER_OP * bound * 1.5 + 8.0 * (model.sites + model.bi.size) * (_VECTOR_BINS + 8)
+    need = (_BYTES_PER_OP * bound * 1.5 + 8.0 * (model.sites + model.bi.size) * (_VECTOR_BINS + 8)
+            + _green_bytes(model.sites, measure_green))
     return bound, need
 
 
-def _check_memory(model: _Model, beta: float, cb: np.ndarray, nmax: int, U: float, mu: float) -> float:
+#: address space a chain needs besides :func:`qmc_memory`'s count, once numba is loaded: the
+#: kernels' machine code and LLVM's JIT engine (about 20 MB on first use) and OpenBLAS's work buffer
+#: (32 MB on its first matrix product), measured with /proc/self/status VmSize on Linux x86-64
+_RUNTIME_BYTES = 64 * 2**20
+
+
+def _load_kernels():
+    """The numba kernels, imported before the memory check (numba and LLVM map about 170 MB of
+    address space), a failure under an address-space limit said in one sentence."""
+    try:
+        from . import _sse_kernels as K
+    except (OSError, MemoryError, ImportError) as exc:
+        _, address = _validate.memory_limits()
+        if address is None and not isinstance(exc, MemoryError):
+            raise
+        raise MemoryError(f"loading the quantum Monte Carlo's compiled kernels (numba, LLVM: about 200 MB of "
+                          f"address space) failed with {_validate._bytes(_validate.available_memory())} left to "
+                          "this process; raise its memory limit (ulimit -v).") from None
+    return K
+
+
+def _check_memory(model: _Model, beta: float, cb: np.ndarray, nmax: int, U: float, mu: float,
+                  measure_green: bool = True) -> float:
     """The expected string length bound beta * sum_b max vertex weight; refuse when it won't fit."""
-    bound, need = _memory_need(model, beta, cb, nmax, U, mu)
-    _validate.require_memory(f"the SSE operator string (expected up to {bound:,.0f} operators at beta = {beta:g})",
-                             need)
+    bound, need = _memory_need(model, beta, cb, nmax, U, mu, measure_green)
+    _validate.require_memory(f"the SSE chain (an operator string of up to {bound:,.0f} operators at beta = {beta:g}, "
+                             f"its bins and G(i, j), and {_RUNTIME_BYTES // 2**20} MiB for the compiled kernels and BLAS)",
+                             need + _RUNTIME_BYTES)
     return bound
 
 
@@ -699,15 +734,20 @@ def _bonded_model(system, t: float) -> "_Model":
     return model
 
 
-def qmc_memory(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0) -> int:
+def qmc_memory(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0,
+               measure_green: bool = True) -> int:
     r"""Bytes a :func:`qmc` chain is expected to need, as its refusal computes them (nothing is allocated).
 
     The operator string of the SSE holds about :math:`\beta \sum_b W_b^{\max}` operators at most
     (:math:`W_b^{\max}` the largest vertex weight of bond b, energy unit of t, β its inverse); each
     slot costs the string, vertex, link and leg arrays, with a margin of 1.5 for the string's
-    growth, plus the site- and bond-resolved bins. :func:`qmc` refuses (MemoryError) when this
-    exceeds the memory the process may still allocate; the sweep task ``qmc`` refuses a grid
-    point with the same number before the grid runs.
+    growth, plus the site- and bond-resolved bins and, with ``measure_green`` up to
+    :data:`G_FULL_MAX` sites, the bins of the full one-body density matrix and the temporaries of
+    its set-up and analysis (15 M x M floats up to 1000 sites, 11 above). :func:`qmc` refuses (MemoryError, one sentence,
+    before allocating) when this plus 64 MiB (the compiled kernels' code and LLVM's JIT engine,
+    OpenBLAS's work buffer) exceeds the memory the process may still allocate once numba is
+    loaded, the address-space limit (``ulimit -v``) included; the sweep task ``qmc`` refuses a
+    grid point with this number before the grid runs.
 
     Parameters
     ----------
@@ -721,13 +761,13 @@ def qmc_memory(system, *, U: float, mu: float, beta: float, nmax: int, t: float 
         Occupation cutoff, >= 1.
     t : float, optional
         Hopping scale (default 1).
+    measure_green : bool, optional
+        As in :func:`qmc` (default True).
 
     Returns
     -------
     int
-        Bytes, as :func:`qmc`'s refusal counts them. Not included: the bins of the full one-body
-        density matrix when ``measure_green`` (:math:`9 M^2` floats up to 1000 sites,
-        :math:`5 M^2` up to :data:`G_FULL_MAX`), a few MB for M = 1000.
+        Bytes, as :func:`qmc`'s refusal counts them (without its fixed 64 MiB).
 
     Raises
     ------
@@ -742,9 +782,10 @@ def qmc_memory(system, *, U: float, mu: float, beta: float, nmax: int, t: float 
     True
     """
     U, mu, t, beta, nmax = _physical_inputs(U, mu, t, beta, nmax)
+    measure_green = _validate.flag("measure_green", measure_green)
     model = _bonded_model(system, t)
     _, _, cb = _weights(model, U, mu, nmax)
-    _, need = _memory_need(model, beta, cb, nmax, U, mu)
+    _, need = _memory_need(model, beta, cb, nmax, U, mu, measure_green)
     return int(math.ceil(need))
 
 
@@ -927,8 +968,8 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
     model = _bonded_model(system, t)
     wind, wind_note = _bond_windings(system, model, windings)
     eps, esite, cb = _weights(model, U, mu, nmax)
-    bound = _check_memory(model, beta, cb, nmax, U, mu)
-    from . import _sse_kernels as K
+    K = _load_kernels()          # before the check: the available memory is then what the chain has
+    bound = _check_memory(model, beta, cb, nmax, U, mu, measure_green)
 
     sq = np.sqrt(np.arange(nmax + 2, dtype=float))
     green = _green_setup(model, measure_green)
