@@ -652,14 +652,21 @@ class _Chain:
         self.counters[2 if thermalize else 3] += n
 
 
+#: the string's bytes over _BYTES_PER_OP x the bound: the string's growth (old and new arrays at
+#: once), the kernel's work arrays, and a mean operator count that can pass the bound (by 9 % on the
+#: 847-site flake at beta = 8); the peak RSS of string-dominated chains grew by 83-103 bytes per
+#: bound operator (l = 5, 6; benchmarks/qmc_memory_check.py), and 2.5 gives 117
+_STRING_MARGIN = 2.5
+
+
 def _green_bytes(sites: int, measure: bool) -> float:
     """Bytes of the full G(i, j): its bins and running sum (blocks + 1 matrices of M x M floats), and
-    the setup's and the analysis's temporaries (distances, classes, masks, the eigen-decomposition:
-    about 6 more)."""
+    12 more: the set-up's class table and the analysis's temporaries (the peak RSS of a chain on
+    the 847-site flake grew by about 19.5 M x M floats, benchmarks/qmc_memory_check.py)."""
     if not measure or sites > G_FULL_MAX:
         return 0.0
     blocks = 8 if sites <= 1000 else 4
-    return 8.0 * sites * sites * (blocks + 1 + 6)
+    return 8.0 * sites * sites * (blocks + 1 + 12)
 
 
 def _memory_need(model: _Model, beta: float, cb: np.ndarray, nmax: int, U: float, mu: float,
@@ -671,7 +678,7 @@ def _memory_need(model: _Model, beta: float, cb: np.ndarray, nmax: int, U: float
     emin = eps.min() / z
     wmax = np.maximum(cb - emin[model.bi] - emin[model.bj], model.tb * nmax)
     bound = beta * float(wmax.sum()) + 16
-    need = (_BYTES_PER_OP * bound * 1.5 + 8.0 * (model.sites + model.bi.size) * (_VECTOR_BINS + 8)
+    need = (_BYTES_PER_OP * bound * _STRING_MARGIN + 8.0 * (model.sites + model.bi.size) * (_VECTOR_BINS + 8)
             + _green_bytes(model.sites, measure_green))
     return bound, need
 
@@ -740,10 +747,10 @@ def qmc_memory(system, *, U: float, mu: float, beta: float, nmax: int, t: float 
 
     The operator string of the SSE holds about :math:`\beta \sum_b W_b^{\max}` operators at most
     (:math:`W_b^{\max}` the largest vertex weight of bond b, energy unit of t, β its inverse); each
-    slot costs the string, vertex, link and leg arrays, with a margin of 1.5 for the string's
+    slot costs the string, vertex, link and leg arrays, with a margin of 2.5 for the string's
     growth, plus the site- and bond-resolved bins and, with ``measure_green`` up to
     :data:`G_FULL_MAX` sites, the bins of the full one-body density matrix and the temporaries of
-    its set-up and analysis (15 M x M floats up to 1000 sites, 11 above). :func:`qmc` refuses (MemoryError, one sentence,
+    its set-up and analysis (21 M x M floats up to 1000 sites, 17 above). :func:`qmc` refuses (MemoryError, one sentence,
     before allocating) when this plus 64 MiB (the compiled kernels' code and LLVM's JIT engine,
     OpenBLAS's work buffer) exceeds the memory the process may still allocate once numba is
     loaded, the address-space limit (``ulimit -v``) included; the sweep task ``qmc`` refuses a
