@@ -77,7 +77,7 @@ def _unlimited():
 
 
 def test_a_run_whose_estimate_does_not_fit_is_refused_in_one_sentence():
-    # l = 3 at beta = 20000: an estimate of about 1.9 GB; the limit leaves 150 MB once numba is in
+    # l = 3 at beta = 20000: an estimate of about 3.3 GB; the limit leaves 150 MB once numba is in
     probe = _probe(3, 20000.0)
     assert probe["need"] > 10**9
     limit = probe["vmsize"] + 150 * 2**20
