@@ -8,10 +8,11 @@ the tip; mean field gives sqrt 2 - 1 = 0.414 at its own tip) and takes Newton st
 mu <- mu - (n - 1)/kappa on short runs until |n - 1| < 2 sigma, then the production run.
 Exact: (U/t)_c = 16.7424(54), Capogrosso-Sansone, Prokof'ev, Svistunov, PRA 77, 015602 (2008).
 
-Crossings of each pair of consecutive sizes: a weighted least-squares line (--degree) through the
-difference of the two rho_s L curves over the whole U grid, its root, and the error of the root
+Crossings of each pair of consecutive sizes: a weighted least-squares polynomial in U (--degree, a
+parabola and a line by default, one line of output each) through the difference of the two rho_s L
+curves over the whole U grid, its root, and the error of the root
 from a parametric bootstrap (every point redrawn from a normal distribution with its QMC error
-bar, --boots redraws), scaled by sqrt(chi2/dof) when chi2/dof > 1 (the line then does not describe
+bar, --boots redraws), scaled by sqrt(chi2/dof) when chi2/dof > 1 (the polynomial then does not describe
 the difference within the error bars: the usual scale factor, a convention). The linear
 interpolation between the two bracketing U is printed too (the error propagated from the four
 bracketing points). --sweeps takes one number or one per size; --rows reads the table rows a
@@ -113,11 +114,18 @@ def main(argv=None):
     ap.add_argument("--nmax", type=int, default=3)
     ap.add_argument("--mu-over-U", type=float, default=0.37)
     ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--degree", type=int, default=1, help="degree of the fit of the rho_s L difference in U")
+    ap.add_argument("--degree", default="2,1",
+                    help="degrees of the fits of the rho_s L difference in U (comma-separated: one line each)")
     ap.add_argument("--boots", type=int, default=2000, help="bootstrap redraws for the crossing's error")
     ap.add_argument("--rows", nargs="+", metavar="FILE",
                     help="read the points from the table rows earlier runs printed instead of running them")
     a = ap.parse_args(argv)
+    try:
+        degrees = [int(x) for x in a.degree.split(",")]
+    except ValueError:
+        ap.error(f"--degree takes comma-separated integers, got {a.degree!r}.")
+    if any(d < 1 for d in degrees):
+        ap.error(f"--degree takes degrees of at least 1, got {a.degree!r}.")
     if a.rows:
         table = read_rows(a.rows)
         sizes = sorted({L for L, _ in table})
@@ -153,11 +161,13 @@ def main(argv=None):
         c1, c2 = zip(*[table[L1, U] for U in Us]), zip(*[table[L2, U] for U in Us])
         y1, e1 = c1
         y2, e2 = c2
-        if len(Us) >= a.degree + 2:
-            uc, err, chi2, frac = crossing_fit(Us, y1, e1, y2, e2, degree=a.degree, boots=a.boots)
+        for deg in degrees:
+            if len(Us) < deg + 2:
+                continue
+            uc, err, chi2, frac = crossing_fit(Us, y1, e1, y2, e2, degree=deg, boots=a.boots)
             print(f"crossing L = {L1}, {L2}: (U/t)_c = {uc:.3f} ± {err:.3f}, (t/U)_c = {1 / uc:.5f}; "
                   f"exact 16.7424 (0.05973), deviation {(uc - EXACT_U) / err:.1f} sigma "
-                  f"(fit of degree {a.degree}, chi2/dof = {chi2:.2f}{', error scaled by its root' if chi2 > 1 else ''}, "
+                  f"(fit of degree {deg}, chi2/dof = {chi2:.2f}{', error scaled by its root' if chi2 > 1 else ''}, "
                   f"{a.boots} redraws, {frac:.3f} with a root)")
         ui, ei = crossing(Us, y1, e1, y2, e2)
         print(f"interpolated L = {L1}, {L2}: (U/t)_c = {ui:.3f} ± {ei:.3f}")
