@@ -258,3 +258,44 @@ def test_square_lattice_tip_crossing_reduced():
     uc, err = mod.crossing(Us, [r.rho_s * 4 for r in rows[4]], [r.rho_s_err * 4 for r in rows[4]],
                            [r.rho_s * 6 for r in rows[6]], [r.rho_s_err * 6 for r in rows[6]])
     assert abs(uc - 16.7424) < 1.0, (uc, err)
+
+
+@pytest.mark.slow
+def test_stiffness_error_bars_cover_the_exact_value():
+    """Coverage of the winding-number error bar over 200 independent chains.
+
+    100 chains (seeds 3000...) on the hard-core 3 x 3 torus (rho_s = tr Υ/2) and 100 on the
+    soft-core 6-site ring (Υ), 4000 sweeps each; one number per chain, so the hit counts are
+    binomial. With honest error bars P(|z| < 1) = 0.683 and P(|z| < 2) = 0.954 (62 bins: the
+    t-distribution changes this by < 0.005). The bounds 115 <= hits1 <= 157 and hits2 >= 177 of
+    200 fail for honest errors with probability 1.0e-3 (hits1, both tails) and 1.6e-5 (hits2)
+    (binomial, scipy.stats.binom). Error bars 2x too small give p = 0.383 and 0.683 (expected
+    hits 77 and 137), 2x too large p = 0.954 for hits1 (expected 191): either passes these bounds
+    with probability below 1e-16. The seeds are fixed, so the test is deterministic.
+    Chains whose binning has not reached a plateau warn (QMCWarning, a few per hundred at 4000
+    sweeps); their error bars are counted like the others, the warning is not the test's subject.
+    """
+    import warnings
+
+    from hyperlattice.bosons import QMCWarning
+
+    edges, w9 = square_lattice_windings(3)
+    kw9 = dict(U=0.0, mu=0.3, beta=1.0, nmax=1)
+    a6, bonds6, w6 = _ring(6)
+    kw6 = dict(U=3.0, mu=1.0, beta=1.5, nmax=2)
+    cases = [(square_lattice(3), (edges, w9), kw9, float(np.trace(exact_stiffness(edges, w9, 9, **kw9))) / 2),
+             (a6, (bonds6, w6), kw6, float(exact_stiffness(bonds6, w6, 6, **kw6)[0, 0]))]
+    hits1 = hits2 = total = 0
+    for k, (graph, win, kw, exact) in enumerate(cases):
+        for s in range(100):
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", QMCWarning)
+                r = qmc(graph, sweeps=4000, thermalization=500, seed=3000 + 1000 * k + s, progress=False,
+                        windings=win, measure_green=False, **kw)
+            z = abs(r.rho_s - exact) / r.rho_s_err
+            hits1 += z < 1
+            hits2 += z < 2
+            total += 1
+    assert total == 200
+    assert 115 <= hits1 <= 157, (hits1, total)
+    assert hits2 >= 177, (hits2, total)
