@@ -3,7 +3,9 @@
 Reads the stored scan (src/hyperlattice/report/qmc_lobe_scan.json, written by benchmarks/qmc_lobe_scan.py), adds Gutzwiller mean
 field and the third-order strong-coupling expansion on the same graphs, fits the pseudo-tips and
 their size extrapolation, prints three Markdown tables (the boundaries; the tips per graph and
-temperature; the extrapolation) and the reference numbers, and writes docs/img/qmc_lobe.png and
+temperature; the extrapolation) and the reference numbers (with three or more cluster sizes also
+the test of the extrapolation's form: chi^2 and each middle size against the line through the
+smallest and the largest), and writes docs/img/qmc_lobe.png and
 docs/img/qmc_tip.png.
 
 Usage: ``python benchmarks/table_qmc_lobe.py [--scan FILE] [--figure FILE] [--tip-figure FILE]`` (about a minute).

@@ -250,8 +250,8 @@ def verdict(lobe) -> list:
                     "mean field's error on the tip's position goes as 1/z, and the curvature does not reduce it.")
         if f["dof"] >= 1:
             text.append(f"The {len(f['sites'])} cluster sizes ({', '.join(str(m) for m in f['sites'])} sites) test "
-                        f"the form: χ² = {f['chi2']:.2f} for {f['dof']} degree(s) of freedom in 1/M and "
-                        f"{f['chi2_sqrt_form']:.2f} in 1/√M.")
+                        f"the form: χ² = {f['chi2']:.2f} for {f['dof']} degree{'s' if f['dof'] > 1 else ''} of freedom "
+                        f"in 1/M and {f['chi2_sqrt_form']:.2f} in 1/√M.")
     return text
 
 
