@@ -3,7 +3,9 @@
 Reads the stored scan (src/hyperlattice/report/qmc_lobe_scan.json, written by benchmarks/qmc_lobe_scan.py), adds Gutzwiller mean
 field and the third-order strong-coupling expansion on the same graphs, fits the pseudo-tips and
 their size extrapolation, prints three Markdown tables (the boundaries; the tips per graph and
-temperature; the extrapolation) and the reference numbers, and writes docs/img/qmc_lobe.png and
+temperature; the extrapolation) and the reference numbers (with three or more cluster sizes also
+the test of the extrapolation's form: chi^2 and each middle size against the line through the
+smallest and the largest), and writes docs/img/qmc_lobe.png and
 docs/img/qmc_tip.png.
 
 Usage: ``python benchmarks/table_qmc_lobe.py [--scan FILE] [--figure FILE] [--tip-figure FILE]`` (about a minute).
@@ -26,6 +28,29 @@ def _table(header, rows):
     for r in rows:
         print("| " + " | ".join(r) + " |")
     print()
+
+
+def _form_check(lobe, f) -> None:
+    """Print the test of x_c(M) = x_inf + c/M with three or more cluster sizes: chi^2 of both forms, and
+    each middle cluster against the line through the smallest and the largest (a prediction it did
+    not enter), in units of the combined error."""
+    from hyperlattice.compare.qmc_lobe import size_extrapolation
+
+    print(f"cluster sizes {' + '.join(str(m) for m in f['sites'])} (beta t = {f['beta_t']:g}): chi2 = "
+          f"{f['chi2']:.2f} for {f['dof']} dof with c/M, {f['chi2_sqrt_form']:.2f} with c/sqrt(M)")
+    pts = sorted((s["sites"], d["tip"], d["tip_err"]) for s in lobe.systems if s["system"].startswith("cluster:")
+                 for d in s["tips"] if d["beta_t"] == f["beta_t"] and d["nmax"] == 3 and math.isfinite(d["tip"]))
+    (m0, v0, e0), (m1, v1, e1) = pts[0], pts[-1]
+    for m, v, e in pts[1:-1]:
+        for power, form in ((1.0, "c/M"), (0.5, "c/sqrt(M)")):
+            line = size_extrapolation([m0, m1], [v0, v1], [e0, e1], power=power)
+            # the two-point line at M and its propagated error (the fit's covariance, exact here)
+            u, u0, u1 = m ** -power, m0 ** -power, m1 ** -power
+            a0, a1 = (u - u1) / (u0 - u1), (u0 - u) / (u0 - u1)
+            pred, pred_err = a0 * v0 + a1 * v1, math.hypot(a0 * e0, a1 * e1)
+            assert abs(pred - (line["tip"] + line["slope"] * u)) < 1e-12
+            print(f"  {m} sites: pseudo-tip {v:.4f} +- {e:.4f}; the {form} line through {m0} and {m1} sites "
+                  f"predicts {pred:.4f} +- {pred_err:.4f}: residual {(v - pred) / math.hypot(e, pred_err):+.1f} sigma")
 
 
 def main(argv=None) -> int:
@@ -66,6 +91,8 @@ def main(argv=None) -> int:
         f = h["infinite"]
         print(f"clusters extrapolated (beta t = {f['beta_t']:g}): {f['tip']:.4f} +- {f['tip_err']:.4f}; mean field "
               f"{h['off_infinite_cluster']:.0%} low (z = 3), {h['off_infinite_rho']:.0%} low (rho)")
+        if f["dof"] >= 1:
+            _form_check(lobe, f)
     Path(args.figure).parent.mkdir(parents=True, exist_ok=True)
     qmc_lobe_figure(lobe, args.figure)
     Path(args.tip_figure).parent.mkdir(parents=True, exist_ok=True)

@@ -99,6 +99,7 @@ def test_a_huge_min_sites_is_estimated_and_refused_before_work(capsys, monkeypat
     (["cluster", "--name", "Bolza"], "{8,3} cluster bolza: 16 sites"),             # case, and p from the name
     (["cluster", "--name", "KLEIN-DUAL"], "{3,7} cluster klein-dual: 24 sites"),
     (["cluster", "--name", "psl(2,13)"], "{7,3} cluster PSL(2,13)"),
+    (["cluster", "--name", "Macbeath"], "{7,3} cluster macbeath: 168 sites, 252 edges, 72 faces, genus 7"),
     (["bosons", "meanfield", "--cluster", "BOLZA"], "{8,3} cluster bolza (16 sites)"),
     (["bosons", "ed", "--cluster", "bolza", "--particles", "1", "--nmax", "1", "--U", "1", "--levels", "1"],
      "Bose-Hubbard ED on the {8,3} cluster bolza"),

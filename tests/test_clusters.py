@@ -20,6 +20,7 @@ TABLE = [
     (3, 7, "klein-dual", 24, 3),
     (3, 8, "dyck-dual", 12, 3),
     (7, 3, "PSL(2,7)", 56, 3),
+    (7, 3, "macbeath", 168, 7),
     (7, 3, "hurwitz14a", 364, 14),
     (7, 3, "hurwitz14b", 364, 14),
     (7, 3, "PSL(2,13)", 364, 14),
@@ -87,7 +88,7 @@ def _lattice_walks(p, q, kmax):
 
 
 @pytest.mark.parametrize("p,q,name", [
-    (7, 3, "klein"), (7, 3, "PSL(2,13)"), (7, 3, "hurwitz14b"), (8, 3, "bolza"), (8, 3, "dyck"), (8, 3, "PSL(2,17)"),
+    (7, 3, "klein"), (7, 3, "macbeath"), (7, 3, "PSL(2,13)"), (7, 3, "hurwitz14b"), (8, 3, "bolza"), (8, 3, "dyck"), (8, 3, "PSL(2,17)"),
     (3, 7, "PSL(2,13)"), (3, 8, "dyck-dual"), (4, 5, "PSL(2,31)"),
 ], ids=lambda v: str(v))
 def test_locally_the_lattice(p, q, name):
@@ -134,6 +135,86 @@ def test_two_routes_give_the_same_map():
     assert not C.same_map(C.pbc_cluster(7, 3, "hurwitz14b"), C.pbc_cluster(7, 3, "PSL(2,13)"))
     # and differently built non-isomorphic maps are told apart
     assert not C.same_map(C.pbc_cluster(8, 3, "bolza"), C.pbc_cluster(8, 3, "dyck"))
+
+
+def _psl28_hurwitz_pair():
+    """x, y of orders 2 and 3 with xy of order 7 generating PSL(2,8), as permutations of the
+    projective line over GF(8) = F2[a]/(a^3 + a + 1) (points 0..7 and 8 = infinity)."""
+    def mul(a, b):
+        r = 0
+        for i in range(3):
+            if b >> i & 1:
+                r ^= a << i
+        for i in (4, 3):
+            if r >> i & 1:
+                r ^= 0b1011 << (i - 3)
+        return r
+
+    inv = {a: next(b for b in range(1, 8) if mul(a, b) == 1) for a in range(1, 8)}
+
+    def mobius(a, b, c, d):
+        def f(z):
+            if z == 8:
+                return 8 if c == 0 else mul(a, inv[c])
+            num, den = mul(a, z) ^ b, mul(c, z) ^ d
+            return 8 if den == 0 else mul(num, inv[den])
+        return tuple(f(z) for z in range(9))
+
+    group = sorted({mobius(a, b, c, d) for a in range(8) for b in range(8) for c in range(8) for d in range(8)
+                    if mul(a, d) ^ mul(b, c) == 1})
+    assert len(group) == 504
+    e = tuple(range(9))
+
+    def compose(p, q):          # p first, then q
+        return tuple(q[i] for i in p)
+
+    def order(p):
+        k, r = 1, p
+        while r != e:
+            r, k = compose(r, p), k + 1
+        return k
+
+    def generated(gens):
+        seen, front = {e}, [e]
+        while front:
+            front = [t for t in {compose(s, g) for s in front for g in gens} if t not in seen]
+            seen.update(front)
+        return len(seen)
+
+    x = next(g for g in group if order(g) == 2)
+    y = next(g for g in group if order(g) == 3 and order(compose(x, g)) == 7 and generated([x, g]) == 504)
+    return x, y, compose, e
+
+
+def test_macbeath_surface():
+    # Macbeath (1965): the Hurwitz surface of genus 7, group PSL(2,8) of order 504, 168 sites
+    c = C.pbc_cluster(7, 3, "macbeath")
+    assert (c.sites, len(c.edges), len(c.faces), c.genus) == (168, 252, 72, 7)
+    assert c.sites * c.q == 504 and "PSL(2,8)" in c.group and "order 504" in c.group
+    assert c.systole == 14 and c.systole_exact
+    assert c.faces.shape[1] == 7
+    # the table's relator holds in PSL(2,8) for a (2,3,7) generating pair, so PSL(2,8) is a
+    # quotient of the enumerated group; equal orders make them isomorphic
+    x, y, compose, e = _psl28_hurwitz_pair()
+    y_inv = tuple(sorted(range(9), key=lambda i: y[i]))
+    letters = {"x": x, "y": y, "Y": y_inv}
+    (relator,) = C.KNOWN["macbeath"][2]
+    word, power = relator.split(")^")
+    w = e
+    for ch in word.strip("(").split():
+        w = compose(w, letters[ch])
+    r = e
+    for _ in range(int(power)):
+        r = compose(r, w)
+    assert r == e and w != e
+    # homology: 2g = 14 independent cycles
+    from hyperlattice.graph.bands import edge_windings
+    wnd = edge_windings(c)
+    assert wnd.genus == 7 and wnd.windings.shape == (252, 14)
+    assert np.linalg.matrix_rank(wnd.windings.astype(float)) == 14
+    # and it is a new map: not the Klein quartic's or a genus-14 one, spectrum top 3 once
+    ev = np.linalg.eigvalsh(c.adjacency().toarray())
+    assert abs(ev[-1] - 3) < 1e-12 and np.sum(np.abs(ev - 3) < 1e-9) == 1
 
 
 def test_same_map_full_search_matches_regular_shortcut():

@@ -8,6 +8,7 @@ against the number it estimates.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
 
@@ -145,6 +146,27 @@ def test_report_section(tmp_path):
     assert h["cluster"] is not None and f"{h['cluster']['tip']:.4f}" in " ".join(sec.text)
     # mean field, which drops the fluctuations that stabilise the Mott state, ends the lobe earlier than the QMC
     assert h["cluster"]["tip"] > h["cluster"]["mean_field"]
+    # three periodic cluster sizes (Klein quartic, Macbeath surface, PSL(2,13)) test the 1/M form
+    f = h["infinite"]
+    assert f["sites"] == [56, 168, 364] and f["dof"] == 1 and math.isfinite(f["chi2"])
+    assert f"χ² = {f['chi2']:.2f}" in " ".join(sec.text)
+    row = next(r for r in sec.tables[2].rows if r[0] == "clusters" and r[1] == f"{f['beta_t']:g}")
+    assert row[2] == "56 + 168 + 364" and row[6] == f"{f['chi2']:.2f}/1"
+
+
+def test_extrapolation_rows_state_chi2():
+    # two sizes: the line is not tested (—); three sizes: χ²/dof of each form
+    from hyperlattice.report.qmc_lobe import EXTRAPOLATION_HEADER, extrapolation_rows
+
+    lobe = ql.qmc_lobe(_tiny_scan(), points=11)
+    base = {"kind": "cluster", "beta_t": 8.0, "tip": 0.09, "tip_err": 0.001, "tip_sqrt_form": 0.089,
+            "tip_sqrt_form_err": 0.002, "systematic": 0.001, "slope": 0.1, "slope_sqrt_form": 0.01}
+    two = dict(base, sites=[56, 364], chi2=0.0, chi2_sqrt_form=0.0, dof=0)
+    three = dict(base, sites=[56, 168, 364], chi2=0.5, chi2_sqrt_form=1.25, dof=1)
+    lobe2 = dataclasses.replace(lobe, finite_size=[two, three])
+    rows = extrapolation_rows(lobe2)
+    assert all(len(r) == len(EXTRAPOLATION_HEADER) for r in rows)
+    assert rows[0][-2:] == ["—", "—"] and rows[1][-2:] == ["0.50/1", "1.25/1"]
 
 
 # ---------------------------------------------------------------------------------------------

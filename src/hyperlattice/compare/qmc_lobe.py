@@ -411,7 +411,9 @@ class QMCLobe(Result):
     finite_size : list of dict
         Per ``kind`` ("cluster" or "flake") and ``beta_t`` with two or more sizes: the pseudo-tips
         extrapolated in 1/M (``tip``, ``tip_err``) and in :math:`1/\sqrt M` (``tip_sqrt_form``),
-        ``systematic`` their difference, ``sites``.
+        ``systematic`` their difference, ``sites``; ``slope`` and ``slope_sqrt_form`` (c of each
+        form), ``chi2``, ``chi2_sqrt_form`` and ``dof`` (sizes − 2: with three or more sizes χ²
+        tests the form; the errors are widened by √(χ²/dof) when that exceeds 1).
     """
 
     COLUMNS = (Column("t_over_U", "t_over_U", "1"), Column("mu", "mu", "U"), Column("mu_err", "mu_err", "U"))
@@ -771,10 +773,10 @@ def qmc_lobe(scan: dict, *, points: int = 41) -> QMCLobe:
     betas = sorted({d["beta_t"] for s_ in systems for d in s_["tips"]})
     for beta in betas:
         for kind in ("cluster", "flake"):
-            pts = [(s_["sites"], d["tip"], d["tip_err"]) for s_ in systems if s_["system"].startswith(kind + ":")
+            pts = sorted((s_["sites"], d["tip"], d["tip_err"]) for s_ in systems if s_["system"].startswith(kind + ":")
                    if s_["sites"] >= MIN_SITES_EXTRAPOLATION
                    for d in s_["tips"] if d["beta_t"] == beta and d["nmax"] == 3 and math.isfinite(d["tip"])
-                   and d["tip_err"] > 0]
+                   and d["tip_err"] > 0)
             if len({p_[0] for p_ in pts}) < 2:
                 continue
             m_, v_, e_ = zip(*pts)
@@ -783,7 +785,9 @@ def qmc_lobe(scan: dict, *, points: int = 41) -> QMCLobe:
             finite_size.append({"kind": kind, "beta_t": beta, "sites": one["sites"], "tip": one["tip"],
                                 "tip_err": one["tip_err"], "tip_sqrt_form": half["tip"],
                                 "tip_sqrt_form_err": half["tip_err"],
-                                "systematic": abs(one["tip"] - half["tip"])})
+                                "systematic": abs(one["tip"] - half["tip"]), "slope": one["slope"],
+                                "slope_sqrt_form": half["slope"], "chi2": one["chi2"],
+                                "chi2_sqrt_form": half["chi2"], "dof": one["dof"]})
     from .limits import band_bottom   # the report's route to rho (extrapolated band bottom)
 
     rho = float(band_bottom(7, 3, schur_window=None).rho)

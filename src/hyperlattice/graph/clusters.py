@@ -74,6 +74,13 @@ KNOWN: dict[str, tuple] = {
                    "another of the first Hurwitz triplet (genus 14, group PSL(2,13); Macbeath 1961); "
                    "presentation (2,3,7;6), verified here by coset enumeration; systole 12, not "
                    "isomorphic to hurwitz14a"),
+    "macbeath": (7, 3, ("(x y x y x Y x y x y x Y x Y)^2",), "PSL(2,8), order 504",
+                 "Macbeath surface: A. M. Macbeath, Proc. London Math. Soc. (3) 15, 527 (1965), the "
+                 "Hurwitz surface of genus 7 with group PSL(2,8) (168 vertices, 252 edges, 72 heptagons). "
+                 "Relator found and verified here: it holds for a (2,3,7) generating pair of PSL(2,8) "
+                 "(Moebius maps of the projective line over GF(8)) and the coset enumeration closes at "
+                 "order 504 = |PSL(2,8)|, so the quotient is PSL(2,8). The commutator relator "
+                 "(x Y x y)^9 alone does not close (more than 10^6 cosets)"),
     "bolza": (8, 3, ("(x y x y x Y)^2",), "GL(2,3), order 48",
               "Bolza surface: O. Bolza, Am. J. Math. 20, 1 (1887); the regular map {8,3} of genus 2 "
               "with 16 vertices and rotation group GL(2,3) in Conder's census of regular maps "

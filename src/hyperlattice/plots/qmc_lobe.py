@@ -26,6 +26,16 @@ def _check(lobe) -> None:
         raise ValueError(f"lobe must be a QMCLobe (from compare.qmc_lobe.qmc_lobe), got {type(lobe).__name__}.")
 
 
+def _finish(fig, path, rect=None):
+    """Lay out ``fig`` (leaving ``rect`` free for a figure legend) and write it to ``path`` when given."""
+    from .. import _validate
+
+    fig.tight_layout(rect=rect)
+    if path is not None:
+        fig.savefig(_validate.output_path("path", path, suffixes=(".png", ".svg")), dpi=130)
+    return fig
+
+
 def _title(spec: str, sites: int) -> str:
     kind, _, arg = spec.partition(":")
     return f"{_NAMES.get(kind, kind)}{arg} ({sites} sites)"
@@ -108,8 +118,6 @@ def qmc_lobe_figure(lobe: QMCLobe, path=None):
     """
     import matplotlib.pyplot as plt
 
-    from .. import _validate
-
     _check(lobe)
     k = len(lobe.systems)
     cols = min(3, k)
@@ -125,10 +133,7 @@ def qmc_lobe_figure(lobe: QMCLobe, path=None):
             seen.setdefault(lab, h)
     fig.legend(list(seen.values()), list(seen.keys()), loc="lower center", ncol=min(len(seen), 5), fontsize=8,
                frameon=False)
-    fig.tight_layout(rect=(0, 0.06, 1, 1))
-    if path is not None:
-        fig.savefig(_validate.output_path("path", path, suffixes=(".png", ".svg")), dpi=130)
-    return fig
+    return _finish(fig, path, rect=(0, 0.06, 1, 1))
 
 
 def qmc_tip_figure(lobe: QMCLobe, path=None):
@@ -153,10 +158,8 @@ def qmc_tip_figure(lobe: QMCLobe, path=None):
     """
     import matplotlib.pyplot as plt
 
-    from .. import _validate
-
     _check(lobe)
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(9.6, 3.8))
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(9.6, 5.4))
     cmap = plt.get_cmap("tab10")
     from ..compare.qmc_lobe import MIN_SITES_EXTRAPOLATION
 
@@ -189,7 +192,8 @@ def qmc_tip_figure(lobe: QMCLobe, path=None):
     a1.axhline(0.0, color="0.6", lw=0.6)
     a1.set_xlabel("t/U")
     a1.set_ylabel("gap (μ+ − μ−)/U")
-    a1.legend(fontsize=6, frameon=False)
+    # the legends go below the panels, off the data
+    a1.legend(fontsize=6, frameon=False, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2)
     a2.axhline(lobe.infinite_tip_mean_field, ls="--", color="tab:blue", lw=1,
                label=f"mean field, infinite lattice (ρ): {lobe.infinite_tip_mean_field:.4f}")
     z3 = (3.0 - 2.0 * math.sqrt(2.0)) / 3.0
@@ -198,22 +202,20 @@ def qmc_tip_figure(lobe: QMCLobe, path=None):
         if f["kind"] != "cluster":
             continue
         m = np.array(f["sites"], dtype=float)
-        u = np.linspace(0.0, 1.0 / m.min() * 1.05, 20)
+        u = np.linspace(0.0, 1.0 / m.min() * 1.05, 60)
+        chi = "" if f["dof"] < 1 else f", χ²/dof = {f['chi2']:.2f}/{f['dof']}"
+        lowest = f["beta_t"] == max(g["beta_t"] for g in lobe.finite_size if g["kind"] == "cluster")
         a2.errorbar([0.0], [f["tip"]], yerr=[math.hypot(f["tip_err"], f["systematic"])], fmt="*", ms=9,
-                    color="k", capsize=2, label=f"clusters → 1/M = 0, βt = {f['beta_t']:g}")
-        # the line through the cluster tips (exact with two sizes)
-        k = [s for s in lobe.systems if s["system"].startswith("cluster:")]
-        pts = [(1.0 / s["sites"], d["tip"]) for s in k for d in s["tips"]
-               if d["beta_t"] == f["beta_t"] and d["nmax"] == 3 and math.isfinite(d["tip"])]
-        if len(pts) >= 2:
-            pu, pv = np.array(pts).T
-            c = np.polyfit(pu, pv, 1)
-            a2.plot(u, np.polyval(c, u), "k-", lw=0.6)
-    a2.set_xlabel("1/M (sites)")
+                    color="k", mfc=None if lowest else "none", capsize=2,
+                    label=f"clusters → 1/M = 0, βt = {f['beta_t']:g}{chi}")
+        if lowest:
+            # the weighted fits of the cluster tips: x∞ + c/M (solid) and x∞ + c/√M (dotted)
+            a2.plot(u, f["tip"] + f["slope"] * u, "k-", lw=0.6, label=f"x∞ + c/M, βt = {f['beta_t']:g}")
+            a2.plot(u, f["tip_sqrt_form"] + f["slope_sqrt_form"] * np.sqrt(u), "k:", lw=0.8,
+                    label=f"x∞ + c/√M, βt = {f['beta_t']:g}")
+    a2.set_xlabel("1/M (M = number of sites)")
     a2.set_ylabel("(t/U) at the tip")
     a2.set_xlim(left=-0.001)
-    a2.legend(fontsize=6, frameon=False, loc="upper left")
-    fig.tight_layout()
-    if path is not None:
-        fig.savefig(_validate.output_path("path", path, suffixes=(".png", ".svg")), dpi=130)
-    return fig
+    a2.xaxis.set_major_locator(plt.MaxNLocator(5))
+    a2.legend(fontsize=6, frameon=False, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=1)
+    return _finish(fig, path)

@@ -100,7 +100,8 @@ def qmc_lobe_section(out: Path, progress: Callable[[str], None]) -> Section:
     t3 = Table("qmc_lobe_extrapolation", EXTRAPOLATION_HEADER, extrapolation_rows(lobe),
                "The pseudo-tips extrapolated to the infinite graph, x_c(M) = x∞ + c/M (and + c/√M: the "
                "difference is the stated systematic error), for the periodic clusters (no boundary) and the "
-               "flakes (whose boundary fraction does not vanish: their limit is not the bulk).")
+               "flakes (whose boundary fraction does not vanish: their limit is not the bulk); χ² of each "
+               "weighted fit over its dof (sizes − 2; — with two sizes, where the line is not tested).")
     text = verdict(lobe)
     meta = scan.get("meta", {})
     provenance = [f"The QMC boundaries are the stored scan {SCAN_FILE} ({meta.get('note', '')}); regenerate "
@@ -112,7 +113,7 @@ def qmc_lobe_section(out: Path, progress: Callable[[str], None]) -> Section:
 
 TIP_HEADER = ["graph", "sites", "βt", "nmax", "βδ", "tip mean field", "tip strong coupling", "QMC Δ² line",
               "QMC Δ line", "QMC pseudo-tip", "zν"]
-EXTRAPOLATION_HEADER = ["graphs", "βt", "sizes", "x∞ (1/M)", "x∞ (1/√M)", "x∞"]
+EXTRAPOLATION_HEADER = ["graphs", "βt", "sizes", "x∞ (1/M)", "x∞ (1/√M)", "x∞", "χ²/dof (1/M)", "χ²/dof (1/√M)"]
 
 
 def _check_lobe(lobe) -> None:
@@ -159,8 +160,14 @@ def extrapolation_rows(lobe) -> list:
     for f in lobe.finite_size:
         out.append([f["kind"] + "s", f"{f['beta_t']:g}", " + ".join(str(m) for m in f["sites"]),
                     _pm(f["tip"], f["tip_err"]), _pm(f["tip_sqrt_form"], f["tip_sqrt_form_err"]),
-                    _pm(f["tip"], math.hypot(f["tip_err"], f["systematic"]))])
+                    _pm(f["tip"], math.hypot(f["tip_err"], f["systematic"])), _chi2(f["chi2"], f["dof"]),
+                    _chi2(f["chi2_sqrt_form"], f["dof"])])
     return out
+
+
+def _chi2(chi2: float, dof: int) -> str:
+    """χ²/dof as "0.52/1"; "—" when the line passes through every point (two sizes, dof = 0)."""
+    return "—" if dof < 1 else f"{chi2:.2f}/{dof}"
 
 
 def headline(lobe) -> dict:
@@ -174,7 +181,8 @@ def headline(lobe) -> dict:
     -------
     dict
         ``cluster`` (largest periodic cluster's system, sites, beta_t, tip, tip_err), ``infinite``
-        (x∞ and its total error at the lowest temperature, NaN without two clusters), ``mf_cluster``
+        (x∞ and its total error at the lowest temperature, the cluster sizes, χ² of the 1/M and
+        1/√M fits and their dof; None without two clusters), ``mf_cluster``
         ((3 − 2√2)/3), ``mf_rho``, and the fractions by which mean field lies below the QMC:
         ``off_cluster`` (same graph), ``off_infinite_cluster`` and ``off_infinite_rho`` (the two
         infinite-lattice mean-field tips against x∞), ``off_square`` (z = 4) and ``off_cubic`` (z = 6).
@@ -196,7 +204,8 @@ def headline(lobe) -> dict:
     if fs:
         f = max(fs, key=lambda f: f["beta_t"])
         err = math.hypot(f["tip_err"], f["systematic"])
-        out["infinite"] = {"beta_t": f["beta_t"], "tip": f["tip"], "tip_err": err}
+        out["infinite"] = {"beta_t": f["beta_t"], "tip": f["tip"], "tip_err": err, "sites": f["sites"],
+                           "chi2": f["chi2"], "chi2_sqrt_form": f["chi2_sqrt_form"], "dof": f["dof"]}
         out["off_infinite_cluster"] = 1.0 - z3 / f["tip"]
         out["off_infinite_rho"] = 1.0 - lobe.infinite_tip_mean_field / f["tip"]
     return out
@@ -239,6 +248,10 @@ def verdict(lobe) -> list:
                     f"shortfall times the coordination z is {3 * h['off_infinite_cluster']:.2f} on {{7,3}}, "
                     f"{4 * h['off_square']:.2f} on the square and {6 * h['off_cubic']:.2f} on the cubic lattice: "
                     "mean field's error on the tip's position goes as 1/z, and the curvature does not reduce it.")
+        if f["dof"] >= 1:
+            text.append(f"The {len(f['sites'])} cluster sizes ({', '.join(str(m) for m in f['sites'])} sites) test "
+                        f"the form: χ² = {f['chi2']:.2f} for {f['dof']} degree{'s' if f['dof'] > 1 else ''} of freedom "
+                        f"in 1/M and {f['chi2_sqrt_form']:.2f} in 1/√M.")
     return text
 
 
