@@ -109,7 +109,7 @@ class _SectorFactor:
     one real one the real blocks, at every ω.
     """
 
-    def __init__(self, lattice: Lattice, H: sp.csc_matrix, what: str) -> None:
+    def __init__(self, lattice: Lattice, H: sp.csc_matrix, what: str, diag: np.ndarray | None = None) -> None:
         from .factor import analyze
 
         orbits = rotation_orbits(lattice)
@@ -133,10 +133,12 @@ class _SectorFactor:
         pos = np.arange(total, dtype=np.int64) - first + np.repeat(start, count)
         j = H.indices[pos]
         # H is symmetric: column r_o of the CSC matrix is row r_o
-        rows = np.concatenate([np.repeat(np.arange(k, dtype=np.int64), count), np.arange(k, dtype=np.int64)])
+        row_of = np.repeat(np.arange(k, dtype=np.int64), count)
+        hvals = H.data[pos]
+        rows = np.concatenate([row_of, np.arange(k, dtype=np.int64)])
         cols = np.concatenate([orbits.orbit[j], np.arange(k, dtype=np.int64)])
         shift = np.concatenate([orbits.shift[j], np.zeros(k, dtype=np.int64)])
-        vals = np.concatenate([H.data[pos], np.zeros(k)])      # every diagonal entry stored
+        vals = np.concatenate([hvals, np.zeros(k)])            # every diagonal entry stored
         key = cols * k + rows                                  # CSC order: column, then row
         order = np.argsort(key, kind="stable")
         key = key[order]
@@ -159,17 +161,41 @@ class _SectorFactor:
         blocks = {m: self._block(m) for m in range(p // 2 + 1)}
         # one analysis of the complex pattern for the complex blocks, one of the same pattern in
         # real arithmetic for m = 0 (and p/2): their solves are the cheaper ones in every step
-        analysis = analyze(blocks[1], what=f"the rotation-sector blocks of {what}")
-        real = analyze(blocks[0], what=f"the rotation-sector blocks of {what}")
-        self.views = {m: (real if m in self._real else analysis).view(blocks[m]) for m in blocks}
+        label = f"the rotation-sector blocks of {what}"
+        analysis = analyze(sp.csc_matrix((blocks[1], self._indices, self._indptr), shape=(k, k)), what=label)
+        real = analyze(sp.csc_matrix((blocks[0], self._indices, self._indptr), shape=(k, k)), what=label)
+        for an in (analysis, real):
+            # the analyses keep the block's own pattern (every diagonal entry is stored already),
+            # so the blocks' values are handed over in that order, unchecked against it again
+            if not (np.array_equal(an.matrix.indptr, self._indptr) and np.array_equal(an.matrix.indices, self._indices)):
+                raise RuntimeError("internal: the analysis reordered the sector blocks' pattern.")  # pragma: no cover
+        self.views = {m: (real if m in self._real else analysis).with_values(blocks[m]) for m in blocks}
+        # ||H||_1 from the representatives' columns (every column of an orbit has the same
+        # moduli): an upper bound of every block's 1-norm, ||H_m||_1 <= ||H||_1
+        sums = np.bincount(row_of, weights=np.abs(hvals), minlength=k)
+        h_norm = float(sums.max()) if k else 0.0
         for view in self.views.values():
             # Hermitian by construction (the Bloch blocks of a symmetric H, real diagonal): the
             # factorisation layer's symmetry check (a full |A - A^H| per block) is not repeated;
             # every column of this route is residual-checked against H itself
-            mat = view.matrix
-            view._hermitian_of = mat
-            sums = np.add.reduceat(np.abs(mat.data), mat.indptr[:-1]) if mat.nnz else np.zeros(1)
-            view.norm = float(sums.max())
+            view._hermitian_of = view.matrix
+            view.norm = h_norm
+        # the Collatz-Wielandt data of sector 0 (e0_lower_bound): the diagonal of H at the
+        # representatives, W the m = 0 block of the off-diagonal moduli |O| (its entries are the
+        # moduli summed over each orbit; an entry of H's own diagonal is left out), the number of
+        # entries of H per representative's row, and how far H's diagonal strays from its
+        # representative's along an orbit (an on-site term invariant to rounding only)
+        own = j == reps[row_of]
+        absvals = np.concatenate([np.where(own, 0.0, np.abs(hvals)), np.zeros(k)])
+        self._w0 = sp.csc_matrix((np.bincount(slot, weights=absvals[order], minlength=ukey.shape[0]),
+                                  self._indices, self._indptr), shape=(k, k))
+        self._d0 = np.zeros(k)
+        self._d0[row_of[own]] = hvals[own]
+        self._rows0 = count
+        if diag is None:
+            diag = H.diagonal()
+        self._spread = (float(np.max(np.abs(diag - self._d0[orbits.orbit]))) * (1.0 + np.finfo(float).eps)
+                        if np.any(diag) or np.any(self._d0) else 0.0)
         # the real orthogonal p x p matrix C of the sector coordinates u = C v[idx]: row 0 the
         # m = 0 part, then the real and imaginary parts of the m-th Fourier component
         # sum_s e^{-2 pi i m s / p} v[idx[s]] (times sqrt(2/p)), and the m = p/2 part for even p;
@@ -188,17 +214,18 @@ class _SectorFactor:
         # all blocks' factors are held at once: their total must fit (each analysis checked one)
         self.bytes_needed = sum(v.bytes_needed for v in self.views.values())
 
-    def _block(self, m: int) -> sp.csc_matrix:
+    def _block(self, m: int) -> np.ndarray:
+        """The values of the Bloch block H_m on the blocks' pattern (``_indices``, ``_indptr``)."""
+        if (2 * m) % self.p == 0:                              # a real block: m = 0 or p/2
+            data = self._vals * (self._roots[(m * self._shift) % self.p]).real
+            extra = self._all_vals[self._extra] * self._roots[(m * self._all_shift[self._extra]) % self.p].real
+            np.add.at(data, self._extra_slot, extra)
+            return data
         data = self._vals * (self._roots[(m * self._shift) % self.p])
         extra = self._all_vals[self._extra] * self._roots[(m * self._all_shift[self._extra]) % self.p]
         np.add.at(data, self._extra_slot, extra)
-        if (2 * m) % self.p == 0:
-            data = data.real.copy()
-        else:
-            data[self._diag] = data[self._diag].real          # a Hermitian diagonal is real
-        out = sp.csc_matrix((data, self._indices, self._indptr), shape=(self.k, self.k))
-        out.has_sorted_indices = True
-        return out
+        data[self._diag] = data[self._diag].real          # a Hermitian diagonal is real
+        return data
 
     def to_sites(self, V: np.ndarray, out: np.ndarray) -> np.ndarray:
         """Rows of V in orbit order (position s k + o) written into ``out`` in site order."""
@@ -207,6 +234,25 @@ class _SectorFactor:
         else:
             for a, d, m in self._runs:
                 out[..., d:d + m] = V[..., a:a + m]
+        return out
+
+    def gather(self, b: np.ndarray) -> np.ndarray:
+        """Site vector(s) b of shape (N, ...) in orbit order: shape (p, k, ...), ``b[idx]``."""
+        if len(self._runs) > self.n // 64:
+            return b[self.idx]
+        out = np.empty((self.p * self.k,) + b.shape[1:], dtype=b.dtype)
+        for a, d, m in self._runs:
+            out[a:a + m] = b[d:d + m]
+        return out.reshape((self.p, self.k) + b.shape[1:])
+
+    def scatter(self, u: np.ndarray, out: np.ndarray) -> np.ndarray:
+        """The inverse of :meth:`gather`: u of shape (p, k, ...) into ``out`` (N, ...), ``out[idx] = u``."""
+        if len(self._runs) > self.n // 64:
+            out[self.idx] = u
+            return out
+        flat = u.reshape((self.p * self.k,) + u.shape[2:])
+        for a, d, m in self._runs:
+            out[d:d + m] = flat[a:a + m]
         return out
 
     def permuted(self, H: sp.csc_matrix) -> sp.csr_matrix:
@@ -244,14 +290,56 @@ class _SectorFactor:
         return omega + 1.0 / theta
 
     def ground_state(self, factor, steps: int = 3) -> np.ndarray:
-        """A rotation-invariant approximation of the ground state: inverse iteration on the m = 0 block, on sites."""
+        """A rotation-invariant approximation of the ground state: inverse iteration on the m = 0 block.
+
+        Returns its orbit values φ (shape (k,)): the vector on the sites is ``φ[orbit]``.
+        """
         v = np.ones(self.k)
         for _ in range(steps):
             v = factor.solve(v).real
             v /= np.abs(v).max()
-        out = np.empty(self.n)
-        out[self.idx] = v[None, :]
-        return out
+        return v
+
+    def e0_lower_bound(self, phi: np.ndarray) -> float:
+        r"""A proved lower bound of the lowest eigenvalue of the whole H from positive orbit values φ.
+
+        The bound of :func:`_e0_lower_bound` for the rotation-invariant vector
+        :math:`v_i = \phi_{o(i)}` (o(i) the orbit of site i), computed in sector 0 alone (N/p
+        values, no product with the whole H). Proof: let :math:`Z = D - |O|` (D the diagonal of
+        H, O its off-diagonal part). The off-diagonal part is invariant under the rotation R
+        exactly (every hop of a lattice Hamiltonian is -t, and R maps the lattice's edges onto
+        edges), so the neighbours of :math:`i = R^s r_o` are the images under :math:`R^s` of the
+        neighbours of the representative :math:`r_o`, with the same moduli and in the same
+        orbits. Hence
+
+        .. math:: \frac{(Zv)_i}{v_i} = D_{ii} - \frac{\sum_{j \ne i} |H_{ij}|\,\phi_{o(j)}}{\phi_o}
+                  = D_{ii} - \frac{(W\phi)_o}{\phi_o},\qquad
+                  W_{o o'} = \sum_{j \in o',\, j \ne r_o} |H_{r_o j}|,
+
+        W the m = 0 Bloch block of :math:`|O|` (non-negative, N/p x N/p). With
+        :math:`D_{ii} \ge D_{r_o r_o} - \sigma`, σ the largest deviation of H's diagonal from its
+        representative's along an orbit (0 without an on-site term; at most 1e-12 of the term,
+        the tolerance of :func:`~hyperlattice.graph.symmetry.rotation_invariant`, for an
+        invariant one), Collatz–Wielandt for the Z-matrix Z (:func:`_e0_lower_bound`) gives
+
+        .. math:: E_0(H) \ge \lambda_{min}(Z) \ge \min_i \frac{(Zv)_i}{v_i}
+                  \ge \min_o \Big(D_{r_o r_o} - \frac{(W\phi)_o}{\phi_o}\Big) - \sigma .
+
+        The rounding of :math:`(W\phi)_o` is bounded as in :func:`_e0_lower_bound`, with the number
+        of entries of H in row :math:`r_o` (the same for every site of the orbit); it covers
+        the sums forming W (at most that many non-negative terms). For :math:`H = -tA`, t > 0,
+        Z = H and the Perron vector of H is rotation-invariant (it is unique), so φ from inverse
+        iteration on the m = 0 block makes the bound as tight as the full one. ``-inf`` when φ
+        is not positive everywhere.
+        """
+        phi = np.asarray(phi, dtype=float)
+        if phi.shape != (self.k,) or not np.all(np.isfinite(phi)) or not np.all(phi > 0):
+            return -np.inf
+        z = self._w0 @ phi                               # (W phi)_o >= 0
+        d = self._d0
+        ratio = d - z / phi
+        err = 8.0 * (self._rows0 + 1) * np.finfo(float).eps * (np.abs(d) + z / phi)
+        return float(np.min(ratio - err)) - self._spread
 
     def factor(self, omega: float) -> "_SectorSolve | None":
         """The block factors at a real ω, or None when some block is not positive definite."""
@@ -276,15 +364,14 @@ class _SectorSolve:
     def to_sectors(self, b: np.ndarray) -> np.ndarray:
         """Site vector(s) (N,) or (N, c) to sector coordinates, shape (p, k[, c]) (orthogonal)."""
         sec = self.sectors
-        v = b[sec.idx]
+        v = sec.gather(b)
         return (sec.C @ v.reshape(sec.p, -1)).reshape(v.shape)
 
     def from_sectors(self, u: np.ndarray) -> np.ndarray:
         """The inverse of :meth:`to_sectors` (C is orthogonal)."""
         sec = self.sectors
         out = np.empty((sec.n,) + u.shape[2:])
-        out[sec.idx] = (sec.C.T @ u.reshape(sec.p, -1)).reshape(u.shape)
-        return out
+        return sec.scatter((sec.C.T @ u.reshape(sec.p, -1)).reshape(u.shape), out)
 
     def apply(self, u: np.ndarray) -> np.ndarray:
         r""":math:`(H - \omega)^{-1}` in sector coordinates (block by block)."""
@@ -515,7 +602,14 @@ class GraphResolvent:
     def __init__(self, system, *, t: float = 1.0, onsite=None, method: str = "auto") -> None:
         method = _validate.choice("method", method, ("auto", "dense", "sparse"))
         t = _validate.real("the hopping t", t)
-        if isinstance(system, Lattice):
+        if isinstance(system, Lattice) and onsite is None:
+            # H = -tA straight from the neighbour lists: hamiltonian(system, t), without its
+            # intermediate copies (the adjacency's ones, then their product with -t)
+            _validate.lattice(system)
+            indptr, indices = system.neighbours()
+            H = sp.csr_matrix((np.full(indices.shape[0], -t), indices, indptr), shape=(system.sites,) * 2)
+            H.has_sorted_indices = True
+        elif isinstance(system, Lattice):
             H = hamiltonian(system, t=t, onsite=onsite)
         else:
             if t != 1.0 or onsite is not None:
@@ -565,7 +659,7 @@ class GraphResolvent:
         self._general = None       # graph/factor analysis for the pivoted LU elsewhere
         self.backend = ""          # the factorisation backend of the last sparse omega
         # a lower bound of the spectrum (Gershgorin): below it H - omega is positive definite
-        d = self.H.diagonal()
+        d = self._diagonal = self.H.diagonal()
         off = colsum - np.abs(d)
         self._lower = float(np.min(d.real - off)) if self.n else 0.0     # a Hermitian diagonal is real
         # an upper bound of E0 (the Rayleigh quotient of the constant vector): a real omega below
@@ -639,7 +733,7 @@ class GraphResolvent:
 
         if self._sectors is None and self._sector_ok:
             try:
-                sectors = _SectorFactor(self._lattice, self.H, what)
+                sectors = _SectorFactor(self._lattice, self.H, what, self._diagonal)
             except ValueError:                  # the rotation does not act freely: no sectors
                 sectors = None
             if sectors is not None and sectors.bytes_needed > available_memory():
@@ -687,7 +781,14 @@ class GraphResolvent:
         the Hermitian H (at least |Im omega|, or the proved :meth:`_delta_lower` for real omega);
         relative to ||x*|| >= ||x|| - ||r|| / delta.
         """
-        r = rhs - (self.H @ x - omega * x)
+        # real arithmetic for a real omega and real x (a complex scalar would double the work)
+        w = omega.real if omega.imag == 0 else omega
+        r = self.H @ x
+        if np.iscomplexobj(w) or np.iscomplexobj(r) or np.iscomplexobj(rhs):
+            r = rhs - (r - w * x)
+        else:
+            r -= w * x
+            np.subtract(rhs, r, out=r)
         rn = np.linalg.norm(r, axis=0)
         xn = np.linalg.norm(x, axis=0)
         back = rn / ((self.norm + abs(omega)) * xn + np.linalg.norm(rhs, axis=0))
@@ -734,23 +835,28 @@ class GraphResolvent:
             rhs = np.zeros((self.n, src.size), dtype=float if omega.imag == 0 and self.H.dtype == float else complex)
             rhs[src, np.arange(src.size)] = 1.0
             out = lu.solve(rhs)
+            e0_before = self._e0_lower
             if omega.imag == 0 and lu.kind != "LU" and not self._delta_lower(omega.real) > 0:
                 # a proved distance to the spectrum for the error bound: Collatz-Wielandt with
                 # three steps of inverse iteration from the constant vector (positive for a
-                # Perron-Frobenius H; otherwise no bound is claimed)
+                # Perron-Frobenius H; otherwise no bound is claimed); on the sector route in
+                # sector 0 alone (_SectorFactor.e0_lower_bound)
                 if isinstance(lu, _SectorSolve):
-                    v = lu.sectors.ground_state(lu.factors[0])
+                    sec = lu.sectors
+                    bound = sec.e0_lower_bound(sec.ground_state(lu.factors[0]))
                 else:
                     v = np.ones(self.n)
                     for _ in range(3):
                         v = lu.solve(v).real
                         v /= np.abs(v).max()
-                self._e0_lower = max(self._e0_lower, _e0_lower_bound(self.H, v))
+                    bound = _e0_lower_bound(self.H, v)
+                self._e0_lower = max(self._e0_lower, bound)
             back, fwd = self._errors(omega, rhs, out)
             if isinstance(lu, _SectorSolve) and not np.all(back <= _SCAN_BACKWARD):
                 # the sector blocks do not reproduce H (an on-site term invariant only to
-                # rounding): the full factorisation from now on
+                # rounding): the full factorisation from now on, and no bound from sector 0
                 self._sector_ok, self._sectors, self._lu, self._lu_omega = False, False, None, None
+                self._e0_lower = e0_before
                 lu = self._factor(omega)
                 out = lu.solve(rhs)
                 back, fwd = self._errors(omega, rhs, out)
