@@ -296,8 +296,13 @@ def _with_diagonal(mat: sp.csc_matrix) -> sp.csc_matrix:
     mat = mat.copy()
     if not canonical:
         mat.sum_duplicates()
-    if mat.nnz and not np.iscomplexobj(mat.data) and np.all(_diag_kernel()(mat.indptr, mat.indices) >= 0):
-        return mat
+    if mat.nnz:
+        pos = _diag_kernel()(mat.indptr, mat.indices)
+        if np.all(pos >= 0):
+            if np.iscomplexobj(mat.data):
+                # a Hermitian diagonal is real (see below)
+                mat.data[pos] = mat.data[pos].real
+            return mat
     cols = np.repeat(np.arange(n, dtype=np.int64), np.diff(mat.indptr))
     on_diag = mat.indices == cols
     missing = np.ones(n, dtype=bool)

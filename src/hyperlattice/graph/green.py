@@ -152,7 +152,9 @@ class _SectorFactor:
         self._indptr = indptr.astype(np.int32)
         self._diag = np.flatnonzero(self._indices == np.repeat(np.arange(k), np.diff(indptr)))
         # most slots hold one entry; the few repeated ones (two neighbours in one orbit) are added
-        self._vals, self._shift = vals[order[first]], shift[order[first]]
+        self._vals = vals[order[first]]
+        # the rotation powers as small integers (m s < p^2 / 2 fits int16 for every p the package builds)
+        self._shift = shift[order[first]].astype(np.int16 if p * p < 2 ** 15 else np.int64)
         self._extra_slot, self._extra = slot[~first], order[~first]
         self._all_vals, self._all_shift = vals, shift
         # m*s mod p indexes one table of unit roots, so that conjugate entries are exact conjugates
@@ -192,10 +194,9 @@ class _SectorFactor:
         self._d0 = np.zeros(k)
         self._d0[row_of[own]] = hvals[own]
         self._rows0 = count
-        if diag is None:
-            diag = H.diagonal()
+        # diag: H's diagonal, None when it is zero (then so is every _d0)
         self._spread = (float(np.max(np.abs(diag - self._d0[orbits.orbit]))) * (1.0 + np.finfo(float).eps)
-                        if np.any(diag) or np.any(self._d0) else 0.0)
+                        if diag is not None else 0.0)
         # the real orthogonal p x p matrix C of the sector coordinates u = C v[idx]: row 0 the
         # m = 0 part, then the real and imaginary parts of the m-th Fourier component
         # sum_s e^{-2 pi i m s / p} v[idx[s]] (times sqrt(2/p)), and the m = p/2 part for even p;
@@ -216,13 +217,17 @@ class _SectorFactor:
 
     def _block(self, m: int) -> np.ndarray:
         """The values of the Bloch block H_m on the blocks' pattern (``_indices``, ``_indptr``)."""
-        if (2 * m) % self.p == 0:                              # a real block: m = 0 or p/2
-            data = self._vals * (self._roots[(m * self._shift) % self.p]).real
-            extra = self._all_vals[self._extra] * self._roots[(m * self._all_shift[self._extra]) % self.p].real
+        p = self.p
+        phase = (m * self._shift) % p                      # small integers: one table of roots
+        if (2 * m) % p == 0:                               # a real block: m = 0 or p/2
+            data = self._roots.real.take(phase)
+            data *= self._vals
+            extra = self._all_vals[self._extra] * self._roots[(m * self._all_shift[self._extra]) % p].real
             np.add.at(data, self._extra_slot, extra)
             return data
-        data = self._vals * (self._roots[(m * self._shift) % self.p])
-        extra = self._all_vals[self._extra] * self._roots[(m * self._all_shift[self._extra]) % self.p]
+        data = self._roots.take(phase)
+        data *= self._vals
+        extra = self._all_vals[self._extra] * self._roots[(m * self._all_shift[self._extra]) % p]
         np.add.at(data, self._extra_slot, extra)
         data[self._diag] = data[self._diag].real          # a Hermitian diagonal is real
         return data
@@ -373,10 +378,10 @@ class _SectorSolve:
         out = np.empty((sec.n,) + u.shape[2:])
         return sec.scatter((sec.C.T @ u.reshape(sec.p, -1)).reshape(u.shape), out)
 
-    def apply(self, u: np.ndarray) -> np.ndarray:
-        r""":math:`(H - \omega)^{-1}` in sector coordinates (block by block)."""
+    def apply(self, u: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+        r""":math:`(H - \omega)^{-1}` in sector coordinates (block by block), into ``out`` if given (not ``u``)."""
         sec = self.sectors
-        out = np.empty_like(u)
+        out = np.empty_like(u) if out is None else out
         for m, f in self.factors.items():
             re, im = sec._slots[m]
             if im is None:
@@ -387,7 +392,15 @@ class _SectorSolve:
         return out
 
     def solve(self, b: np.ndarray) -> np.ndarray:
-        return self.from_sectors(self.apply(self.to_sectors(np.asarray(b, dtype=float))))
+        # to_sectors, apply and from_sectors with two work arrays of the size of b (every fresh
+        # array of that size costs its page faults)
+        sec = self.sectors
+        v = sec.gather(np.asarray(b, dtype=float))
+        shape = v.shape
+        u = sec.C @ v.reshape(sec.p, -1)
+        self.apply(u.reshape(shape), out=v)
+        np.matmul(sec.C.T, v.reshape(sec.p, -1), out=u)
+        return sec.scatter(u.reshape(shape), _prefaulted((sec.n,) + shape[2:]))
 
 
 def _csr_matvec(A: sp.csr_matrix, x: np.ndarray, out: np.ndarray) -> np.ndarray:
@@ -640,17 +653,13 @@ class GraphResolvent:
         if method == "dense" and self.n > _DENSE_MAX:
             raise ValueError(f"the dense method is limited to {_DENSE_MAX} sites (this lattice has {self.n}).")
         self.method = method
-        # column sums of |H| (= row sums, H Hermitian): ||H||_1 >= ||H||_2 and the Gershgorin discs
-        absdata = np.abs(self.H.data)
-        colsum = np.zeros(self.n)
-        if self.H.nnz:
-            nonempty = np.flatnonzero(np.diff(self.H.indptr))
-            colsum[nonempty] = np.add.reduceat(absdata, self.H.indptr[nonempty])
-        self.norm = float(colsum.max()) if self.H.nnz else 0.0
+        # column sums of |H| (= row sums, H Hermitian): ||H||_1 >= ||H||_2 and the Gershgorin discs,
+        # in one pass over H without temporaries (_csc_stats)
+        norm, lower, d_row, diag_nonzero = _csc_stats(self.H)
+        self.norm = norm
         # the rounding of a computed residual b - (H - omega) x is at most gamma (|b| + (|H| +
         # |omega|)|x|) entrywise, gamma = (d + 2) eps / (1 - (d + 2) eps) for d entries per row:
         # added to every residual norm a proved error bound is built from
-        d_row = int(np.diff(self.H.indptr).max()) if self.n else 0
         self._gamma = (d_row + 2) * np.finfo(float).eps / (1.0 - (d_row + 2) * np.finfo(float).eps)
         self._eig = None
         self._lu = None
@@ -659,9 +668,8 @@ class GraphResolvent:
         self._general = None       # graph/factor analysis for the pivoted LU elsewhere
         self.backend = ""          # the factorisation backend of the last sparse omega
         # a lower bound of the spectrum (Gershgorin): below it H - omega is positive definite
-        d = self._diagonal = self.H.diagonal()
-        off = colsum - np.abs(d)
-        self._lower = float(np.min(d.real - off)) if self.n else 0.0     # a Hermitian diagonal is real
+        self._lower = lower
+        self._diagonal = self.H.diagonal() if diag_nonzero else None      # None: all zero
         # an upper bound of E0 (the Rayleigh quotient of the constant vector): a real omega below
         # it may lie below the spectrum, so the positive-definite factorisation is tried first;
         # _band: the lowest real omega where it was found indefinite (omega above it: pivoted LU)
@@ -774,8 +782,8 @@ class GraphResolvent:
         e0 = max(self._lower, self._e0_lower, self._proved_below)
         return e0 - np.asarray(omega, dtype=float)
 
-    def _errors(self, omega: complex, rhs: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Per column: the normwise backward error and the proved relative forward error bound (NaN: none).
+    def _errors(self, omega: complex, rhs: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Per column: the normwise backward error, the proved relative forward error bound (NaN: none) and ||x||.
 
         Forward: ||x - x*|| <= ||r|| / delta with delta the distance from omega to the spectrum of
         the Hermitian H (at least |Im omega|, or the proved :meth:`_delta_lower` for real omega);
@@ -783,23 +791,37 @@ class GraphResolvent:
         """
         # real arithmetic for a real omega and real x (a complex scalar would double the work)
         w = omega.real if omega.imag == 0 else omega
-        r = self.H @ x
-        if np.iscomplexobj(w) or np.iscomplexobj(r) or np.iscomplexobj(rhs):
-            r = rhs - (r - w * x)
+        if (x.ndim == 2 and x.shape[1] == 1 and x.dtype == float and rhs.dtype == float
+                and self.H.dtype == float and omega.imag == 0):
+            # one real column: r = rhs - (H x - w x) in one work array, H^T = H read as CSR (no
+            # copy); the rounding bound (_gamma) holds for any order of the d + 2 terms
+            x1, b1 = x[:, 0], rhs[:, 0]
+            r = np.multiply(x1, -w)
+            _csr_matvec(sp.csr_matrix((self.H.data, self.H.indices, self.H.indptr), shape=self.H.shape), x1, r)
+            np.subtract(b1, r, out=r)
+            # einsum, not BLAS: the last bits do not depend on the thread count
+            rn = np.array([np.sqrt(np.einsum("i,i->", r, r))])
+            xn = np.array([np.sqrt(np.einsum("i,i->", x1, x1))])
+            bn = np.array([np.sqrt(np.einsum("i,i->", b1, b1))])
         else:
-            r -= w * x
-            np.subtract(rhs, r, out=r)
-        rn = np.linalg.norm(r, axis=0)
-        xn = np.linalg.norm(x, axis=0)
-        back = rn / ((self.norm + abs(omega)) * xn + np.linalg.norm(rhs, axis=0))
+            r = self.H @ x
+            if np.iscomplexobj(w) or np.iscomplexobj(r) or np.iscomplexobj(rhs):
+                r = rhs - (r - w * x)
+            else:
+                r -= w * x
+                np.subtract(rhs, r, out=r)
+            rn = np.linalg.norm(r, axis=0)
+            xn = np.linalg.norm(x, axis=0)
+            bn = np.linalg.norm(rhs, axis=0)
+        back = rn / ((self.norm + abs(omega)) * xn + bn)
         delta = abs(omega.imag) if omega.imag != 0 else float(self._delta_lower(omega.real))
         if delta > 0:
-            err = self._proved_residual(rn, xn, omega, np.linalg.norm(rhs, axis=0)) / delta
+            err = self._proved_residual(rn, xn, omega, bn) / delta
             fwd = np.where(err < xn, err / np.maximum(xn - err, np.finfo(float).tiny), np.inf)
         else:
             fwd = np.full(rn.shape, np.nan)
         back = np.where(np.isfinite(rn), back, np.inf)
-        return back, fwd
+        return back, fwd, xn
 
     # -- evaluation ------------------------------------------------------------
     def columns(self, omega, sources) -> np.ndarray:
@@ -851,7 +873,7 @@ class GraphResolvent:
                         v /= np.abs(v).max()
                     bound = _e0_lower_bound(self.H, v)
                 self._e0_lower = max(self._e0_lower, bound)
-            back, fwd = self._errors(omega, rhs, out)
+            back, fwd, xn = self._errors(omega, rhs, out)
             if isinstance(lu, _SectorSolve) and not np.all(back <= _SCAN_BACKWARD):
                 # the sector blocks do not reproduce H (an on-site term invariant only to
                 # rounding): the full factorisation from now on, and no bound from sector 0
@@ -859,15 +881,20 @@ class GraphResolvent:
                 self._e0_lower = e0_before
                 lu = self._factor(omega)
                 out = lu.solve(rhs)
-                back, fwd = self._errors(omega, rhs, out)
+                back, fwd, xn = self._errors(omega, rhs, out)
             route = ("rotation sectors" if isinstance(lu, _SectorSolve)
                      else "pivoted LU" if lu.kind == "LU" else "factorisation")
             self._last = (route, float(np.max(back, initial=0.0)), float(np.max(fwd, initial=0.0)))
             # ||(H - omega)^{-1}||_2 = 1/dist(omega, spectrum) for Hermitian H: a column this
             # large means the factorization was done within rounding of an eigenvalue
-            big = np.max(np.linalg.norm(out, axis=0)) if src.size else 0.0
-            if not np.all(np.isfinite(out)) or big * self._tol(omega) >= 1.0:
+            big = float(np.max(xn)) if src.size else 0.0
+            if not (np.isfinite(big) and np.all(np.isfinite(xn))) or big * self._tol(omega) >= 1.0:
                 raise self._on_spectrum_error(omega, f"column norm {big:.1e}")
+            if not np.iscomplexobj(out):
+                # the complex result in pages mapped in one go (_prefaulted), the real part copied in
+                res = _prefaulted(out.shape, complex)
+                res.real[...] = out
+                return res
         return out.astype(complex)
 
     def _scan(self, oms: np.ndarray, src: np.ndarray) -> tuple[set, np.ndarray | None]:
@@ -1078,6 +1105,50 @@ class GraphResolvent:
         ucols, inv = np.unique(cols, return_inverse=True)
         block = self.columns(omega, ucols)
         return block[rows, inv]
+
+
+_KERNELS: dict = {}
+
+
+def _csc_stats(H: sp.csc_matrix) -> tuple[float, float, int, bool]:
+    r"""One pass over the Hermitian H: ``(||H||_1, Gershgorin lower bound, most entries in a column,
+    whether some diagonal entry is nonzero)``.
+
+    The column sums of |H| are added in storage order (as ``np.add.reduceat`` does for short
+    columns); the Gershgorin bound is :math:`\min_i (\mathrm{Re}\,H_{ii} - (c_i - |H_{ii}|))`, c_i the
+    column sum. Numba, so that no array of the size of H is made.
+    """
+    if H.shape[0] == 0:
+        return 0.0, 0.0, 0, False
+    if "stats" not in _KERNELS:
+        import numba
+
+        @numba.njit(cache=True)
+        def stats(indptr, indices, data):          # pragma: no cover - compiled
+            n = indptr.shape[0] - 1
+            norm = 0.0
+            lower = np.inf
+            most = 0
+            nonzero = False
+            for c in range(n):
+                s = 0.0
+                dr = 0.0
+                da = 0.0
+                for q in range(indptr[c], indptr[c + 1]):
+                    a = abs(data[q])
+                    s += a
+                    if indices[q] == c:
+                        dr = data[q].real
+                        da = a
+                norm = max(norm, s)
+                lower = min(lower, dr - (s - da))
+                most = max(most, indptr[c + 1] - indptr[c])
+                nonzero = nonzero or dr != 0.0
+            return norm, lower, most, nonzero
+
+        _KERNELS["stats"] = stats
+    norm, lower, most, nonzero = _KERNELS["stats"](H.indptr, H.indices, H.data)
+    return float(norm), float(lower), int(most), bool(nonzero)
 
 
 def _free_memory() -> int:
