@@ -197,3 +197,22 @@ def test_the_backend_variable_values(value, backend, monkeypatch):
     monkeypatch.setenv("HYPERLATTICE_FACTOR_BACKEND", value)
     want = backend or ("cholmod" if F.cholmod_available() else "superlu")
     assert F.resolve_backend("auto") == want
+
+
+def test_with_values_takes_new_values_on_the_analysed_pattern_and_checks_them():
+    H = hamiltonian(ring_lattice(7, 3, 3)).tocsc()
+    an = F.analyze(H, backend="superlu")
+    view = an.with_values(2.0 * an.matrix.data)             # 2H on the analysed pattern
+    below = int(np.sum(np.linalg.eigvalsh(2 * H.toarray()) < -4.0))
+    assert below > 0 and view.factor(-4.0).negatives == below
+    assert an.factor(-4.0).negatives == 0                     # the analysis itself still holds H
+    with pytest.raises(ValueError, match="do not fit"):
+        an.with_values(an.matrix.data[:-1])
+    with pytest.raises(ValueError, match="complex"):
+        an.with_values(an.matrix.data * (1 + 1e-3j))
+    with pytest.raises(ValueError, match="NaN"):
+        an.with_values(np.full(an.matrix.nnz, np.nan))
+    cplx = F.analyze(H.astype(complex), backend="superlu")
+    data = cplx.matrix.data.copy()
+    data[F._diag_positions(cplx.matrix)] += 1e-20j            # a Hermitian diagonal is made real
+    assert np.all(cplx.with_values(data).matrix.diagonal().imag == 0)

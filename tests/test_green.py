@@ -518,3 +518,84 @@ def test_prefaulted_arrays_are_zero_writable_and_of_the_asked_shape():
     assert len(rows) == 7
     stacked = np.concatenate([blk for _, blk in rows.parts()])
     np.testing.assert_array_equal(stacked[:, 0], np.arange(7))
+
+
+def _sector_factor(lat, t=1.0, onsite=None):
+    from hyperlattice.graph import green
+
+    res = GraphResolvent(lat, t=t, onsite=onsite)
+    return green._SectorFactor(lat, res.H, "H", res._diagonal), res.H
+
+
+@pytest.mark.parametrize("p,rings", [(7, 4), (8, 4)])
+@pytest.mark.parametrize("t,onsite", [(1.0, None), (0.7, "invariant"), (-1.0, None), (1.0, "rounding")])
+def test_sector_zero_bound_is_the_full_collatz_wielandt_bound_and_lies_below_e0(p, rings, t, onsite):
+    # the bound of _SectorFactor.e0_lower_bound (sector 0 alone) equals _e0_lower_bound of the
+    # whole H for the lifted vector, lies below the exact E0 for every positive vector, and is
+    # tight at the Perron vector for t > 0
+    from hyperlattice.graph.green import _e0_lower_bound
+    from hyperlattice.graph.symmetry import rotation_invariant
+
+    lat = ring_lattice(p, 3, rings)
+    rng = np.random.default_rng(11)
+    v = {None: None, "invariant": 0.2 * lat.ring.astype(float),
+         # invariant to 1e-12 only: the sectors take it, the bound pays for the deviation
+         "rounding": 0.2 * lat.ring + 1e-13 * rng.uniform(-1, 1, lat.sites)}[onsite]
+    assert rotation_invariant(lat, v)
+    sec, H = _sector_factor(lat, t, v)
+    orbit = sec.idx.argsort(axis=None) % sec.k          # the orbit of every site
+    if onsite == "rounding":
+        assert sec._spread > 0
+    E0 = float(np.linalg.eigvalsh(H.toarray())[0])
+    # the sector-0 block of Z = D - |O| and its Perron vector (positive)
+    Z = H.toarray()
+    Z = np.diag(np.diag(Z)) - np.abs(Z - np.diag(np.diag(Z)))
+    Z0 = np.zeros((sec.k, sec.k))
+    np.add.at(Z0, (orbit[:, None], orbit[None, :]), Z / 1.0)
+    Z0 = Z0[np.arange(sec.k)[:, None], np.arange(sec.k)[None, :]] / p
+    phi0 = np.abs(np.linalg.eigh(Z0)[1][:, 0])
+    for phi in [phi0] + [rng.uniform(0.1, 1.0, sec.k) for _ in range(4)]:
+        got = sec.e0_lower_bound(phi)
+        full = _e0_lower_bound(H, phi[orbit])
+        assert got <= E0
+        assert got <= full + 1e-15 and got >= full - 1e-12, (got, full)
+    if t > 0:
+        assert sec.e0_lower_bound(phi0) > E0 - 1e-10          # tight at the Perron vector
+    assert sec.e0_lower_bound(phi0 - phi0.max() / 2) == -np.inf
+    assert sec.e0_lower_bound(np.ones(sec.k + 1)) == -np.inf
+
+
+@pytest.mark.parametrize("p", [7, 8])
+def test_sector_zero_block_of_the_off_diagonal_moduli_is_what_every_site_sees(p):
+    # (W phi)_o is (|O| v)_i at every site i of orbit o, v the lifted phi: ring 1 of {7,3} is one
+    # orbit whose sites are neighbours of each other, so W keeps entries on its diagonal
+    lat = ring_lattice(p, 3, 4)
+    sec, H = _sector_factor(lat, 0.8, 0.1 * lat.ring.astype(float))
+    orbit = sec.idx.argsort(axis=None) % sec.k
+    O = H - sp.diags(H.diagonal())
+    phi = np.random.default_rng(2).uniform(0.1, 1.0, sec.k)
+    full = abs(O) @ phi[orbit]
+    for s in range(p):
+        np.testing.assert_allclose(full[sec.idx[s]], sec._w0 @ phi, rtol=1e-14)
+    assert sec._w0[0, 0] > 0 and np.array_equal(sec._d0, H.diagonal()[sec.idx[0]])
+    assert sec._spread == 0.0
+
+
+def test_one_sector_column_carries_a_true_bound_from_sector_zero(monkeypatch):
+    from hyperlattice.graph import green
+
+    monkeypatch.setattr(green, "_SECTOR_MIN", 1)
+    lat = ring_lattice(7, 3, 5)
+    H = hamiltonian(lat).toarray()
+    E0 = float(np.linalg.eigvalsh(H)[0])
+    for w in (E0 - 0.03, E0 - 0.1):                       # both above the Gershgorin bound -3
+        res = GraphResolvent(lat)
+        col = graph_green(res, w, 10)
+        ref = np.linalg.solve(H - w * np.eye(lat.sites), np.eye(lat.sites)[:, 10])
+        rep = res.report
+        assert rep["route"] == ["rotation sectors"]
+        assert E0 - 1e-2 < res._e0_lower <= E0          # three steps of inverse iteration
+        err = np.linalg.norm(col - ref) / np.linalg.norm(ref)
+        cond = (3.0 + abs(w)) / (E0 - w)
+        assert np.isfinite(rep["error_bound"][0]) and rep["error_bound"][0] < 1e-11
+        assert err <= rep["error_bound"][0] + 4 * cond * np.finfo(float).eps

@@ -113,3 +113,35 @@ def test_k_lowest_sector_levels_equal_lowest_levels(p, q, rings, levels, backend
     assert got.backend == backend and "inertia" in got.description
     np.testing.assert_allclose(got.energies, ref.energies, rtol=0, atol=1e-12)
     assert got.m.tolist() == ref.m.tolist() and got.n.tolist() == ref.n.tolist()
+
+
+def test_rotation_orbits_refuses_a_rotation_that_is_not_of_order_p_or_fixes_sites():
+    import dataclasses
+
+    lat = ring_lattice(7, 3, 2)
+    n = lat.sites
+    cycle3 = np.arange(n)
+    cycle3[[7, 8, 9]] = [8, 9, 7]                             # a 3-cycle; the rest fixed
+    with pytest.raises(ValueError, match="after 1 of 7 steps"):
+        rotation_orbits(dataclasses.replace(lat, rotation=cycle3))
+    ring1 = np.arange(n)
+    ring1[:7] = np.roll(np.arange(7), -1)
+    ring1[7:] = np.roll(np.arange(7, n), -1)                 # a 28-cycle: not of order 7
+    with pytest.raises(ValueError, match="not of order p = 7"):
+        rotation_orbits(dataclasses.replace(lat, rotation=ring1))
+
+
+def test_neighbour_lists_are_sorted_without_repeats_as_scipy_builds_them():
+    import scipy.sparse as sp
+
+    from hyperlattice.graph.lattice import _csr_sorted
+
+    rng = np.random.default_rng(4)
+    for n in (1, 6, 40):
+        rows = rng.integers(0, n, 300).astype(np.int32)
+        cols = rng.integers(0, n, 300).astype(np.int32)
+        ref = sp.csr_matrix((np.ones(300, dtype=np.int8), (rows, cols)), shape=(n, n))
+        ref.sort_indices()
+        indptr, indices = _csr_sorted(rows, cols, n)
+        assert np.array_equal(indptr, ref.indptr) and np.array_equal(indices, ref.indices)
+        assert indptr.dtype == np.int64 and indices.dtype == np.int32

@@ -296,8 +296,13 @@ def _with_diagonal(mat: sp.csc_matrix) -> sp.csc_matrix:
     mat = mat.copy()
     if not canonical:
         mat.sum_duplicates()
-    if mat.nnz and not np.iscomplexobj(mat.data) and np.all(_diag_kernel()(mat.indptr, mat.indices) >= 0):
-        return mat
+    if mat.nnz:
+        pos = _diag_kernel()(mat.indptr, mat.indices)
+        if np.all(pos >= 0):
+            if np.iscomplexobj(mat.data):
+                # a Hermitian diagonal is real (see below)
+                mat.data[pos] = mat.data[pos].real
+            return mat
     cols = np.repeat(np.arange(n, dtype=np.int64), np.diff(mat.indptr))
     on_diag = mat.indices == cols
     missing = np.ones(n, dtype=bool)
@@ -551,6 +556,52 @@ class SymbolicAnalysis:
             raise ValueError("a complex matrix needs a complex analysis.")
         if self.complex and not np.iscomplexobj(mat.data):
             mat = mat.astype(np.complex128)
+        out = copy.copy(self)
+        out.matrix = mat
+        return out
+
+    def with_values(self, data) -> "SymbolicAnalysis":
+        """This analysis for new values on its own pattern, ``data`` in the order of ``self.matrix.data``.
+
+        The cheap form of :meth:`view` for a caller that builds its matrices on the analysed
+        pattern itself (the rotation-sector blocks of :mod:`hyperlattice.graph.green`): there is no
+        pattern to compare, only the values are checked (their number, finite, real for a real
+        analysis); a complex diagonal is made real (a Hermitian diagonal is real). ``data`` is
+        taken over, not copied, when it already has the analysis' type.
+
+        Parameters
+        ----------
+        data : array_like, shape (nnz,)
+            The values, entry by entry as in ``self.matrix.data``.
+
+        Returns
+        -------
+        SymbolicAnalysis
+            A shallow copy holding the matrix of those values (the pattern arrays are shared).
+
+        Raises
+        ------
+        ValueError
+            If the number of values is not that of the pattern, a value is not finite, or the
+            values are complex for a real analysis.
+        """
+        import copy
+
+        data = np.asarray(data)
+        if data.shape != self.matrix.data.shape:
+            raise ValueError(f"{data.size} values do not fit the analysed pattern of {self.matrix.nnz} entries.")
+        if np.iscomplexobj(data) and not self.complex:
+            raise ValueError("a complex matrix needs a complex analysis.")
+        data = data.astype(np.complex128 if self.complex else np.float64, copy=False)
+        if not np.all(np.isfinite(data)):
+            raise ValueError(f"the values for {self.what} are NaN or infinite.")
+        if self.complex:
+            pos = getattr(self, "_diag_pos", None)
+            if pos is None:
+                pos = self._diag_pos = _diag_positions(self.matrix)
+            data[pos] = data[pos].real
+        mat = sp.csc_matrix((data, self.matrix.indices, self.matrix.indptr), shape=self.matrix.shape)
+        mat.has_sorted_indices = True
         out = copy.copy(self)
         out.matrix = mat
         return out

@@ -109,7 +109,7 @@ class _SectorFactor:
     one real one the real blocks, at every ω.
     """
 
-    def __init__(self, lattice: Lattice, H: sp.csc_matrix, what: str) -> None:
+    def __init__(self, lattice: Lattice, H: sp.csc_matrix, what: str, diag: np.ndarray | None = None) -> None:
         from .factor import analyze
 
         orbits = rotation_orbits(lattice)
@@ -133,10 +133,12 @@ class _SectorFactor:
         pos = np.arange(total, dtype=np.int64) - first + np.repeat(start, count)
         j = H.indices[pos]
         # H is symmetric: column r_o of the CSC matrix is row r_o
-        rows = np.concatenate([np.repeat(np.arange(k, dtype=np.int64), count), np.arange(k, dtype=np.int64)])
+        row_of = np.repeat(np.arange(k, dtype=np.int64), count)
+        hvals = H.data[pos]
+        rows = np.concatenate([row_of, np.arange(k, dtype=np.int64)])
         cols = np.concatenate([orbits.orbit[j], np.arange(k, dtype=np.int64)])
         shift = np.concatenate([orbits.shift[j], np.zeros(k, dtype=np.int64)])
-        vals = np.concatenate([H.data[pos], np.zeros(k)])      # every diagonal entry stored
+        vals = np.concatenate([hvals, np.zeros(k)])            # every diagonal entry stored
         key = cols * k + rows                                  # CSC order: column, then row
         order = np.argsort(key, kind="stable")
         key = key[order]
@@ -150,7 +152,9 @@ class _SectorFactor:
         self._indptr = indptr.astype(np.int32)
         self._diag = np.flatnonzero(self._indices == np.repeat(np.arange(k), np.diff(indptr)))
         # most slots hold one entry; the few repeated ones (two neighbours in one orbit) are added
-        self._vals, self._shift = vals[order[first]], shift[order[first]]
+        self._vals = vals[order[first]]
+        # the rotation powers as small integers (m s < p^2 / 2 fits int16 for every p the package builds)
+        self._shift = shift[order[first]].astype(np.int16 if p * p < 2 ** 15 else np.int64)
         self._extra_slot, self._extra = slot[~first], order[~first]
         self._all_vals, self._all_shift = vals, shift
         # m*s mod p indexes one table of unit roots, so that conjugate entries are exact conjugates
@@ -159,17 +163,40 @@ class _SectorFactor:
         blocks = {m: self._block(m) for m in range(p // 2 + 1)}
         # one analysis of the complex pattern for the complex blocks, one of the same pattern in
         # real arithmetic for m = 0 (and p/2): their solves are the cheaper ones in every step
-        analysis = analyze(blocks[1], what=f"the rotation-sector blocks of {what}")
-        real = analyze(blocks[0], what=f"the rotation-sector blocks of {what}")
-        self.views = {m: (real if m in self._real else analysis).view(blocks[m]) for m in blocks}
+        label = f"the rotation-sector blocks of {what}"
+        analysis = analyze(sp.csc_matrix((blocks[1], self._indices, self._indptr), shape=(k, k)), what=label)
+        real = analyze(sp.csc_matrix((blocks[0], self._indices, self._indptr), shape=(k, k)), what=label)
+        for an in (analysis, real):
+            # the analyses keep the block's own pattern (every diagonal entry is stored already),
+            # so the blocks' values are handed over in that order, unchecked against it again
+            if not (np.array_equal(an.matrix.indptr, self._indptr) and np.array_equal(an.matrix.indices, self._indices)):
+                raise RuntimeError("internal: the analysis reordered the sector blocks' pattern.")  # pragma: no cover
+        self.views = {m: (real if m in self._real else analysis).with_values(blocks[m]) for m in blocks}
+        # ||H||_1 from the representatives' columns (every column of an orbit has the same
+        # moduli): an upper bound of every block's 1-norm, ||H_m||_1 <= ||H||_1
+        sums = np.bincount(row_of, weights=np.abs(hvals), minlength=k)
+        h_norm = float(sums.max()) if k else 0.0
         for view in self.views.values():
             # Hermitian by construction (the Bloch blocks of a symmetric H, real diagonal): the
             # factorisation layer's symmetry check (a full |A - A^H| per block) is not repeated;
             # every column of this route is residual-checked against H itself
-            mat = view.matrix
-            view._hermitian_of = mat
-            sums = np.add.reduceat(np.abs(mat.data), mat.indptr[:-1]) if mat.nnz else np.zeros(1)
-            view.norm = float(sums.max())
+            view._hermitian_of = view.matrix
+            view.norm = h_norm
+        # the Collatz-Wielandt data of sector 0 (e0_lower_bound): the diagonal of H at the
+        # representatives, W the m = 0 block of the off-diagonal moduli |O| (its entries are the
+        # moduli summed over each orbit; an entry of H's own diagonal is left out), the number of
+        # entries of H per representative's row, and how far H's diagonal strays from its
+        # representative's along an orbit (an on-site term invariant to rounding only)
+        own = j == reps[row_of]
+        absvals = np.concatenate([np.where(own, 0.0, np.abs(hvals)), np.zeros(k)])
+        self._w0 = sp.csc_matrix((np.bincount(slot, weights=absvals[order], minlength=ukey.shape[0]),
+                                  self._indices, self._indptr), shape=(k, k))
+        self._d0 = np.zeros(k)
+        self._d0[row_of[own]] = hvals[own]
+        self._rows0 = count
+        # diag: H's diagonal, None when it is zero (then so is every _d0)
+        self._spread = (float(np.max(np.abs(diag - self._d0[orbits.orbit]))) * (1.0 + np.finfo(float).eps)
+                        if diag is not None else 0.0)
         # the real orthogonal p x p matrix C of the sector coordinates u = C v[idx]: row 0 the
         # m = 0 part, then the real and imaginary parts of the m-th Fourier component
         # sum_s e^{-2 pi i m s / p} v[idx[s]] (times sqrt(2/p)), and the m = p/2 part for even p;
@@ -188,17 +215,22 @@ class _SectorFactor:
         # all blocks' factors are held at once: their total must fit (each analysis checked one)
         self.bytes_needed = sum(v.bytes_needed for v in self.views.values())
 
-    def _block(self, m: int) -> sp.csc_matrix:
-        data = self._vals * (self._roots[(m * self._shift) % self.p])
-        extra = self._all_vals[self._extra] * self._roots[(m * self._all_shift[self._extra]) % self.p]
+    def _block(self, m: int) -> np.ndarray:
+        """The values of the Bloch block H_m on the blocks' pattern (``_indices``, ``_indptr``)."""
+        p = self.p
+        phase = (m * self._shift) % p                      # small integers: one table of roots
+        if (2 * m) % p == 0:                               # a real block: m = 0 or p/2
+            data = self._roots.real.take(phase)
+            data *= self._vals
+            extra = self._all_vals[self._extra] * self._roots[(m * self._all_shift[self._extra]) % p].real
+            np.add.at(data, self._extra_slot, extra)
+            return data
+        data = self._roots.take(phase)
+        data *= self._vals
+        extra = self._all_vals[self._extra] * self._roots[(m * self._all_shift[self._extra]) % p]
         np.add.at(data, self._extra_slot, extra)
-        if (2 * m) % self.p == 0:
-            data = data.real.copy()
-        else:
-            data[self._diag] = data[self._diag].real          # a Hermitian diagonal is real
-        out = sp.csc_matrix((data, self._indices, self._indptr), shape=(self.k, self.k))
-        out.has_sorted_indices = True
-        return out
+        data[self._diag] = data[self._diag].real          # a Hermitian diagonal is real
+        return data
 
     def to_sites(self, V: np.ndarray, out: np.ndarray) -> np.ndarray:
         """Rows of V in orbit order (position s k + o) written into ``out`` in site order."""
@@ -207,6 +239,25 @@ class _SectorFactor:
         else:
             for a, d, m in self._runs:
                 out[..., d:d + m] = V[..., a:a + m]
+        return out
+
+    def gather(self, b: np.ndarray) -> np.ndarray:
+        """Site vector(s) b of shape (N, ...) in orbit order: shape (p, k, ...), ``b[idx]``."""
+        if len(self._runs) > self.n // 64:
+            return b[self.idx]
+        out = np.empty((self.p * self.k,) + b.shape[1:], dtype=b.dtype)
+        for a, d, m in self._runs:
+            out[a:a + m] = b[d:d + m]
+        return out.reshape((self.p, self.k) + b.shape[1:])
+
+    def scatter(self, u: np.ndarray, out: np.ndarray) -> np.ndarray:
+        """The inverse of :meth:`gather`: u of shape (p, k, ...) into ``out`` (N, ...), ``out[idx] = u``."""
+        if len(self._runs) > self.n // 64:
+            out[self.idx] = u
+            return out
+        flat = u.reshape((self.p * self.k,) + u.shape[2:])
+        for a, d, m in self._runs:
+            out[d:d + m] = flat[a:a + m]
         return out
 
     def permuted(self, H: sp.csc_matrix) -> sp.csr_matrix:
@@ -244,14 +295,56 @@ class _SectorFactor:
         return omega + 1.0 / theta
 
     def ground_state(self, factor, steps: int = 3) -> np.ndarray:
-        """A rotation-invariant approximation of the ground state: inverse iteration on the m = 0 block, on sites."""
+        """A rotation-invariant approximation of the ground state: inverse iteration on the m = 0 block.
+
+        Returns its orbit values φ (shape (k,)): the vector on the sites is ``φ[orbit]``.
+        """
         v = np.ones(self.k)
         for _ in range(steps):
             v = factor.solve(v).real
             v /= np.abs(v).max()
-        out = np.empty(self.n)
-        out[self.idx] = v[None, :]
-        return out
+        return v
+
+    def e0_lower_bound(self, phi: np.ndarray) -> float:
+        r"""A proved lower bound of the lowest eigenvalue of the whole H from positive orbit values φ.
+
+        The bound of :func:`_e0_lower_bound` for the rotation-invariant vector
+        :math:`v_i = \phi_{o(i)}` (o(i) the orbit of site i), computed in sector 0 alone (N/p
+        values, no product with the whole H). Proof: let :math:`Z = D - |O|` (D the diagonal of
+        H, O its off-diagonal part). The off-diagonal part is invariant under the rotation R
+        exactly (every hop of a lattice Hamiltonian is -t, and R maps the lattice's edges onto
+        edges), so the neighbours of :math:`i = R^s r_o` are the images under :math:`R^s` of the
+        neighbours of the representative :math:`r_o`, with the same moduli and in the same
+        orbits. Hence
+
+        .. math:: \frac{(Zv)_i}{v_i} = D_{ii} - \frac{\sum_{j \ne i} |H_{ij}|\,\phi_{o(j)}}{\phi_o}
+                  = D_{ii} - \frac{(W\phi)_o}{\phi_o},\qquad
+                  W_{o o'} = \sum_{j \in o',\, j \ne r_o} |H_{r_o j}|,
+
+        W the m = 0 Bloch block of :math:`|O|` (non-negative, N/p x N/p). With
+        :math:`D_{ii} \ge D_{r_o r_o} - \sigma`, σ the largest deviation of H's diagonal from its
+        representative's along an orbit (0 without an on-site term; at most 1e-12 of the term,
+        the tolerance of :func:`~hyperlattice.graph.symmetry.rotation_invariant`, for an
+        invariant one), Collatz–Wielandt for the Z-matrix Z (:func:`_e0_lower_bound`) gives
+
+        .. math:: E_0(H) \ge \lambda_{min}(Z) \ge \min_i \frac{(Zv)_i}{v_i}
+                  \ge \min_o \Big(D_{r_o r_o} - \frac{(W\phi)_o}{\phi_o}\Big) - \sigma .
+
+        The rounding of :math:`(W\phi)_o` is bounded as in :func:`_e0_lower_bound`, with the number
+        of entries of H in row :math:`r_o` (the same for every site of the orbit); it covers
+        the sums forming W (at most that many non-negative terms). For :math:`H = -tA`, t > 0,
+        Z = H and the Perron vector of H is rotation-invariant (it is unique), so φ from inverse
+        iteration on the m = 0 block makes the bound as tight as the full one. ``-inf`` when φ
+        is not positive everywhere.
+        """
+        phi = np.asarray(phi, dtype=float)
+        if phi.shape != (self.k,) or not np.all(np.isfinite(phi)) or not np.all(phi > 0):
+            return -np.inf
+        z = self._w0 @ phi                               # (W phi)_o >= 0
+        d = self._d0
+        ratio = d - z / phi
+        err = 8.0 * (self._rows0 + 1) * np.finfo(float).eps * (np.abs(d) + z / phi)
+        return float(np.min(ratio - err)) - self._spread
 
     def factor(self, omega: float) -> "_SectorSolve | None":
         """The block factors at a real ω, or None when some block is not positive definite."""
@@ -276,20 +369,19 @@ class _SectorSolve:
     def to_sectors(self, b: np.ndarray) -> np.ndarray:
         """Site vector(s) (N,) or (N, c) to sector coordinates, shape (p, k[, c]) (orthogonal)."""
         sec = self.sectors
-        v = b[sec.idx]
+        v = sec.gather(b)
         return (sec.C @ v.reshape(sec.p, -1)).reshape(v.shape)
 
     def from_sectors(self, u: np.ndarray) -> np.ndarray:
         """The inverse of :meth:`to_sectors` (C is orthogonal)."""
         sec = self.sectors
         out = np.empty((sec.n,) + u.shape[2:])
-        out[sec.idx] = (sec.C.T @ u.reshape(sec.p, -1)).reshape(u.shape)
-        return out
+        return sec.scatter((sec.C.T @ u.reshape(sec.p, -1)).reshape(u.shape), out)
 
-    def apply(self, u: np.ndarray) -> np.ndarray:
-        r""":math:`(H - \omega)^{-1}` in sector coordinates (block by block)."""
+    def apply(self, u: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+        r""":math:`(H - \omega)^{-1}` in sector coordinates (block by block), into ``out`` if given (not ``u``)."""
         sec = self.sectors
-        out = np.empty_like(u)
+        out = np.empty_like(u) if out is None else out
         for m, f in self.factors.items():
             re, im = sec._slots[m]
             if im is None:
@@ -300,7 +392,15 @@ class _SectorSolve:
         return out
 
     def solve(self, b: np.ndarray) -> np.ndarray:
-        return self.from_sectors(self.apply(self.to_sectors(np.asarray(b, dtype=float))))
+        # to_sectors, apply and from_sectors with two work arrays of the size of b (every fresh
+        # array of that size costs its page faults)
+        sec = self.sectors
+        v = sec.gather(np.asarray(b, dtype=float))
+        shape = v.shape
+        u = sec.C @ v.reshape(sec.p, -1)
+        self.apply(u.reshape(shape), out=v)
+        np.matmul(sec.C.T, v.reshape(sec.p, -1), out=u)
+        return sec.scatter(u.reshape(shape), _prefaulted((sec.n,) + shape[2:]))
 
 
 def _csr_matvec(A: sp.csr_matrix, x: np.ndarray, out: np.ndarray) -> np.ndarray:
@@ -515,7 +615,14 @@ class GraphResolvent:
     def __init__(self, system, *, t: float = 1.0, onsite=None, method: str = "auto") -> None:
         method = _validate.choice("method", method, ("auto", "dense", "sparse"))
         t = _validate.real("the hopping t", t)
-        if isinstance(system, Lattice):
+        if isinstance(system, Lattice) and onsite is None:
+            # H = -tA straight from the neighbour lists: hamiltonian(system, t), without its
+            # intermediate copies (the adjacency's ones, then their product with -t)
+            _validate.lattice(system)
+            indptr, indices = system.neighbours()
+            H = sp.csr_matrix((np.full(indices.shape[0], -t), indices, indptr), shape=(system.sites,) * 2)
+            H.has_sorted_indices = True
+        elif isinstance(system, Lattice):
             H = hamiltonian(system, t=t, onsite=onsite)
         else:
             if t != 1.0 or onsite is not None:
@@ -546,17 +653,13 @@ class GraphResolvent:
         if method == "dense" and self.n > _DENSE_MAX:
             raise ValueError(f"the dense method is limited to {_DENSE_MAX} sites (this lattice has {self.n}).")
         self.method = method
-        # column sums of |H| (= row sums, H Hermitian): ||H||_1 >= ||H||_2 and the Gershgorin discs
-        absdata = np.abs(self.H.data)
-        colsum = np.zeros(self.n)
-        if self.H.nnz:
-            nonempty = np.flatnonzero(np.diff(self.H.indptr))
-            colsum[nonempty] = np.add.reduceat(absdata, self.H.indptr[nonempty])
-        self.norm = float(colsum.max()) if self.H.nnz else 0.0
+        # column sums of |H| (= row sums, H Hermitian): ||H||_1 >= ||H||_2 and the Gershgorin discs,
+        # in one pass over H without temporaries (_csc_stats)
+        norm, lower, d_row, diag_nonzero = _csc_stats(self.H)
+        self.norm = norm
         # the rounding of a computed residual b - (H - omega) x is at most gamma (|b| + (|H| +
         # |omega|)|x|) entrywise, gamma = (d + 2) eps / (1 - (d + 2) eps) for d entries per row:
         # added to every residual norm a proved error bound is built from
-        d_row = int(np.diff(self.H.indptr).max()) if self.n else 0
         self._gamma = (d_row + 2) * np.finfo(float).eps / (1.0 - (d_row + 2) * np.finfo(float).eps)
         self._eig = None
         self._lu = None
@@ -565,9 +668,8 @@ class GraphResolvent:
         self._general = None       # graph/factor analysis for the pivoted LU elsewhere
         self.backend = ""          # the factorisation backend of the last sparse omega
         # a lower bound of the spectrum (Gershgorin): below it H - omega is positive definite
-        d = self.H.diagonal()
-        off = colsum - np.abs(d)
-        self._lower = float(np.min(d.real - off)) if self.n else 0.0     # a Hermitian diagonal is real
+        self._lower = lower
+        self._diagonal = self.H.diagonal() if diag_nonzero else None      # None: all zero
         # an upper bound of E0 (the Rayleigh quotient of the constant vector): a real omega below
         # it may lie below the spectrum, so the positive-definite factorisation is tried first;
         # _band: the lowest real omega where it was found indefinite (omega above it: pivoted LU)
@@ -639,7 +741,7 @@ class GraphResolvent:
 
         if self._sectors is None and self._sector_ok:
             try:
-                sectors = _SectorFactor(self._lattice, self.H, what)
+                sectors = _SectorFactor(self._lattice, self.H, what, self._diagonal)
             except ValueError:                  # the rotation does not act freely: no sectors
                 sectors = None
             if sectors is not None and sectors.bytes_needed > available_memory():
@@ -680,25 +782,46 @@ class GraphResolvent:
         e0 = max(self._lower, self._e0_lower, self._proved_below)
         return e0 - np.asarray(omega, dtype=float)
 
-    def _errors(self, omega: complex, rhs: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Per column: the normwise backward error and the proved relative forward error bound (NaN: none).
+    def _errors(self, omega: complex, rhs: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Per column: the normwise backward error, the proved relative forward error bound (NaN: none) and ||x||.
 
         Forward: ||x - x*|| <= ||r|| / delta with delta the distance from omega to the spectrum of
         the Hermitian H (at least |Im omega|, or the proved :meth:`_delta_lower` for real omega);
         relative to ||x*|| >= ||x|| - ||r|| / delta.
         """
-        r = rhs - (self.H @ x - omega * x)
-        rn = np.linalg.norm(r, axis=0)
-        xn = np.linalg.norm(x, axis=0)
-        back = rn / ((self.norm + abs(omega)) * xn + np.linalg.norm(rhs, axis=0))
+        # real arithmetic for a real omega and real x (a complex scalar would double the work)
+        w = omega.real if omega.imag == 0 else omega
+        if (x.ndim == 2 and x.shape[1] == 1 and x.dtype == float and rhs.dtype == float
+                and self.H.dtype == float and omega.imag == 0):
+            # one real column: r = rhs - (H x - w x) in one work array, H^T = H read as CSR (no
+            # copy); the rounding bound (_gamma) holds for any order of the d + 2 terms
+            x1, b1 = x[:, 0], rhs[:, 0]
+            r = np.multiply(x1, -w)
+            _csr_matvec(sp.csr_matrix((self.H.data, self.H.indices, self.H.indptr), shape=self.H.shape), x1, r)
+            np.subtract(b1, r, out=r)
+            # einsum, not BLAS: the last bits do not depend on the thread count
+            rn = np.array([np.sqrt(np.einsum("i,i->", r, r))])
+            xn = np.array([np.sqrt(np.einsum("i,i->", x1, x1))])
+            bn = np.array([np.sqrt(np.einsum("i,i->", b1, b1))])
+        else:
+            r = self.H @ x
+            if np.iscomplexobj(w) or np.iscomplexobj(r) or np.iscomplexobj(rhs):
+                r = rhs - (r - w * x)
+            else:
+                r -= w * x
+                np.subtract(rhs, r, out=r)
+            rn = np.linalg.norm(r, axis=0)
+            xn = np.linalg.norm(x, axis=0)
+            bn = np.linalg.norm(rhs, axis=0)
+        back = rn / ((self.norm + abs(omega)) * xn + bn)
         delta = abs(omega.imag) if omega.imag != 0 else float(self._delta_lower(omega.real))
         if delta > 0:
-            err = self._proved_residual(rn, xn, omega, np.linalg.norm(rhs, axis=0)) / delta
+            err = self._proved_residual(rn, xn, omega, bn) / delta
             fwd = np.where(err < xn, err / np.maximum(xn - err, np.finfo(float).tiny), np.inf)
         else:
             fwd = np.full(rn.shape, np.nan)
         back = np.where(np.isfinite(rn), back, np.inf)
-        return back, fwd
+        return back, fwd, xn
 
     # -- evaluation ------------------------------------------------------------
     def columns(self, omega, sources) -> np.ndarray:
@@ -734,34 +857,44 @@ class GraphResolvent:
             rhs = np.zeros((self.n, src.size), dtype=float if omega.imag == 0 and self.H.dtype == float else complex)
             rhs[src, np.arange(src.size)] = 1.0
             out = lu.solve(rhs)
+            e0_before = self._e0_lower
             if omega.imag == 0 and lu.kind != "LU" and not self._delta_lower(omega.real) > 0:
                 # a proved distance to the spectrum for the error bound: Collatz-Wielandt with
                 # three steps of inverse iteration from the constant vector (positive for a
-                # Perron-Frobenius H; otherwise no bound is claimed)
+                # Perron-Frobenius H; otherwise no bound is claimed); on the sector route in
+                # sector 0 alone (_SectorFactor.e0_lower_bound)
                 if isinstance(lu, _SectorSolve):
-                    v = lu.sectors.ground_state(lu.factors[0])
+                    sec = lu.sectors
+                    bound = sec.e0_lower_bound(sec.ground_state(lu.factors[0]))
                 else:
                     v = np.ones(self.n)
                     for _ in range(3):
                         v = lu.solve(v).real
                         v /= np.abs(v).max()
-                self._e0_lower = max(self._e0_lower, _e0_lower_bound(self.H, v))
-            back, fwd = self._errors(omega, rhs, out)
+                    bound = _e0_lower_bound(self.H, v)
+                self._e0_lower = max(self._e0_lower, bound)
+            back, fwd, xn = self._errors(omega, rhs, out)
             if isinstance(lu, _SectorSolve) and not np.all(back <= _SCAN_BACKWARD):
                 # the sector blocks do not reproduce H (an on-site term invariant only to
-                # rounding): the full factorisation from now on
+                # rounding): the full factorisation from now on, and no bound from sector 0
                 self._sector_ok, self._sectors, self._lu, self._lu_omega = False, False, None, None
+                self._e0_lower = e0_before
                 lu = self._factor(omega)
                 out = lu.solve(rhs)
-                back, fwd = self._errors(omega, rhs, out)
+                back, fwd, xn = self._errors(omega, rhs, out)
             route = ("rotation sectors" if isinstance(lu, _SectorSolve)
                      else "pivoted LU" if lu.kind == "LU" else "factorisation")
             self._last = (route, float(np.max(back, initial=0.0)), float(np.max(fwd, initial=0.0)))
             # ||(H - omega)^{-1}||_2 = 1/dist(omega, spectrum) for Hermitian H: a column this
             # large means the factorization was done within rounding of an eigenvalue
-            big = np.max(np.linalg.norm(out, axis=0)) if src.size else 0.0
-            if not np.all(np.isfinite(out)) or big * self._tol(omega) >= 1.0:
+            big = float(np.max(xn)) if src.size else 0.0
+            if not (np.isfinite(big) and np.all(np.isfinite(xn))) or big * self._tol(omega) >= 1.0:
                 raise self._on_spectrum_error(omega, f"column norm {big:.1e}")
+            if not np.iscomplexobj(out):
+                # the complex result in pages mapped in one go (_prefaulted), the real part copied in
+                res = _prefaulted(out.shape, complex)
+                res.real[...] = out
+                return res
         return out.astype(complex)
 
     def _scan(self, oms: np.ndarray, src: np.ndarray) -> tuple[set, np.ndarray | None]:
@@ -972,6 +1105,50 @@ class GraphResolvent:
         ucols, inv = np.unique(cols, return_inverse=True)
         block = self.columns(omega, ucols)
         return block[rows, inv]
+
+
+_KERNELS: dict = {}
+
+
+def _csc_stats(H: sp.csc_matrix) -> tuple[float, float, int, bool]:
+    r"""One pass over the Hermitian H: ``(||H||_1, Gershgorin lower bound, most entries in a column,
+    whether some diagonal entry is nonzero)``.
+
+    The column sums of |H| are added in storage order (as ``np.add.reduceat`` does for short
+    columns); the Gershgorin bound is :math:`\min_i (\mathrm{Re}\,H_{ii} - (c_i - |H_{ii}|))`, c_i the
+    column sum. Numba, so that no array of the size of H is made.
+    """
+    if H.shape[0] == 0:
+        return 0.0, 0.0, 0, False
+    if "stats" not in _KERNELS:
+        import numba
+
+        @numba.njit(cache=True)
+        def stats(indptr, indices, data):          # pragma: no cover - compiled
+            n = indptr.shape[0] - 1
+            norm = 0.0
+            lower = np.inf
+            most = 0
+            nonzero = False
+            for c in range(n):
+                s = 0.0
+                dr = 0.0
+                da = 0.0
+                for q in range(indptr[c], indptr[c + 1]):
+                    a = abs(data[q])
+                    s += a
+                    if indices[q] == c:
+                        dr = data[q].real
+                        da = a
+                norm = max(norm, s)
+                lower = min(lower, dr - (s - da))
+                most = max(most, indptr[c + 1] - indptr[c])
+                nonzero = nonzero or dr != 0.0
+            return norm, lower, most, nonzero
+
+        _KERNELS["stats"] = stats
+    norm, lower, most, nonzero = _KERNELS["stats"](H.indptr, H.indices, H.data)
+    return float(norm), float(lower), int(most), bool(nonzero)
 
 
 def _free_memory() -> int:

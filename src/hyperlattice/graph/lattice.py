@@ -508,12 +508,59 @@ def _structure_error(lat: Lattice) -> str | None:
 
 
 def _csr_sorted(rows: np.ndarray, cols: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
-    """Group ``cols`` by ``rows`` (a counting sort, O(N + E)) with sorted columns per row."""
-    import scipy.sparse as sp
+    """Group ``cols`` by ``rows`` (a counting sort, O(N + E)) with sorted columns per row, repeats dropped."""
+    return _csr_kernel()(np.ascontiguousarray(rows), np.ascontiguousarray(cols), n)
 
-    m = sp.csr_matrix((np.ones(rows.shape[0], dtype=np.int8), (rows, cols)), shape=(n, n))
-    m.sort_indices()  # rows hold at most a few entries: cheap, unlike a global comparison sort
-    return m.indptr.astype(np.int64), m.indices.astype(np.int32)
+
+_KERNELS: dict = {}
+
+
+def _csr_kernel():
+    """Numba counting sort of (row, column) pairs into CSR, each row sorted (insertion sort: a few
+    entries per row) and without repeated columns."""
+    if "csr" in _KERNELS:
+        return _KERNELS["csr"]
+    import numba
+
+    @numba.njit(cache=True)
+    def csr(rows, cols, n):                    # pragma: no cover - compiled
+        # two arrays of the output's size and nothing else: every fresh page costs time
+        m = rows.shape[0]
+        indptr = np.zeros(n + 1, np.int64)
+        for e in range(m):
+            indptr[rows[e] + 1] += 1
+        for r in range(n):
+            indptr[r + 1] += indptr[r]
+        idx = np.empty(m, np.int32)
+        for e in range(m):                     # indptr[r] runs to the end of row r
+            r = rows[e]
+            idx[indptr[r]] = cols[e]
+            indptr[r] += 1
+        for r in range(n, 0, -1):              # back to the starts
+            indptr[r] = indptr[r - 1]
+        indptr[0] = 0
+        out = 0
+        b = 0
+        for r in range(n):
+            a, b = b, indptr[r + 1]             # the row as filled (indptr[r] may be compacted)
+            for i in range(a + 1, b):          # insertion sort of the row
+                v = idx[i]
+                j = i - 1
+                while j >= a and idx[j] > v:
+                    idx[j + 1] = idx[j]
+                    j -= 1
+                idx[j + 1] = v
+            for i in range(a, b):              # drop repeats, compacting in place
+                if i == a or idx[i] != idx[i - 1]:
+                    idx[out] = idx[i]
+                    out += 1
+            indptr[r + 1] = out
+        if out < m:
+            return indptr, idx[:out].copy()
+        return indptr, idx
+
+    _KERNELS["csr"] = csr
+    return csr
 
 
 def lattice_from_networkx(graph) -> Lattice:

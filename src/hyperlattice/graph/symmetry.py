@@ -134,26 +134,65 @@ def rotation_orbits(lattice: Lattice) -> RotationOrbits:
     rot = np.asarray(lattice.rotation, dtype=np.int64)
     if rot.shape != (n,) or n % p:
         raise ValueError(f"the lattice rotation is not a permutation of its {n} sites into orbits of size {p}.")
-    ident = np.arange(n, dtype=np.int64)
-    cur = ident.copy()
-    smallest = ident.copy()
-    for s in range(1, p):
-        cur = rot[cur]
-        if np.any(cur == ident):
-            raise ValueError(f"the rotation fixes a site after {s} of {p} steps: it does not act freely.")
-        np.minimum(smallest, cur, out=smallest)
-    if not np.array_equal(rot[cur], ident):
+    status, reps, orbit, shift = _orbit_kernel()(rot, p)
+    if 0 < status < p:
+        raise ValueError(f"the rotation fixes a site after {status} of {p} steps: it does not act freely.")
+    if status:
         raise ValueError(f"the lattice rotation is not of order p = {p}.")
-    reps = np.flatnonzero(smallest == ident)
-    orbit = np.empty(n, dtype=np.int64)
-    shift = np.empty(n, dtype=np.int64)
-    ids = np.arange(reps.shape[0], dtype=np.int64)
-    cur = reps
-    for s in range(p):
-        orbit[cur] = ids
-        shift[cur] = s
-        cur = rot[cur]
     return RotationOrbits(p=p, representatives=reps, orbit=orbit, shift=shift)
+
+
+_KERNELS: dict = {}
+
+
+def _orbit_kernel():
+    """Numba pass over the cycles of the rotation: orbits, shifts and representatives in one sweep.
+
+    Returns ``(status, reps, orbit, shift)``: status 0 when every cycle has exactly p sites,
+    else the smallest cycle length below p (a power R^s, s < p, fixes a site), or p when a cycle
+    is longer than p or the map is not a permutation. Site i opens an orbit when no smaller site
+    reached it, so representatives are the smallest sites of their orbits, in increasing order.
+    """
+    if "orbits" in _KERNELS:
+        return _KERNELS["orbits"]
+    import numba
+
+    @numba.njit(cache=True)
+    def walk(rot, p):                          # pragma: no cover - compiled
+        n = rot.shape[0]
+        k = n // p
+        orbit = np.full(n, -1, np.int64)
+        shift = np.zeros(n, np.int64)
+        reps = np.empty(k, np.int64)
+        count = 0
+        short = p
+        broken = False
+        for i in range(n):
+            if orbit[i] >= 0:
+                continue
+            label = count if count < k else 0      # beyond k orbits only the cycle lengths matter
+            j = i
+            for s in range(p + 1):
+                if s > 0 and j == i:
+                    short = min(short, s)          # a cycle of s sites (s = p: as it should be)
+                    break
+                if s == p or j < 0 or j >= n or orbit[j] >= 0:
+                    broken = True                  # longer than p, or not a permutation
+                    break
+                orbit[j] = label
+                shift[j] = s
+                j = rot[j]
+            if count < k:
+                reps[count] = i
+            count += 1
+        if short < p:
+            return short, reps, orbit, shift
+        if broken or count != k:
+            return p, reps, orbit, shift
+        return 0, reps, orbit, shift
+
+    _KERNELS["orbits"] = walk
+    return walk
 
 
 def _check_orbits(orbits, lattice: Lattice | None = None) -> None:
