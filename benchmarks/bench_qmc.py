@@ -328,7 +328,9 @@ def main(argv=None) -> int:
     ratios = [_ratio(r["hl"], r["dl"]) for r in rows]
     worst = min(ratios)
     print(f"\nefficiency ratio against dirloop_sse: min {_fmt_ratio(*worst)}, max {_fmt_ratio(*max(ratios))} "
-          f"(target >= 2 on every point: {'met' if worst[0] >= 2 else 'NOT met'})")
+          f"(target >= 2 on every point: {'met' if worst[0] >= 2 else 'NOT met'}"
+          + (f"; {sum(r - e < 2 for r, e in ratios)} point(s) within one error of 2 or below)" if args.repeat > 1
+             else ")"))
     if worm:
         rw = [_ratio(r["hl"], r["worm"]) for r in rows]
         print(f"efficiency ratio against worm: min {_fmt_ratio(*min(rw))}, max {_fmt_ratio(*max(rw))}")
