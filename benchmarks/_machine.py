@@ -36,3 +36,15 @@ def best_of(fn, repeat: int):
         out = fn()
         best = min(best, time.perf_counter() - t0)
     return best, out
+
+
+def interleaved(fns: dict, repeat: int) -> tuple[dict, dict]:
+    """Best time of every function over ``repeat`` rounds, the functions taking turns."""
+    best = {k: float("inf") for k in fns}
+    out = {}
+    for _ in range(repeat):
+        for name, fn in fns.items():
+            t0 = time.perf_counter()
+            out[name] = fn()
+            best[name] = min(best[name], time.perf_counter() - t0)
+    return best, out

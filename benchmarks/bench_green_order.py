@@ -35,7 +35,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-import time
 import warnings
 from pathlib import Path
 
@@ -43,7 +42,7 @@ import numpy as np
 import scipy.sparse as sp
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _machine import machine, peak_rss_mb  # noqa: E402
+from _machine import interleaved, machine, peak_rss_mb  # noqa: E402
 
 
 def angular_dissection(theta: np.ndarray, ring: np.ndarray, ei: np.ndarray, ej: np.ndarray,
@@ -92,18 +91,6 @@ def edges_of(A: sp.spmatrix) -> tuple[np.ndarray, np.ndarray]:
     cols = np.repeat(np.arange(A.shape[0], dtype=np.int64), np.diff(A.indptr))
     keep = A.indices < cols
     return A.indices[keep].astype(np.int64), cols[keep]
-
-
-def interleaved(fns: dict, repeat: int) -> tuple[dict, dict]:
-    """Best time of every function over ``repeat`` rounds, the functions taking turns."""
-    best = {k: float("inf") for k in fns}
-    out = {}
-    for _ in range(repeat):
-        for name, fn in fns.items():
-            t0 = time.perf_counter()
-            out[name] = fn()
-            best[name] = min(best[name], time.perf_counter() - t0)
-    return best, out
 
 
 def fill(factor) -> tuple[int, float]:

@@ -24,26 +24,13 @@ from __future__ import annotations
 
 import argparse
 import sys
-import time
 import warnings
 from pathlib import Path
 
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _machine import machine, peak_rss_mb  # noqa: E402
-
-
-def interleaved(fns: dict, repeat: int) -> tuple[dict, dict]:
-    """Best time of every function over ``repeat`` rounds, the functions taking turns."""
-    best = {k: float("inf") for k in fns}
-    out = {}
-    for _ in range(repeat):
-        for name, fn in fns.items():
-            t0 = time.perf_counter()
-            out[name] = fn()
-            best[name] = min(best[name], time.perf_counter() - t0)
-    return best, out
+from _machine import interleaved, machine, peak_rss_mb  # noqa: E402
 
 
 def main(argv=None):
