@@ -222,25 +222,107 @@ def _exit_weights(w, b, le, d, s0, s1, s2, s3, bi, bj, tb, cb, esite, sq, nmax):
 
 @numba.njit(cache=True, inline="always")
 def _cumulative(w, le):  # pragma: no cover - jitted
-    r"""Turn exit weights into cumulative exit probabilities (in place), Metropolized Gibbs.
+    r"""Turn exit weights into cumulative exit probabilities (in place): least bounce.
 
-    :math:`P(le \to x) = \min[w_x/(Z - w_{le}), w_x/(Z - w_x)]` for x != le (the bounce le keeps
-    the rest); it satisfies :math:`w_{le} P(le\to x) = w_x P(x \to le)` and bounces less than
-    heat bath. Entries x != le become the running sums over the other exits in leg order; a
-    uniform r beyond all of them means the bounce.
+    The four configurations a loop can leave at a vertex form a closed set with weights
+    :math:`w_x` (x the exit leg, ``w[le]`` the configuration of the bounce). Detailed balance of
+    the directed loops asks for a symmetric matrix :math:`a_{xy} \ge 0` with row sums
+    :math:`\sum_y a_{xy} = w_x`, and :math:`P(x \to y) = a_{xy}/w_x` (Syljuåsen and Sandvik, PRE
+    66, 046701 (2002)). With the weights sorted, :math:`W_1 \ge W_2 \ge W_3 \ge W_4`, the
+    least total bounce is :math:`\max(0, W_1 - W_2 - W_3 - W_4)`, on the largest weight only:
+
+    * :math:`W_1 \ge W_2 + W_3 + W_4`: :math:`a_{1k} = W_k`, :math:`a_{11} = W_1 - W_2 - W_3 - W_4`,
+      all other entries 0;
+    * otherwise no bounce: the zero-diagonal solutions are
+      :math:`a_{12} = \lambda + (W_1 + W_2 - W_3 - W_4)/2`,
+      :math:`a_{13} = \mu + (W_1 + W_3 - W_2 - W_4)/2`,
+      :math:`a_{14} = \nu + (W_1 + W_4 - W_2 - W_3)/2`, :math:`a_{34} = \lambda`,
+      :math:`a_{24} = \mu`, :math:`a_{23} = \nu` with :math:`\lambda + \mu + \nu =
+      (W_2 + W_3 + W_4 - W_1)/2` and :math:`\nu \ge \nu_0 = \max(0, (W_2 + W_3 - W_1 - W_4)/2)`;
+      the free part beyond :math:`\nu_0` is shared in proportion to the heat-bath products
+      :math:`W_3W_4 : W_2W_4 : W_2W_3`.
+
+    The matrix depends on the weight vector only (ties sorted by leg), never on the entrance, so
+    the same matrix serves every configuration of the set and the balance is exact. Against the
+    Metropolized Gibbs rule this removes the bounces at diagonal vertices whose weight is below
+    the sum of the others (most of them in the superfluid). Entries x != le become the running
+    sums of :math:`a_{le,x}/w_{le}` over the other exits in leg order; a uniform beyond all of
+    them means the bounce (``w[le]`` is set to -1).
     """
-    z = w[0] + w[1] + w[2] + w[3]
+    # legs by weight, largest first (stable: ties by leg)
+    o0, o1, o2, o3 = 0, 1, 2, 3
+    if w[o1] > w[o0]:
+        o0, o1 = o1, o0
+    if w[o3] > w[o2]:
+        o2, o3 = o3, o2
+    if w[o2] > w[o0] or (w[o2] == w[o0] and o2 < o0):
+        o0, o2 = o2, o0
+    if w[o3] > w[o1] or (w[o3] == w[o1] and o3 < o1):
+        o1, o3 = o3, o1
+    if w[o2] > w[o1] or (w[o2] == w[o1] and o2 < o1):
+        o1, o2 = o2, o1
+    W1 = w[o0]
+    W2 = w[o1]
+    W3 = w[o2]
+    W4 = w[o3]
+    if W1 >= W2 + W3 + W4:
+        a12 = W2
+        a13 = W3
+        a14 = W4
+        a23 = 0.0
+        a24 = 0.0
+        a34 = 0.0
+    else:
+        s = 0.5 * (W2 + W3 + W4 - W1)
+        nu0 = max(0.0, 0.5 * (W2 + W3 - W1 - W4))
+        rest = s - nu0
+        p23 = W2 * W3
+        p24 = W2 * W4
+        p34 = W3 * W4
+        den = p23 + p24 + p34
+        lam = rest * p34 / den
+        mu = rest * p24 / den
+        nu = nu0 + rest * p23 / den
+        a12 = max(0.0, lam + 0.5 * (W1 + W2 - W3 - W4))
+        a13 = max(0.0, mu + 0.5 * (W1 + W3 - W2 - W4))
+        # exactly 0 towards a configuration of weight 0 (lam = mu = 0 there already)
+        a14 = max(0.0, nu + 0.5 * (W1 + W4 - W2 - W3)) if W4 > 0.0 else 0.0
+        a23 = nu
+        a24 = mu
+        a34 = lam
+    # the row of the entrance, as a_{le, x} for x = 0..3
+    r0 = 0.0
+    r1 = 0.0
+    r2 = 0.0
+    r3 = 0.0
+    if le == o0:
+        r0, r1, r2, r3 = 0.0, a12, a13, a14
+    elif le == o1:
+        r0, r1, r2, r3 = a12, 0.0, a23, a24
+    elif le == o2:
+        r0, r1, r2, r3 = a13, a23, 0.0, a34
+    else:
+        r0, r1, r2, r3 = a14, a24, a34, 0.0
+    # r_k is a_{le, o_k}; scatter back to legs
     wl = w[le]
+    if not wl > 0.0:            # an entrance of weight 0 is never reached: a row that bounces
+        for x in range(4):
+            w[x] = -1.0
+        return
     acc = 0.0
     for x in range(4):
-        wx = w[x]
         if x == le:
-            w[x] = -1.0             # never below a uniform r: the bounce is what no other exit takes
+            w[x] = -1.0
             continue
-        if wx > 0.0:
-            pr = wx / (z - wl)
-            alt = wx / (z - wx)
-            acc += alt if alt < pr else pr
+        if x == o0:
+            v = r0
+        elif x == o1:
+            v = r1
+        elif x == o2:
+            v = r2
+        else:
+            v = r3
+        acc += v / wl
         w[x] = acc
 
 
@@ -318,7 +400,7 @@ def _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
                  vpos, link, legs, first, lastleg, gmode, gfull, gcur, gclass, zr, zi, omz, hbin, vcur, voff,
                  ncls, gsign, ptab, bclass, ntab):  # pragma: no cover
     r"""Directed-loop update (Syljuåsen & Sandvik 2002; bosons: Syljuåsen 2003) with the
-    Metropolized-Gibbs exit probabilities. Returns the number of vertex passages.
+    least-bounce exit probabilities (:func:`_cumulative`). Returns the number of vertex passages.
 
     With ``gmode`` > 0 every position of the head on a segment (after each exit) adds the worm
     estimator of the equal-time one-body density matrix, :math:`N_{\mathrm{gap}}\sqrt{n_h n_t}`

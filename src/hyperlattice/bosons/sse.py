@@ -30,10 +30,14 @@ with :math:`C_b = \max \epsilon_i/z_i + \max \epsilon_j/z_j + c\,t_b` (:data:`OF
 every diagonal vertex away from weight zero, which would trap the loops). Every vertex weight is
 non-negative: there is no sign problem for :math:`t_{ij} \ge 0`. A sweep is one diagonal update
 (insertion/removal of diagonal operators at every slot of the string of length M) and a fixed
-number of directed loops (about 4n vertex legs per sweep; 8n on measured sweeps when G is
-measured, the worm estimator's own budget); a loop's head leaves each vertex through the Metropolized-Gibbs choice
-among the four legs (:math:`P(i\to k) = \min[w_k/(Z-w_i), w_k/(Z-w_k)]`, Liu, Statist.
-Comput. 6, 113 (1996)), which bounces far less than heat bath in the Mott insulator.
+number of directed loops (about 3n vertex legs per sweep; 8n on measured sweeps when G is
+measured, the worm estimator's own budget); a loop's head leaves each vertex with the exit
+probabilities of least bounce (:func:`._sse_kernels._cumulative`): the symmetric solution of the
+directed-loop equations (Syljuåsen & Sandvik, PRE 66, 046701 (2002)) whose only bounce is
+:math:`\max(0, W_1 - W_2 - W_3 - W_4)` at the heaviest of the four configurations. In the
+superfluid, where most diagonal vertices can be left without a bounce, it halves the energy's
+autocorrelation time against the Metropolized-Gibbs rule (:math:`P(i\to k) = \min[w_k/(Z-w_i),
+w_k/(Z-w_k)]`, Liu, Statist. Comput. 6, 113 (1996)) used up to version 0.5.0.
 
 Estimators (per sweep; n = number of operators, N = number of bosons, conserved along τ):
 
@@ -89,13 +93,17 @@ _VECTOR_BINS = 32
 #: per-sweep scalars accumulated by the kernel: n, n^2, N, N^2, N^4, E, E^2
 _SCALARS = 7
 #: vertex legs visited by the loops per sweep, in units of the string's n operators (the update's
-#: budget: on the l = 3 superfluid point at beta = 2, 1n / 2n / 4n / 8n / 16n gave energy
-#: efficiencies of about 2.2 / 2.8 / 3.0-3.2 / 2.7 / 3.0 (three seeds each), a plateau from 4n;
-#: deep in a Mott lobe fewer legs are cheaper, but there the estimator is ~100x ahead anyway)
-_TARGET_LEGS = 4.0
+#: budget). With the least-bounce exits, energy efficiencies 1/(sigma_E^2 x CPU s) of 2n / 3n / 4n
+#: / 8n (four seeds of 5000 sweeps each, benchmarks/qmc_legs_scan.py, with another job on the
+#: machine): l = 3 superfluid at beta = 2 4.7 / 5.4 / 5.0 / -, at beta = 8 3.5 / 5.8 / 4.6 / -,
+#: l = 4 superfluid 0.71 / 0.62 / 0.56 / 0.40, Klein superfluid 10.5 / 17 / 9.4 / 7.5; Mott points
+#: equal within errors from 3n to 4n. 3n is the best choice over the superfluid points.
+_TARGET_LEGS = 3.0
+#: the rule for the loop's exit probabilities (part of a checkpoint's fingerprint)
+_EXIT_RULE = "least-bounce"
 #: the Green-function estimator's own budget: a measured sweep with ``measure_green`` runs the
 #: loops of this many legs per operator (each of the 4n legs about twice), so that G is averaged
-#: over enough head positions even on small graphs (the update's 4n is one or two loops per
+#: over enough head positions even on small graphs (the update's 3n is one or two loops per
 #: sweep on a 6-site ring)
 _GREEN_LEGS = 8.0
 #: seconds of work between checkpoint writes
@@ -577,7 +585,7 @@ def _fingerprint(model: _Model, U, mu, t, beta, nmax, seed, thermalization, wind
     if wind is not None and wind.shape[1]:
         h.update(b"windings" + np.ascontiguousarray(wind).tobytes())
     h.update(json.dumps([model.sites, U, mu, t, beta, nmax, seed, thermalization, OFFSET, _TARGET_LEGS,
-                         _GREEN_LEGS, _SCALAR_BINS, _VECTOR_BINS, _SCALARS]).encode())
+                         _EXIT_RULE, _GREEN_LEGS, _SCALAR_BINS, _VECTOR_BINS, _SCALARS]).encode())
     return h.hexdigest()
 
 
