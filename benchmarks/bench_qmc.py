@@ -243,7 +243,7 @@ def _print_row(row, header: bool) -> None:
             print("  note: hyperlattice's binning flagged a chain as not converged: " + " ".join(r["result"].notes))
 
 
-def scale(sweeps: int, therm: int, seed: int) -> None:
+def scale(sweeps: int, therm: int, seed: int, checkpoint: str | None = None) -> None:
     import hyperlattice as hl
     from hyperlattice.bosons import QMCWarning, qmc
 
@@ -256,7 +256,7 @@ def scale(sweeps: int, therm: int, seed: int) -> None:
         warnings.simplefilter("always", QMCWarning)
         c0, w0 = time.process_time(), time.perf_counter()
         r = qmc(lat, U=U, mu=mu, beta=beta, nmax=nmax, sweeps=sweeps, thermalization=therm, seed=seed,
-                progress=True)
+                progress=True, checkpoint=checkpoint)
         cpu, wall = time.process_time() - c0, time.perf_counter() - w0
     print(f"  E = {r.energy:.2f} ± {r.energy_err:.2f}, n = {r.density:.5f} ± {r.density_err:.5f}, "
           f"kappa = {r.compressibility:.4f} ± {r.compressibility_err:.4f}, tau_E = {r.tau_int.get('energy'):.1f}")
@@ -296,6 +296,9 @@ def main(argv=None) -> int:
     ap.add_argument("--validate", action="store_true", help="check both codes against exact thermal averages first")
     ap.add_argument("--scale", action="store_true", help="only the 10^4-site run")
     ap.add_argument("--scale-sweeps", type=int, default=20, help="measurement sweeps of the scale run")
+    ap.add_argument("--scale-checkpoint", default=None, metavar="DIR",
+                    help="checkpoint directory of the scale run: a rerun resumes there (--scale-sweeps may grow); "
+                         "the CPU and wall times printed are this process's only")
     ap.add_argument("--scale-therm", type=int, default=60,
                     help="thermalisation sweeps of the scale run (the string grows by 4/3 per sweep from 100 "
                          "operators: about 40 sweeps to reach the ~10^6 of this point)")
@@ -307,7 +310,7 @@ def main(argv=None) -> int:
     print(machine())
     _warm_up()
     if args.scale:
-        scale(args.scale_sweeps, args.scale_therm, args.seed)
+        scale(args.scale_sweeps, args.scale_therm, args.seed, args.scale_checkpoint)
         return 0
     if args.profile:
         profile(args.sweeps, args.seed)
