@@ -65,6 +65,9 @@ def main(argv=None) -> int:
     ap.add_argument("--sweeps", type=int, default=400, help="sweeps per Newton step (default 400)")
     ap.add_argument("--thermalization", type=int, default=150, help="thermalisation sweeps per step (default 150)")
     ap.add_argument("--iterations", type=int, default=3)
+    ap.add_argument("--seed", type=int, default=1000,
+                    help="base seed: a boundary's runs use seed + 10 x (boundaries already in the file) + k "
+                         "(give concurrent scans into separate files different bases)")
     ap.add_argument("--nmax", type=int, default=3)
     ap.add_argument("--max-seconds", type=float, default=float("inf"), help="stop starting new points after this")
     ap.add_argument("--out", default=os.path.join(os.path.dirname(__file__), "..", "src", "hyperlattice", "report",
@@ -98,7 +101,7 @@ def main(argv=None) -> int:
                 return 0
             t0 = time.time()
             b = qmc_boundary(graphs[spec], x, side, beta_t=beta, sweeps=args.sweeps, nmax=args.nmax,
-                             iterations=args.iterations, seed=1000 + len(data["boundaries"]) * 10,
+                             iterations=args.iterations, seed=args.seed + len(data["boundaries"]) * 10,
                              mu_start=_start(data, spec, x, side, beta, args.nmax),
                              thermalization=args.thermalization)
             b["system"] = spec
