@@ -411,7 +411,11 @@ def test_degeneracy_is_one_in_a_field():
 
 
 def test_butterfly_figure_mirror_draws_the_other_half_of_the_period():
-    """E(1 - f) = E(f) on a site flake: the mirrored half equals the computed whole period, pixel for pixel."""
+    """E(1 - f) = E(f) on a site flake: the mirrored half draws the computed whole period.
+
+    Pixel for pixel, except where a level lies within rounding of an energy-bin edge: the computed
+    E(1 - f) and E(f) differ in their last bits (by BLAS kernel and thread count), so such a level
+    may land in either of the two bins that share the edge on another machine."""
     import matplotlib.pyplot as plt
 
     from hyperlattice.plots.magnetic import butterfly_figure
@@ -419,10 +423,21 @@ def test_butterfly_figure_mirror_draws_the_other_half_of_the_period():
     lat = ring_lattice(7, 3, 3)
     half = butterfly(lat, np.linspace(0.0, 0.5, 6))
     whole = butterfly(lat, np.linspace(0.0, 1.0, 11))
+    # the physics first: the computed levels at 1 - f are those at f, to rounding
+    assert np.allclose(whole.energies[::-1][:5], whole.energies[:5], atol=1e-10)
     a = butterfly_figure(half, continuum=False, density=True, energy_bins=60, mirror=True)
     b = butterfly_figure(whole, continuum=False, density=True, energy_bins=60)
-    assert np.array_equal(a.images[0].get_array(), b.images[0].get_array())
-    assert a.images[0].get_extent() == pytest.approx(b.images[0].get_extent())
+    img_a, img_b = np.asarray(a.images[0].get_array()), np.asarray(b.images[0].get_array())
+    assert img_a.shape == img_b.shape == (60, 11)
+    assert np.array_equal(img_a.sum(axis=0), img_b.sum(axis=0))   # every level drawn once per flux
+    ext = b.images[0].get_extent()
+    assert a.images[0].get_extent() == pytest.approx(ext)
+    edges = np.linspace(ext[2], ext[3], 61)
+    tie = np.zeros(img_b.shape, dtype=bool)    # pixels next to an edge that a level sits on
+    for col, levels in enumerate(whole.energies):
+        for k in np.nonzero(np.min(np.abs(levels[:, None] - edges[None, 1:-1]), axis=0) < 1e-9)[0]:
+            tie[k:k + 2, col] = True
+    assert np.array_equal(img_a[~tie], img_b[~tie])
     with pytest.raises(ValueError, match=r"\[0, 1/2\]"):
         butterfly_figure(whole, continuum=False, density=True, mirror=True)
     with pytest.raises(ValueError, match="site flake"):
