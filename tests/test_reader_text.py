@@ -1,4 +1,4 @@
-"""Text a reader sees uses symbols, not ASCII maths (issue 21, item 3).
+"""Text a reader sees uses symbols, not ASCII maths.
 
 The ``statement()`` sentences of real (small) results, the texts of real figures (titles, axis
 labels, legends, annotations) and every literal string the figure code of ``plots/`` and
@@ -182,3 +182,27 @@ def test_figure_texts_use_symbols():
             found[name] = bad
         plt.close(fig)
     assert not found, found
+
+
+# ----------------------------------------------------------------------------
+# no tracker references: a reader has no issue tracker
+# ----------------------------------------------------------------------------
+
+_ISSUE = re.compile(r"\bissues?\s*#?\d+", re.I)
+
+
+def _reader_files():
+    root = Path(__file__).resolve().parents[1]
+    yield root / "README.md"
+    for sub, pattern in (("src", "*.py"), ("docs", "*.md"), ("docs", "*.rst"), ("docs", "*.py")):
+        yield from sorted(root.joinpath(sub).rglob(pattern))
+
+
+def test_no_issue_numbers_in_code_docs_or_readme():
+    """Code, docstrings, docs and the README say what the code does, never "issue N" (CHANGELOG may)."""
+    found = []
+    for path in _reader_files():
+        for n, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+            if _ISSUE.search(line):
+                found.append(f"{path.name}:{n}: {line.strip()[:100]}")
+    assert not found, "\n".join(found)

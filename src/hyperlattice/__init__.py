@@ -165,7 +165,7 @@ _EXPORTS = {
     "mott_lobes": "bosons.meanfield",
     "gp_comparison": "compare.bosons",
     "mott_gap_comparison": "compare.bosons",
-    # quantum Monte Carlo and the strong-coupling expansion (issue 27)
+    # quantum Monte Carlo and the strong-coupling expansion
     "qmc": "bosons.sse",
     "merge_chains": "bosons.sse",
     "QMCResult": "bosons.sse",

@@ -357,7 +357,7 @@ def disk_points(name: str, value, *, limit: float = 1.0, closed: bool = False) -
 
 #: the largest p or q accepted anywhere: far beyond any lattice that can be built, and small
 #: enough that every {p,q} constant and dictionary map (products like pq, areas (p-2)π - 2πp/q,
-#: fields 2πf/𝒜) stays finite and accurate in float64 (issue 19: p = 1e308 gave inf and NaN)
+#: fields 2πf/𝒜) stays finite and accurate in float64 (p = 1e308 would give inf and NaN)
 PQ_MAX = 10**9
 
 

@@ -409,7 +409,7 @@ def checkpoint_cache(checkpoint) -> Cache | None:
     raise ValueError(f"checkpoint must be a directory or a Cache, got {_validate._shown(checkpoint)}.")
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

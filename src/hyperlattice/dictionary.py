@@ -25,8 +25,8 @@ site :math:`\mathcal A`, :func:`hyperlattice.geometry.site_area`):
 * many-body parameters (``eq13`` -> ``eq14``): :math:`t' = \frac q4 h^2 t`, :math:`\mu' = \mu + qt`,
   :math:`U' = \mathcal A U` (:func:`continuum_parameters`).
 
-The improved dictionary (``dictionary="improved"``, issue 13; the paper's map stays the default)
-------------------------------------------------------------------------------------------------
+The improved dictionary (``dictionary="improved"``; the paper's map stays the default)
+---------------------------------------------------------------------------------------
 The paper's map keeps the first two terms of the small-h expansion. For an eigenfunction
 :math:`\Delta_g f = -\lambda f` the *isotropic* part of the star is summed exactly: expand f
 about a site in geodesic polar coordinates, :math:`f = \sum_m c_m\,\Phi_{\lambda,m}(d)e^{\mathrm i m\theta}`.
@@ -520,7 +520,7 @@ def disk_radius_for_rings(rings, p=7, q=3) -> tuple[float, float]:
 
 
 # ----------------------------------------------------------------------------
-# magnetic flux f (quanta per p-gon face) <-> field B (issue 11)
+# magnetic flux f (quanta per p-gon face) <-> field B
 # ----------------------------------------------------------------------------
 
 def _face_area(p=7, q=3) -> float:
@@ -789,7 +789,7 @@ def lattice_parameters(t_prime: float, mu_prime: float, U_prime: float, p: int =
 
 
 # ----------------------------------------------------------------------------
-# the improved dictionary (issue 13): the exact circle average of the star
+# the improved dictionary: the exact circle average of the star
 # ----------------------------------------------------------------------------
 
 #: The names accepted by every ``dictionary=`` keyword.
@@ -1310,7 +1310,7 @@ def map_energy_from_k(k, p=7, q=3, dictionary: str = "paper") -> float | np.ndar
     return improved_energy_from_k(k, p, q)
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 # and every map's result is finite, or a sentence says why not (f = 1e308 used to give B = inf)

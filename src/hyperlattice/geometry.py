@@ -822,7 +822,7 @@ def tiling_constants(p, q=3) -> TilingConstants:
                            site_area=site_area(p, q), radius_constant=radius_constant(p, q))
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 # the {p,q} constants and the effective radius: a finite result, or a sentence

@@ -202,7 +202,7 @@ def number_labels(tex: str) -> dict[str, str]:
     return labels
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

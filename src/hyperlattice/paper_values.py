@@ -336,7 +336,7 @@ def paper_values(key: str) -> list[PaperValue]:
     return rows
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

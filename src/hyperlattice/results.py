@@ -1249,7 +1249,7 @@ def compare_levels(graph: Levels, continuum: Levels) -> dict:
 __all__.append("compare_levels")
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -33,15 +33,15 @@ from .strong_coupling import (StrongCouplingLobe, excitation_energies, hypercubi
                               strong_coupling_tip)
 
 __all__: list[str] = [
-    # exact diagonalisation (issue 22, item 1)
+    # exact diagonalisation
     "BosonBasis", "basis_dimension", "boson_basis", "BoseHubbardLevels", "ChargeGap", "bose_hubbard", "charge_gap",
-    # Gross-Pitaevskii and Bogoliubov (item 3)
+    # Gross-Pitaevskii and Bogoliubov
     "BogoliubovSpectrum", "GPState", "bogoliubov", "gp_ground_state",
     # mean field (item 2)
     "GutzwillerState", "MottLobe", "MottLobeTable", "gutzwiller", "largest_adjacency_eigenvalue", "lobe_boundary",
     "lobe_tip", "mott_lobe", "mott_lobes",
-    # quantum Monte Carlo (issue 27) and its exact reference
+    # quantum Monte Carlo and its exact reference
     "QMCResult", "QMCWarning", "qmc", "qmc_memory", "merge_chains", "exact_thermal", "ThermalAverages",
-    # strong-coupling expansion (issue 27, item 4)
+    # strong-coupling expansion
     "StrongCouplingLobe", "excitation_energies", "hypercubic_boundaries", "strong_coupling_lobe", "strong_coupling_tip",
 ]

@@ -441,7 +441,7 @@ def _shift_invert_bdg(A: sp.csr_matrix, B: sp.csr_matrix, k: int, norm: float, b
     return np.sort(vals)
 
 
-# every public function above checks its arguments at the door (issue 19)
+# every public function above checks its arguments at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -957,7 +957,7 @@ def mott_lobes(p: int = 7, q: int = 3, rings=(3, 4, 5, 6, 8, 10, 12), *, filling
     return MottLobeTable(p=p, q=q, filling=_filling(filling), lobes=lobes, kinds=kinds, rings=ring_col)
 
 
-# every public function above checks its arguments at the door (issue 19)
+# every public function above checks its arguments at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -477,7 +477,7 @@ def hypercubic_boundaries(dimension: int, t_over_U, *, filling: int = 1, order: 
     return np.asarray(mp, dtype=float), np.asarray(mm, dtype=float)
 
 
-# every public function above checks its arguments at the door (issue 19)
+# every public function above checks its arguments at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

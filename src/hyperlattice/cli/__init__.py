@@ -198,7 +198,7 @@ if __name__ == "__main__":  # pragma: no cover
     sys.exit(main())
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -1,6 +1,6 @@
 """``hyperlattice bosons ed``: exact diagonalisation of the Bose–Hubbard model on a flake or a cluster.
 
-Contract (issue 22): ``--json`` prints one object with the keys ``sites, particles, nmax, U, t,
+Contract: ``--json`` prints one object with the keys ``sites, particles, nmax, U, t,
 dim, energies`` (the lowest eigenvalues of H at mu = 0, ascending) and the extras ``m, residuals,
 method, p, q, rings, cluster`` (and ``condensate_fraction`` with ``--observables``, ``note`` when the
 result has one, e.g. more levels asked than the basis has states).
@@ -79,7 +79,7 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -1,7 +1,7 @@
 """``hyperlattice bosons qmc``: grand-canonical quantum Monte Carlo (SSE, directed loops) of the
 Bose–Hubbard model on a flake or a periodic cluster at inverse temperature beta.
 
-Contract (issue 27, item 5): ``--json`` prints one object with at least the keys ``sites, energy,
+Contract: ``--json`` prints one object with at least the keys ``sites, energy,
 energy_err, density, density_err, compressibility, compressibility_err, tau_int`` (energy: the
 total <H>, the -mu N term included; density and compressibility per site; ``tau_int`` the
 integrated autocorrelation times in sweeps by observable), then the rest of
@@ -203,7 +203,7 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -58,7 +58,7 @@ def run(args: argparse.Namespace) -> int:
     out = plot_file("--out", args.out) if args.out is not None else None
     table = _validate.output_path("--table", args.table, suffixes=(".csv",)) if args.table is not None else None
     nflux = _validate.positive_int("--fluxes", args.fluxes, maximum=MAX_FLUXES)
-    # the work before the build (issue 19: --rings 3 -q 10 ran for minutes unannounced): p dense
+    # the work before the build (--rings 3 -q 10 runs for minutes, so it is announced): p dense
     # Hermitian blocks of about N/p per flux value
     n = estimate_sites(args.p, args.q, args.rings, line_graph=args.line_graph)
     block = -(-n // args.p)
@@ -93,7 +93,7 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

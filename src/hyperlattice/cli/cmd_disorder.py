@@ -45,7 +45,7 @@ def run(args: argparse.Namespace) -> int:
     out = plot_file("--plot", args.plot) if args.plot is not None else None
     seed = _validate.integer("--seed", args.seed, minimum=0, maximum=2**63 - 1)
     _validate.real("--W", args.W, minimum=0.0)
-    # the work before the build (issue 19: --rings 3 -q 10 ran for minutes unannounced): one dense
+    # the work before the build (--rings 3 -q 10 runs for minutes, so it is announced): one dense
     # eigendecomposition of all N sites per realization (without eigenvectors, --no-ipr, about half)
     n = estimate_sites(args.p, args.q, args.rings, line_graph=args.line_graph)
     _validate.require_memory(f"a dense disorder realization of {n:,} sites", 3.0 * 8 * n**2)
@@ -81,7 +81,7 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -48,7 +48,7 @@ SECONDS_PER_SITE_ORDER = 1.5e-7
 def _continuum_work(lat, omega, site: int, tol: float) -> tuple[float, int]:
     """Estimated seconds of the continuum column, from the series orders its outermost sites need.
 
-    The orders grow fast with q (the outer ring lies ever closer to the disk's edge): issue 19's
+    The orders grow fast with q (the outer ring lies ever closer to the disk's edge):
     ``green --rings 4 -q 10`` needs the 4,000-order cap at 404,320 sites. A probe of 32 sites
     takes milliseconds.
     """
@@ -101,7 +101,7 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -57,7 +57,7 @@ def run(args: argparse.Namespace) -> int:
     if args.method in ("auto", "shift-invert") and _sector_only(args, sector):
         return _run_pair(args, levels=args.levels)
     if args.method == "dense":
-        # before the build (issue 19: --rings 9 asked LAPACK for 12.2 GiB, --rings 14 built 5 M sites
+        # before the build (--rings 9 would ask LAPACK for 12.2 GiB, and --rings 14 would build 5 M sites
         # first): the same refusal lowest_levels makes, from the ring-count recursion
         from .. import _validate
 
@@ -151,7 +151,7 @@ def _run_pair(args, levels: int | None = None) -> int:
                                f"time={spec.timings.get('total', 0.0):.2f} s")
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -347,7 +347,7 @@ def mott_gap_comparison(system, t_over_U=(0.0, 0.02, 0.04, 0.06, 0.08, 0.1, 0.15
                              gap_continuum=cont)
 
 
-# every public function above checks its arguments at the door (issue 19)
+# every public function above checks its arguments at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -1203,7 +1203,7 @@ def bulk_to_boundary(lattice: Lattice, omega, source: int | None = None, *,
                           graph=g, continuum=cont, kernel=kern, bulk=bulk)
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

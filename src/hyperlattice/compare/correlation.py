@@ -303,7 +303,7 @@ def collapse_measure(dist, values, width: float | None = None) -> float:
     return float(np.sqrt(np.sum(b.count * b.std ** 2) / den))
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -1082,7 +1082,7 @@ def compare_scba(lattice: Lattice, omega, strengths, realizations: int = 20, *, 
                           **{k: np.array(v) for k, v in out.items()})
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -859,7 +859,7 @@ def dos_comparison(p: int = 7, q: int = 3, *, clusters=None, rings=None, moments
     if clusters:
         try:
             from ..graph.clusters import pbc_cluster
-        except ImportError:  # pragma: no cover - depends on the other half of the issue
+        except ImportError:  # pragma: no cover - an install without the cluster module
             notes.append("periodic clusters left out: hyperlattice.graph.clusters is not available.")
             clusters = []
     for name in clusters:
@@ -944,7 +944,7 @@ def dos_comparison(p: int = 7, q: int = 3, *, clusters=None, rings=None, moments
         timings={"total": time.perf_counter() - t_start})
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

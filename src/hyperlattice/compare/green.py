@@ -339,7 +339,7 @@ def compare_green(lattice: Lattice, omega, source: int, *, tol: float = 1e-12,
                            tail_estimate=info.tail_estimate)
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

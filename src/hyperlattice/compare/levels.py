@@ -922,7 +922,7 @@ def continuum_levels_below(p: int = 7, q: int = 3, *, rings=None, radius=None, c
     p, q = _validate.pq(p, q)
     cutoff = _validate.real("cutoff", cutoff)
     max_table = _validate.positive_int("max_table", max_table)
-    # Weyl's law first (issue 19: a huge cutoff ran for minutes before max_table stopped it):
+    # Weyl's law first (a huge cutoff would run for minutes before max_table stopped it):
     # N(lambda) ~ A lambda / (4 pi), A = pi L^2 / (1 - L^2) the disk's area in the metric of eq3
     L, _ = disk_argument(radius, p=p, q=q, rings=rings)
     lam = float(lambda_from_energy(min(cutoff, 1e300), p, q).real) if cutoff > -q else 0.0
@@ -1060,7 +1060,7 @@ def partition_functions(graph: LevelCount, continuum: LevelCount, beta) -> Parti
                                graph_zero_modes=graph.at_cutoff, graph_tolerance=graph.tolerance)
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

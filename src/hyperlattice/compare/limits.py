@@ -1,5 +1,5 @@
 r"""The infinite lattice: the band bottom :math:`-\rho(p,q)`, why the graph-continuum error has a
-plateau, and the improved dictionary against the graph levels (issue 13).
+plateau, and the improved dictionary against the graph levels.
 
 Band bottom, route (a): extrapolation in the ring number l
 ----------------------------------------------------------
@@ -1335,7 +1335,7 @@ def compare_dictionaries(rings=None, E0=None, E1=None, *, p: int = 7, q: int = 3
                                 improved_E1=rel["improved"][1], improved_limit=lim, improved_limit_error=lim_err)
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

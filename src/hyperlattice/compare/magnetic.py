@@ -329,7 +329,7 @@ def magnetic_comparison(p: int = 7, q: int = 3, *, rings=(3, 4, 5, 6, 7), fluxes
                               magnetic_length=lb, timings={"total": time.perf_counter() - t0})
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

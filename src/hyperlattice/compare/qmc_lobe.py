@@ -874,7 +874,7 @@ def xy_qubit_check(rings: int = 2, omega_q: float = -3.5, g: float = 0.5, *, rin
     return out
 
 
-# every public function above checks its arguments at the door (issue 19)
+# every public function above checks its arguments at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -382,7 +382,7 @@ def bound_state_sizes(lattice: Lattice, omegas_q, g, site: int = 0) -> BoundStat
                            decay_length_asymptotic=xa)
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

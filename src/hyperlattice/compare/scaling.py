@@ -1191,7 +1191,7 @@ def convergence_study(lattice: Lattice | FrameAngles, f: SmoothFunction, hs=None
                             exponents=exponents, expected=expected, fit_rms=rms)
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

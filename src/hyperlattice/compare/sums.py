@@ -481,7 +481,7 @@ def sum_check(lattice: Lattice, f: Callable, *, name: str | None = None) -> SumC
                     integral=complex(integral))
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

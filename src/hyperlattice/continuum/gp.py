@@ -568,7 +568,7 @@ def _rounding(b_diag: np.ndarray, ko: np.ndarray, state) -> float:
     return 16.0 * np.finfo(float).eps * norm + float(state.residual) * abs(float(state.mu_c))
 
 
-# every public function above checks its arguments at the door (issue 19)
+# every public function above checks its arguments at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -1128,7 +1128,7 @@ def continuum_green(z, zp, lam, radius=1.0, *, tol: float = 1e-12, extend: bool 
                                  tol=tol, rounding_estimate=worst_round))
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

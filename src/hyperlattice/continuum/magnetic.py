@@ -1,4 +1,4 @@
-r"""Dirichlet levels of the magnetic Laplacian on a hyperbolic disk (issue 11, continuum side).
+r"""Dirichlet levels of the magnetic Laplacian on a hyperbolic disk (the continuum side of the flux dictionary).
 
 Conventions
 -----------
@@ -930,7 +930,7 @@ def magnetic_levels(p=7, q=3, radius=None, rings=None, levels: int = 4, flux=0.0
                                                            rings=rings))
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

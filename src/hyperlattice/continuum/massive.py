@@ -737,7 +737,7 @@ def bulk_to_boundary_kernel(z, theta, delta) -> float | np.ndarray:
     return _out(np.exp(d * (np.log(one_minus_abs2(z)) - 2.0 * np.log(np.abs(z - np.exp(1j * th))))))
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

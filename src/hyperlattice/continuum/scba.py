@@ -339,7 +339,7 @@ def scba(omega, variance: float, p: int = 7, q: int = 3, *, local: Callable[[com
                       born=born, iterations=it, residual=float(residual))
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

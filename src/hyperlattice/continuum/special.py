@@ -465,7 +465,7 @@ def _p_near_quad(nu, m, x):
     d, t, _, _ = _geom(x)
     s = np.sqrt(d * (d + 2.0))
     nnodes_f = np.ceil(m + 1.5 * np.abs(nu) * t + 40.0)
-    # the node count grows like |nu| arccosh(x): refuse before allocating (issue 19: nu = 1e12 asked
+    # the node count grows like |nu| arccosh(x): refuse before allocating (nu = 1e12 would ask
     # numpy for 22.6 TiB; beyond 1e18 the count does not even fit an integer); a row of nodes holds
     # ~12 float64 temporaries (phi, weights, the complex base, exponent and integrand, cos(m phi))
     top = int(np.argmax(nnodes_f))
@@ -1563,7 +1563,7 @@ def conical_p(k, m, x) -> float | np.ndarray:
     return np.real(legendre_p(-0.5 + 0.5j * k_a, m, x))
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

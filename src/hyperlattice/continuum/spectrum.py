@@ -1259,7 +1259,7 @@ def radial_g(k, m, r, method: str = "closed") -> complex | np.ndarray:
     return out.reshape(r.shape)[()] if r.ndim == 0 else out
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

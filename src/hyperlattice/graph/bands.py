@@ -652,7 +652,7 @@ def abelian_dos(cluster: Cluster, *, samples: int = 400, bins: int = 200, seed: 
                       p=c.p, q=c.q, genus=c.genus)
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

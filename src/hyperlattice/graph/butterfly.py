@@ -225,7 +225,7 @@ def butterfly(lattice: Lattice, fluxes, *, t: float = 1.0, onsite=None, max_site
                      kind=lattice.kind, t=t, description=description, timings={"total": total})
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

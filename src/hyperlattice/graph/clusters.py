@@ -1046,7 +1046,7 @@ def same_map(a: Cluster, b: Cluster, *, regular: bool = True) -> bool:
     return any(np.array_equal(ca, map_code(b, v, j)) for v, j in darts)
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -364,7 +364,7 @@ def disordered_hamiltonian(lattice: Lattice, dis: Disorder, *, t: float = 1.0) -
     return h
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -1267,7 +1267,7 @@ def lowest_eigenpairs(mat, k: int, *, tol: float = 1e-10, backend: str = "auto",
     return e[:k], v[:, :k], res[:k], info
 
 
-# every public function above checks its arguments at the door (issue 19)
+# every public function above checks its arguments at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

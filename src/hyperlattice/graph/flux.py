@@ -483,7 +483,7 @@ def check_face_fluxes(lattice: Lattice, flux, tol: float = 1e-12) -> float:
     return dev
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

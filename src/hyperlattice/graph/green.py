@@ -5,7 +5,7 @@ lattices use one dense eigendecomposition for many frequencies; large ones a spa
 frequency. The comparison with the continuum through the dictionary ``eq21`` lives in
 :mod:`hyperlattice.compare.green`.
 
-Two accelerations of the sparse route (issue 28, item 8), both checked by the true residual of
+Two accelerations of the sparse route, both checked by the true residual of
 every column they return:
 
 * **Rotation sectors.** A lattice whose H commutes with the p-fold rotation (no on-site term, or
@@ -1285,7 +1285,7 @@ def graph_green(lattice, omega, source=None, targets=None, *, t: float = 1.0, on
     return out
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

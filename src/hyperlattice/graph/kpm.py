@@ -1256,7 +1256,7 @@ def bulk_dos(lattice, moments: int | None = None, *, exclude: int | None = None,
                    label=f"{{{lattice.p},{lattice.q}}} flake interior (rings 1..{lattice.rings - k} of {lattice.rings})")
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

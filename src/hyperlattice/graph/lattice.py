@@ -73,8 +73,8 @@ _CALIBRATION_SPOKES = 2**16
 
 
 def _available_memory() -> int:
-    # the package's one probe: machine, RLIMIT_AS and cgroup limits (issue 19: `lattice --rings 15
-    # --line-graph` under `ulimit -v` used to be sized by the machine's RAM)
+    # the package's one probe: machine, RLIMIT_AS and cgroup limits (so that `lattice --rings 15
+    # --line-graph` under `ulimit -v` is sized by the limit, not by the machine's RAM)
     return _validate.available_memory()
 
 
@@ -1380,7 +1380,7 @@ def line_graph(lattice: Lattice, *, max_sites: int | None = None) -> Lattice:
                    edges=lg_edges, rotation=rotation, kind="line_graph", parent_edges=e_sorted.astype(np.int32))
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

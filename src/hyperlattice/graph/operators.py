@@ -421,7 +421,7 @@ def full_table(lattice: Lattice, t: float = 1.0, onsite: OnSite = None, flux: fl
 
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -965,8 +965,8 @@ def spin_model(lattice: Lattice, sites, omega_q, g, *, t: float = 1.0,
                      couplings=J, lamb_shift=lamb, distance=d)
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
-# a coupling or shift beyond the float64 range is refused, never returned as inf/NaN (issue 28)
+# a coupling or shift beyond the float64 range is refused, never returned as inf/NaN
 _guard_public(globals(), finite=("spin_model",))

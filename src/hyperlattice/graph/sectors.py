@@ -804,8 +804,8 @@ def lowest_sector_levels(p: int = 7, q: int = 3, rings: int = 3, levels: int = 2
         max_bytes = _validate.positive_int("max_bytes", max_bytes)
     if t != 1.0:
         # the spectrum of -tA is t times that of -A (t > 0), residuals too: solve at t = 1 and scale,
-        # exactly (one correctly rounded product), whatever the magnitude of t (issue 19: t = 1e20
-        # left shift-invert margins and ARPACK's tolerance at the wrong scale)
+        # exactly (one correctly rounded product), whatever the magnitude of t (at t = 1e20 the
+        # shift-invert margins and ARPACK's tolerance would otherwise sit at the wrong scale)
         base = lowest_sector_levels(p, q, rings, levels, t=1.0, tol=tol, backend=backend, sectors=sectors,
                                     max_bytes=max_bytes, progress=progress)
         with np.errstate(over="ignore"):
@@ -814,7 +814,7 @@ def lowest_sector_levels(p: int = 7, q: int = 3, rings: int = 3, levels: int = 2
             raise ValueError(f"t = {t:g} makes the energies exceed the float64 range.")
         return dataclasses.replace(base, energies=energies, errors=errors,
                                    description=base.description + f" Solved at t = 1 and scaled by t = {t:g}.")
-    tol_h = tol * t  # residuals relative to the energy scale t of H = -tA (issue 19: t = 1e20 failed)
+    tol_h = tol * t  # residuals relative to the energy scale t of H = -tA (an absolute tolerance fails at t = 1e20)
     progress = _validate.progress("progress", progress)
     from .._progress import progress_bar
 
@@ -1138,7 +1138,7 @@ def _flake_levels(lattice, levels: int, t: float, tol: float, progress) -> Spect
     return lowest_sector_levels(sectors=slat, levels=levels, t=t, tol=tol, progress=progress)
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

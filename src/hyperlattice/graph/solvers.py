@@ -305,7 +305,7 @@ def _lanczos_ritz(mat: sp.spmatrix, steps: int) -> np.ndarray:
     return _plain_lanczos(lambda x: mat @ x, np.random.default_rng(12345).standard_normal(mat.shape[0]), steps)
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -378,12 +378,12 @@ def lowest_levels(lattice: Lattice, levels: int = 2, *, t: float = 1.0, onsite: 
             return dataclasses.replace(spec, timings={**spec.timings, "total": time.perf_counter() - t_start})
     method = route.method
     if method == "dense":
-        # refused before allocating (issue 19: ell = 9 asked LAPACK for 12.2 GiB): the matrix, eigh's
+        # refused before allocating (ell = 9 would ask LAPACK for 12.2 GiB): the matrix, eigh's
         # copy of it and its work space, ~3 N^2 numbers
         _validate.require_memory(f"method='dense' on {lattice.sites:,} sites (LAPACK eigh of the full matrix)",
                                  3.0 * lattice.sites**2 * (16 if flux else 8))
-    # residuals are judged relative to the energy scale of H (issue 19: t = 1e20 failed with
-    # "residual 7.9e-04 exceeds the tolerance 1e-10"): tol is in units of max(|t|, max|V|)
+    # residuals are judged relative to the energy scale of H (an absolute tolerance
+    # fails for t = 1e20 with "residual 7.9e-04 exceeds the tolerance 1e-10"): tol is in units of max(|t|, max|V|)
     tol = tol * _energy_scale(lattice, t, onsite)
     with _single_threaded_blas():
         if method == "sector":
@@ -936,7 +936,7 @@ def log_partition_function(system, beta, *, t: float = 1.0, onsite: OnSite = Non
     return float(log_z) if np.ndim(log_z) == 0 else log_z
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -533,7 +533,7 @@ def _lift_columns(orbits: RotationOrbits, ms, phis) -> np.ndarray:
     return np.column_stack(cols)
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

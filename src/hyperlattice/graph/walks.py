@@ -660,7 +660,7 @@ def spectral_radius(p: int, q: int, n_max: int = 22, *, max_sites: int | None = 
     return SpectralRadius(p=p, q=q, n_max=n_max, lower_root=root, lower_ratio=ratio, upper=upper, ratios=ratios)
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

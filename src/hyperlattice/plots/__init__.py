@@ -66,7 +66,7 @@ def new_axes(ax: Axes | None = None, size=(6.0, 4.2)) -> Axes:
     return ax
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -80,7 +80,7 @@ def bands_and_dos(bands: Bands, dos: AbelianDOS | None = None, *, path=None) -> 
     return fig
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -294,7 +294,7 @@ def gp_comparison_figure(cmp: GPComparison, axes=None, path=None):
     return fig
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

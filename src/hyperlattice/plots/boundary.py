@@ -275,7 +275,7 @@ def plot_bound_state_sizes(bs: BoundStateSizes, ax: Axes | None = None) -> Axes:
     return ax
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

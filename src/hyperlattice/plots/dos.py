@@ -295,7 +295,7 @@ def comparison_figure(cmp: DosComparison, *, path=None):
     return fig
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

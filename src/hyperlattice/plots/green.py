@@ -263,7 +263,7 @@ def plot_fig3_row(lattice: Lattice, omega, source: int = 10, *, axes: Sequence[A
     return axes
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -324,7 +324,7 @@ def limits_figure(band: BandBottom, plateau: PlateauAnalysis, comparison: Dictio
     return fig
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -366,7 +366,7 @@ def error_map(fluxes, ells, rel_error, *, ax: Axes | None = None, title: str = "
     return ax
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -332,7 +332,7 @@ def plot_counting(lattice: Lattice | CountingFit | None = None, ax: Axes | None 
     return ax
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -158,7 +158,7 @@ def reproduce(out_dir: str | Path = "reproduction", max_rings: int = 10, *, cach
             "seconds": timings["total"]}
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -315,7 +315,7 @@ def delta_scaling(out=None, rings=DELTA_RINGS, omegas=_OMEGAS, bf_rings=BF_RINGS
     return data
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -278,7 +278,7 @@ def bosons_section(out: Path, progress: Callable[[str], None]) -> Section:
                    anchor="bosons", part="beyond", provenance=provenance)
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

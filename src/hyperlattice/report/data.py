@@ -160,7 +160,7 @@ def green_row(cache: Cache, rings: int, omega, source: int, comparison: GreenCom
     return cache.get("green_compare", key, compute)
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -124,7 +124,7 @@ def disorder_section(out: Path, progress: Callable[[str], None]) -> Section:
     return Section("Disorder", ("eq21",), text, [r_table, g_table], figs, anchor="disorder", part="beyond")
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -167,7 +167,7 @@ def band_interval_sentence(band_bottom: Section, infinite: Section) -> str:
             f"[{lo:.5f}, {hi:.5f}].")
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

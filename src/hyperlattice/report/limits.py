@@ -173,7 +173,7 @@ def limits_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[
     for x, r0_, r1_ in zip(central["fit_rings"], central["residuals"], partner["residuals"]):
         i = list(ell).index(x)
         # the fitted values to 9 decimals: the fit residuals are >= 1e-9 and the least-squares solution
-        # moves in the 12th digit with the BLAS thread count (issue 28 item 3)
+        # moves in the 12th digit with the BLAS thread count
         fit_rows.append([int(x), f"{e0[i]:.12f}", f"{e0[i] + r0_:.9f}", f"{r0_:+.1e}", f"{e1[i]:.12f}",
                          f"{e1[i] + r1_:.9f}", f"{r1_:+.1e}"])
     t_fit = Table("band_fit", ["rings", "E0", "E0_fit", "E0_residual", "E1", "E1_fit", "E1_residual"], fit_rows,
@@ -293,7 +293,7 @@ def limits_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[
                    provenance=provenance)
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

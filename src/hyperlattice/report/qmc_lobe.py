@@ -1,4 +1,4 @@
-"""Report section "Beyond mean field: the Mott lobe from quantum Monte Carlo" (issue 27, item 4).
+"""Report section "Beyond mean field: the Mott lobe from quantum Monte Carlo".
 
 The QMC boundaries are stored (``qmc_lobe_scan.json`` next to this module, written by
 ``benchmarks/qmc_lobe_scan.py``: a scan takes far longer than a report run); mean field, the
@@ -255,7 +255,7 @@ def verdict(lobe) -> list:
     return text
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -783,7 +783,7 @@ def magnetic_section(out: Path, progress: Callable[[str], None], cache: Cache | 
                    anchor="magnetic", part="beyond")
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

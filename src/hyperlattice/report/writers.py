@@ -757,7 +757,7 @@ def write_html(sections: list[Section], header: list[str], out: Path) -> None:
     (out / "report.html").write_text("\n".join(parts))
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

@@ -676,7 +676,7 @@ def run_sweep(task: str, grid: dict, path, *, scheduler=None, workers: int | Non
                        failed=failures, seconds=time.perf_counter() - t0)
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())

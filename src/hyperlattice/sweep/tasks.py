@@ -362,7 +362,7 @@ def execute(name: str, params: dict) -> dict:
         return task.run(**params)
 
 
-# every public function above checks its annotated argument types at the door (issue 19)
+# every public function above checks its annotated argument types at the door
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
 
 _guard_public(globals())
