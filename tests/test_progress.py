@@ -434,3 +434,27 @@ def test_a_dos_checkpoint_serves_only_its_own_operator(tmp_path):
 def test_dos_site_takes_no_checkpoint(tmp_path, capsys):
     assert main(["dos", "--rings", "4", "--site", "0", "--checkpoint", str(tmp_path)]) == 2
     assert "--checkpoint" in _one_line(capsys.readouterr().err)
+
+
+def test_a_serial_sweep_draws_its_bar_when_its_first_task_starts(tmp_path, monkeypatch):
+    """``sweep --progress`` in the serial fallback (no Dask): the bar is drawn as the first task starts
+    and names the running task, without waiting for the task to end."""
+    from hyperlattice.sweep import engine, run_sweep
+
+    tty = _Tty()
+    monkeypatch.setattr(engine, "have_dask", lambda: False)
+    monkeypatch.setattr(sys, "stderr", tty)
+    rep = run_sweep("probe", {"x": [1.0, 2.0]}, tmp_path / "s", progress=True)
+    assert rep.scheduler == "serial"
+    assert any("0/2" in part and "x=1.0" in part for part in tty.text.split("\r")), tty.text
+    assert "2/2" in tty.text
+
+
+def test_sweep_help_lists_every_task(capsys):
+    from hyperlattice.sweep.tasks import TASKS
+
+    with pytest.raises(SystemExit):
+        main(["sweep", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert all(name in text.split("--task TASK")[-1].split("--grid")[0] for name in TASKS), text
+    assert "qmc" in text.split("positional arguments")[0]

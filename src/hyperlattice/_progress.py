@@ -12,7 +12,8 @@ sections, sweep tasks) opens a :func:`progress_bar`. Whether it draws is decided
 * a function: the older interface, kept: it receives one-line messages instead of a bar.
 
 Bars go to stderr only (stdout stays clean for JSON and tables), appear after :data:`DELAY`
-seconds (a call that finishes sooner draws nothing) and vanish when their loop ends if they are
+seconds (a call that finishes sooner draws nothing; a bar asked for with ``True`` or
+``--progress`` is drawn at once) and vanish when their loop ends if they are
 nested. Pipes, logs, CI and the tests (stderr captured) see no bars.
 """
 
@@ -22,6 +23,7 @@ import contextlib
 import contextvars
 import os
 import sys
+import time
 from typing import Callable
 
 from . import _validate
@@ -96,11 +98,14 @@ class Bar:
         self._say: Callable[[str], None] | None = progress if callable(progress) else None
         self._tqdm = None
         self._token = None
+        # progress=True is the caller's (or --progress's) explicit request: such a bar may draw at once
+        self._forced = progress is True
+        self._born = time.monotonic()
         if enabled(progress):
             from tqdm import tqdm
 
             nested = _DEPTH.get() > 0
-            self._tqdm = tqdm(total=total, desc=desc, unit=unit, file=sys.stderr, delay=DELAY,
+            self._tqdm = tqdm(total=total, desc=desc, unit=unit, file=sys.stderr, delay=0.0 if self._forced else DELAY,
                               dynamic_ncols=True, leave=not nested)
 
     @property
@@ -120,6 +125,17 @@ class Bar:
         """What the loop is doing now: the bar's postfix, or one message to a function."""
         if self._tqdm is not None:
             self._tqdm.set_postfix_str(text, refresh=False)
+        if self._say is not None:
+            self._say(text)
+
+    def item(self, text: str) -> None:
+        """The next item starts (``text`` says which): the bar shows it at once when it was asked
+        for explicitly or has existed for :data:`DELAY` seconds, so a loop of long items (a serial
+        sweep of QMC runs) shows where it is before its first item ends."""
+        if self._tqdm is not None:
+            self._tqdm.set_postfix_str(text, refresh=False)
+            if self._forced or time.monotonic() - self._born >= DELAY:
+                self._tqdm.refresh()
         if self._say is not None:
             self._say(text)
 

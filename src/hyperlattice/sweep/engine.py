@@ -263,6 +263,9 @@ def _run_serial(task, todo, keys, write, retries, failures, bar, on_row, deadlin
         if deadline is not None and time.monotonic() > deadline:
             failures.append({"key": key, "params": params, "error": "TimeoutError: the sweep's time limit passed"})
             continue
+        if bar is not None:
+            # a serial task may run for minutes: the bar names it before it ends
+            bar.item(", ".join(f"{k}={v}" for k, v in params.items()) or key)
         err = None
         for _attempt in range(retries + 1):
             try:
