@@ -114,13 +114,63 @@ def test_reproduce_refuses_a_directory_of_the_users(tmp_path, monkeypatch, capsy
 
 
 def test_reproduce_reuses_its_own_directory(tmp_path, monkeypatch):
-    # a new directory is marked when the run starts; a rerun into it (or an empty one) is accepted
+    # a new directory gets its manifest when the run starts; a rerun into it (or an empty one) is accepted
     import hyperlattice.report as report
-    from hyperlattice.report import MARKER
+    from hyperlattice import __version__
+    from hyperlattice.report import manifest
 
     out = tmp_path / "r"
     out.mkdir()
     assert report._out_directory("out_dir", out) == out
-    (out / MARKER).write_text("{}")
-    (out / "report.md").write_text("an earlier run's")
+    manifest.start(out, __version__)
+    with manifest.writing(out, "report.md") as path:
+        path.write_text("an earlier run's")
     assert report._out_directory("out_dir", out) == out
+    # a run interrupted while writing a file leaves it listed as pending: still the report's own
+    with pytest.raises(KeyboardInterrupt), manifest.writing(out, "fig_fig1.png") as path:
+        path.write_bytes(b"half")
+        raise KeyboardInterrupt
+    assert report._out_directory("out_dir", out) == out
+
+
+@pytest.mark.parametrize("tamper", ["empty marker", "braces", "old format", "added file", "edited output",
+                                    "listed directory", "bad checksum"])
+def test_reproduce_refuses_a_directory_whose_manifest_does_not_verify(tmp_path, tamper, capsys):
+    """Any _report.json (even an empty one a user made) used to let ``reproduce --out`` write into the
+    directory: only the report's own manifest, with every file listed and unchanged, does now."""
+    import json
+
+    from hyperlattice import __version__
+    from hyperlattice.cli import main
+    from hyperlattice.report import MARKER, manifest
+
+    out = tmp_path / "mine"
+    out.mkdir()
+    (out / "notes.txt").write_text("my notes")
+    if tamper == "empty marker":
+        (out / MARKER).write_text("")
+    elif tamper == "braces":
+        (out / MARKER).write_text("{}")
+    elif tamper == "old format":
+        (out / MARKER).write_text(json.dumps({"format": "hyperlattice-report/1", "version": __version__}))
+    else:
+        (out / "notes.txt").unlink()
+        manifest.start(out, __version__)
+        with manifest.writing(out, "report.md") as path:
+            path.write_text("the report")
+        if tamper == "added file":
+            (out / "notes.txt").write_text("my notes")
+        elif tamper == "edited output":
+            (out / "report.md").write_text("my own edits")
+        elif tamper == "listed directory":
+            (out / "report.md").unlink()
+            (out / "report.md").mkdir()
+        else:
+            data = json.loads((out / MARKER).read_text())
+            data["files"]["report.md"] = "0" * 64
+            (out / MARKER).write_text(json.dumps(data))
+    before = sorted((f.name, f.stat().st_mtime_ns) for f in out.iterdir())
+    assert main(["reproduce", "--out", str(out), "--max-rings", "2", "--no-cache"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "not a report directory" in err, err
+    assert sorted((f.name, f.stat().st_mtime_ns) for f in out.iterdir()) == before

@@ -9,8 +9,9 @@ the paper's ~3-digit sparse estimates for l >= 8). Outputs in ``out_dir``:
 * ``table_*.csv`` / ``table_*.json`` for every table (``table_s1.csv`` is SuppTab1),
 * ``fig_*.png`` and ``fig_*.svg`` for every figure,
 * ``timings.json`` (wall-clock times; kept out of the report so that it is deterministic),
-* ``_report.json``, which marks the directory as a report's: ``out_dir`` must be new, empty, or
-  hold it (an earlier run's), so that no file of the user's is ever overwritten.
+* ``_report.json``, the manifest: every file the report wrote, with its SHA-256
+  (:mod:`.manifest`). ``out_dir`` must be new, empty, or an earlier report's whose manifest
+  verifies (every file listed, none changed), so that no file of the user's is ever overwritten.
 
 Expensive results (graph spectra, Green functions) are cached with :class:`hyperlattice.cache.Cache`.
 
@@ -29,19 +30,28 @@ import numpy as np
 
 from .. import __version__, _validate
 from ..cache import Cache
+from . import manifest
 
 __all__ = ["reproduce"]
 
 
-#: the file that marks a directory as a report's: written first, so that a rerun may overwrite
-#: the report, and a directory without it and with anything in it is refused (nothing of the
-#: user's is overwritten; the same rule as a sweep's directory)
-MARKER = "_report.json"
+#: the report's manifest (:mod:`.manifest`): written first and updated with every file the report
+#: writes (name and SHA-256), so that a rerun may overwrite exactly those files; a directory whose
+#: manifest does not verify, or without one and with anything in it, is refused
+MARKER = manifest.NAME
 
 
 def _out_directory(name: str, value) -> Path:
     """The report's output directory, checked (and created) before any work: new, empty, or one an
-    earlier :func:`reproduce` wrote (it holds :data:`MARKER`); anything else is refused in one sentence."""
+    earlier :func:`reproduce` wrote whose manifest verifies (:func:`.manifest.problem`); anything
+    else is refused in one sentence."""
+    path = _validate.directory(name, value)
+    if (path / MARKER).is_file():
+        why = manifest.problem(path)
+        if why is not None:
+            raise ValueError(f"{name} {str(path)!r} is not a report directory that may be overwritten ({why}); "
+                             "give a new or empty directory, so that nothing of yours is overwritten.")
+        return path
     return _validate.owned_directory(name, value, marker=MARKER, what="a report")
 
 
@@ -113,7 +123,7 @@ def reproduce(out_dir: str | Path = "reproduction", max_rings: int = 10, *, cach
     if cache is not None and not isinstance(cache, Cache):
         raise ValueError(f"cache must be a Cache (or None for the default one), got {type(cache).__name__}.")
     out = _out_directory("out_dir", out_dir)
-    (out / MARKER).write_text(json.dumps({"format": "hyperlattice-report/1", "version": __version__}))
+    manifest.start(out, __version__)
     cache = cache if cache is not None else Cache()
     progress = progress or (lambda msg: None)
     timings: dict = {}
@@ -152,7 +162,8 @@ def reproduce(out_dir: str | Path = "reproduction", max_rings: int = 10, *, cach
     write_md(sections, header, out)
     write_html(sections, header, out)
     timings["total"] = time.perf_counter() - t_start
-    (out / "timings.json").write_text(json.dumps(timings, indent=1, sort_keys=True))
+    with manifest.writing(out, "timings.json") as path:
+        path.write_text(json.dumps(timings, indent=1, sort_keys=True))
     return {"out_dir": str(out), "sections": [s.title for s in sections], "records": records,
             "cache_hits": cache.hits, "cache_misses": cache.misses, "cache_reused": cache.reused,
             "seconds": timings["total"]}

@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import _validate
+from .manifest import writing
 
 __all__ = ["Table", "Figure", "Section", "PARTS", "table_id", "figure_id", "item_labels", "fmt", "save_figure", "write_md",
            "write_html"]
@@ -88,11 +89,11 @@ class Table:
         ['table_counts.csv', 'table_counts.json']
         ['rings,N', '1,7', '2,35']
         """
-        with open(out / f"table_{self.name}.csv", "w", newline="") as fh:
+        with writing(out, f"table_{self.name}.csv") as path, open(path, "w", newline="") as fh:
             w = csv.writer(fh)
             w.writerow(self.columns)
             w.writerows(self.rows)
-        with open(out / f"table_{self.name}.json", "w") as fh:
+        with writing(out, f"table_{self.name}.json") as path, open(path, "w") as fh:
             json.dump([dict(zip(self.columns, r)) for r in self.rows], fh, indent=1)
 
 
@@ -525,8 +526,10 @@ def save_figure(fig: matplotlib.figure.Figure, out: Path, name: str, caption: st
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=110, metadata={"Software": None})
     png = buf.getvalue()
-    (out / f"fig_{name}.png").write_bytes(png)
-    fig.savefig(out / f"fig_{name}.svg", format="svg", metadata={"Date": None})
+    with writing(out, f"fig_{name}.png") as path:
+        path.write_bytes(png)
+    with writing(out, f"fig_{name}.svg") as path:
+        fig.savefig(path, format="svg", metadata={"Date": None})
     plt.close(fig)
     return Figure(name=name, caption=caption, png=png, paper=paper, panel=panel)
 
@@ -635,7 +638,8 @@ def write_md(sections: list[Section], header: list[str], out: Path) -> None:
             for f in s.figures:
                 lines += [f'<a id="{figure_id(f)}"></a>', "", f"![{names[id(f)]}](fig_{f.name}.png)", "",
                           f"*{prose(_captioned(names[id(f)], f.caption))}* (vector: `fig_{f.name}.svg`)", ""]
-    (out / "report.md").write_text("\n".join(lines))
+    with writing(out, "report.md") as path:
+        path.write_text("\n".join(lines))
 
 
 def write_html(sections: list[Section], header: list[str], out: Path) -> None:
@@ -754,7 +758,8 @@ def write_html(sections: list[Section], header: list[str], out: Path) -> None:
                              f'src="data:image/png;base64,{b64}">'
                              f"<figcaption>{_code(prose(_captioned(names[id(f)], f.caption)))}</figcaption></figure>")
     parts += ["</body>", "</html>", ""]
-    (out / "report.html").write_text("\n".join(parts))
+    with writing(out, "report.html") as path:
+        path.write_text("\n".join(parts))
 
 
 # every public function above checks its annotated argument types at the door
