@@ -1,5 +1,5 @@
-"""The README's bosons paragraph quotes numbers that docs/bosons.md checks (its tables are printed by
-that page's examples): hold the README's copy to those tables."""
+"""The bosons paragraph of docs/overview.md (once the README's) quotes numbers that docs/bosons.md checks
+(its tables are printed by that page's examples): hold the overview's copy to those tables."""
 
 import re
 from pathlib import Path
@@ -14,14 +14,14 @@ def _rows(page: str, first_cell: str) -> list[list[str]]:
 
 
 def _readme_bosons() -> str:
-    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    text = (ROOT / "docs" / "overview.md").read_text(encoding="utf-8")
     return text[text.index("## Interacting bosons"):text.index("**Exact diagonalisation**")]
 
 
 def test_readme_bosons_numbers_are_the_checked_ones_of_docs_bosons():
     page = (ROOT / "docs" / "bosons.md").read_text(encoding="utf-8")
     readme = " ".join(_readme_bosons().split())
-    # rho: the infinite-lattice row of the Mott-lobe table, to the README's 4 decimals
+    # rho: the infinite-lattice row of the Mott-lobe table, to the overview's 4 decimals
     (inf,) = _rows(page, "infinite lattice")
     assert f"ρ = {float(inf[1]):.4f}" in readme
     # "to 0.1 % from l = 5 on": every flake/continuum pair of the lobe table from l = 5
@@ -35,6 +35,6 @@ def test_readme_bosons_numbers_are_the_checked_ones_of_docs_bosons():
     weak_pct, strong_pct = (float(r[5].rstrip(" %")) for r in (weak, strong))
     m = re.search(r"to (\d+) % while .*?ξ ≈ ([\d.]+) d0 at U = 0\.05 t.*?drifts to (\d+) % at ξ ≈ ([\d.]+) d0 "
                   r"\(U = 0\.5 t\)", readme)
-    assert m, "the README's sentence on the condensate's mu changed: update this test"
+    assert m, "the overview's sentence on the condensate's mu changed: update this test"
     assert abs(weak_pct) <= float(m.group(1)) and f"{float(weak[6]):.1f}" == m.group(2)
     assert f"{abs(strong_pct):.0f}" == m.group(3) and f"{float(strong[6]):.1f}" == m.group(4)
