@@ -1,4 +1,4 @@
-"""The tables and figures of docs/qmc-lobe.md from the stored QMC lobe scan (issue 27, item 4).
+"""The tables and figures of docs/qmc-lobe.md from the stored QMC lobe scan.
 
 Reads the stored scan (src/hyperlattice/report/qmc_lobe_scan.json, written by benchmarks/qmc_lobe_scan.py), adds Gutzwiller mean
 field and the third-order strong-coupling expansion on the same graphs, fits the pseudo-tips and
@@ -65,11 +65,11 @@ def main(argv=None) -> int:
     from hyperlattice.compare.qmc_lobe import load_scan, qmc_lobe
     from hyperlattice.plots.qmc_lobe import qmc_lobe_figure, qmc_tip_figure
     from hyperlattice.report.qmc_lobe import (EXTRAPOLATION_HEADER, TIP_HEADER, extrapolation_rows, headline,
-                                              stored_scan, tip_rows)
+                                              stored_scan, system_label, tip_rows)
 
     lobe = qmc_lobe(load_scan(args.scan) if args.scan else stored_scan())
     _table(["graph", "sites", "t/U", "βt", "nmax", "side", "μ/U QMC", "μ/U mean field", "μ/U strong coupling"],
-           [[r["system"], str(r["sites"]), f"{r['t_over_U']:.2f}", f"{r['beta_t']:g}", str(r["nmax"]), r["side"],
+           [[system_label(r["system"]), str(r["sites"]), f"{r['t_over_U']:.2f}", f"{r['beta_t']:g}", str(r["nmax"]), r["side"],
              f"{r['mu']:.4f} ± {_f(r['mu_err'])}", _f(r["mu_mean_field"]), _f(r["mu_strong_coupling"])]
             for r in lobe.rows])
     _table(TIP_HEADER, tip_rows(lobe))
@@ -85,7 +85,7 @@ def main(argv=None) -> int:
           f"mean field {sq['cubic_mean_field']:.5f} ({h['off_cubic']:.0%} low)")
     if h["cluster"]:
         c = h["cluster"]
-        print(f"largest cluster {c['system']} ({c['sites']} sites, beta t = {c['beta_t']:g}): pseudo-tip "
+        print(f"largest cluster {c['system'].partition(':')[2]} ({c['sites']} sites, beta t = {c['beta_t']:g}): pseudo-tip "
               f"{c['tip']:.4f} +- {c['tip_err']:.4f}; mean field on it {c['mean_field']:.4f} ({h['off_cluster']:.0%} low)")
     if h["infinite"]:
         f = h["infinite"]

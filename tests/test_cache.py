@@ -79,7 +79,7 @@ def _bad_entries(path, good: dict):
         "wrong-shape-bare-value": lambda: path.write_text(json.dumps(value)),  # the old format
         "other-schema": lambda: path.write_text(edit(schema="hyperlattice-cache/0")),
         "missing-key": lambda: path.write_text(json.dumps({k: v for k, v in good.items() if k != "sha256"})),
-        # a hand-edited number: E0 + 0.5 landed in table_s1.csv before
+        # a hand-edited number: E0 + 0.5 landed in table_paper_table4.csv before
         "hand-edited": lambda: path.write_text(edit(value={**value, "E0": value["E0"] + 0.5})),
         "other-inputs": lambda: path.write_text(edit(inputs={**good["inputs"], "rings": 9})),
         "value-not-dict": lambda: path.write_text(edit(value=[1, 2], sha256=_checksum([1, 2]))),

@@ -103,14 +103,14 @@ def test_reproduce_refuses_a_directory_of_the_users(tmp_path, monkeypatch, capsy
     mine = tmp_path / "paper"
     mine.mkdir()
     (mine / "report.md").write_text("my own report")
-    (mine / "fig_fig2.png").write_bytes(b"mine")
+    (mine / "fig_paper_fig3.png").write_bytes(b"mine")
     assert main(["reproduce", "--out", str(mine), "--max-rings", "2", "--no-cache"]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "not a report directory" in err and "fig_fig2.png" in err
+    assert err.count("\n") == 1 and "not a report directory" in err and "fig_paper_fig3.png" in err
     with pytest.raises(ValueError, match="not a report directory"):
         report.reproduce(mine, max_rings=2, cache=Cache(tmp_path / "c", enabled=False))
     assert (mine / "report.md").read_text() == "my own report"
-    assert sorted(f.name for f in mine.iterdir()) == ["fig_fig2.png", "report.md"]
+    assert sorted(f.name for f in mine.iterdir()) == ["fig_paper_fig3.png", "report.md"]
 
 
 def test_reproduce_reuses_its_own_directory(tmp_path, monkeypatch):
@@ -127,7 +127,7 @@ def test_reproduce_reuses_its_own_directory(tmp_path, monkeypatch):
         path.write_text("an earlier run's")
     assert report._out_directory("out_dir", out) == out
     # a run interrupted while writing a file leaves it listed as pending: still the report's own
-    with pytest.raises(KeyboardInterrupt), manifest.writing(out, "fig_fig1.png") as path:
+    with pytest.raises(KeyboardInterrupt), manifest.writing(out, "fig_paper_fig1.png") as path:
         path.write_bytes(b"half")
         raise KeyboardInterrupt
     assert report._out_directory("out_dir", out) == out

@@ -206,3 +206,65 @@ def test_no_issue_numbers_in_code_docs_or_readme():
             if _ISSUE.search(line):
                 found.append(f"{path.name}:{n}: {line.strip()[:100]}")
     assert not found, "\n".join(found)
+
+
+# ----------------------------------------------------------------------------
+# the CLI cites the paper as it is printed; report tables print labels, not identifiers
+# ----------------------------------------------------------------------------
+
+def _help_texts():
+    """(command path, --help text) of the CLI and every (sub)command."""
+    import argparse
+
+    from hyperlattice.cli import build_parser
+
+    stack = [("hyperlattice", build_parser())]
+    while stack:
+        name, parser = stack.pop()
+        yield name, parser.format_help()
+        for action in parser._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                stack += [(f"{name} {sub}", p) for sub, p in action.choices.items()]
+
+
+def test_cli_help_cites_printed_equation_numbers_never_tex_labels():
+    """``(eq12)``, ``(spec2)``, ``Fig. FigS1``: a reader of ``--help`` sees Eq. (10), Eq. (F2), Fig. 7."""
+    from hyperlattice.paper_labels import PAPER_LABELS
+
+    labels = {k for k in PAPER_LABELS if " " not in k}
+    found = {}
+    for name, text in _help_texts():
+        words = set(re.findall(r"[A-Za-z][A-Za-z0-9]*", text)) & labels
+        if words:
+            found[name] = sorted(words)
+    assert not found, found
+
+
+_IDENTIFIER = re.compile(r"[A-Za-z0-9]_[A-Za-z0-9]{2,}")
+
+
+def test_report_column_labels_are_words_not_identifiers():
+    from hyperlattice.report.writers import column_label
+
+    names = ["E0_graph_flag", "E0_continuum_paper", "N_closed_form", "N_ring_paper", "rel_err_E0", "lB_over_d0",
+             "tip_t_c_over_U_error", "E_inf_paper", "mass2_at_E0", "decay_length_continuum_asymptotic", "rel_l2",
+             "omega_q", "omega1_graph", "gap_ed_error_bound", "xi_over_d0", "band_minus_improved", "sigma_graph"]
+    labels = {n: column_label(n) for n in names}
+    assert not {n: s for n, s in labels.items() if _IDENTIFIER.search(s)}, labels
+    assert labels["E0_graph_flag"] == "E₀ graph: flag (≠)" and labels["N_closed_form"] == "N (closed form)"
+
+
+def test_report_tables_never_print_a_negative_zero():
+    """Table 11.1 printed m² = "−0.0000" at ω = −3 (the sign of rounding noise)."""
+    from hyperlattice.report.writers import Table, fmt
+
+    t = Table("boundary_delta", ["omega", "mass2", "rel_diff"], [["-3", "-0.0000", "-0.023"], ["-3", -0.0, "+0.000"]])
+    assert t.rows == [["-3", "0.0000", "-0.023"], ["-3", 0.0, "+0.000"]]
+    assert fmt(-1e-17, 4) == "0.0000" and fmt(-0.0) == "0.000000000000"
+
+
+def test_qmc_lobe_tables_name_graphs_as_a_reader_does():
+    from hyperlattice.report.qmc_lobe import system_label
+
+    assert [system_label(s) for s in ("flake:1", "cluster:klein", "square:6")] == [
+        "flake ℓ = 1", "cluster klein", "square L = 6"]

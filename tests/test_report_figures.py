@@ -72,3 +72,56 @@ def test_butterfly_continuum_curves_follow_one_level_each():
                 k = [i for i in range(sp.energies.size) if (sp.n[i], sp.m[i]) == (n, m)]
                 assert k and sp.energies[k[0]] == pytest.approx(e, abs=1e-12)
     plt.close(fig)
+
+
+def _synthetic_lobe(systems: int = 5, per_system: int = 3):
+    """A stand-in for a QMCLobe with ``systems * per_system`` gap series (the stored scan has 15)."""
+    from types import SimpleNamespace
+
+    from hyperlattice.compare.qmc_lobe import MIN_SITES_EXTRAPOLATION
+
+    out = []
+    for k in range(systems):
+        sites = MIN_SITES_EXTRAPOLATION * (k + 1)
+        tips = []
+        for j in range(per_system):
+            x = np.array([0.06, 0.07, 0.08, 0.09])
+            gap = 0.5 - 4.5 * x + 0.01 * (k + j)
+            tips.append({"beta_t": 8.0 - 2 * j, "nmax": 3, "gaps": [[a, b, 0.005] for a, b in zip(x, gap)],
+                         "tip_linear": 0.115, "tip_sqrt": 0.11, "tip": 0.1 + 0.001 * k, "tip_err": 0.002})
+        out.append({"system": f"flake:{k + 3}", "sites": sites, "tips": tips})
+    cluster = {"kind": "cluster", "sites": [56, 168, 364], "tip": 0.09, "tip_err": 0.001, "systematic": 0.001,
+               "dof": 1, "chi2": 0.02, "beta_t": 8.0, "slope": 0.1, "tip_sqrt_form": 0.089, "slope_sqrt_form": 0.01}
+    return SimpleNamespace(systems=out, rows=[], square={}, finite_size=[cluster], infinite_tip_mean_field=0.0583)
+
+
+def test_qmc_tip_figure_uses_a_colour_per_series_and_clips_nothing():
+    """``fig_qmc_tip.png``: 15 series, no colour used twice; after the report's own treatment (panel
+    letters, text enlarged to 8 pt) every legend and label lies inside the figure."""
+    from matplotlib.colors import to_hex
+    from matplotlib.text import Text
+
+    from hyperlattice.plots.qmc_lobe import qmc_tip_figure
+    from hyperlattice.report.writers import _readable
+
+    fig = qmc_tip_figure(_synthetic_lobe())
+    left, right = fig.axes[:2]
+    handles, labels = left.get_legend_handles_labels()
+    assert len(handles) == 15
+    colours = [to_hex(h.lines[0].get_color()) for h in handles]
+    assert len(set(colours)) == 15, colours
+    # the reference lines of the right panel are black or grey: no series colour is reused there
+    refs = {to_hex(line.get_color()) for line in right.get_lines() if len(line.get_xdata()) > 1}
+    assert not refs & set(colours), refs
+    _readable(fig)
+    fig.canvas.draw()
+    r = fig.canvas.get_renderer()
+    page = fig.bbox
+    boxes = [leg.get_window_extent(r) for leg in (left.get_legend(), right.get_legend())]
+    # titles, axis labels and panel letters (tick labels outside the view limits are not drawn)
+    texts = [t for ax in (left, right) for t in (ax.title, ax.xaxis.label, ax.yaxis.label, *ax.texts)]
+    boxes += [t.get_window_extent(r) for t in texts if t.get_text()]
+    for b in boxes:
+        assert page.x0 - 0.5 <= b.x0 and b.x1 <= page.x1 + 0.5 and page.y0 - 0.5 <= b.y0 and b.y1 <= page.y1 + 0.5, b
+    assert any(t.get_text() == "(a)" for t in fig.findobj(Text)) and any(t.get_text() == "(b)" for t in fig.findobj(Text))
+    plt.close(fig)

@@ -87,10 +87,10 @@ def repro(tmp_path_factory):
 def test_files_exist(repro):
     out, _ = repro
     rep = out / "report"
-    for name in ("report.html", "report.md", "table_s1.csv", "table_s1.json", "table_geometry.csv",
-                 "table_tab1_sizes.csv", "fig_fig1.png", "fig_fig1.svg", "fig_fig2.png", "fig_figS1.png",
-                 "fig_figScos3delta.png", "fig_figSh.png", "fig_fig3a.png", "fig_fig3b.png",
-                 "table_fig3_green.csv", "timings.json"):
+    for name in ("report.html", "report.md", "table_paper_table4.csv", "table_paper_table4.json", "table_geometry.csv",
+                 "table_paper_table1_sizes.csv", "fig_paper_fig1.png", "fig_paper_fig1.svg", "fig_paper_fig3.png", "fig_paper_fig7.png",
+                 "fig_paper_fig5.png", "fig_paper_fig6.png", "fig_paper_fig4_upper.png", "fig_paper_fig4_lower.png",
+                 "table_green_distance.csv", "timings.json"):
         assert (rep / name).stat().st_size > 0, name
 
 
@@ -100,7 +100,7 @@ def test_table_s1_matches_api(repro):
     from hyperlattice.graph.spectrum import lowest_levels
 
     out, _ = repro
-    with open(out / "report" / "table_s1.csv") as fh:
+    with open(out / "report" / "table_paper_table4.csv") as fh:
         rows = list(csv.DictReader(fh))
     assert list(rows[0]) == ["rings", "sites", "radius", "E0_graph", "E0_continuum", "E0_asymptotic",
                              "E1_graph", "E1_continuum", "E1_asymptotic"]
@@ -118,7 +118,7 @@ def test_table_s1_matches_api(repro):
         assert float(r["radius"]) == pytest.approx(c.radius, abs=1e-9)
     # E_graph printed with at least 10 digits
     assert len(rows[3]["E0_graph"].split(".")[1]) >= 10
-    with open(out / "report" / "table_s1.json") as fh:
+    with open(out / "report" / "table_paper_table4.json") as fh:
         assert len(json.load(fh)) == 4
 
 
@@ -127,7 +127,7 @@ def test_fig3_table_matches_api(repro):
     from hyperlattice.compare.green import compare_green
 
     out, _ = repro
-    with open(out / "report" / "table_fig3_green.csv") as fh:
+    with open(out / "report" / "table_green_distance.csv") as fh:
         rows = list(csv.DictReader(fh))
     assert [int(r["rings"]) for r in rows[::2]] == [3, 4, 5, 6, 7, 8]
     row = rows[0]
@@ -165,7 +165,7 @@ def test_rerun_uses_cache_and_is_deterministic(repro, tmp_path):
     out, first = repro
     again = reproduce(tmp_path / "again", max_rings=4, cache=Cache(out / "cache"))
     assert again["cache_misses"] == 0 and again["cache_hits"] >= 4
-    for name in ("report.md", "table_s1.csv", "fig_fig1.svg"):
+    for name in ("report.md", "table_paper_table4.csv", "fig_paper_fig1.svg"):
         assert (tmp_path / "again" / name).read_bytes() == (out / "report" / name).read_bytes(), name
 
 
@@ -180,7 +180,7 @@ def test_compare_flags():
 def test_side_table_uses_the_paper_values(repro):
     out, summary = repro
     for level in ("E0", "E1"):
-        with open(out / "report" / f"table_s1_vs_paper_{level}.csv") as fh:
+        with open(out / "report" / f"table_paper_table4_{level}_printed.csv") as fh:
             rows = list(csv.DictReader(fh))
         assert rows and list(rows[0])[:2] == ["rings", "flagged"] and len(rows[0]) == 11
         for row, rec in zip(rows, summary["records"]):
@@ -257,7 +257,7 @@ def test_fig2_partition_table_matches_api(repro):
     from hyperlattice.graph.lattice import ring_lattice
 
     out, _ = repro
-    with open(out / "report" / "table_fig2_partition_l4.csv") as fh:
+    with open(out / "report" / "table_partition_function_l4.csv") as fh:
         rows = list(csv.DictReader(fh))
     z = partition_functions(graph_levels_below(ring_lattice(7, 3, 4)), continuum_levels_below(7, 3, rings=4),
                             np.linspace(0.05, 6.0, 120))
@@ -470,7 +470,7 @@ def test_contents_name_tables_and_figures_as_the_paper_prints_them(repro):
     html_text = (out / "report" / "report.html").read_text()
     nav = html_text[html_text.index('<nav class="toc"'):html_text.index("</nav>")]
     assert ">Table IV</a>" in nav and ">Fig. 3</a>" in nav and ">table s1<" not in nav and ">figure fig2<" not in nav
-    assert "<p class=\"cap\" id=\"table-s1\">Table IV (and the energy rows of Table I)" in html_text
+    assert "<p class=\"cap\" id=\"table-paper-table4\">Table IV (and the energy rows of Table I)" in html_text
 
 
 def test_every_table_fits_a_1400px_page(repro):
@@ -505,3 +505,26 @@ def test_bosons_tables_carry_error_bars_and_solver_tolerances(repro):
     with open(out / "report" / "table_bosons_gap.csv") as fh:
         gaps = list(csv.DictReader(fh))
     assert all(0 < float(r["gap_ed_error_bound"]) < 5e-6 for r in gaps)
+
+
+def test_tables_and_files_are_named_for_a_reader(repro):
+    """Table headers are labels (not ``E0_graph_flag``, ``N_closed_form``), cells name graphs (not
+    ``flake:1``), no table prints a negative zero, blank bounds are explained, and the figure files of
+    the paper's figures carry the printed numbers (``fig_paper_fig3.png`` is Fig. 3)."""
+    out, _ = repro
+    rep = out / "report"
+    md = (rep / "report.md").read_text()
+    rows = [ln for ln in md.splitlines() if ln.startswith("| ")]
+    headers = [ln for k, ln in enumerate(md.splitlines()) if ln.startswith("| ")
+               and md.splitlines()[k + 1].startswith("|---")]
+    assert headers
+    bad = [h for h in headers if re.search(r"[A-Za-z0-9]_[A-Za-z0-9]{2,}", h)]
+    assert not bad, bad
+    assert not [r for r in rows if re.search(r"\| (flake|cluster|square):", r)]
+    assert not [r for r in rows if re.search(r"\| [-−]0\.0+ \|", r)]
+    assert "are blank for {9,3}, {10,3} and {5,4}" in md
+    names = {p.name for p in rep.iterdir()}
+    assert not {n for n in names if n.startswith("fig_fig")}, names
+    assert {"fig_paper_fig1.png", "fig_paper_fig3.png", "fig_paper_fig4_upper.png", "fig_paper_fig7.png"} <= names
+    html_text = (rep / "report.html").read_text()
+    assert "<th>E₀ graph: flag (≠)</th>" in html_text and "E0_graph_flag" not in html_text

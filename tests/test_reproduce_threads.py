@@ -38,7 +38,7 @@ def test_report_and_tables_identical_with_one_and_two_blas_threads(tmp_path):
         with threadpool_limits(threads, user_api="blas"):
             reproduce(tmp_path / f"t{threads}", max_rings=10, cache=Cache(tmp_path / f"cache{threads}"))
         runs[threads] = _text_outputs(tmp_path / f"t{threads}")
-    assert {"report.md", "report.html", "table_band_fit.csv", "table_s1.csv"} <= set(runs[1])
+    assert {"report.md", "report.html", "table_band_fit.csv", "table_paper_table4.csv"} <= set(runs[1])
     assert sorted(runs[1]) == sorted(runs[2])
     differ = {}
     for name in runs[1]:

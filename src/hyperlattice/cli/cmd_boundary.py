@@ -5,6 +5,7 @@ from __future__ import annotations
 import csv
 import sys
 
+from ..paper_labels import cite
 from ._common import add_pq, finite_float, plot_file, positive_int, print_json
 
 NAME = "boundary"
@@ -13,7 +14,7 @@ HELP = "boundary correlators G_ij(omega) on the outer ring below the band, the f
 DESCRIPTION = (
     "For a real frequency omega below the band (omega < E0 of the flake, checked), the graph propagator "
     "G_ij = [(H - omega)^-1]_ij with source and probes on the outermost ring is the boundary two-point "
-    "function of a scalar of mass^2 = -lambda, lambda = 4(omega+q)/(q h^2) (eq21), in AdS2 of radius 1/2: "
+    "function of a scalar of mass^2 = -lambda, lambda = 4(omega+q)/(q h^2) (" + cite("eq21") + "), in AdS2 of radius 1/2: "
     "G ~ [sin(theta/2)]^(-2 Delta). Prints lambda, mass2, the continuum Delta = 1/2 + sqrt(1 - lambda)/2 "
     "(null beyond the continuum BF bound omega > E_inf) and the fitted lattice Delta with its fit uncertainty and, "
     "beside it, its systematic error (finite l: the same fit with one ring less; lattice spacing: the continuum "
@@ -21,7 +22,7 @@ DESCRIPTION = (
     "the mass in the convention named: R = 1 (unit-radius AdS2, Delta = 1/2 + sqrt(1/4 + m^2)) or R = 0.5 "
     "(the paper's metric, Delta = 1/2 + sqrt(1 + m^2)/2); both formulas' values at the number are printed. "
     "--out writes one CSV row per outer-ring site with columns site,theta,graph,continuum (graph = G_ij "
-    "itself; continuum = eq21 with the whole-disk (L = 1) propagator at the site positions, or with --continuum-disk "
+    "itself; continuum = " + cite("eq21") + " with the whole-disk (L = 1) propagator at the site positions, or with --continuum-disk "
     "the Dirichlet disk of radius L; inf at the source, nan where the model has no value)."
 )
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from ..paper_labels import cite
 from ._common import add_max_seconds, add_pq, check_work, finite_float, positive_int, print_json
 
 #: seconds per continuum level, the slowest measured: 2000 levels took 72 s at L = 0.3 and 119 s at
@@ -10,14 +11,14 @@ SECONDS_PER_LEVEL = 0.06
 
 NAME = "continuum"
 ORDER = 40
-HELP = "lowest continuum levels E = -q + (q/4) h^2 (1 + k^2) on the Dirichlet disk (spec2)"
+HELP = f"lowest continuum levels E = -q + (q/4) h^2 (1 + k^2) on the Dirichlet disk ({cite('spec2')})"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_pq(parser)
     size = parser.add_mutually_exclusive_group()
     size.add_argument("--rings", type=positive_int, default=None,
-                      help="disk of the {p,q} lattice with this many rings (L from eq12); default 10")
+                      help=f"disk of the {{p,q}} lattice with this many rings (L from {cite('eq12')}); default 10")
     size.add_argument("--radius", type=finite_float, default=None, metavar="L",
                       help="disk radius 0 < L < 1 instead of --rings")
     parser.add_argument("--levels", type=positive_int, default=4,
@@ -34,7 +35,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Compute the levels (``spec1``/``spec2``) and print them; bad input raises ValueError (exit 2)."""
+    """Compute the levels (the paper's Eqs. (F1)/(F2)) and print them; bad input raises ValueError (exit 2)."""
     from ..continuum.spectrum import continuum_levels
 
     rings = args.rings

@@ -1,16 +1,17 @@
-"""``hyperlattice green``: graph Green function (H - omega)^-1 against the continuum (eq21)."""
+"""``hyperlattice green``: graph Green function (H - omega)^-1 against the continuum (the paper's Eq. (19))."""
 
 from __future__ import annotations
 
 import csv
 import sys
 
+from ..paper_labels import cite
 from ._common import (add_max_seconds, add_pq, check_work, complex_value, estimate_sites, output_file,
                       positive_int, print_json, tolerance)
 
 NAME = "green"
 ORDER = 50
-HELP = "graph Green function G_ij(omega) for one source vs the continuum Green function (eq21)"
+HELP = f"graph Green function G_ij(omega) for one source vs the continuum Green function ({cite('eq21')})"
 
 COLUMNS = ["site", "ring", "re_z", "im_z", "distance", "graph_re", "graph_im", "continuum_re", "continuum_im"]
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import csv
 import sys
 
+from ..paper_labels import cite
 from ._common import add_pq, finite_float, positive_int, print_json
 
 NAME = "qubits"
@@ -14,7 +15,7 @@ DESCRIPTION = (
     "A qubit of frequency omega_q below the band coupled with strength g to one site (or, with --line-graph, "
     "one resonator). Prints the exact single-excitation bound state (energy, qubit weight, size <d>, decay "
     "length) against its leading-order form G_{i,j0}(omega_q), and the effective exchange J(d) = g^2 G(omega_q) "
-    "to a second qubit at hyperbolic distance d, graph vs continuum (eq21), as a table of binned means. "
+    "to a second qubit at hyperbolic distance d, graph vs continuum (" + cite("eq21") + "), as a table of binned means. "
     "--out writes that J(d) table as CSV (columns d,J_graph,J_continuum,rel_diff); --edges writes the effective "
     "spin model of qubits on --qubit-sites as an edge list CSV (columns i,j,site_i,site_j,J)."
 )

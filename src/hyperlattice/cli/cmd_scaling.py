@@ -1,12 +1,12 @@
 """``hyperlattice scaling``: frame angles, the formal operator A_h, its convergence, sums as integrals.
 
-Tasks (paper, App. AppAdj, AppFS, AppSum):
+Tasks (the paper's Appendices B, C and D):
 
-* ``angles``      chi_i and delta_i of every site (``adj7``–``adj9``), star check, Fig. FigScos3delta
-* ``operator``    A_h f - q f with the quadratic / cubic approximations per radius (Fig. FigSh)
+* ``angles``      chi_i and delta_i of every site (Eqs. (B7)–(B9)), star check, Fig. 5
+* ``operator``    A_h f - q f with the quadratic / cubic approximations per radius (Fig. 6)
 * ``convergence`` powers of h in the errors of the order-2/3/4 approximations
-* ``counting``    fit of the counting function N(r) ~ s rho + b (``sum4``, Fig. FigS1)
-* ``sums``        lattice sums against (1/A) * disk integrals, ``eq11``, for several rings
+* ``counting``    fit of the counting function N(r) ~ s rho + b (Eq. (D6), Fig. 7)
+* ``sums``        lattice sums against (1/A) * disk integrals, Eq. (9), for several rings
 """
 
 from __future__ import annotations
@@ -18,6 +18,7 @@ from ..compare.scaling import (MAX_H_VALUES, PRESETS, SmoothFunction, angle_prof
                                frame_angles, operator_profile)
 from ..compare.sums import MAX_SLOPE, fit_counting, sum_check
 from ..graph.lattice import ring_lattice
+from ..paper_labels import cite
 from ._common import add_pq, finite_float, plot_file, positive_int, print_json
 
 NAME = "scaling"
@@ -49,11 +50,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     sub.required = True
     fnames = ", ".join(PRESETS)
 
-    a = sub.add_parser("angles", help="chi_i, delta_i and the ideal-star check (Fig. FigScos3delta)")
+    a = sub.add_parser("angles", help=f"chi_i, delta_i and the ideal-star check ({cite('FigScos3delta')})")
     _common(a, rings_default=5)
     _plot_opt(a)
 
-    o = sub.add_parser("operator", help="A_h f - q f and its approximations per radius (Fig. FigSh)")
+    o = sub.add_parser("operator", help=f"A_h f - q f and its approximations per radius ({cite('FigSh')})")
     _common(o, rings_default=5)
     o.add_argument("--h", type=finite_float, nargs="+", default=None,
                    help="values of h <= tanh(d0) (default: tanh(d0), 0.1, 0.05)")
@@ -68,14 +69,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     c.add_argument("--h-max", type=finite_float, default=0.08, help="largest h (default 0.08)")
     c.add_argument("--points", type=positive_int, default=8, help="number of h values (default 8)")
 
-    n = sub.add_parser("counting", help="fit N(r) ~ s rho + b (Eq. (sum4), Fig. FigS1)")
+    n = sub.add_parser("counting", help=f"fit N(r) ~ s rho + b ({cite('sum4', 'FigS1')})")
     _common(n, rings_default=4)
     n.add_argument("--window", choices=["all", "complete"], default="all",
                    help="'all' radii (the paper's fit) or only radii below ring l+1 ('complete')")
     n.add_argument("--slope", type=finite_float, default=None, help="fix the slope, fit only b")
     _plot_opt(n)
 
-    s = sub.add_parser("sums", help="lattice sums against (1/A) * integral over |z| <= L, Eq. (eq11)")
+    s = sub.add_parser("sums", help=f"lattice sums against (1/A) * integral over |z| <= L, {cite('eq11')}")
     _common(s, rings_default=4, many_rings=True)
     s.add_argument("--function", choices=list(PRESETS), nargs="+",
                    default=["inverse-rho-squared", "gaussian", "anisotropic"],

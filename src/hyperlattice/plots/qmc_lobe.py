@@ -159,45 +159,49 @@ def qmc_tip_figure(lobe: QMCLobe, path=None):
     import matplotlib.pyplot as plt
 
     _check(lobe)
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(9.6, 5.4))
-    cmap = plt.get_cmap("tab10")
     from ..compare.qmc_lobe import MIN_SITES_EXTRAPOLATION
 
+    # constrained layout places the legends below the panels at draw time, after the report has
+    # enlarged small text and lettered the panels, so nothing is clipped
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10.0, 7.6), layout="constrained")
     big = [s for s in lobe.systems if any(len(d["gaps"]) >= 2 for d in s.get("tips", []))
            and s["sites"] >= MIN_SITES_EXTRAPOLATION]
-    for i, s in enumerate(big):
-        colour = cmap(i % 10)
-        # the fitted, filled series: the lowest temperature with the production cutoff nmax = 3
+    series = []
+    for s in big:
+        # the fitted, filled series first: the lowest temperature with the production cutoff nmax = 3
         tips = sorted(s["tips"], key=lambda d: (d["nmax"] != 3, -d["beta_t"], d["nmax"]))
-        for j, d in enumerate(tips):
-            if not d["gaps"]:
-                continue
-            g = np.array(d["gaps"])
-            lab = f"{_title(s['system'], s['sites'])}, βt = {d['beta_t']:g}" + ("" if d["nmax"] == 3 else
-                                                                                f", nmax = {d['nmax']}")
-            a1.errorbar(g[:, 0], g[:, 1], yerr=g[:, 2], fmt="o" if j == 0 else "s", ms=4, color=colour,
-                        mfc=None if j == 0 else "none", capsize=2, label=lab)
-            if j == 0 and math.isfinite(d["tip_linear"]) and math.isfinite(d["tip_sqrt"]):
-                fx = np.array(d.get("fit_points", g[-3:, 0]))
-                xl = np.linspace(fx.min(), d["tip_linear"], 20)
-                gl = np.interp(fx, g[:, 0], g[:, 1])
-                pl = np.polyfit(fx, gl, 1)
-                a1.plot(xl, np.polyval(pl, xl), "-", color=colour, lw=0.8)
-                xs = np.linspace(fx.min(), d["tip_sqrt"], 40)
-                ps = np.polyfit(fx, gl**2, 1)
-                a1.plot(xs, np.sqrt(np.clip(np.polyval(ps, xs), 0, None)), ":", color=colour, lw=0.8)
-            if math.isfinite(d["tip"]) and d["nmax"] == 3:
-                a2.errorbar([1.0 / s["sites"]], [d["tip"]], yerr=[d["tip_err"]], fmt="o" if j == 0 else "s",
-                            ms=5, color=colour, mfc=None if j == 0 else "none", capsize=2)
+        series += [(s, j, d) for j, d in enumerate(tips) if d["gaps"]]
+    # one colour and one marker per series (no colour is used twice); black and grey are kept for
+    # the reference lines of panel (b)
+    styles = _series_styles(len(series))
+    for (s, j, d), (colour, marker) in zip(series, styles):
+        g = np.array(d["gaps"])
+        lab = f"{_title(s['system'], s['sites'])}, βt = {d['beta_t']:g}" + ("" if d["nmax"] == 3 else
+                                                                            f", nmax = {d['nmax']}")
+        filled = j == 0
+        a1.errorbar(g[:, 0], g[:, 1], yerr=g[:, 2], fmt=marker, ms=5, color=colour, mfc=None if filled else "none",
+                    capsize=2, label=lab)
+        if filled and math.isfinite(d["tip_linear"]) and math.isfinite(d["tip_sqrt"]):
+            fx = np.array(d.get("fit_points", g[-3:, 0]))
+            xl = np.linspace(fx.min(), d["tip_linear"], 20)
+            gl = np.interp(fx, g[:, 0], g[:, 1])
+            pl = np.polyfit(fx, gl, 1)
+            a1.plot(xl, np.polyval(pl, xl), "-", color=colour, lw=0.8)
+            xs = np.linspace(fx.min(), d["tip_sqrt"], 40)
+            ps = np.polyfit(fx, gl**2, 1)
+            a1.plot(xs, np.sqrt(np.clip(np.polyval(ps, xs), 0, None)), ":", color=colour, lw=0.8)
+        if math.isfinite(d["tip"]) and d["nmax"] == 3:
+            a2.errorbar([1.0 / s["sites"]], [d["tip"]], yerr=[d["tip_err"]], fmt=marker, ms=6, color=colour,
+                        mfc=None if filled else "none", capsize=2)
     a1.axhline(0.0, color="0.6", lw=0.6)
     a1.set_xlabel("t/U")
     a1.set_ylabel("gap (μ+ − μ−)/U")
-    # the legends go below the panels, off the data
-    a1.legend(fontsize=6, frameon=False, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2)
-    a2.axhline(lobe.infinite_tip_mean_field, ls="--", color="tab:blue", lw=1,
+    a1.set_title("the Mott gap and its two straight-line fits", fontsize=10)
+    a1.legend(fontsize=8, frameon=False, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=1)
+    a2.axhline(lobe.infinite_tip_mean_field, ls="--", color="0.45", lw=1,
                label=f"mean field, infinite lattice (ρ): {lobe.infinite_tip_mean_field:.4f}")
     z3 = (3.0 - 2.0 * math.sqrt(2.0)) / 3.0
-    a2.axhline(z3, ls="-.", color="tab:cyan", lw=1, label=f"mean field, 3-regular cluster: {z3:.4f}")
+    a2.axhline(z3, ls="-.", color="0.45", lw=1, label=f"mean field, 3-regular cluster: {z3:.4f}")
     for f in lobe.finite_size:
         if f["kind"] != "cluster":
             continue
@@ -205,7 +209,7 @@ def qmc_tip_figure(lobe: QMCLobe, path=None):
         u = np.linspace(0.0, 1.0 / m.min() * 1.05, 60)
         chi = "" if f["dof"] < 1 else f", χ²/dof = {f['chi2']:.2f}/{f['dof']}"
         lowest = f["beta_t"] == max(g["beta_t"] for g in lobe.finite_size if g["kind"] == "cluster")
-        a2.errorbar([0.0], [f["tip"]], yerr=[math.hypot(f["tip_err"], f["systematic"])], fmt="*", ms=9,
+        a2.errorbar([0.0], [f["tip"]], yerr=[math.hypot(f["tip_err"], f["systematic"])], fmt="*", ms=10,
                     color="k", mfc=None if lowest else "none", capsize=2,
                     label=f"clusters → 1/M = 0, βt = {f['beta_t']:g}{chi}")
         if lowest:
@@ -215,7 +219,24 @@ def qmc_tip_figure(lobe: QMCLobe, path=None):
                     label=f"x∞ + c/√M, βt = {f['beta_t']:g}")
     a2.set_xlabel("1/M (M = number of sites)")
     a2.set_ylabel("(t/U) at the tip")
+    a2.set_title("pseudo-tips against 1/M (markers as on the left)", fontsize=10)
     a2.set_xlim(left=-0.001)
     a2.xaxis.set_major_locator(plt.MaxNLocator(5))
-    a2.legend(fontsize=6, frameon=False, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=1)
-    return _finish(fig, path)
+    a2.legend(fontsize=8, frameon=False, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=1)
+    if path is not None:
+        from .. import _validate
+
+        fig.savefig(_validate.output_path("path", path, suffixes=(".png", ".svg")), dpi=130)
+    return fig
+
+
+#: distinct colours for data series: tab10 without its grey, then darker hues of tab20b/tab20c
+_SERIES_COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown", "tab:pink",
+                   "tab:olive", "tab:cyan", "#393b79", "#637939", "#8c6d31", "#843c39", "#7b4173", "#3182bd",
+                   "#e6550d", "#31a354", "#756bb1", "#d6616b", "#17becf")
+_SERIES_MARKERS = ("o", "s", "^", "D", "v", "P", "X", "<", ">", "p", "h", "*")
+
+
+def _series_styles(n: int) -> list[tuple[str, str]]:
+    """``n`` (colour, marker) pairs, no colour repeated for up to 20 series, markers cycling alongside."""
+    return [(_SERIES_COLOURS[k % len(_SERIES_COLOURS)], _SERIES_MARKERS[k % len(_SERIES_MARKERS)]) for k in range(n)]

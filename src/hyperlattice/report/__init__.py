@@ -6,8 +6,9 @@ half a unit of its last printed digit, with the reason where it is known (mispri
 the paper's ~3-digit sparse estimates for l >= 8). Outputs in ``out_dir``:
 
 * ``report.md`` and ``report.html`` (self-contained: figures embedded as base64 PNG),
-* ``table_*.csv`` / ``table_*.json`` for every table (``table_s1.csv`` is SuppTab1),
-* ``fig_*.png`` and ``fig_*.svg`` for every figure,
+* ``table_*.csv`` / ``table_*.json`` for every table (``table_paper_table4.csv`` is the paper's Table IV),
+* ``fig_*.png`` and ``fig_*.svg`` for every figure (``fig_paper_fig3.png`` is the paper's Fig. 3; the
+  report's own figures are named by what they show),
 * ``timings.json`` (wall-clock times; kept out of the report so that it is deterministic),
 * ``_report.json``, the manifest: every file the report wrote, with its SHA-256
   (:mod:`.manifest`). ``out_dir`` must be new, empty, or an earlier report's whose manifest

@@ -39,6 +39,17 @@ LIMITS_LATTICES = (((7, 3), 8), ((8, 3), 8), ((9, 3), None), ((10, 3), None), ((
 _SCHUR_RINGS = {(7, 3): 10, (8, 3): 8}
 
 
+def _blank_bounds_sentence() -> str:
+    """Why the lower end and the Schur column of the band-bottom table are blank for some lattices."""
+    skipped = [f"{{{p},{q}}}" for (p, q), window in LIMITS_LATTICES if window is None]
+    if not skipped:
+        return ""
+    names = ", ".join(skipped[:-1]) + (" and " if len(skipped) > 1 else "") + skipped[-1]
+    return (f"The rigorous lower end and the Schur column are blank for {names}: the report does not run the "
+            "Schur test there (to keep the report fast), so only the upper end "
+            "E0(l_max) is proven; docs/limits.md gives their Schur bounds.")
+
+
 def _levels_73(cache: Cache, max_rings: int, progress, extra_levels) -> tuple[np.ndarray, np.ndarray, np.ndarray,
                                                                               list]:
     """{7,3} flake levels: computed (cached) up to ``max_rings``, stored beyond (up to l = 14), and
@@ -149,7 +160,8 @@ def limits_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[
                    "Band bottom -rho of the infinite lattice: extrapolation of the flake levels (disk model, "
                    "error = largest deviation of 11 fit variants), the rigorous interval -c <= -rho <= E0(l_max) "
                    "(c from the Schur test), the edges E_inf of the paper's and the improved map, and the band "
-                   "curvature M = dE/dlambda of the fit against q h^2/4.")
+                   "curvature M = dE/dlambda of the fit against q h^2/4. "
+                   + _blank_bounds_sentence())
     b73 = bands[(7, 3)]
     progress("infinite lattice: plateau and dictionaries")
     keep = ell >= 3

@@ -20,6 +20,8 @@ import re
 from pathlib import Path
 from typing import Iterator
 
+from .. import _validate
+
 __all__ = ["NAME", "FORMAT", "start", "writing", "problem"]
 
 #: the manifest's file name in a report directory
@@ -67,6 +69,7 @@ def problem(out: Path) -> str | None:
     listed in it, or a listed file no longer has its checksum. A file recorded as pending (the run
     that wrote it was interrupted while writing it) may hold anything.
     """
+    out = _validate.directory("out", out, create=False)
     data = _load(out)
     if data is None:
         return f"its {NAME} is not a manifest a report wrote"
@@ -88,6 +91,9 @@ def problem(out: Path) -> str | None:
 
 def start(out: Path, version: str) -> None:
     """Write the manifest of a run into ``out``, keeping the files an earlier run recorded (verified)."""
+    out = _validate.directory("out", out, create=False)
+    if not isinstance(version, str) or not version:
+        raise ValueError(f"version must be the package version as a string, got {version!r}.")
     data = _load(out)
     files = {k: v for k, v in data["files"].items() if (out / k).is_file()} if data is not None else {}
     _save(out, {"format": FORMAT, "version": version, "files": files})
@@ -99,7 +105,9 @@ def writing(out: Path, name: str) -> Iterator[Path]:
 
     Without a manifest in ``out`` (a writer used on its own, outside a report) nothing is recorded.
     """
-    out = Path(out)
+    out = _validate.directory("out", out, create=False)
+    if not isinstance(name, str) or not name or "/" in name or name in (NAME, _TMP):
+        raise ValueError(f"name must be a file name in the report directory, got {name!r}.")
     data = _load(out) if (out / NAME).is_file() else None
     if data is not None:
         data["files"][name] = None          # pending: an interruption leaves it listed
@@ -109,3 +117,9 @@ def writing(out: Path, name: str) -> Iterator[Path]:
         data = _load(out) or data
         data["files"][name] = _sha256(out / name)
         _save(out, data)
+
+
+# every public function above checks its annotated argument types at the door
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())

@@ -16,7 +16,7 @@ from typing import Callable
 from .writers import Section, Table, save_figure as _save_figure
 
 __all__ = ["stored_scan", "qmc_lobe_section", "tip_rows", "extrapolation_rows", "headline", "verdict",
-           "TIP_HEADER", "EXTRAPOLATION_HEADER"]
+           "TIP_HEADER", "EXTRAPOLATION_HEADER", "system_label"]
 
 SCAN_FILE = "qmc_lobe_scan.json"
 SCAN_COMMAND = "PYTHONPATH=src python benchmarks/qmc_lobe_scan.py --stage tip"
@@ -83,7 +83,7 @@ def qmc_lobe_section(out: Path, progress: Callable[[str], None]) -> Section:
                          "and in Δ² (dotted) through the three largest t/U. Right: the pseudo-tips (their midpoint) "
                          "against 1/M, the mean-field tips of a 3-regular graph and of the infinite lattice (through "
                          "ρ), and the periodic clusters' extrapolation to 1/M = 0.")]
-    rows = [[r["system"], str(r["sites"]), f"{r['t_over_U']:.2f}", f"{r['beta_t']:g}", str(r["nmax"]), r["side"],
+    rows = [[system_label(r["system"]), str(r["sites"]), f"{r['t_over_U']:.2f}", f"{r['beta_t']:g}", str(r["nmax"]), r["side"],
              f"{r['mu']:.4f} ± {_f(r['mu_err'])}", _f(r["mu_mean_field"]), _f(r["mu_strong_coupling"])]
             for r in lobe.rows]
     t1 = Table("qmc_lobe_boundaries", ["graph", "sites", "t/U", "βt", "nmax", "side", "μ/U QMC", "μ/U mean field",
@@ -127,6 +127,30 @@ def _pm(v: float, e: float, d: int = 4) -> str:
     return "—" if not math.isfinite(v) else f"{v:.{d}f} ± {_f(e, d)}"
 
 
+def system_label(spec: str) -> str:
+    """The graph of a scan's system spec as a reader names it: ``"flake:3"`` -> ``"flake ℓ = 3"``,
+    ``"cluster:klein"`` -> ``"cluster klein"``, ``"square:6"`` -> ``"square L = 6"``.
+
+    Parameters
+    ----------
+    spec : str
+        A system spec of a QMC lobe scan (``"flake:3"``, ``"cluster:klein"``, ``"square:6"``).
+
+    Returns
+    -------
+    str
+        The graph's name in the report's tables (an unknown kind is returned as given).
+
+    Examples
+    --------
+    >>> from hyperlattice.report.qmc_lobe import system_label
+    >>> system_label("flake:3"), system_label("cluster:PSL(2,13)"), system_label("square:6")
+    ('flake ℓ = 3', 'cluster PSL(2,13)', 'square L = 6')
+    """
+    kind, _, arg = spec.partition(":")
+    return {"flake": f"flake ℓ = {arg}", "cluster": f"cluster {arg}", "square": f"square L = {arg}"}.get(kind, spec)
+
+
 def tip_rows(lobe) -> list:
     """The rows of the tips table (one per graph, temperature and cutoff with a QMC gap).
 
@@ -146,7 +170,7 @@ def tip_rows(lobe) -> list:
         for d in sorted(s["tips"], key=lambda d: (-d["beta_t"], -d["nmax"])):
             if len(d["gaps"]) < 2:
                 continue
-            out.append([s["system"], str(s["sites"]), f"{d['beta_t']:g}", str(d["nmax"]), f"{d['beta_splitting']:.1f}",
+            out.append([system_label(s["system"]), str(s["sites"]), f"{d['beta_t']:g}", str(d["nmax"]), f"{d['beta_splitting']:.1f}",
                         f"{s['tip_mean_field']:.4f}", _f(s["tip_strong_coupling"]),
                         _pm(d["tip_sqrt"], d["tip_sqrt_err"]), _pm(d["tip_linear"], d["tip_linear_err"]),
                         _pm(d["tip"], d["tip_err"]), _pm(d["exponent"], d["exponent_err"], 2)])

@@ -120,7 +120,7 @@ def counts_section(max_rings: int) -> Section:
     -------
     Section
         The section ``"Lattice sizes and effective radius"`` (anchor ``"sizes"``) with the table
-        ``"tab1_sizes"``.
+        ``"paper_table1_sizes"``.
 
     Raises
     ------
@@ -152,7 +152,7 @@ def counts_section(max_rings: int) -> Section:
                      ok, closed, _fmt(L, 10), pv_l.printed if pv_l else "", fl])
         if nl:
             notes.append(f"ℓ = {ell}: {nl}")
-    table = Table("tab1_sizes", ["rings", "N_ring", "N_ring_paper", "N", "N_paper", "N_flag", "N_closed_form",
+    table = Table("paper_table1_sizes", ["rings", "N_ring", "N_ring_paper", "N", "N_paper", "N_flag", "N_closed_form",
                                  "L", "L_paper", "L_flag"], rows,
                   f"Sites per ring and in total ({cite('Tab1', 'AppTab1')}), the closed form of the caption of "
                   f"{cite('Tab1')}, and the effective disk radius L = √(N/(N + 28)) ({cite('eq12')}).", paper="Tab1")
@@ -174,7 +174,7 @@ def fig1_section(out: Path) -> Section:
     Returns
     -------
     Section
-        The section ``"The {7,3} lattice in the Poincaré disk"`` with one figure, ``"fig1"``: the
+        The section ``"The {7,3} lattice in the Poincaré disk"`` with one figure, ``"paper_fig1"``: the
         {7,3} tessellation (7 rings, grey) and the l = 3 graph with its sites coloured by ring.
 
     Examples
@@ -186,7 +186,7 @@ def fig1_section(out: Path) -> Section:
     ...     s = fig1_section(Path(d))
     ...     files = sorted(p.name for p in Path(d).iterdir())
     >>> s.reference_line, [f.name for f in s.figures], files
-    ('Reproduces: Fig. 1, Appendix A', ['fig1'], ['fig_fig1.png', 'fig_fig1.svg'])
+    ('Reproduces: Fig. 1, Appendix A', ['paper_fig1'], ['fig_paper_fig1.png', 'fig_paper_fig1.svg'])
     """
     import matplotlib.pyplot as plt
 
@@ -194,7 +194,7 @@ def fig1_section(out: Path) -> Section:
 
     fig, ax = plt.subplots(figsize=(6.2, 5.4), layout="constrained")
     plot_tessellation(rings=3, background_rings=7, ax=ax)
-    f = _save_figure(fig, out, "fig1", f"{cite('Fig1')}: the {{7,3}} tessellation in the Poincaré disk (grey, "
+    f = _save_figure(fig, out, "paper_fig1", f"{cite('Fig1')}: the {{7,3}} tessellation in the Poincaré disk (grey, "
                      "7 rings) and the ℓ = 3 graph (black) with its sites coloured by ring; edges drawn as geodesics.",
                      paper="Fig1")
     return Section("The {7,3} lattice in the Poincaré disk", ("Fig1", "AppGraph"), [], [], [f], anchor="lattice")
@@ -292,8 +292,8 @@ def spectrum_section(cache: Cache, max_rings: int, timings: dict,
     Returns
     -------
     section : Section
-        The section (anchor ``"spectrum"``) with the tables ``"s1"`` (the paper's Table IV),
-        ``"s1_vs_paper_E0"`` and ``"s1_vs_paper_E1"`` (printed beside computed, one level each) and
+        The section (anchor ``"spectrum"``) with the tables ``"paper_table4"`` (the paper's Table IV),
+        ``"paper_table4_E0_printed"`` and ``"paper_table4_E1_printed"`` (printed beside computed, one level each) and
         ``"graph_vs_continuum"`` and the sentences on the open question.
     records : list of dict
         One dict per l: ``rings``, ``sites``, ``radius``, the six energies of ``SuppTab1``,
@@ -307,7 +307,7 @@ def spectrum_section(cache: Cache, max_rings: int, timings: dict,
     >>> with tempfile.TemporaryDirectory() as d:
     ...     s, records = spectrum_section(Cache(d), 2, {}, lambda msg: None)
     >>> [t.name for t in s.tables], len(records)
-    (['s1', 's1_vs_paper_E0', 's1_vs_paper_E1', 'graph_vs_continuum'], 2)
+    (['paper_table4', 'paper_table4_E0_printed', 'paper_table4_E1_printed', 'graph_vs_continuum'], 2)
     >>> round(records[1]["E0_graph"], 6), round(records[1]["E0_continuum"], 6)
     (-2.636405, -2.570293)
     """
@@ -334,7 +334,7 @@ def spectrum_section(cache: Cache, max_rings: int, timings: dict,
                 flag, note = pv.check(rec[key])
                 if flag:
                     notes.append((ell, key, pv.printed, rec[key], flag, note))
-    table = Table("s1", ["rings", "sites", "radius", *_LEVEL_KEYS], rows_out,
+    table = Table("paper_table4", ["rings", "sites", "radius", *_LEVEL_KEYS], rows_out,
                   f"{cite('SuppTab1')} (and the energy rows of {cite('Tab1')}): lowest levels of H = −A on the "
                   "ℓ-ring {7,3} graph, of H_cont = −3 − (3/4)h²Δ_g on the disk of radius L "
                   f"({cite('spec1', 'spec2')}), and the asymptotic formulas {cite('spec11', 'spec17')} "
@@ -359,7 +359,7 @@ def spectrum_section(cache: Cache, max_rings: int, timings: dict,
         cols = ["rings", "flagged"]
         for key in keys:
             cols += [key, f"{key}_paper", f"{key}_flag"]
-        sides.append(Table(f"s1_vs_paper_{level}", cols, side_rows,
+        sides.append(Table(f"paper_table4_{level}_printed", cols, side_rows,
                            f"{level} of {cite('SuppTab1')}: computed values (6 decimals) beside the paper's printed "
                            "ones; ≠ marks a difference larger than half a unit of the last printed digit, and "
                            "“flagged” lists the columns of the row that carry one."))
@@ -402,9 +402,9 @@ def fig2_section(records: list[dict], out: Path, progress: Callable[[str], None]
     Returns
     -------
     Section
-        The section (anchor ``"levels-vs-rings"``) with the figure ``"fig2"`` (levels against l;
+        The section (anchor ``"levels-vs-rings"``) with the figure ``"paper_fig3"`` (levels against l;
         the partition function over negative energies for l = 4, graph against disk) and the table
-        ``"fig2_partition_l4"``.
+        ``"partition_function_l4"``.
 
     Raises
     ------
@@ -441,11 +441,11 @@ def fig2_section(records: list[dict], out: Path, progress: Callable[[str], None]
     ax2.yaxis.label.set_size(12)
     ax2.tick_params(labelsize=10)
     ax2.legend(fontsize=10)
-    fig_obj = _save_figure(fig, out, "fig2", f"{cite('Fig2')}: (a) E₀ (blue) and E₁ (orange) of the graph "
+    fig_obj = _save_figure(fig, out, "paper_fig3", f"{cite('Fig2')}: (a) E₀ (blue) and E₁ (orange) of the graph "
                            "(filled) and the continuum disk (open) vs number of rings, with the asymptotes of "
                            f"{cite('eq19')}; (b, the paper's inset) partition function over negative energies for "
                            "ℓ = 4, graph vs disk.", paper="Fig2")
-    zt = Table("fig2_partition_l4", ["beta", "Z_graph", "Z_continuum"],
+    zt = Table("partition_function_l4", ["beta", "Z_graph", "Z_continuum"],
                [[_fmt(b, 4), _fmt(a, 8), _fmt(c, 8)]
                 for b, a, c in zip(z.beta[::10], z.z_graph[::10], z.z_continuum[::10])],
                f"Z(β) for ℓ = 4 over {z.graph_states} negative graph levels and {z.continuum_states} negative "
@@ -526,9 +526,9 @@ def scaling_section(out: Path, progress: Callable[[str], None]) -> Section:
     Returns
     -------
     Section
-        The section (anchor ``"scaling"``) with three figures (``"figS1"``: the counting function of
-        the l = 4 lattice with its fitted line; ``"figScos3delta"``: cos 3δ against radius for l = 5;
-        ``"figSh"``: the formal operator A_h at three h) and the table ``"figS1_fit"`` (slope and b
+        The section (anchor ``"scaling"``) with three figures (``"paper_fig7"``: the counting function of
+        the l = 4 lattice with its fitted line; ``"paper_fig5"``: cos 3δ against radius for l = 5;
+        ``"paper_fig6"``: the formal operator A_h at three h) and the table ``"counting_fit"`` (slope and b
         beside the paper's b).
 
     Raises
@@ -558,26 +558,26 @@ def scaling_section(out: Path, progress: Callable[[str], None]) -> Section:
     fit = fit_counting(lat4)
     fig, ax = plt.subplots(figsize=(6.0, 4.2), layout="constrained")
     plot_counting(lat4, ax=ax)
-    figs.append(_save_figure(fig, out, "figS1", f"{cite('FigS1')}: counting function N(r) of the ℓ = 4 lattice "
+    figs.append(_save_figure(fig, out, "paper_fig7", f"{cite('FigS1')}: counting function N(r) of the ℓ = 4 lattice "
                              f"against ρ = (1 + r²)/(1 − r²) with the fitted line sρ + b ({cite('sum4')}).",
                              paper="FigS1"))
     angles = frame_angles(ring_lattice(7, 3, 5))
     fig, ax = plt.subplots(figsize=(8.0, 4.8), layout="constrained")
     plot_frame_angles(angles, ax=ax, distance=True)
-    figs.append(_save_figure(fig, out, "figScos3delta", f"{cite('FigScos3delta')}: cos 3δᵢ, δᵢ = χᵢ − φᵢ, "
+    figs.append(_save_figure(fig, out, "paper_fig5", f"{cite('FigScos3delta')}: cos 3δᵢ, δᵢ = χᵢ − φᵢ, "
                              "averaged over the sites of equal radius for ℓ = 5 (847 sites), against the "
                              "hyperbolic distance from the centre (the paper plots against the radius rᵢ, shown "
                              "on the top axis: the outer rings, crowded below r = 1 there, are spread out here); "
                              "red bars span the values at radii where r ↦ δ is not unique.",
                              paper="FigScos3delta"))
-    figs.append(_save_figure(formal_operator_figure(angles), out, "figSh",
+    figs.append(_save_figure(formal_operator_figure(angles), out, "paper_fig6",
                              f"{cite('FigSh')}: A_h f − 3f for f = cos[π d(r, 0)] "
                              f"({cite('adj34')}) with the quadratic ({cite('adj35')}) and cubic ({cite('adj36')}) "
                              f"approximations, at the lattice h = {angles.h:.6f} and two smaller h; one legend for "
                              "the three panels, below them.", paper="FigSh"))
     pv = paper_value("b_counting", 4)
     flag, note = pv.check(fit.intercept)
-    t = Table("figS1_fit", ["rings", "slope", "slope_expected", "b", "b_paper", "b_flag"],
+    t = Table("counting_fit", ["rings", "slope", "slope_expected", "b", "b_paper", "b_flag"],
               [[4, _fmt(fit.slope, 4), _fmt(fit.expected_slope, 1), _fmt(fit.intercept, 4), pv.printed, flag]],
               "Fit of N(r) = sρ + b over the distinct site radii of the ℓ = 4 lattice.")
     text = [f"Flagged b: {note}"] if flag else []
@@ -606,8 +606,8 @@ def green_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[s
     Returns
     -------
     Section
-        The section (anchor ``"green"``) with the figures ``"fig3a"`` (ω = −2.95) and ``"fig3b"``
-        (ω = −2.5 + 0.1i), source site 10 on ring 2, and the table ``"fig3_green"`` (relative L²
+        The section (anchor ``"green"``) with the figures ``"paper_fig4_upper"`` (ω = −2.95) and ``"paper_fig4_lower"``
+        (ω = −2.5 + 0.1i), source site 10 on ring 2, and the table ``"green_distance"`` (relative L²
         distance, collapse numbers, m terms and tail estimate per l and ω).
 
     Raises
@@ -647,7 +647,7 @@ def green_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[s
             plot_fig3_row(lat, omega, source, axes=row, comparison=shown[ell, omega])
             row[0].set_ylabel(fr"$\ell = {ell}$", fontsize=13)
         part = "" if isinstance(omega, float) else " (real part)"
-        figs.append(_save_figure(fig, out, f"fig3{tag}", f"{cite('Fig3')} ({'upper' if tag == 'a' else 'lower'} "
+        figs.append(_save_figure(fig, out, f"paper_fig4_{'upper' if tag == 'a' else 'lower'}", f"{cite('Fig3')} ({'upper' if tag == 'a' else 'lower'} "
                                  f"panel): ω = {_omega(omega)}{part}, source site {source} on ring 2; top row ℓ = 6, "
                                  "bottom row ℓ = 3 (the paper's insets). Left: graph G_ij, middle: continuum "
                                  f"prediction of {cite('eq21')} (dot size ∝ |F|^(1/2), blue > 0, red < 0); right: "
@@ -660,7 +660,7 @@ def green_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[s
             v = data.green_row(cache, ell, omega, source, comparison=shown.get((ell, omega)))
             rows.append([ell, str(omega), f"{v['rel_l2']:.4f}", f"{v['collapse_graph']:.4f}",
                          f"{v['collapse_continuum']:.4f}", v["terms"], f"{v['tail']:.1e}"])
-    table = Table("fig3_green", ["rings", "omega", "rel_l2", "collapse_graph", "collapse_continuum",
+    table = Table("green_distance", ["rings", "omega", "rel_l2", "collapse_graph", "collapse_continuum",
                                  "m_terms", "tail_estimate"], rows,
                   f"Relative L² distance between the graph column G_ij(ω) and the right-hand side of {cite('eq21')} "
                   f"over all sites but the source (site {source}, ring 2); collapse = spread within distance bins "

@@ -23,7 +23,7 @@ import numpy as np
 from .. import _validate
 from .manifest import writing
 
-__all__ = ["Table", "Figure", "Section", "PARTS", "table_id", "figure_id", "item_labels", "fmt", "save_figure", "write_md",
+__all__ = ["Table", "Figure", "Section", "PARTS", "table_id", "figure_id", "item_labels", "fmt", "column_label", "save_figure", "write_md",
            "write_html"]
 
 
@@ -62,6 +62,8 @@ class Table:
 
     def __post_init__(self) -> None:
         _check_paper_label(self.paper)
+        # a value that rounds to zero is printed as 0, never "−0.0000" (the sign of rounding noise)
+        self.rows = [[_unsigned_zero(v) for v in row] for row in self.rows]
 
     def write(self, out: Path) -> None:
         """Write the CSV and JSON files into ``out``.
@@ -356,7 +358,7 @@ def item_labels(sections: list[Section]) -> dict[int, str]:
     (:func:`hyperlattice.paper_labels.cite`, plus the panel for a figure split in several); every
     other one is numbered within its section of the report: ``Table 9.2`` is the second of the
     report's own tables in section 9, ``Fig. 9.1`` its first own figure. Internal file names
-    (``s1``, ``fig2``) never name an item; they appear only as the files' names.
+    (``paper_table4``, ``paper_fig3``) never name an item; they appear only as the files' names.
 
     Parameters
     ----------
@@ -431,6 +433,79 @@ def _toc_md(sections: list[Section]) -> list[str]:
     return lines + [""]
 
 
+#: column names (the CSV/JSON keys, stable identifiers) whose printed header is not a word-by-word reading
+_COLUMN_LABELS = {
+    "N_ring": "sites on ring", "N_closed_form": "N (closed form)", "E_inf_paper": "E∞, paper's map",
+    "E_inf_improved": "E∞, improved map", "paper_E0": "E₀, paper's map", "improved_E0": "E₀, improved map",
+    "paper_E1": "E₁, paper's map", "improved_E1": "E₁, improved map", "paper_mass": "q h²/4 (paper's map)",
+    "band_minus_improved": "band bottom − improved E∞", "tip_t_c_over_U": "tip (t/U)_c",
+    "tip_t_c_over_U_error": "tip (t/U)_c error", "mass2_at_E0": "m² at E₀", "radius_constant": "c = π/𝒜",
+    "site_area": "area per site 𝒜", "share_of_total": "share of total", "flagged": "flagged (≠)",
+    "rel_l2": "relative L² distance", "schur": "Schur test", "born_ratio": "Born ratio", "lambda_max": "λ_max",
+    "lambda_max_error": "λ_max error",
+    "gap_ed_error_bound": "ED gap error bound", "gap_ed": "ED gap", "decay_length_continuum_asymptotic":
+    "decay length, continuum (asymptotic)", "exact_moments": "exact moments",
+}
+#: words of a column name as printed: symbols for the physics names, whole words for abbreviations
+_COLUMN_WORDS = {
+    "E0": "E₀", "E1": "E₁", "d0": "d₀", "r0": "r₀", "L1": "L¹", "l2": "L²", "lB": "ℓ_B", "omega": "ω",
+    "omega1": "ω₁", "omega_q": "ω_q", "beta": "β", "lambda": "λ", "mu": "μ", "xi": "ξ", "sigma": "σ",
+    "delta": "Δ", "mass2": "m²", "rel": "relative", "err": "error", "diff": "difference", "ed": "ED",
+    "scba": "SCBA", "rho": "ρ", "Z": "Z", "inf": "∞",
+}
+
+
+def column_label(name: str) -> str:
+    """The header a reader sees for the column ``name`` (the CSV/JSON key stays the identifier).
+
+    ``"E0_graph_flag"`` is printed ``"E₀ graph: flag (≠)"``, ``"N_paper"`` ``"N (paper)"``,
+    ``"lB_over_d0"`` ``"ℓ_B/d₀"``; names that are already text (``"μ/U QMC"``) are kept.
+
+    Parameters
+    ----------
+    name : str
+        A column name of a :class:`Table` (its CSV/JSON key).
+
+    Returns
+    -------
+    str
+        The header printed in ``report.md`` and ``report.html``.
+
+    Examples
+    --------
+    >>> from hyperlattice.report.writers import column_label
+    >>> [column_label(c) for c in ("E0_graph_flag", "N_closed_form", "rel_l2", "lB_over_d0", "rings", "μ/U QMC")]
+    ['E₀ graph: flag (≠)', 'N (closed form)', 'relative L² distance', 'ℓ_B/d₀', 'rings', 'μ/U QMC']
+    """
+    if name in _COLUMN_LABELS:
+        return _COLUMN_LABELS[name]
+    for suffix, tail in (("_paper", " (paper)"), ("_flag", ": flag (≠)")):
+        if name.endswith(suffix) and len(name) > len(suffix):
+            return column_label(name[: -len(suffix)]) + tail
+    if "_over_" in name:
+        top, _, bottom = name.partition("_over_")
+        return f"{column_label(top)}/{column_label(bottom)}"
+    if name in _COLUMN_WORDS:
+        return _COLUMN_WORDS[name]
+    if name.startswith("E_") and name[2:] in ("inf",):
+        return "E∞"
+    if name.startswith("omega_q"):
+        return " ".join(["ω_q", *[_COLUMN_WORDS.get(w, w) for w in name[8:].split("_") if w]])
+    return " ".join(_COLUMN_WORDS.get(w, w) for w in name.split("_") if w)
+
+
+_NEGATIVE_ZERO = re.compile(r"[-−]0(?:\.0*)?(?:e[-+]?0+)?")
+
+
+def _unsigned_zero(x):
+    """``x`` with the sign of a zero dropped: ``"-0.0000"`` -> ``"0.0000"``, ``-0.0`` -> ``0.0``."""
+    if isinstance(x, str):
+        return x.replace("-", "", 1).replace("−", "", 1) if _NEGATIVE_ZERO.fullmatch(x.strip()) else x
+    if isinstance(x, (float, np.floating)) and x == 0:
+        return 0.0
+    return x
+
+
 def fmt(x, digits: int = 12) -> str:
     """A table cell: strings as they are, integers exactly, floats with ``digits`` decimals, NaN/None empty.
 
@@ -454,8 +529,8 @@ def fmt(x, digits: int = 12) -> str:
     Examples
     --------
     >>> from hyperlattice.report.writers import fmt
-    >>> fmt(0.5, 3), fmt(7), fmt(None), fmt(float("nan")), fmt("≠")
-    ('0.500', '7', '', '', '≠')
+    >>> fmt(0.5, 3), fmt(7), fmt(None), fmt(float("nan")), fmt("≠"), fmt(-1e-17, 4)
+    ('0.500', '7', '', '', '≠', '0.0000')
     >>> fmt([1])
     Traceback (most recent call last):
         ...
@@ -469,7 +544,7 @@ def fmt(x, digits: int = 12) -> str:
         return ""
     if not isinstance(x, numbers.Real):
         raise ValueError(f"a table cell must be a number, a string or None, got {type(x).__name__}.")
-    return f"{x:.{digits}f}"
+    return _unsigned_zero(f"{x:.{digits}f}")
 
 
 def save_figure(fig: matplotlib.figure.Figure, out: Path, name: str, caption: str, *, paper: str = "",
@@ -558,7 +633,7 @@ def _readable(fig) -> None:
 
 
 def _md_table(t: Table, label: str) -> list[str]:
-    lines = [f'<a id="{table_id(t)}"></a>', "", f"*{prose(_captioned(label, t.caption))}* (`table_{t.name}.csv`)", "", "| " + " | ".join(t.columns) + " |",
+    lines = [f'<a id="{table_id(t)}"></a>', "", f"*{prose(_captioned(label, t.caption))}* (`table_{t.name}.csv`)", "", "| " + " | ".join(column_label(c) for c in t.columns) + " |",
              "|" + "---|" * len(t.columns)]
     for r in t.rows:
         lines.append("| " + " | ".join(fmt(v) for v in r) + " |")
@@ -743,7 +818,7 @@ def write_html(sections: list[Section], header: list[str], out: Path) -> None:
                 parts.append(f'<p class="cap" id="{table_id(t)}">{_code(prose(_captioned(names[id(t)], t.caption)))} '
                              f'(<code>table_{e(t.name)}.csv</code>)</p>')
                 # headers may break after an underscore (E0_continuum_paper): a wide table fits the page
-                heads = "".join("<th>" + e(c).replace("_", "_<wbr>") + "</th>" for c in t.columns)
+                heads = "".join("<th>" + e(column_label(c)) + "</th>" for c in t.columns)
                 parts.append(f'<div class="scroll"><table><thead><tr>{heads}</tr></thead><tbody>')
                 for r in t.rows:
                     cells = []
