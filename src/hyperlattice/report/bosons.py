@@ -186,7 +186,7 @@ def bosons_section(out: Path, progress: Callable[[str], None]) -> Section:
                       f"√((1 − x)² − 4x), x = λ_max t/U, with the graph's λ_max = {gaps.lambda_max:g} and with "
                       f"the continuum disk's λ_max = {gaps.lambda_max_continuum:.4f}. Solver: exact "
                       "diagonalisation of each rotation sector of the number-conserving basis (LAPACK for small "
-                      "blocks, Lanczos to tolerance 1e-10 for large ones); gap_ed_error_bound is the sum of the "
+                      "blocks, Lanczos to tolerance 1e-10 for large ones); the ED gap error bound is the sum of the "
                       "error bounds of the four energies (max "
                       f"{max(ed_bounds):.0e}), far below the 5 decimals shown; the mean-field gaps are closed "
                       "forms.")
@@ -221,7 +221,7 @@ def bosons_section(out: Path, progress: Callable[[str], None]) -> Section:
                      "equation by L-BFGS and Newton to a relative residual ≤ 1e-10 (a ConvergenceWarning above "
                      f"1e-8), the disk's radial GP equation by finite volumes on {GP_CELLS} cells (L-BFGS) to the "
                      "same tolerance; the residuals reached are the last two columns. The continuum numbers also "
-                     f"carry the discretisation error of {GP_CELLS} cells: mu_continuum_error is its estimate "
+                     f"carry the discretisation error of {GP_CELLS} cells: the μ continuum error is its estimate "
                      f"from a second solution on {2 * GP_CELLS} cells (4/3 of the difference, the error "
                      "falling like cells⁻²).")
     from ..continuum.spectrum import continuum_levels

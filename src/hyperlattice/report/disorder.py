@@ -78,7 +78,7 @@ def disorder_section(out: Path, progress: Callable[[str], None]) -> Section:
               for w, m, e in zip(scan.W, scan.r_mean, scan.r_err)]
     r_table = Table("disorder_r", ["W", "r_mean", "r_err"], r_rows,
                     f"<r> over the whole spectrum of the l = {RINGS} {{7,3}} flake against the box width W "
-                    f"({REALIZATIONS_R} realizations; r_err the standard error of the realization means).")
+                    f"({REALIZATIONS_R} realizations; r error: the standard error of the realization means).")
     fig, ax = plt.subplots(figsize=(6.0, 4.2), layout="constrained")
     for k, w in enumerate((1.0, 2.0, 4.0)):
         plot_green_distance(green_ensemble(lat, OMEGA, w, REALIZATIONS_G, seed=0, source=0), ax=ax, clean=k == 0)
@@ -101,7 +101,7 @@ def disorder_section(out: Path, progress: Callable[[str], None]) -> Section:
     g_table = Table("disorder_scba", ["W", "rel_clean", "rel_graph_scba", "rel_continuum_scba", "rel_noise",
                                       "born_ratio", "sigma_graph", "sigma_continuum"], g_rows,
                     "Box-disorder average of the column G_i0 against the SCBA: relative distances, the W^2 "
-                    "coefficient relative to exact second order (born_ratio, 1 in the weak limit), and the "
+                    "coefficient relative to exact second order (Born ratio, 1 in the weak limit), and the "
                     "self-energy (graph: interior average of the site-resolved SCBA; continuum: "
                     "w^2 G_loc(omega + Sigma) from the Plancherel density with one state per site).")
     weak = cmp.rows()[1]
@@ -117,7 +117,7 @@ def disorder_section(out: Path, progress: Callable[[str], None]) -> Section:
         f"SCBA's self-energy is within {abs(weak['sigma_continuum'] - weak['sigma_graph']) / abs(weak['sigma_graph']):.0%} "
         f"of the graph's. The continuum holds near the band bottom because there the dictionary holds "
         f"(clean floor {cmp.continuum_floor:.3f}); it stops where W^2 G_loc is no longer small "
-        f"(born_ratio {strong['born_ratio']:.2f} at W = {strong['W']:g}: the W^2 term is no longer the whole "
+        f"(Born ratio {strong['born_ratio']:.2f} at W = {strong['W']:g}: the W^2 term is no longer the whole "
         "correction) and where Re G_loc, which collects the whole band, is set by the lattice rather than the "
         "continuum.",
     ]

@@ -85,8 +85,8 @@ def infinite_section(out: Path, progress: Callable[[str], None]) -> Section:
     conv = Table("dos_routes", ["route", "kind", "sites", "exact_moments", "L1_distance", "L1_err",
                                 "E_bottom", "E_bottom_err", "E_top", "E_top_err"], rows,
                  f"Each route against the exact infinite-lattice DOS at {cmp.resolution} moments (L1 distance, "
-                 "jackknife error over the random vectors); exact_moments: moments proven equal to the lattice's "
-                 "(clusters: the systole; flakes: 2 d_b + 2). E_bottom / E_top: the energies below / above which "
+                 "jackknife error over the random vectors); exact moments: moments proven equal to the lattice's "
+                 "(clusters: the systole; flakes: 2 d_b + 2). E bottom / E top: the energies below / above which "
                  f"a fraction {cmp.quantile:g} of the states lie, error = kernel width and random vectors.")
     ratio = cmp.continuum_ratio()[0]
     edge_rows = [["band bottom -rho, proven interval", "", "", _f(-cmp.rho_upper), _f(-cmp.rho_lower),

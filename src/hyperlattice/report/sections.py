@@ -19,7 +19,7 @@ from ..graph.lattice import ring_lattice, ring_sizes
 from ..paper_labels import cite
 from ..paper_values import PaperValue, paper_value
 from . import data
-from .writers import Section, Table, fmt as _fmt, save_figure as _save_figure
+from .writers import Section, Table, column_label, fmt as _fmt, save_figure as _save_figure
 
 __all__ = ["geometry_section", "counts_section", "fig1_section", "spectrum_section", "open_question_text",
            "fig2_section", "green_section", "formal_operator_figure", "scaling_section", "magnetic_section"]
@@ -378,7 +378,7 @@ def spectrum_section(cache: Cache, max_rings: int, timings: dict,
             f"{sorted({r['m_E1'] for r in records})}), the ground state in m = 0, as for the continuum "
             "levels (n, m) = (1, 0) and (1, ±1)."]
     for ell, key, printed, value, flag, note in notes:
-        text.append(f"Flagged {key} at ℓ = {ell}: printed {printed}, computed {value:.6f} ({note.rstrip('.')}).")
+        text.append(f"Flagged {column_label(key)} at ℓ = {ell}: printed {printed}, computed {value:.6f} ({note.rstrip('.')}).")
     worst = max(r["residual_max"] for r in records) if records[-1]["rings"] >= 10 else None
     text += open_question_text(trends, worst)
     return Section("Ground state and first excited state: graph vs continuum",
@@ -664,8 +664,8 @@ def green_section(cache: Cache, max_rings: int, out: Path, progress: Callable[[s
                                  "m_terms", "tail_estimate"], rows,
                   f"Relative L² distance between the graph column G_ij(ω) and the right-hand side of {cite('eq21')} "
                   f"over all sites but the source (site {source}, ring 2); collapse = spread within distance bins "
-                  "relative to the mean (0 for a function of hyperbolic distance alone); m_terms and "
-                  f"tail_estimate describe the truncated sum of {cite('green36')}.")
+                  "relative to the mean (0 for a function of hyperbolic distance alone); m terms and "
+                  f"tail estimate describe the truncated sum of {cite('green36')}.")
     text = [f"The paper shows the agreement of {cite('Fig3')} graphically; the relative L² distances quantify it. "
             "The collapse number of the graph data measures how far G_ij is from a function of d(z_i, z_j) alone "
             "(emergent conformal symmetry for large ℓ)."]
