@@ -78,7 +78,7 @@ def read(path: Path) -> tuple[dict, dict]:
     path = Path(path)
     shown = repr(str(path))
     try:
-        with np.load(path, allow_pickle=False) as data:
+        with open(path, "rb") as fh, np.load(fh, allow_pickle=False) as data:
             arrays = {k: np.array(data[k]) for k in data.files}
     except Exception as exc:  # zipfile, zlib, numpy's format checks: a truncated or foreign file
         raise ValueError(f"the checkpoint {shown} is damaged or truncated and cannot be read "

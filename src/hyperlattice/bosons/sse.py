@@ -84,7 +84,7 @@ from .._progress import progress_bar
 from ..errors import HyperlatticeError
 from ..results import Column, Result, to_jsonable
 
-__all__ = ["QMCResult", "qmc", "qmc_memory", "merge_chains", "QMCWarning", "OFFSET"]
+__all__ = ["QMCResult", "qmc", "qmc_memory", "qmc_seconds", "merge_chains", "QMCWarning", "OFFSET"]
 
 #: diagonal-vertex offset c in units of the bond hopping (see the module docstring)
 OFFSET = 0.5
@@ -379,7 +379,10 @@ class QMCResult(Result):
         basis (``rho_s`` of a genus-g cluster depends on the basis); equal to :math:`\rho_s` for an
         isotropic torus. nan without windings.
     stiffness_note : str
-        Why ``stiffness`` is None ("" when measured).
+        Why ``stiffness`` is None ("" when measured), or which winding components were skipped.
+    bond_hopping : ndarray, shape (B,), or None
+        The coupling :math:`t_{ij} = t A_{ij}` of each bond (None when read back from a sweep's
+        table, whose rows do not store it); :func:`merge_chains` refuses chains whose couplings differ.
 
     Examples
     --------
@@ -440,6 +443,7 @@ class QMCResult(Result):
     stiffness_geometric: float = math.nan
     stiffness_geometric_err: float = math.nan
     stiffness_note: str = "not measured."
+    bond_hopping: np.ndarray | None = None
 
     def summary(self) -> dict:
         """The JSON view: the scalar observables with errors, tau_int, the run's size and flags."""
@@ -696,8 +700,8 @@ class _Chain:
         occ = state[site] + run - base
         if np.any((occ < 0) | (occ > nmax)):
             raise bad(f"its world lines leave the occupations 0..{nmax}")
-        ends = np.r_[starts[1:], site.size] - 1
-        if np.any(occ[ends] != state[site[ends]]):
+        ends = np.r_[starts[1:], site.size][: starts.size] - 1
+        if site.size and np.any(occ[ends] != state[site[ends]]):
             raise bad("its world lines are not periodic in imaginary time")
         nops = int(np.count_nonzero(ops >= 0))
         if counters[0] != nops or not 1 <= counters[1] <= 4 * (nops + 16) or np.any(counters[2:] < 0):
@@ -903,6 +907,68 @@ def qmc_memory(system, *, U: float, mu: float, beta: float, nmax: int, t: float 
     _, _, cb = _weights(model, U, mu, nmax)
     _, need = _memory_need(model, beta, cb, nmax, U, mu, measure_green)
     return int(math.ceil(need))
+
+
+#: CPU seconds per sweep and per operator of the string's bound: 0.2-1.1 us measured on the {7,3}
+#: heptagon and the l = 3, 4 flakes (112 and 315 sites, beta = 4-8, nmax = 2-20; 600 sweeps each,
+#: the machine loaded to 13 on 2 cores), up to 7.6 us for short runs of 847 sites; 1 us is the
+#: estimate's scale, not a bound
+SECONDS_PER_OPERATOR = 1e-6
+
+
+def qmc_seconds(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, sweeps: int = 20000,
+                thermalization: int | None = None) -> float:
+    r"""CPU seconds a :func:`qmc` chain is expected to take, estimated before anything runs.
+
+    (thermalization + sweeps) x the string's bound :math:`eta\sum_b W_b^{\max}` (the operators
+    of a sweep, see :func:`qmc_memory`) x :data:`SECONDS_PER_OPERATOR`: the scale of a run, right
+    within a factor of a few (superfluid strings pass the bound by up to 50 %, large graphs cost
+    more per operator). The command line announces a run estimated above 30 s and refuses one
+    above ``--max-seconds`` with this number.
+
+    Parameters
+    ----------
+    system : Lattice, Cluster or sparse matrix
+        As in :func:`qmc`.
+    U, mu : float
+        On-site interaction and chemical potential (units of the hopping).
+    beta : float
+        Inverse temperature, > 0.
+    nmax : int
+        Occupation cutoff, >= 1.
+    t : float, optional
+        Hopping scale (default 1).
+    sweeps : int, optional
+        Measurement sweeps (default 20000).
+    thermalization : int, optional
+        Thermalisation sweeps (default ``max(200, sweeps // 5)``, as :func:`qmc`).
+
+    Returns
+    -------
+    float
+        Seconds.
+
+    Raises
+    ------
+    ValueError
+        On bad input (as :func:`qmc`).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons import qmc_seconds
+    >>> qmc_seconds(hl.ring_lattice(7, 3, 1), U=4.0, mu=1.0, beta=2.0, nmax=2, sweeps=4000) < 5
+    True
+    """
+    U, mu, t, beta, nmax = _physical_inputs(U, mu, t, beta, nmax)
+    sweeps = _validate.integer("sweeps", sweeps, minimum=1)
+    if thermalization is None:
+        thermalization = max(200, sweeps // 5)
+    thermalization = _validate.integer("thermalization", thermalization, minimum=0)
+    model = _bonded_model(system, t)
+    _, _, cb = _weights(model, U, mu, nmax)
+    bound, _ = _memory_need(model, beta, cb, nmax, U, mu, False)
+    return float((thermalization + sweeps) * bound * SECONDS_PER_OPERATOR)
 
 
 def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, sweeps: int = 20000,
@@ -1358,7 +1424,7 @@ def _analyse(chain: _Chain, model: _Model, *, U, mu, t, beta, nmax, sweeps, ther
         distance_kind=green.kind, green_matrix=g_mat, condensate_fraction=float(cf),
         condensate_fraction_err=float(cf_err),
         mean_operators=float(mean[0]), string_length=int(chain.ops.size), loops_per_sweep=int(chain.counters[1]),
-        seconds=float(seconds), **stiff)
+        seconds=float(seconds), bond_hopping=model.tb * model.gauge[model.bi] * model.gauge[model.bj], **stiff)
 
 
 def merge_chains(results) -> QMCResult:
@@ -1382,7 +1448,8 @@ def merge_chains(results) -> QMCResult:
     Raises
     ------
     ValueError
-        If the list is empty, holds other objects, chains of different models, or a seed twice.
+        If the list is empty, holds other objects, chains of different models (the bonds' couplings
+        included), or a seed twice.
 
     Examples
     --------
@@ -1410,6 +1477,11 @@ def merge_chains(results) -> QMCResult:
                                  f"{getattr(r, k)!r}).")
         if r.bonds.shape != ref.bonds.shape or not np.array_equal(r.bonds, ref.bonds):
             raise ValueError("merge_chains needs chains of one model; the bonds differ.")
+        # the couplings are inputs (not computed), so they are compared exactly
+        if (r.bond_hopping is None) != (ref.bond_hopping is None) or (
+                r.bond_hopping is not None and not np.array_equal(r.bond_hopping, ref.bond_hopping)):
+            raise ValueError("merge_chains needs chains of one model; the bonds are the same but their couplings "
+                             "t_ij differ (or are unknown for some chains).")
     seeds = tuple(s for r in res for s in r.seeds)
     if len(set(seeds)) != len(seeds):
         raise ValueError("merge_chains needs independent chains, but a seed occurs twice.")
@@ -1458,7 +1530,7 @@ def merge_chains(results) -> QMCResult:
         bonds=ref.bonds, bond_kinetic=kin, bond_kinetic_err=kin_err,
         mean_operators=float(sum(wc * r.mean_operators for wc, r in zip(w, res)) / tot),
         string_length=int(max(r.string_length for r in res)), loops_per_sweep=int(ref.loops_per_sweep),
-        seconds=float(sum(r.seconds for r in res)), **vals, **g, **st)
+        seconds=float(sum(r.seconds for r in res)), bond_hopping=ref.bond_hopping, **vals, **g, **st)
 
 
 _validate.guard_public(globals())
