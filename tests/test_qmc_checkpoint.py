@@ -246,6 +246,18 @@ def test_winding_components_beyond_64_are_skipped_with_one_warning():
     assert r.stiffness.shape == (64, 64) and "components 65-104 skipped" in r.stiffness_note
 
 
+@pytest.mark.slow
+def test_the_816_site_psl_2_17_cluster_runs_by_default(capsys):
+    # the fuzz case itself (about 10 CPU s: the cluster's construction and 104 windings)
+    code, out, err = _cli(["bosons", "qmc", "--cluster", "PSL(2,17)", "-p", "8", "-q", "3", "--nmax", "1", "--U", "0",
+                           "--mu", "0", "--beta", "0.5", "--sweeps", "20", "--thermalization", "10", "--seed", "1",
+                           "--json"], capsys)
+    assert code == 0, err
+    res = json.loads(out)
+    assert res["sites"] == 816 and len(res["stiffness"]) == 64 and "components 65-104 skipped" in res["stiffness_note"]
+    assert sum("winding components" in line for line in err.splitlines()) == 1
+
+
 def test_long_runs_are_estimated_and_refused_up_front(capsys):
     # fuzz of 0.5.0: "--beta 1e4 / 1e6 run for minutes with no estimate"
     code, out, err = _cli([*CLI[:-2], "--beta", "1e6"], capsys)

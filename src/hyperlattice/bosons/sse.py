@@ -269,8 +269,9 @@ def _bond_windings(system, model: _Model, windings) -> tuple[np.ndarray, str]:
     if w.shape[1] > MAX_WINDINGS:
         # an optional observable: measure the components that fit, say which were left out
         skipped = (f"the stiffness is measured for the first {MAX_WINDINGS} of the {w.shape[1]} winding components "
-                   f"(components {MAX_WINDINGS + 1}-{w.shape[1]} skipped: their {w.shape[1] * (w.shape[1] + 1) // 2:,} "
-                   f"moments would not fit the bins); rho_s and stiffness_geometric refer to the measured "
+                   f"(components {MAX_WINDINGS + 1}-{w.shape[1]} skipped: the chain bins the moments W_a W_b of at "
+                   f"most {MAX_WINDINGS} components, {MAX_WINDINGS * (MAX_WINDINGS + 1) // 2:,} columns); rho_s and "
+                   "stiffness_geometric refer to the measured "
                    f"{MAX_WINDINGS} x {MAX_WINDINGS} block.")
         warnings.warn(skipped, QMCWarning, stacklevel=3)
         w = w[:, :MAX_WINDINGS]
@@ -994,13 +995,18 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
         Measurement sweeps (default 20000).
     thermalization : int, optional
         Thermalisation sweeps (default ``max(200, sweeps // 5)``), during which the string
-        length and the loops per sweep adapt; they are frozen afterwards.
+        length and the loops per sweep adapt; they are frozen afterwards. 0 is refused (the
+        estimates would be biased) unless resuming a thermalised checkpoint; a resumed chain that
+        has begun measuring keeps the thermalisation it did (another explicit value is refused).
     seed : int, optional
-        Seed of the chain's generator; None draws one (stored in the result).
+        Seed of the chain's generator; None draws one (stored in the result, and in the
+        checkpoint, from which a rerun without a seed reads it back).
     checkpoint : str or path, optional
-        A directory: the chain state is saved there every minute and at the end, and a rerun with
-        the same arguments (``sweeps`` may grow) resumes from it, bit-identically to an
-        uninterrupted run.
+        A directory, locked for the run: the chain state is saved there at the start, every
+        minute, at the end and on SIGINT/SIGTERM (then ``KeyboardInterrupt`` is raised, saying
+        so), under a SHA-256 of every array, written atomically. A rerun with the same physics
+        and seed (``sweeps`` may grow) resumes from it, bit-identically to an uninterrupted run;
+        a checkpoint of other parameters, damaged, or edited is refused in one sentence.
     measure_green : bool, optional
         Measure the equal-time one-body density matrix :math:`G(i,j)` with the worm estimator of
         the directed loops (default True; see Notes), by distance class, and the full matrix and
@@ -1023,7 +1029,10 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
     Raises
     ------
     ValueError
-        On bad input, a sign problem, or a checkpoint of another run.
+        On bad input, a sign problem, a string beyond the kernels' 32-bit indices, or a
+        checkpoint of another run, damaged, inconsistent or in use.
+    KeyboardInterrupt
+        On SIGINT or SIGTERM (in the main thread), after the checkpoint was saved.
     MemoryError
         When the operator string (about :math:`\beta \sum_b W_b^{\max}` operators) will not fit.
 
