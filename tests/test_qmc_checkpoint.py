@@ -285,7 +285,10 @@ def _stop_and_resume(tmp_path, sig, code_wanted):
     env = {**os.environ, "PYTHONPATH": str(Path(hl.__file__).parents[1])}
     argv = [sys.executable, "-m", "hyperlattice", *CLI[:-2], "--beta", "8", "--sweeps", "40000",
             "--thermalization", "1000", "--seed", "21", "--no-progress", "--json", "--checkpoint", str(tmp_path)]
-    proc = subprocess.Popen(argv, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    # a background job of a non-interactive shell starts with SIGINT ignored (and the chain then
+    # rightly leaves it ignored): the child gets the default disposition back
+    proc = subprocess.Popen(argv, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     deadline = time.monotonic() + 120
     while not (tmp_path / "qmc_chain.npz").exists() and time.monotonic() < deadline and proc.poll() is None:
         time.sleep(0.02)

@@ -1248,7 +1248,7 @@ def _run_chain(K, model, wind, wind_note, eps, esite, cb, bound, stop, ckdir, sy
             chain.save(ckpt, meta())
             kept = f"the chain is saved in {str(ckdir)!r}: rerun the same command to resume"
         else:
-            kept = "nothing kept (a checkpoint directory keeps the chain for a rerun)"
+            kept = "nothing kept (a checkpoint directory, --checkpoint DIR, keeps the chain for a rerun)"
         stop.reraise(f"stopped after {done:,} of {thermalization + sweeps:,} sweeps; {kept}")
 
     if ckpt is not None and stored is None:
