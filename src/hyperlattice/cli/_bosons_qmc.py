@@ -193,8 +193,12 @@ def _system(args: argparse.Namespace):
 
 def _estimate(system, args) -> None:
     """Refuse (or announce) a long chain before it starts: :func:`hyperlattice.bosons.qmc_seconds`."""
-    from ..bosons.sse import SECONDS_PER_OPERATOR, qmc_seconds
+    from .. import _validate
+    from ..bosons.sse import SECONDS_PER_OPERATOR, qmc_memory, qmc_seconds
 
+    need = qmc_memory(system, U=args.U, mu=args.mu, beta=args.beta, nmax=args.nmax, t=args.t)
+    if need + 2**28 > _validate.available_memory():
+        return      # the chain will not fit: qmc refuses it with its own sentence (the memory, not the time)
     therm = args.thermalization if args.thermalization else None
     seconds = qmc_seconds(system, U=args.U, mu=args.mu, beta=args.beta, nmax=args.nmax, t=args.t,
                           sweeps=args.sweeps, thermalization=therm)
