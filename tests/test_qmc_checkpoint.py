@@ -327,9 +327,14 @@ def test_a_signal_in_the_api_saves_and_raises_keyboard_interrupt(tmp_path, monke
         signal.raise_signal(signal.SIGINT)
 
     monkeypatch.setattr(sse._Chain, "advance", advance)
-    with pytest.raises(KeyboardInterrupt, match="stopped after 1 of 150 sweeps; the chain is saved"):
-        qmc(HEPTAGON, sweeps=100, thermalization=50, seed=6, checkpoint=tmp_path, **KW)
+    # Python's own Ctrl-C handler (a pytest-xdist worker may start with SIGINT ignored)
+    before = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        with pytest.raises(KeyboardInterrupt, match="stopped after 1 of 150 sweeps; the chain is saved"):
+            qmc(HEPTAGON, sweeps=100, thermalization=50, seed=6, checkpoint=tmp_path, **KW)
+        assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    finally:
+        signal.signal(signal.SIGINT, before)
     monkeypatch.setattr(sse._Chain, "advance", real)
     resumed = qmc(HEPTAGON, sweeps=100, thermalization=50, seed=6, checkpoint=tmp_path, **KW)
     assert _same(resumed, qmc(HEPTAGON, sweeps=100, thermalization=50, seed=6, **KW))
-    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
