@@ -1,4 +1,4 @@
-"""QMC scan of the n = 1 Mott-lobe boundaries (issue 27, item 4): writes src/hyperlattice/report/qmc_lobe_scan.json.
+"""QMC scan of the n = 1 Mott-lobe boundaries of the {7,3} graphs behind the stored scan src/hyperlattice/report/qmc_lobe_scan.json.
 
 Each point is one boundary mu_+ or mu_- of one graph at one t/U and one beta t, located by Newton
 steps on <N> - (M +- 1/2) (hyperlattice.compare.qmc_lobe.qmc_boundary). The file is rewritten after
@@ -8,7 +8,7 @@ temperature, else a straight line through the two nearest t/U, else the strong-c
 which saves one or two Newton steps near the tip where the strong-coupling series is poor. Heavy:
 it is not run by the tests (they read the stored file and check the analysis on synthetic data).
 
-    PYTHONPATH=src python benchmarks/qmc_lobe_scan.py --stage tip            # the stored tip scan (hours)
+    PYTHONPATH=src python benchmarks/qmc_lobe_scan.py --stage tip --out src/hyperlattice/report/qmc_lobe_scan.json
     PYTHONPATH=src python benchmarks/qmc_lobe_scan.py --points cluster:klein@0.07 --beta 8 --sweeps 400
 """
 
@@ -70,8 +70,10 @@ def main(argv=None) -> int:
                          "(give concurrent scans into separate files different bases)")
     ap.add_argument("--nmax", type=int, default=3)
     ap.add_argument("--max-seconds", type=float, default=float("inf"), help="stop starting new points after this")
-    ap.add_argument("--out", default=os.path.join(os.path.dirname(__file__), "..", "src", "hyperlattice", "report",
-                                                  "qmc_lobe_scan.json"))
+    ap.add_argument("--out", default="qmc_lobe_scan.json",
+                    help="the scan's JSON file (default qmc_lobe_scan.json here; the stored scan is "
+                         "src/hyperlattice/report/qmc_lobe_scan.json, regenerated only when named); any {p,q}: "
+                         "hyperlattice bosons lobe")
     args = ap.parse_args(argv)
     from hyperlattice.compare.qmc_lobe import _system, qmc_boundary
 
@@ -85,7 +87,8 @@ def main(argv=None) -> int:
     if os.path.exists(args.out):
         with open(args.out, encoding="utf-8") as fh:
             data = json.load(fh)
-    data["meta"]["command"] = "PYTHONPATH=src python benchmarks/qmc_lobe_scan.py --stage tip"
+    data["meta"]["command"] = ("PYTHONPATH=src python benchmarks/qmc_lobe_scan.py --stage tip "
+                               "--out src/hyperlattice/report/qmc_lobe_scan.json")
     data["meta"]["machine"] = f"{platform.machine()}, python {platform.python_version()}"
     done = {(b["system"], b["t_over_U"], b["side"], b["beta_t"], b.get("nmax", 3)) for b in data["boundaries"]}
     t_start = time.time()

@@ -131,6 +131,7 @@ CALLS = {
     "hyperlattice.bosons.thermal.exact_thermal": (dict(system=HEPT, U=2.0, mu=0.5, beta=1.0, nmax=1), set()),
     "hyperlattice.bosons.thermal.sector_dimensions": (dict(rotation=[1, 2, 3, 0], nmax=1), set()),
     "hyperlattice.bosons.sse.qmc_memory": (dict(system=HEPT, U=2.0, mu=0.5, beta=1.0, nmax=1), set()),
+    "hyperlattice.bosons.sse.qmc_seconds": (dict(system=HEPT, U=2.0, mu=0.5, beta=1.0, nmax=1), set()),
 }
 
 

@@ -94,10 +94,19 @@ def test_weighted_adjacency():
     r = qmc(a, sweeps=6000, thermalization=1000, seed=3, progress=False, **kw)
     _check(r, ex)
     assert r.distance_kind == "graph (hops)"
+    # a site without bonds is refused in one sentence (the loops would draw its occupation
+    # uniformly; docs/qmc.md says so)
     iso = sp.lil_matrix(a)
     iso.resize((6, 6))
-    with pytest.raises(ValueError, match="no bond"):
+    with pytest.raises(ValueError, match="no bond") as exc:
         qmc(iso.tocsr(), **kw)
+    assert "\n" not in str(exc.value)
+    # a self-loop is refused in one sentence, not dropped
+    loop = sp.lil_matrix(a)
+    loop[2, 2] = 1.0
+    with pytest.raises(ValueError, match="self-loop") as exc:
+        qmc(loop.tocsr(), **kw)
+    assert "\n" not in str(exc.value)
 
 
 def test_sign_problems_are_refused():

@@ -25,7 +25,7 @@ from __future__ import annotations
 from .basis import BosonBasis, basis_dimension, boson_basis
 from .ed import BoseHubbardLevels, ChargeGap, bose_hubbard, charge_gap
 from .gp import BogoliubovSpectrum, GPState, bogoliubov, gp_ground_state
-from .sse import QMCResult, QMCWarning, merge_chains, qmc, qmc_memory
+from .sse import QMCResult, QMCWarning, merge_chains, qmc, qmc_memory, qmc_seconds
 from .thermal import ThermalAverages, exact_thermal
 from .meanfield import (GutzwillerState, MottLobe, MottLobeTable, gutzwiller, largest_adjacency_eigenvalue,
                         lobe_boundary, lobe_tip, mott_lobe, mott_lobes)
@@ -41,7 +41,7 @@ __all__: list[str] = [
     "GutzwillerState", "MottLobe", "MottLobeTable", "gutzwiller", "largest_adjacency_eigenvalue", "lobe_boundary",
     "lobe_tip", "mott_lobe", "mott_lobes",
     # quantum Monte Carlo and its exact reference
-    "QMCResult", "QMCWarning", "qmc", "qmc_memory", "merge_chains", "exact_thermal", "ThermalAverages",
+    "QMCResult", "QMCWarning", "qmc", "qmc_memory", "qmc_seconds", "merge_chains", "exact_thermal", "ThermalAverages",
     # strong-coupling expansion
     "StrongCouplingLobe", "excitation_energies", "hypercubic_boundaries", "strong_coupling_lobe", "strong_coupling_tip",
 ]

@@ -65,6 +65,7 @@ cannot all be positive and :func:`qmc` refuses.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import math
@@ -83,7 +84,7 @@ from .._progress import progress_bar
 from ..errors import HyperlatticeError
 from ..results import Column, Result, to_jsonable
 
-__all__ = ["QMCResult", "qmc", "qmc_memory", "merge_chains", "QMCWarning", "OFFSET"]
+__all__ = ["QMCResult", "qmc", "qmc_memory", "qmc_seconds", "merge_chains", "QMCWarning", "OFFSET"]
 
 #: diagonal-vertex offset c in units of the bond hopping (see the module docstring)
 OFFSET = 0.5
@@ -106,8 +107,15 @@ _EXIT_RULE = "least-bounce"
 #: over enough head positions even on small graphs (the update's 3n is one or two loops per
 #: sweep on a 6-site ring)
 _GREEN_LEGS = 8.0
+#: the kernels' vertex positions, links and leg states are int32: 4 legs per slot must stay below
+_INT32_MAX = 2**31 - 1
+#: the checkpoint file and the lock file in a checkpoint directory
+_CHECKPOINT_FILE = "qmc_chain.npz"
+_LOCK_FILE = ".qmc_chain.lock"
 #: seconds of work between checkpoint writes
 _CHECKPOINT_SECONDS = 60.0
+#: most winding components whose moments are measured (D (D + 1) / 2 + 1 scalar columns)
+MAX_WINDINGS = 64
 #: bytes per operator slot (ops int64 with the 4/3 headroom; int32 vertex positions, links and leg states)
 _BYTES_PER_OP = 8 * (4 / 3) + 4 + 16 + 16
 
@@ -149,6 +157,10 @@ def _matrix(system):
             raise ValueError("the adjacency matrix must have finite entries.")
         if mat.nnz and abs(mat - mat.T).max() > 0:
             raise ValueError("the adjacency matrix must be symmetric.")
+        loops = np.flatnonzero(mat.diagonal())
+        if loops.size:
+            raise ValueError(f"the adjacency matrix has {loops.size} self-loop(s) (A_ii != 0, e.g. site {int(loops[0])}); "
+                             "a bond joins two sites: put an on-site energy into mu, or remove the diagonal.")
         return mat, None, None, "graph", f"graph of {mat.shape[0]} sites"
     if hasattr(system, "neighbours") and hasattr(system, "genus"):                  # a Cluster
         from .. import geometry
@@ -205,8 +217,11 @@ def _model(system, t: float) -> _Model:
     tb = np.abs(hop).astype(float)
     degree = np.bincount(np.concatenate([bi, bj]), minlength=n).astype(np.int64)
     if bi.size and np.any(degree == 0):
+        # the directed loops draw the occupation of a site that no operator touches uniformly from
+        # 0..nmax (right for a bonded site, whose on-site energy lives in its bond vertices; wrong
+        # for a site without bonds, whose energy has no vertex at all)
         raise ValueError(f"{int(np.sum(degree == 0))} site(s) have no bond (e.g. site {int(np.argmax(degree == 0))}); "
-                         "remove them: an independent site is a single-site thermal average.")
+                         "remove them and add their single-site thermal averages (exact_thermal of one site).")
     return _Model(n, bi, bj, tb, gauge, degree, z, d0, label, kind)
 
 
@@ -250,8 +265,16 @@ def _bond_windings(system, model: _Model, windings) -> tuple[np.ndarray, str]:
             or w.shape[1] < 1 or edges.dtype.kind not in "iu" or w.dtype.kind not in "iu"):
         raise ValueError(f"windings must be integer arrays of shapes (E, 2) and (E, D) with D >= 1, got "
                          f"{edges.shape} and {w.shape}.")
-    if w.shape[1] > 64:
-        raise ValueError(f"at most 64 winding components are measured, got {w.shape[1]}.")
+    skipped = ""
+    if w.shape[1] > MAX_WINDINGS:
+        # an optional observable: measure the components that fit, say which were left out
+        skipped = (f"the stiffness is measured for the first {MAX_WINDINGS} of the {w.shape[1]} winding components "
+                   f"(components {MAX_WINDINGS + 1}-{w.shape[1]} skipped: the chain bins the moments W_a W_b of at "
+                   f"most {MAX_WINDINGS} components, {MAX_WINDINGS * (MAX_WINDINGS + 1) // 2:,} columns); rho_s and "
+                   "stiffness_geometric refer to the measured "
+                   f"{MAX_WINDINGS} x {MAX_WINDINGS} block.")
+        warnings.warn(skipped, QMCWarning, stacklevel=3)
+        w = w[:, :MAX_WINDINGS]
     n = model.sites
     if edges.size and (edges.min() < 0 or edges.max() >= n):
         raise ValueError(f"the edges of windings must be sites 0..{n - 1}.")
@@ -266,7 +289,7 @@ def _bond_windings(system, model: _Model, windings) -> tuple[np.ndarray, str]:
                          f"{keys.size} edges given).")
     pos = np.searchsorted(keys[order], bond_keys)
     out = (w.astype(np.int64) * sign[:, None])[order[pos]]
-    return np.ascontiguousarray(out), ""
+    return np.ascontiguousarray(out), skipped
 
 
 # ----------------------------------------------------------------------------
@@ -357,7 +380,10 @@ class QMCResult(Result):
         basis (``rho_s`` of a genus-g cluster depends on the basis); equal to :math:`\rho_s` for an
         isotropic torus. nan without windings.
     stiffness_note : str
-        Why ``stiffness`` is None ("" when measured).
+        Why ``stiffness`` is None ("" when measured), or which winding components were skipped.
+    bond_hopping : ndarray, shape (B,), or None
+        The coupling :math:`t_{ij} = t A_{ij}` of each bond (None when read back from a sweep's
+        table, whose rows do not store it); :func:`merge_chains` refuses chains whose couplings differ.
 
     Examples
     --------
@@ -418,6 +444,7 @@ class QMCResult(Result):
     stiffness_geometric: float = math.nan
     stiffness_geometric_err: float = math.nan
     stiffness_note: str = "not measured."
+    bond_hopping: np.ndarray | None = None
 
     def summary(self) -> dict:
         """The JSON view: the scalar observables with errors, tau_int, the run's size and flags."""
@@ -578,13 +605,15 @@ def _green_setup(model: _Model, measure: bool) -> _Green:
                                                    f"than {G_FULL_MAX} sites."})
 
 
-def _fingerprint(model: _Model, U, mu, t, beta, nmax, seed, thermalization, wind=None) -> str:
+def _fingerprint(model: _Model, U, mu, t, beta, nmax, seed, wind=None) -> str:
+    """The chain's identity in a checkpoint: the physics, the seed and the algorithm's constants
+    (not the thermalisation, whose length the checkpoint records; nor the sweeps, which may grow)."""
     h = hashlib.sha256()
     for a in (model.bi, model.bj, model.tb, model.gauge):
         h.update(np.ascontiguousarray(a).tobytes())
     if wind is not None and wind.shape[1]:
         h.update(b"windings" + np.ascontiguousarray(wind).tobytes())
-    h.update(json.dumps([model.sites, U, mu, t, beta, nmax, seed, thermalization, OFFSET, _TARGET_LEGS,
+    h.update(json.dumps([model.sites, U, mu, t, beta, nmax, seed, OFFSET, _TARGET_LEGS,
                          _EXIT_RULE, _GREEN_LEGS, _SCALAR_BINS, _VECTOR_BINS, _SCALARS]).encode())
     return h.hexdigest()
 
@@ -621,25 +650,92 @@ class _Chain:
         # nops, nloops, thermalisation sweeps done, measurement sweeps done
         self.counters = np.array([0, 1, 0, 0], dtype=np.int64)
 
-    def save(self, path: Path, fingerprint: str) -> None:
-        tmp = path.with_name(path.name + ".tmp.npz")
-        np.savez(tmp, fingerprint=np.array(fingerprint), **{k: getattr(self, k) for k in self.FIELDS})
-        os.replace(tmp, path)
+    def arrays(self) -> dict:
+        """The arrays a checkpoint stores."""
+        return {k: getattr(self, k) for k in self.FIELDS}
 
-    def load(self, path: Path, fingerprint: str) -> None:
-        try:
-            with np.load(path, allow_pickle=False) as data:
-                if str(data["fingerprint"]) != fingerprint:
-                    raise ValueError(f"the checkpoint {str(path)!r} belongs to a run with other parameters "
-                                     "(system, U, mu, t, beta, nmax, seed or thermalization); use another directory.")
-                for k in self.FIELDS:
-                    want = getattr(self, k)
-                    got = np.array(data[k])
-                    if got.dtype != want.dtype or (k not in ("ops",) and got.shape != want.shape):
-                        raise ValueError(f"the checkpoint {str(path)!r} is damaged (field {k}).")
-                    setattr(self, k, got)
-        except (OSError, KeyError, EOFError) as exc:
-            raise ValueError(f"the checkpoint {str(path)!r} cannot be read ({exc}).") from None
+    def save(self, path: Path, meta: dict) -> None:
+        """Write the chain to ``path`` atomically, every array under the file's SHA-256 checksum."""
+        from . import _checkpoint
+
+        _checkpoint.write(path, meta, self.arrays())
+
+    def restore(self, arrays: dict, model: _Model, nmax: int, where: str) -> None:
+        """Take the arrays of a checkpoint (checksum verified by the reader) after checking their
+        names, dtypes, shapes and ranges, so that no edited file can reach a kernel with an index
+        out of bounds or a configuration that is not a valid world-line picture."""
+        def bad(what):
+            return ValueError(f"the checkpoint {where} is inconsistent ({what}); delete it to start the chain afresh.")
+
+        if set(arrays) != set(self.FIELDS):
+            raise bad("its arrays are not those of a chain")
+        for k in self.FIELDS:
+            want, got = getattr(self, k), arrays[k]
+            if got.dtype != want.dtype or got.ndim != want.ndim or (k != "ops" and got.shape != want.shape):
+                raise bad(f"field {k} has dtype {got.dtype} and shape {got.shape}, expected {want.dtype} and "
+                          f"{'(M,)' if k == 'ops' else want.shape}")
+        ops, state, counters = arrays["ops"], arrays["state"], arrays["counters"]
+        m = ops.size
+        if m < 16 or 4 * m >= _INT32_MAX:
+            raise bad(f"an operator string of length {m}")
+        nb = model.bi.size
+        kind = ops & 3
+        bond = ops >> 2
+        if np.any((ops < -1) | ((ops >= 0) & ((bond >= nb) | (kind == 3)))):
+            raise bad("an operator that is not -1 or 4 b + k with a bond b and k = 0, 1, 2")
+        if np.any((state < 0) | (state > nmax)) or np.any(state[model.degree == 0] != 0):
+            raise bad(f"an occupation outside 0..{nmax}")
+        # the world lines: every off-diagonal operator moves one boson along its bond; the
+        # occupations stay within 0..nmax and come back to the first slice's (periodic in tau)
+        offd = (ops >= 0) & (kind != 0)
+        sb, sk = bond[offd], kind[offd]
+        step = np.where(sk == 1, 1, -1)
+        site = np.concatenate([model.bi[sb], model.bj[sb]])
+        delta = np.concatenate([step, -step])
+        when = np.concatenate([np.flatnonzero(offd)] * 2)
+        order = np.lexsort((when, site))
+        site, delta = site[order], delta[order]
+        run = np.cumsum(delta)
+        starts = np.flatnonzero(np.r_[True, site[1:] != site[:-1]]) if site.size else np.zeros(0, dtype=np.int64)
+        base = np.repeat(run[starts] - delta[starts], np.diff(np.r_[starts, site.size]))
+        occ = state[site] + run - base
+        if np.any((occ < 0) | (occ > nmax)):
+            raise bad(f"its world lines leave the occupations 0..{nmax}")
+        ends = np.r_[starts[1:], site.size][: starts.size] - 1
+        if site.size and np.any(occ[ends] != state[site[ends]]):
+            raise bad("its world lines are not periodic in imaginary time")
+        nops = int(np.count_nonzero(ops >= 0))
+        if counters[0] != nops or not 1 <= counters[1] <= 4 * (nops + 16) or np.any(counters[2:] < 0):
+            raise bad("its operator and loop counters")
+        if not np.any(arrays["rng"]):
+            raise bad("a generator state of zeros")
+        for k in ("sbins", "scur", "vbins", "vcur", "gbins", "gcur", "loopstat"):
+            if not np.all(np.isfinite(arrays[k])):
+                raise bad(f"non-finite numbers in {k}")
+        loopstat = arrays["loopstat"]
+        if np.any(loopstat < 0) or loopstat[3] > 4 * (nops + 16):
+            raise bad("its loop statistics")
+        sweeps = int(counters[3])
+        for info, bins in (("sinfo", "sbins"), ("vinfo", "vbins"), ("ginfo", "gbins")):
+            filled, size, cur = (int(x) for x in arrays[info])
+            nbins = arrays[bins].shape[0]
+            if not (0 <= filled < nbins and size >= 1 and size & (size - 1) == 0 and 0 <= cur < size):
+                raise bad(f"its bin counters {info}")
+            if (info != "ginfo" or self.gbins.shape[1] > 1) and filled * size + cur != sweeps and model.sites > 1:
+                raise bad(f"its bin counters {info} disagree with its {sweeps} measured sweeps")
+        # every closed bin holds sums of a quantity and of its square over size sweeps (n, N, E) and
+        # of N^2, N^4: sum x^2 >= (sum x)^2 / size, and n, N within the string and the cutoff
+        filled, size = int(arrays["sinfo"][0]), int(arrays["sinfo"][1])
+        sb = arrays["sbins"][:filled]
+        top = float(model.sites) * nmax
+        cap = np.array([float(m), float(m) ** 2, top, top ** 2, top ** 4])
+        if np.any(sb[:, :5] < 0) or np.any(sb[:, :5] > size * cap * (1 + 1e-12)) or np.any(sb[:, 6] < 0):
+            raise bad("its scalar bins lie outside what the chain can produce")
+        for a, b in ((0, 1), (2, 3), (3, 4), (5, 6)):
+            if np.any(sb[:, b] * size < sb[:, a] ** 2 * (1 - 1e-9)):
+                raise bad("its scalar bins are not sums of a quantity and of its square")
+        for k in self.FIELDS:
+            setattr(self, k, np.array(arrays[k]))
 
     def green_loops(self) -> int:
         """Loops of a measured sweep with the Green function (the G estimator's budget, set in
@@ -720,6 +816,16 @@ def _check_memory(model: _Model, beta: float, cb: np.ndarray, nmax: int, U: floa
                              f"its bins and G(i, j), and {_RUNTIME_BYTES // 2**20} MiB for the compiled kernels and BLAS)",
                              need + _RUNTIME_BYTES)
     return bound
+
+
+def _check_int32(bound: float, beta: float) -> None:
+    """Refuse a string whose leg indices could pass the kernels' int32 arrays, before allocating: the
+    string holds up to 4/3 of the largest operator count, which may pass the bound (by 9 % seen; 25 %
+    allowed), and 4 legs per slot."""
+    slots = 4 / 3 * 1.25 * bound + 8
+    if 4 * slots >= _INT32_MAX:
+        raise ValueError(f"the operator string may reach {slots:,.0f} slots at beta = {beta:g} (4 legs each), beyond "
+                         f"the kernels' 32-bit indices ({_INT32_MAX:,}); lower beta, the couplings or the size.")
 
 
 def _physical_inputs(U, mu, t, beta, nmax) -> tuple:
@@ -804,6 +910,68 @@ def qmc_memory(system, *, U: float, mu: float, beta: float, nmax: int, t: float 
     return int(math.ceil(need))
 
 
+#: CPU seconds per sweep and per operator of the string's bound: 0.2-1.1 us measured on the {7,3}
+#: heptagon and the l = 3, 4 flakes (112 and 315 sites, beta = 4-8, nmax = 2-20; 600 sweeps each,
+#: the machine loaded to 13 on 2 cores), up to 7.6 us for short runs of 847 sites; 1 us is the
+#: estimate's scale, not a bound
+SECONDS_PER_OPERATOR = 1e-6
+
+
+def qmc_seconds(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, sweeps: int = 20000,
+                thermalization: int | None = None) -> float:
+    r"""CPU seconds a :func:`qmc` chain is expected to take, estimated before anything runs.
+
+    (thermalization + sweeps) x the string's bound :math:`eta\sum_b W_b^{\max}` (the operators
+    of a sweep, see :func:`qmc_memory`) x :data:`SECONDS_PER_OPERATOR`: the scale of a run, right
+    within a factor of a few (superfluid strings pass the bound by up to 50 %, large graphs cost
+    more per operator). The command line announces a run estimated above 30 s and refuses one
+    above ``--max-seconds`` with this number.
+
+    Parameters
+    ----------
+    system : Lattice, Cluster or sparse matrix
+        As in :func:`qmc`.
+    U, mu : float
+        On-site interaction and chemical potential (units of the hopping).
+    beta : float
+        Inverse temperature, > 0.
+    nmax : int
+        Occupation cutoff, >= 1.
+    t : float, optional
+        Hopping scale (default 1).
+    sweeps : int, optional
+        Measurement sweeps (default 20000).
+    thermalization : int, optional
+        Thermalisation sweeps (default ``max(200, sweeps // 5)``, as :func:`qmc`).
+
+    Returns
+    -------
+    float
+        Seconds.
+
+    Raises
+    ------
+    ValueError
+        On bad input (as :func:`qmc`).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.bosons import qmc_seconds
+    >>> qmc_seconds(hl.ring_lattice(7, 3, 1), U=4.0, mu=1.0, beta=2.0, nmax=2, sweeps=4000) < 5
+    True
+    """
+    U, mu, t, beta, nmax = _physical_inputs(U, mu, t, beta, nmax)
+    sweeps = _validate.integer("sweeps", sweeps, minimum=1)
+    if thermalization is None:
+        thermalization = max(200, sweeps // 5)
+    thermalization = _validate.integer("thermalization", thermalization, minimum=0)
+    model = _bonded_model(system, t)
+    _, _, cb = _weights(model, U, mu, nmax)
+    bound, _ = _memory_need(model, beta, cb, nmax, U, mu, False)
+    return float((thermalization + sweeps) * bound * SECONDS_PER_OPERATOR)
+
+
 def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, sweeps: int = 20000,
         thermalization: int | None = None, seed: int | None = None, checkpoint=None,
         measure_green: bool = True, windings=None, progress=None) -> QMCResult:
@@ -827,13 +995,18 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
         Measurement sweeps (default 20000).
     thermalization : int, optional
         Thermalisation sweeps (default ``max(200, sweeps // 5)``), during which the string
-        length and the loops per sweep adapt; they are frozen afterwards.
+        length and the loops per sweep adapt; they are frozen afterwards. 0 is refused (the
+        estimates would be biased) unless resuming a thermalised checkpoint; a resumed chain that
+        has begun measuring keeps the thermalisation it did (another explicit value is refused).
     seed : int, optional
-        Seed of the chain's generator; None draws one (stored in the result).
+        Seed of the chain's generator; None draws one (stored in the result, and in the
+        checkpoint, from which a rerun without a seed reads it back).
     checkpoint : str or path, optional
-        A directory: the chain state is saved there every minute and at the end, and a rerun with
-        the same arguments (``sweeps`` may grow) resumes from it, bit-identically to an
-        uninterrupted run.
+        A directory, locked for the run: the chain state is saved there at the start, every
+        minute, at the end and on SIGINT/SIGTERM (then ``KeyboardInterrupt`` is raised, saying
+        so), under a SHA-256 of every array, written atomically. A rerun with the same physics
+        and seed (``sweeps`` may grow) resumes from it, bit-identically to an uninterrupted run;
+        a checkpoint of other parameters, damaged, or edited is refused in one sentence.
     measure_green : bool, optional
         Measure the equal-time one-body density matrix :math:`G(i,j)` with the worm estimator of
         the directed loops (default True; see Notes), by distance class, and the full matrix and
@@ -856,7 +1029,10 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
     Raises
     ------
     ValueError
-        On bad input, a sign problem, or a checkpoint of another run.
+        On bad input, a sign problem, a string beyond the kernels' 32-bit indices, or a
+        checkpoint of another run, damaged, inconsistent or in use.
+    KeyboardInterrupt
+        On SIGINT or SIGTERM (in the main thread), after the checkpoint was saved.
     MemoryError
         When the operator string (about :math:`\beta \sum_b W_b^{\max}` operators) will not fit.
 
@@ -903,8 +1079,11 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
     the condensate fraction is the superfluid indicator; an adjacency matrix carries no windings
     unless they are given.
 
-    Sites without bonds (an adjacency with empty rows) are refused: their on-site energy has no
-    bond to live on in this decomposition.
+    Sites without bonds (an adjacency with empty rows) are refused: the loops draw the occupation
+    of a site that no operator touches uniformly (its on-site energy lives in the bond vertices),
+    which is the right weight for a bonded site and the wrong one for a site without bonds; such a
+    site is independent, its averages those of :func:`exact_thermal` on one site. A self-loop (a
+    diagonal entry of the adjacency) is refused too: an on-site energy belongs in μ.
 
     The one-body density matrix comes from the loop construction (Dorneich & Troyer, PRE 64,
     066701 (2001); in the directed-loop form of Syljuåsen & Sandvik, PRE 66, 046701 (2002) and
@@ -973,38 +1152,115 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
     """
     U, mu, t, beta, nmax = _physical_inputs(U, mu, t, beta, nmax)
     sweeps = _validate.integer("sweeps", sweeps, minimum=1)
-    if thermalization is None:
-        thermalization = max(200, sweeps // 5)
-    thermalization = _validate.integer("thermalization", thermalization, minimum=0)
-    if seed is None:
-        seed = int(np.random.SeedSequence().entropy % (2**63))
-    seed = _validate.integer("seed", seed, minimum=0)
+    if thermalization is not None:
+        thermalization = _validate.integer("thermalization", thermalization, minimum=0)
+    if seed is not None:
+        seed = _validate.integer("seed", seed, minimum=0)
     measure_green = _validate.flag("measure_green", measure_green)
     model = _bonded_model(system, t)
     wind, wind_note = _bond_windings(system, model, windings)
     eps, esite, cb = _weights(model, U, mu, nmax)
     K = _load_kernels()          # before the check: the available memory is then what the chain has
     bound = _check_memory(model, beta, cb, nmax, U, mu, measure_green)
+    _check_int32(bound, beta)
+    ckdir = None if checkpoint is None else _validate.directory("checkpoint", checkpoint)
+    with contextlib.ExitStack() as stack:
+        if ckdir is not None:
+            from . import _checkpoint
 
+            stack.enter_context(_checkpoint.locked(ckdir, _LOCK_FILE))
+        stop = stack.enter_context(_stop_signals())
+        return _run_chain(K, model, wind, wind_note, eps, esite, cb, bound, stop, ckdir, system_args=dict(
+            U=U, mu=mu, t=t, beta=beta, nmax=nmax, sweeps=sweeps, thermalization=thermalization, seed=seed,
+            measure_green=measure_green, progress=progress))
+
+
+def _stop_signals():
+    from ._checkpoint import StopSignals
+
+    return StopSignals()
+
+
+def _draw_seed() -> int:
+    return int(np.random.SeedSequence().entropy % (2**63))
+
+
+def _run_chain(K, model, wind, wind_note, eps, esite, cb, bound, stop, ckdir, system_args) -> QMCResult:
+    """The chain of :func:`qmc` from its checkpoint (if any) to the end, stopping cleanly on a signal."""
+    a = system_args
+    U, mu, t, beta, nmax, sweeps = a["U"], a["mu"], a["t"], a["beta"], a["nmax"], a["sweeps"]
+    thermalization, seed, measure_green = a["thermalization"], a["seed"], a["measure_green"]
+    ckpt = None if ckdir is None else ckdir / _CHECKPOINT_FILE
+    stored = None
+    if ckpt is not None and ckpt.exists():
+        from . import _checkpoint
+
+        stored = _checkpoint.read(ckpt)
+        if seed is None:      # the seed drawn by the first run of this directory
+            seed = stored[0].get("seed")
+            if not isinstance(seed, int) or isinstance(seed, bool) or seed < 0:
+                raise ValueError(f"the checkpoint {str(ckpt)!r} is inconsistent (no seed); delete it to start the "
+                                 "chain afresh.")
+    if seed is None:
+        seed = _draw_seed()
     sq = np.sqrt(np.arange(nmax + 2, dtype=float))
     green = _green_setup(model, measure_green)
     tables = _exit_tables(model, esite, cb, nmax, sq)
     chain = _Chain(model, seed, green, length=min(bound / 4, 1e8), windings=wind.shape[1])
-    fp = _fingerprint(model, U, mu, t, beta, nmax, seed, thermalization, wind) + f"-green{int(measure_green)}"
-    ckpt = None
-    if checkpoint is not None:
-        ckpt = _validate.directory("checkpoint", checkpoint) / "qmc_chain.npz"
-        if ckpt.exists():
-            chain.load(ckpt, fp)
-            if chain.counters[3] > sweeps:
-                raise ValueError(f"the checkpoint already holds {int(chain.counters[3])} measured sweeps, more than "
-                                 f"the {sweeps} asked for.")
+    fp = _fingerprint(model, U, mu, t, beta, nmax, seed, wind) + f"-green{int(measure_green)}"
+    params = {"system": model.label, "sites": model.sites, "U": U, "mu": mu, "t": t, "beta": beta, "nmax": nmax,
+              "seed": seed, "measure_green": measure_green, "windings": int(wind.shape[1])}
+    if stored is not None:
+        meta, arrays = stored
+        if meta.get("fingerprint") != fp:
+            old = meta.get("parameters", {}) if isinstance(meta.get("parameters"), dict) else {}
+            diff = [f"{k} = {old[k]!r} there, {v!r} here" for k, v in params.items() if k in old and old[k] != v]
+            raise ValueError(f"the checkpoint {str(ckpt)!r} belongs to a run with other parameters "
+                             f"({'; '.join(diff) if diff else 'another graph, couplings or windings'}); use another "
+                             "directory, or delete it to start afresh.")
+        chain.restore(arrays, model, nmax, repr(str(ckpt)))
+        if chain.counters[3] > sweeps:
+            raise ValueError(f"the checkpoint already holds {int(chain.counters[3])} measured sweeps, more than "
+                             f"the {sweeps} asked for.")
+    done_therm, measuring = int(chain.counters[2]), bool(chain.counters[3] > 0)
+    if measuring:
+        # thermalisation ended when the measurements began: more sweeps continue the same chain
+        if thermalization not in (None, 0, done_therm):
+            raise ValueError(f"the checkpoint's chain was thermalised for {done_therm} sweeps before it began "
+                             f"measuring, not {thermalization}; rerun with thermalization {done_therm} or without it.")
+        thermalization = done_therm
+    else:
+        if thermalization is None:
+            thermalization = max(200, sweeps // 5)
+        if thermalization == 0 and done_therm == 0:
+            raise ValueError("thermalization 0 measures the starting configuration: the string length and the "
+                             "loops per sweep adapt only while thermalising, so every estimate would be biased; "
+                             "give thermalization >= 1 (default max(200, sweeps/5)) or resume a thermalised "
+                             "checkpoint.")
+        thermalization = max(thermalization, done_therm)
+
+    def meta():
+        return {"fingerprint": fp, "seed": seed, "thermalization": thermalization, "parameters": params}
+
+    def stop_now():
+        done = int(chain.counters[2] + chain.counters[3])
+        if ckpt is not None:
+            chain.save(ckpt, meta())
+            kept = f"the chain is saved in {str(ckdir)!r}: rerun the same command to resume"
+        else:
+            kept = "nothing kept (a checkpoint directory, --checkpoint DIR, keeps the chain for a rerun)"
+        stop.reraise(f"stopped after {done:,} of {thermalization + sweeps:,} sweeps; {kept}")
+
+    if ckpt is not None and stored is None:
+        chain.save(ckpt, meta())          # the directory belongs to this run from now on
+    if stop.signum is not None:
+        stop_now()
     start = time.perf_counter()
     last_save = start
     total = thermalization + sweeps
-    with progress_bar(total, "qmc", unit="sweep", progress=progress) as bar:
+    with progress_bar(total, "qmc", unit="sweep", progress=a["progress"]) as bar:
         bar.update(int(chain.counters[2] + chain.counters[3]))
-        chunk = 16
+        chunk = 1         # the first sweeps of a long string may be slow: answer a signal soon
         while chain.counters[2] < thermalization or chain.counters[3] < sweeps:
             therm = bool(chain.counters[2] < thermalization)
             left = (thermalization - chain.counters[2]) if therm else (sweeps - chain.counters[3])
@@ -1013,16 +1269,21 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
             chain.advance(K, n, therm, beta, model, model.tb, cb, esite, sq, nmax, green, tables, eps, wind)
             dt = time.perf_counter() - t0
             bar.update(n)
+            if 4 * chain.ops.size >= _INT32_MAX:
+                raise HyperlatticeError(f"the operator string grew to {chain.ops.size:,} slots, beyond the kernels' "
+                                        "32-bit leg indices; lower beta or the couplings.")
+            if stop.signum is not None:
+                stop_now()
             # chunks of about half a second (the split never changes the chain)
             chunk = int(max(1, min(4 * chunk, n * 0.5 / max(dt, 1e-6))))
             if ckpt is not None and time.perf_counter() - last_save > _CHECKPOINT_SECONDS:
-                chain.save(ckpt, fp)
+                chain.save(ckpt, meta())
                 last_save = time.perf_counter()
     if ckpt is not None:
-        chain.save(ckpt, fp)
+        chain.save(ckpt, meta())
     seconds = time.perf_counter() - start
     return _analyse(chain, model, U=U, mu=mu, t=t, beta=beta, nmax=nmax, sweeps=sweeps,
-                    thermalization=thermalization, seed=seed, cb=cb, eps=eps, seconds=seconds, green=green,
+                    thermalization=int(chain.counters[2]), seed=seed, cb=cb, eps=eps, seconds=seconds, green=green,
                     ndim=int(wind.shape[1]), wind_note=wind_note)
 
 
@@ -1083,6 +1344,7 @@ def _analyse(chain: _Chain, model: _Model, *, U, mu, t, beta, nmax, sweeps, ther
     stiff = {"stiffness_note": wind_note}
     if ndim:
         stiff = _stiffness(raw, bs, beta, ndim, notes)
+        stiff["stiffness_note"] = wind_note        # "" or which components were skipped
         tau["stiffness"] = stiff.pop("tau")
         converged = stiff.pop("converged")
     for name, b in (("energy", en), ("density", de), ("N^2", n2)):
@@ -1171,7 +1433,7 @@ def _analyse(chain: _Chain, model: _Model, *, U, mu, t, beta, nmax, sweeps, ther
         distance_kind=green.kind, green_matrix=g_mat, condensate_fraction=float(cf),
         condensate_fraction_err=float(cf_err),
         mean_operators=float(mean[0]), string_length=int(chain.ops.size), loops_per_sweep=int(chain.counters[1]),
-        seconds=float(seconds), **stiff)
+        seconds=float(seconds), bond_hopping=model.tb * model.gauge[model.bi] * model.gauge[model.bj], **stiff)
 
 
 def merge_chains(results) -> QMCResult:
@@ -1195,7 +1457,8 @@ def merge_chains(results) -> QMCResult:
     Raises
     ------
     ValueError
-        If the list is empty, holds other objects, chains of different models, or a seed twice.
+        If the list is empty, holds other objects, chains of different models (the bonds' couplings
+        included), or a seed twice.
 
     Examples
     --------
@@ -1223,6 +1486,11 @@ def merge_chains(results) -> QMCResult:
                                  f"{getattr(r, k)!r}).")
         if r.bonds.shape != ref.bonds.shape or not np.array_equal(r.bonds, ref.bonds):
             raise ValueError("merge_chains needs chains of one model; the bonds differ.")
+        # the couplings are inputs (not computed), so they are compared exactly
+        if (r.bond_hopping is None) != (ref.bond_hopping is None) or (
+                r.bond_hopping is not None and not np.array_equal(r.bond_hopping, ref.bond_hopping)):
+            raise ValueError("merge_chains needs chains of one model; the bonds are the same but their couplings "
+                             "t_ij differ (or are unknown for some chains).")
     seeds = tuple(s for r in res for s in r.seeds)
     if len(set(seeds)) != len(seeds):
         raise ValueError("merge_chains needs independent chains, but a seed occurs twice.")
@@ -1271,7 +1539,7 @@ def merge_chains(results) -> QMCResult:
         bonds=ref.bonds, bond_kinetic=kin, bond_kinetic_err=kin_err,
         mean_operators=float(sum(wc * r.mean_operators for wc, r in zip(w, res)) / tot),
         string_length=int(max(r.string_length for r in res)), loops_per_sweep=int(ref.loops_per_sweep),
-        seconds=float(sum(r.seconds for r in res)), **vals, **g, **st)
+        seconds=float(sum(r.seconds for r in res)), bond_hopping=ref.bond_hopping, **vals, **g, **st)
 
 
 _validate.guard_public(globals())

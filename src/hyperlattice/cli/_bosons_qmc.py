@@ -22,7 +22,7 @@ import argparse
 
 import numpy as np
 
-from ._common import add_pq, cluster_pq, finite_float, integer, positive_int, print_json
+from ._common import Interrupted, add_pq, check_work, cluster_pq, finite_float, integer, positive_int, print_json
 
 NAME = "qmc"
 ORDER = 40
@@ -37,6 +37,9 @@ DESCRIPTION = ("Thermal averages of H = -t sum<ij>(a_i^+ a_j + h.c.) + (U/2) sum
                "is measured too: JSON keys rho_s, rho_s_err, stiffness_geometric, stiffness_geometric_err, "
                "stiffness and stiffness_err (D x D), tau_int.stiffness; null without windings, "
                "stiffness_note says why.")
+
+#: default of ``--max-seconds`` for a chain (a day: QMC runs are long by nature, and checkpointed)
+MAX_SECONDS = 86400.0
 
 #: largest number of sites of an --adjacency file (the same bound as a flake's)
 MAX_ADJACENCY_SITES = 10_000_000
@@ -83,12 +86,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--beta", type=_beta, required=True, help="inverse temperature beta (units of 1/t)")
     parser.add_argument("--sweeps", type=positive_int, default=20000, help="measurement sweeps (default 20000)")
     parser.add_argument("--thermalization", type=_sweeps, default=None, metavar="N",
-                        help="thermalisation sweeps (default max(200, sweeps/5))")
+                        help="thermalisation sweeps (default max(200, sweeps/5); 0 is refused unless resuming a "
+                             "thermalised --checkpoint; a resumed chain that has begun measuring keeps its own)")
     parser.add_argument("--seed", type=_seed, default=None,
                         help="seed of the Markov chain (default: drawn, and printed in the output)")
     parser.add_argument("--checkpoint", default=None, metavar="DIR",
-                        help="save the chain in DIR (created) every minute and at the end; the same command "
-                             "(more --sweeps allowed) resumes it, bit-identically")
+                        help="save the chain in DIR (created) every minute, at the end and on Ctrl-C/SIGTERM; "
+                             "the same command (more --sweeps allowed, --seed not needed) resumes it, "
+                             "bit-identically")
+    parser.add_argument("--max-seconds", type=finite_float, default=MAX_SECONDS, metavar="S",
+                        help=f"refuse a chain estimated to take longer than S seconds (default {MAX_SECONDS:g}, a "
+                             "day; runs estimated above 30 s are announced on stderr)")
     wind = parser.add_mutually_exclusive_group()
     wind.add_argument("--windings", metavar="FILE.npy",
                       help="winding numbers of the edges for the superfluid stiffness: an integer array of "
@@ -183,6 +191,24 @@ def _system(args: argparse.Namespace):
     return pbc_cluster(p, q, args.cluster)
 
 
+def _estimate(system, args) -> None:
+    """Refuse (or announce) a long chain before it starts: :func:`hyperlattice.bosons.qmc_seconds`."""
+    from .. import _validate
+    from ..bosons.sse import SECONDS_PER_OPERATOR, qmc_memory, qmc_seconds
+
+    need = qmc_memory(system, U=args.U, mu=args.mu, beta=args.beta, nmax=args.nmax, t=args.t)
+    if need + 2**28 > _validate.available_memory():
+        return      # the chain will not fit: qmc refuses it with its own sentence (the memory, not the time)
+    therm = args.thermalization if args.thermalization else None
+    seconds = qmc_seconds(system, U=args.U, mu=args.mu, beta=args.beta, nmax=args.nmax, t=args.t,
+                          sweeps=args.sweeps, thermalization=therm)
+    total = args.sweeps + (therm if therm is not None else max(200, args.sweeps // 5))
+    ops = seconds / (total * SECONDS_PER_OPERATOR)
+    check_work("bosons qmc", seconds, args.max_seconds,
+               f"{total:,} sweeps of about {ops:,.0f} operators at about {SECONDS_PER_OPERATOR * 1e6:g} us each",
+               "fewer --sweeps, a smaller --beta, --nmax or graph")
+
+
 def run(args: argparse.Namespace) -> int:
     from .. import _validate
     from ..bosons import qmc
@@ -190,8 +216,13 @@ def run(args: argparse.Namespace) -> int:
     checkpoint = None if args.checkpoint is None else _validate.directory("--checkpoint", args.checkpoint)
     system = _system(args)
     windings = False if args.no_windings else None if args.windings is None else _windings(args.windings, system)
-    res = qmc(system, U=args.U, mu=args.mu, beta=args.beta, nmax=args.nmax, t=args.t, sweeps=args.sweeps,
-              thermalization=args.thermalization, seed=args.seed, checkpoint=checkpoint, windings=windings)
+    _estimate(system, args)
+    try:
+        res = qmc(system, U=args.U, mu=args.mu, beta=args.beta, nmax=args.nmax, t=args.t, sweeps=args.sweeps,
+                  thermalization=args.thermalization, seed=args.seed, checkpoint=checkpoint, windings=windings)
+    except KeyboardInterrupt as exc:
+        # the chain stopped between kernel calls (saved when --checkpoint is given): say so in the line
+        raise Interrupted(str(exc) or ("the chain is in " + str(checkpoint) if checkpoint else "nothing kept")) from None
     if args.json:
         summary = res.summary()
         out = {k: summary[k] for k in KEYS}

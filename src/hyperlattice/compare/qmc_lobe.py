@@ -39,7 +39,7 @@ from ..results import Column, Result
 
 __all__ = ["square_lattice", "square_lattice_windings", "mean_field_boundaries", "qmc_boundary", "QMCLobe", "qmc_lobe", "SQUARE_TIP_EXACT",
            "CUBIC_TIP_EXACT",
-           "gap_tip", "size_extrapolation", "combine_steps", "LINEAR_WINDOW",
+           "gap_tip", "size_extrapolation", "combine_steps", "LINEAR_WINDOW", "system_spec",
            "SQUARE_TIP_MEAN_FIELD", "load_scan", "xy_qubit_check"]
 
 #: the exact n = 1 tip of the square lattice, (U/t)_c = 16.7424(54): Capogrosso-Sansone et al., PRA 77, 015602 (2008)
@@ -253,7 +253,10 @@ def qmc_boundary(system, t_over_U: float, side: str, *, beta_t: float = 10.0, sw
     dict
         ``mu`` (μ±/U), ``mu_err``, ``steps`` (a list of the runs: ``mu``, ``N``, ``N_err``,
         ``kappa``, ``kappa_err``, ``tau_int``, ``converged``), ``sites``, ``t_over_U``, ``beta_t``,
-        ``side``, ``sweeps``, ``nmax``.
+        ``side``, ``sweeps``, ``nmax``, ``converged`` (False when a run that entered the
+        estimate, or the last run when none did, has a binning error off its plateau, halves
+        that disagree or a string that filled up: the boundary's error bar is then in doubt) and
+        ``notes`` (those runs' reasons).
 
     Raises
     ------
@@ -288,7 +291,7 @@ def qmc_boundary(system, t_over_U: float, side: str, *, beta_t: float = 10.0, sw
         slope, slope_err = r.compressibility * M * U, r.compressibility_err * M * U     # dN/d(mu/U)
         steps.append({"mu": mu, "N": N, "N_err": N_err, "kappa": r.compressibility, "seconds": r.seconds,
                       "kappa_err": r.compressibility_err, "tau_int": dict(r.tau_int), "converged": bool(r.converged),
-                      "warnings": [str(w.message) for w in caught]})
+                      "warnings": [str(w.message) for w in caught], "notes": list(r.notes)})
         delta = N - target
         # the step is clipped to a few temperatures: the linearisation holds within ~T of the step
         limit = 3.0 / (beta * U)
@@ -306,8 +309,14 @@ def qmc_boundary(system, t_over_U: float, side: str, *, beta_t: float = 10.0, sw
     comb, comb_err, used = combine_steps(steps, side, M, x, beta)
     if used:
         estimate, err = comb, comb_err
+    # the runs behind the estimate: those inside the linear window, else the last Newton step
+    behind = [s_ for s_ in steps if abs(s_["N"] - (M + (0.5 if side == "plus" else -0.5))) < LINEAR_WINDOW
+              and s_["kappa"] > 0 and s_["N_err"] > 0] if used else steps[-1:]
+    converged = all(s_["converged"] for s_ in behind)
+    notes = sorted({n for s_ in behind if not s_["converged"] for n in s_["notes"]})
     return {"mu": estimate, "mu_err": err, "steps": steps, "sites": steps and M, "t_over_U": x, "beta_t": beta,
-            "side": side, "sweeps": sweeps, "nmax": nmax, "steps_used": used}
+            "side": side, "sweeps": sweeps, "nmax": nmax, "steps_used": used, "converged": bool(converged),
+            "notes": notes}
 
 
 #: graphs below this size stay out of the size extrapolation: the heptagon and the l = 2 flake (35
@@ -451,18 +460,66 @@ class QMCLobe(Result):
 
 
 def _system(spec: str):
-    """A graph from its scan name: ``flake:L``, ``cluster:NAME`` or ``square:L``."""
+    """A graph from its scan name: ``flake:L``, ``cluster:NAME`` or ``square:L`` ({7,3}), or with the
+    lattice first, ``{p,q}:flake:L`` and ``{p,q}:cluster:NAME`` (``hyperlattice bosons lobe``)."""
     from ..graph.clusters import pbc_cluster
     from ..graph.lattice import ring_lattice
 
+    p, q = 7, 3
+    if spec.startswith("{"):
+        head, _, spec = spec.partition("}:")
+        try:
+            p, q = (int(v) for v in head[1:].split(","))
+        except ValueError:
+            raise ValueError(f"unknown system {head + '}:' + spec!r}: use {{p,q}}:flake:L or {{p,q}}:cluster:NAME.") from None
     kind, _, arg = spec.partition(":")
     if kind == "flake":
-        return ring_lattice(7, 3, int(arg))
+        return ring_lattice(p, q, int(arg))
     if kind == "cluster":
-        return pbc_cluster(7, 3, arg)
+        return pbc_cluster(p, q, arg)
     if kind == "square":
         return square_lattice(int(arg))
     raise ValueError(f"unknown system {spec!r}: use flake:L, cluster:NAME or square:L.")
+
+
+def system_spec(p: int, q: int, *, rings: int | None = None, cluster: str | None = None) -> str:
+    """The scan name of a {p,q} flake or cluster (``flake:L``, ``cluster:NAME`` for {7,3}, else
+    ``{p,q}:flake:L``, ``{p,q}:cluster:NAME``), as :func:`qmc_lobe` reads it back.
+
+    Parameters
+    ----------
+    p, q : int
+        The lattice.
+    rings : int, optional
+        A flake of this many rings.
+    cluster : str, optional
+        A periodic cluster's name (exactly one of ``rings`` and ``cluster``).
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    ValueError
+        If an argument is out of range.
+
+    Examples
+    --------
+    >>> from hyperlattice.compare.qmc_lobe import system_spec
+    >>> system_spec(7, 3, rings=3), system_spec(8, 3, cluster="PSL(2,7)")
+    ('flake:3', '{8,3}:cluster:PSL(2,7)')
+    """
+    p, q = _validate.pq(p, q)
+    if (rings is None) == (cluster is None):
+        raise ValueError("give exactly one of rings and cluster.")
+    if rings is not None:
+        body = f"flake:{_validate.integer('rings', rings, minimum=1)}"
+    else:
+        if not isinstance(cluster, str) or not cluster:
+            raise ValueError(f"cluster must be a cluster's name, got {_validate._shown(cluster)}.")
+        body = f"cluster:{cluster}"
+    return body if (p, q) == (7, 3) else f"{{{p},{q}}}:{body}"
 
 
 def _continuum_bottom() -> float:
@@ -757,6 +814,7 @@ def qmc_lobe(scan: dict, *, points: int = 41) -> QMCLobe:
                 mu_b, mu_e = c_mu, c_err
         rows.append({"system": b["system"], "sites": int(b["sites"]), "t_over_U": x, "beta_t": float(b["beta_t"]),
                      "nmax": int(b.get("nmax", 3)), "side": b["side"], "mu": mu_b,
+                     "converged": bool(b.get("converged", all(st.get("converged", True) for st in b.get("steps", [])))),
                      "mu_err": mu_e,
                      "mu_mean_field": float(mf_p[0] if plus else mf_m[0]),
                      "mu_strong_coupling": float(sp_[0] if plus else sm_[0]), "lambda_max": lam})

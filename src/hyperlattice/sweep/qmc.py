@@ -64,6 +64,8 @@ def merge_qmc(table) -> list:
             site_density=np.asarray(row["site_density"], float),
             site_density_err=np.asarray(row["site_density_err"], float),
             bonds=np.column_stack([np.asarray(row["bond_i"], np.int64), np.asarray(row["bond_j"], np.int64)]),
+            # the task's graphs (flakes, clusters) have unit adjacency: every coupling is t
+            bond_hopping=np.full(len(row["bond_i"]), float(row["t"])),
             bond_kinetic=np.asarray(row["bond_kinetic"], float),
             bond_kinetic_err=np.asarray(row["bond_kinetic_err"], float), seconds=0.0,
             sweeps=int(row["sweeps"]), thermalization=int(row["thermalization_sweeps"]), green_matrix=None,
