@@ -253,9 +253,9 @@ class ClassicalResult(Result):
     --------
     >>> import hyperlattice as hl
     >>> from hyperlattice.spins import classical_mc
-    >>> r = classical_mc(hl.ring_lattice(7, 3, 2), model="ising", beta=0.3, sweeps=2000, seed=1, progress=False)
+    >>> r = classical_mc(hl.ring_lattice(7, 3, 2), model="ising", beta=0.3, sweeps=4000, seed=1, progress=False)
     >>> r.sites, r.update, r.e < 0
-    (28, 'wolff', True)
+    (35, 'wolff', True)
     """
 
     COLUMNS = (Column("site_energy", "site_energy", "J"), Column("site_energy_err", "site_energy_err", "J"),
@@ -876,11 +876,11 @@ def merge_classical(results) -> ClassicalResult:
     --------
     >>> import hyperlattice as hl
     >>> from hyperlattice.spins import classical_mc, merge_classical
-    >>> runs = [classical_mc(hl.ring_lattice(7, 3, 1), model="xy", beta=1.0, sweeps=500, seed=s, progress=False)
+    >>> runs = [classical_mc(hl.ring_lattice(7, 3, 1), model="xy", beta=1.0, sweeps=1000, seed=s, progress=False)
     ...         for s in (1, 2)]
     >>> m = merge_classical(runs)
     >>> m.chains, m.sweeps, m.seeds
-    (2, 1000, (1, 2))
+    (2, 2000, (1, 2))
     """
     if isinstance(results, ClassicalResult):
         res = [results]
