@@ -48,10 +48,11 @@ def _random_unit(rng, ncomp, out):  # pragma: no cover - jitted
 
 
 @numba.njit(cache=True)
-def _wolff(spins, ncomp, indptr, indices, J, beta, rng, queue, inside, r):  # pragma: no cover - jitted
+def _wolff(spins, ncomp, indptr, indices, J, padd, beta, rng, queue, inside, r):  # pragma: no cover - jitted
     r"""One Wolff cluster (Wolff, PRL 62, 361 (1989)): reflection of the embedded Ising spins
     :math:`\sigma_i = s_i\cdot r` along a random direction r; a bond joins when
-    :math:`u < 1 - e^{-2\beta J_{ij}\sigma_i\sigma_j}` (before the flip). Returns (size, sum |sigma|)."""
+    :math:`u < 1 - e^{-2\beta J_{ij}\sigma_i\sigma_j}` (before the flip; for Ising spins the
+    precomputed ``padd`` of each bond). Returns (size, sum |sigma|)."""
     n = spins.shape[0]
     _random_unit(rng, ncomp, r)
     seed = _below(rng, n)
@@ -74,6 +75,15 @@ def _wolff(spins, ncomp, indptr, indices, J, beta, rng, queue, inside, r):  # pr
         for k in range(indptr[i], indptr[i + 1]):
             j = indices[k]
             if inside[j]:
+                continue
+            if ncomp == 1:
+                sj = spins[j, 0]
+                if sj != si and _uniform(rng) < padd[k]:    # aligned before i flipped
+                    spins[j, 0] = -sj
+                    inside[j] = True
+                    queue[size] = j
+                    size += 1
+                    proj += 1.0
                 continue
             sj = 0.0
             for a in range(ncomp):
@@ -223,8 +233,8 @@ def _close(bins, cur, info):  # pragma: no cover - jitted
 
 
 @numba.njit(cache=True)
-def run(nsweeps, thermalize, mode, overrelax, spins, indptr, indices, J, hsite, beta, gauge, stag, rng,
-        sbins, scur, sinfo, vbins, vcur, vinfo, cclass, cevery, cbins, ccur, cinfo, counters, cstat):  # pragma: no cover
+def run(nsweeps, thermalize, mode, overrelax, spins, indptr, indices, J, padd, hsite, beta, gauge, stag, rng,
+        sbins, scur, sinfo, vbins, vcur, vinfo, group, cclass, cevery, cbins, ccur, cinfo, counters, cstat):  # pragma: no cover
     r"""Run ``nsweeps`` sweeps; measure after each one unless ``thermalize``.
 
     ``mode`` 0: Wolff clusters; in thermalisation until as many spins were flipped as there are
@@ -236,7 +246,7 @@ def run(nsweeps, thermalize, mode, overrelax, spins, indptr, indices, J, hsite, 
     bipartite graphs): the scalars of :data:`NSCALARS` to ``scur``; per site the local energy
     :math:`-\tfrac12\sum_j J_{ij}s_i\cdot s_j - h s_i^0`, the alignment :math:`s_i\cdot\hat M`,
     the staggered alignment :math:`\epsilon_i s_i\cdot\hat M_s` and :math:`s_i^0` to ``vcur``
-    (4N entries); every ``cevery`` sweeps (``cevery`` > 0) the sums of
+    (4G entries: summed over the sites of each group ``group[i]``, the site itself or its ring); every ``cevery`` sweeps (``cevery`` > 0) the sums of
     :math:`s_i\cdot s_j` over the pairs i < j of each class ``cclass[i, j]`` to ``ccur``. Bins
     are closed as in the bosons' SSE (sums of ``info[1]`` measurements; merged pairwise when full).
     ``counters``: [thermalisation sweeps, measured sweeps, correlation measurements, clusters per
@@ -254,6 +264,7 @@ def run(nsweeps, thermalize, mode, overrelax, spins, indptr, indices, J, hsite, 
     Ms = np.empty(ncomp)
     ncls = ccur.shape[0]
     fn = float(n)
+    ng = vcur.shape[0] // 4
     for sweep in range(nsweeps):
         imp = 0.0
         nclusters = 0
@@ -262,7 +273,7 @@ def run(nsweeps, thermalize, mode, overrelax, spins, indptr, indices, J, hsite, 
                 # clusters until N spins flipped; the decayed mean cluster size sets the count
                 flipped = 0
                 while flipped < n:
-                    size, proj = _wolff(spins, ncomp, indptr, indices, J, beta, rng, queue, inside, r)
+                    size, proj = _wolff(spins, ncomp, indptr, indices, J, padd, beta, rng, queue, inside, r)
                     flipped += size
                     cstat[0] = 0.99 * cstat[0] + size
                     cstat[1] = 0.99 * cstat[1] + 1.0
@@ -273,7 +284,7 @@ def run(nsweeps, thermalize, mode, overrelax, spins, indptr, indices, J, hsite, 
                     mean = cstat[0] / cstat[1] if cstat[1] > 0 else 1.0
                     counters[3] = max(1, int(round(n / mean)))
                 for c in range(counters[3]):
-                    size, proj = _wolff(spins, ncomp, indptr, indices, J, beta, rng, queue, inside, r)
+                    size, proj = _wolff(spins, ncomp, indptr, indices, J, padd, beta, rng, queue, inside, r)
                     nclusters += 1
                     imp += proj * proj / size
         else:
@@ -299,7 +310,7 @@ def run(nsweeps, thermalize, mode, overrelax, spins, indptr, indices, J, hsite, 
                     d += spins[i, a] * spins[j, a]
                 loc += J[k] * d
             ei = -0.5 * loc - hsite[i] * spins[i, 0]
-            vcur[i] += ei
+            vcur[group[i]] += ei
             E += ei
             for a in range(ncomp):
                 M[a] += gauge[i] * spins[i, a]
@@ -317,9 +328,10 @@ def run(nsweeps, thermalize, mode, overrelax, spins, indptr, indices, J, hsite, 
             for a in range(ncomp):
                 da += gauge[i] * spins[i, a] * M[a]
                 ds += stag[i] * spins[i, a] * Ms[a]
-            vcur[n + i] += da / mabs if mabs > 0 else 0.0
-            vcur[2 * n + i] += ds / msabs if msabs > 0 else 0.0
-            vcur[3 * n + i] += gauge[i] * spins[i, 0]
+            g = group[i]
+            vcur[ng + g] += da / mabs if mabs > 0 else 0.0
+            vcur[2 * ng + g] += ds / msabs if msabs > 0 else 0.0
+            vcur[3 * ng + g] += gauge[i] * spins[i, 0]
         m2 /= fn * fn
         ms2 /= fn * fn
         scur[0] += E
@@ -347,3 +359,32 @@ def run(nsweeps, thermalize, mode, overrelax, spins, indptr, indices, J, hsite, 
             counters[2] += 1
             _close(cbins, ccur, cinfo)
     return ncls
+
+
+@numba.njit(cache=True)
+def two_colour(indptr, indices, signs):  # pragma: no cover - jitted
+    r"""Site signs :math:`g_i = \pm 1` with :math:`g_i g_j\,\mathrm{signs}_{ij} > 0` on every stored entry
+    (breadth-first search, component by component); ok = False when no such signs exist."""
+    n = indptr.shape[0] - 1
+    g = np.zeros(n, dtype=np.int64)
+    queue = np.empty(n, dtype=np.int64)
+    for root in range(n):
+        if g[root] != 0:
+            continue
+        g[root] = 1
+        queue[0] = root
+        head = 0
+        tail = 1
+        while head < tail:
+            u = queue[head]
+            head += 1
+            for k in range(indptr[u], indptr[u + 1]):
+                w = indices[k]
+                want = g[u] * signs[k]
+                if g[w] == 0:
+                    g[w] = want
+                    queue[tail] = w
+                    tail += 1
+                elif g[w] != want:
+                    return g, False
+    return g, True

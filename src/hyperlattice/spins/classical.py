@@ -44,7 +44,6 @@ import math
 import os
 import time
 import warnings
-from collections import deque
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -65,6 +64,9 @@ MODELS = {"ising": 1, "xy": 2, "heisenberg": 3}
 OVERRELAX = 2
 #: largest graph whose spin correlation by distance is measured (an N x N class table)
 CORRELATION_MAX = 3000
+#: largest graph whose per-site observables are kept (4 x 32 bins per site); above it they are
+#: accumulated per ring only (flakes) and the per-site arrays are None
+SITES_MAX = 50_000
 _SCALAR_BINS = 2048
 _VECTOR_BINS = 32
 _CORR_BINS = 64
@@ -136,27 +138,6 @@ def _matrix(system):
                      f"{_validate._shown(system)}.")
 
 
-def _two_colour(indptr, indices, signs, n):
-    """g_i = +-1 with g_i g_j signs_ij > 0 on every stored entry, by breadth-first search; None if impossible."""
-    g = np.zeros(n, dtype=np.int64)
-    for root in range(n):
-        if g[root]:
-            continue
-        g[root] = 1
-        queue = deque([root])
-        while queue:
-            u = queue.popleft()
-            for k in range(indptr[u], indptr[u + 1]):
-                w = indices[k]
-                want = g[u] * signs[k]
-                if g[w] == 0:
-                    g[w] = want
-                    queue.append(w)
-                elif g[w] != want:
-                    return None
-    return g.astype(np.float64)
-
-
 def _model(system, J: float) -> _Model:
     mat, z, ring, d0, kind, label = _matrix(system)
     n = mat.shape[0]
@@ -168,13 +149,12 @@ def _model(system, J: float) -> _Model:
     coup = J * mat.data
     indptr = mat.indptr.astype(np.int64)
     indices = mat.indices.astype(np.int64)
-    # the pure-python search visits every entry once: fine up to a few million bonds
-    gauge = _two_colour(indptr, indices, np.sign(coup).astype(np.int64), n)
-    eps = _two_colour(indptr, indices, -np.ones(indices.size, dtype=np.int64), n)
-    ok = gauge is not None
-    if gauge is None:
-        gauge = np.ones(n)
-    return _Model(n, indptr, indices, coup.astype(np.float64), gauge, ok, eps, ring, z, d0, label, kind)
+    K = _load_kernels()
+    gauge, ok = K.two_colour(indptr, indices, np.sign(coup).astype(np.int64))
+    eps, bip = K.two_colour(indptr, indices, -np.ones(indices.size, dtype=np.int64))
+    gauge = gauge.astype(np.float64) if ok else np.ones(n)
+    eps = eps.astype(np.float64) if bip else None
+    return _Model(n, indptr, indices, coup.astype(np.float64), gauge, bool(ok), eps, ring, z, d0, label, kind)
 
 
 # ----------------------------------------------------------------------------
@@ -306,14 +286,14 @@ class ClassicalResult(Result):
     converged: bool
     notes: tuple
     clusters_per_sweep: float
-    site_energy: np.ndarray
-    site_energy_err: np.ndarray
-    site_alignment: np.ndarray
-    site_alignment_err: np.ndarray
-    site_alignment_s: np.ndarray
-    site_alignment_s_err: np.ndarray
-    site_m: np.ndarray
-    site_m_err: np.ndarray
+    site_energy: np.ndarray | None
+    site_energy_err: np.ndarray | None
+    site_alignment: np.ndarray | None
+    site_alignment_err: np.ndarray | None
+    site_alignment_s: np.ndarray | None
+    site_alignment_s_err: np.ndarray | None
+    site_m: np.ndarray | None
+    site_m_err: np.ndarray | None
     ring: np.ndarray | None
     ring_index: np.ndarray | None
     ring_sites: np.ndarray | None
@@ -435,7 +415,7 @@ class _Chain:
 
     FIELDS = ("spins", "rng", "sbins", "scur", "sinfo", "vbins", "vcur", "vinfo", "cbins", "ccur", "cinfo", "counters", "cstat")
 
-    def __init__(self, model: _Model, ncomp: int, seed: int, ncls: int):
+    def __init__(self, model: _Model, ncomp: int, seed: int, ncls: int, ngroups: int):
         from ..bosons._sse_kernels import seed_state
 
         self.rng = seed_state(seed)
@@ -450,8 +430,8 @@ class _Chain:
         self.sbins = np.zeros((_SCALAR_BINS, _nscalars()))
         self.scur = np.zeros(_nscalars())
         self.sinfo = np.array([0, 1, 0], dtype=np.int64)
-        self.vbins = np.zeros((_VECTOR_BINS, 4 * model.sites))
-        self.vcur = np.zeros(4 * model.sites)
+        self.vbins = np.zeros((_VECTOR_BINS, 4 * ngroups))
+        self.vcur = np.zeros(4 * ngroups)
         self.vinfo = np.array([0, 1, 0], dtype=np.int64)
         self.cbins = np.zeros((_CORR_BINS, ncls))
         self.ccur = np.zeros(ncls)
@@ -511,8 +491,10 @@ _RUNTIME_BYTES = 64 * 2**20
 
 
 def _memory_need(n: int, nnz: int, ncomp: int, corr: bool) -> float:
-    per_site = 8.0 * (ncomp + 4 * (_VECTOR_BINS + 2) + 3) + 8 + 1
-    need = n * per_site + 16.0 * nnz + 8.0 * _SCALAR_BINS * 12
+    # spins, gauge, stag, field, eps, group, queue, inside; the site bins below SITES_MAX
+    per_site = 8.0 * (ncomp + 7) + 1 + (8.0 * 4 * (_VECTOR_BINS + 2) if n <= SITES_MAX else 0.0)
+    # CSR indices, couplings and gauged couplings, and scipy's copies while the model is built
+    need = n * per_site + 40.0 * nnz + 24.0 * n + 8.0 * _SCALAR_BINS * 12
     if corr:
         need += n * n * (4.0 + 8.0 + 1.0)     # the class table and the set-up's distances and mask
     return need
@@ -670,8 +652,10 @@ def classical_mc(system, *, model: str, beta: float | None = None, T: float | No
     overrelax = OVERRELAX if (mode == 1 and ncomp > 1) else 0
     Jg = mdl.J * mdl.gauge[np.repeat(np.arange(mdl.sites), np.diff(mdl.indptr))] * mdl.gauge[mdl.indices]
     hsite = h * mdl.gauge
+    padd = -np.expm1(-2.0 * beta * np.maximum(Jg, 0.0))        # Ising bonds' Wolff probabilities
     stag = (mdl.eps * mdl.gauge) if mdl.eps is not None else np.zeros(mdl.sites)
-    chain = _Chain(mdl, ncomp, seed, corr.pairs.size)
+    group, ngroups = _groups(mdl)
+    chain = _Chain(mdl, ncomp, seed, corr.pairs.size, ngroups)
     fp = _fingerprint(mdl, name, J, h, beta, mode, overrelax, seed, thermalization, corr.every)
     ckpt = None
     if checkpoint is not None:
@@ -692,9 +676,9 @@ def classical_mc(system, *, model: str, beta: float | None = None, T: float | No
                 left = (thermalization - chain.counters[0]) if therm else (sweeps - chain.counters[1])
                 n = int(min(chunk, left))
                 t0 = time.perf_counter()
-                K.run(n, therm, mode, overrelax, chain.spins, mdl.indptr, mdl.indices, Jg, hsite, beta, mdl.gauge,
+                K.run(n, therm, mode, overrelax, chain.spins, mdl.indptr, mdl.indices, Jg, padd, hsite, beta, mdl.gauge,
                       stag, chain.rng, chain.sbins, chain.scur, chain.sinfo, chain.vbins, chain.vcur, chain.vinfo,
-                      corr.cls, corr.every, chain.cbins, chain.ccur, chain.cinfo, chain.counters, chain.cstat)
+                      group, corr.cls, corr.every, chain.cbins, chain.ccur, chain.cinfo, chain.counters, chain.cstat)
                 dt = time.perf_counter() - t0
                 bar.update(n)
                 # chunks of about half a second (the split never changes the chain)
@@ -711,6 +695,17 @@ def classical_mc(system, *, model: str, beta: float | None = None, T: float | No
     seconds = time.perf_counter() - start
     return _analyse(chain, mdl, corr, name=name, ncomp=ncomp, J=J, h=h, beta=beta, sweeps=sweeps,
                     thermalization=thermalization, seed=seed, update=label, reason=reason, seconds=seconds)
+
+
+def _groups(mdl: _Model) -> tuple[np.ndarray, int]:
+    """Where each site's local observables go: its own column (up to :data:`SITES_MAX` sites), else its
+    ring's (flakes) or one column for all."""
+    if mdl.sites <= SITES_MAX:
+        return np.arange(mdl.sites, dtype=np.int64), mdl.sites
+    if mdl.ring is not None:
+        idx, pos = np.unique(mdl.ring, return_inverse=True)
+        return pos.astype(np.int64).ravel(), int(idx.size)
+    return np.zeros(mdl.sites, dtype=np.int64), 1
 
 
 def _load_kernels():
@@ -808,26 +803,33 @@ def _analyse(chain: _Chain, mdl: _Model, corr: _Corr, *, name, ncomp, J, h, beta
     # per site and per ring
     vnb, vbs = int(chain.vinfo[0]), int(chain.vinfo[1])
     vb = chain.vbins[:vnb] / vbs
-    blocks = [vb[:, k * N:(k + 1) * N] for k in range(4)]
-    site = [_block_stats(b) for b in blocks]
-    rings = {}
+    ng = vb.shape[1] // 4
+    blocks = [vb[:, k * ng:(k + 1) * ng] for k in range(4)]
+    ring_names = ("ring_index", "ring_sites", "ring_energy", "ring_energy_err", "ring_alignment",
+                  "ring_alignment_err", "ring_alignment_s", "ring_alignment_s_err", "ring_m", "ring_m_err")
+    rings = {k: None for k in ring_names}
+    if ng == N:
+        site = [_block_stats(b) for b in blocks]
+    else:
+        site = [(None, None)] * 4
+        notes.append(f"per-site observables are kept up to {SITES_MAX:,} sites; above, per ring only.")
     if mdl.ring is not None:
-        idx = np.unique(mdl.ring)
-        pos = np.searchsorted(idx, mdl.ring)
+        idx, pos = np.unique(mdl.ring, return_inverse=True)
+        pos = pos.ravel()
         cnt = np.bincount(pos, minlength=idx.size)
         per = []
         for b in blocks:
-            rb = np.stack([np.bincount(pos, weights=row, minlength=idx.size) / cnt for row in b])
+            if ng == N:
+                rb = np.stack([np.bincount(pos, weights=row, minlength=idx.size) / cnt for row in b])
+            else:
+                rb = b / cnt
             per.append(_block_stats(rb))
         rings = dict(ring_index=idx, ring_sites=cnt, ring_energy=per[0][0], ring_energy_err=per[0][1],
                      ring_alignment=per[1][0], ring_alignment_err=per[1][1], ring_alignment_s=per[2][0],
                      ring_alignment_s_err=per[2][1], ring_m=per[3][0], ring_m_err=per[3][1])
-    else:
-        rings = {k: None for k in ("ring_index", "ring_sites", "ring_energy", "ring_energy_err", "ring_alignment",
-                                   "ring_alignment_err", "ring_alignment_s", "ring_alignment_s_err", "ring_m",
-                                   "ring_m_err")}
     if not bip:
-        site[2] = (np.full(N, nan), np.full(N, nan))
+        if ng == N:
+            site[2] = (np.full(N, nan), np.full(N, nan))
         if rings["ring_index"] is not None:
             rings["ring_alignment_s"] = np.full(rings["ring_index"].size, nan)
             rings["ring_alignment_s_err"] = np.full(rings["ring_index"].size, nan)
@@ -847,7 +849,7 @@ def _analyse(chain: _Chain, mdl: _Model, corr: _Corr, *, name, ncomp, J, h, beta
     if corr.note:
         notes.append(corr.note)
     for note in notes:
-        if note != corr.note:
+        if note != corr.note and not note.startswith("per-site observables"):
             warnings.warn(note, SpinWarning, stacklevel=3)
     bins = int(plateau.shape[0])
     return ClassicalResult(
