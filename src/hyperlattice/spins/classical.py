@@ -141,10 +141,10 @@ def _matrix(system):
 def _model(system, J: float) -> _Model:
     mat, z, ring, d0, kind, label = _matrix(system)
     n = mat.shape[0]
-    mat = mat.tolil()
-    mat.setdiag(0)
-    mat = sp.csr_matrix(mat)
-    mat.eliminate_zeros()
+    coo = mat.tocoo()
+    keep = (coo.row != coo.col) & (coo.data != 0)        # no self-coupling (a constant for unit spins)
+    mat = sp.csr_matrix((coo.data[keep], (coo.row[keep], coo.col[keep])), shape=(n, n))
+    mat.sum_duplicates()
     mat.sort_indices()
     coup = J * mat.data
     indptr = mat.indptr.astype(np.int64)
