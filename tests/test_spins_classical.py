@@ -209,9 +209,13 @@ def test_rings_and_correlation_by_distance():
     assert r.distance_kind == "hyperbolic" and np.all(np.diff(r.corr_distance) > 0)
     # above T_c the correlation decays with distance (first class against the farthest)
     assert r.corr[0] - r.corr[-1] > 4 * math.hypot(r.corr_err[0], r.corr_err[-1])
-    rows = r.to_dataframe() if hasattr(r, "to_dataframe") else None
-    if rows is not None:
-        assert len(rows) == lat.sites
+    # from the centre: the pairs with a first-ring site, every one counted once
+    c = _run(lat, model="ising", beta=0.3, sweeps=2000, seed=3, correlation_from="centre")
+    assert c.distance_kind == "hyperbolic from the centre"
+    assert int(c.corr_pairs.sum()) == 7 * (lat.sites - 7) + 21
+    assert c.corr[0] > c.corr[-1]
+    with pytest.raises(ValueError, match="needs a flake"):
+        classical_mc(BOLZA, model="ising", beta=0.3, correlation_from="centre", progress=False)
 
 
 def test_merge_and_checkpoint(tmp_path):

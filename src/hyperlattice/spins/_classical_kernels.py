@@ -234,7 +234,7 @@ def _close(bins, cur, info):  # pragma: no cover - jitted
 
 @numba.njit(cache=True)
 def run(nsweeps, thermalize, mode, overrelax, spins, indptr, indices, J, padd, hsite, beta, gauge, stag, rng,
-        sbins, scur, sinfo, vbins, vcur, vinfo, group, cclass, cevery, cbins, ccur, cinfo, counters, cstat):  # pragma: no cover
+        sbins, scur, sinfo, vbins, vcur, vinfo, group, cclass, crows, cevery, cbins, ccur, cinfo, counters, cstat):  # pragma: no cover
     r"""Run ``nsweeps`` sweeps; measure after each one unless ``thermalize``.
 
     ``mode`` 0: Wolff clusters; in thermalisation until as many spins were flipped as there are
@@ -247,7 +247,7 @@ def run(nsweeps, thermalize, mode, overrelax, spins, indptr, indices, J, padd, h
     :math:`-\tfrac12\sum_j J_{ij}s_i\cdot s_j - h s_i^0`, the alignment :math:`s_i\cdot\hat M`,
     the staggered alignment :math:`\epsilon_i s_i\cdot\hat M_s` and :math:`s_i^0` to ``vcur``
     (4G entries: summed over the sites of each group ``group[i]``, the site itself or its ring); every ``cevery`` sweeps (``cevery`` > 0) the sums of
-    :math:`s_i\cdot s_j` over the pairs i < j of each class ``cclass[i, j]`` to ``ccur``. Bins
+    :math:`s_i\cdot s_j` over the pairs i < j of each class ``cclass[i, j]`` (-1: not measured; rows from ``crows`` on have none) to ``ccur``. Bins
     are closed as in the bosons' SSE (sums of ``info[1]`` measurements; merged pairwise when full).
     ``counters``: [thermalisation sweeps, measured sweeps, correlation measurements, clusters per
     measured sweep].
@@ -350,12 +350,15 @@ def run(nsweeps, thermalize, mode, overrelax, spins, indptr, indices, J, padd, h
         _close(sbins, scur, sinfo)
         _close(vbins, vcur, vinfo)
         if cevery > 0 and counters[1] % cevery == 0:
-            for i in range(n):
+            for i in range(crows):
                 for j in range(i + 1, n):
+                    cl = cclass[i, j]
+                    if cl < 0:          # a pair outside the measured set
+                        continue
                     d = 0.0
                     for a in range(ncomp):
                         d += spins[i, a] * spins[j, a]
-                    ccur[cclass[i, j]] += gauge[i] * gauge[j] * d
+                    ccur[cl] += gauge[i] * gauge[j] * d
             counters[2] += 1
             _close(cbins, ccur, cinfo)
     return ncls

@@ -225,7 +225,8 @@ class ClassicalResult(Result):
         Distance classes: hyperbolic distance in bins of :math:`d_0/2` (flakes), graph distance
         times :math:`d_0` (clusters), hops (other graphs); different components: distance inf.
     distance_kind : str
-        ``"hyperbolic"``, ``"graph x d0"``, ``"graph (hops)"`` or ``""`` (not measured).
+        ``"hyperbolic"``, ``"graph x d0"``, ``"graph (hops)"`` (with ``" from the centre"`` for
+        ``correlation_from="centre"``) or ``""`` (not measured).
     seconds : float
         Wall-clock seconds (summed over chains).
 
@@ -361,7 +362,8 @@ class ClassicalResult(Result):
 
 @dataclass(frozen=True)
 class _Corr:
-    cls: np.ndarray         # (N, N) int32 class of each pair (upper triangle used)
+    cls: np.ndarray         # (N, N) int32 class of each pair (upper triangle used; -1: not measured)
+    rows: int               # rows of cls holding measured pairs (the kernel's loop)
     every: int              # sweeps between measurements (0: off)
     pairs: np.ndarray
     distance: np.ndarray
@@ -369,10 +371,10 @@ class _Corr:
     note: str
 
 
-def _corr_setup(model: _Model, measure) -> _Corr:
+def _corr_setup(model: _Model, measure, source: str = "all") -> _Corr:
     from .. import geometry
 
-    off = _Corr(np.zeros((1, 1), dtype=np.int32), 0, np.zeros(1, dtype=np.int64), np.zeros(1), "", "")
+    off = _Corr(np.zeros((1, 1), dtype=np.int32), 0, 0, np.zeros(1, dtype=np.int64), np.zeros(1), "", "")
     n = model.sites
     if measure is False:
         return off
@@ -380,10 +382,12 @@ def _corr_setup(model: _Model, measure) -> _Corr:
         if measure:
             raise ValueError(f"the spin correlation by distance is measured up to {CORRELATION_MAX} sites "
                              f"(an N x N class table), the graph has {n}.")
-        return _Corr(off.cls, 0, off.pairs, off.distance, "",
+        return _Corr(off.cls, 0, 0, off.pairs, off.distance, "",
                      f"the spin correlation is not measured above {CORRELATION_MAX} sites.")
+    if source == "centre" and (model.z is None or model.ring is None):
+        raise ValueError("correlation_from='centre' needs a flake (the sites of its first ring are the sources).")
     if model.z is not None:
-        hbin = model.d0 / 2
+        hbin = model.d0 / (4 if source == "centre" else 2)
         dist = np.asarray(geometry.distance(model.z[:, None], model.z[None, :], check=False), dtype=float)
         kind = "hyperbolic"
     else:
@@ -401,13 +405,20 @@ def _corr_setup(model: _Model, measure) -> _Corr:
     cls[finite] = np.rint(dist[finite] / hbin).astype(np.int32)
     top = int(cls.max()) + 1
     cls[~finite] = top
-    upper = np.triu(np.ones((n, n), dtype=bool), 1)
-    pairs = np.bincount(cls[upper], minlength=top + 1)
-    dsum = np.bincount(cls[upper & finite], weights=dist[upper & finite], minlength=top + 1)
+    use = np.triu(np.ones((n, n), dtype=bool), 1)
+    if source == "centre":
+        centre = model.ring == model.ring.min()
+        use &= centre[:, None] | centre[None, :]
+        cls[~use] = -1
+    pairs = np.bincount(cls[use], minlength=top + 1)
+    dsum = np.bincount(cls[use & finite], weights=dist[use & finite], minlength=top + 1)
     with np.errstate(invalid="ignore", divide="ignore"):
         mean = np.where(pairs > 0, dsum / np.maximum(pairs, 1), np.nan)
     mean[top] = np.inf if pairs[top] else np.nan
-    return _Corr(cls, max(1, n // 100), pairs, mean, kind, "")
+    rows = int(np.flatnonzero(use.any(axis=1)).max(initial=-1)) + 1
+    # a measurement costs about rows x N pair products: every sweep when that is a sweep's work
+    every = 1 if rows * n <= 40 * n else max(1, n // 100)
+    return _Corr(cls, rows, every, pairs, mean, kind + (" from the centre" if source == "centre" else ""), "")
 
 
 class _Chain:
@@ -569,7 +580,8 @@ def classical_mc_memory(system, *, model: str, J: float = 1.0, measure_correlati
 
 def classical_mc(system, *, model: str, beta: float | None = None, T: float | None = None, J: float = 1.0,
               h: float = 0.0, sweeps: int = 10000, thermalization: int | None = None, seed: int | None = None,
-              update: str = "auto", checkpoint=None, measure_correlation=None, progress=None) -> ClassicalResult:
+              update: str = "auto", checkpoint=None, measure_correlation=None, correlation_from: str = "all",
+              progress=None) -> ClassicalResult:
     r"""Monte Carlo of the classical Ising, XY or Heisenberg model on a graph (one Markov chain).
 
     Parameters
@@ -600,7 +612,11 @@ def classical_mc(system, *, model: str, beta: float | None = None, T: float | No
         resumes from it bit-identically. A checkpoint of other parameters is refused.
     measure_correlation : bool, optional
         Measure :math:`\langle s_i\cdot s_j\rangle` by distance class (default: up to
-        :data:`CORRELATION_MAX` sites), every ``max(1, N // 100)`` sweeps.
+        :data:`CORRELATION_MAX` sites), every ``max(1, N // 100)`` sweeps (every sweep from the centre).
+    correlation_from : {"all", "centre"}, optional
+        The pairs of the correlation: all pairs i < j (default), or on a flake only the pairs with
+        a site of the first ring (the correlation from the centre, free of the boundary's average;
+        distance classes of :math:`d_0/4`).
     progress : bool, optional
         Progress bar on stderr (default: when a terminal watches).
 
@@ -648,7 +664,8 @@ def classical_mc(system, *, model: str, beta: float | None = None, T: float | No
     _validate.require_memory(f"the classical spin chain on {mdl.sites:,} sites (spins, couplings, per-site bins"
                              + (", the N x N distance classes" if corr_on else "") + " and 64 MiB for the compiled kernels)",
                              _memory_need(mdl.sites, mdl.indices.size, ncomp, corr_on) + _RUNTIME_BYTES)
-    corr = _corr_setup(mdl, measure_correlation)
+    correlation_from = _validate.choice("correlation_from", correlation_from, ("all", "centre"))
+    corr = _corr_setup(mdl, measure_correlation, correlation_from)
     overrelax = OVERRELAX if (mode == 1 and ncomp > 1) else 0
     Jg = mdl.J * mdl.gauge[np.repeat(np.arange(mdl.sites), np.diff(mdl.indptr))] * mdl.gauge[mdl.indices]
     hsite = h * mdl.gauge
@@ -656,7 +673,7 @@ def classical_mc(system, *, model: str, beta: float | None = None, T: float | No
     stag = (mdl.eps * mdl.gauge) if mdl.eps is not None else np.zeros(mdl.sites)
     group, ngroups = _groups(mdl)
     chain = _Chain(mdl, ncomp, seed, corr.pairs.size, ngroups)
-    fp = _fingerprint(mdl, name, J, h, beta, mode, overrelax, seed, thermalization, corr.every)
+    fp = _fingerprint(mdl, name, J, h, beta, mode, overrelax, seed, thermalization, corr.every) + correlation_from
     ckpt = None
     if checkpoint is not None:
         ckpt = _validate.directory("checkpoint", checkpoint) / "spins_classical_chain.npz"
@@ -678,7 +695,7 @@ def classical_mc(system, *, model: str, beta: float | None = None, T: float | No
                 t0 = time.perf_counter()
                 K.run(n, therm, mode, overrelax, chain.spins, mdl.indptr, mdl.indices, Jg, padd, hsite, beta, mdl.gauge,
                       stag, chain.rng, chain.sbins, chain.scur, chain.sinfo, chain.vbins, chain.vcur, chain.vinfo,
-                      group, corr.cls, corr.every, chain.cbins, chain.ccur, chain.cinfo, chain.counters, chain.cstat)
+                      group, corr.cls, corr.rows, corr.every, chain.cbins, chain.ccur, chain.cinfo, chain.counters, chain.cstat)
                 dt = time.perf_counter() - t0
                 bar.update(n)
                 # chunks of about half a second (the split never changes the chain)
