@@ -110,6 +110,23 @@ def compare(lat, T, seeds, ours_sweeps, alps_sweeps, work: Path) -> float:
     return ratio
 
 
+def updates(lat, temps=(T_BETHE, 1.5, 1.2), sweeps: int = 20000) -> None:
+    """The evidence behind update="auto": the package's own Wolff and heat-bath chains, same work."""
+    print(f"\nthe package's updates on the {{7,3}} flake l = {lat.rings} ({lat.sites} sites), Ising, {sweeps} sweeps: "
+          "efficiency 1/(sigma^2 x CPU s) of e and of m2")
+    for T in temps:
+        for upd in ("wolff", "local"):
+            t0 = time.process_time()
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", SpinWarning)
+                r = classical_mc(lat, model="ising", T=T, sweeps=sweeps, seed=1, update=upd, measure_correlation=False,
+                                 progress=False)
+            cpu = time.process_time() - t0
+            print(f"  T = {T:.3f} {r.update:<10} e = {r.e:.5f} +- {r.e_err:.5f}  tau_int(e) = {r.tau_int['e']:6.2f}  "
+                  f"tau_int(m2) = {r.tau_int['m2']:7.2f}  CPU {cpu:5.2f} s  efficiency(e) {1 / (r.e_err ** 2 * cpu):.2e}  "
+                  f"efficiency(m2) {1 / (r.m2_err ** 2 * cpu):.2e}")
+
+
 def scale(rings: int, sweeps: int) -> None:
     t0 = time.perf_counter()
     lat = hl.ring_lattice(7, 3, rings)
@@ -135,6 +152,7 @@ def main() -> None:
     ap.add_argument("--validate", action="store_true")
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--no-scale", action="store_true")
+    ap.add_argument("--updates", action="store_true", help="only the package's Wolff against heat-bath table")
     ap.add_argument("--rings", type=int, default=6)
     ap.add_argument("--scale-rings", type=int, default=13)
     args = ap.parse_args()
@@ -143,9 +161,12 @@ def main() -> None:
     work = Path(tempfile.mkdtemp(prefix="bench_spins_"))
     # warm the compiled kernels (their compile time is not a run's work)
     _ours(hl.ring_lattice(7, 3, 2), 0.5, 200, 10, 0)
+    lat = hl.ring_lattice(7, 3, args.rings)
+    if args.updates:
+        updates(lat)
+        return
     if args.validate:
         validate(work)
-    lat = hl.ring_lattice(7, 3, args.rings)
     seeds = (1, 2) if args.quick else (1, 2, 3, 4)
     ours_sweeps = 20000 if args.quick else 50000
     alps_sweeps = (40000, 10000) if args.quick else (200000, 50000)
