@@ -2,14 +2,15 @@
 
 For each tiling, three periodic clusters of growing size (graph/clusters.py), a grid of
 temperatures, one Wolff chain per point (hyperlattice.spins.classical_mc). The crossing of the
-U4(T) curves of two sizes comes from cubic fits of each curve (weighted by the binning errors)
-with a parametric bootstrap (U4 resampled within its errors, 400 times) for the error. Printed
+U4(T) curves of two sizes comes from quadratic fits of each curve (weighted by the binning
+errors) within 0.05 of the crossing of the piecewise-linear curves, with a parametric bootstrap
+(U4 resampled within its errors, 400 times) for the error. Printed
 next to it: the Bethe-lattice value 1/artanh(1/(q-1)), the mean-field value q, the cumulant at the
 crossing against the mean-field value 1 - Gamma(1/4)^2 / (12 Gamma(3/4)^2) = 0.2705, and the slope
 of log chi against log N at the crossing (1/2 in mean field: chi ~ N^(1/2) at T_c).
 
 Run: ``python benchmarks/spins_tc.py`` (about 30 minutes on one core; ``--only 7,3`` for one
-tiling; ``--analyse`` re-reads benchmarks/spins_tc.json and redraws docs/img/spins_binder.png).
+tiling; ``--analyse`` re-reads benchmarks/spins_tc_P_Q.json and redraws docs/img/spins_binder.png).
 """
 
 from __future__ import annotations
@@ -25,14 +26,18 @@ from pathlib import Path
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
-OUT = HERE / "spins_tc.json"
+OUT = HERE / "spins_tc_{p}_{q}.json"
 FIG = HERE.parent / "docs" / "img" / "spins_binder.png"
 
-#: (p, q): [(cluster name, measured sweeps)], temperature grid
+#: (p, q): [(cluster name, measured sweeps, temperatures)]; the largest cluster of each tiling only
+#: near the crossing of the smaller two (CPU time)
+_G73 = np.arange(1.62, 1.8401, 0.02)
+_G83 = np.arange(1.66, 1.8801, 0.02)
+_G54 = np.arange(2.60, 2.9201, 0.04)
 PLAN = {
-    (7, 3): ([("macbeath", 20000), ("hurwitz14a", 20000), ("PSL(2,29)", 8000)], np.arange(1.62, 1.8401, 0.02)),
-    (8, 3): ([("PSL(2,17)", 20000), ("PSL(2,31)", 8000), ("PSL(2,47)", 3000)], np.arange(1.66, 1.8801, 0.02)),
-    (5, 4): ([("PSL(2,31)", 10000), ("PSL(2,41)", 6000), ("PSL(2,71)", 2500)], np.arange(2.60, 2.9201, 0.04)),
+    (7, 3): [("macbeath", 20000, _G73), ("hurwitz14a", 20000, _G73), ("PSL(2,29)", 8000, _G73)],
+    (8, 3): [("PSL(2,17)", 20000, _G83), ("PSL(2,31)", 8000, _G83), ("PSL(2,47)", 2000, np.arange(1.74, 1.8201, 0.02))],
+    (5, 4): [("PSL(2,31)", 6000, _G54), ("PSL(2,41)", 4000, _G54), ("PSL(2,71)", 1500, None)],
 }
 U4_MEAN_FIELD = 1.0 - math.gamma(0.25) ** 2 / (12.0 * math.gamma(0.75) ** 2)
 
@@ -42,11 +47,22 @@ def measure(only=None) -> dict:
     from hyperlattice.spins import classical_mc
     from hyperlattice.spins.classical import SpinWarning
 
-    data = json.loads(OUT.read_text()) if OUT.exists() else {}
-    for (p, q), (clusters, temps) in PLAN.items():
+    data = {}
+    for (p, q), clusters in PLAN.items():
         if only and (p, q) != only:
             continue
-        for name, sweeps in clusters:
+        out = Path(str(OUT).format(p=p, q=q))
+        part = json.loads(out.read_text()) if out.exists() else {}
+        data.update(part)
+        for name, sweeps, temps in clusters:
+            if temps is None:       # near the crossing of the two smaller clusters
+                keys = [f"{p},{q},{n}" for n, _, _ in clusters[:2]]
+                if not all(k in data for k in keys):
+                    continue
+                tc = _crossing(data[keys[0]], data[keys[1]], np.random.default_rng(1), boot=0)[0]
+                if not math.isfinite(tc):
+                    continue
+                temps = np.round(tc + np.arange(-0.06, 0.061, 0.03), 3)
             c = pbc_cluster(p, q, name)
             key = f"{p},{q},{name}"
             rows = data.get(key, {}).get("rows", [])
@@ -63,43 +79,71 @@ def measure(only=None) -> dict:
                                                               "U4_err", "chi", "chi_err")}
                             | {"T": float(T), "tau_m2": float(r.tau_int["m2"]), "converged": bool(r.converged),
                                "cpu": time.process_time() - t0})
-                data[key] = {"p": p, "q": q, "name": name, "sites": int(r.sites), "sweeps": sweeps, "rows": rows}
-                OUT.write_text(json.dumps(data, indent=1))
+                data[key] = part[key] = {"p": p, "q": q, "name": name, "sites": int(r.sites), "sweeps": sweeps,
+                                         "rows": rows}
+                out.write_text(json.dumps(part, indent=1))
                 print(f"{key} ({r.sites} sites) T = {T:.3f}: U4 = {r.U4:.4f} +- {r.U4_err:.4f}, chi = {r.chi:.1f}, "
                       f"{time.process_time() - t0:.1f} s", flush=True)
     return data
 
 
-def _cubic(T, y, w):
-    return np.polyfit(T - T.mean(), y, 3, w=w), T.mean()
+def _curve(entry):
+    rows = sorted(entry["rows"], key=lambda r: r["T"])
+    return (np.array([r[k] for r in rows]) for k in ("T", "U4", "U4_err"))
+
+
+def _rough(Ta, ya, Tb, yb):
+    """Where the piecewise-linear curves cross (the sign change with the largest slope difference)."""
+    grid = np.union1d(Ta[(Ta >= Tb.min()) & (Ta <= Tb.max())], Tb[(Tb >= Ta.min()) & (Tb <= Ta.max())])
+    if grid.size < 2:
+        return math.nan
+    d = np.interp(grid, Ta, ya) - np.interp(grid, Tb, yb)
+    s = np.flatnonzero(np.sign(d[:-1]) != np.sign(d[1:]))
+    if s.size == 0:
+        return math.nan
+    k = s[np.argmax(np.abs(d[s + 1] - d[s]))]
+    return float(grid[k] - d[k] * (grid[k + 1] - grid[k]) / (d[k + 1] - d[k]))
+
+
+#: half-width of the window of the local quadratic fits around the rough crossing
+WINDOW = 0.05
 
 
 def _crossing(a, b, rng, boot=400):
-    """T where the cubic fits of U4(T) of two sizes cross, and its bootstrap error."""
-    Ta, ya, ea = (np.array([r[k] for r in a["rows"]]) for k in ("T", "U4", "U4_err"))
-    Tb, yb, eb = (np.array([r[k] for r in b["rows"]]) for k in ("T", "U4", "U4_err"))
-    oa, ob = np.argsort(Ta), np.argsort(Tb)
-    Ta, ya, ea, Tb, yb, eb = Ta[oa], ya[oa], ea[oa], Tb[ob], yb[ob], eb[ob]
-    lo, hi = max(Ta.min(), Tb.min()), min(Ta.max(), Tb.max())
-    grid = np.linspace(lo, hi, 2001)
+    """T where the U4(T) curves of two sizes cross, from quadratic fits of each curve within
+    +-WINDOW of the crossing of the piecewise-linear curves, with a parametric bootstrap error;
+    and the cumulant there."""
+    Ta, ya, ea = _curve(a)
+    Tb, yb, eb = _curve(b)
+    t_r = _rough(Ta, ya, Tb, yb)
+    if not math.isfinite(t_r):
+        return math.nan, math.nan, math.nan, math.nan
+    ia = np.abs(Ta - t_r) <= WINDOW + 1e-9
+    ib = np.abs(Tb - t_r) <= WINDOW + 1e-9
+    if ia.sum() < 3 or ib.sum() < 3:
+        return t_r, math.nan, float(np.interp(t_r, Ta, ya)), math.nan
+    grid = np.linspace(t_r - WINDOW, t_r + WINDOW, 2001)
 
     def one(y1, y2):
-        c1, m1 = _cubic(Ta, y1, 1 / np.maximum(ea, 1e-6))
-        c2, m2 = _cubic(Tb, y2, 1 / np.maximum(eb, 1e-6))
-        d = np.polyval(c1, grid - m1) - np.polyval(c2, grid - m2)
+        c1 = np.polyfit(Ta[ia] - t_r, y1, 2, w=1 / np.maximum(ea[ia], 1e-6))
+        c2 = np.polyfit(Tb[ib] - t_r, y2, 2, w=1 / np.maximum(eb[ib], 1e-6))
+        d = np.polyval(c1, grid - t_r) - np.polyval(c2, grid - t_r)
         s = np.flatnonzero(np.sign(d[:-1]) != np.sign(d[1:]))
         if s.size == 0:
             return math.nan, math.nan
-        k = s[np.argmin(np.abs(grid[s] - grid.mean()))]
+        k = s[np.argmin(np.abs(grid[s] - t_r))]
         t = grid[k] - d[k] * (grid[k + 1] - grid[k]) / (d[k + 1] - d[k])
-        return float(t), float(np.polyval(c1, t - m1))
+        return float(t), float(np.polyval(c1, t - t_r))
 
-    t0, u0 = one(ya, yb)
-    samples = [one(ya + ea * rng.standard_normal(ya.size), yb + eb * rng.standard_normal(yb.size)) for _ in range(boot)]
-    ts = np.array([s[0] for s in samples])
-    us = np.array([s[1] for s in samples])
+    t0, u0 = one(ya[ia], yb[ib])
+    samples = [one(ya[ia] + ea[ia] * rng.standard_normal(ia.sum()), yb[ib] + eb[ib] * rng.standard_normal(ib.sum()))
+               for _ in range(boot)]
+    ts = np.array([x[0] for x in samples])
+    us = np.array([x[1] for x in samples])
     ok = np.isfinite(ts)
-    return t0, float(np.std(ts[ok])) if ok.sum() > 10 else math.nan, u0, float(np.std(us[ok])) if ok.sum() > 10 else math.nan
+    if ok.sum() <= 10:
+        return t0, math.nan, u0, math.nan
+    return t0, float(np.std(ts[ok])), u0, float(np.std(us[ok]))
 
 
 def _chi_at(entry, T):
@@ -119,7 +163,7 @@ def analyse(data: dict) -> None:
     import matplotlib.pyplot as plt
 
     fig, axes = plt.subplots(1, 3, figsize=(13, 4))
-    for ax, (p, q) in zip(axes, PLAN):
+    for ax, (p, q) in zip(axes, PLAN):  # noqa: B007
         entries = sorted([v for v in data.values() if v["p"] == p and v["q"] == q], key=lambda v: v["sites"])
         if len(entries) < 2:
             continue
@@ -158,7 +202,14 @@ def main() -> None:
     ap.add_argument("--analyse", action="store_true", help="only re-read the stored runs and redraw")
     args = ap.parse_args()
     only = tuple(int(x) for x in args.only.split(",")) if args.only else None
-    data = json.loads(OUT.read_text()) if args.analyse else measure(only)
+    if args.analyse:
+        data = {}
+        for p, q in PLAN:
+            out = Path(str(OUT).format(p=p, q=q))
+            if out.exists():
+                data.update(json.loads(out.read_text()))
+    else:
+        data = measure(only)
     analyse(data)
 
 

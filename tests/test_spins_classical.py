@@ -292,3 +292,30 @@ def test_cli_bad_input_exit_2(argv, capsys):
     assert exc.value.code == 2
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and "error" in err
+
+
+def test_cli_interrupt_keeps_the_chain(tmp_path, monkeypatch, capsys):
+    """Ctrl-C: the chain is saved, one line, exit 130; the same command resumes and finishes."""
+    from hyperlattice.spins import _classical_kernels as K
+
+    real = K.run
+    calls = []
+
+    def interrupted(*args):
+        calls.append(1)
+        if len(calls) == 3:
+            raise KeyboardInterrupt
+        return real(*args)
+
+    monkeypatch.setattr(K, "run", interrupted)
+    argv = ["spins", "classical", "--model", "xy", "--rings", "2", "--beta", "0.5", "--sweeps", "400",
+            "--seed", "4", "--checkpoint", str(tmp_path / "ck"), "--json"]
+    assert main(argv) == 130
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "interrupted" in err and "resume" in err
+    assert (tmp_path / "ck" / "spins_classical_chain.npz").exists()
+    monkeypatch.setattr(K, "run", real)
+    assert main(argv) == 0
+    resumed = json.loads(capsys.readouterr().out)
+    assert main(argv[:-3] + ["--json"]) == 0             # the same chain without a checkpoint
+    assert json.loads(capsys.readouterr().out)["e"] == resumed["e"]
