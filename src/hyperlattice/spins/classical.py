@@ -68,6 +68,8 @@ CORRELATION_MAX = 3000
 #: accumulated per ring only (flakes) and the per-site arrays are None
 SITES_MAX = 50_000
 _SCALAR_BINS = 2048
+#: per-sweep scalars of the kernel (its NSCALARS): E, E^2, m2, m4, |m|, m_z, ms2, ms4, |ms|, m2 improved, clusters
+_NSCALARS = 11
 _VECTOR_BINS = 32
 _CORR_BINS = 64
 _CHECKPOINT_SECONDS = 60.0
@@ -438,8 +440,8 @@ class _Chain:
             spins = gen.normal(size=(model.sites, ncomp))
             spins /= np.linalg.norm(spins, axis=1, keepdims=True)
         self.spins = np.ascontiguousarray(spins)
-        self.sbins = np.zeros((_SCALAR_BINS, _nscalars()))
-        self.scur = np.zeros(_nscalars())
+        self.sbins = np.zeros((_SCALAR_BINS, _NSCALARS))
+        self.scur = np.zeros(_NSCALARS)
         self.sinfo = np.array([0, 1, 0], dtype=np.int64)
         self.vbins = np.zeros((_VECTOR_BINS, 4 * ngroups))
         self.vcur = np.zeros(4 * ngroups)
@@ -482,10 +484,6 @@ class _Chain:
         if checksum != self._digest(fingerprint):
             raise ValueError(f"the checkpoint {str(path)!r} is damaged (its checksum does not match); "
                              "remove it or use another directory.")
-
-
-def _nscalars() -> int:
-    return 11
 
 
 def _fingerprint(model: _Model, name, J, h, beta, mode, overrelax, seed, thermalization, cevery) -> str:
