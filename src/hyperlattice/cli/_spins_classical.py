@@ -86,6 +86,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "update first, then the parameters, seed, bins, converged, rings and notes")
 
 
+def add_parser(subparsers) -> argparse.ArgumentParser:
+    """Add ``classical`` to the ``spins`` subcommands (the other protocol ``cmd_spins`` accepts)."""
+    p = subparsers.add_parser(NAME, help=HELP, description=DESCRIPTION)
+    add_arguments(p)
+    p.set_defaults(_spins_run=run)
+    return p
+
+
 def _system(args: argparse.Namespace):
     from .. import _validate
 
