@@ -104,6 +104,7 @@ ISING_CASES = [
 ]
 
 
+@pytest.mark.machine_independence          # the update chosen is a label
 @pytest.mark.parametrize("system, kw, sweeps, update", ISING_CASES)
 def test_ising_matches_exact_enumeration(system, kw, sweeps, update):
     adj = system if isinstance(system, np.ndarray) else (system.adjacency() if hasattr(system, "genus")
@@ -188,6 +189,7 @@ def test_error_bars_cover_about_68_percent():
     assert 0.55 < frac < 0.82, frac
 
 
+@pytest.mark.machine_independence
 def test_update_choice_and_staggered_observables():
     r = _run(BOLZA, model="heisenberg", J=-1.0, beta=2.0, sweeps=400, seed=1)
     assert r.update == "wolff" and "sublattice gauge" in r.update_reason
@@ -200,6 +202,7 @@ def test_update_choice_and_staggered_observables():
         classical_mc(HEPTAGON, model="ising", beta=1.0, J=-1.0, update="wolff", sweeps=10, progress=False)
 
 
+@pytest.mark.machine_independence
 def test_rings_and_correlation_by_distance():
     lat = hl.ring_lattice(7, 3, 3)
     r = _run(lat, model="xy", beta=0.4, sweeps=3000, seed=2)
@@ -218,6 +221,7 @@ def test_rings_and_correlation_by_distance():
         classical_mc(BOLZA, model="ising", beta=0.3, correlation_from="centre", progress=False)
 
 
+@pytest.mark.machine_independence
 def test_merge_and_checkpoint(tmp_path):
     kw = dict(model="ising", beta=0.5, sweeps=600, thermalization=50)
     full = _run(HEPTAGON, seed=5, **kw)
@@ -266,6 +270,7 @@ def test_bad_graphs():
         classical_mc("graph", model="ising", beta=1.0, progress=False)
 
 
+@pytest.mark.machine_independence
 def test_cli_contract(capsys):
     assert main(["spins", "classical", "--model", "ising", "--cluster", "bolza", "--J", "-1", "--h", "0",
                  "--T", "2", "--sweeps", "500", "--seed", "1", "--json"]) == 0
@@ -294,6 +299,7 @@ def test_cli_bad_input_exit_2(argv, capsys):
     assert err.count("\n") == 0 and "error" in err
 
 
+@pytest.mark.machine_independence
 def test_cli_interrupt_keeps_the_chain(tmp_path, monkeypatch, capsys):
     """Ctrl-C: the chain is saved, one line, exit 130; the same command resumes and finishes."""
     from hyperlattice.spins import _classical_kernels as K
