@@ -115,14 +115,14 @@ def updates(lat, temps=(T_BETHE, 1.5, 1.2), sweeps: int = 20000) -> None:
     print(f"\nthe package's updates on the {{7,3}} flake l = {lat.rings} ({lat.sites} sites), Ising, {sweeps} sweeps: "
           "efficiency 1/(sigma^2 x CPU s) of e and of m2")
     for T in temps:
-        for upd in ("wolff", "local"):
+        for upd in ("wolff", "swendsen-wang", "local"):
             t0 = time.process_time()
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", SpinWarning)
                 r = classical_mc(lat, model="ising", T=T, sweeps=sweeps, seed=1, update=upd, measure_correlation=False,
                                  progress=False)
             cpu = time.process_time() - t0
-            print(f"  T = {T:.3f} {r.update:<10} e = {r.e:.5f} +- {r.e_err:.5f}  tau_int(e) = {r.tau_int['e']:6.2f}  "
+            print(f"  T = {T:.3f} {r.update:<14} e = {r.e:.5f} +- {r.e_err:.5f}  tau_int(e) = {r.tau_int['e']:6.2f}  "
                   f"tau_int(m2) = {r.tau_int['m2']:7.2f}  CPU {cpu:5.2f} s  efficiency(e) {1 / (r.e_err ** 2 * cpu):.2e}  "
                   f"efficiency(m2) {1 / (r.m2_err ** 2 * cpu):.2e}")
 

@@ -99,6 +99,8 @@ ISING_CASES = [
                  marks=pytest.mark.slow),
     pytest.param(_weighted(), dict(J=1.0, h=0.0, beta=0.6), 20000, "wolff", id="weighted-ferro",
                  marks=pytest.mark.slow),
+    pytest.param(BOLZA, dict(J=-1.0, h=0.0, beta=0.7), 20000, "swendsen-wang", id="bolza-antiferro-sw",
+                 marks=pytest.mark.slow),
     pytest.param(_weighted(), dict(J=-0.8, h=0.3, beta=0.9), 20000, "heat-bath", id="weighted-frustrated-field",
                  marks=pytest.mark.slow),
 ]
@@ -110,8 +112,12 @@ def test_ising_matches_exact_enumeration(system, kw, sweeps, update):
     adj = system if isinstance(system, np.ndarray) else (system.adjacency() if hasattr(system, "genus")
                                                          else hl.adjacency(system))
     exact = _ising_exact(adj, **kw)
-    r = _run(system, model="ising", sweeps=sweeps, seed=7, **kw)
+    r = _run(system, model="ising", sweeps=sweeps, seed=7, **kw,
+             **({"update": update} if update == "swendsen-wang" else {}))
     assert r.update == update
+    if update in ("wolff", "swendsen-wang"):
+        key = "m2_s" if kw["J"] < 0 else "m2"
+        assert abs(r.m2_improved - exact[key]) < 4 * r.m2_improved_err
     _check(r, exact)
     if "m2_s" not in exact:
         assert math.isnan(r.m2_s)
@@ -153,7 +159,7 @@ def _open_chain_exact(model, beta, n) -> dict:
 
 
 @pytest.mark.parametrize("model", ["xy", "heisenberg"])
-@pytest.mark.parametrize("update", ["wolff", "local"])
+@pytest.mark.parametrize("update", ["wolff", "swendsen-wang", "local"])
 def test_open_chain_matches_bessel_and_langevin(model, update):
     n, beta = 6, 1.3
     r = _run(_chain(n), model=model, beta=beta, sweeps=20000, seed=3, update=update)
@@ -167,7 +173,7 @@ def test_ring_matches_transfer_matrix(model, beta):
     n = 8
     lnz = (_xy_ring if model == "xy" else _heisenberg_ring)(beta, n)
     exact = _from_lnz(lnz, beta, n)
-    for update in ("wolff", "local"):
+    for update in ("wolff", "swendsen-wang", "local"):
         r = _run(_chain(n, periodic=True), model=model, beta=beta, sweeps=40000, seed=4, update=update)
         _check(r, exact)
 

@@ -72,8 +72,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--sweeps", type=positive_int, default=10000, help="measurement sweeps (default 10000)")
     parser.add_argument("--thermalization", type=_sweeps, default=None, metavar="N",
                         help="thermalisation sweeps (default max(100, sweeps/10))")
-    parser.add_argument("--update", choices=("auto", "wolff", "local"), default="auto",
-                        help="auto (default: Wolff where it applies), wolff, or local (heat-bath + over-relaxation)")
+    parser.add_argument("--update", choices=("auto", "wolff", "swendsen-wang", "local"), default="auto",
+                        help="auto (default: Wolff where it applies), wolff, swendsen-wang, or local (heat-bath + "
+                             "over-relaxation)")
     parser.add_argument("--seed", type=_seed, default=None,
                         help="seed of the Markov chain (default: drawn, and printed in the output)")
     parser.add_argument("--checkpoint", default=None, metavar="DIR",

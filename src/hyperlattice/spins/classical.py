@@ -74,7 +74,7 @@ _VECTOR_BINS = 32
 _CORR_BINS = 64
 _CHECKPOINT_SECONDS = 60.0
 #: the update rules' version (part of a checkpoint's fingerprint)
-_RULES = "wolff-fixed-clusters/heatbath+or-2"
+_RULES = "wolff-fixed-clusters/heatbath+or-2/sw"
 
 
 class SpinWarning(UserWarning):
@@ -181,7 +181,8 @@ class ClassicalResult(Result):
     J, h, beta : float
         Coupling scale, field and inverse temperature (k_B = 1, energies in the unit of J's scale).
     update : str
-        The update that ran (``"wolff"`` or ``"heat-bath"`` / ``"heat-bath + 2 over-relaxation"``).
+        The update that ran (``"wolff"``, ``"swendsen-wang"``, or ``"heat-bath"`` /
+        ``"heat-bath + 2 over-relaxation"``).
     update_reason : str
         Why this update.
     sweeps, thermalization : int
@@ -200,8 +201,9 @@ class ClassicalResult(Result):
         The staggered versions (nan when the graph is not bipartite); each with ``_err``.
     m2_improved, m2_improved_err : float
         :math:`\langle|m|^2\rangle` of the cluster frame (the staggered one for a gauged
-        antiferromagnet) from the Wolff clusters' improved estimator
-        :math:`n N\langle(\sum_{i\in C}|s_i\cdot r|)^2/|C|\rangle/N^2`; nan for local updates.
+        antiferromagnet) from the clusters' improved estimator: Wolff's
+        :math:`n N\langle(\sum_{i\in C}|s_i\cdot r|)^2/|C|\rangle/N^2`, Swendsen–Wang's
+        :math:`n\langle\sum_C(\sum_{i\in C}|s_i\cdot r|)^2\rangle/N^2`; nan for local updates.
     tau_int : dict
         Integrated autocorrelation time in sweeps per scalar observable.
     bins, bin_size : int
@@ -211,7 +213,7 @@ class ClassicalResult(Result):
     notes : tuple of str
         What was noticed (also issued as :class:`SpinWarning`).
     clusters_per_sweep : float
-        Mean Wolff clusters per sweep (0 for local updates).
+        Mean Wolff clusters per sweep, or Swendsen–Wang clusters per update (0 for local updates).
     site_energy, site_alignment, site_alignment_s, site_m, and their ``_err`` : ndarray, shape (N,)
         Per site: :math:`\langle -\tfrac12\sum_j J_{ij}s_i\cdot s_j - h s_i^z\rangle`,
         :math:`\langle s_i\cdot\hat M\rangle`, :math:`\langle\epsilon_i s_i\cdot\hat M_s\rangle`
@@ -535,17 +537,18 @@ def _inputs(model, beta, T, J, h):
 
 def _choose(model: _Model, name: str, h: float, update: str) -> tuple[int, str, str]:
     """(mode, update label, reason)."""
-    update = _validate.choice("update", update, ("auto", "wolff", "local"))
+    update = _validate.choice("update", update, ("auto", "wolff", "swendsen-wang", "local"))
     local_label = "heat-bath" if name == "ising" else f"heat-bath + {OVERRELAX} over-relaxation"
     if model.indices.size == 0:
         return 1, local_label, "the graph has no bonds."
     can = model.gauge_ok and h == 0
     why_not = ("a field h != 0 breaks the spin-flip symmetry the clusters rely on" if h != 0 else
                "no gauge s_i -> -s_i makes every coupling ferromagnetic (frustration or mixed signs)")
-    if update == "wolff":
+    if update in ("wolff", "swendsen-wang"):
         if not can:
-            raise ValueError(f"the Wolff update needs h = 0 and couplings a gauge makes ferromagnetic: {why_not}.")
-        return 0, "wolff", "asked for."
+            what = "Wolff" if update == "wolff" else "Swendsen-Wang"
+            raise ValueError(f"the {what} update needs h = 0 and couplings a gauge makes ferromagnetic: {why_not}.")
+        return (0 if update == "wolff" else 2), update, "asked for."
     if update == "local":
         return 1, local_label, "asked for."
     if can:
@@ -602,8 +605,9 @@ def classical_mc(system, *, model: str, beta: float | None = None, T: float | No
         Thermalisation sweeps (default ``max(100, sweeps // 10)``).
     seed : int, optional
         Seed of the chain; None draws one (stored in the result).
-    update : {"auto", "wolff", "local"}, optional
-        The update (default "auto": Wolff where it applies, see the module docstring).
+    update : {"auto", "wolff", "swendsen-wang", "local"}, optional
+        The update (default "auto": Wolff where it applies, see the module docstring);
+        "swendsen-wang" where Wolff applies, one Swendsen–Wang update per sweep.
     checkpoint : str or path, optional
         A directory: the chain is saved there every minute, at the end and when interrupted
         (atomically, with a checksum); a rerun with the same arguments (``sweeps`` may grow)
@@ -789,7 +793,7 @@ def _analyse(chain: _Chain, mdl: _Model, corr: _Corr, *, name, ncomp, J, h, beta
     else:
         out.update(m2_s=nan, m2_s_err=nan, m_abs_s=nan, m_abs_s_err=nan, U4_s=nan, U4_s_err=nan, chi_s=nan,
                    chi_s_err=nan)
-    if update == "wolff":
+    if update in ("wolff", "swendsen-wang"):
         imp = mcstats.binning(raw[:, 9], bs)
         out.update(m2_improved=imp.mean, m2_improved_err=imp.error)
         tau["m2_improved"] = float(imp.tau_int)
