@@ -1,6 +1,6 @@
 """Ising on open {7,3} flakes (docs/spins.md): bulk against boundary, and the continuum propagator.
 
-Part 1 (``--part bulk``): flakes of l = 4..7 rings over a grid of temperatures (Wolff): the
+Part 1 (``--part bulk``): flakes of l = 4..8 rings over a grid of temperatures (Wolff): the
 specific heat and susceptibility per site, and by ring the alignment <s_i . M/|M|> of the first
 (bulk) and last (boundary) ring. Two transitions would show as two peaks of c(T) that sharpen
 with l, or a window where the bulk aligns and the boundary does not.
@@ -41,7 +41,7 @@ def bulk(data: dict) -> None:
     from hyperlattice.spins.classical import SpinWarning
 
     temps = np.round(np.arange(0.8, 2.41, 0.1), 3)
-    for rings, sweeps in ((4, 10000), (5, 10000), (6, 6000), (7, 4000)):
+    for rings, sweeps in ((4, 10000), (5, 10000), (6, 6000), (7, 4000), (8, 2500)):
         lat = hl.ring_lattice(7, 3, rings)
         key = f"l{rings}"
         rows = data.setdefault("bulk", {}).setdefault(key, [])

@@ -331,3 +331,11 @@ def test_cli_interrupt_keeps_the_chain(tmp_path, monkeypatch, capsys):
     resumed = json.loads(capsys.readouterr().out)
     assert main(argv[:-3] + ["--json"]) == 0             # the same chain without a checkpoint
     assert json.loads(capsys.readouterr().out)["e"] == resumed["e"]
+
+
+@pytest.mark.parametrize("model", ["ising", "xy", "heisenberg"])
+def test_free_spins(model):
+    """J = 0: independent unit spins, <|m|^2> = 1/N, e = 0 (a zero coupling constrains no gauge)."""
+    lat = hl.ring_lattice(7, 3, 2)
+    r = _run(lat, model=model, J=0.0, beta=1.0, sweeps=3000, seed=8)
+    assert r.e == 0.0 and abs(r.m2 - 1 / lat.sites) < 4 * r.m2_err

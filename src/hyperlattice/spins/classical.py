@@ -152,7 +152,8 @@ def _model(system, J: float) -> _Model:
     indptr = mat.indptr.astype(np.int64)
     indices = mat.indices.astype(np.int64)
     K = _load_kernels()
-    gauge, ok = K.two_colour(indptr, indices, np.sign(coup).astype(np.int64))
+    # a zero coupling (J = 0) constrains no sign: count it as ferromagnetic
+    gauge, ok = K.two_colour(indptr, indices, np.where(coup < 0, -1, 1).astype(np.int64))
     eps, bip = K.two_colour(indptr, indices, -np.ones(indices.size, dtype=np.int64))
     gauge = gauge.astype(np.float64) if ok else np.ones(n)
     eps = eps.astype(np.float64) if bip else None
@@ -507,7 +508,9 @@ def _memory_need(n: int, nnz: int, ncomp: int, corr: bool) -> float:
     # CSR indices, couplings and gauged couplings, and scipy's copies while the model is built
     need = n * per_site + 40.0 * nnz + 24.0 * n + 8.0 * _SCALAR_BINS * 12
     if corr:
-        need += n * n * (4.0 + 8.0 + 1.0)     # the class table and the set-up's distances and mask
+        # the class table (4 bytes a pair) and the set-up's temporaries: complex differences,
+        # distances, masks (about 44 bytes a pair at once)
+        need += n * n * 48.0
     return need
 
 
