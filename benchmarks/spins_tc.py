@@ -1,6 +1,6 @@
 """Ising T_c on closed {7,3}, {8,3} and {5,4} surfaces from Binder-cumulant crossings (docs/spins.md).
 
-For each tiling, three periodic clusters of growing size (graph/clusters.py), a grid of
+For each tiling, three (four for {7,3}) periodic clusters of growing size (graph/clusters.py), a grid of
 temperatures, one Wolff chain per point (hyperlattice.spins.classical_mc). The crossing of the
 U4(T) curves of two sizes comes from monotone cubic (PCHIP) interpolants of each curve, with a
 parametric bootstrap (U4 resampled within its errors, 400 times) for the error. Printed
@@ -34,7 +34,8 @@ _G73 = np.arange(1.62, 1.8401, 0.02)
 _G83 = np.arange(1.66, 1.8801, 0.02)
 _G54 = np.arange(2.60, 2.9201, 0.04)
 PLAN = {
-    (7, 3): [("macbeath", 20000, _G73), ("hurwitz14a", 20000, _G73), ("PSL(2,29)", 8000, _G73)],
+    (7, 3): [("macbeath", 20000, _G73), ("hurwitz14a", 20000, _G73), ("PSL(2,29)", 8000, _G73),
+             ("PSL(2,41)", 2000, np.arange(1.70, 1.7801, 0.02))],
     (8, 3): [("PSL(2,17)", 20000, _G83), ("PSL(2,31)", 8000, _G83), ("PSL(2,47)", 2000, np.arange(1.74, 1.8201, 0.02))],
     (5, 4): [("PSL(2,31)", 6000, _G54), ("PSL(2,41)", 4000, _G54), ("PSL(2,71)", 1500, None)],
 }
