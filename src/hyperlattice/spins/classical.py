@@ -18,6 +18,10 @@ Updates (chosen by ``update="auto"``, stated in every result)
   or an antiferromagnet on a bipartite graph (the sublattice gauge). A measured sweep is a fixed
   number of clusters, N over the mean cluster size of the thermalisation (a count that followed the
   sizes drawn, "until N spins flipped", biases the energy of a 6-site chain by 60 standard errors).
+* **Swendsen–Wang** (Swendsen & Wang, PRL 58, 86 (1987)) on request (``update="swendsen-wang"``)
+  where Wolff applies: one update per sweep, every cluster reflected with probability 1/2; on the
+  {7,3} flake it is 1.3 to 3 times less efficient than Wolff for the energy
+  (``benchmarks/bench_spins.py --updates``), so "auto" does not pick it.
 * **Heat-bath** passes over the sites otherwise (a field, frustrated or mixed-sign couplings),
   each followed for XY and Heisenberg spins by :data:`OVERRELAX` over-relaxation passes
   (reflection about the local field, which keeps the energy and decorrelates the spin waves).
