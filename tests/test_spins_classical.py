@@ -21,7 +21,7 @@ from scipy.special import iv
 import hyperlattice as hl
 from hyperlattice.cli import main
 from hyperlattice.graph.clusters import pbc_cluster
-from hyperlattice.spins import classical_mc, merge_classical
+from hyperlattice.spins import classical_mc, classical_mc_memory, merge_classical
 from hyperlattice.spins.classical import SpinWarning
 
 
@@ -339,3 +339,16 @@ def test_free_spins(model):
     lat = hl.ring_lattice(7, 3, 2)
     r = _run(lat, model=model, J=0.0, beta=1.0, sweeps=3000, seed=8)
     assert r.e == 0.0 and abs(r.m2 - 1 / lat.sites) < 4 * r.m2_err
+
+
+def test_memory_refused_before_work(monkeypatch, capsys):
+    """A chain that will not fit is refused in one sentence, before any allocation or sweep."""
+    from hyperlattice import _validate
+
+    need = classical_mc_memory(hl.ring_lattice(7, 3, 3), model="xy")
+    monkeypatch.setattr(_validate, "available_memory", lambda: need // 2)
+    with pytest.raises(MemoryError, match="classical spin chain on 112 sites"):
+        classical_mc(hl.ring_lattice(7, 3, 3), model="xy", beta=1.0, progress=False)
+    assert main(["spins", "classical", "--model", "xy", "--rings", "3", "--beta", "1"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "needs about" in err
