@@ -352,3 +352,19 @@ def test_memory_refused_before_work(monkeypatch, capsys):
     assert main(["spins", "classical", "--model", "xy", "--rings", "3", "--beta", "1"]) == 2
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and "needs about" in err
+
+
+def test_sweep_task_spins(tmp_path):
+    """A temperature grid through the Dask sweep's task table (serial here): one row per point."""
+    from hyperlattice.sweep.engine import run_sweep
+    from hyperlattice.sweep.store import read_table
+
+    grid = {"rings": [2], "T": [1.5, 3.0], "sweeps": [500], "seed": [1]}
+    rep = run_sweep("spins", grid, tmp_path / "s", scheduler="serial", progress=False)
+    assert rep.ok and rep.completed == 2
+    rows = read_table(tmp_path / "s").rows()
+    assert len(rows) == 2 and {r["update_used"] for r in rows} == {"wolff"}
+    cold, hot = sorted(rows, key=lambda r: r["T"])
+    assert cold["m2"] > hot["m2"] and len(cold["ring_alignment"]) == 2
+    with pytest.raises(ValueError, match="model"):
+        run_sweep("spins", {"model": ["potts"]}, tmp_path / "bad", scheduler="serial", progress=False)
