@@ -131,6 +131,9 @@ CALLS = {
     "hyperlattice.bosons.thermal.exact_thermal": (dict(system=HEPT, U=2.0, mu=0.5, beta=1.0, nmax=1), set()),
     "hyperlattice.bosons.thermal.sector_dimensions": (dict(rotation=[1, 2, 3, 0], nmax=1), set()),
     "hyperlattice.bosons.sse.qmc_memory": (dict(system=HEPT, U=2.0, mu=0.5, beta=1.0, nmax=1), set()),
+    # classical spins: a short chain on the 35-site flake (the default 10000 sweeps is a real run)
+    "hyperlattice.spins.classical.classical_mc": (dict(system=LAT, model="ising", beta=1.0, sweeps=200), set()),
+    "hyperlattice.spins.classical.classical_mc_memory": (dict(system=LAT, model="ising"), set()),
     "hyperlattice.bosons.sse.qmc_seconds": (dict(system=HEPT, U=2.0, mu=0.5, beta=1.0, nmax=1), set()),
 }
 

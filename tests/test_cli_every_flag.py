@@ -91,6 +91,12 @@ INVOCATIONS = [
     ["bosons", "meanfield", "--infinite", "--points", "3"],
     ["bosons", "gp", "-p", "7", "-q", "3", "--rings", "2", "--filling", "1", "--U", "0.5", "--t", "1", "--modes", "3", "--json"],
     ["bosons", "gp", "--rings", "2", "--particles", "35", "--U", "0.5"],
+    ["spins", "classical", "--model", "ising", "--rings", "2", "-p", "7", "-q", "3", "--J", "1", "--h", "0", "--beta", "0.5",
+     "--sweeps", "300", "--thermalization", "50", "--seed", "1", "--checkpoint", "{tmp}/spinck", "--json"],
+    ["spins", "classical", "--model", "heisenberg", "--cluster", "bolza", "--J", "-1", "--T", "1", "--sweeps", "200",
+     "--update", "local", "--no-correlation", "--seed", "2"],
+    ["spins", "classical", "--model", "xy", "--rings", "2", "--line-graph", "--h", "0.2", "--beta", "1", "--sweeps", "200"],
+    ["spins", "classical", "--model", "ising", "--adjacency", "{tmp}/square.npz", "--beta", "0.4", "--sweeps", "200"],
 ]
 
 

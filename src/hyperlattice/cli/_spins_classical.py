@@ -1,0 +1,154 @@
+"""``hyperlattice spins classical``: the classical Ising, XY or Heisenberg model by Monte Carlo on a
+flake, its line graph, a periodic cluster or a graph of your own.
+
+Contract: ``--json`` prints one object whose first keys are ``sites``, then ``e, c, m, m2, m_abs, U4,
+chi`` and the staggered ``m2_s, m_abs_s, U4_s, chi_s`` (null off bipartite graphs), each followed by
+its ``_err``, then ``tau_int`` (sweeps, by observable) and ``update`` (the update that ran), then the
+rest of :meth:`hyperlattice.spins.ClassicalResult.summary` (``update_reason``, the parameters,
+``seed``, ``bins``, ``converged``, ``rings`` on flakes, ``notes``).
+"""
+
+from __future__ import annotations
+
+import argparse
+
+from ._common import Interrupted, add_pq, cluster_pq, finite_float, integer, positive_int, print_json
+
+NAME = "classical"
+ORDER = 10
+HELP = "classical Ising / XY / Heisenberg Monte Carlo: energy, specific heat, magnetisation, Binder cumulant"
+DESCRIPTION = ("Thermal averages of H = -sum<ij> J_ij s_i.s_j - h sum_i s_i^z (k_B = 1) for unit spins of 1 "
+               "(ising), 2 (xy) or 3 (heisenberg) components, by Wolff clusters where they apply (h = 0, "
+               "couplings a gauge makes ferromagnetic: ferromagnets, antiferromagnets on bipartite graphs) and "
+               "heat-bath with over-relaxation otherwise; the update that ran is stated. Per site: e, c, m, m2, "
+               "m_abs, U4, chi = beta N <|m|^2> (and the staggered versions on bipartite graphs), each with a "
+               "binning error, and tau_int.")
+
+
+def _seed(text: str) -> int:
+    v = integer(text, what="a seed (an integer >= 0)")
+    if v < 0:
+        raise argparse.ArgumentTypeError(f"expected a seed >= 0, got {v}")
+    return v
+
+
+def _sweeps(text: str) -> int:
+    v = integer(text, what="a number of sweeps")
+    if v < 0:
+        raise argparse.ArgumentTypeError(f"expected a number of sweeps >= 0, got {v}")
+    return v
+
+
+def _positive(text: str) -> float:
+    v = finite_float(text)
+    if not v > 0:
+        raise argparse.ArgumentTypeError(f"expected a number > 0, got {text!r}")
+    return v
+
+
+def _model(text: str) -> str:
+    v = text.strip().lower()
+    if v not in ("ising", "xy", "heisenberg"):
+        raise argparse.ArgumentTypeError(f"unknown model {text!r}; choose ising, xy or heisenberg")
+    return v
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--model", type=_model, required=True, help="ising, xy or heisenberg")
+    where = parser.add_mutually_exclusive_group(required=True)
+    where.add_argument("--rings", type=positive_int, help="a flake of this many rings (1 = one p-gon)")
+    where.add_argument("--cluster", metavar="NAME",
+                       help="a periodic cluster, e.g. bolza or klein (its p and q unless -p/-q are given)")
+    where.add_argument("--adjacency", metavar="FILE",
+                       help="a graph of your own: a symmetric matrix of couplings A_ij (J_ij = J A_ij), .npz "
+                            "written by scipy.sparse.save_npz or a dense .npy; -p/-q unused")
+    add_pq(parser)
+    parser.add_argument("--line-graph", action="store_true", help="with --rings: the flake's line graph")
+    parser.add_argument("--J", type=finite_float, default=1.0, help="coupling J (default 1; J < 0 antiferromagnet)")
+    parser.add_argument("--h", type=finite_float, default=0.0, help="field h along s^z (default 0)")
+    temp = parser.add_mutually_exclusive_group(required=True)
+    temp.add_argument("--beta", type=_positive, help="inverse temperature (k_B = 1)")
+    temp.add_argument("--T", type=_positive, help="temperature (k_B = 1)")
+    parser.add_argument("--sweeps", type=positive_int, default=10000, help="measurement sweeps (default 10000)")
+    parser.add_argument("--thermalization", type=_sweeps, default=None, metavar="N",
+                        help="thermalisation sweeps (default max(100, sweeps/10))")
+    parser.add_argument("--update", choices=("auto", "wolff", "swendsen-wang", "local"), default="auto",
+                        help="auto (default: Wolff where it applies), wolff, swendsen-wang, or local (heat-bath + "
+                             "over-relaxation)")
+    parser.add_argument("--seed", type=_seed, default=None,
+                        help="seed of the Markov chain (default: drawn, and printed in the output)")
+    parser.add_argument("--checkpoint", default=None, metavar="DIR",
+                        help="save the chain in DIR (created) every minute, at the end and when interrupted; the "
+                             "same command (more --sweeps allowed) resumes it, bit-identically")
+    parser.add_argument("--no-correlation", action="store_true",
+                        help="do not measure the spin correlation by distance (measured up to 3000 sites)")
+    parser.add_argument("--json", action="store_true",
+                        help="print JSON: sites, e, c, m, m2, m_abs, U4, chi (and staggered) with _err, tau_int, "
+                             "update first, then the parameters, seed, bins, converged, rings and notes")
+
+
+def add_parser(subparsers) -> argparse.ArgumentParser:
+    """Add ``classical`` to the ``spins`` subcommands (the other protocol ``cmd_spins`` accepts)."""
+    p = subparsers.add_parser(NAME, help=HELP, description=DESCRIPTION)
+    add_arguments(p)
+    p.set_defaults(_spins_run=run)
+    return p
+
+
+def _system(args: argparse.Namespace):
+    from .. import _validate
+
+    if args.adjacency is not None:
+        from ._bosons_qmc import _adjacency
+
+        return _adjacency(args.adjacency)
+    if args.line_graph and args.rings is None:
+        raise ValueError("--line-graph needs a flake (--rings).")
+    p, q = _validate.pq(args.p, args.q) if args.cluster is None else cluster_pq(args, args.cluster)
+    if args.rings is not None:
+        from ..graph.lattice import line_graph, ring_lattice
+
+        lat = ring_lattice(p, q, args.rings)
+        return line_graph(lat) if args.line_graph else lat
+    from ..graph.clusters import pbc_cluster
+
+    return pbc_cluster(p, q, args.cluster)
+
+
+#: the contract's keys, first in the JSON object, in this order
+KEYS = ("sites", "e", "e_err", "c", "c_err", "m", "m_err", "m2", "m2_err", "m_abs", "m_abs_err", "U4", "U4_err",
+        "chi", "chi_err", "m2_s", "m2_s_err", "m_abs_s", "m_abs_s_err", "U4_s", "U4_s_err", "chi_s", "chi_s_err",
+        "tau_int", "update")
+
+
+def run(args: argparse.Namespace) -> int:
+    from .. import _validate
+    from ..spins import classical_mc
+
+    checkpoint = None if args.checkpoint is None else _validate.directory("--checkpoint", args.checkpoint)
+    system = _system(args)
+    try:
+        res = classical_mc(system, model=args.model, beta=args.beta, T=args.T, J=args.J, h=args.h,
+                           sweeps=args.sweeps, thermalization=args.thermalization, seed=args.seed,
+                           update=args.update, checkpoint=checkpoint,
+                           measure_correlation=False if args.no_correlation else None)
+    except KeyboardInterrupt:
+        if checkpoint is None:
+            raise Interrupted("nothing kept (--checkpoint DIR keeps the chain for a rerun)") from None
+        raise Interrupted(f"the chain is saved in {str(checkpoint)!r}; rerun the same command to resume") from None
+    if args.json:
+        summary = res.summary()
+        out = {k: summary[k] for k in KEYS}
+        out.update((k, v) for k, v in summary.items() if k not in out)
+        print_json(out)
+        return 0
+    print(str(res))
+    print(f"  update: {res.update} ({res.update_reason})")
+    print(f"  seed {res.seed}, {res.bins} bins of {res.bin_size} sweeps, {res.seconds:.1f} s")
+    return 0
+
+
+# every public function above checks its annotated argument types at the door
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())
