@@ -843,8 +843,12 @@ def merge_xxz(results) -> XXZResult:
     tot = w.sum()
     vals = {}
     for name in ("e", "c", "chi_u", "mz", "s_pi", "binder", "rho_s"):
-        vals[name], vals[name + "_err"] = mcstats.combine_independent(
-            [getattr(r, name) for r in res], [getattr(r, name + "_err") for r in res], w)
+        v = [getattr(r, name) for r in res]
+        if all(np.isfinite(v)):
+            vals[name], vals[name + "_err"] = mcstats.combine_independent(
+                v, [getattr(r, name + "_err") for r in res], w)
+        else:       # not measured (s_pi off a bipartite graph, rho_s off a cluster)
+            vals[name] = vals[name + "_err"] = math.nan
 
     def arr(name):
         if any(getattr(r, name) is None for r in res):
