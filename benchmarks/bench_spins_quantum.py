@@ -108,7 +108,7 @@ def _hl(system, *, J, beta, sweeps, thermalization, seed) -> dict:
         cpu = time.process_time() - c0
     return {"e": r.e, "e_err": r.e_err, "s_pi": r.s_pi, "s_pi_err": r.s_pi_err, "chi_u": r.chi_u,
             "chi_u_err": r.chi_u_err, "cpu_seconds": cpu, "converged": r.converged and not caught,
-            "tau": r.tau_int["energy"]}
+            "tau": r.tau_int["energy"], "estimator": r.energy_estimator}
 
 
 def _eff(r: dict) -> float:
@@ -197,6 +197,7 @@ def main(argv=None) -> int:
     print(f"        dirloop_sse  e = {pa['e']:.6f} ± {pa['e_err']:.6f} (seed scatter {pa['e_scatter']:.6f}), "
           f"s_pi = {pa['s_pi']:.4f} ± {pa['s_pi_err']:.4f}, {pa['cpu_seconds']:.1f} CPU s")
     print(f"        agreement: e {z:+.1f} sigma, s_pi {zs:+.1f} sigma; converged {ph['converged']} / {pa['converged']}")
+    print(f"hyperlattice's energy estimator: {hs[0]['estimator']} (spins.quantum module notes)")
     print(f"efficiency 1/(sigma_e^2 CPU s): hyperlattice {_eff(ph):.4g}, dirloop_sse {_eff(pa):.4g}, "
           f"ratio {ratio:.2f} (per seed {min(ratios):.2f} - {max(ratios):.2f}); target >= 2")
     print(f"peak RSS {peak_rss_mb():.0f} MB; load average now {os.getloadavg()[0]:.2f}")

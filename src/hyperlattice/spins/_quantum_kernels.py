@@ -11,10 +11,11 @@ what is here is only what the Bose–Hubbard engine does not have:
   table per bond (the :math:`J\Delta S^z_iS^z_j` term couples both occupations; the boson
   engine's diagonal weight is a sum of one-site terms), in the diagonal update and in the
   exit-probability table the loop update reads;
-* the measurements along imaginary time: the diagonal energy, the staggered magnetisation
+* the measurements along imaginary time: the staggered magnetisation
   :math:`M_s = \sum_i \epsilon_i S^z_i` and its square and fourth power, the site magnetisation,
   the site-resolved staggered correlation :math:`\epsilon_i S^z_i M_s` and the bond correlation
-  :math:`S^z_iS^z_j`, each averaged over the M time slices of the configuration.
+  :math:`S^z_iS^z_j`, each averaged over the M time slices of the configuration; the diagonal
+  energy follows from the last two, :math:`\sum_b J_b\Delta\,\overline{S^z_iS^z_j} - h\sum_i\overline{S^z_i}`.
 """
 
 from __future__ import annotations
@@ -24,8 +25,9 @@ import numpy as np
 
 from ..bosons import _sse_kernels as K
 
-#: per-sweep scalars: n, n^2, E, E^2, Sz, Sz^2, Sz^4, Ms^2, (Ms^2)^2, Ms^4 (then the winding moments)
-NSCALARS = 10
+#: per-sweep scalars: n, n^2, E, E^2, Sz, Sz^2, Sz^4, Ms^2, (Ms^2)^2, Ms^4, E_diag, E_diag^2, E E_diag
+#: (then the winding moments)
+NSCALARS = 13
 
 
 @numba.njit(cache=True, inline="always")
@@ -72,37 +74,22 @@ def exit_table(rep, wdiag, tb):  # pragma: no cover - jitted
 
 
 @numba.njit(cache=True, inline="always")
-def _close_bonds(x, skip, state, bi, bj, hd, nptr, nbond, p1, zz, lastb):  # pragma: no cover - jitted
-    r"""Close the time intervals of the bonds of site x (but ``skip``); returns their diagonal energy."""
-    e = 0.0
+def _close_bonds(x, skip, state, bi, bj, nptr, nbond, p1, zz, lastb):  # pragma: no cover - jitted
+    r"""Close the time intervals of the bonds of site x (but ``skip``) in the :math:`S^z_iS^z_j` sums."""
     for k in range(nptr[x], nptr[x + 1]):
         bb = nbond[k]
         if bb == skip:
             continue
-        si = state[bi[bb]]
-        sj = state[bj[bb]]
-        zz[bb] += (si - 0.5) * (sj - 0.5) * (p1 - lastb[bb])
+        zz[bb] += (state[bi[bb]] - 0.5) * (state[bj[bb]] - 0.5) * (p1 - lastb[bb])
         lastb[bb] = p1
-        e += hd[bb, si, sj]
-    return e
-
-
-@numba.njit(cache=True, inline="always")
-def _bond_energy(x, skip, state, bi, bj, hd, nptr, nbond):  # pragma: no cover - jitted
-    e = 0.0
-    for k in range(nptr[x], nptr[x + 1]):
-        bb = nbond[k]
-        if bb != skip:
-            e += hd[bb, state[bi[bb]], state[bj[bb]]]
-    return e
 
 
 @numba.njit(cache=True)
-def _diagonal_update(ops, state, nops, beta, bi, bj, wdiag, hd, stag, nptr, nbond, rng, measure, acc,
+def _diagonal_update(ops, state, nops, beta, bi, bj, wdiag, stag, nptr, nbond, rng, measure, acc,
                      sz, st, lastp, lasti, zz, lastb, offd):  # pragma: no cover - jitted
     r"""Insert/remove diagonal operators; with ``measure`` the time-slice averages of the sweep.
 
-    ``acc`` gets (diagonal energy, :math:`M_s^2`, :math:`M_s^4`), each summed over the M slices;
+    ``acc`` gets (:math:`M_s^2`, :math:`M_s^4`), each summed over the M slices;
     ``sz[i]`` :math:`\sum_p S^z_i(p)`, ``st[i]`` :math:`\sum_p S^z_i(p) M_s(p)`, ``zz[b]``
     :math:`\sum_p S^z_i(p)S^z_j(p)` and ``offd[b]`` the off-diagonal operators of bond b.
     """
@@ -110,13 +97,11 @@ def _diagonal_update(ops, state, nops, beta, bi, bj, wdiag, hd, stag, nptr, nbon
     nb = bi.shape[0]
     n = state.shape[0]
     bnb = beta * nb
-    ediag = 0.0
     ms = 0.0
     integ = 0.0
     last = 0
     if measure:
         for b in range(nb):
-            ediag += hd[b, state[bi[b]], state[bj[b]]]
             lastb[b] = 0
         for i in range(n):
             ms += stag[i] * (state[i] - 0.5)
@@ -124,7 +109,6 @@ def _diagonal_update(ops, state, nops, beta, bi, bj, wdiag, hd, stag, nptr, nbon
             lasti[i] = 0.0
         acc[0] = 0.0
         acc[1] = 0.0
-        acc[2] = 0.0
     for p in range(m):
         op = ops[p]
         if op < 0:
@@ -146,9 +130,8 @@ def _diagonal_update(ops, state, nops, beta, bi, bj, wdiag, hd, stag, nptr, nbon
             if measure:
                 ln = p + 1 - last
                 m2 = ms * ms
-                acc[0] += ediag * ln
-                acc[1] += m2 * ln
-                acc[2] += m2 * m2 * ln
+                acc[0] += m2 * ln
+                acc[1] += m2 * m2 * ln
                 integ += ms * ln
                 last = p + 1
                 offd[b] += 1
@@ -158,8 +141,8 @@ def _diagonal_update(ops, state, nops, beta, bi, bj, wdiag, hd, stag, nptr, nbon
                     st[x] += s * (integ - lasti[x])
                     lastp[x] = p + 1
                     lasti[x] = integ
-                ediag -= _close_bonds(i, -1, state, bi, bj, hd, nptr, nbond, p + 1, zz, lastb)
-                ediag -= _close_bonds(j, b, state, bi, bj, hd, nptr, nbond, p + 1, zz, lastb)
+                _close_bonds(i, -1, state, bi, bj, nptr, nbond, p + 1, zz, lastb)
+                _close_bonds(j, b, state, bi, bj, nptr, nbond, p + 1, zz, lastb)
                 ms -= stag[i] * (state[i] - 0.5) + stag[j] * (state[j] - 0.5)
             if (op & 3) == 1:
                 state[i] += 1
@@ -168,15 +151,12 @@ def _diagonal_update(ops, state, nops, beta, bi, bj, wdiag, hd, stag, nptr, nbon
                 state[i] -= 1
                 state[j] += 1
             if measure:
-                ediag += _bond_energy(i, -1, state, bi, bj, hd, nptr, nbond)
-                ediag += _bond_energy(j, b, state, bi, bj, hd, nptr, nbond)
                 ms += stag[i] * (state[i] - 0.5) + stag[j] * (state[j] - 0.5)
     if measure:
         ln = m - last
         m2 = ms * ms
-        acc[0] += ediag * ln
-        acc[1] += m2 * ln
-        acc[2] += m2 * m2 * ln
+        acc[0] += m2 * ln
+        acc[1] += m2 * m2 * ln
         integ += ms * ln
         for x in range(n):
             s = state[x] - 0.5
@@ -208,7 +188,7 @@ def _close_bin(bins, cur, info):  # pragma: no cover - jitted
 
 
 @numba.njit(cache=True)
-def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj, tb, cb, wdiag, hd, stag,
+def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj, tb, cb, wdiag, jz, hfield, stag,
         nptr, nbond, rng, sbins, scur, sinfo, vbins, vcur, vinfo, loopstat, ptab, bclass, wind):  # pragma: no cover
     r"""Run ``nsweeps`` sweeps (diagonal update, then the bosons' directed loops with ``ptab``).
 
@@ -222,7 +202,7 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
     n = state.shape[0]
     nb = bi.shape[0]
     m = ops.shape[0]
-    acc = np.zeros(3)
+    acc = np.zeros(2)
     sz = np.zeros(n)
     st = np.zeros(n)
     lastp = np.zeros(n, dtype=np.int64)
@@ -253,7 +233,7 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
             for b in range(nb):
                 zz[b] = 0.0
                 offd[b] = 0
-        nops = _diagonal_update(ops, state, nops, beta, bi, bj, wdiag, hd, stag, nptr, nbond, rng, measure, acc,
+        nops = _diagonal_update(ops, state, nops, beta, bi, bj, wdiag, stag, nptr, nbond, rng, measure, acc,
                                 sz, st, lastp, lasti, zz, lastb, offd)
         if measure:
             fm = float(m)
@@ -264,8 +244,14 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
             for b in range(nb):
                 nod += offd[b]
             fn = float(nops)
-            e = acc[0] / fm - nod / beta
-            m2 = acc[1] / fm
+            # the diagonal energy summed over the slices from the bond and site sums (jz = J_b Delta)
+            ediag = 0.0
+            for b in range(nb):
+                ediag += jz[b] * zz[b]
+            for i in range(n):
+                ediag -= hfield * sz[i]
+            e = ediag / fm - nod / beta
+            m2 = acc[0] / fm
             scur[0] += fn
             scur[1] += fn * fn
             scur[2] += e
@@ -275,7 +261,10 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
             scur[6] += stot * stot * stot * stot
             scur[7] += m2
             scur[8] += m2 * m2
-            scur[9] += acc[2] / fm
+            scur[9] += acc[1] / fm
+            scur[10] += ediag / fm
+            scur[11] += (ediag / fm) ** 2
+            scur[12] += e * ediag / fm
             if wind.shape[1] > 0:
                 K.winding_moments(ops, wind, wvec, scur, NSCALARS)
             for i in range(n):

@@ -49,7 +49,12 @@ loops bounce more.)
 Estimators (per sweep, every diagonal one averaged over the M time slices of the configuration)
 ---------------------------------------------------------------------------------------------
 * energy :math:`\langle H\rangle = \langle \tfrac1M\sum_p E_{\mathrm{diag}}(p)\rangle -
-  \langle n_{\mathrm{offd}}\rangle/\beta` (the bosons' estimator), per site ``e``;
+  \langle n_{\mathrm{offd}}\rangle/\beta` (the bosons' estimator), per site ``e``. At the
+  isotropic point (Δ = 1, h = 0) the ensemble is SU(2) invariant, so
+  :math:`\langle S^x_iS^x_j + S^y_iS^y_j\rangle = 2\langle S^z_iS^z_j\rangle` and
+  :math:`3\langle H_{zz}\rangle` (a slice average, no operator-count noise) is a second unbiased
+  estimator; ``e`` is the mean of the two (``energy_estimator = "su2"``), whose error on the
+  {8,3} l = 3 flake at β = 4 is about 20 % below either alone (four seeds);
 * specific heat :math:`c = (\langle n^2\rangle - \langle n\rangle^2 - \langle n\rangle)/N`
   (n operators in the string; Sandvik, PRB 56, 11678 (1997)), jackknife;
 * :math:`\chi_u = \beta(\langle (S^z_{\mathrm{tot}})^2\rangle - \langle S^z_{\mathrm{tot}}\rangle^2)/N`
@@ -94,7 +99,7 @@ OFFSET = 0.0
 ED_MAX_SITES = 16
 _SCALAR_BINS = 2048
 _VECTOR_BINS = 32
-_TARGET_LEGS = 3.0
+_TARGET_LEGS = 2.0
 _EXIT_RULE = "least-bounce directed loops (Syljuåsen & Sandvik 2002) on the bosons' engine"
 
 
@@ -260,6 +265,9 @@ class XXZResult(Result):
         Frozen after thermalisation.
     update : str
         The algorithm.
+    energy_estimator : str
+        ``"slice"``: :math:`\tfrac1M\sum_p E_{\mathrm{diag}}(p) - n_{\mathrm{offd}}/\beta`;
+        ``"su2"`` (Δ = 1, h = 0): the mean of that and :math:`3\,\tfrac1M\sum_p H_{zz}(p)`.
     seconds : float
         Wall-clock seconds (thermalisation included; summed over merged chains).
 
@@ -326,6 +334,7 @@ class XXZResult(Result):
     loops_per_sweep: int
     update: str
     seconds: float
+    energy_estimator: str = "slice"
 
     @property
     def site_index(self) -> np.ndarray:
@@ -338,7 +347,7 @@ class XXZResult(Result):
         for k in ("sites", "e", "e_err", "c", "c_err", "chi_u", "chi_u_err", "s_pi", "s_pi_err", "mz", "mz_err",
                   "binder", "binder_err", "rho_s", "rho_s_err", "stiffness_note", "system", "J", "Delta", "h",
                   "beta", "bipartite", "sweeps", "thermalization", "seed", "chains", "bins", "bin_size",
-                  "converged", "mean_operators", "update", "seconds"):
+                  "converged", "mean_operators", "update", "energy_estimator", "seconds"):
             out[k] = to_jsonable(getattr(self, k))
         if not self.bipartite:
             out["s_pi"] = out["s_pi_err"] = None
@@ -658,6 +667,7 @@ def xxz_qmc(system, *, J: float, Delta: float, beta: float, h: float = 0.0, swee
     model = _spins(system, J)
     wind, wind_note = sse._bond_windings(system, model.boson_model, windings)
     hd, cb, wdiag = _diagonal(model, Delta, h)
+    jz = model.Jb * Delta
     key = np.concatenate([model.tb[:, None], wdiag.reshape(-1, 4)], axis=1)
     _, rep, cls = np.unique(key, axis=0, return_index=True, return_inverse=True)
     QK = _load_kernels()
@@ -685,7 +695,7 @@ def xxz_qmc(system, *, J: float, Delta: float, beta: float, h: float = 0.0, swee
             k = int(min(chunk, left))
             t0 = time.perf_counter()
             ops, nops, nloops = QK.run(k, therm, _TARGET_LEGS, chain.ops, chain.state, chain.nops, chain.nloops,
-                                       beta, model.bi, model.bj, model.tb, cb, wdiag, hd, model.stag, nptr, nbond,
+                                       beta, model.bi, model.bj, model.tb, cb, wdiag, jz, h, model.stag, nptr, nbond,
                                        chain.rng, chain.sbins, chain.scur, chain.sinfo, chain.vbins, chain.vcur,
                                        chain.vinfo, chain.loopstat, ptab, bclass, wind)
             chain.ops, chain.nops, chain.nloops = ops, int(nops), int(nloops)
@@ -709,7 +719,18 @@ def _analyse(chain: _Chain, model: _Spins, *, J, Delta, h, beta, sweeps, thermal
     raw = chain.sbins[:nb] / bs
     mean = raw.mean(axis=0)
     notes = []
-    en = mcstats.binning(raw[:, 2] / n, bs, variance=max(mean[3] - mean[2] ** 2, 0.0) / n ** 2)
+    if Delta == 1 and h == 0:
+        # SU(2): <H> = 3 <H_zz>, so (E + 3 E_diag) / 2 is unbiased too, with the kinetic energy's
+        # operator-count noise halved
+        series = 0.5 * (raw[:, 2] + 3 * raw[:, 10]) / n
+        var = (0.25 * (mean[3] - mean[2] ** 2) + 2.25 * (mean[11] - mean[10] ** 2)
+               + 1.5 * (mean[12] - mean[2] * mean[10])) / n ** 2
+        estimator = "su2"
+    else:
+        series = raw[:, 2] / n
+        var = (mean[3] - mean[2] ** 2) / n ** 2
+        estimator = "slice"
+    en = mcstats.binning(series, bs, variance=max(var, 0.0))
     mzb = mcstats.binning(raw[:, 4] / n, bs, variance=max(mean[5] - mean[4] ** 2, 0.0) / n ** 2)
     s2 = mcstats.binning(raw[:, 5], bs, variance=max(mean[6] - mean[5] ** 2, 0.0))
     sp_b = mcstats.binning(raw[:, 7] / n, bs, variance=max(mean[8] - mean[7] ** 2, 0.0) / n ** 2)
@@ -792,7 +813,7 @@ def _analyse(chain: _Chain, model: _Spins, *, J, Delta, h, beta, sweeps, thermal
         site_stag=site_stag, site_stag_err=site_stag_err, ring_stag=ring_stag, ring_stag_err=ring_err,
         bonds=np.stack([model.bi, model.bj], axis=1), bond_zz=zz, bond_zz_err=zz_err, bond_xy=xy, bond_xy_err=xy_err,
         mean_operators=float(mean[0]), string_length=int(chain.ops.size), loops_per_sweep=int(chain.nloops),
-        update=_EXIT_RULE, seconds=float(seconds))
+        update=_EXIT_RULE, energy_estimator=estimator, seconds=float(seconds))
 
 
 def merge_xxz(results) -> XXZResult:
@@ -870,7 +891,8 @@ def merge_xxz(results) -> XXZResult:
         stagger=ref.stagger, ring=ref.ring, bonds=ref.bonds,
         mean_operators=float(sum(wc * r.mean_operators for wc, r in zip(w, res)) / tot),
         string_length=int(max(r.string_length for r in res)), loops_per_sweep=int(ref.loops_per_sweep),
-        update=ref.update, seconds=float(sum(r.seconds for r in res)), **vals, **a)
+        update=ref.update, energy_estimator=ref.energy_estimator, seconds=float(sum(r.seconds for r in res)),
+        **vals, **a)
 
 
 _validate.guard_public(globals())
