@@ -847,11 +847,11 @@ def merge_xxz(results) -> XXZResult:
     --------
     >>> import hyperlattice as hl
     >>> from hyperlattice.spins.quantum import merge_xxz, xxz_qmc
-    >>> runs = [xxz_qmc(hl.ring_lattice(8, 3, 1), J=1.0, Delta=1.0, beta=1.0, sweeps=1000, seed=s,
+    >>> runs = [xxz_qmc(hl.ring_lattice(8, 3, 1), J=1.0, Delta=1.0, beta=1.0, sweeps=4000, seed=s,
     ...                 progress=False) for s in (1, 2)]
     >>> m = merge_xxz(runs)
     >>> m.chains, m.sweeps, m.seeds
-    (2, 2000, (1, 2))
+    (2, 8000, (1, 2))
     """
     res = list(results) if isinstance(results, (list, tuple)) else None
     if not res or not all(isinstance(r, XXZResult) for r in res):
