@@ -97,6 +97,25 @@ def test_mixed_signs_and_bad_input_are_refused():
         xxz_exact(hl.ring_lattice(8, 3, 2), J=1.0, Delta=1.0, beta=1.0)
 
 
+def test_checkpoint_resumes_bit_identically(tmp_path):
+    kw = dict(J=1.0, Delta=0.5, h=0.2, beta=1.0, thermalization=300, seed=9, progress=False)
+    whole = xxz_qmc(RING8, sweeps=4000, **kw)
+    xxz_qmc(RING8, sweeps=2000, checkpoint=tmp_path, **kw)
+    resumed = xxz_qmc(RING8, sweeps=4000, checkpoint=tmp_path, **kw)
+    for k in ("e", "e_err", "c", "chi_u", "s_pi", "s_pi_err"):
+        assert getattr(resumed, k) == getattr(whole, k), k
+    assert np.array_equal(resumed.bond_zz, whole.bond_zz)
+    with pytest.raises(ValueError, match="other parameters"):
+        xxz_qmc(RING8, sweeps=4000, checkpoint=tmp_path, **(kw | dict(h=0.3)))
+    with pytest.raises(ValueError, match="more than"):
+        xxz_qmc(RING8, sweeps=1000, checkpoint=tmp_path, **kw)
+
+
+def test_memory_is_refused_before_the_chain_starts():
+    with pytest.raises(MemoryError, match="operator string"):
+        xxz_qmc(hl.ring_lattice(8, 3, 4), J=1.0, Delta=1.0, beta=1e12, sweeps=10)
+
+
 def test_frustrated_graphs_are_fine_for_exact_diagonalisation():
     x = xxz_exact(HEPTAGON, J=1.0, Delta=1.0, beta=1.0)
     assert math.isnan(x.s_pi) and x.e < 0

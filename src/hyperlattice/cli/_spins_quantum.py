@@ -48,6 +48,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--thermalization", type=_sweeps, default=None, metavar="N",
                         help="thermalisation sweeps (default max(200, sweeps/5))")
     parser.add_argument("--seed", type=_seed, default=None, help="seed of the Markov chain (default: drawn, printed)")
+    parser.add_argument("--checkpoint", default=None, metavar="DIR",
+                        help="save the chain in DIR (created) every minute and at the end; the same command "
+                             "(more --sweeps allowed, with --thermalization given) resumes it, bit-identically")
     parser.add_argument("--no-windings", action="store_true",
                         help="do not measure the spin stiffness (a periodic cluster measures it by default)")
     parser.add_argument("--json", action="store_true",
@@ -67,9 +70,12 @@ def run(args: argparse.Namespace) -> int:
     from ..spins.quantum import xxz_qmc
     from ._bosons_qmc import _system
 
+    from .. import _validate
+
+    checkpoint = None if args.checkpoint is None else _validate.directory("--checkpoint", args.checkpoint)
     system = _system(args)
     res = xxz_qmc(system, J=args.J, Delta=args.Delta, h=args.h, beta=args.beta, sweeps=args.sweeps,
-                  thermalization=args.thermalization, seed=args.seed,
+                  thermalization=args.thermalization, seed=args.seed, checkpoint=checkpoint,
                   windings=False if args.no_windings else None)
     if args.json:
         summary = res.summary()

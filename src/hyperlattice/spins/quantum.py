@@ -563,6 +563,10 @@ def xxz_exact(system, *, J: float, Delta: float, beta: float, h: float = 0.0) ->
 # ----------------------------------------------------------------------------
 
 class _Chain:
+    """The full state of one chain (what a checkpoint stores)."""
+
+    FIELDS = ("ops", "state", "rng", "sbins", "scur", "sinfo", "vbins", "vcur", "vinfo", "loopstat", "counters")
+
     def __init__(self, n: int, nb: int, seed: int, length: int, ncol: int):
         from ..bosons import _sse_kernels as BK
 
@@ -577,8 +581,46 @@ class _Chain:
         self.vcur = np.zeros(2 * n + 2 * nb)
         self.vinfo = np.array([0, 1, 0], dtype=np.int64)
         self.loopstat = np.zeros(4)
-        self.nops = 0
-        self.nloops = 1
+        # nops, nloops, thermalisation sweeps done, measurement sweeps done
+        self.counters = np.array([0, 1, 0, 0], dtype=np.int64)
+
+    def save(self, path, fingerprint: str) -> None:
+        import os
+
+        tmp = path.with_name(path.name + ".tmp.npz")
+        np.savez(tmp, fingerprint=np.array(fingerprint), **{k: getattr(self, k) for k in self.FIELDS})
+        os.replace(tmp, path)
+
+    def load(self, path, fingerprint: str) -> None:
+        try:
+            with np.load(path, allow_pickle=False) as data:
+                if str(data["fingerprint"]) != fingerprint:
+                    raise ValueError(f"the checkpoint {str(path)!r} belongs to a run with other parameters (graph, "
+                                     "J, Delta, h, beta, seed or thermalization); use another directory.")
+                for k in self.FIELDS:
+                    want = getattr(self, k)
+                    got = np.array(data[k])
+                    if got.dtype != want.dtype or (k != "ops" and got.shape != want.shape):
+                        raise ValueError(f"the checkpoint {str(path)!r} is damaged (field {k}).")
+                    setattr(self, k, got)
+        except (OSError, KeyError, EOFError) as exc:
+            raise ValueError(f"the checkpoint {str(path)!r} cannot be read ({exc}).") from None
+
+
+#: seconds of work between checkpoint writes
+_CHECKPOINT_SECONDS = 60.0
+
+
+def _fingerprint(model: "_Spins", J, Delta, h, beta, seed, thermalization, wind) -> str:
+    import hashlib
+    import json
+
+    d = hashlib.sha256()
+    for a in (model.bi, model.bj, model.Jb, wind):
+        d.update(np.ascontiguousarray(a).tobytes())
+    d.update(json.dumps([model.sites, J, Delta, h, beta, seed, thermalization, OFFSET, _TARGET_LEGS, _SCALAR_BINS,
+                         _VECTOR_BINS]).encode())
+    return d.hexdigest()
 
 
 def _load_kernels():
@@ -605,7 +647,7 @@ def _neighbour_bonds(n: int, bi: np.ndarray, bj: np.ndarray) -> tuple[np.ndarray
 
 
 def xxz_qmc(system, *, J: float, Delta: float, beta: float, h: float = 0.0, sweeps: int = 20000,
-            thermalization: int | None = None, seed: int | None = None, windings=None,
+            thermalization: int | None = None, seed: int | None = None, windings=None, checkpoint=None,
             progress=None) -> XXZResult:
     r"""SSE quantum Monte Carlo of the spin-1/2 XXZ model (one Markov chain).
 
@@ -632,6 +674,10 @@ def xxz_qmc(system, *, J: float, Delta: float, beta: float, h: float = 0.0, swee
     windings : Windings or (edges, windings) or False, optional
         As in :func:`hyperlattice.bosons.qmc`: by default a periodic cluster's windings (spin
         stiffness), none on a flake or a matrix.
+    checkpoint : str or path, optional
+        A directory: the chain is saved there every minute and at the end, and a rerun with the
+        same arguments (``sweeps`` may grow; give ``thermalization`` explicitly, its default
+        depends on ``sweeps``) resumes it, bit-identically to an uninterrupted run.
     progress : bool, optional
         Progress bar on stderr (default: when a terminal watches).
 
@@ -692,24 +738,42 @@ def xxz_qmc(system, *, J: float, Delta: float, beta: float, h: float = 0.0, swee
     ndim = int(wind.shape[1])
     ncol = QK.NSCALARS + (ndim * (ndim + 1) // 2 + 1 if ndim else 0)
     chain = _Chain(n, nb, seed, min(bound / 4, 1e8), ncol)
+    fp = _fingerprint(model, J, Delta, h, beta, seed, thermalization, wind)
+    ckpt = None
+    if checkpoint is not None:
+        ckpt = _validate.directory("checkpoint", checkpoint) / "xxz_chain.npz"
+        if ckpt.exists():
+            chain.load(ckpt, fp)
+            if chain.counters[3] > sweeps:
+                raise ValueError(f"the checkpoint already holds {int(chain.counters[3])} measured sweeps, more than "
+                                 f"the {sweeps} asked for.")
     start = time.perf_counter()
-    done = [0, 0]
+    last_save = start
+    done = chain.counters
     with progress_bar(thermalization + sweeps, "spins quantum", unit="sweep", progress=progress) as bar:
+        bar.update(int(done[2] + done[3]))
         chunk = 16
-        while done[0] < thermalization or done[1] < sweeps:
-            therm = done[0] < thermalization
-            left = (thermalization - done[0]) if therm else (sweeps - done[1])
+        while done[2] < thermalization or done[3] < sweeps:
+            therm = bool(done[2] < thermalization)
+            left = (thermalization - done[2]) if therm else (sweeps - done[3])
             k = int(min(chunk, left))
             t0 = time.perf_counter()
-            ops, nops, nloops = QK.run(k, therm, _TARGET_LEGS, chain.ops, chain.state, chain.nops, chain.nloops,
+            ops, nops, nloops = QK.run(k, therm, _TARGET_LEGS, chain.ops, chain.state, int(done[0]), int(done[1]),
                                        beta, model.bi, model.bj, model.tb, cb, wdiag, jz, h, model.stag, nptr, nbond,
                                        chain.rng, chain.sbins, chain.scur, chain.sinfo, chain.vbins, chain.vcur,
                                        chain.vinfo, chain.loopstat, ptab, bclass, wind)
-            chain.ops, chain.nops, chain.nloops = ops, int(nops), int(nloops)
-            done[0 if therm else 1] += k
+            chain.ops = ops
+            done[0], done[1] = nops, nloops
+            done[2 if therm else 3] += k
             bar.update(k)
             dt = time.perf_counter() - t0
+            # chunks of about half a second (the split never changes the chain)
             chunk = int(max(1, min(4 * chunk, k * 0.5 / max(dt, 1e-6))))
+            if ckpt is not None and time.perf_counter() - last_save > _CHECKPOINT_SECONDS:
+                chain.save(ckpt, fp)
+                last_save = time.perf_counter()
+    if ckpt is not None:
+        chain.save(ckpt, fp)
     seconds = time.perf_counter() - start
     return _analyse(chain, model, J=J, Delta=Delta, h=h, beta=beta, sweeps=sweeps, thermalization=thermalization,
                     seed=seed, ndim=ndim, wind_note=wind_note, seconds=seconds)
@@ -819,7 +883,7 @@ def _analyse(chain: _Chain, model: _Spins, *, J, Delta, h, beta, sweeps, thermal
         notes=tuple(notes), stagger=model.stag, ring=model.ring, site_sz=site_sz, site_sz_err=site_sz_err,
         site_stag=site_stag, site_stag_err=site_stag_err, ring_stag=ring_stag, ring_stag_err=ring_err,
         bonds=np.stack([model.bi, model.bj], axis=1), bond_zz=zz, bond_zz_err=zz_err, bond_xy=xy, bond_xy_err=xy_err,
-        mean_operators=float(mean[0]), string_length=int(chain.ops.size), loops_per_sweep=int(chain.nloops),
+        mean_operators=float(mean[0]), string_length=int(chain.ops.size), loops_per_sweep=int(chain.counters[1]),
         update=_EXIT_RULE, energy_estimator=estimator, seconds=float(seconds))
 
 
