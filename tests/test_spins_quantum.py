@@ -227,3 +227,17 @@ def test_spin_stiffness_against_twisted_exact_diagonalisation(J, Delta):
     f = [_twisted_free_energy(n, J, Delta, beta, t) for t in (-d, 0.0, d)]
     rho = (f[0] - 2 * f[1] + f[2]) / d ** 2
     assert rho > 0.02 and abs(r.rho_s - rho) < 4 * r.rho_s_err, (r.rho_s, r.rho_s_err, rho)
+
+
+def test_sweep_task_runs_a_grid_of_chains(tmp_path):
+    from hyperlattice.sweep import read_table, run_sweep
+
+    grid = {"rings": [1], "beta": [1.0], "seed": [1, 2], "sweeps": [2000]}
+    run_sweep("spins_quantum", grid, tmp_path / "sq", scheduler="serial", progress=False)
+    rows = read_table(tmp_path / "sq").rows()
+    assert len(rows) == 2 and {r["seed"] for r in rows} == {1, 2}
+    ex = xxz_exact(RING8, J=1.0, Delta=1.0, beta=1.0)
+    for r in rows:
+        assert abs(r["e"] - ex.e) < 4 * r["e_err"] and len(r["ring_stag"]) == 1
+    with pytest.raises(ValueError, match="odd cycle"):
+        run_sweep("spins_quantum", {"p": [7], "seed": [1]}, tmp_path / "bad", scheduler="serial", progress=False)
