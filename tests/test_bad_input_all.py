@@ -82,6 +82,7 @@ def _bosons():
 
 
 HEPT, BB, BSEC, BPSI = _bosons()
+OCT = __import__("hyperlattice.graph.lattice", fromlist=["x"]).ring_lattice(8, 3, 1)
 _BB = dict(sites=7, particles=2, nmax=2)
 _BED = "hyperlattice.bosons.ed."
 
@@ -135,6 +136,9 @@ CALLS = {
     "hyperlattice.spins.classical.classical_mc": (dict(system=LAT, model="ising", beta=1.0, sweeps=200), set()),
     "hyperlattice.spins.classical.classical_mc_memory": (dict(system=LAT, model="ising"), set()),
     "hyperlattice.bosons.sse.qmc_seconds": (dict(system=HEPT, U=2.0, mu=0.5, beta=1.0, nmax=1), set()),
+    # the spin-1/2 XXZ model: the octagon (8 spins, bipartite), short chains
+    "hyperlattice.spins.quantum.xxz_qmc": (dict(system=OCT, J=1.0, Delta=1.0, beta=1.0, sweeps=200), set()),
+    "hyperlattice.spins.quantum.xxz_exact": (dict(system=OCT, J=1.0, Delta=1.0, beta=1.0), set()),
 }
 
 
@@ -157,7 +161,8 @@ FUNCTIONS = public_functions()
 
 #: modules whose accepted calls run the SSE kernels: on a fresh clone (empty numba cache) the
 #: first call compiles them, seconds of CPU that the probe's limit must not charge to a bad value
-JIT_MODULES = ("hyperlattice.bosons.sse.", "hyperlattice.compare.qmc_lobe.", "hyperlattice.bosons.strong_coupling.")
+JIT_MODULES = ("hyperlattice.bosons.sse.", "hyperlattice.compare.qmc_lobe.", "hyperlattice.bosons.strong_coupling.",
+               "hyperlattice.spins.quantum.")
 
 
 def _compile_sse_kernels():
@@ -169,6 +174,9 @@ def _compile_sse_kernels():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         qmc(ring_lattice(7, 3, 1), U=4.0, mu=1.0, beta=1.0, nmax=2, sweeps=20, seed=1, progress=False)
+        from hyperlattice.spins.quantum import xxz_qmc
+
+        xxz_qmc(ring_lattice(8, 3, 1), J=1.0, Delta=1.0, beta=1.0, sweeps=20, seed=1, progress=False)
 
 
 def good_call(func) -> dict:

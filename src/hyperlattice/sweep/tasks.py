@@ -26,6 +26,13 @@ Registered tasks:
     ``stiffness_note`` says why; the columns: docs/qmc.md); a grid over ``seed`` gives independent chains, merged per point by
     :func:`hyperlattice.sweep.qmc.merge_qmc` (:func:`hyperlattice.bosons.merge_chains`). A chain's wall-clock time is
     not stored (rows are pure functions of the parameters).
+``spins_quantum``
+    One Markov chain of the spin-1/2 XXZ SSE (:func:`hyperlattice.spins.quantum.xxz_qmc`):
+    ``p, q, rings, cluster, J, Delta, h, beta, sweeps, thermalization, seed`` (``cluster`` as for
+    ``qmc``). Outputs ``e, c, chi_u, mz, s_pi, binder, rho_s`` with ``_err``, ``tau_*``,
+    ``converged``, ``notes``, ``energy_estimator``, the site arrays ``site_sz``, ``site_stag``
+    (with ``_err``) and on a flake ``ring_stag`` and ``ring_stag_err`` (empty otherwise); a grid
+    over ``seed`` gives independent chains.
 ``probe``
     ``x -> x**2`` after sleeping ``sleep`` seconds: measures the engine's own overhead and
     exercises its fault handling; no physics.
@@ -316,6 +323,59 @@ def _check_spins(params: dict) -> None:
         raise ValueError(str(exc)) from None
 
 
+#: the scalars of an XXZResult a ``spins_quantum`` row stores under their own names
+_XXZ_SCALARS = ("system", "sites", "bipartite", "e", "e_err", "c", "c_err", "chi_u", "chi_u_err", "mz", "mz_err",
+                "s_pi", "s_pi_err", "binder", "binder_err", "rho_s", "rho_s_err", "bins", "bin_size",
+                "mean_operators", "energy_estimator")
+
+
+def _spins_quantum(p: int = 8, q: int = 3, rings: int = 2, cluster: str | None = None, J: float = 1.0,
+                   Delta: float = 1.0, h: float = 0.0, beta: float = 4.0, sweeps: int = 5000,
+                   thermalization: int | None = None, seed: int = 0) -> dict:
+    import warnings
+
+    from ..spins.quantum import XXZWarning, xxz_qmc
+
+    with warnings.catch_warnings():
+        # the row keeps what a warning says: ``converged`` and ``notes``
+        warnings.simplefilter("ignore", XXZWarning)
+        r = xxz_qmc(_qmc_system(p, q, rings, cluster), J=J, Delta=Delta, h=h, beta=beta, sweeps=sweeps,
+                    thermalization=thermalization, seed=seed, progress=False)
+    row = {k: getattr(r, k) for k in _XXZ_SCALARS}
+    row["thermalization_sweeps"] = int(r.thermalization)
+    row.update({f"tau_{k}": float(r.tau_int.get(k, math.nan)) for k in ("energy", "chi_u", "s_pi", "stiffness")})
+    row["converged"] = bool(r.converged)
+    row["notes"] = _NOTES_SEP.join(r.notes)
+    for k in ("site_sz", "site_sz_err", "site_stag", "site_stag_err", "ring_stag", "ring_stag_err"):
+        v = getattr(r, k)
+        row[k] = np.zeros(0) if v is None else np.asarray(v, float)
+    return row
+
+
+def _check_spins_quantum(params: dict) -> None:
+    p, q = _validate.pq(params["p"], params["q"])
+    if params["cluster"] is None:
+        _validate.positive_int("rings", params["rings"], maximum=40)
+    else:
+        from ..graph.clusters import pbc_cluster
+
+        pbc_cluster(p, q, params["cluster"])        # refuses an unknown name in one sentence
+    for name in ("J", "Delta", "h"):
+        _validate.real(name, params[name])
+    if params["J"] == 0:
+        raise ValueError("J = 0 leaves free spins in a field (no bond term); use a nonzero J.")
+    beta = _validate.real("beta", params["beta"])
+    if not beta > 0:
+        raise ValueError(f"beta must be positive, got {beta!r}.")
+    _validate.positive_int("sweeps", params["sweeps"])
+    if params["thermalization"] is not None:
+        _validate.integer("thermalization", params["thermalization"], minimum=0)
+    _validate.integer("seed", params["seed"], minimum=0)
+    if params["J"] > 0 and params["cluster"] is None and p % 2:
+        raise ValueError(f"an antiferromagnet (J > 0) on a graph with an odd cycle is frustrated and gives the "
+                         f"quantum Monte Carlo a sign problem (the {{{p},{q}}} flake has {p}-gons).")
+
+
 def _point_value(v):
     """A hashable, exact stand-in of a parameter value (floats by repr)."""
     return repr(v) if isinstance(v, float) else v
@@ -371,6 +431,7 @@ class Task:
 
 TASKS = {t.name: t for t in (Task("disorder", _disorder, _check_disorder), Task("levels", _levels, _check_levels),
                              Task("qmc", _qmc, _check_qmc), Task("spins", _spins, _check_spins),
+                             Task("spins_quantum", _spins_quantum, _check_spins_quantum),
                              Task("probe", _probe, _check_probe))}
 
 
@@ -380,7 +441,7 @@ def get_task(name) -> Task:
     Parameters
     ----------
     name : str
-        ``"disorder"``, ``"levels"``, ``"qmc"``, ``"spins"`` or ``"probe"`` (the keys of :data:`TASKS`).
+        ``"disorder"``, ``"levels"``, ``"qmc"``, ``"spins"``, ``"spins_quantum"`` or ``"probe"`` (the keys of :data:`TASKS`).
 
     Returns
     -------
