@@ -84,6 +84,14 @@ INVOCATIONS = [
     ["bosons", "meanfield", "--infinite", "--points", "3"],
     ["bosons", "gp", "-p", "7", "-q", "3", "--rings", "2", "--filling", "1", "--U", "0.5", "--t", "1", "--modes", "3", "--json"],
     ["bosons", "gp", "--rings", "2", "--particles", "35", "--U", "0.5"],
+    ["device", "transmission", "-p", "7", "-q", "3", "--rings", "2", "--line-graph", "--omega0", "7000", "--J", "-66",
+     "--kappa-int", "0.7", "--port", "0-1:1", "--port", "30-31:1", "--omegas", "{tmp}/device_omegas.txt",
+     "--frequencies", "{tmp}/device_freq.json", "--hoppings", "{tmp}/device_hop.json", "--sigma-omega", "3",
+     "--sigma-J", "0.03", "--seed", "1", "--plot", "{tmp}/device.png", "--json"],
+    ["device", "transmission", "--cluster", "klein", "--kappa-int", "0", "--port", "0:1", "--omega-min", "-3",
+     "--omega-max", "3", "--points", "11"],
+    ["device", "transmission", "--adjacency", "{tmp}/square.npz", "--kappa-int", "0.1", "--port", "0:1",
+     "--omega-min", "-3", "--omega-max", "3.1", "--points", "5"],
 ]
 
 
@@ -160,6 +168,13 @@ def _square_torus_files(where) -> None:
     np.save(where / "square_windings.npy", np.array([lookup[(int(i), int(j))] for i, j in edges(adj)]))
 
 
+def _device_files(where) -> None:
+    """The frequency list and the explicit disorder files of the ``device`` lines."""
+    (where / "device_omegas.txt").write_text("6900\n7000.5\n7100\n")
+    (where / "device_freq.json").write_text(json.dumps({"0-1": 7001.0}))
+    (where / "device_hop.json").write_text(json.dumps({"0-1|1-2": -60.0}))
+
+
 def _slow(argv: list[str]) -> bool:
     # the two lines above ~5 s (a butterfly with its continuum overlay; rho of the infinite lattice)
     return argv[0] == "butterfly" and "--continuum" in argv or "--infinite" in argv
@@ -176,6 +191,7 @@ def test_invocation_runs(argv, tmp_path, monkeypatch, capsys):
     monkeypatch.setattr(report, "reproduce", _fake_reproduce)
     (tmp_path / "sweep.json").write_text(json.dumps({"task": "probe", "grid": {"x": [1.0]}, "out": str(tmp_path / "s2")}))
     _square_torus_files(tmp_path)
+    _device_files(tmp_path)
     words = [w.replace("{tmp}", str(tmp_path)) for w in argv]
     code = main(words + ["--no-progress"])
     err = capsys.readouterr().err

@@ -1,0 +1,15 @@
+"""The device room: what an experiment measures on a resonator lattice or an electric circuit.
+
+* :mod:`.resonators` — a resonator lattice with ports, as fabricated (names, couplings, disorder);
+* :mod:`.transmission` — its scattering matrix S(ω) by input–output theory, swept fast;
+
+Resonators sit on any graph of the package (flake, cluster, line graph, user adjacency); units
+are the user's. See ``docs/device.md``.
+"""
+
+from __future__ import annotations
+
+from .resonators import Device, flat_band_degeneracy, graph_edges, resonator_device
+from .transmission import Transmission, transmission
+
+__all__ = ["Device", "resonator_device", "graph_edges", "flat_band_degeneracy", "Transmission", "transmission"]

@@ -1,0 +1,81 @@
+"""Figures of what a device measures: transmission |S₂₁|² against frequency (with the ideal levels
+marked), a fitted trace over its data, an ensemble's mean and spread, a node impedance.
+Each takes an optional ``ax`` and returns it."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
+    from ..device import Transmission
+
+__all__ = ["plot_transmission"]
+
+
+def _axes(ax, size=(6.5, 3.6)):
+    if ax is None:
+        import matplotlib.pyplot as plt
+
+        _, ax = plt.subplots(figsize=size, layout="constrained")
+    return ax
+
+
+def plot_transmission(tr: Transmission, ax: Axes | None = None, *, levels=None, log: bool = True,
+                      **kwargs) -> Axes:
+    """|S₂₁|² against frequency, on a log scale; ``levels`` (e.g. the ideal device's eigenvalues) as ticks.
+
+    Parameters
+    ----------
+    tr : Transmission
+        From :func:`hyperlattice.device.transmission`.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure when None.
+    levels : array_like, optional
+        Frequencies to mark along the bottom (the ideal spectrum).
+    log : bool, optional
+        Logarithmic |S₂₁|² axis; default True.
+    **kwargs
+        Passed to :meth:`matplotlib.axes.Axes.plot`.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes with the trace.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import numpy as np
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.device import resonator_device, transmission
+    >>> from hyperlattice.plots.device import plot_transmission
+    >>> dev = resonator_device(hl.ring_lattice(7, 3, 1), omega0=5.0, J=0.1, kappa_int=0.01,
+    ...                        ports={"0": 0.05, "3": 0.05})
+    >>> ax = plot_transmission(transmission(dev, np.linspace(4.7, 5.3, 50)))
+    >>> ax.get_ylabel()
+    '|S₂₁|²'
+    >>> plt.close("all")
+    """
+    ax = _axes(ax)
+    ax.plot(tr.omega, tr.power, lw=kwargs.pop("lw", 0.8), **kwargs)
+    if log:
+        ax.set_yscale("log")
+    if levels is not None:
+        lv = np.asarray(levels, float)
+        lo = ax.get_ylim()[0]
+        ax.plot(lv, np.full(lv.shape, lo), "|", color="C3", ms=10, label="ideal levels")
+        ax.legend(loc="upper right", fontsize="small")
+    ax.set_xlabel("frequency ω")
+    ax.set_ylabel("|S₂₁|²" if len(tr.ports) > 1 else "|S₁₁|²")
+    ax.set_title(f"{len(tr.resonators)} resonators, {tr.method} route", fontsize="medium")
+    return ax
+
+
+# every public function above checks its annotated argument types at the door
+from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
+
+_guard_public(globals())
