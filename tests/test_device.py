@@ -180,3 +180,27 @@ def test_table_and_round_trip():
     assert list(df.columns)[:4] == ["omega", "s21_re", "s21_im", "s21_abs2"]
     back = type(tr).from_dict(tr.as_dict())
     assert np.array_equal(back.s, tr.s) and back.resonators == tr.resonators
+
+
+def test_ensemble_through_the_sweep(tmp_path):
+    from hyperlattice.sweep import run_sweep
+    from hyperlattice.sweep.device import merge_device
+
+    grid = {"rings": 2, "ports": "0-1:0.1,30-31:0.1", "sigma_omega": 0.05, "sigma_J": 0.02, "seed": [1, 2, 3],
+            "points": 40}
+    run_sweep("device", grid, tmp_path / "ens", scheduler="serial", progress=False)
+    (ens,) = merge_device(tmp_path / "ens")
+    assert ens.realizations == 3 and ens.seeds == (1, 2, 3)
+    # the same three devices built by hand
+    lat = ring_lattice(7, 3, 2)
+    w = np.linspace(-4.5, 2.5, 40)
+    powers, levels = [], []
+    for seed in (1, 2, 3):
+        dev = resonator_device(lat, line_graph=True, kappa_int=0.05, ports={"0-1": 0.1, "30-31": 0.1},
+                               sigma_omega=0.05, sigma_J=0.02, seed=seed)
+        powers.append(transmission(dev, w).power)
+        levels.append(np.linalg.eigvalsh(dev.hamiltonian().toarray()))
+    assert np.allclose(ens.mean, np.mean(powers, axis=0), rtol=1e-12, atol=0)
+    assert np.allclose(ens.level_spread, np.std(levels, axis=0, ddof=1), rtol=1e-9, atol=1e-14)
+    with pytest.raises(ValueError, match="positive"):
+        run_sweep("device", {"ports": "0-1:0"}, tmp_path / "bad", scheduler="serial", progress=False)

@@ -231,7 +231,7 @@ def test_a_result_without_a_drawing_says_so():
 INNER_ORDER = {
     "graph": ("lattice", "groups", "flux", "operators", "symmetry", "solvers", "factor", "walks", "clusters",
               "bands", "disorder", "kpm", "green", "qubits", "levels", "sectors", "spectrum", "butterfly"),
-    "sweep": ("tasks", "keys", "store", "qmc", "engine"),
+    "sweep": ("tasks", "keys", "store", "qmc", "device", "engine"),
 }
 
 

@@ -140,6 +140,15 @@ class Transmission(Result):
     moments: int = 0
     description: str = ""
 
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        s, w = np.asarray(self.s), np.asarray(self.omega)
+        if w.ndim != 1 or s.ndim != 3 or s.shape[0] != w.size or s.shape[1] != s.shape[2] or s.shape[1] == 0:
+            raise ValueError(f"a Transmission holds s of shape (frequencies, ports, ports) = ({w.size}, P, P), "
+                             f"got {s.shape}.")
+        if len(self.ports) != s.shape[1]:
+            raise ValueError(f"a Transmission names {len(self.ports)} ports for an S matrix of {s.shape[1]}.")
+
     @property
     def s21(self) -> np.ndarray:
         """S from port 1 to port 2 (``s[:, 1, 0]``; the reflection ``s[:, 0, 0]`` with one port)."""
@@ -271,16 +280,33 @@ def _eigen(dev: Device, omegas: np.ndarray):
     chunk = max(1, int(2_000_000 // max(n, 1)))
     pairs = (w[:, None, :] * w[None, :, :]).reshape(P * P, n).T      # (N, P*P): w_p w_q per level
     bright = np.linalg.norm(w, axis=0) > _DARK
+    lam_bright = lam[bright]
+    eta = 0.5 * dev.kappa_int
     for a in range(0, omegas.size, chunk):
         zz = z[a:a + chunk]
-        diff = zz[:, None] - lam[None, :]
-        near = (np.abs(diff) < near_d) & bright[None, :]
-        hit = np.flatnonzero(np.any(near, axis=1))
-        diff[near] = np.inf                      # those levels enter the bordered system below
-        g0 = ((1.0 / diff) @ pairs).reshape(zz.size, P, P)
+        # only the bright levels next to each frequency can be near it: a search, not a scan of N x F
+        hit = np.zeros(zz.size, bool)
+        if lam_bright.size:
+            k = np.searchsorted(lam_bright, zz.real)
+            lo = np.abs(zz - lam_bright[np.maximum(k - 1, 0)])
+            hi = np.abs(zz - lam_bright[np.minimum(k, lam_bright.size - 1)])
+            hit = np.minimum(lo, hi) < near_d
+        # 1/(z - lam) = (x - i eta)/(x^2 + eta^2): real arithmetic (numpy's complex division is slower)
+        x = zz.real[:, None] - lam[None, :]
+        den = x * x + eta * eta
+        hits = np.flatnonzero(hit)
+        for f in hits:
+            near = np.abs(zz[f] - lam) < near_d
+            x[f, near] = 0.0                     # bright ones enter the bordered system below, dark ones
+            den[f, near] = 1.0                   # couple to no port
+        zero = den == 0                          # a lossless frequency exactly on a dark level
+        if zero.any():
+            x[zero], den[zero] = 0.0, 1.0
+        g0 = ((x / den) @ pairs - 1j * (eta / den) @ pairs).reshape(zz.size, P, P)
         out[a:a + chunk] = _woodbury(g0, kap)
-        for f in hit:
-            out[a + f] = _bordered(g0[f], w[:, near[f]], zz[f] - lam[near[f]], kap)
+        for f in hits:
+            near = (np.abs(zz[f] - lam) < near_d) & bright
+            out[a + f] = _bordered(g0[f], w[:, near], zz[f] - lam[near], kap)
     return out, lam, "eigen"
 
 
@@ -293,6 +319,67 @@ def _cheb_moments_needed(zs: np.ndarray, tail_tol: np.ndarray) -> int:
     return int(np.ceil(np.max(np.maximum(m, 2))))
 
 
+_KERNELS: dict = {}
+
+
+def _kernels() -> dict:
+    """Numba kernels of the Chebyshev route, compiled on first use (never at import)."""
+    if _KERNELS:
+        return _KERNELS
+    import numba
+
+    @numba.njit(cache=True)
+    def steps(indptr, indices, data, vp, v, nsteps, mu0, mu1, out):     # pragma: no cover - compiled
+        # nsteps of v_{k+1} = 2 H v_k - v_{k-1} (vectors as rows: v[p] is port p's), with
+        # mu_{2k} = 2 v_k.v_k - mu_0 and mu_{2k+1} = 2 v_{k+1}.v_k - mu_1
+        P, n = v.shape
+        vn = np.empty_like(v)
+        for s in range(nsteps):
+            for p in range(P):
+                vrow = v[p]
+                prow = vp[p]
+                nrow = vn[p]
+                for i in range(n):
+                    acc = 0.0
+                    for j in range(indptr[i], indptr[i + 1]):
+                        acc += data[j] * vrow[indices[j]]
+                    nrow[i] = 2.0 * acc - prow[i]
+            for p in range(P):
+                for q in range(P):
+                    a = 0.0
+                    b = 0.0
+                    for i in range(n):
+                        a += v[p, i] * v[q, i]
+                        b += vn[p, i] * v[q, i]
+                    out[2 * s, p, q] = 2.0 * a - mu0[p, q]
+                    out[2 * s + 1, p, q] = 2.0 * b - mu1[p, q]
+            tmp = vp
+            vp = v
+            v = vn
+            vn = tmp
+        return vp, v
+
+    @numba.njit(cache=True)
+    def horner(mu_t, rho, out):                                          # pragma: no cover - compiled
+        # out[p, q, f] = sum_{n >= 1} rho_f^n mu_n[p, q], by Horner's rule from the highest moment,
+        # every frequency at once (independent accumulators)
+        P = mu_t.shape[0]
+        m = mu_t.shape[2]
+        nf = rho.shape[0]
+        for p in range(P):
+            for q in range(P):
+                acc = out[p, q]
+                for f in range(nf):
+                    acc[f] = 0j
+                for k in range(m - 1, 0, -1):
+                    c = mu_t[p, q, k]
+                    for f in range(nf):
+                        acc[f] = (acc[f] + c) * rho[f]
+
+    _KERNELS.update(steps=steps, horner=horner)
+    return _KERNELS
+
+
 class _Moments:
     """Chebyshev moments mu_n = U^T T_n(H~) U of the port vectors, extended on demand (doubling)."""
 
@@ -301,21 +388,22 @@ class _Moments:
         self.hs = hs
         u = np.zeros((n, P))
         u[idx, np.arange(P)] = 1.0
-        self.v_prev, self.v = u, hs @ u          # v_0, v_1
-        self.k = 1
+        v1 = hs @ u
         self.mu0 = u.T @ u
-        self.mu1 = u.T @ self.v
-        self.mu = [self.mu0, self.mu1]
+        self.mu1 = u.T @ v1
+        self.v_prev, self.v = np.ascontiguousarray(u.T), np.ascontiguousarray(v1.T)     # v_0, v_1 as rows
+        self.mu = np.concatenate([self.mu0[None], self.mu1[None]])
 
     def extend(self, m: int) -> np.ndarray:
-        while len(self.mu) < m:
-            # mu_{2k} = 2 v_k.v_k - mu_0, mu_{2k+1} = 2 v_{k+1}.v_k - mu_1
-            v_next = 2.0 * (self.hs @ self.v) - self.v_prev
-            self.mu.append(2.0 * (self.v.T @ self.v) - self.mu0)
-            self.mu.append(2.0 * (v_next.T @ self.v) - self.mu1)
-            self.v_prev, self.v = self.v, v_next
-            self.k += 1
-        return np.asarray(self.mu[:m])
+        have = self.mu.shape[0]
+        if have < m:
+            nsteps = (m - have + 1) // 2
+            out = np.empty((2 * nsteps,) + self.mu0.shape)
+            hs = self.hs
+            self.v_prev, self.v = _kernels()["steps"](hs.indptr, hs.indices, hs.data, self.v_prev, self.v, nsteps,
+                                                      self.mu0, self.mu1, out)
+            self.mu = np.concatenate([self.mu, out])
+        return self.mu[:m]
 
 
 def _chebyshev(dev: Device, omegas: np.ndarray, tol: float, m_start: int):
@@ -335,9 +423,9 @@ def _chebyshev(dev: Device, omegas: np.ndarray, tol: float, m_start: int):
     while True:
         mu = mom.extend(m)                        # (m, P, P), real
         # Horner in rho: sum_{n>=1} rho^n mu_n
-        acc = np.zeros((omegas.size, P, P), np.complex128)
-        for k in range(m - 1, 0, -1):
-            acc = (acc + mu[k][None]) * rho[:, None, None]
+        acc_t = np.empty((P, P, omegas.size), np.complex128)
+        _kernels()["horner"](np.ascontiguousarray(mu.transpose(1, 2, 0)), rho, acc_t)
+        acc = acc_t.transpose(2, 0, 1)
         g0 = (mu[0][None] + 2.0 * acc) / (s[:, None, None] * half)
         out = _woodbury(g0, kap)
         # the bound: Chebyshev tail (proved: |mu_n| <= 1) + rounding of the recurrence and the sum
@@ -420,6 +508,15 @@ def transmission(device: Device, omegas, *, method: str = "auto", tol: float = 1
     w = _omegas(omegas)
     method = _validate.choice("method", method, METHODS)
     tol = _validate.real("tol", tol, minimum=1e-15, maximum=1.0)
+    from ..graph.solvers import single_threaded_blas
+
+    with single_threaded_blas():
+        # small dense blocks and many small BLAS calls: threads cost more than they save (and on a
+        # loaded machine a 140 x 140 eigh waited seconds for a descheduled thread)
+        return _transmission(device, w, method, tol)
+
+
+def _transmission(device: Device, w: np.ndarray, method: str, tol: float) -> Transmission:
     n = device.size
     moments = 0
     levels = np.zeros(0)

@@ -11,9 +11,9 @@ import numpy as np
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-    from ..device import Transmission
+    from ..device import DeviceEnsemble, Transmission
 
-__all__ = ["plot_transmission"]
+__all__ = ["plot_transmission", "plot_ensemble"]
 
 
 def _axes(ax, size=(6.5, 3.6)):
@@ -72,6 +72,51 @@ def plot_transmission(tr: Transmission, ax: Axes | None = None, *, levels=None, 
     ax.set_xlabel("frequency ω")
     ax.set_ylabel("|S₂₁|²" if len(tr.ports) > 1 else "|S₁₁|²")
     ax.set_title(f"{len(tr.resonators)} resonators, {tr.method} route", fontsize="medium")
+    return ax
+
+
+def plot_ensemble(ens: DeviceEnsemble, ax: Axes | None = None, *, log: bool = True, **kwargs) -> Axes:
+    """Mean |S₂₁|² over fabricated devices with a band of ± one standard deviation; mean levels as ticks.
+
+    Parameters
+    ----------
+    ens : DeviceEnsemble
+        From :func:`hyperlattice.sweep.device.merge_device` or :func:`hyperlattice.device.ensemble_statistics`.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure when None.
+    log : bool, optional
+        Logarithmic |S₂₁|² axis; default True.
+    **kwargs
+        Passed to :meth:`matplotlib.axes.Axes.plot` (the mean).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes with the mean, the band and the mean levels.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import numpy as np
+    >>> from hyperlattice.device import ensemble_statistics
+    >>> from hyperlattice.plots.device import plot_ensemble
+    >>> ens = ensemble_statistics([0.0, 1.0], [[0.1, 0.2], [0.3, 0.2]], [[0.2], [0.4]])
+    >>> plot_ensemble(ens).get_ylabel()
+    'mean |S₂₁|²'
+    >>> plt.close("all")
+    """
+    ax = _axes(ax)
+    ax.fill_between(ens.omega, np.maximum(ens.mean - ens.spread, 1e-300), ens.mean + ens.spread, color="C0",
+                    alpha=0.25, lw=0, label="± one standard deviation")
+    ax.plot(ens.omega, ens.mean, lw=kwargs.pop("lw", 0.8), label=kwargs.pop("label", "mean"), **kwargs)
+    if log:
+        ax.set_yscale("log")
+    lo = ax.get_ylim()[0]
+    ax.plot(ens.level_mean, np.full(ens.level_mean.shape, lo), "|", color="C3", ms=10, label="mean levels")
+    ax.set_xlabel("frequency ω")
+    ax.set_ylabel("mean |S₂₁|²")
+    ax.set_title(f"{ens.realizations} fabricated devices", fontsize="medium")
+    ax.legend(loc="upper right", fontsize="small")
     return ax
 
 

@@ -81,6 +81,7 @@ _DRAWINGS = {
     "CountingFit": scaling.plot_counting,
     # what a device measures
     "Transmission": device.plot_transmission,
+    "DeviceEnsemble": device.plot_ensemble,
 }
 
 for _tag, _func in _DRAWINGS.items():

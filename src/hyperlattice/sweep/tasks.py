@@ -26,6 +26,13 @@ Registered tasks:
     ``stiffness_note`` says why; the columns: docs/qmc.md); a grid over ``seed`` gives independent chains, merged per point by
     :func:`hyperlattice.sweep.qmc.merge_qmc` (:func:`hyperlattice.bosons.merge_chains`). A chain's wall-clock time is
     not stored (rows are pure functions of the parameters).
+``device``
+    One fabricated device (:func:`hyperlattice.device.resonator_device` with drawn disorder, then
+    :func:`hyperlattice.device.transmission`): ``p, q, rings, line_graph, omega0, J, kappa_int, ports``
+    (``"RES:KAPPA,RES:KAPPA"``), ``sigma_omega, sigma_J, seed, omega_min, omega_max, points``; outputs
+    ``omega``, ``s21_abs2`` (arrays), ``levels`` (the disordered device's eigenvalues: the resonance
+    positions) and ``method``. A grid over ``seed`` is an ensemble, merged by
+    :func:`hyperlattice.sweep.device.merge_device` (mean and spread).
 ``probe``
     ``x -> x**2`` after sleeping ``sleep`` seconds: measures the engine's own overhead and
     exercises its fault handling; no physics.
@@ -257,6 +264,59 @@ def _check_qmc(params: dict) -> None:
         raise ValueError(str(exc)) from None
 
 
+#: largest device of the ``device`` task (its levels come from a dense eigensolver)
+DEVICE_MAX = 5000
+
+
+def _device_ports(text) -> dict:
+    if not isinstance(text, str) or not text.strip():
+        raise ValueError(f"ports must be a string 'RES:KAPPA,RES:KAPPA', got {_validate._shown(text)}.")
+    out = {}
+    for item in text.split(","):
+        name, sep, kappa = item.strip().rpartition(":")
+        if not sep or not name:
+            raise ValueError(f"each port is RES:KAPPA, got {item.strip()!r}.")
+        try:
+            out[name] = float(kappa)
+        except ValueError:
+            raise ValueError(f"the kappa of port {item.strip()!r} is not a number.") from None
+    return out
+
+
+def _device_of(params: dict):
+    from ..device import resonator_device
+
+    lat = _lattice(params["p"], params["q"], params["rings"], False)
+    return resonator_device(lat, line_graph=params["line_graph"], omega0=params["omega0"], J=params["J"],
+                            kappa_int=params["kappa_int"], ports=_device_ports(params["ports"]),
+                            sigma_omega=params["sigma_omega"], sigma_J=params["sigma_J"], seed=params["seed"])
+
+
+def _device(p: int = 7, q: int = 3, rings: int = 3, line_graph: bool = True, omega0: float = 0.0, J: float = 1.0,
+            kappa_int: float = 0.05, ports: str = "0-1:0.1,110-111:0.1", sigma_omega: float = 0.0,
+            sigma_J: float = 0.0, seed: int = 0, omega_min: float = -4.5, omega_max: float = 2.5,
+            points: int = 701) -> dict:
+    from ..device import transmission
+
+    params = dict(p=p, q=q, rings=rings, line_graph=line_graph, omega0=omega0, J=J, kappa_int=kappa_int,
+                  ports=ports, sigma_omega=sigma_omega, sigma_J=sigma_J, seed=seed)
+    dev = _device_of(params)
+    tr = transmission(dev, np.linspace(omega_min, omega_max, points))
+    levels = tr.levels if tr.levels is not None and len(tr.levels) else np.linalg.eigvalsh(dev.hamiltonian().toarray())
+    return {"omega": np.asarray(tr.omega, float), "s21_abs2": np.asarray(tr.power, float),
+            "levels": np.asarray(levels, float), "method": tr.method}
+
+
+def _check_device(params: dict) -> None:
+    _check_geometry(params, DEVICE_MAX)
+    for name in ("omega_min", "omega_max"):
+        _validate.real(name, params[name])
+    if not params["omega_max"] > params["omega_min"]:
+        raise ValueError(f"omega_max {params['omega_max']!r} must exceed omega_min {params['omega_min']!r}.")
+    _validate.positive_int("points", params["points"], maximum=1_000_000)
+    _device_of(params)          # refuses bad ports, rates and seeds in one sentence
+
+
 def _point_value(v):
     """A hashable, exact stand-in of a parameter value (floats by repr)."""
     return repr(v) if isinstance(v, float) else v
@@ -311,7 +371,8 @@ class Task:
 
 
 TASKS = {t.name: t for t in (Task("disorder", _disorder, _check_disorder), Task("levels", _levels, _check_levels),
-                             Task("qmc", _qmc, _check_qmc), Task("probe", _probe, _check_probe))}
+                             Task("qmc", _qmc, _check_qmc), Task("device", _device, _check_device),
+                             Task("probe", _probe, _check_probe))}
 
 
 def get_task(name) -> Task:
@@ -320,7 +381,7 @@ def get_task(name) -> Task:
     Parameters
     ----------
     name : str
-        ``"disorder"``, ``"levels"``, ``"qmc"`` or ``"probe"`` (the keys of :data:`TASKS`).
+        ``"disorder"``, ``"levels"``, ``"qmc"``, ``"device"`` or ``"probe"`` (the keys of :data:`TASKS`).
 
     Returns
     -------
