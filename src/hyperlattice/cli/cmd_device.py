@@ -5,6 +5,11 @@ theory), ideal or with fabrication disorder. JSON keys: ``omega``, ``s_re``, ``s
 [frequency][out port][in port]), ``resonators`` (names in the order used), ``flat_band_degeneracy``
 (with ``--line-graph``: the multiplicity of the eigenvalue −2 of the line graph's adjacency; null
 otherwise), then ``ports``, ``method``, ``error_bound``.
+
+``impedance``: the two-point impedance Z_ab (``--between A B``) or the impedance to ground Z_a
+(``--to-ground A``) of a circuit with ``--edge SPEC`` on every edge and ``--ground SPEC`` from every
+node (SPEC ``C:1``, ``L:1,R:100``: parallel elements). JSON keys ``omega``, ``z_re``, ``z_im``, then
+``nodes``, ``kind``, ``resonances`` (of the lossless LC parts), ``method``.
 """
 
 from __future__ import annotations
@@ -19,7 +24,7 @@ from ._common import add_pq, finite_float, integer, plot_file, positive_int, pri
 
 NAME = "device"
 ORDER = 56
-HELP = "what an experiment measures: transmission S21 of a resonator lattice with ports"
+HELP = "what an experiment measures: transmission S21 of a resonator lattice, impedance of a circuit"
 
 #: most frequencies of an --omega-min/--omega-max grid or an --omegas file
 MAX_POINTS = 10_000_000
@@ -195,9 +200,43 @@ def _run_transmission(args: argparse.Namespace) -> int:
     return 0
 
 
+def _add_impedance(p: argparse.ArgumentParser) -> None:
+    add_geometry(p)
+    p.add_argument("--edge", required=True, metavar="SPEC",
+                   help="element(s) on every edge, in parallel: C:1, L:1, R:100 or L:1,R:100")
+    p.add_argument("--ground", required=True, metavar="SPEC", help="element(s) from every node to ground")
+    which = p.add_mutually_exclusive_group(required=True)
+    which.add_argument("--between", nargs=2, metavar=("A", "B"), help="two-point impedance Z_AB")
+    which.add_argument("--to-ground", metavar="A", help="impedance of node A to ground")
+    add_frequencies(p)
+    p.add_argument("--json", action="store_true", help="print JSON: omega, z_re, z_im, nodes, kind, resonances")
+
+
+def _run_impedance(args: argparse.Namespace) -> int:
+    from ..device import impedance
+
+    w = omegas(args)
+    z = impedance(graph(args), w, edge=args.edge, ground=args.ground,
+                  between=tuple(args.between) if args.between is not None else None, to_ground=args.to_ground,
+                  line_graph=args.line_graph)
+    if args.json:
+        print_json({"omega": z.omega, "z_re": z.z_re, "z_im": z.z_im, "nodes": list(z.nodes), "kind": z.kind,
+                    "resonances": z.resonances, "method": z.method})
+        return 0
+    what = f"Z between {z.nodes[0]} and {z.nodes[1]}" if z.kind == "two-point" else f"Z of {z.nodes[0]} to ground"
+    print(f"{what} ({z.description}), {z.omega.size} frequencies by the {z.method} route")
+    for x, v in list(zip(z.omega, z.z))[:12]:
+        print(f"  omega = {x:.8g}: Z = {v.real:.8g} {'+' if v.imag >= 0 else '-'} {abs(v.imag):.8g}i")
+    if z.resonances.size:
+        print(f"{z.resonances.size} LC resonances from {z.resonances[0]:.6g} to {z.resonances[-1]:.6g}")
+    return 0
+
+
 _SUB = {
     "transmission": (_add_transmission, _run_transmission,
                      "S(omega) of a resonator lattice with ports (input-output theory), ideal or disordered"),
+    "impedance": (_add_impedance, _run_impedance,
+                  "node impedance of an LC(R) circuit on the graph: two-point or to ground"),
 }
 
 

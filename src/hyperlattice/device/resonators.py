@@ -298,6 +298,47 @@ def _values(name: str, mapping) -> dict:
     return mapping
 
 
+def _layout(graph, line: bool, what: str = "a device") -> tuple:
+    """(names, bonds (B, 2) k < l sorted, weights, flat-band count or None, description, line) of the nodes:
+    the sites of ``graph``, or with ``line`` the edges of it (a line-graph Lattice is named by its parent edges)."""
+    adj, parent, desc = _source_adjacency(graph)
+    if line and parent is not None:
+        raise ValueError("line_graph=True takes the parent graph; this Lattice is already a line graph.")
+    if line:
+        edges = graph_edges(adj)
+        if adj.nnz and np.any(adj.data != 1):
+            raise ValueError("a line graph needs a simple graph (adjacency entries 0 or 1).")
+        n = len(edges)
+        if n == 0:
+            raise ValueError("the graph has no edges, so its line graph has no resonators.")
+        if n > MAX_RESONATORS:
+            raise ValueError(f"the line graph has {n:,} resonators, more than the {MAX_RESONATORS:,} {what} takes.")
+        inc = sp.csr_matrix((np.ones(2 * n), (edges.ravel(), np.repeat(np.arange(n), 2))), shape=(adj.shape[0], n))
+        al = sp.triu((inc.T @ inc).tocsr(), k=1).tocoo()
+        bonds = np.column_stack([al.row, al.col]).astype(np.int64)
+        weights = np.ones(len(bonds))
+        names = [f"{i}-{j}" for i, j in edges]
+        flat = flat_band_degeneracy(edges, adj.shape[0])
+        desc = "line graph of the " + desc
+    else:
+        n = adj.shape[0]
+        if n > MAX_RESONATORS:
+            raise ValueError(f"the graph has {n:,} sites, more than the {MAX_RESONATORS:,} {what} takes.")
+        up = sp.triu(adj, k=1).tocoo()
+        bonds = np.column_stack([up.row, up.col]).astype(np.int64)
+        weights = up.data.astype(float)
+        if parent is not None:
+            names = [f"{min(i, j)}-{max(i, j)}" for i, j in parent]
+            line = True
+            flat = flat_band_degeneracy(parent, int(parent.max()) + 1)
+        else:
+            names = [str(k) for k in range(n)]
+            flat = None
+    order = np.lexsort((bonds[:, 1], bonds[:, 0])) if len(bonds) else np.zeros(0, np.int64)
+    bonds, weights = bonds[order].reshape(-1, 2), weights[order]
+    return names, bonds, weights, flat, desc, line
+
+
 def resonator_device(graph, *, line_graph: bool = False, omega0: float = 0.0, J: float = 1.0,
                      kappa_int: float = 0.0, ports=None, frequencies: dict | None = None,
                      hoppings: dict | None = None, sigma_omega: float = 0.0, sigma_J: float = 0.0,
@@ -375,41 +416,8 @@ def resonator_device(graph, *, line_graph: bool = False, omega0: float = 0.0, J:
     if ports is None:
         raise ValueError("a device needs at least one port (ports={name: kappa}).")
 
-    adj, parent, desc = _source_adjacency(graph)
-    if line and parent is not None:
-        raise ValueError("line_graph=True takes the parent graph; this Lattice is already a line graph.")
-    if line:
-        edges = graph_edges(adj)
-        if adj.nnz and np.any(adj.data != 1):
-            raise ValueError("a line graph needs a simple graph (adjacency entries 0 or 1).")
-        n = len(edges)
-        if n == 0:
-            raise ValueError("the graph has no edges, so its line graph has no resonators.")
-        if n > MAX_RESONATORS:
-            raise ValueError(f"the line graph has {n:,} resonators, more than the {MAX_RESONATORS:,} a device takes.")
-        inc = sp.csr_matrix((np.ones(2 * n), (edges.ravel(), np.repeat(np.arange(n), 2))), shape=(adj.shape[0], n))
-        al = sp.triu((inc.T @ inc).tocsr(), k=1).tocoo()
-        bonds = np.column_stack([al.row, al.col]).astype(np.int64)
-        weights = np.ones(len(bonds))
-        names = [f"{i}-{j}" for i, j in edges]
-        flat = flat_band_degeneracy(edges, adj.shape[0])
-        desc = "line graph of the " + desc
-    else:
-        n = adj.shape[0]
-        if n > MAX_RESONATORS:
-            raise ValueError(f"the graph has {n:,} sites, more than the {MAX_RESONATORS:,} a device takes.")
-        up = sp.triu(adj, k=1).tocoo()
-        bonds = np.column_stack([up.row, up.col]).astype(np.int64)
-        weights = up.data.astype(float)
-        if parent is not None:
-            names = [f"{min(i, j)}-{max(i, j)}" for i, j in parent]
-            line = True
-            flat = flat_band_degeneracy(parent, int(parent.max()) + 1)
-        else:
-            names = [str(k) for k in range(n)]
-            flat = None
-    order = np.lexsort((bonds[:, 1], bonds[:, 0])) if len(bonds) else np.zeros(0, np.int64)
-    bonds, weights = bonds[order].reshape(-1, 2), weights[order]
+    names, bonds, weights, flat, desc, line = _layout(graph, line)
+    n = len(names)
     table = _name_table(names)
     port_names, port_idx, port_kap = _ports(ports, table, names, line, shared)
 
