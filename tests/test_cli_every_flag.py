@@ -98,6 +98,13 @@ INVOCATIONS = [
      "--omega-min", "0.5", "--omega-max", "2", "--points", "3"],
     ["device", "impedance", "--rings", "2", "--line-graph", "--edge", "L:1", "--ground", "C:1", "--to-ground", "0-1",
      "--omega-min", "0.5", "--omega-max", "2", "--points", "3"],
+    ["device", "fit", "-p", "7", "-q", "3", "--rings", "1", "--port", "0:0.1", "--port", "3:0.1", "--measured",
+     "{tmp}/device_trace.csv", "--plot", "{tmp}/fit.png", "--json"],
+    ["device", "fit", "--cluster", "klein", "--port", "0:0.1", "--port", "3:0.1", "--measured", "{tmp}/device_trace.csv"],
+    ["device", "fit", "--adjacency", "{tmp}/square.npz", "--port", "0:0.1", "--port", "3:0.1", "--measured",
+     "{tmp}/device_trace.csv"],
+    ["device", "fit", "--rings", "2", "--line-graph", "--port", "0-1:0.1", "--port", "30-31:0.1", "--measured",
+     "{tmp}/device_trace.csv"],
     ["device", "transmission", "--adjacency", "{tmp}/square.npz", "--kappa-int", "0.1", "--port", "0:1",
      "--omega-min", "-3", "--omega-max", "3.1", "--points", "5"],
 ]
@@ -181,6 +188,12 @@ def _device_files(where) -> None:
     (where / "device_omegas.txt").write_text("6900\n7000.5\n7100\n")
     (where / "device_freq.json").write_text(json.dumps({"0-1": 7001.0}))
     (where / "device_hop.json").write_text(json.dumps({"0-1|1-2": -60.0}))
+    import math
+
+    # a trace with two resonances (the fits only need to run)
+    rows = ["omega,mag_db"] + [f"{w},{20 * math.log10(0.01 + 0.1 / abs(w - 1 + 0.05j) + 0.05 / abs(w + 1 + 0.05j))}"
+                               for w in [-3 + 6 * k / 120 for k in range(121)]]
+    (where / "device_trace.csv").write_text("\n".join(rows) + "\n")
 
 
 def _slow(argv: list[str]) -> bool:

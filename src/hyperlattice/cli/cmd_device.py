@@ -10,6 +10,11 @@ otherwise), then ``ports``, ``method``, ``error_bound``.
 (``--to-ground A``) of a circuit with ``--edge SPEC`` on every edge and ``--ground SPEC`` from every
 node (SPEC ``C:1``, ``L:1,R:100``: parallel elements). JSON keys ``omega``, ``z_re``, ``z_im``, then
 ``nodes``, ``kind``, ``resonances`` (of the lossless LC parts), ``method``.
+
+``fit``: least squares of ω₀, J, κ_int (ports' κ given) to a measured |S21| (``--measured`` CSV,
+header ``omega,mag_db`` or ``omega,re,im``). JSON keys ``omega0``, ``J``, ``kappa_int`` and their
+``_err``, then ``supported`` (parameters the trace determines), ``condition``, ``singular_values``,
+``residual_rms``, ``ports``, ``statement``.
 """
 
 from __future__ import annotations
@@ -232,11 +237,45 @@ def _run_impedance(args: argparse.Namespace) -> int:
     return 0
 
 
+def _add_fit(p: argparse.ArgumentParser) -> None:
+    add_geometry(p)
+    p.add_argument("--port", type=_port, action="append", required=True, metavar="RES:KAPPA",
+                   help="the input port, then the output port, with their known KAPPA")
+    p.add_argument("--measured", required=True, metavar="FILE.csv",
+                   help="the measured trace: CSV with header omega,mag_db or omega,re,im")
+    p.add_argument("--plot", metavar="FILE", help="figure of the data over the fit")
+    p.add_argument("--json", action="store_true", help="print JSON: omega0, J, kappa_int and their _err, supported, "
+                                                       "condition, singular_values, residual_rms")
+
+
+def _run_fit(args: argparse.Namespace) -> int:
+    from ..device import fit_transmission, read_trace
+
+    out = plot_file("--plot", args.plot) if args.plot is not None else None
+    w, mag = read_trace(args.measured)
+    f = fit_transmission(graph(args), w, mag, ports=list(args.port), line_graph=args.line_graph)
+    if out is not None:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        f.plot().figure.savefig(out)
+    keys = ("omega0", "omega0_err", "J", "J_err", "kappa_int", "kappa_int_err", "supported", "condition",
+            "singular_values", "residual_rms")
+    if args.json:
+        print_json({k: getattr(f, k) for k in keys} | {"ports": list(f.ports), "statement": f.sentence()})
+        return 0
+    print(f"omega0 = {f.omega0:.10g} +- {f.omega0_err:.3g}; J = {f.J:.10g} +- {f.J_err:.3g}; "
+          f"kappa_int = {f.kappa_int:.6g} +- {f.kappa_int_err:.3g}; rms misfit {f.residual_rms:.3g}")
+    print(f.sentence())
+    return 0
+
+
 _SUB = {
     "transmission": (_add_transmission, _run_transmission,
                      "S(omega) of a resonator lattice with ports (input-output theory), ideal or disordered"),
     "impedance": (_add_impedance, _run_impedance,
                   "node impedance of an LC(R) circuit on the graph: two-point or to ground"),
+    "fit": (_add_fit, _run_fit, "fit omega0, J and kappa_int of an ideal device to a measured |S21| trace"),
 }
 
 

@@ -11,9 +11,9 @@ import numpy as np
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-    from ..device import DeviceEnsemble, Transmission
+    from ..device import DeviceEnsemble, Transmission, TransmissionFit
 
-__all__ = ["plot_transmission", "plot_ensemble"]
+__all__ = ["plot_transmission", "plot_ensemble", "plot_fit"]
 
 
 def _axes(ax, size=(6.5, 3.6)):
@@ -117,6 +117,50 @@ def plot_ensemble(ens: DeviceEnsemble, ax: Axes | None = None, *, log: bool = Tr
     ax.set_ylabel("mean |S₂₁|²")
     ax.set_title(f"{ens.realizations} fabricated devices", fontsize="medium")
     ax.legend(loc="upper right", fontsize="small")
+    return ax
+
+
+def plot_fit(fit: TransmissionFit, ax: Axes | None = None, *, log: bool = True) -> Axes:
+    """The measured |S₂₁| (points) with the fitted model over it (line); the parameters in the legend.
+
+    Parameters
+    ----------
+    fit : TransmissionFit
+        From :func:`hyperlattice.device.fit_transmission`.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure when None.
+    log : bool, optional
+        Logarithmic |S₂₁| axis; default True.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes with data and fit.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import numpy as np
+    >>> from hyperlattice.device import fit_transmission
+    >>> from hyperlattice.plots.device import plot_fit
+    >>> w = np.linspace(4.0, 6.0, 101)
+    >>> s = np.abs(0.1 / (w - 5.0 + 0.125j))
+    >>> f = fit_transmission(np.zeros((1, 1)), w, s, ports=[("0", 0.1), ("0", 0.1)], shared_ports=True)
+    >>> plot_fit(f).get_ylabel()
+    '|S₂₁|'
+    >>> plt.close("all")
+    """
+    ax = _axes(ax)
+    ax.plot(fit.omega, fit.data, ".", ms=2, color="0.4", label="measured")
+    ax.plot(fit.omega, fit.fit, lw=0.9, color="C3",
+            label=f"fit: ω₀ = {fit.omega0:.6g} ± {fit.omega0_err:.2g}, J = {fit.J:.5g} ± {fit.J_err:.2g}, "
+                  f"κ_int = {fit.kappa_int:.4g} ± {fit.kappa_int_err:.2g}")
+    if log:
+        ax.set_yscale("log")
+    ax.set_xlabel("frequency ω")
+    ax.set_ylabel("|S₂₁|")
+    ax.set_title(f"data over fit ({fit.supported} of 3 parameters determined)", fontsize="medium")
+    ax.legend(loc="lower center", fontsize="x-small")
     return ax
 
 

@@ -82,6 +82,7 @@ _DRAWINGS = {
     # what a device measures
     "Transmission": device.plot_transmission,
     "DeviceEnsemble": device.plot_ensemble,
+    "TransmissionFit": device.plot_fit,
 }
 
 for _tag, _func in _DRAWINGS.items():
