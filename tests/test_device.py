@@ -204,3 +204,22 @@ def test_ensemble_through_the_sweep(tmp_path):
     assert np.allclose(ens.level_spread, np.std(levels, axis=0, ddof=1), rtol=1e-9, atol=1e-14)
     with pytest.raises(ValueError, match="positive"):
         run_sweep("device", {"ports": "0-1:0"}, tmp_path / "bad", scheduler="serial", progress=False)
+
+
+def test_continuum_side_near_the_band_bottom():
+    from hyperlattice.device import continuum_transmission
+
+    lat = ring_lattice(7, 3, 4)
+    w = np.array([-3.3, -3.1, -2.95])           # below the band bottom of -A (E0 = -2.88 at l = 4)
+    cmp = continuum_transmission(lat, w, ports=("0", "30"), kappa_int=0.02, kappa_port=0.002)
+    ratio = cmp.continuum / cmp.lattice
+    assert np.all(np.abs(ratio - 1) < 0.25), ratio
+    # units are the user's: omega0 = 7000, J = 66 shifts and stretches both sides alike
+    cmp2 = continuum_transmission(lat, 7000 + 66 * w, ports=("0", "30"), omega0=7000.0, J=66.0,
+                                  kappa_int=0.02 * 66, kappa_port=0.002 * 66)
+    assert np.allclose(cmp2.continuum, cmp.continuum, rtol=1e-8)
+    assert np.allclose(cmp2.lattice, cmp.lattice, rtol=1e-8)
+    with pytest.raises(ValueError, match="kind 'sites'"):
+        from hyperlattice.graph.lattice import line_graph
+
+        continuum_transmission(line_graph(lat), w, ports=("0-1", "1-2"), kappa_int=0.1, kappa_port=0.01)

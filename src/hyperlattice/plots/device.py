@@ -11,9 +11,9 @@ import numpy as np
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-    from ..device import DeviceEnsemble, Transmission, TransmissionFit
+    from ..device import DeviceEnsemble, Transmission, TransmissionComparison, TransmissionFit
 
-__all__ = ["plot_transmission", "plot_ensemble", "plot_fit"]
+__all__ = ["plot_transmission", "plot_ensemble", "plot_fit", "plot_comparison"]
 
 
 def _axes(ax, size=(6.5, 3.6)):
@@ -161,6 +161,48 @@ def plot_fit(fit: TransmissionFit, ax: Axes | None = None, *, log: bool = True) 
     ax.set_ylabel("|S₂₁|")
     ax.set_title(f"data over fit ({fit.supported} of 3 parameters determined)", fontsize="medium")
     ax.legend(loc="lower center", fontsize="x-small")
+    return ax
+
+
+def plot_comparison(cmp: TransmissionComparison, ax: Axes | None = None) -> Axes:
+    """|S₂₁|² of the lattice and of the continuum (through the dictionary) against frequency, levels marked.
+
+    Parameters
+    ----------
+    cmp : TransmissionComparison
+        From :func:`hyperlattice.device.continuum_transmission`.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure when None.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes with both curves.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.device import continuum_transmission
+    >>> from hyperlattice.plots.device import plot_comparison
+    >>> cmp = continuum_transmission(hl.ring_lattice(7, 3, 3), [-3.2, -3.1], ports=("0", "10"), kappa_int=0.05,
+    ...                              kappa_port=0.002)
+    >>> len(plot_comparison(cmp).get_lines())
+    3
+    >>> plt.close("all")
+    """
+    ax = _axes(ax)
+    ax.plot(cmp.omega, cmp.lattice, lw=1.0, label="lattice (input–output)")
+    ax.plot(cmp.omega, cmp.continuum, "--", lw=1.0, label="continuum (dictionary, weak coupling)")
+    ax.set_yscale("log")
+    lo = ax.get_ylim()[0]
+    ax.plot(cmp.lowest_levels, np.full(cmp.lowest_levels.shape, lo), "|", color="C3", ms=10,
+            label="lattice levels")
+    ax.set_xlabel("frequency ω")
+    ax.set_ylabel("|S₂₁|²")
+    ax.set_title(f"{{{cmp.p},{cmp.q}}} ℓ = {cmp.rings}, ports {cmp.ports[0]} and {cmp.ports[1]} "
+                 f"(distance {cmp.distance:.2f})", fontsize="medium")
+    ax.legend(loc="upper left", fontsize="small")
     return ax
 
 

@@ -83,6 +83,7 @@ _DRAWINGS = {
     "Transmission": device.plot_transmission,
     "DeviceEnsemble": device.plot_ensemble,
     "TransmissionFit": device.plot_fit,
+    "TransmissionComparison": device.plot_comparison,
 }
 
 for _tag, _func in _DRAWINGS.items():
