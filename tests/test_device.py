@@ -206,6 +206,7 @@ def test_ensemble_through_the_sweep(tmp_path):
         run_sweep("device", {"ports": "0-1:0"}, tmp_path / "bad", scheduler="serial", progress=False)
 
 
+@pytest.mark.slow
 def test_continuum_side_near_the_band_bottom():
     from hyperlattice.device import continuum_transmission
 

@@ -24,6 +24,7 @@ def _trace(seed=5, noise=2e-4, points=1601):
     return lat, w, np.abs(mag + noise * np.random.default_rng(seed).standard_normal(w.size))
 
 
+@pytest.mark.slow
 def test_fit_recovers_known_parameters_within_errors():
     lat, w, mag = _trace()
     f = fit_transmission(lat, w, mag, ports=PORTS, line_graph=True)
@@ -73,8 +74,9 @@ def test_bad_traces_are_refused_in_one_line(text, message, tmp_path, capsys):
     assert code == 2 and message in err and err.count("\n") == 1
 
 
+@pytest.mark.slow
 def test_cli_fit_keys(tmp_path, capsys):
-    lat, w, mag = _trace(points=801)
+    lat, w, mag = _trace(points=401)
     p = tmp_path / "m.csv"
     p.write_text("omega,mag_db\n" + "".join(f"{float(x)!r},{float(20 * np.log10(v))!r}\n" for x, v in zip(w, mag)))
     assert main(["device", "fit", "--rings", "2", "--line-graph", "--port", "0-1:1", "--port", "30-31:1",
