@@ -204,6 +204,9 @@ def test_ensemble_through_the_sweep(tmp_path):
     assert np.allclose(ens.level_spread, np.std(levels, axis=0, ddof=1), rtol=1e-9, atol=1e-14)
     with pytest.raises(ValueError, match="positive"):
         run_sweep("device", {"ports": "0-1:0"}, tmp_path / "bad", scheduler="serial", progress=False)
+    from hyperlattice.sweep.tasks import _device_ports
+
+    assert _device_ports("0-1@0.1+30-31@0.2") == _device_ports("0-1:0.1,30-31:0.2") == {"0-1": 0.1, "30-31": 0.2}
 
 
 @pytest.mark.slow

@@ -518,6 +518,9 @@ def transmission(device: Device, omegas, *, method: str = "auto", tol: float = 1
 
 def _transmission(device: Device, w: np.ndarray, method: str, tol: float) -> Transmission:
     n = device.size
+    P = len(device.ports)
+    # the result (and the batched Woodbury step) hold a few F x P x P complex arrays
+    _validate.require_memory(f"S at {w.size:,} frequencies and {P} ports", 4.0 * 16 * w.size * P * P)
     moments = 0
     levels = np.zeros(0)
     if method == "auto":

@@ -29,7 +29,7 @@ Registered tasks:
 ``device``
     One fabricated device (:func:`hyperlattice.device.resonator_device` with drawn disorder, then
     :func:`hyperlattice.device.transmission`): ``p, q, rings, line_graph, omega0, J, kappa_int, ports``
-    (``"RES:KAPPA,RES:KAPPA"``), ``sigma_omega, sigma_J, seed, omega_min, omega_max, points``; outputs
+    (``"RES:KAPPA,RES:KAPPA"``, or ``"RES@KAPPA+RES@KAPPA"`` on the sweep command's ``--grid``), ``sigma_omega, sigma_J, seed, omega_min, omega_max, points``; outputs
     ``omega``, ``s21_abs2`` (arrays), ``levels`` (the disordered device's eigenvalues: the resonance
     positions) and ``method``. A grid over ``seed`` is an ensemble, merged by
     :func:`hyperlattice.sweep.device.merge_device` (mean and spread).
@@ -271,9 +271,12 @@ DEVICE_MAX = 5000
 def _device_ports(text) -> dict:
     if not isinstance(text, str) or not text.strip():
         raise ValueError(f"ports must be a string 'RES:KAPPA,RES:KAPPA', got {_validate._shown(text)}.")
+    import re
+
     out = {}
-    for item in text.split(","):
-        name, sep, kappa = item.strip().rpartition(":")
+    # "0-1:0.1,30-31:0.1", or without the characters the sweep command's --grid reserves: "0-1@0.1+30-31@0.1"
+    for item in re.split(r"[,+;]", text):
+        name, sep, kappa = item.strip().replace("@", ":").rpartition(":")
         if not sep or not name:
             raise ValueError(f"each port is RES:KAPPA, got {item.strip()!r}.")
         try:
