@@ -227,3 +227,18 @@ def test_continuum_side_near_the_band_bottom():
         from hyperlattice.graph.lattice import line_graph
 
         continuum_transmission(line_graph(lat), w, ports=("0-1", "1-2"), kappa_int=0.1, kappa_port=0.01)
+
+
+def test_auto_route_above_the_eigen_limit(monkeypatch):
+    import importlib
+
+    tm = importlib.import_module("hyperlattice.device.transmission")   # the module, not the function of that name
+
+    dev = _device()
+    w = np.linspace(8.0, 12.0, 1000)
+    ref = transmission(dev, w)
+    monkeypatch.setattr(tm, "EIGEN_MAX", 10)
+    many = transmission(dev, w)                # many frequencies, with loss: the Chebyshev moments pay
+    few = transmission(dev, w[:3])             # three frequencies: one LU each is cheaper
+    assert (ref.method, many.method, few.method) == ("eigen", "chebyshev", "direct")
+    assert np.max(np.abs(many.s - ref.s)) < 1e-10 and np.max(np.abs(few.s - ref.s[:3])) < 1e-10

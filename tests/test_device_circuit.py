@@ -89,3 +89,15 @@ def test_cli_impedance_keys_and_errors(tmp_path, capsys):
         assert main(args) == 2
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and "Traceback" not in err
+
+
+def test_large_circuits_take_the_factor_layer(monkeypatch):
+    import hyperlattice.device.circuit as circuit
+
+    lat = ring_lattice(7, 3, 2)
+    w = np.array([0.4, 1.3])
+    ref = impedance(lat, w, edge="C:1", ground="L:1,R:100", between=("0", "20"))
+    monkeypatch.setattr(circuit, "EIGEN_MAX", 10)
+    big = impedance(lat, w, edge="C:1", ground="L:1,R:100", between=("0", "20"))
+    assert ref.method == "eigen" and big.method == "direct" and big.resonances.size == 0
+    assert np.allclose(big.z, ref.z, rtol=1e-11, atol=0)
