@@ -104,6 +104,29 @@ INVOCATIONS = [
      "--update", "local", "--no-correlation", "--seed", "2"],
     ["spins", "classical", "--model", "xy", "--rings", "2", "--line-graph", "--h", "0.2", "--beta", "1", "--sweeps", "200"],
     ["spins", "classical", "--model", "ising", "--adjacency", "{tmp}/square.npz", "--beta", "0.4", "--sweeps", "200"],
+    ["device", "transmission", "-p", "7", "-q", "3", "--rings", "2", "--line-graph", "--omega0", "7000", "--J", "-66",
+     "--kappa-int", "0.7", "--port", "0-1:1", "--port", "30-31:1", "--omegas", "{tmp}/device_omegas.txt",
+     "--frequencies", "{tmp}/device_freq.json", "--hoppings", "{tmp}/device_hop.json", "--sigma-omega", "3",
+     "--sigma-J", "0.03", "--seed", "1", "--plot", "{tmp}/device.png", "--json"],
+    ["device", "transmission", "--cluster", "klein", "--kappa-int", "0", "--port", "0:1", "--omega-min", "-3",
+     "--omega-max", "3", "--points", "11"],
+    ["device", "impedance", "-p", "7", "-q", "3", "--rings", "2", "--edge", "C:1", "--ground", "L:1,R:100",
+     "--between", "0", "20", "--omegas", "{tmp}/device_omegas.txt", "--json"],
+    ["device", "impedance", "--cluster", "klein", "--edge", "C:1", "--ground", "R:1", "--to-ground", "0",
+     "--omega-min", "0.5", "--omega-max", "2", "--points", "3"],
+    ["device", "impedance", "--adjacency", "{tmp}/square.npz", "--edge", "C:1", "--ground", "R:1", "--to-ground", "0",
+     "--omega-min", "0.5", "--omega-max", "2", "--points", "3"],
+    ["device", "impedance", "--rings", "2", "--line-graph", "--edge", "L:1", "--ground", "C:1", "--to-ground", "0-1",
+     "--omega-min", "0.5", "--omega-max", "2", "--points", "3"],
+    ["device", "fit", "-p", "7", "-q", "3", "--rings", "1", "--port", "0:0.1", "--port", "3:0.1", "--measured",
+     "{tmp}/device_trace.csv", "--plot", "{tmp}/fit.png", "--json"],
+    ["device", "fit", "--cluster", "klein", "--port", "0:0.1", "--port", "3:0.1", "--measured", "{tmp}/device_trace.csv"],
+    ["device", "fit", "--adjacency", "{tmp}/square.npz", "--port", "0:0.1", "--port", "3:0.1", "--measured",
+     "{tmp}/device_trace.csv"],
+    ["device", "fit", "--rings", "2", "--line-graph", "--port", "0-1:0.1", "--port", "30-31:0.1", "--measured",
+     "{tmp}/device_trace.csv"],
+    ["device", "transmission", "--adjacency", "{tmp}/square.npz", "--kappa-int", "0.1", "--port", "0:1",
+     "--omega-min", "-3", "--omega-max", "3.1", "--points", "5"],
 ]
 
 
@@ -180,6 +203,19 @@ def _square_torus_files(where) -> None:
     np.save(where / "square_windings.npy", np.array([lookup[(int(i), int(j))] for i, j in edges(adj)]))
 
 
+def _device_files(where) -> None:
+    """The frequency list and the explicit disorder files of the ``device`` lines."""
+    (where / "device_omegas.txt").write_text("6900\n7000.5\n7100\n")
+    (where / "device_freq.json").write_text(json.dumps({"0-1": 7001.0}))
+    (where / "device_hop.json").write_text(json.dumps({"0-1|1-2": -60.0}))
+    import math
+
+    # a trace with two resonances (the fits only need to run)
+    rows = ["omega,mag_db"] + [f"{w},{20 * math.log10(0.01 + 0.1 / abs(w - 1 + 0.05j) + 0.05 / abs(w + 1 + 0.05j))}"
+                               for w in [-3 + 6 * k / 120 for k in range(121)]]
+    (where / "device_trace.csv").write_text("\n".join(rows) + "\n")
+
+
 def _slow(argv: list[str]) -> bool:
     # the two lines above ~5 s (a butterfly with its continuum overlay; rho of the infinite lattice)
     return argv[0] == "butterfly" and "--continuum" in argv or "--infinite" in argv
@@ -196,6 +232,7 @@ def test_invocation_runs(argv, tmp_path, monkeypatch, capsys):
     monkeypatch.setattr(report, "reproduce", _fake_reproduce)
     (tmp_path / "sweep.json").write_text(json.dumps({"task": "probe", "grid": {"x": [1.0]}, "out": str(tmp_path / "s2")}))
     _square_torus_files(tmp_path)
+    _device_files(tmp_path)
     words = [w.replace("{tmp}", str(tmp_path)) for w in argv]
     code = main(words + ["--no-progress"])
     err = capsys.readouterr().err

@@ -27,7 +27,7 @@ LAYERS = {
     "cache": 0, "paper_values": 0, "paper_labels": 0, "_progress": 0, "mcstats": 0,
     "dictionary": 1,
     "graph": 2, "continuum": 2,
-    "bosons": 3, "spins": 3,
+    "bosons": 3, "device": 3, "spins": 3,
     "compare": 4,
     "plots": 5,
     "report": 6, "sweep": 6,
@@ -231,7 +231,7 @@ def test_a_result_without_a_drawing_says_so():
 INNER_ORDER = {
     "graph": ("lattice", "groups", "flux", "operators", "symmetry", "solvers", "factor", "walks", "clusters",
               "bands", "disorder", "kpm", "green", "qubits", "levels", "sectors", "spectrum", "butterfly"),
-    "sweep": ("tasks", "keys", "store", "qmc", "engine"),
+    "sweep": ("tasks", "keys", "store", "qmc", "device", "engine"),
 }
 
 

@@ -75,6 +75,26 @@ def _everything() -> Everything:
         nested=_levels(), results=[_levels(), None], path=Path("a/b.json"), big=2 ** 70)
 
 
+def _device_transmission():
+    from hyperlattice.device import resonator_device, transmission
+
+    dev = resonator_device(ring_lattice_small(), line_graph=True, omega0=1.0, J=-0.1, kappa_int=0.01,
+                           ports={"0-1": 0.05, "3-4": 0.05})
+    return transmission(dev, [0.8, 1.0, 1.2])
+
+
+def _device_voltages():
+    from hyperlattice.device import node_voltages
+
+    return node_voltages(ring_lattice_small(), 1.0, edge="C:1", ground="L:1,R:10", drive="0")
+
+
+def ring_lattice_small():
+    from hyperlattice.graph.lattice import ring_lattice
+
+    return ring_lattice(7, 3, 1)
+
+
 def _factories():
     """Real constructions of this package's results, by type tag (cheap: small lattices)."""
     from hyperlattice.compare import scaling, sums
@@ -108,6 +128,8 @@ def _factories():
         "Levels": _levels,
         "Lattice": lambda: ring_lattice(7, 3, 2),
         "tests.LineGraph": lambda: line_graph(ring_lattice(7, 3, 2)),
+        "Transmission": _device_transmission,
+        "NodeVoltages": _device_voltages,
         "Spectrum": spectrum,
         "MatrixSpectrum": matrix_spectrum,
         # tables and grids whose columns have lengths the annotations cannot say

@@ -12,7 +12,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from ..results import register_plotter
-from . import basic, bosons, boundary, disorder, dos, green, limits, magnetic, paper, qmc_lobe, scaling
+from . import basic, bosons, boundary, device, disorder, dos, green, limits, magnetic, paper, qmc_lobe, scaling
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -79,6 +79,11 @@ _DRAWINGS = {
     "OperatorProfile": scaling.draw_operator_profile,
     "ConvergenceStudy": scaling.plot_convergence,
     "CountingFit": scaling.plot_counting,
+    # what a device measures
+    "Transmission": device.plot_transmission,
+    "DeviceEnsemble": device.plot_ensemble,
+    "TransmissionFit": device.plot_fit,
+    "TransmissionComparison": device.plot_comparison,
 }
 
 for _tag, _func in _DRAWINGS.items():
