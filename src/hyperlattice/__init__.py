@@ -31,7 +31,7 @@ Index by topic (every name is ``hyperlattice.<name>``)::
                         lobe_boundary largest_adjacency_eigenvalue GutzwillerState MottLobe
                         MottLobeTable gp_ground_state bogoliubov GPState BogoliubovSpectrum
                         gp_comparison mott_gap_comparison
-    Bosons, QMC         qmc qmc_memory merge_chains exact_thermal ThermalAverages QMCResult QMCWarning
+    Bosons, QMC         qmc qmc_memory qmc_seconds merge_chains exact_thermal ThermalAverages QMCResult QMCWarning
                         strong_coupling_lobe
                         strong_coupling_tip excitation_energies hypercubic_boundaries StrongCouplingLobe
                         qmc_lobe qmc_boundary
@@ -173,6 +173,7 @@ _EXPORTS = {
     "exact_thermal": "bosons.thermal",
     "ThermalAverages": "bosons.thermal",
     "qmc_memory": "bosons.sse",
+    "qmc_seconds": "bosons.sse",
     "StrongCouplingLobe": "bosons.strong_coupling",
     "excitation_energies": "bosons.strong_coupling",
     "hypercubic_boundaries": "bosons.strong_coupling",
