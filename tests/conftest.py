@@ -24,6 +24,10 @@ def pytest_addoption(parser):
                     help="run the session with N BLAS threads (threadpoolctl); default: leave as loaded")
     group.addoption("--numba-serial", action="store_true", default=False,
                     help="run numba's parallel loops on one thread")
+    group.addoption("--rounding-noise", type=int, default=None, metavar="SEED",
+                    help="simulate another machine's rounding: every eigenvalue the eigensolvers return moves by "
+                         "up to 8 ulps of the spectrum's norm and every eigenvector gets a random sign or phase, "
+                         "deterministically per input and SEED (tests/rounding_noise.py; this process only)")
     group.addoption("--superlu-only", action="store_true", default=False,
                     help="hide CHOLMOD (HYPERLATTICE_FACTOR_BACKEND=superlu, inherited by CLI subprocesses): "
                          "every factorisation runs SciPy's SuperLU, the CHOLMOD-only tests skip")
@@ -43,6 +47,10 @@ def pytest_configure(config):
         config._hl_blas_limits = threadpool_limits(n, user_api="blas")
         for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
             os.environ[var] = str(n)
+    if config.getoption("--rounding-noise") is not None:
+        from rounding_noise import install
+
+        config._hl_rounding_noise = install(config.getoption("--rounding-noise"))
     if config.getoption("--superlu-only"):
         # graph/factor reads the variable at every call: the fallback configuration of an install
         # without scikit-sparse, for this process and the CLI subprocesses the tests start
@@ -93,6 +101,8 @@ def pytest_report_header(config):
 
     blas = sorted({f"{i['internal_api']}:{i['num_threads']}" for i in threadpool_info() if i["user_api"] == "blas"})
     serial = " numba serial" if config.getoption("--numba-serial") else ""
+    if config.getoption("--rounding-noise") is not None:
+        serial += f"; simulated rounding noise, seed {config.getoption('--rounding-noise')}"
     from hyperlattice.graph.factor import resolve_backend
 
     return (f"hyperlattice: BLAS threads {', '.join(blas) or 'none found'}{serial}; "

@@ -291,6 +291,25 @@ def test_t_to_minus_t_only_on_bipartite_graphs():
 # observables
 # ----------------------------------------------------------------------------
 
+def test_one_body_density_matrix_does_not_depend_on_the_thread_count():
+    """The kernel sums a fixed number of chunks in order: the same matrix on 1 and 2 threads.
+
+    It used to cut the basis into 2 x (threads) chunks, so the order of the partial sums, and the
+    last bits of every entry, followed the machine's core count."""
+    import numba
+
+    b = boson_basis(7, 4, 3)                                 # 196 states: every chunk non-empty
+    psi = np.random.default_rng(5).normal(size=b.dim) + 1j * np.random.default_rng(6).normal(size=b.dim)
+    psi /= np.linalg.norm(psi)
+    rho = ed.one_body_density_matrix(b, psi)
+    threads = numba.get_num_threads()
+    try:
+        numba.set_num_threads(1)
+        assert np.array_equal(ed.one_body_density_matrix(b, psi), rho)
+    finally:
+        numba.set_num_threads(threads)
+
+
 def test_one_body_density_matrix_against_kronecker():
     ref, occ = _kron_hamiltonian(HEPTAGON, 3, 2, 2.0)
     b = boson_basis(7, 3, 2)

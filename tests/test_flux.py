@@ -332,6 +332,38 @@ def test_butterfly_matches_the_dense_spectrum():
     assert np.array_equal(back.energies, bf.energies) and np.array_equal(back.m, bf.m)
 
 
+def test_butterfly_labels_of_degenerate_levels_do_not_follow_the_rounding(monkeypatch):
+    """At f = 0 every m != 0 level is the pair +-m, and f = 1/2 and 1 pair other sectors; the two
+    energies of a pair come out of different blocks, equal or a few ulps apart in either order
+    (by BLAS kernel). The labels of a pair are listed by |m|, +m first, whatever those last bits,
+    and the energies stay ascending. Checked by moving every level by up to +-2 ulps of the norm
+    with several random patterns, as another machine's LAPACK may."""
+    import hyperlattice.graph.butterfly as bmod
+
+    lat = ring_lattice(7, 3, 3)
+    fluxes = np.array([0.0, 0.5, 1.0])
+    ref = butterfly(lat, fluxes)
+    assert np.all(np.diff(ref.energies, axis=1) >= 0)
+    pair = np.flatnonzero(np.diff(ref.energies[0]) < 1e-12)
+    assert pair.size == 48                          # the +-m pairs of m = 1, 2, 3 at f = 0
+    first, second = ref.m[0, pair], ref.m[0, pair + 1]
+    assert np.all(first > 0) and np.all(second == -first)
+    real = bmod.sla.eigvalsh
+    for seed in range(4):
+        rng = np.random.default_rng(seed)
+
+        def noisy(a, *args, **kwargs):
+            w = real(a, *args, **kwargs)
+            return np.sort(w + 2 * np.finfo(float).eps * 3.0 * rng.uniform(-1, 1, w.shape))
+
+        monkeypatch.setattr(bmod.sla, "eigvalsh", noisy)
+        got = butterfly(lat, fluxes)
+        monkeypatch.undo()
+        assert np.array_equal(got.m, ref.m), seed
+        assert np.all(np.diff(got.energies, axis=1) >= 0)
+        np.testing.assert_allclose(got.energies, ref.energies, rtol=0, atol=1e-14)
+
+
 def test_butterfly_line_graph_and_plot():
     import matplotlib.pyplot as plt
 

@@ -302,7 +302,7 @@ def test_partition_function_overflow_is_an_error_and_log_z_is_finite():
     from hyperlattice.graph.spectrum import log_partition_function
 
     lat = ring_lattice(7, 3, 3)
-    e = full_spectrum(lat)
+    e, tol = full_spectrum_tolerance(lat)
     # used to return inf silently
     with pytest.raises(ValueError, match="log_partition_function"):
         partition_function(lat, 1000.0)
@@ -313,7 +313,12 @@ def test_partition_function_overflow_is_an_error_and_log_z_is_finite():
     # the ground state dominates: ln Z = -beta E0 + ln(1 + tiny)
     assert log_z == pytest.approx(-1000.0 * e[0], rel=1e-15)
     beta = np.array([0.0, 0.5, 3.0, 40.0])
-    neg = e[e < 0]
+    # negative beyond the levels' error bound: this flake's one exact zero mode comes out as
+    # +-1e-16, with a sign set by the BLAS kernel, and Z leaves it out either way
+    zero = np.abs(e) <= tol
+    assert zero.sum() == 1
+    neg = e[(e < 0) & ~zero]
+    assert neg.size == 51
     assert np.allclose(log_partition_function(lat, beta), np.log(np.exp(-np.outer(beta, neg)).sum(axis=1)),
                        rtol=1e-14, atol=0)
     assert np.allclose(np.log(partition_function(lat, beta)), log_partition_function(lat, beta), rtol=1e-14)

@@ -14,7 +14,7 @@ import pytest
 from hyperlattice import _ties
 from hyperlattice.compare.levels import graph_levels_below, partition_functions, continuum_levels_below
 from hyperlattice.graph.lattice import ring_lattice
-from hyperlattice.graph.operators import adjacency
+from hyperlattice.graph.operators import adjacency, hamiltonian
 from hyperlattice.graph import spectrum as gspec
 
 pytestmark = pytest.mark.machine_independence
@@ -160,3 +160,32 @@ def test_sector_levels_cut_through_degenerate_pairs_consistently():
     for i in np.flatnonzero(m > 0):
         if i + 1 < m.size:
             assert m[i + 1] == -m[i] and n[i + 1] == n[i]
+
+
+def test_simulated_rounding_moves_levels_within_the_bound_the_package_uses():
+    """tests/rounding_noise.py (``pytest --rounding-noise SEED``) stands in for another machine: each
+    eigenvalue moves by at most 8 ulps of the norm, the same input gives the same output, another
+    seed another one, and the moves stay far inside eigenvalue_tolerance; the zero modes of the
+    l = 4 flake come out with either sign, and the package's count does not change."""
+    import rounding_noise
+
+    from hyperlattice._ties import eigenvalue_tolerance
+
+    h = hamiltonian(ring_lattice(7, 3, 4)).toarray()
+    exact = np.linalg.eigvalsh(h)
+    signs = set()
+    for seed in range(6):
+        undo = rounding_noise.install(seed)
+        try:
+            w = np.linalg.eigvalsh(h)
+            assert np.array_equal(w, np.linalg.eigvalsh(h)) and np.all(np.diff(w) >= 0)
+            moved = np.abs(w - exact).max()
+            assert moved <= 9 * np.finfo(float).eps * np.abs(exact).max()     # 8 ulps + the rounding of the sum
+            assert moved < eigenvalue_tolerance(3.0, h.shape[0]) / 100
+            zero = np.abs(w) < 1e-12
+            signs |= {tuple(np.sign(w[zero]))}
+            g = graph_levels_below(ring_lattice(7, 3, 4))
+            assert (g.states, g.at_cutoff) == (146, 2)
+        finally:
+            undo()
+    assert len(signs) > 1                          # the zero modes' signs did change

@@ -931,13 +931,17 @@ class BoseHubbardLevels(Result):
 # observables
 # ----------------------------------------------------------------------------
 
+#: chunks of basis states of the one-body kernel (threads take whole chunks; at most this many run)
+_ONE_BODY_CHUNKS = 32
+
+
 def _one_body(b: BosonBasis, psi: np.ndarray) -> np.ndarray:
     from . import _kernels as K
 
-    import numba
-
-    # one (M, M) accumulator per chunk: few chunks, so the sum over them stays cheap
-    nch = max(1, min(b.dim, 2 * numba.get_num_threads()))
+    # one (M, M) accumulator per chunk: few chunks, so the sum over them stays cheap. Their number
+    # is fixed, not set by the thread count: the chunks' partial sums are added in order, so the
+    # matrix is the same bit for bit on any number of threads (any machine's core count)
+    nch = max(1, min(b.dim, _ONE_BODY_CHUNKS))
     out_re = np.zeros((nch, b.sites, b.sites))
     out_im = np.zeros((nch, b.sites, b.sites))
     K.one_body(b.states, b.weights, b.particles, b.nmax, _sq(b.nmax), np.ascontiguousarray(psi.real),

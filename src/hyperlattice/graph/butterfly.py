@@ -16,6 +16,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from .. import _validate
+from .._ties import eigenvalue_tolerance, stable_order
 from .._progress import progress_bar
 from ..cache import Cache, checkpoint_cache
 from ..results import INDEX, Column, Grid, Result
@@ -194,14 +195,19 @@ def butterfly(lattice: Lattice, fluxes, *, t: float = 1.0, onsite=None, max_site
     sectors = [int(m - p) if m > p / 2 else int(m) for m in range(p)]
 
     def levels(fk: float) -> dict:
-        parts, ms = [], []
+        parts, ms, tols = [], [], []
         for m in sectors:
             block = sector_table(lattice, m, t, onsite, orbits=orbits, flux=fk).to_csr().toarray()
             parts.append(sla.eigvalsh(block))
             ms.append(np.full(orbits.size, m, dtype=np.int64))
-        e, mm = np.concatenate(parts), np.concatenate(ms)
-        order = np.argsort(e, kind="stable")
-        return {"energies": e[order].tolist(), "m": mm[order].tolist()}
+            tols.append(np.full(orbits.size, eigenvalue_tolerance(np.abs(block).sum(axis=1).max(), orbits.size)))
+        e, mm, tol = np.concatenate(parts), np.concatenate(ms), np.concatenate(tols)
+        # levels of different sectors within their error bounds of each other (the +-m pairs at
+        # f = 0, and the pairs f = 1/2 and 1 bring together) are one degenerate group: its labels
+        # are listed by |m|, +m first, not in the order the last bits of the energies would put
+        # them, and the energies stay ascending (a group's values are equal to rounding)
+        order = stable_order(e, tol, np.abs(mm), (mm < 0).astype(np.int64))
+        return {"energies": np.sort(e).tolist(), "m": mm[order].tolist()}
 
     key = None if cache is None else dict(_lattice_key(lattice, onsite), t=t)
     # the blocks are small (N/p = 121 rows at l = 5): a multi-threaded BLAS spends more on its

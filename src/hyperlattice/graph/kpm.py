@@ -320,9 +320,15 @@ _KERNELS: dict = {}
 
 
 def _kernels(parallel: bool) -> tuple[Callable, Callable]:
-    """Fused Chebyshev steps ``out = c * (A y) - yprev`` returning ``(<out,out>, <out,y>)``.
+    """Fused Chebyshev steps ``out = c * (A y) - yprev`` writing the per-chunk partial dots.
 
     ``c = -2/a`` turns A into :math:`2\\tilde H`. Real parts of the dots (H is real symmetric).
+    ``soo[b]`` and ``soy[b]`` receive :math:`\\langle out|out\\rangle` and
+    :math:`\\langle out|y\\rangle` over rows ``b * chunk`` to ``(b + 1) * chunk``; the caller sums
+    the chunks in order. A ``prange`` reduction would add the threads' partial sums in an order
+    set by the number of threads (the machine's core count), and so change the last bits of the
+    moments from one machine to the next; fixed chunks give serial and parallel runs, on any
+    number of threads, the same moments bit for bit (as the block kernels below).
     """
     if parallel in _KERNELS:
         return _KERNELS[parallel]
@@ -331,53 +337,68 @@ def _kernels(parallel: bool) -> tuple[Callable, Callable]:
     rng = numba.prange if parallel else range
 
     @numba.njit(cache=True, parallel=parallel, fastmath=False)
-    def step_table(nb, c, y, yprev, out):  # pragma: no cover - jitted
+    def step_table(nb, c, y, yprev, out, soo, soy, chunk):  # pragma: no cover - jitted
         n, w = nb.shape
-        s_oo = 0.0
-        s_oy = 0.0
-        for i in rng(n):
-            acc = y[nb[i, 0]]
-            for k in range(1, w):
-                acc += y[nb[i, k]]
-            v = c * acc - yprev[i]
-            out[i] = v
-            s_oo += v.real * v.real + v.imag * v.imag
-            s_oy += v.real * y[i].real + v.imag * y[i].imag
-        return s_oo, s_oy
+        for b in rng(soo.shape[0]):
+            s_oo = 0.0
+            s_oy = 0.0
+            for i in range(b * chunk, min(n, (b + 1) * chunk)):
+                acc = y[nb[i, 0]]
+                for k in range(1, w):
+                    acc += y[nb[i, k]]
+                v = c * acc - yprev[i]
+                out[i] = v
+                s_oo += v.real * v.real + v.imag * v.imag
+                s_oy += v.real * y[i].real + v.imag * y[i].imag
+            soo[b] = s_oo
+            soy[b] = s_oy
 
     @numba.njit(cache=True, parallel=parallel, fastmath=False)
-    def step_csr(indptr, indices, data, weighted, c, y, yprev, out):  # pragma: no cover - jitted
+    def step_csr(indptr, indices, data, weighted, c, y, yprev, out, soo, soy, chunk):  # pragma: no cover - jitted
         n = indptr.shape[0] - 1
-        s_oo = 0.0
-        s_oy = 0.0
-        for i in rng(n):
-            acc = 0.0 * y[0]
-            if weighted:
-                for k in range(indptr[i], indptr[i + 1]):
-                    acc += data[k] * y[indices[k]]
-            else:
-                for k in range(indptr[i], indptr[i + 1]):
-                    acc += y[indices[k]]
-            v = c * acc - yprev[i]
-            out[i] = v
-            s_oo += v.real * v.real + v.imag * v.imag
-            s_oy += v.real * y[i].real + v.imag * y[i].imag
-        return s_oo, s_oy
+        for b in rng(soo.shape[0]):
+            s_oo = 0.0
+            s_oy = 0.0
+            for i in range(b * chunk, min(n, (b + 1) * chunk)):
+                acc = 0.0 * y[0]
+                if weighted:
+                    for k in range(indptr[i], indptr[i + 1]):
+                        acc += data[k] * y[indices[k]]
+                else:
+                    for k in range(indptr[i], indptr[i + 1]):
+                        acc += y[indices[k]]
+                v = c * acc - yprev[i]
+                out[i] = v
+                s_oo += v.real * v.real + v.imag * v.imag
+                s_oy += v.real * y[i].real + v.imag * y[i].imag
+            soo[b] = s_oo
+            soy[b] = s_oy
 
     _KERNELS[parallel] = (step_table, step_csr)
     return _KERNELS[parallel]
 
 
 def _step_fn(op: GraphOperator, parallel: bool):
-    """``step(c, y, yprev, out) -> (<out,out>, <out,y>)`` for ``op``."""
+    """``step(c, y, yprev, out) -> (<out,out>, <out,y>)`` for ``op``, summed over fixed chunks of rows."""
     step_table, step_csr = _kernels(_validate.flag("parallel", parallel))
+    nch = -(-op.sites // CHUNK)
+    soo = np.empty(nch)
+    soy = np.empty(nch)
     if op.table is not None:
         nb = op.table
-        return lambda c, y, yprev, out: step_table(nb, c, y, yprev, out)
+
+        def step(c, y, yprev, out):
+            step_table(nb, c, y, yprev, out, soo, soy, CHUNK)
+            return float(soo.sum()), float(soy.sum())
+        return step
     weighted = op.data is not None
     data = op.data if weighted else np.zeros(1)
     indptr, indices = op.indptr, op.indices
-    return lambda c, y, yprev, out: step_csr(indptr, indices, data, weighted, c, y, yprev, out)
+
+    def step(c, y, yprev, out):
+        step_csr(indptr, indices, data, weighted, c, y, yprev, out, soo, soy, CHUNK)
+        return float(soo.sum()), float(soy.sum())
+    return step
 
 
 def _chebyshev_moments(op: GraphOperator, r: np.ndarray, moments: int, scale: float,

@@ -445,8 +445,11 @@ def fig2_section(records: list[dict], out: Path, progress: Callable[[str], None]
                            "(filled) and the continuum disk (open) vs number of rings, with the asymptotes of "
                            f"{cite('eq19')}; (b, the paper's inset) partition function over negative energies for "
                            "ℓ = 4, graph vs disk.", paper="Fig2")
+    # ten significant digits: Z carries the levels' error bound (about 5e-13) times beta as its
+    # relative error (~3e-12 at beta = 6); eight decimals of Z ~ 4e7 printed sixteen digits, whose
+    # last ones moved with the eigensolver's rounding (BLAS kernel, CPU)
     zt = Table("partition_function_l4", ["beta", "Z_graph", "Z_continuum"],
-               [[_fmt(b, 4), _fmt(a, 8), _fmt(c, 8)]
+               [[_fmt(b, 4), f"{a:.10g}", f"{c:.10g}"]
                 for b, a, c in zip(z.beta[::10], z.z_graph[::10], z.z_continuum[::10])],
                f"Z(β) for ℓ = 4 over {z.graph_states} negative graph levels and {z.continuum_states} negative "
                "continuum states (degenerate ±m counted twice); "
