@@ -28,6 +28,7 @@ LAYERS = {
     "dictionary": 1,
     "graph": 2, "continuum": 2,
     "bosons": 3,
+    "topology": 3,
     "compare": 4,
     "plots": 5,
     "report": 6, "sweep": 6,
