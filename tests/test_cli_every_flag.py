@@ -84,6 +84,12 @@ INVOCATIONS = [
     ["bosons", "meanfield", "--infinite", "--points", "3"],
     ["bosons", "gp", "-p", "7", "-q", "3", "--rings", "2", "--filling", "1", "--U", "0.5", "--t", "1", "--modes", "3", "--json"],
     ["bosons", "gp", "--rings", "2", "--particles", "35", "--U", "0.5"],
+    ["topology", "flake", "--model", "haldane", "-p", "8", "-q", "3", "--rings", "2", "--M", "0.1", "--t2", "0.3",
+     "--phi", "1.2", "--disorder", "0.5", "--seed", "3", "--json"],
+    ["topology", "flake", "--rings", "2"],
+    ["topology", "cluster", "--model", "qwz", "--cluster", "bolza", "-p", "8", "-q", "3", "--M", "1", "--t2", "0.2",
+     "--phi", "1.5", "--json"],
+    ["topology", "cluster", "--cluster", "bolza", "--M", "2.5"],
 ]
 
 
