@@ -137,3 +137,42 @@ def test_cluster_angles_are_antipodal_on_every_edge():
 def test_bad_input_is_one_sentence(call, match):
     with pytest.raises(ValueError, match=match):
         call()
+
+
+def test_chebyshev_centre_marker_matches_dense_on_the_same_disks():
+    from hyperlattice.topology import occupied_states
+    from hyperlattice.topology.kpm_marker import centre_marker
+    from hyperlattice.topology.markers import _geometry, _local_kitaev
+
+    g = square_flake(14)
+    res = centre_marker(g, "qwz", M=1.0, moments=512)
+    occ = occupied_states(g, "qwz", M=1.0, fermi=0.0)
+    geo = _geometry(g)
+    ref = np.mean([_local_kitaev(geo, occ.vectors, 2, geo.z[i], res.parameters["radius"]) for i in res.evaluated_sites])
+    assert abs(res.marker - ref) < 2e-3
+    assert res.marker_error < 2e-3          # the estimate (N vs N/2) is of the size of the true error
+    assert abs(res.marker + 1) < 0.01
+
+
+def test_chebyshev_marker_warns_when_the_moments_are_too_few():
+    from hyperlattice.errors import ConvergenceWarning
+    from hyperlattice.topology.kpm_marker import centre_marker
+
+    with pytest.warns(ConvergenceWarning, match="raise moments"):
+        centre_marker(hl.ring_lattice(8, 3, 3), "qwz", M=1.0, moments=32, tol=1e-3)
+
+
+def test_bott_index_on_the_rectangular_honeycomb_flake():
+    top = flake_topology(honeycomb_flake(8), "haldane", M=0.0, t2=0.2, per_ring=2)
+    assert abs(top.bott - 1) < 1e-6 and top.bott_reliable
+
+
+@pytest.mark.slow
+def test_hyperbolic_markers_converge_with_the_flake():
+    from hyperlattice.topology.kpm_marker import centre_marker
+
+    top = flake_topology(hl.ring_lattice(8, 3, 4), "qwz", M=1.0, per_ring=2)
+    assert abs(top.marker + 1) < 2e-3 and abs(top.kitaev + 1) < 1e-3
+    assert top.flat_by_ring[0] > -0.7 and top.recentred_by_ring[0] > -0.9
+    res = centre_marker(hl.ring_lattice(8, 3, 4), "qwz", M=1.0, moments=512)
+    assert abs(res.marker + 1) < 2e-3 and res.marker_error < 1e-3
