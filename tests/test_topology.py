@@ -176,3 +176,19 @@ def test_hyperbolic_markers_converge_with_the_flake():
     assert top.flat_by_ring[0] > -0.7 and top.recentred_by_ring[0] > -0.9
     res = centre_marker(hl.ring_lattice(8, 3, 4), "qwz", M=1.0, moments=512)
     assert abs(res.marker + 1) < 2e-3 and res.marker_error < 1e-3
+
+
+def test_sweep_task_runs_one_realization_and_checks_its_parameters():
+    from hyperlattice.sweep import tasks
+
+    task = tasks.get_task("topology")
+    params = dict(task.defaults, rings=3, W=1.0, seed=2, moments=64)
+    task.check(params)
+    row = tasks.execute("topology", params)
+    assert set(row) == {"marker", "marker_error", "kitaev", "gap"}
+    again = tasks.execute("topology", params)
+    assert row["marker"] == again["marker"]          # same seed, same bits
+    with pytest.raises(ValueError, match="W"):
+        task.check(dict(params, W=-1.0))
+    with pytest.raises(ValueError, match="model"):
+        task.check(dict(params, model="kane-mele"))

@@ -221,18 +221,29 @@ def occupied_states(graph, model: str = "qwz", *, M: float = 1.0, t2: float = 0.
                           centre_weight=w1, first_empty=np.ascontiguousarray(v[:, occ:occ + 1]))
 
 
-def _centre_gap(occ: OccupiedStates) -> tuple[float, int]:
-    """Gap of the ring-1 local DOS around the Fermi level, and the number of states inside it."""
+def _centre_gap(occ: OccupiedStates) -> tuple[float, int, float]:
+    """Gap of the ring-1 local DOS around the Fermi level, the number of states inside it, its lower edge."""
     e, w = occ.energies, occ.centre_weight
     mean = w.sum() / len(w)
     bulk = w >= CENTRE_WEIGHT * mean
     below = np.flatnonzero(bulk & (e < occ.fermi))
     above = np.flatnonzero(bulk & (e > occ.fermi))
     if len(below) == 0 or len(above) == 0:
-        return 0.0, 0
+        return 0.0, 0, float(occ.fermi)
     lo, hi = e[below[-1]], e[above[0]]
     inside = int(np.sum((e > lo) & (e < hi)))
-    return float(hi - lo), inside
+    return float(hi - lo), inside, float(lo)
+
+
+def _edge_weight(geo: _Geometry, occ: OccupiedStates, lo: float, rings: np.ndarray) -> np.ndarray:
+    """Mean weight per ring of the occupied states inside the centre's gap (zeros when there are none)."""
+    e = occ.energies[: occ.vectors.shape[1]]
+    sel = np.flatnonzero(e > lo)
+    if len(sel) == 0:
+        return np.zeros(len(rings))
+    w = np.abs(occ.vectors[:, sel]) ** 2
+    per_site = w.reshape(len(geo.z), occ.orbitals, len(sel)).sum(axis=1)
+    return np.array([per_site[geo.ring == r].sum(axis=0).mean() for r in rings])
 
 
 # ----------------------------------------------------------------------------
@@ -409,6 +420,9 @@ class FlakeTopology(Result):
         Bulk gap of the local DOS at ring 1 around the Fermi level.
     in_gap_states : int
         Eigenstates inside that gap (edge states).
+    in_gap_weight_by_ring : ndarray, shape (R,)
+        Mean weight on each ring of the occupied eigenstates inside that gap (sums to 1 over the
+        rings): where the edge states live.
     fermi : float
         The Fermi level.
     method : str
@@ -425,7 +439,8 @@ class FlakeTopology(Result):
 
     COLUMNS = (Column("ring", "rings", "1"), Column("marker", "marker_by_ring", "1"),
                Column("sites_evaluated", "sites_by_ring", "1"), Column("flat_marker", "flat_by_ring", "1"),
-               Column("recentred_marker", "recentred_by_ring", "1"))
+               Column("recentred_marker", "recentred_by_ring", "1"),
+               Column("in_gap_weight", "in_gap_weight_by_ring", "1"))
 
     model: str
     parameters: dict
@@ -443,6 +458,7 @@ class FlakeTopology(Result):
     bott_reliable: bool
     gap: float
     in_gap_states: int
+    in_gap_weight_by_ring: np.ndarray
     fermi: float
     method: str
 
@@ -576,7 +592,8 @@ def _flake_topology(graph, model, *, M, t2, phi, rashba, flux, disorder, seed, f
         inv["bott_stable"] = a["bott_stable"] and b["bott_stable"]
     else:
         inv = _invariants(geo, V, d, r, per_ring, occ.first_empty)
-    gap, inside = _centre_gap(occ)
+    gap, inside, lo = _centre_gap(occ)
+    edge_weight = _edge_weight(geo, occ, lo, inv["rings"])
     reliable = bool(inv["bott_margin"] >= BOTT_MARGIN and inv["bott_stable"])
     if not reliable:
         why = ("it changes when one state is added to or removed from the occupied ones"
@@ -593,7 +610,8 @@ def _flake_topology(graph, model, *, M, t2, phi, rashba, flux, disorder, seed, f
                          flat_by_ring=inv["flat_by_ring"], recentred_by_ring=inv["recentred_by_ring"],
                          kitaev=float(inv["kitaev"]), kitaev_radius=float(inv["kitaev_radius"]),
                          bott=float(inv["bott"]), bott_margin=float(inv["bott_margin"]), bott_reliable=reliable,
-                         gap=gap, in_gap_states=inside, fermi=occ.fermi, method="dense")
+                         gap=gap, in_gap_states=inside, in_gap_weight_by_ring=edge_weight, fermi=occ.fermi,
+                         method="dense")
 
 
 from .._validate import guard_public as _guard_public  # noqa: E402
