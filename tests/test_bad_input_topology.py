@@ -34,6 +34,8 @@ CASES = [
     ("cluster_chern", surfaces.cluster_chern, dict(cluster=models.square_torus(), model="qwz", M=1.0, grid=8,
                                                    max_grid=16), {}),
     ("pfaffian", surfaces.pfaffian, dict(matrix=[[0, 1], [-1, 0]]), {}),
+    ("edge_chirality", markers.edge_chirality, dict(graph=SQUARE, model="qwz", M=1.0, duration=1.0, steps=3,
+                                                    width=1.0), {}),
     ("centre_marker", kpm_marker.centre_marker, dict(graph=FLAKE, model="qwz", M=1.0, moments=32, tol=10.0),
      {"radius": {"none"}}),
 ]

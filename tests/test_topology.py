@@ -192,3 +192,19 @@ def test_sweep_task_runs_one_realization_and_checks_its_parameters():
         task.check(dict(params, W=-1.0))
     with pytest.raises(ValueError, match="model"):
         task.check(dict(params, model="kane-mele"))
+
+
+@pytest.mark.machine_independence
+@pytest.mark.parametrize("graph,model,M,chern", [
+    (square_flake(10), "qwz", 1.0, -1), (square_flake(10), "qwz", -1.0, 1), (square_flake(10), "qwz", 3.0, 0),
+    (honeycomb_flake(8), "haldane", 0.0, 1), (hl.ring_lattice(8, 3, 3), "qwz", 1.0, -1),
+    (hl.ring_lattice(8, 3, 3), "qwz", -1.0, 1),
+])
+def test_edge_packets_run_against_the_chern_number(graph, model, M, chern):
+    # measured convention: a flake with C = -1 (Bianco–Resta sign) has edge states running counterclockwise
+    from hyperlattice.topology import edge_chirality
+
+    res = edge_chirality(graph, model, M=M)
+    assert res.chirality == -chern
+    if chern:
+        assert abs(res.angle[-1]) > 0.1 and res.packet_weight > 0.3

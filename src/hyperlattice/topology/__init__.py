@@ -7,10 +7,11 @@ Fukui–Hatsugai–Suzuki Chern numbers on the 2-subtori of the Abelian Brilloui
 :mod:`.kpm_marker` (the centre marker of big flakes by a Chebyshev expansion of the projector).
 """
 
-from .markers import FlakeTopology, OccupiedStates, flake_topology, local_markers, occupied_states
+from .markers import (EdgeChirality, FlakeTopology, OccupiedStates, edge_chirality, flake_topology, local_markers,
+                      occupied_states)
 from .models import (MODELS, ModelTerms, PlaneGraph, bloch_model_hamiltonian, honeycomb_flake, honeycomb_torus,
                      model_hamiltonian, model_terms, square_flake, square_torus)
 
-__all__ = ["FlakeTopology", "OccupiedStates", "flake_topology", "local_markers", "occupied_states", "MODELS",
+__all__ = ["EdgeChirality", "edge_chirality", "FlakeTopology", "OccupiedStates", "flake_topology", "local_markers", "occupied_states", "MODELS",
            "ModelTerms", "PlaneGraph", "bloch_model_hamiltonian", "honeycomb_flake", "honeycomb_torus",
            "model_hamiltonian", "model_terms", "square_flake", "square_torus"]
