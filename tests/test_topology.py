@@ -208,3 +208,12 @@ def test_edge_packets_run_against_the_chern_number(graph, model, M, chern):
     assert res.chirality == -chern
     if chern:
         assert abs(res.angle[-1]) > 0.1 and res.packet_weight > 0.3
+
+
+def test_the_geodesic_tangent_frame_gives_the_same_invariants():
+    lat = hl.ring_lattice(8, 3, 3)
+    chord = flake_topology(lat, "qwz", M=1.0, per_ring=1)
+    tangent = flake_topology(lat, "qwz", M=1.0, per_ring=1, frame="tangent")
+    assert abs(chord.kitaev - tangent.kitaev) < 1e-3 and abs(chord.marker - tangent.marker) < 1e-3
+    H = model_hamiltonian(model_terms(lat, "qwz", M=1.0, frame="tangent"))
+    assert abs(H - H.getH()).max() < 1e-14

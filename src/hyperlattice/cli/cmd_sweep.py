@@ -28,7 +28,7 @@ _JSON_NAMES = {list: "array", str: "string", int: "number", float: "number", boo
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("config", nargs="?", default=None, metavar="CONFIG", help="JSON file with the sweep")
-    parser.add_argument("--task", default=None, help="task name: disorder, levels or probe")
+    parser.add_argument("--task", default=None, help="task name: disorder, levels, qmc, topology or probe")
     parser.add_argument("--grid", action="append", default=[], metavar="NAME=VALUES",
                         help="a grid axis: NAME=1,2,3 or NAME=0:100 (repeatable)")
     parser.add_argument("--out", default=None, metavar="DIR", help="sweep directory (created; resumed if present)")

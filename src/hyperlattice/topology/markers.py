@@ -177,7 +177,7 @@ def _fermi_index(energies: np.ndarray, fermi, scale: float) -> tuple[int, float]
 
 def occupied_states(graph, model: str = "qwz", *, M: float = 1.0, t2: float = 0.2, phi: float = np.pi / 2,
                     rashba: float = 0.0, flux: float = 0.0, disorder: float = 0.0, seed: int = 0,
-                    fermi: float | None = None) -> OccupiedStates:
+                    fermi: float | None = None, frame: str = "chord") -> OccupiedStates:
     """Dense diagonalisation of a model on a flake (see :func:`flake_topology` for the parameters).
 
     Parameters
@@ -186,7 +186,7 @@ def occupied_states(graph, model: str = "qwz", *, M: float = 1.0, t2: float = 0.
         An open flake.
     model : str
         ``"qwz"``, ``"haldane"`` or ``"kane-mele"``.
-    M, t2, phi, rashba, flux, disorder, seed : optional
+    M, t2, phi, rashba, flux, disorder, seed, frame : optional
         Model parameters (:func:`~hyperlattice.topology.models.model_terms`).
     fermi : float, optional
         Fermi level; default half filling (the lower half of the levels occupied).
@@ -202,7 +202,8 @@ def occupied_states(graph, model: str = "qwz", *, M: float = 1.0, t2: float = 0.
         :data:`MAX_DENSE_ROWS` rows (use :func:`~hyperlattice.topology.kpm_marker.centre_marker`).
     """
     geo = _geometry(graph)
-    terms = model_terms(graph, model, M=M, t2=t2, phi=phi, rashba=rashba, flux=flux, disorder=disorder, seed=seed)
+    terms = model_terms(graph, model, M=M, t2=t2, phi=phi, rashba=rashba, flux=flux, disorder=disorder, seed=seed,
+                        frame=frame)
     rows = terms.sites * terms.orbitals
     if rows > MAX_DENSE_ROWS:
         raise ValueError(f"dense diagonalisation of {rows:,} rows is refused (at most {MAX_DENSE_ROWS:,}); "
@@ -512,7 +513,8 @@ def _invariants(geo: _Geometry, V: np.ndarray, d: int, radius: float, per_ring: 
 
 def flake_topology(graph, model: str = "qwz", *, M: float = 1.0, t2: float = 0.2, phi: float = np.pi / 2,
                    rashba: float = 0.0, flux: float = 0.0, disorder: float = 0.0, seed: int = 0,
-                   fermi: float | None = None, radius: float | None = None, per_ring: int = 8) -> FlakeTopology:
+                   fermi: float | None = None, radius: float | None = None, per_ring: int = 8,
+                   frame: str = "chord") -> FlakeTopology:
     r"""Local marker by ring, Kitaev's sum, Bott index and the centre's gap of a model on a flake.
 
     Parameters
@@ -540,6 +542,8 @@ def flake_topology(graph, model: str = "qwz", *, M: float = 1.0, t2: float = 0.2
         Radius of the local marker's disk in the metric; default 4 bond lengths.
     per_ring : int, optional
         Sites evaluated per ring beyond ring 1 (evenly spread; all of ring 1), default 8.
+    frame : {"chord", "tangent"}, optional
+        QWZ / Rashba bond angles (:func:`~hyperlattice.topology.models.model_terms`).
 
     Returns
     -------
@@ -569,16 +573,16 @@ def flake_topology(graph, model: str = "qwz", *, M: float = 1.0, t2: float = 0.2
 
     with single_threaded_blas():   # one thread: measured 6x faster dense eigh on the shared 2-core machine
         return _flake_topology(graph, model, M=M, t2=t2, phi=phi, rashba=rashba, flux=flux, disorder=disorder,
-                               seed=seed, fermi=fermi, radius=radius, per_ring=per_ring)
+                               seed=seed, fermi=fermi, radius=radius, per_ring=per_ring, frame=frame)
 
 
-def _flake_topology(graph, model, *, M, t2, phi, rashba, flux, disorder, seed, fermi, radius, per_ring):
+def _flake_topology(graph, model, *, M, t2, phi, rashba, flux, disorder, seed, fermi, radius, per_ring, frame):
     model = _validate.choice("model", model, MODELS)
     per_ring = _validate.integer("per_ring", per_ring, minimum=1, maximum=100_000)
     geo = _geometry(graph)
     r = 4 * geo.bond if radius is None else _validate.real("radius", radius, minimum=1e-3, maximum=1e3)
     occ = occupied_states(graph, model, M=M, t2=t2, phi=phi, rashba=rashba, flux=flux, disorder=disorder,
-                          seed=seed, fermi=fermi)
+                          seed=seed, fermi=fermi, frame=frame)
     d = occ.orbitals
     V = occ.vectors
     if model == "kane-mele":
@@ -606,7 +610,7 @@ def _flake_topology(graph, model, *, M, t2, phi, rashba, flux, disorder, seed, f
                       "states at the Fermi level make the projector non-local); trust the local marker.",
                       stacklevel=3)
     params = dict(M=M, t2=t2, phi=phi, rashba=rashba, flux=flux, disorder=disorder, seed=seed,
-                  radius=float(r), per_ring=per_ring)
+                  radius=float(r), per_ring=per_ring, frame=frame)
     return FlakeTopology(model=model, parameters=params, sites=len(geo.z),
                          marker=float(inv["marker_by_ring"][0]), rings=inv["rings"],
                          marker_by_ring=inv["marker_by_ring"], sites_by_ring=inv["sites_by_ring"],

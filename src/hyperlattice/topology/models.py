@@ -600,7 +600,7 @@ def spin_operator(model: str, sites: int) -> sp.csr_matrix:
 
 def model_terms(graph, model: str = "qwz", *, M: float = 1.0, t1: float = 1.0, t2: float = 0.2,
                 phi: float = np.pi / 2, rashba: float = 0.0, flux: float = 0.0, disorder: float = 0.0,
-                seed: int = 0) -> ModelTerms:
+                seed: int = 0, frame: str = "chord") -> ModelTerms:
     r"""The hop list of a model on a flake, a cluster or a Euclidean graph (see the module docstring).
 
     Parameters
@@ -632,6 +632,13 @@ def model_terms(graph, model: str = "qwz", *, M: float = 1.0, t1: float = 1.0, t
         the orbitals), default 0.
     seed : int, optional
         Seed of the disorder (realization 0 of :func:`~hyperlattice.graph.disorder.realization_rng`).
+    frame : {"chord", "tangent"}, optional
+        The bond angles of QWZ and of the Rashba term on a {p,q} flake: ``"chord"`` (default),
+        :math:`\arg(z_j - z_i)`; ``"tangent"``, the direction at :math:`z_i` of the geodesic
+        towards :math:`z_j` (the chart recentred at :math:`z_i`), taken at the lower-numbered end
+        of each bond, the reverse step that angle plus pi (the two ends' tangents are not
+        antipodal in the chart: the difference is the chart's rotation along the geodesic).
+        Clusters always use their lift (:func:`cluster_angles`).
 
     Returns
     -------
@@ -660,7 +667,12 @@ def model_terms(graph, model: str = "qwz", *, M: float = 1.0, t1: float = 1.0, t
     flux = _validate.real("flux", flux, minimum=-1e6, maximum=1e6)
     disorder = _validate.real("disorder", disorder, minimum=0.0, maximum=1e6)
     seed = _validate.integer("seed", seed, minimum=0, maximum=2**63 - 1)
+    frame = _validate.choice("frame", frame, ("chord", "tangent"))
     dd = _darts(graph)
+    if frame == "tangent":
+        if dd.kind != "flake" or isinstance(graph, PlaneGraph):
+            raise ValueError("frame='tangent' is defined on {p,q} flakes (ring_lattice) only.")
+        dd = _tangent_frame(graph, dd)
     n = dd.n
     hop_phase = np.ones(len(dd.tail), dtype=np.complex128)
     if flux != 0.0:
@@ -726,6 +738,20 @@ def model_terms(graph, model: str = "qwz", *, M: float = 1.0, t1: float = 1.0, t
     return ModelTerms(model=model, orbitals=d, onsite=onsite, tail=np.concatenate(tails),
                       head=np.concatenate(heads), blocks=np.concatenate(blocks).astype(np.complex128),
                       windings=np.concatenate(winds), parameters=params)
+
+
+def _tangent_frame(graph, dd: _Darts) -> _Darts:
+    """The darts with geodesic-tangent angles at the lower-numbered end of each bond."""
+    from dataclasses import replace
+
+    z = np.asarray(graph.z, dtype=np.complex128)
+    i, j = dd.tail, dd.head
+    w = (z[j] - z[i]) / (1.0 - np.conj(z[i]) * z[j])       # z_j in the chart recentred at z_i
+    ang = np.angle(w)
+    lower = i < j
+    out = ang.copy()
+    out[dd.rev[lower]] = ang[lower] + np.pi
+    return replace(dd, angle=out)
 
 
 def _angles(graph, dd: _Darts) -> np.ndarray:
