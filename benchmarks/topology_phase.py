@@ -35,18 +35,45 @@ def print_markdown(rows, hal) -> None:
         print(f"| {r['t2']:.2f} | {r['marker']:.4f} | {r['error']:.0e} | {r['kitaev']:.4f} | {r['gap']:.3f} |")
 
 
+def plot(rows, rings, out) -> None:
+    """The figure of docs/topology.md."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 4))
+    Ms = [r["M"] for r in rows]
+    ax.plot(Ms, [r["marker"] for r in rows], "o-", label=f"local marker, flake ℓ = {rings} (centre)")
+    ax.plot(Ms, [r["kitaev"] for r in rows], "s--", ms=4, label="Kitaev sum at the centre")
+    ax.plot(Ms, [(-r["pfaffian"] if r["pfaffian"] is not None else np.nan) for r in rows], "^",
+            label="−Pf C (Bolza cluster, Abelian bands)")
+    ax.plot(Ms, [(r["gcd"] if r["gcd"] is not None else np.nan) for r in rows], "v",
+            label="gcd C (Bolza)")
+    ax.plot(Ms, [r["gap"] for r in rows], ":", color="grey", label="ring-1 LDOS gap (flake)")
+    ax.set_xlabel("M")
+    ax.set_ylabel("invariant / gap")
+    ax.axhline(0, color="k", lw=0.5)
+    ax.set_title("{8,3} QWZ: flake marker vs Abelian Chern numbers")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--rings", type=int, default=4)
     ap.add_argument("--moments", type=int, default=256)
     ap.add_argument("--out", default="docs/img/topology_qwz_phase.png")
     ap.add_argument("--markdown", action="store_true", help="print the tables in Markdown (docs/topology.md)")
-    ap.add_argument("--from-json", help="format the JSON a previous run printed (its last line), compute nothing")
+    ap.add_argument("--from-json", help="format and plot the JSON a previous run printed (its last line), "
+                    "compute nothing")
     args = ap.parse_args()
     if args.from_json:
         with open(args.from_json) as fh:
             data = json.loads(fh.read().strip().splitlines()[-1])
         print_markdown(data["qwz"], data["haldane"])
+        plot(data["qwz"], args.rings, args.out)
         return
 
     import hyperlattice as hl
@@ -82,27 +109,7 @@ def main() -> None:
         print_markdown(rows, hal)
         return
 
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(7, 4))
-    Ms = [r["M"] for r in rows]
-    ax.plot(Ms, [r["marker"] for r in rows], "o-", label=f"local marker, flake ℓ = {args.rings} (centre)")
-    ax.plot(Ms, [r["kitaev"] for r in rows], "s--", ms=4, label="Kitaev sum at the centre")
-    ax.plot(Ms, [(-r["pfaffian"] if r["pfaffian"] is not None else np.nan) for r in rows], "^",
-            label="−Pf C (Bolza cluster, Abelian bands)")
-    ax.plot(Ms, [(r["gcd"] if r["gcd"] is not None else np.nan) for r in rows], "v",
-            label="gcd C (Bolza)")
-    ax.plot(Ms, [r["gap"] for r in rows], ":", color="grey", label="ring-1 LDOS gap (flake)")
-    ax.set_xlabel("M")
-    ax.set_ylabel("invariant / gap")
-    ax.axhline(0, color="k", lw=0.5)
-    ax.set_title("{8,3} QWZ: flake marker vs Abelian Chern numbers")
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(args.out, dpi=120)
+    plot(rows, args.rings, args.out)
     print(json.dumps({"qwz": rows, "haldane": hal}))
 
 
