@@ -53,7 +53,7 @@ CLI_FLAGS = [
     (["topology", "flake", "--rings", "2"], "-q", set()),
     (["topology", "flake", "--rings", "2"], "--model", set()),
     (["topology", "cluster"], "--cluster", set()),
-    (["topology", "cluster", "--cluster", "bolza"], "--M", {"-1", "3.5"}),
+    (["topology", "cluster", "--cluster", "bolza"], "--M", {"-1", "0", "3.5"}),   # 0: the gap closes (exit 2, 5 s)
     (["topology", "cluster", "--cluster", "bolza"], "--model", set()),
 ]
 
