@@ -127,6 +127,12 @@ INVOCATIONS = [
      "{tmp}/device_trace.csv"],
     ["device", "transmission", "--adjacency", "{tmp}/square.npz", "--kappa-int", "0.1", "--port", "0:1",
      "--omega-min", "-3", "--omega-max", "3.1", "--points", "5"],
+    ["topology", "flake", "--model", "haldane", "-p", "8", "-q", "3", "--rings", "2", "--M", "0.1", "--t2", "0.3",
+     "--phi", "1.2", "--disorder", "0.5", "--seed", "3", "--json"],
+    ["topology", "flake", "--rings", "2"],
+    ["topology", "cluster", "--model", "qwz", "--cluster", "bolza", "-p", "8", "-q", "3", "--M", "1", "--t2", "0.2",
+     "--phi", "1.5", "--json"],
+    ["topology", "cluster", "--cluster", "bolza", "--M", "2.5"],
 ]
 
 

@@ -27,7 +27,7 @@ LAYERS = {
     "cache": 0, "paper_values": 0, "paper_labels": 0, "_progress": 0, "mcstats": 0,
     "dictionary": 1,
     "graph": 2, "continuum": 2,
-    "bosons": 3, "device": 3, "spins": 3,
+    "bosons": 3, "device": 3, "spins": 3, "topology": 3,
     "compare": 4,
     "plots": 5,
     "report": 6, "sweep": 6,

@@ -40,6 +40,12 @@ Registered tasks:
     ``omega``, ``s21_abs2`` (arrays), ``levels`` (the disordered device's eigenvalues: the resonance
     positions) and ``method``. A grid over ``seed`` is an ensemble, merged by
     :func:`hyperlattice.sweep.device.merge_device` (mean and spread).
+``topology``
+    One disorder realization of the hyperbolic local Chern marker at a flake's centre
+    (:func:`hyperlattice.topology.kpm_marker.centre_marker`, Chebyshev projector, E_F = 0):
+    ``p, q, rings, model, M, t2, phi, W, seed, moments``; outputs ``marker``, ``marker_error``,
+    ``kitaev``, ``gap``. A grid over ``seed`` gives the ensemble (the topological Anderson
+    insulator: the averaged marker against W).
 ``probe``
     ``x -> x**2`` after sleeping ``sleep`` seconds: measures the engine's own overhead and
     exercises its fault handling; no physics.
@@ -439,6 +445,30 @@ def _check_device(params: dict) -> None:
     _device_of(params)          # refuses bad ports, rates and seeds in one sentence
 
 
+def _topology(p: int = 8, q: int = 3, rings: int = 4, model: str = "qwz", M: float = 1.0, t2: float = 0.2,
+              phi: float = 1.5707963267948966, W: float = 0.0, seed: int = 0, moments: int = 256) -> dict:
+    import warnings
+
+    from ..errors import ConvergenceWarning
+    from ..topology.kpm_marker import centre_marker
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)   # the row carries marker_error instead
+        r = centre_marker(_lattice(p, q, rings, False), model, M=M, t2=t2, phi=phi, disorder=W, seed=seed,
+                          moments=moments)
+    return {"marker": r.marker, "marker_error": r.marker_error, "kitaev": r.kitaev, "gap": r.gap}
+
+
+def _check_topology(params: dict) -> None:
+    _check_geometry(dict(params, line_graph=False), 200_000)
+    _validate.choice("model", params["model"], ("qwz", "haldane"))
+    for name in ("M", "t2", "phi"):
+        _validate.real(name, params[name], minimum=-1e6, maximum=1e6)
+    _validate.real("W", params["W"], minimum=0.0, maximum=1e6)
+    _validate.integer("seed", params["seed"], minimum=0, maximum=2**63 - 1)
+    _validate.integer("moments", params["moments"], minimum=16, maximum=100_000)
+
+
 def _point_value(v):
     """A hashable, exact stand-in of a parameter value (floats by repr)."""
     return repr(v) if isinstance(v, float) else v
@@ -495,7 +525,7 @@ class Task:
 TASKS = {t.name: t for t in (Task("disorder", _disorder, _check_disorder), Task("levels", _levels, _check_levels),
                              Task("qmc", _qmc, _check_qmc), Task("spins", _spins, _check_spins),
                              Task("spins_quantum", _spins_quantum, _check_spins_quantum),
-                             Task("device", _device, _check_device),
+                             Task("device", _device, _check_device), Task("topology", _topology, _check_topology),
                              Task("probe", _probe, _check_probe))}
 
 
@@ -505,7 +535,7 @@ def get_task(name) -> Task:
     Parameters
     ----------
     name : str
-        ``"disorder"``, ``"levels"``, ``"qmc"``, ``"spins"``, ``"spins_quantum"``, ``"device"`` or ``"probe"`` (the keys of :data:`TASKS`).
+        ``"disorder"``, ``"levels"``, ``"qmc"``, ``"spins"``, ``"spins_quantum"``, ``"device"``, ``"topology"`` or ``"probe"`` (the keys of :data:`TASKS`).
 
     Returns
     -------
