@@ -329,6 +329,10 @@ def _bott(geo: _Geometry, V: np.ndarray, d: int) -> tuple[float, float]:
     prod = W @ U @ W.conj().T @ U.conj().T
     lam = np.linalg.eigvals(prod)
     bott = float(np.sum(np.angle(lam)) / (2 * np.pi))
+    # det(W U W^+ U^+) = |det U|^2 |det W|^2 > 0, so the sum of the phases is 2 pi times an integer up
+    # to rounding (n phases, each good to about n eps): report that integer, not its rounding noise
+    if abs(bott - round(bott)) <= 1e-9 * max(len(lam), 1):
+        bott = float(round(bott))
     margin = float(np.min(np.abs(lam / np.abs(lam) + 1))) if len(lam) else 2.0
     return bott, margin
 
