@@ -35,6 +35,13 @@ Index by topic (every name is ``hyperlattice.<name>``)::
                         strong_coupling_lobe
                         strong_coupling_tip excitation_energies hypercubic_boundaries StrongCouplingLobe
                         qmc_lobe qmc_boundary
+    Devices             resonator_device transmission impedance node_voltages
+                        circuit_resonances fit_transmission read_trace
+                        continuum_transmission ensemble_statistics flat_band_degeneracy
+    Topology            flake_topology local_markers edge_chirality cluster_chern
+                        centre_marker model_hamiltonian
+    Spins               classical_mc classical_mc_memory merge_classical xxz_qmc xxz_exact
+                        merge_xxz
     Sweeps, results     run_sweep read_table Result Levels load_result
 
 Conventions: metric ``ds² = (dx² + dy²)/(1 − |z|²)²`` (curvature −4); h = tanh(d0); H = −tA (t = 1
@@ -51,6 +58,31 @@ __version__ = "0.5.0"
 
 # public name -> module that defines it
 _EXPORTS = {
+    # devices
+    "resonator_device": "device.resonators",
+    "transmission": "device.transmission",
+    "impedance": "device.circuit",
+    "node_voltages": "device.circuit",
+    "circuit_resonances": "device.circuit",
+    "fit_transmission": "device.fit",
+    "read_trace": "device.fit",
+    "continuum_transmission": "device.continuum",
+    "ensemble_statistics": "device.ensemble",
+    "flat_band_degeneracy": "device.resonators",
+    # topology
+    "flake_topology": "topology.markers",
+    "local_markers": "topology.markers",
+    "edge_chirality": "topology.markers",
+    "cluster_chern": "topology.surfaces",
+    "centre_marker": "topology.kpm_marker",
+    "model_hamiltonian": "topology.models",
+    # spins
+    "classical_mc": "spins.classical",
+    "classical_mc_memory": "spins.classical",
+    "merge_classical": "spins.classical",
+    "xxz_qmc": "spins.quantum",
+    "xxz_exact": "spins.quantum",
+    "merge_xxz": "spins.quantum",
     # geometry
     "distance": "geometry",
     "tiling_constants": "geometry",
