@@ -11,7 +11,7 @@ otherwise), then ``ports``, ``method``, ``error_bound``.
 node (SPEC ``C:1``, ``L:1,R:100``: parallel elements). JSON keys ``omega``, ``z_re``, ``z_im``, then
 ``nodes``, ``kind``, ``resonances`` (of the lossless LC parts), ``method``.
 
-``fit``: least squares of ω₀, J, κ_int (ports' κ given) to a measured |S21| (``--measured`` CSV,
+``fit``: least squares of ω₀, J, κ_int (ports' κ given) to a measured ``|S21|`` (``--measured`` CSV,
 header ``omega,mag_db`` or ``omega,re,im``). JSON keys ``omega0``, ``J``, ``kappa_int`` and their
 ``_err``, then ``supported`` (parameters the trace determines), ``condition``, ``singular_values``,
 ``residual_rms``, ``ports``, ``statement``.

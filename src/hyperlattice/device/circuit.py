@@ -184,7 +184,7 @@ class Impedance(Result):
 
     @property
     def z_abs(self) -> np.ndarray:
-        """|Z|."""
+        """``|Z|``."""
         return np.abs(np.asarray(self.z))
 
 
@@ -242,7 +242,7 @@ class NodeVoltages(Result):
 
     @property
     def v_abs(self) -> np.ndarray:
-        """|V|."""
+        """``|V|``."""
         return np.abs(np.asarray(self.v))
 
 

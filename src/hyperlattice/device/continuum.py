@@ -34,16 +34,16 @@ __all__ = ["TransmissionComparison", "continuum_transmission"]
 
 @dataclass(frozen=True, eq=False, kw_only=True)
 class TransmissionComparison(Result):
-    r"""|S₂₁|² of a flake device, lattice against continuum (through the dictionary).
+    r"""``|S₂₁|²`` of a flake device, lattice against continuum (through the dictionary).
 
     Attributes
     ----------
     omega : ndarray
         Frequencies (the user's units).
     lattice : ndarray
-        |S₂₁|² of the lattice (exact input–output).
+        ``|S₂₁|²`` of the lattice (exact input–output).
     continuum : ndarray
-        |S₂₁|² from the continuum Green function (weak coupling).
+        ``|S₂₁|²`` from the continuum Green function (weak coupling).
     ports : tuple of str
         The two port sites.
     distance : float
@@ -80,7 +80,7 @@ class TransmissionComparison(Result):
 
 def continuum_transmission(lattice, omegas, *, ports, omega0: float = 0.0, J: float = 1.0, kappa_int: float,
                            kappa_port: float, tol: float = 1e-10) -> TransmissionComparison:
-    r"""|S₂₁|² of a device on the sites of a flake, lattice and continuum, at every frequency.
+    r"""``|S₂₁|²`` of a device on the sites of a flake, lattice and continuum, at every frequency.
 
     Parameters
     ----------

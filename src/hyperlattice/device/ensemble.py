@@ -1,4 +1,4 @@
-"""Ensembles of fabricated devices: mean and spread of |S₂₁|² and of the resonance positions.
+"""Ensembles of fabricated devices: mean and spread of ``|S₂₁|²`` and of the resonance positions.
 
 The realisations run as a sweep (the ``device`` task of :mod:`hyperlattice.sweep.tasks`, a grid
 over ``seed``, on Dask when worth it); :func:`hyperlattice.sweep.device.merge_device` reads the
@@ -21,16 +21,16 @@ __all__ = ["DeviceEnsemble", "ensemble_statistics"]
 
 @dataclass(frozen=True, eq=False, kw_only=True)
 class DeviceEnsemble(Result):
-    r"""Mean and spread of |S₂₁|² over fabricated devices, and of each resonance position.
+    r"""Mean and spread of ``|S₂₁|²`` over fabricated devices, and of each resonance position.
 
     Attributes
     ----------
     omega : ndarray
         Frequencies (the user's units).
     mean : ndarray
-        Mean |S₂₁|² over the realisations.
+        Mean ``|S₂₁|²`` over the realisations.
     spread : ndarray
-        Standard deviation of |S₂₁|² over the realisations (ddof = 1; 0 for one realisation).
+        Standard deviation of ``|S₂₁|²`` over the realisations (ddof = 1; 0 for one realisation).
     level_mean : ndarray
         Mean of the k-th lowest level of H over the realisations.
     level_spread : ndarray
@@ -66,14 +66,14 @@ class DeviceEnsemble(Result):
 
 
 def ensemble_statistics(omega, powers, levels, *, seeds=(), parameters: dict | None = None) -> DeviceEnsemble:
-    """Mean and spread of |S₂₁|² and of the sorted levels over realisations.
+    """Mean and spread of ``|S₂₁|²`` and of the sorted levels over realisations.
 
     Parameters
     ----------
     omega : array_like
         The common frequency grid.
     powers : sequence of array_like
-        |S₂₁|² of each realisation on ``omega``.
+        ``|S₂₁|²`` of each realisation on ``omega``.
     levels : sequence of array_like
         The levels of each realisation (sorted here), all of one length.
     seeds : sequence of int, optional

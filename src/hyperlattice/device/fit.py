@@ -1,5 +1,5 @@
 r"""Fit a measured transmission trace: the bare frequency ω₀ (a uniform offset), the coupling J and the
-internal loss κ_int of an ideal device (ports' κ given), by least squares on |S₂₁|.
+internal loss κ_int of an ideal device (ports' κ given), by least squares on ``|S₂₁|``.
 
 The model is the device of :mod:`.resonators` without disorder, :math:`H = \omega_0 - J A`: the
 eigenvectors of A are computed once, so a model evaluation costs O(N P) per frequency. Starting points:
@@ -29,7 +29,7 @@ __all__ = ["TransmissionFit", "read_trace", "fit_transmission", "PARAMETERS"]
 
 PARAMETERS = ("omega0", "J", "kappa_int")
 #: a direction of parameter space the trace does not determine: singular value of the column-scaled
-#: Jacobian below this fraction of the largest (numerical rank at the square root of the rounding of |S|)
+#: Jacobian below this fraction of the largest (numerical rank at the square root of the rounding of ``|S|``)
 RANK_RTOL = 1e-7
 #: most model evaluations of one least-squares run (from each start); the good start converges in ~10-30
 MAX_EVALUATIONS = 150
@@ -38,7 +38,7 @@ MAX_POINTS = 1_000_000
 
 
 def read_trace(path) -> tuple[np.ndarray, np.ndarray]:
-    """(ω, |S₂₁|) of a measured trace: a CSV with header ``omega,mag_db`` (20 log₁₀|S₂₁|) or ``omega,re,im``.
+    """(ω, ``|S₂₁|``) of a measured trace: a CSV with header ``omega,mag_db`` (20 log₁₀``|S₂₁|``) or ``omega,re,im``.
 
     Parameters
     ----------
@@ -48,7 +48,7 @@ def read_trace(path) -> tuple[np.ndarray, np.ndarray]:
     Returns
     -------
     tuple of ndarray
-        Frequencies and the linear magnitude |S₂₁|.
+        Frequencies and the linear magnitude ``|S₂₁|``.
 
     Raises
     ------
@@ -104,15 +104,15 @@ class TransmissionFit(Result):
     omega : ndarray
         Frequencies of the trace.
     data : ndarray
-        Measured |S₂₁|.
+        Measured ``|S₂₁|``.
     fit : ndarray
-        Fitted |S₂₁|.
+        Fitted ``|S₂₁|``.
     omega0, J, kappa_int : float
         Best-fit parameters (the user's units).
     omega0_err, J_err, kappa_int_err : float
         One-standard-deviation errors from the residual-scaled Jacobian.
     residual_rms : float
-        Root-mean-square misfit of |S₂₁|.
+        Root-mean-square misfit of ``|S₂₁|``.
     singular_values : ndarray
         Of the column-scaled Jacobian (largest first).
     supported : int
@@ -160,7 +160,7 @@ class TransmissionFit(Result):
 
 
 class _Model:
-    """|S21| of H = omega0 - J A with ports: eigenvectors of A once, then O(N P) per frequency."""
+    """``|S21|`` of H = omega0 - J A with ports: eigenvectors of A once, then O(N P) per frequency."""
 
     def __init__(self, graph, ports, line: bool, shared: bool):
         names, bonds, weights, _, _, line = _layout(graph, line, "a fitted device")
@@ -220,7 +220,7 @@ def _starts(model: _Model, w: np.ndarray, mag: np.ndarray) -> list:
 
 def fit_transmission(graph, omega, magnitude, *, ports, line_graph: bool = False, shared_ports: bool = False,
                      start=None) -> TransmissionFit:
-    r"""Fit ω₀, J, κ_int of an ideal device to a measured |S₂₁| (least squares, with errors).
+    r"""Fit ω₀, J, κ_int of an ideal device to a measured ``|S₂₁|`` (least squares, with errors).
 
     Parameters
     ----------
@@ -229,7 +229,7 @@ def fit_transmission(graph, omega, magnitude, *, ports, line_graph: bool = False
     omega : array_like
         Frequencies of the trace.
     magnitude : array_like
-        Measured |S₂₁| (linear), same length.
+        Measured ``|S₂₁|`` (linear), same length.
     ports : dict or list of (name, kappa)
         The two ports (in, out) and their known κ.
     line_graph : bool, optional

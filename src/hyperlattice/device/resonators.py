@@ -214,7 +214,7 @@ class Device(Result):
         return len(self.resonators)
 
     def hamiltonian(self) -> sp.csr_matrix:
-        r"""H = diag(ω_k) − Σ J_kl (|k⟩⟨l| + |l⟩⟨k|), sparse, real symmetric (the user's units)."""
+        r"""H = diag(ω_k) − Σ J_kl (``|k⟩⟨l|`` + ``|l⟩⟨k|``), sparse, real symmetric (the user's units)."""
         n = self.size
         b = np.asarray(self.bonds, np.int64).reshape(-1, 2)
         j = np.asarray(self.couplings, float)

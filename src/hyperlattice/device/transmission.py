@@ -98,7 +98,7 @@ class Transmission(Result):
     method : str
         ``"eigen"``, ``"chebyshev"`` or ``"direct"``.
     error_bound : ndarray
-        Per frequency, a bound on max |δS| (Chebyshev: truncation proved, rounding estimated);
+        Per frequency, a bound on max ``|δS|`` (Chebyshev: truncation proved, rounding estimated);
         NaN for the direct routes (rounding only).
     flat_band : int or None
         Line graph: multiplicity of the eigenvalue −2 of its adjacency.
@@ -167,7 +167,7 @@ class Transmission(Result):
 
     @property
     def power(self) -> np.ndarray:
-        """|S21|², the transmitted power fraction."""
+        """``|S21|²``, the transmitted power fraction."""
         return np.abs(self.s21) ** 2
 
 
@@ -484,7 +484,7 @@ def transmission(device: Device, omegas, *, method: str = "auto", tol: float = 1
     Returns
     -------
     Transmission
-        ``s[f, out, in]``, ``power`` (|S21|²), ``error_bound``, ``method``.
+        ``s[f, out, in]``, ``power`` (``|S21|²``), ``error_bound``, ``method``.
 
     Raises
     ------

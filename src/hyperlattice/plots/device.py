@@ -1,4 +1,4 @@
-"""Figures of what a device measures: transmission |S₂₁|² against frequency (with the ideal levels
+"""Figures of what a device measures: transmission ``|S₂₁|²`` against frequency (with the ideal levels
 marked), a fitted trace over its data, an ensemble's mean and spread, a node impedance.
 Each takes an optional ``ax`` and returns it."""
 
@@ -26,7 +26,7 @@ def _axes(ax, size=(6.5, 3.6)):
 
 def plot_transmission(tr: Transmission, ax: Axes | None = None, *, levels=None, log: bool = True,
                       **kwargs) -> Axes:
-    """|S₂₁|² against frequency, on a log scale; ``levels`` (e.g. the ideal device's eigenvalues) as ticks.
+    """``|S₂₁|²`` against frequency, on a log scale; ``levels`` (e.g. the ideal device's eigenvalues) as ticks.
 
     Parameters
     ----------
@@ -37,7 +37,7 @@ def plot_transmission(tr: Transmission, ax: Axes | None = None, *, levels=None, 
     levels : array_like, optional
         Frequencies to mark along the bottom (the ideal spectrum).
     log : bool, optional
-        Logarithmic |S₂₁|² axis; default True.
+        Logarithmic ``|S₂₁|²`` axis; default True.
     **kwargs
         Passed to :meth:`matplotlib.axes.Axes.plot`.
 
@@ -76,7 +76,7 @@ def plot_transmission(tr: Transmission, ax: Axes | None = None, *, levels=None, 
 
 
 def plot_ensemble(ens: DeviceEnsemble, ax: Axes | None = None, *, log: bool = True, **kwargs) -> Axes:
-    """Mean |S₂₁|² over fabricated devices with a band of ± one standard deviation; mean levels as ticks.
+    """Mean ``|S₂₁|²`` over fabricated devices with a band of ± one standard deviation; mean levels as ticks.
 
     Parameters
     ----------
@@ -85,7 +85,7 @@ def plot_ensemble(ens: DeviceEnsemble, ax: Axes | None = None, *, log: bool = Tr
     ax : matplotlib.axes.Axes, optional
         Where to draw; a new figure when None.
     log : bool, optional
-        Logarithmic |S₂₁|² axis; default True.
+        Logarithmic ``|S₂₁|²`` axis; default True.
     **kwargs
         Passed to :meth:`matplotlib.axes.Axes.plot` (the mean).
 
@@ -121,7 +121,7 @@ def plot_ensemble(ens: DeviceEnsemble, ax: Axes | None = None, *, log: bool = Tr
 
 
 def plot_fit(fit: TransmissionFit, ax: Axes | None = None, *, log: bool = True) -> Axes:
-    """The measured |S₂₁| (points) with the fitted model over it (line); the parameters in the legend.
+    """The measured ``|S₂₁|`` (points) with the fitted model over it (line); the parameters in the legend.
 
     Parameters
     ----------
@@ -130,7 +130,7 @@ def plot_fit(fit: TransmissionFit, ax: Axes | None = None, *, log: bool = True) 
     ax : matplotlib.axes.Axes, optional
         Where to draw; a new figure when None.
     log : bool, optional
-        Logarithmic |S₂₁| axis; default True.
+        Logarithmic ``|S₂₁|`` axis; default True.
 
     Returns
     -------
@@ -165,7 +165,7 @@ def plot_fit(fit: TransmissionFit, ax: Axes | None = None, *, log: bool = True) 
 
 
 def plot_comparison(cmp: TransmissionComparison, ax: Axes | None = None) -> Axes:
-    """|S₂₁|² of the lattice and of the continuum (through the dictionary) against frequency, levels marked.
+    """``|S₂₁|²`` of the lattice and of the continuum (through the dictionary) against frequency, levels marked.
 
     Parameters
     ----------

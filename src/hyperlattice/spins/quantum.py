@@ -48,7 +48,7 @@ there is no Δ window to refuse. (Large :math:`|\Delta|` or h only make the chai
 loops bounce more.)
 
 Estimators (per sweep, every diagonal one averaged over the M time slices of the configuration)
----------------------------------------------------------------------------------------------
+----------------------------------------------------------------------------------------------------
 * energy :math:`\langle H\rangle = \langle \tfrac1M\sum_p E_{\mathrm{diag}}(p)\rangle -
   \langle n_{\mathrm{offd}}\rangle/\beta` (the bosons' estimator), per site ``e``. At the
   isotropic point (Δ = 1, h = 0) the ensemble is SU(2) invariant, so
@@ -98,7 +98,7 @@ __all__ = ["XXZResult", "XXZExact", "xxz_qmc", "xxz_exact", "merge_xxz", "OFFSET
 #: weight 0 that the loops must bounce off: at Δ = 0.5 (6-site rings, β = 4) τ_int of the energy
 #: was 130 sweeps with 0 and 1.6-2.2 with 0.25-0.5; with h = 0.5 or Δ = -0.5 (the l = 2 flake) 0.25
 #: and 0.5 gave 4-9x the efficiency of 0; 0.5 (the bosons' value) also covers the bounce-free bound
-#: :math:`\epsilon_b \ge |J_b|(1 - |\Delta|)/4` of the XXZ vertex for every |Δ| < 1 (Syljuåsen &
+#: :math:`\epsilon_b \ge |J_b|(1 - |\Delta|)/4` of the XXZ vertex for every :math:`|\Delta| < 1` (Syljuåsen &
 #: Sandvik, PRE 66, 046701 (2002)).
 OFFSET = 0.5
 #: the largest graph :func:`xxz_exact` diagonalises (the S^z = 0 block of 16 sites has 12,870 states)

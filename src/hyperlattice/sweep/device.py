@@ -24,7 +24,7 @@ def merge_device(table) -> list:
     Returns
     -------
     list of DeviceEnsemble
-        One per device, in the order of their first rows: mean and spread of |S₂₁|² and of the
+        One per device, in the order of their first rows: mean and spread of ``|S₂₁|²`` and of the
         levels (resonance positions) over the seeds.
 
     Raises

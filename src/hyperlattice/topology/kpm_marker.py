@@ -10,7 +10,7 @@ spectral radius, from Gershgorin's bound),
           c_0 = 1 - \frac{\arccos x_F}{\pi}, \quad c_n = -\frac{2\sin(n \arccos x_F)}{n\pi},
 
 with :math:`x_F = E_F/a` and the Jackson kernel :math:`g_n` (Weiße et al., RMP 78, 275 (2006)),
-and applied to the unit vectors of D only: N sparse products with |D| vectors, never a dense
+and applied to the unit vectors of D only: N sparse products with ``|D|`` vectors, never a dense
 matrix, so the cost grows linearly with the flake. The rows of D of the result are all the
 marker needs.
 
@@ -48,7 +48,7 @@ def _jackson(n: int) -> np.ndarray:
 
 
 def _scale(H) -> float:
-    """Gershgorin bound on the spectral radius, with 1 % margin (the expansion needs |H/a| < 1)."""
+    """Gershgorin bound on the spectral radius, with 1 % margin (the expansion needs ``|H/a|`` < 1)."""
     return 1.01 * float(np.max(np.asarray(abs(H).sum(axis=1)).ravel()))
 
 
