@@ -45,7 +45,6 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-import os
 import time
 import warnings
 from dataclasses import dataclass
@@ -56,6 +55,7 @@ import scipy.sparse as sp
 
 from .. import _validate, mcstats
 from .._progress import progress_bar
+from ..bosons import _checkpoint
 from ..errors import HyperlatticeError
 from ..results import Column, Result, to_jsonable
 
@@ -459,38 +459,22 @@ class _Chain:
         self.counters = np.zeros(4, dtype=np.int64)
         self.cstat = np.zeros(2)
 
-    def _digest(self, fingerprint: str) -> str:
-        h = hashlib.sha256(fingerprint.encode())
-        for k in self.FIELDS:
-            h.update(np.ascontiguousarray(getattr(self, k)).tobytes())
-        return h.hexdigest()
-
     def save(self, path: Path, fingerprint: str) -> None:
-        tmp = path.with_name(path.name + ".tmp.npz")
-        np.savez(tmp, fingerprint=np.array(fingerprint), checksum=np.array(self._digest(fingerprint)),
-                 **{k: getattr(self, k) for k in self.FIELDS})
-        os.replace(tmp, path)
+        # the QMC's checkpoint file: one SHA-256 over every array and the metadata, atomic write
+        _checkpoint.write(path, {"fingerprint": fingerprint}, {k: getattr(self, k) for k in self.FIELDS})
 
     def load(self, path: Path, fingerprint: str) -> None:
-        try:
-            with np.load(path, allow_pickle=False) as data:
-                if str(data["fingerprint"]) != fingerprint:
-                    raise ValueError(f"the checkpoint {str(path)!r} belongs to a run with other parameters "
-                                     "(system, model, J, h, beta, update, seed or thermalization); use another directory.")
-                for k in self.FIELDS:
-                    want = getattr(self, k)
-                    got = np.array(data[k])
-                    if got.dtype != want.dtype or got.shape != want.shape:
-                        raise ValueError(f"the checkpoint {str(path)!r} is damaged (field {k}).")
-                    setattr(self, k, got)
-                checksum = str(data["checksum"])
-        except (OSError, KeyError, EOFError, ValueError) as exc:
-            if isinstance(exc, ValueError) and str(exc).startswith("the checkpoint"):
-                raise
-            raise ValueError(f"the checkpoint {str(path)!r} cannot be read ({_validate.file_problem(exc)}).") from None
-        if checksum != self._digest(fingerprint):
-            raise ValueError(f"the checkpoint {str(path)!r} is damaged (its checksum does not match); "
-                             "remove it or use another directory.")
+        meta, data = _checkpoint.read(path)       # truncated, edited or foreign: one sentence
+        if meta.get("fingerprint") != fingerprint:
+            raise ValueError(f"the checkpoint {str(path)!r} belongs to a run with other parameters "
+                             "(system, model, J, h, beta, update, seed or thermalization); use another directory.")
+        for k in self.FIELDS:
+            want, got = getattr(self, k), data.get(k)
+            if got is None or got.dtype != want.dtype or got.shape != want.shape:
+                raise ValueError(f"the checkpoint {str(path)!r} is damaged (field {k}); "
+                                 "delete it to start the chain afresh.")
+        for k in self.FIELDS:
+            setattr(self, k, data[k])
 
 
 def _fingerprint(model: _Model, name, J, h, beta, mode, overrelax, seed, thermalization, cevery) -> str:

@@ -86,6 +86,7 @@ import scipy.sparse as sp
 
 from .. import _validate, mcstats
 from .._progress import progress_bar
+from ..bosons import _checkpoint
 from ..errors import HyperlatticeError
 from ..results import Column, Result, to_jsonable
 
@@ -585,26 +586,21 @@ class _Chain:
         self.counters = np.array([0, 1, 0, 0], dtype=np.int64)
 
     def save(self, path, fingerprint: str) -> None:
-        import os
-
-        tmp = path.with_name(path.name + ".tmp.npz")
-        np.savez(tmp, fingerprint=np.array(fingerprint), **{k: getattr(self, k) for k in self.FIELDS})
-        os.replace(tmp, path)
+        # the QMC's checkpoint file: one SHA-256 over every array and the metadata, atomic write
+        _checkpoint.write(path, {"fingerprint": fingerprint}, {k: getattr(self, k) for k in self.FIELDS})
 
     def load(self, path, fingerprint: str) -> None:
-        try:
-            with np.load(path, allow_pickle=False) as data:
-                if str(data["fingerprint"]) != fingerprint:
-                    raise ValueError(f"the checkpoint {str(path)!r} belongs to a run with other parameters (graph, "
-                                     "J, Delta, h, beta, seed or thermalization); use another directory.")
-                for k in self.FIELDS:
-                    want = getattr(self, k)
-                    got = np.array(data[k])
-                    if got.dtype != want.dtype or (k != "ops" and got.shape != want.shape):
-                        raise ValueError(f"the checkpoint {str(path)!r} is damaged (field {k}).")
-                    setattr(self, k, got)
-        except (OSError, KeyError, EOFError) as exc:
-            raise ValueError(f"the checkpoint {str(path)!r} cannot be read ({exc}).") from None
+        meta, data = _checkpoint.read(path)       # truncated, edited or foreign: one sentence
+        if meta.get("fingerprint") != fingerprint:
+            raise ValueError(f"the checkpoint {str(path)!r} belongs to a run with other parameters (graph, "
+                             "J, Delta, h, beta, seed or thermalization); use another directory.")
+        for k in self.FIELDS:
+            want, got = getattr(self, k), data.get(k)
+            if got is None or got.dtype != want.dtype or (k != "ops" and got.shape != want.shape):
+                raise ValueError(f"the checkpoint {str(path)!r} is damaged (field {k}); "
+                                 "delete it to start the chain afresh.")
+        for k in self.FIELDS:
+            setattr(self, k, data[k])
 
 
 #: seconds of work between checkpoint writes
