@@ -24,7 +24,7 @@ PACKAGE = Path(hyperlattice.__file__).parent
 #: layer of each top-level module or sub-package, lowest first
 LAYERS = {
     "hyperlattice": 0, "errors": 0, "_ties": 0, "_validate": 0, "results": 0, "geometry": 0,
-    "cache": 0, "paper_values": 0, "paper_labels": 0, "_progress": 0, "mcstats": 0,
+    "cache": 0, "paper_values": 0, "paper_labels": 0, "_progress": 0, "mcstats": 0, "_mc_chain": 0,
     "dictionary": 1,
     "graph": 2, "continuum": 2,
     "bosons": 3, "device": 3, "spins": 3, "topology": 3,

@@ -22,7 +22,10 @@ import argparse
 
 import numpy as np
 
-from ._common import Interrupted, add_pq, check_work, cluster_pq, finite_float, integer, positive_int, print_json
+from ._chain_args import add_chain, add_graph, show
+from ._chain_args import beta as _beta
+from ._chain_args import graph as _system
+from ._common import Interrupted, check_work, finite_float, positive_int
 
 NAME = "qmc"
 ORDER = 40
@@ -41,59 +44,25 @@ DESCRIPTION = ("Thermal averages of H = -t sum<ij>(a_i^+ a_j + h.c.) + (U/2) sum
 #: default of ``--max-seconds`` for a chain (a day: QMC runs are long by nature, and checkpointed)
 MAX_SECONDS = 86400.0
 
-#: largest number of sites of an --adjacency file (the same bound as a flake's)
-MAX_ADJACENCY_SITES = 10_000_000
-
 #: the contract's keys, first in the JSON object, in this order
 KEYS = ("sites", "energy", "energy_err", "density", "density_err", "compressibility", "compressibility_err",
         "tau_int")
 
 
-def _seed(text: str) -> int:
-    v = integer(text, what="a seed (an integer >= 0)")
-    if v < 0:
-        raise argparse.ArgumentTypeError(f"expected a seed >= 0, got {v}")
-    return v
-
-
-def _sweeps(text: str) -> int:
-    v = integer(text, what="a number of sweeps")
-    if v < 0:
-        raise argparse.ArgumentTypeError(f"expected a number of sweeps >= 0, got {v}")
-    return v
-
-
-def _beta(text: str) -> float:
-    v = finite_float(text)
-    if not v > 0:
-        raise argparse.ArgumentTypeError(f"expected an inverse temperature > 0, got {text!r}")
-    return v
-
-
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    where = parser.add_mutually_exclusive_group(required=True)
-    where.add_argument("--rings", type=positive_int, help="a flake of this many rings (1 = one p-gon)")
-    where.add_argument("--cluster", metavar="NAME", help="a periodic cluster, e.g. bolza or klein (its p and q unless -p/-q are given)")
-    where.add_argument("--adjacency", metavar="FILE",
-                       help="a graph of your own: a symmetric adjacency matrix, .npz written by "
-                            "scipy.sparse.save_npz or a dense .npy (couplings t*A_ij >= 0; -p/-q unused)")
-    add_pq(parser)
+    add_graph(parser, "a periodic cluster, e.g. bolza or klein (its p and q unless -p/-q are given)",
+              "a graph of your own: a symmetric adjacency matrix, .npz written by scipy.sparse.save_npz or a "
+              "dense .npy (couplings t*A_ij >= 0; -p/-q unused)")
     parser.add_argument("--nmax", type=positive_int, required=True,
                         help="occupation cutoff per site (1 = hard-core bosons)")
     parser.add_argument("--U", type=finite_float, required=True, help="on-site interaction U")
     parser.add_argument("--t", type=finite_float, default=1.0, help="hopping t (default 1)")
     parser.add_argument("--mu", type=finite_float, required=True, help="chemical potential mu")
     parser.add_argument("--beta", type=_beta, required=True, help="inverse temperature beta (units of 1/t)")
-    parser.add_argument("--sweeps", type=positive_int, default=20000, help="measurement sweeps (default 20000)")
-    parser.add_argument("--thermalization", type=_sweeps, default=None, metavar="N",
-                        help="thermalisation sweeps (default max(200, sweeps/5); 0 is refused unless resuming a "
-                             "thermalised --checkpoint; a resumed chain that has begun measuring keeps its own)")
-    parser.add_argument("--seed", type=_seed, default=None,
-                        help="seed of the Markov chain (default: drawn, and printed in the output)")
-    parser.add_argument("--checkpoint", default=None, metavar="DIR",
-                        help="save the chain in DIR (created) every minute, at the end and on Ctrl-C/SIGTERM; "
-                             "the same command (more --sweeps allowed, --seed not needed) resumes it, "
-                             "bit-identically")
+    add_chain(parser, sweeps_default=20000,
+              thermalization="max(200, sweeps/5); 0 is refused unless resuming a thermalised --checkpoint; a "
+                             "resumed chain that has begun measuring keeps its own",
+              saved=", at the end and on Ctrl-C/SIGTERM", resume="more --sweeps allowed, --seed not needed")
     parser.add_argument("--max-seconds", type=finite_float, default=MAX_SECONDS, metavar="S",
                         help=f"refuse a chain estimated to take longer than S seconds (default {MAX_SECONDS:g}, a "
                              "day; runs estimated above 30 s are announced on stderr)")
@@ -108,33 +77,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", action="store_true",
                         help="print JSON: sites, energy(_err), density(_err), compressibility(_err), tau_int "
                              "first, then the parameters, seed, bins, converged, notes and the stiffness keys")
-
-
-def _adjacency(value):
-    """The matrix of ``--adjacency FILE`` (.npz of scipy.sparse.save_npz or a dense .npy)."""
-    import scipy.sparse as sp
-
-    from .. import _validate
-
-    path = _validate.input_path("--adjacency", value, suffixes=(".npz", ".npy"))
-    try:
-        if path.suffix == ".npz":
-            mat = sp.load_npz(path)
-        else:
-            mat = np.load(path, allow_pickle=False)
-    except Exception as exc:  # numpy's and zipfile's many ways of saying "not this kind of file"
-        what = ("a sparse matrix written by scipy.sparse.save_npz" if path.suffix == ".npz"
-                else "a dense array written by numpy.save")
-        raise ValueError(f"--adjacency {str(path)!r} is not {what}: {_validate.file_problem(exc)}.") from None
-    if not (sp.issparse(mat) or isinstance(mat, np.ndarray)) or mat.ndim != 2 or mat.shape[0] != mat.shape[1]:
-        raise ValueError(f"--adjacency {str(path)!r} must hold a square matrix, got shape "
-                         f"{getattr(mat, 'shape', None)}.")
-    if mat.shape[0] == 0 or mat.shape[0] > MAX_ADJACENCY_SITES:
-        raise ValueError(f"--adjacency {str(path)!r} must have 1 to {MAX_ADJACENCY_SITES:,} sites, got "
-                         f"{mat.shape[0]:,}.")
-    if mat.dtype.kind not in "biufc":
-        raise ValueError(f"--adjacency {str(path)!r} must hold numbers, got {mat.dtype}.")
-    return sp.csr_matrix(mat)
 
 
 def edges(system) -> np.ndarray:
@@ -176,21 +118,6 @@ def _windings(value, system):
     return pairs, w.astype(np.int64)
 
 
-def _system(args: argparse.Namespace):
-    from .. import _validate
-
-    if args.adjacency is not None:
-        return _adjacency(args.adjacency)
-    p, q = _validate.pq(args.p, args.q) if args.cluster is None else cluster_pq(args, args.cluster)
-    if args.rings is not None:
-        from ..graph.lattice import ring_lattice
-
-        return ring_lattice(p, q, args.rings)
-    from ..graph.clusters import pbc_cluster
-
-    return pbc_cluster(p, q, args.cluster)
-
-
 def _estimate(system, args) -> None:
     """Refuse (or announce) a long chain before it starts: :func:`hyperlattice.bosons.qmc_seconds`."""
     from .. import _validate
@@ -223,15 +150,7 @@ def run(args: argparse.Namespace) -> int:
     except KeyboardInterrupt as exc:
         # the chain stopped between kernel calls (saved when --checkpoint is given): say so in the line
         raise Interrupted(str(exc) or ("the chain is in " + str(checkpoint) if checkpoint else "nothing kept")) from None
-    if args.json:
-        summary = res.summary()
-        out = {k: summary[k] for k in KEYS}
-        out.update((k, v) for k, v in summary.items() if k not in out)
-        print_json(out)
-        return 0
-    print(str(res))
-    print(f"  seed {res.seed}, {res.bins} bins of {res.bin_size} sweeps, {res.seconds:.1f} s")
-    return 0
+    return show(res, KEYS, args.json)
 
 
 # every public function above checks its annotated argument types at the door

@@ -12,7 +12,8 @@ from __future__ import annotations
 
 import argparse
 
-from ._common import Interrupted, add_pq, cluster_pq, finite_float, integer, positive_int, print_json
+from ._chain_args import add_chain, add_graph, graph, show
+from ._common import Interrupted, finite_float
 
 NAME = "classical"
 ORDER = 10
@@ -23,20 +24,6 @@ DESCRIPTION = ("Thermal averages of H = -sum<ij> J_ij s_i.s_j - h sum_i s_i^z (k
                "heat-bath with over-relaxation otherwise; the update that ran is stated. Per site: e, c, m, m2, "
                "m_abs, U4, chi = beta N <|m|^2> (and the staggered versions on bipartite graphs), each with a "
                "binning error, and tau_int.")
-
-
-def _seed(text: str) -> int:
-    v = integer(text, what="a seed (an integer >= 0)")
-    if v < 0:
-        raise argparse.ArgumentTypeError(f"expected a seed >= 0, got {v}")
-    return v
-
-
-def _sweeps(text: str) -> int:
-    v = integer(text, what="a number of sweeps")
-    if v < 0:
-        raise argparse.ArgumentTypeError(f"expected a number of sweeps >= 0, got {v}")
-    return v
 
 
 def _positive(text: str) -> float:
@@ -55,31 +42,20 @@ def _model(text: str) -> str:
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--model", type=_model, required=True, help="ising, xy or heisenberg")
-    where = parser.add_mutually_exclusive_group(required=True)
-    where.add_argument("--rings", type=positive_int, help="a flake of this many rings (1 = one p-gon)")
-    where.add_argument("--cluster", metavar="NAME",
-                       help="a periodic cluster, e.g. bolza or klein (its p and q unless -p/-q are given)")
-    where.add_argument("--adjacency", metavar="FILE",
-                       help="a graph of your own: a symmetric matrix of couplings A_ij (J_ij = J A_ij), .npz "
-                            "written by scipy.sparse.save_npz or a dense .npy; -p/-q unused")
-    add_pq(parser)
+    add_graph(parser, "a periodic cluster, e.g. bolza or klein (its p and q unless -p/-q are given)",
+              "a graph of your own: a symmetric matrix of couplings A_ij (J_ij = J A_ij), .npz written by "
+              "scipy.sparse.save_npz or a dense .npy; -p/-q unused")
     parser.add_argument("--line-graph", action="store_true", help="with --rings: the flake's line graph")
     parser.add_argument("--J", type=finite_float, default=1.0, help="coupling J (default 1; J < 0 antiferromagnet)")
     parser.add_argument("--h", type=finite_float, default=0.0, help="field h along s^z (default 0)")
     temp = parser.add_mutually_exclusive_group(required=True)
     temp.add_argument("--beta", type=_positive, help="inverse temperature (k_B = 1)")
     temp.add_argument("--T", type=_positive, help="temperature (k_B = 1)")
-    parser.add_argument("--sweeps", type=positive_int, default=10000, help="measurement sweeps (default 10000)")
-    parser.add_argument("--thermalization", type=_sweeps, default=None, metavar="N",
-                        help="thermalisation sweeps (default max(100, sweeps/10))")
     parser.add_argument("--update", choices=("auto", "wolff", "swendsen-wang", "local"), default="auto",
                         help="auto (default: Wolff where it applies), wolff, swendsen-wang, or local (heat-bath + "
                              "over-relaxation)")
-    parser.add_argument("--seed", type=_seed, default=None,
-                        help="seed of the Markov chain (default: drawn, and printed in the output)")
-    parser.add_argument("--checkpoint", default=None, metavar="DIR",
-                        help="save the chain in DIR (created) every minute, at the end and when interrupted; the "
-                             "same command (more --sweeps allowed) resumes it, bit-identically")
+    add_chain(parser, sweeps_default=10000, thermalization="max(100, sweeps/10)",
+              saved=", at the end and when interrupted", resume="more --sweeps allowed")
     parser.add_argument("--no-correlation", action="store_true",
                         help="do not measure the spin correlation by distance (measured up to 3000 sites)")
     parser.add_argument("--json", action="store_true",
@@ -95,26 +71,6 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     return p
 
 
-def _system(args: argparse.Namespace):
-    from .. import _validate
-
-    if args.adjacency is not None:
-        from ._bosons_qmc import _adjacency
-
-        return _adjacency(args.adjacency)
-    if args.line_graph and args.rings is None:
-        raise ValueError("--line-graph needs a flake (--rings).")
-    p, q = _validate.pq(args.p, args.q) if args.cluster is None else cluster_pq(args, args.cluster)
-    if args.rings is not None:
-        from ..graph.lattice import line_graph, ring_lattice
-
-        lat = ring_lattice(p, q, args.rings)
-        return line_graph(lat) if args.line_graph else lat
-    from ..graph.clusters import pbc_cluster
-
-    return pbc_cluster(p, q, args.cluster)
-
-
 #: the contract's keys, first in the JSON object, in this order
 KEYS = ("sites", "e", "e_err", "c", "c_err", "m", "m_err", "m2", "m2_err", "m_abs", "m_abs_err", "U4", "U4_err",
         "chi", "chi_err", "m2_s", "m2_s_err", "m_abs_s", "m_abs_s_err", "U4_s", "U4_s_err", "chi_s", "chi_s_err",
@@ -126,7 +82,7 @@ def run(args: argparse.Namespace) -> int:
     from ..spins import classical_mc
 
     checkpoint = None if args.checkpoint is None else _validate.directory("--checkpoint", args.checkpoint)
-    system = _system(args)
+    system = graph(args, args.line_graph)
     try:
         res = classical_mc(system, model=args.model, beta=args.beta, T=args.T, J=args.J, h=args.h,
                            sweeps=args.sweeps, thermalization=args.thermalization, seed=args.seed,
@@ -136,16 +92,7 @@ def run(args: argparse.Namespace) -> int:
         if checkpoint is None:
             raise Interrupted("nothing kept (--checkpoint DIR keeps the chain for a rerun)") from None
         raise Interrupted(f"the chain is saved in {str(checkpoint)!r}; rerun the same command to resume") from None
-    if args.json:
-        summary = res.summary()
-        out = {k: summary[k] for k in KEYS}
-        out.update((k, v) for k, v in summary.items() if k not in out)
-        print_json(out)
-        return 0
-    print(str(res))
-    print(f"  update: {res.update} ({res.update_reason})")
-    print(f"  seed {res.seed}, {res.bins} bins of {res.bin_size} sweeps, {res.seconds:.1f} s")
-    return 0
+    return show(res, KEYS, args.json, before=[f"  update: {res.update} ({res.update_reason})"])
 
 
 # every public function above checks its annotated argument types at the door

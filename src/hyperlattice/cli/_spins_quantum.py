@@ -14,7 +14,8 @@ from __future__ import annotations
 
 import argparse
 
-from ._common import add_pq, finite_float, positive_int, print_json
+from ._chain_args import add_chain, add_graph, beta, graph, show
+from ._common import Interrupted, finite_float
 
 NAME = "quantum"
 ORDER = 20
@@ -31,26 +32,15 @@ KEYS = ("sites", "e", "e_err", "c", "c_err", "chi_u", "chi_u_err", "s_pi", "s_pi
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    from ._bosons_qmc import _beta, _seed, _sweeps
-
-    where = parser.add_mutually_exclusive_group(required=True)
-    where.add_argument("--rings", type=positive_int, help="a flake of this many rings (1 = one p-gon)")
-    where.add_argument("--cluster", metavar="NAME", help="a periodic cluster, e.g. bolza (its p and q unless -p/-q are given)")
-    where.add_argument("--adjacency", metavar="FILE",
-                       help="a graph of your own: a symmetric adjacency matrix A (.npz of scipy.sparse.save_npz or "
-                            "a dense .npy), couplings J*A_ij")
-    add_pq(parser)
+    add_graph(parser, "a periodic cluster, e.g. bolza (its p and q unless -p/-q are given)",
+              "a graph of your own: a symmetric adjacency matrix A (.npz of scipy.sparse.save_npz or a dense "
+              ".npy), couplings J*A_ij")
     parser.add_argument("--J", type=finite_float, required=True, help="exchange J (> 0 antiferromagnet, < 0 ferromagnet)")
     parser.add_argument("--Delta", type=finite_float, default=1.0, help="anisotropy Delta (default 1: Heisenberg)")
     parser.add_argument("--h", type=finite_float, default=0.0, help="field h along z (default 0)")
-    parser.add_argument("--beta", type=_beta, required=True, help="inverse temperature beta")
-    parser.add_argument("--sweeps", type=positive_int, default=20000, help="measurement sweeps (default 20000)")
-    parser.add_argument("--thermalization", type=_sweeps, default=None, metavar="N",
-                        help="thermalisation sweeps (default max(200, sweeps/5))")
-    parser.add_argument("--seed", type=_seed, default=None, help="seed of the Markov chain (default: drawn, printed)")
-    parser.add_argument("--checkpoint", default=None, metavar="DIR",
-                        help="save the chain in DIR (created) every minute and at the end; the same command "
-                             "(more --sweeps allowed, with --thermalization given) resumes it, bit-identically")
+    parser.add_argument("--beta", type=beta, required=True, help="inverse temperature beta")
+    add_chain(parser, sweeps_default=20000, thermalization="max(200, sweeps/5)",
+              saved=", at the end and on Ctrl-C/SIGTERM", resume="more --sweeps allowed, with --thermalization given")
     parser.add_argument("--no-windings", action="store_true",
                         help="do not measure the spin stiffness (a periodic cluster measures it by default)")
     parser.add_argument("--json", action="store_true",
@@ -67,28 +57,21 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..spins.quantum import xxz_qmc
-    from ._bosons_qmc import _system
-
     from .. import _validate
+    from ..spins.quantum import xxz_qmc
 
     checkpoint = None if args.checkpoint is None else _validate.directory("--checkpoint", args.checkpoint)
-    system = _system(args)
-    res = xxz_qmc(system, J=args.J, Delta=args.Delta, h=args.h, beta=args.beta, sweeps=args.sweeps,
-                  thermalization=args.thermalization, seed=args.seed, checkpoint=checkpoint,
-                  windings=False if args.no_windings else None)
-    if args.json:
-        summary = res.summary()
-        out = {k: summary[k] for k in KEYS}
-        out.update((k, v) for k, v in summary.items() if k not in out)
-        print_json(out)
-        return 0
-    print(str(res))
-    print(f"  seed {res.seed}, {res.bins} bins of {res.bin_size} sweeps, {res.seconds:.1f} s")
-    if res.ring_stag is not None:
-        for row in res.by_ring():
-            print(f"  ring {row['ring']:>2} ({row['sites']:>5} sites): stag {row['stag']:.6f} +- {row['stag_err']:.6f}")
-    return 0
+    try:
+        res = xxz_qmc(graph(args), J=args.J, Delta=args.Delta, h=args.h, beta=args.beta, sweeps=args.sweeps,
+                      thermalization=args.thermalization, seed=args.seed, checkpoint=checkpoint,
+                      windings=False if args.no_windings else None)
+    except KeyboardInterrupt as exc:
+        # the chain stopped between kernel calls (saved when --checkpoint is given): say so in the line
+        raise Interrupted(str(exc) or ("the chain is in " + str(checkpoint) if checkpoint else "nothing kept")) from None
+    rings = [] if args.json or res.ring_stag is None else [
+        f"  ring {row['ring']:>2} ({row['sites']:>5} sites): stag {row['stag']:.6f} +- {row['stag_err']:.6f}"
+        for row in res.by_ring()]
+    return show(res, KEYS, args.json, after=rings)
 
 
 # every public function above checks its annotated argument types at the door

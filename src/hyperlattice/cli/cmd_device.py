@@ -25,7 +25,8 @@ import math
 
 import numpy as np
 
-from ._common import add_pq, finite_float, integer, plot_file, positive_int, print_json
+from ._chain_args import seed as _seed
+from ._common import add_pq, finite_float, plot_file, positive_int, print_json
 
 NAME = "device"
 ORDER = 56
@@ -52,13 +53,6 @@ def _nonneg(text: str) -> float:
     v = finite_float(text)
     if v < 0:
         raise argparse.ArgumentTypeError(f"expected a number >= 0, got {text!r}")
-    return v
-
-
-def _seed(text: str) -> int:
-    v = integer(text, what="a seed (an integer >= 0)")
-    if v < 0:
-        raise argparse.ArgumentTypeError(f"expected a seed >= 0, got {v}")
     return v
 
 
@@ -129,7 +123,7 @@ def omegas(args: argparse.Namespace) -> np.ndarray:
 
 def graph(args: argparse.Namespace):
     """The graph of ``--rings``/``--cluster``/``--adjacency`` (the loaders of ``bosons qmc``)."""
-    from ._bosons_qmc import _system
+    from ._chain_args import graph as _system
 
     return _system(args)
 

@@ -10,36 +10,16 @@ its own subparser) and ``run(args)``.
 from __future__ import annotations
 
 import argparse
-import importlib
-import pkgutil
 
 NAME = "spins"
 ORDER = 95
 HELP = "magnetism: classical Ising, XY and Heisenberg models by Monte Carlo (and quantum spins)"
 
 
-def _subcommands() -> list:
-    from . import __path__ as cli_path
-
-    mods = [importlib.import_module(f"{__package__}.{info.name}")
-            for info in pkgutil.iter_modules(cli_path) if info.name.startswith("_spins_")]
-    return sorted(mods, key=lambda m: (getattr(m, "ORDER", 100), getattr(m, "NAME", m.__name__)))
-
-
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    sub = parser.add_subparsers(dest="spins_command", metavar="WHAT", parser_class=type(parser))
-    sub.required = True
-    for mod in _subcommands():
-        if hasattr(mod, "add_arguments"):
-            p = sub.add_parser(mod.NAME, help=mod.HELP, description=getattr(mod, "DESCRIPTION", mod.HELP))
-            mod.add_arguments(p)
-        else:
-            before = set(sub.choices)
-            p = mod.add_parser(sub)
-            if not isinstance(p, argparse.ArgumentParser):
-                new = [name for name in sub.choices if name not in before]
-                p = sub.choices[new[0]]
-        p.set_defaults(_spins_run=mod.run)
+    from ._chain_args import subcommands
+
+    subcommands(parser, "_spins_", "spins_command", "_spins_run")
 
 
 def run(args: argparse.Namespace) -> int:

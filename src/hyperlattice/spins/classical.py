@@ -55,7 +55,7 @@ import scipy.sparse as sp
 
 from .. import _validate, mcstats
 from .._progress import progress_bar
-from ..bosons import _checkpoint
+from .. import _mc_chain
 from ..errors import HyperlatticeError
 from ..results import Column, Result, to_jsonable
 
@@ -461,18 +461,11 @@ class _Chain:
 
     def save(self, path: Path, fingerprint: str) -> None:
         # the QMC's checkpoint file: one SHA-256 over every array and the metadata, atomic write
-        _checkpoint.write(path, {"fingerprint": fingerprint}, {k: getattr(self, k) for k in self.FIELDS})
+        _mc_chain.write(path, {"fingerprint": fingerprint}, {k: getattr(self, k) for k in self.FIELDS})
 
     def load(self, path: Path, fingerprint: str) -> None:
-        meta, data = _checkpoint.read(path)       # truncated, edited or foreign: one sentence
-        if meta.get("fingerprint") != fingerprint:
-            raise ValueError(f"the checkpoint {str(path)!r} belongs to a run with other parameters "
-                             "(system, model, J, h, beta, update, seed or thermalization); use another directory.")
-        for k in self.FIELDS:
-            want, got = getattr(self, k), data.get(k)
-            if got is None or got.dtype != want.dtype or got.shape != want.shape:
-                raise ValueError(f"the checkpoint {str(path)!r} is damaged (field {k}); "
-                                 "delete it to start the chain afresh.")
+        data = _mc_chain.load_chain(path, fingerprint, {k: getattr(self, k) for k in self.FIELDS},
+                                    "system, model, J, h, beta, update, seed or thermalization")
         for k in self.FIELDS:
             setattr(self, k, data[k])
 
@@ -719,16 +712,12 @@ def _groups(mdl: _Model) -> tuple[np.ndarray, int]:
 
 
 def _load_kernels():
-    try:
-        from . import _classical_kernels as K
-    except (OSError, MemoryError, ImportError) as exc:
-        _, address = _validate.memory_limits()
-        if address is None and not isinstance(exc, MemoryError):
-            raise
-        raise MemoryError(f"loading the classical Monte Carlo's compiled kernels (numba, LLVM: about 200 MB of "
-                          f"address space) failed with {_validate._bytes(_validate.available_memory())} left to "
-                          "this process; raise its memory limit (ulimit -v).") from None
-    return K
+    def load():
+        from . import _classical_kernels
+
+        return _classical_kernels
+
+    return _mc_chain.load_kernels(load, "classical Monte Carlo")
 
 
 def _block_stats(vb: np.ndarray):
@@ -894,58 +883,24 @@ def merge_classical(results) -> ClassicalResult:
     >>> m.chains, m.sweeps, m.seeds
     (2, 2000, (1, 2))
     """
-    if isinstance(results, ClassicalResult):
-        res = [results]
-    elif isinstance(results, (list, tuple)):
-        res = list(results)
-    else:
-        raise ValueError("results must be a list of ClassicalResult (independent chains of one model).")
-    if not res or not all(isinstance(r, ClassicalResult) for r in res):
-        raise ValueError("merge_classical takes a non-empty list of ClassicalResult.")
+    res, seeds, w = _mc_chain.chains_to_merge(results, ClassicalResult, "merge_classical",
+                                              ("system", "model", "sites", "J", "h", "beta", "update"))
     ref = res[0]
-    for r in res[1:]:
-        for k in ("system", "model", "sites", "J", "h", "beta", "update"):
-            if getattr(r, k) != getattr(ref, k):
-                raise ValueError(f"merge_classical needs chains of one model; {k} differs ({getattr(ref, k)!r} vs "
-                                 f"{getattr(r, k)!r}).")
-    seeds = tuple(s for r in res for s in r.seeds)
-    if len(set(seeds)) != len(seeds):
-        raise ValueError("merge_classical needs independent chains, but a seed occurs twice.")
-    w = np.array([r.sweeps for r in res], dtype=float)
     tot = float(w.sum())
-    vals = {}
-    for k in _SCALAR_NAMES + ("m2_improved",):
-        v = [getattr(r, k) for r in res]
-        if all(math.isnan(x) for x in v):
-            vals[k], vals[k + "_err"] = math.nan, math.nan
-        else:
-            vals[k], vals[k + "_err"] = mcstats.combine_independent(v, [getattr(r, k + "_err") for r in res], w)
-
-    def arr(name):
-        if any(getattr(r, name) is None for r in res):
-            return None
-        if name.endswith("_err"):
-            return np.sqrt(sum((wc * getattr(r, name)) ** 2 for wc, r in zip(w, res))) / tot
-        return sum(wc * getattr(r, name) for wc, r in zip(w, res)) / tot
-
-    arrays = {k: arr(k) for k in ("site_energy", "site_energy_err", "site_alignment", "site_alignment_err",
-                                  "site_alignment_s", "site_alignment_s_err", "site_m", "site_m_err", "ring_energy",
-                                  "ring_energy_err", "ring_alignment", "ring_alignment_err", "ring_alignment_s",
-                                  "ring_alignment_s_err", "ring_m", "ring_m_err")}
+    vals = _mc_chain.merged_scalars(res, w, _SCALAR_NAMES + ("m2_improved",))
+    arrays = {}
+    for k in ("site_energy", "site_alignment", "site_alignment_s", "site_m", "ring_energy", "ring_alignment",
+              "ring_alignment_s", "ring_m"):
+        arrays[k], arrays[k + "_err"] = _mc_chain.weighted_arrays(res, w, k)
     same_corr = all(r.corr is not None and ref.corr is not None and r.corr.shape == ref.corr.shape for r in res)
+    cv, ce = _mc_chain.weighted_arrays(res, w, "corr") if same_corr else (None, None)
     corr = dict(corr_distance=ref.corr_distance if same_corr else None, corr_pairs=ref.corr_pairs if same_corr else None,
-                corr=arr("corr") if same_corr else None, corr_err=arr("corr_err") if same_corr else None,
-                distance_kind=ref.distance_kind if same_corr else "")
-    tau = {k: float(sum(wc * r.tau_int.get(k, math.nan) for wc, r in zip(w, res)) / tot) for k in ref.tau_int}
+                corr=cv, corr_err=ce, distance_kind=ref.distance_kind if same_corr else "")
     return ClassicalResult(
         system=ref.system, model=ref.model, sites=ref.sites, J=ref.J, h=ref.h, beta=ref.beta, update=ref.update,
-        update_reason=ref.update_reason, sweeps=int(tot), thermalization=int(sum(r.thermalization for r in res)),
-        seed=None, seeds=seeds, chains=int(sum(r.chains for r in res)), **vals, tau_int=tau,
-        bins=int(sum(r.bins for r in res)), bin_size=int(max(r.bin_size for r in res)),
-        converged=all(r.converged for r in res), notes=tuple(f"chain {r.seed}: {n}" for r in res for n in r.notes),
+        update_reason=ref.update_reason, **_mc_chain.merged_run(res, w, seeds), **vals,
         clusters_per_sweep=float(sum(wc * r.clusters_per_sweep for wc, r in zip(w, res)) / tot), **arrays,
-        ring=ref.ring, ring_index=ref.ring_index, ring_sites=ref.ring_sites, **corr,
-        seconds=float(sum(r.seconds for r in res)))
+        ring=ref.ring, ring_index=ref.ring_index, ring_sites=ref.ring_sites, **corr)
 
 
 _validate.guard_public(globals())

@@ -76,6 +76,7 @@ observable; site and bond arrays from 32 bins.
 
 from __future__ import annotations
 
+import contextlib
 import math
 import time
 import warnings
@@ -86,7 +87,7 @@ import scipy.sparse as sp
 
 from .. import _validate, mcstats
 from .._progress import progress_bar
-from ..bosons import _checkpoint
+from .. import _mc_chain
 from ..errors import HyperlatticeError
 from ..results import Column, Result, to_jsonable
 
@@ -587,24 +588,106 @@ class _Chain:
 
     def save(self, path, fingerprint: str) -> None:
         # the QMC's checkpoint file: one SHA-256 over every array and the metadata, atomic write
-        _checkpoint.write(path, {"fingerprint": fingerprint}, {k: getattr(self, k) for k in self.FIELDS})
+        _mc_chain.write(path, {"fingerprint": fingerprint}, {k: getattr(self, k) for k in self.FIELDS})
 
-    def load(self, path, fingerprint: str) -> None:
-        meta, data = _checkpoint.read(path)       # truncated, edited or foreign: one sentence
-        if meta.get("fingerprint") != fingerprint:
-            raise ValueError(f"the checkpoint {str(path)!r} belongs to a run with other parameters (graph, "
-                             "J, Delta, h, beta, seed or thermalization); use another directory.")
+    def load(self, path, fingerprint: str, model: "_Spins", wdiag: np.ndarray) -> None:
+        """Take the chain of the checkpoint ``path`` after checking its checksum, fingerprint, dtypes and
+        shapes (:func:`hyperlattice._mc_chain.load_chain`) and then its contents (:meth:`check`)."""
+        data = _mc_chain.load_chain(path, fingerprint, {k: getattr(self, k) for k in self.FIELDS},
+                                    "graph, J, Delta, h, beta, seed or thermalization", grow=("ops",))
+        self.check({**data, "_wdiag": wdiag}, model, repr(str(path)))
         for k in self.FIELDS:
-            want, got = getattr(self, k), data.get(k)
-            if got is None or got.dtype != want.dtype or (k != "ops" and got.shape != want.shape):
-                raise ValueError(f"the checkpoint {str(path)!r} is damaged (field {k}); "
-                                 "delete it to start the chain afresh.")
-        for k in self.FIELDS:
-            setattr(self, k, data[k])
+            setattr(self, k, np.array(data[k]))
+
+    @staticmethod
+    def check(data: dict, model: "_Spins", where: str) -> None:
+        r"""Refuse (ValueError, one sentence) a stored chain that this chain could not have produced: an
+        operator that is not -1 or :math:`4b + k` (k = 0, 1, 2) on a bond b, a spin that is not 0 or 1,
+        world lines that leave 0..1 or are not periodic in imaginary time, a diagonal operator where
+        its vertex weight is 0, counters that disagree with the string or the bins, a generator
+        state of zeros, and bins that are not finite or lie outside what the chain can produce.
+        (The checksum catches an accidental edit; this catches one whose checksum was recomputed.)"""
+        def bad(what):
+            return ValueError(f"the checkpoint {where} is inconsistent ({what}); delete it to start the chain afresh.")
+
+        ops, state, counters = data["ops"], data["state"], data["counters"]
+        m, n, nb = ops.size, model.sites, model.bi.size
+        if m < 16 or 4 * m >= 2**31 - 1:
+            raise bad(f"an operator string of length {m}")
+        kind, bond = ops & 3, ops >> 2
+        if np.any((ops < -1) | ((ops >= 0) & ((bond >= nb) | (kind == 3)))):
+            raise bad("an operator that is not -1 or 4 b + k with a bond b and k = 0, 1, 2")
+        if np.any((state < 0) | (state > 1)):
+            raise bad("a spin state that is not 0 (down) or 1 (up)")
+        # the world lines: an off-diagonal operator exchanges the two spins of its bond (kind 1 moves
+        # the up spin from j to i, kind 2 from i to j); every site's spin stays 0 or 1 and comes
+        # back to its first slice's value (periodic in imaginary time)
+        live = np.flatnonzero(ops >= 0)
+        lk, lb = kind[live], bond[live]
+        offd = lk != 0
+        step = np.where(lk[offd] == 1, 1, -1)
+        site = np.concatenate([model.bi[lb[offd]], model.bj[lb[offd]]])
+        delta = np.concatenate([step, -step])
+        when = np.concatenate([live[offd]] * 2)
+        order = np.lexsort((when, site))
+        site, delta, when = site[order], delta[order], when[order]
+        run = np.cumsum(delta)
+        starts = np.flatnonzero(np.r_[True, site[1:] != site[:-1]]) if site.size else np.zeros(0, dtype=np.int64)
+        base = np.repeat(run[starts] - delta[starts], np.diff(np.r_[starts, site.size]))
+        spin = state[site] + run - base          # the spin of ``site`` just after the operator at ``when``
+        if np.any((spin < 0) | (spin > 1)):
+            raise bad("its world lines leave the spin values 0 and 1")
+        ends = np.r_[starts[1:], site.size][: starts.size] - 1
+        if site.size and np.any(spin[ends] != state[site[ends]]):
+            raise bad("its world lines are not periodic in imaginary time")
+        # a diagonal operator must sit where its vertex weight W_b(n_i, n_j) is positive
+        dpos, db = live[~offd], lb[~offd]
+        key = site.astype(np.int64) * (m + 1) + when
+
+        def spin_at(x, p):
+            k = np.searchsorted(key, x * (m + 1) + p) - 1
+            hit = (k >= 0) & (site[np.maximum(k, 0)] == x) if site.size else np.zeros(x.size, bool)
+            return np.where(hit, spin[np.maximum(k, 0)] if site.size else 0, state[x])
+
+        if db.size:
+            si, sj = spin_at(model.bi[db], dpos), spin_at(model.bj[db], dpos)
+            if np.any(data["_wdiag"][db, si, sj] <= 0):
+                raise bad("a diagonal operator where its vertex weight is zero")
+        nops = int(live.size)
+        if counters[0] != nops or not 1 <= counters[1] <= 4 * (nops + 16) or np.any(counters[2:] < 0):
+            raise bad("its operator and loop counters")
+        if not np.any(data["rng"]):
+            raise bad("a generator state of zeros")
+        for k in ("sbins", "scur", "vbins", "vcur", "loopstat"):
+            if not np.all(np.isfinite(data[k])):
+                raise bad(f"non-finite numbers in {k}")
+        if np.any(data["loopstat"] < 0):
+            raise bad("its loop statistics")
+        sweeps = int(counters[3])
+        for info, bins in (("sinfo", "sbins"), ("vinfo", "vbins")):
+            filled, size, cur = (int(x) for x in data[info])
+            if not (0 <= filled < data[bins].shape[0] and size >= 1 and size & (size - 1) == 0 and 0 <= cur < size):
+                raise bad(f"its bin counters {info}")
+            if filled * size + cur != sweeps:
+                raise bad(f"its bin counters {info} disagree with its {sweeps} measured sweeps")
+        # closed scalar bins: sums over ``size`` sweeps of n (0..M), S^z_tot (|.| <= N/2), M_s^2
+        # (0..N^2/4) and of their squares (sum x^2 >= (sum x)^2 / size)
+        filled, size = int(data["sinfo"][0]), int(data["sinfo"][1])
+        sb = data["sbins"][:filled]
+        tol = 1 + 1e-9
+        if (np.any(sb[:, 0] < 0) or np.any(sb[:, 0] > size * m * tol) or np.any(np.abs(sb[:, 4]) > size * n / 2 * tol)
+                or np.any(sb[:, 7] < 0) or np.any(sb[:, 7] > size * n * n / 4 * tol)):
+            raise bad("its scalar bins lie outside what the chain can produce")
+        for x, x2 in ((0, 1), (2, 3), (4, 5), (7, 8), (10, 11)):
+            if np.any(sb[:, x2] * size < sb[:, x] ** 2 * (1 - 1e-9) - 1e-9):
+                raise bad("its scalar bins are not sums of a quantity and of its square")
 
 
 #: seconds of work between checkpoint writes
 _CHECKPOINT_SECONDS = 60.0
+#: the checkpoint file and the lock file in a checkpoint directory
+_CHECKPOINT_FILE = "xxz_chain.npz"
+_LOCK_FILE = ".xxz_chain.lock"
 
 
 def _fingerprint(model: "_Spins", J, Delta, h, beta, seed, thermalization, wind) -> str:
@@ -620,16 +703,12 @@ def _fingerprint(model: "_Spins", J, Delta, h, beta, seed, thermalization, wind)
 
 
 def _load_kernels():
-    try:
-        from . import _quantum_kernels as QK
-    except (OSError, MemoryError, ImportError) as exc:
-        _, address = _validate.memory_limits()
-        if address is None and not isinstance(exc, MemoryError):
-            raise
-        raise MemoryError(f"loading the quantum Monte Carlo's compiled kernels (numba, LLVM: about 200 MB of "
-                          f"address space) failed with {_validate._bytes(_validate.available_memory())} left to "
-                          "this process; raise its memory limit (ulimit -v).") from None
-    return QK
+    def load():
+        from . import _quantum_kernels
+
+        return _quantum_kernels
+
+    return _mc_chain.load_kernels(load, "quantum Monte Carlo")
 
 
 def _neighbour_bonds(n: int, bi: np.ndarray, bj: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -735,18 +814,42 @@ def xxz_qmc(system, *, J: float, Delta: float, beta: float, h: float = 0.0, swee
     ncol = QK.NSCALARS + (ndim * (ndim + 1) // 2 + 1 if ndim else 0)
     chain = _Chain(n, nb, seed, min(bound / 4, 1e8), ncol)
     fp = _fingerprint(model, J, Delta, h, beta, seed, thermalization, wind)
-    ckpt = None
-    if checkpoint is not None:
-        ckpt = _validate.directory("checkpoint", checkpoint) / "xxz_chain.npz"
-        if ckpt.exists():
-            chain.load(ckpt, fp)
-            if chain.counters[3] > sweeps:
-                raise ValueError(f"the checkpoint already holds {int(chain.counters[3])} measured sweeps, more than "
-                                 f"the {sweeps} asked for.")
-    start = time.perf_counter()
-    last_save = start
+    ckdir = None if checkpoint is None else _validate.directory("checkpoint", checkpoint)
+    with contextlib.ExitStack() as stack:
+        if ckdir is not None:
+            stack.enter_context(_mc_chain.locked(ckdir, _LOCK_FILE))
+        stop = stack.enter_context(_mc_chain.StopSignals())
+        start = time.perf_counter()
+        _run_chain(chain, model, fp, ckdir, stop, QK, dict(
+            beta=beta, sweeps=sweeps, thermalization=thermalization, cb=cb, wdiag=wdiag, jz=jz, h=h, nptr=nptr,
+            nbond=nbond, ptab=ptab, bclass=bclass, wind=wind, progress=progress))
+    seconds = time.perf_counter() - start
+    return _analyse(chain, model, J=J, Delta=Delta, h=h, beta=beta, sweeps=sweeps, thermalization=thermalization,
+                    seed=seed, ndim=ndim, wind_note=wind_note, seconds=seconds)
+
+
+def _run_chain(chain: _Chain, model: _Spins, fp: str, ckdir, stop, QK, a: dict) -> None:
+    """Advance the chain of :func:`xxz_qmc` from its checkpoint (if any) to the end; on SIGINT/SIGTERM
+    save it (with a checkpoint directory) and hand the signal on."""
+    beta, sweeps, thermalization = a["beta"], a["sweeps"], a["thermalization"]
+    ckpt = None if ckdir is None else ckdir / _CHECKPOINT_FILE
+    if ckpt is not None and ckpt.exists():
+        chain.load(ckpt, fp, model, a["wdiag"])
+        if chain.counters[3] > sweeps:
+            raise ValueError(f"the checkpoint already holds {int(chain.counters[3])} measured sweeps, more than "
+                             f"the {sweeps} asked for.")
     done = chain.counters
-    with progress_bar(thermalization + sweeps, "spins quantum", unit="sweep", progress=progress) as bar:
+
+    def stop_now():
+        if ckpt is not None:
+            chain.save(ckpt, fp)
+            kept = f"the chain is saved in {str(ckdir)!r}: rerun the same command to resume"
+        else:
+            kept = "nothing kept (a checkpoint directory, --checkpoint DIR, keeps the chain for a rerun)"
+        stop.reraise(f"stopped after {int(done[2] + done[3]):,} of {thermalization + sweeps:,} sweeps; {kept}")
+
+    last_save = time.perf_counter()
+    with progress_bar(thermalization + sweeps, "spins quantum", unit="sweep", progress=a["progress"]) as bar:
         bar.update(int(done[2] + done[3]))
         chunk = 16
         while done[2] < thermalization or done[3] < sweeps:
@@ -755,13 +858,16 @@ def xxz_qmc(system, *, J: float, Delta: float, beta: float, h: float = 0.0, swee
             k = int(min(chunk, left))
             t0 = time.perf_counter()
             ops, nops, nloops = QK.run(k, therm, _TARGET_LEGS, chain.ops, chain.state, int(done[0]), int(done[1]),
-                                       beta, model.bi, model.bj, model.tb, cb, wdiag, jz, h, model.stag, nptr, nbond,
-                                       chain.rng, chain.sbins, chain.scur, chain.sinfo, chain.vbins, chain.vcur,
-                                       chain.vinfo, chain.loopstat, ptab, bclass, wind)
+                                       beta, model.bi, model.bj, model.tb, a["cb"], a["wdiag"], a["jz"], a["h"],
+                                       model.stag, a["nptr"], a["nbond"], chain.rng, chain.sbins, chain.scur,
+                                       chain.sinfo, chain.vbins, chain.vcur, chain.vinfo, chain.loopstat, a["ptab"],
+                                       a["bclass"], a["wind"])
             chain.ops = ops
             done[0], done[1] = nops, nloops
             done[2 if therm else 3] += k
             bar.update(k)
+            if stop.signum is not None:
+                stop_now()
             dt = time.perf_counter() - t0
             # chunks of about half a second (the split never changes the chain)
             chunk = int(max(1, min(4 * chunk, k * 0.5 / max(dt, 1e-6))))
@@ -770,9 +876,6 @@ def xxz_qmc(system, *, J: float, Delta: float, beta: float, h: float = 0.0, swee
                 last_save = time.perf_counter()
     if ckpt is not None:
         chain.save(ckpt, fp)
-    seconds = time.perf_counter() - start
-    return _analyse(chain, model, J=J, Delta=Delta, h=h, beta=beta, sweeps=sweeps, thermalization=thermalization,
-                    seed=seed, ndim=ndim, wind_note=wind_note, seconds=seconds)
 
 
 def _analyse(chain: _Chain, model: _Spins, *, J, Delta, h, beta, sweeps, thermalization, seed, ndim, wind_note,
@@ -913,53 +1016,24 @@ def merge_xxz(results) -> XXZResult:
     >>> m.chains, m.sweeps, m.seeds
     (2, 8000, (1, 2))
     """
-    res = list(results) if isinstance(results, (list, tuple)) else None
-    if not res or not all(isinstance(r, XXZResult) for r in res):
-        raise ValueError("merge_xxz takes a non-empty list of XXZResult (independent chains of one model).")
+    res, seeds, w = _mc_chain.chains_to_merge(results, XXZResult, "merge_xxz",
+                                              ("system", "sites", "J", "Delta", "h", "beta"), single=False)
     ref = res[0]
     for r in res[1:]:
-        for k in ("system", "sites", "J", "Delta", "h", "beta"):
-            if getattr(r, k) != getattr(ref, k):
-                raise ValueError(f"merge_xxz needs chains of one model; {k} differs ({getattr(ref, k)!r} vs "
-                                 f"{getattr(r, k)!r}).")
         if r.bonds.shape != ref.bonds.shape or not np.array_equal(r.bonds, ref.bonds):
             raise ValueError("merge_xxz needs chains of one model; the bonds differ.")
-    seeds = tuple(s for r in res for s in r.seeds)
-    if len(set(seeds)) != len(seeds):
-        raise ValueError("merge_xxz needs independent chains, but a seed occurs twice.")
-    w = np.array([r.sweeps for r in res], dtype=float)
-    tot = w.sum()
-    vals = {}
-    for name in ("e", "c", "chi_u", "mz", "s_pi", "binder", "rho_s"):
-        v = [getattr(r, name) for r in res]
-        if all(np.isfinite(v)):
-            vals[name], vals[name + "_err"] = mcstats.combine_independent(
-                v, [getattr(r, name + "_err") for r in res], w)
-        else:       # not measured (s_pi off a bipartite graph, rho_s off a cluster)
-            vals[name] = vals[name + "_err"] = math.nan
-
-    def arr(name):
-        if any(getattr(r, name) is None for r in res):
-            return None, None
-        v = sum(wc * getattr(r, name) for wc, r in zip(w, res)) / tot
-        err = np.sqrt(sum((wc * getattr(r, name + "_err")) ** 2 for wc, r in zip(w, res))) / tot
-        return v, err
-
+    tot = float(w.sum())
+    vals = _mc_chain.merged_scalars(res, w, ("e", "c", "chi_u", "mz", "s_pi", "binder", "rho_s"))
     a = {}
     for name in ("site_sz", "site_stag", "ring_stag", "bond_zz", "bond_xy"):
-        a[name], a[name + "_err"] = arr(name)
-    tau = {k: float(sum(wc * r.tau_int.get(k, math.nan) for wc, r in zip(w, res)) / tot) for k in ref.tau_int}
+        a[name], a[name + "_err"] = _mc_chain.weighted_arrays(res, w, name)
     return XXZResult(
-        system=ref.system, sites=ref.sites, J=ref.J, Delta=ref.Delta, h=ref.h, beta=ref.beta, sweeps=int(tot),
-        thermalization=int(sum(r.thermalization for r in res)), seed=None, seeds=seeds,
-        chains=int(sum(r.chains for r in res)), bipartite=ref.bipartite, stiffness_note=ref.stiffness_note,
-        tau_int=tau, bins=int(sum(r.bins for r in res)), bin_size=int(max(r.bin_size for r in res)),
-        converged=all(r.converged for r in res), notes=tuple(f"chain {r.seed}: {x}" for r in res for x in r.notes),
+        system=ref.system, sites=ref.sites, J=ref.J, Delta=ref.Delta, h=ref.h, beta=ref.beta,
+        **_mc_chain.merged_run(res, w, seeds), bipartite=ref.bipartite, stiffness_note=ref.stiffness_note,
         stagger=ref.stagger, ring=ref.ring, bonds=ref.bonds,
         mean_operators=float(sum(wc * r.mean_operators for wc, r in zip(w, res)) / tot),
         string_length=int(max(r.string_length for r in res)), loops_per_sweep=int(ref.loops_per_sweep),
-        update=ref.update, energy_estimator=ref.energy_estimator, seconds=float(sum(r.seconds for r in res)),
-        **vals, **a)
+        update=ref.update, energy_estimator=ref.energy_estimator, **vals, **a)
 
 
 _validate.guard_public(globals())

@@ -206,18 +206,52 @@ def _qmc_system(p: int, q: int, rings: int, cluster):
     return pbc_cluster(p, q, cluster)
 
 
+def _check_chain_graph(params: dict) -> tuple[int, int]:
+    """(p, q) of a Monte Carlo task's graph: a flake of ``rings`` or a known periodic ``cluster``."""
+    p, q = _validate.pq(params["p"], params["q"])
+    if params["cluster"] is None:
+        _validate.positive_int("rings", params["rings"], maximum=40)
+    else:
+        from ..graph.clusters import pbc_cluster
+
+        pbc_cluster(p, q, params["cluster"])        # refuses an unknown name in one sentence
+    return p, q
+
+
+def _check_chain_length(params: dict, couplings: tuple = (), positive_beta: bool = False) -> float | None:
+    """A Monte Carlo task's real ``couplings``, its beta (> 0, returned) when ``positive_beta``, its sweeps,
+    thermalisation sweeps and seed."""
+    for name in couplings:
+        _validate.real(name, params[name])
+    beta = None
+    if positive_beta:
+        beta = _validate.real("beta", params["beta"])
+        if not beta > 0:
+            raise ValueError(f"beta must be positive, got {beta!r}.")
+    _validate.positive_int("sweeps", params["sweeps"])
+    if params["thermalization"] is not None:
+        _validate.integer("thermalization", params["thermalization"], minimum=0)
+    _validate.integer("seed", params["seed"], minimum=0)
+    return beta
+
+
+def _quietly(warning: type, chain, *args, **kwargs):
+    """``chain(*args, **kwargs)`` with its warnings of class ``warning`` silenced: the row keeps what a
+    warning says (``converged`` and ``notes``)."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", warning)
+        return chain(*args, **kwargs)
+
+
 def _qmc(p: int = 7, q: int = 3, rings: int = 3, cluster: str | None = None, nmax: int = 2, U: float = 10.0,
          t: float = 1.0, mu: float = 5.0, beta: float = 4.0, sweeps: int = 5000, thermalization: int | None = None,
          seed: int = 0) -> dict:
-    import warnings
-
     from ..bosons import QMCWarning, qmc
 
-    with warnings.catch_warnings():
-        # the row keeps what a warning says: ``converged`` and ``notes``
-        warnings.simplefilter("ignore", QMCWarning)
-        r = qmc(_qmc_system(p, q, rings, cluster), U=U, mu=mu, beta=beta, nmax=nmax, t=t, sweeps=sweeps,
-                thermalization=thermalization, seed=seed, progress=False)
+    r = _quietly(QMCWarning, qmc, _qmc_system(p, q, rings, cluster), U=U, mu=mu, beta=beta, nmax=nmax, t=t,
+                 sweeps=sweeps, thermalization=thermalization, seed=seed, progress=False)
     row = {k: getattr(r, k) for k in _QMC_SCALARS}
     # an output never reuses a parameter's name (the table holds both): the thermalisation actually run
     row["thermalization_sweeps"] = int(r.thermalization)
@@ -246,25 +280,11 @@ def _qmc(p: int = 7, q: int = 3, rings: int = 3, cluster: str | None = None, nma
 
 
 def _check_qmc(params: dict) -> None:
-    p, q = _validate.pq(params["p"], params["q"])
-    if params["cluster"] is None:
-        _validate.positive_int("rings", params["rings"], maximum=40)
-    else:
-        from ..graph.clusters import pbc_cluster
-
-        pbc_cluster(p, q, params["cluster"])        # refuses an unknown name in one sentence
+    p, q = _check_chain_graph(params)
     _validate.positive_int("nmax", params["nmax"], maximum=1000)
-    for name in ("U", "t", "mu"):
-        _validate.real(name, params[name])
+    beta = _check_chain_length(params, ("U", "t", "mu"), positive_beta=True)
     if params["t"] == 0:
         raise ValueError("t = 0 leaves no bond term; the sites are independent.")
-    beta = _validate.real("beta", params["beta"])
-    if not beta > 0:
-        raise ValueError(f"beta must be positive, got {beta!r}.")
-    _validate.positive_int("sweeps", params["sweeps"])
-    if params["thermalization"] is not None:
-        _validate.integer("thermalization", params["thermalization"], minimum=0)
-    _validate.integer("seed", params["seed"], minimum=0)
     # the operator string grows with beta * bonds: the engine's own estimate refuses a point that will
     # not fit, before the grid runs
     from ..bosons.sse import qmc_memory
@@ -284,16 +304,11 @@ _SPINS_SCALARS = ("e", "c", "m", "m2", "m_abs", "U4", "chi", "m2_s", "m_abs_s", 
 def _spins(p: int = 7, q: int = 3, rings: int = 3, cluster: str | None = None, model: str = "ising",
            J: float = 1.0, h: float = 0.0, T: float = 2.0, sweeps: int = 5000, thermalization: int | None = None,
            seed: int = 0, update: str = "auto") -> dict:
-    import warnings
-
     from ..spins.classical import SpinWarning, classical_mc
 
-    with warnings.catch_warnings():
-        # the row keeps what a warning says: ``converged`` and ``notes``
-        warnings.simplefilter("ignore", SpinWarning)
-        r = classical_mc(_qmc_system(p, q, rings, cluster), model=model, T=T, J=J, h=h, sweeps=sweeps,
-                         thermalization=thermalization, seed=seed, update=update, measure_correlation=False,
-                         progress=False)
+    r = _quietly(SpinWarning, classical_mc, _qmc_system(p, q, rings, cluster), model=model, T=T, J=J, h=h,
+                 sweeps=sweeps, thermalization=thermalization, seed=seed, update=update, measure_correlation=False,
+                 progress=False)
     row = {"sites": int(r.sites), "update_used": r.update}
     for k in _SPINS_SCALARS:
         row[k] = float(getattr(r, k))
@@ -308,26 +323,15 @@ def _spins(p: int = 7, q: int = 3, rings: int = 3, cluster: str | None = None, m
 
 
 def _check_spins(params: dict) -> None:
-    p, q = _validate.pq(params["p"], params["q"])
-    if params["cluster"] is None:
-        _validate.positive_int("rings", params["rings"], maximum=40)
-    else:
-        from ..graph.clusters import pbc_cluster
-
-        pbc_cluster(p, q, params["cluster"])        # refuses an unknown name in one sentence
+    p, q = _check_chain_graph(params)
     from ..spins.classical import MODELS, classical_mc_memory
 
     _validate.choice("model", params["model"], tuple(MODELS))
     _validate.choice("update", params["update"], ("auto", "wolff", "swendsen-wang", "local"))
-    for name in ("J", "h"):
-        _validate.real(name, params[name])
     T = _validate.real("T", params["T"])
     if not T > 0:
         raise ValueError(f"T must be positive, got {T!r}.")
-    _validate.positive_int("sweeps", params["sweeps"])
-    if params["thermalization"] is not None:
-        _validate.integer("thermalization", params["thermalization"], minimum=0)
-    _validate.integer("seed", params["seed"], minimum=0)
+    _check_chain_length(params, ("J", "h"))
     need = classical_mc_memory(_qmc_system(p, q, params["rings"], params["cluster"]), model=params["model"],
                                measure_correlation=False)
     try:
@@ -345,15 +349,10 @@ _XXZ_SCALARS = ("system", "sites", "bipartite", "e", "e_err", "c", "c_err", "chi
 def _spins_quantum(p: int = 8, q: int = 3, rings: int = 2, cluster: str | None = None, J: float = 1.0,
                    Delta: float = 1.0, h: float = 0.0, beta: float = 4.0, sweeps: int = 5000,
                    thermalization: int | None = None, seed: int = 0) -> dict:
-    import warnings
-
     from ..spins.quantum import XXZWarning, xxz_qmc
 
-    with warnings.catch_warnings():
-        # the row keeps what a warning says: ``converged`` and ``notes``
-        warnings.simplefilter("ignore", XXZWarning)
-        r = xxz_qmc(_qmc_system(p, q, rings, cluster), J=J, Delta=Delta, h=h, beta=beta, sweeps=sweeps,
-                    thermalization=thermalization, seed=seed, progress=False)
+    r = _quietly(XXZWarning, xxz_qmc, _qmc_system(p, q, rings, cluster), J=J, Delta=Delta, h=h, beta=beta,
+                 sweeps=sweeps, thermalization=thermalization, seed=seed, progress=False)
     row = {k: getattr(r, k) for k in _XXZ_SCALARS}
     row["thermalization_sweeps"] = int(r.thermalization)
     row.update({f"tau_{k}": float(r.tau_int.get(k, math.nan)) for k in ("energy", "chi_u", "s_pi", "stiffness")})
@@ -366,24 +365,10 @@ def _spins_quantum(p: int = 8, q: int = 3, rings: int = 2, cluster: str | None =
 
 
 def _check_spins_quantum(params: dict) -> None:
-    p, q = _validate.pq(params["p"], params["q"])
-    if params["cluster"] is None:
-        _validate.positive_int("rings", params["rings"], maximum=40)
-    else:
-        from ..graph.clusters import pbc_cluster
-
-        pbc_cluster(p, q, params["cluster"])        # refuses an unknown name in one sentence
-    for name in ("J", "Delta", "h"):
-        _validate.real(name, params[name])
+    p, q = _check_chain_graph(params)
+    _check_chain_length(params, ("J", "Delta", "h"), positive_beta=True)
     if params["J"] == 0:
         raise ValueError("J = 0 leaves free spins in a field (no bond term); use a nonzero J.")
-    beta = _validate.real("beta", params["beta"])
-    if not beta > 0:
-        raise ValueError(f"beta must be positive, got {beta!r}.")
-    _validate.positive_int("sweeps", params["sweeps"])
-    if params["thermalization"] is not None:
-        _validate.integer("thermalization", params["thermalization"], minimum=0)
-    _validate.integer("seed", params["seed"], minimum=0)
     if params["J"] > 0 and params["cluster"] is None and p % 2:
         raise ValueError(f"an antiferromagnet (J > 0) on a graph with an odd cycle is frustrated and gives the "
                          f"quantum Monte Carlo a sign problem (the {{{p},{q}}} flake has {p}-gons).")
