@@ -152,3 +152,54 @@ def test_cli_refuses_a_tampered_checkpoint_in_one_line(tmp_path, stored, capsys)
     err = capsys.readouterr().err
     lines = [x for x in err.splitlines() if x.strip()]
     assert code == 2 and len(lines) == 1 and "inconsistent" in lines[0], err
+
+
+# ----------------------------------------------------------------------------
+# the Heisenberg antiferromagnet on {8,3}: what the physics table is built from
+# ----------------------------------------------------------------------------
+
+def test_ring_staggered_correlations_add_up_to_the_structure_factor():
+    # sum_i mu_i = <M_s^2> / N slice by slice, so the ring means weighted by the ring sizes give
+    # s_pi / N to rounding when the scalar and the site bins cover the same sweeps (2048 = 32 x 64)
+    lat = hl.ring_lattice(8, 3, 2)
+    r = xxz_qmc(lat, J=1.0, Delta=1.0, beta=2.0, sweeps=2048, thermalization=200, seed=5, progress=False)
+    sizes = np.array([np.sum(r.ring == k + 1) for k in range(r.ring_stag.size)])
+    assert r.ring_stag.size == 2 and sizes.sum() == r.sites == 48
+    assert abs(float(sizes @ r.ring_stag) / r.sites - r.s_pi / r.sites) < 1e-9 * r.s_pi
+    assert np.all(r.ring_stag > 0)
+
+
+def _heisenberg_ground_energy(system) -> float:
+    """Lowest eigenvalue of the S = 1/2 Heisenberg model (J = 1) in the S^z = 0 block (Lanczos)."""
+    import itertools
+
+    import scipy.sparse as sp
+    from scipy.sparse.linalg import eigsh
+
+    a = sp.triu(sp.csr_matrix(system.adjacency()), k=1).tocoo()
+    n = system.adjacency().shape[0]
+    states = np.array([sum(1 << i for i in c) for c in itertools.combinations(range(n), n // 2)], dtype=np.int64)
+    states.sort()
+    rows, cols, vals = [], [], []
+    diag = np.zeros(states.size)
+    for i, j in zip(a.row, a.col):
+        si, sj = (states >> i) & 1, (states >> j) & 1
+        diag += np.where(si == sj, 0.25, -0.25)
+        flip = np.flatnonzero(si != sj)
+        rows.append(np.searchsorted(states, states[flip] ^ ((1 << i) | (1 << j))))
+        cols.append(flip)
+        vals.append(np.full(flip.size, 0.5))
+    h = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                      shape=(states.size, states.size)) + sp.diags(diag)
+    return float(eigsh(h, k=1, which="SA", tol=1e-12)[0][0])
+
+
+@pytest.mark.slow
+def test_bolza_ground_state_energy_at_large_beta():
+    from hyperlattice.graph.clusters import pbc_cluster
+
+    bolza = pbc_cluster(8, 3, "bolza")
+    e0 = _heisenberg_ground_energy(bolza) / 16
+    assert abs(e0 - (-0.564593)) < 1e-6
+    r = xxz_qmc(bolza, J=1.0, Delta=1.0, beta=48.0, sweeps=20000, thermalization=2000, seed=2, progress=False)
+    assert abs(r.e - e0) < 4 * r.e_err, (r.e, r.e_err, e0)
