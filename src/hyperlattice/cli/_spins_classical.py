@@ -46,6 +46,13 @@ def _positive(text: str) -> float:
     return v
 
 
+def _temperatures(text: str) -> list:
+    parts = [t for t in text.replace(" ", "").split(",") if t]
+    if len(parts) < 2:
+        raise argparse.ArgumentTypeError(f"expected at least two temperatures separated by commas, got {text!r}")
+    return [_positive(t) for t in parts]
+
+
 def _model(text: str) -> str:
     v = text.strip().lower()
     if v not in ("ising", "xy", "heisenberg"):
@@ -69,12 +76,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     temp = parser.add_mutually_exclusive_group(required=True)
     temp.add_argument("--beta", type=_positive, help="inverse temperature (k_B = 1)")
     temp.add_argument("--T", type=_positive, help="temperature (k_B = 1)")
+    temp.add_argument("--tempering", type=_temperatures, metavar="T1,T2,...",
+                      help="parallel tempering over these temperatures (at least two; for frustrated or glassy "
+                           "couplings): one chain per temperature, neighbours exchange configurations every "
+                           "--exchange-every sweeps; the JSON holds the acceptance rates and one object of the "
+                           "keys below per temperature")
     parser.add_argument("--sweeps", type=positive_int, default=10000, help="measurement sweeps (default 10000)")
     parser.add_argument("--thermalization", type=_sweeps, default=None, metavar="N",
                         help="thermalisation sweeps (default max(100, sweeps/10))")
     parser.add_argument("--update", choices=("auto", "wolff", "swendsen-wang", "local"), default="auto",
                         help="auto (default: Wolff where it applies), wolff, swendsen-wang, or local (heat-bath + "
                              "over-relaxation)")
+    parser.add_argument("--exchange-every", type=positive_int, default=1, metavar="N",
+                        help="with --tempering: sweeps between exchange attempts (default 1)")
     parser.add_argument("--seed", type=_seed, default=None,
                         help="seed of the Markov chain (default: drawn, and printed in the output)")
     parser.add_argument("--checkpoint", default=None, metavar="DIR",
@@ -125,6 +139,10 @@ def run(args: argparse.Namespace) -> int:
     from .. import _validate
     from ..spins import classical_mc
 
+    if args.tempering is not None:
+        return _run_tempering(args)
+    if args.exchange_every != 1:
+        raise ValueError("--exchange-every needs --tempering.")
     checkpoint = None if args.checkpoint is None else _validate.directory("--checkpoint", args.checkpoint)
     system = _system(args)
     try:
@@ -145,6 +163,34 @@ def run(args: argparse.Namespace) -> int:
     print(str(res))
     print(f"  update: {res.update} ({res.update_reason})")
     print(f"  seed {res.seed}, {res.bins} bins of {res.bin_size} sweeps, {res.seconds:.1f} s")
+    return 0
+
+
+def _run_tempering(args: argparse.Namespace) -> int:
+    from ..spins import tempering_mc
+
+    if args.checkpoint is not None:
+        raise ValueError("--checkpoint is not available with --tempering (tempering chains are not checkpointed).")
+    system = _system(args)
+    try:
+        res = tempering_mc(system, model=args.model, T=args.tempering, J=args.J, h=args.h, sweeps=args.sweeps,
+                           thermalization=args.thermalization, seed=args.seed, update=args.update,
+                           exchange_every=args.exchange_every,
+                           measure_correlation=False if args.no_correlation else None)
+    except KeyboardInterrupt:
+        raise Interrupted("nothing kept (tempering chains are not checkpointed)") from None
+    if args.json:
+        summary = res.summary()
+        temps = []
+        for one in summary.pop("temperatures"):
+            row = {k: one[k] for k in KEYS}
+            row.update((k, v) for k, v in one.items() if k not in row)
+            temps.append(row)
+        summary["temperatures"] = temps
+        print_json(summary)
+        return 0
+    print(str(res))
+    print(f"  seed {res.seed}, {res.seconds:.1f} s")
     return 0
 
 

@@ -10,14 +10,17 @@ from __future__ import annotations
 import importlib
 
 _CLASSICAL = ("classical_mc", "classical_mc_memory", "merge_classical", "ClassicalResult", "SpinWarning")
+_TEMPERING = ("tempering_mc", "TemperingResult")
 _QUANTUM = ("XXZResult", "XXZExact", "xxz_qmc", "xxz_exact", "merge_xxz")
 
-__all__ = [*_CLASSICAL, *_QUANTUM]
+__all__ = [*_CLASSICAL, *_TEMPERING, *_QUANTUM]
 
 
 def __getattr__(name: str):
     if name in _CLASSICAL or name == "MODELS":
         return getattr(importlib.import_module(f"{__name__}.classical"), name)
+    if name in _TEMPERING:
+        return getattr(importlib.import_module(f"{__name__}.tempering"), name)
     if name in _QUANTUM:
         return getattr(importlib.import_module(f"{__name__}.quantum"), name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
