@@ -82,3 +82,25 @@ def test_cli_tempering(capsys):
             raise SystemExit(main(["spins", "classical", "--model", "ising", "--rings", "1", *argv]))
         assert exc.value.code == 2
         assert capsys.readouterr().err.strip().count("\n") == 0
+
+
+def test_plots(tmp_path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from hyperlattice.plots.spins_classical import plot_temperature_scan
+    from hyperlattice.spins import classical_mc
+
+    flake = hl.ring_lattice(7, 3, 2)
+    r = _pt(flake, model="ising", J=-1.0, T=[1.0, 2.0], sweeps=200, seed=1)
+    ax = r.plot(observable="U4")
+    assert len(ax.lines) >= 1 and "tempering" in ax.get_title()
+    ax = r.plot(observable="alignment", by_ring=True)
+    assert len(ax.get_legend().get_texts()) == 2                 # one curve per ring
+    one = classical_mc(flake, model="ising", beta=0.4, sweeps=200, seed=1, progress=False)
+    assert one.plot().get_xlabel() == "ring"
+    assert "distance" in one.plot(observable="correlation").get_xlabel()
+    plot_temperature_scan([one, *r.chains], observable="e", label="e")
+    with pytest.raises(ValueError, match="observable must be one of"):
+        one.plot(observable="nope")
+    matplotlib.pyplot.close("all")
