@@ -33,7 +33,7 @@ def _pt(system, **kw):
         return tempering_mc(system, progress=False, **kw)
 
 
-@pytest.mark.parametrize("J, h", [(-1.0, 0.0), (-1.0, 0.3)])
+@pytest.mark.parametrize("J, h", [(-1.0, 0.0), pytest.param(-1.0, 0.3, marks=pytest.mark.slow)])
 def test_each_temperature_matches_exact_enumeration(J, h):
     """The odd ring is frustrated (heat-bath); every chain, exchanges included, samples its own beta."""
     r = _pt(HEPTAGON, model="ising", J=J, h=h, beta=[1.5, 0.3, 0.7], sweeps=6000, seed=4)
