@@ -410,3 +410,17 @@ def test_saved_result_ranges(tmp_path):
         dataclasses.replace(r, **change).save(tmp_path / "bad.json")
         with pytest.raises(ValueError, match=match):
             ClassicalResult.load(tmp_path / "bad.json")
+
+
+@pytest.mark.parametrize("matrix, match", [
+    (np.array([[0.0, np.nan], [np.nan, 0.0]]), "finite"),
+    (np.array([[0.0, 1.0], [2.0, 0.0]]), "symmetric"),
+    (np.array([[0.0, 1j], [1j, 0.0]]), "real"),
+])
+def test_cli_adjacency_ranges(tmp_path, capsys, matrix, match):
+    """--adjacency is checked by value (finite, real, symmetric couplings), refused in one line, exit 2."""
+    f = tmp_path / "a.npy"
+    np.save(f, matrix)
+    assert main(["spins", "classical", "--model", "ising", "--adjacency", str(f), "--beta", "1", "--sweeps", "10"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and match in err
