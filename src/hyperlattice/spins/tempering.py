@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -353,10 +354,14 @@ def tempering_mc(system, *, model: str, beta=None, T=None, J: float = 1.0, h: fl
     seconds = time.perf_counter() - start
     results = []
     for kern, ch, s in zip(kerns, chains, seeds):
-        results.append(_cl._analyse(ch, mdl, corr, name=name, ncomp=ncomp, J=J, h=h, beta=kern.beta, sweeps=sweeps,
-                                    thermalization=thermalization, seed=s, update=label,
-                                    reason=f"parallel tempering over {R} temperatures; between exchanges: " + _reason,
-                                    seconds=seconds / R))
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", _cl.SpinWarning)
+            results.append(_cl._analyse(ch, mdl, corr, name=name, ncomp=ncomp, J=J, h=h, beta=kern.beta,
+                                        sweeps=sweeps, thermalization=thermalization, seed=s, update=label,
+                                        reason=f"parallel tempering over {R} temperatures; between exchanges: "
+                                        + _reason, seconds=seconds / R))
+        for w in caught:        # said once, with the temperature it concerns
+            warnings.warn(f"at T = {1.0 / kern.beta:.6g}: {w.message}", _cl.SpinWarning, stacklevel=3)
     with np.errstate(invalid="ignore", divide="ignore"):
         acc = np.where(attempts > 0, accepted / np.maximum(attempts, 1), np.nan)
     return TemperingResult(system=mdl.label, model=name, sites=mdl.sites, J=J, h=h, beta=betas, update=label,
