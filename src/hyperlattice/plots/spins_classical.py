@@ -94,6 +94,8 @@ def plot_temperature_scan(results, ax: Axes | None = None, *, observable: str = 
     -------
     matplotlib.axes.Axes
     """
+    if not isinstance(results, (list, tuple)):
+        raise ValueError("results must be a non-empty list of ClassicalResult.")
     res = list(results)
     if not res or not all(_is_classical(r) for r in res):
         raise ValueError("results must be a non-empty list of ClassicalResult.")

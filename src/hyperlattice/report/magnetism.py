@@ -22,7 +22,8 @@ import numpy as np
 
 from .writers import Section, Table, save_figure as _save_figure
 
-__all__ = ["stored_spins", "magnetism_section", "tc_rows", "flake_rows", "TC_HEADER", "FLAKE_HEADER"]
+__all__ = ["stored_spins", "magnetism_section", "tc_rows", "flake_rows", "bethe_tc", "quantum_rows", "TC_HEADER",
+           "FLAKE_HEADER", "QUANTUM_HEADER"]
 
 SCAN_FILE = "spins_scan.json"
 SCAN_COMMAND = ("python benchmarks/spins_tc.py; python benchmarks/spins_flakes.py; "
@@ -63,12 +64,31 @@ def _pm(v: float, e: float, d: int = 3) -> str:
 
 
 def bethe_tc(q: int) -> float:
-    """The Ising T_c of the Bethe lattice of coordination q, 1/artanh(1/(q − 1)) (J = 1)."""
+    """The Ising T_c of the Bethe lattice of coordination q, 1/artanh(1/(q − 1)) (J = 1).
+
+    Examples
+    --------
+    >>> from hyperlattice.report.magnetism import bethe_tc
+    >>> round(bethe_tc(3), 4), round(bethe_tc(4), 4)
+    (1.8205, 2.8854)
+    """
+    from .. import _validate
+
+    q = _validate.integer("q", q, minimum=3)
     return 1.0 / math.atanh(1.0 / (q - 1))
+
+
+def _check_stored(data) -> dict:
+    ok = isinstance(data, dict) and all(isinstance(data.get(k), dict) for k in ("closed", "flakes", "continuum"))
+    if not ok:
+        raise ValueError("data must be the stored classical runs of stored_spins() (a dict with closed, flakes and "
+                         "continuum).")
+    return data
 
 
 def tc_rows(data: dict) -> list:
     """The rows of the T_c table (:data:`TC_HEADER`) from the stored runs; Bethe and mean field computed."""
+    data = _check_stored(data)
     rows = []
     for key in ("7,3", "8,3", "5,4"):
         t = data["closed"].get(key)
@@ -84,6 +104,7 @@ def tc_rows(data: dict) -> list:
 
 def flake_rows(data: dict) -> list:
     """The rows of the flake table (:data:`FLAKE_HEADER`)."""
+    data = _check_stored(data)
     out = []
     for f in sorted(data["flakes"].values(), key=lambda f: f["rings"]):
         out.append([str(f["rings"]), f"{f['sites']:,}", _pm(f["T_half_bulk"], f["T_half_bulk_err"]),
