@@ -1,5 +1,6 @@
 """Magnetism on the package's graphs: classical spins (Ising, XY, Heisenberg) by cluster and
-heat-bath Monte Carlo (:mod:`hyperlattice.spins.classical`) and the quantum spin-1/2 XXZ model by
+heat-bath Monte Carlo (:mod:`hyperlattice.spins.classical`; parallel tempering over a set of
+temperatures in :mod:`hyperlattice.spins.tempering`) and the quantum spin-1/2 XXZ model by
 SSE on the bosons' directed-loop kernels (:mod:`hyperlattice.spins.quantum`).
 
 The names are imported on first use (numba kernels are never compiled at import).
