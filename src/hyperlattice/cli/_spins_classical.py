@@ -92,7 +92,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=_seed, default=None,
                         help="seed of the Markov chain (default: drawn, and printed in the output)")
     parser.add_argument("--checkpoint", default=None, metavar="DIR",
-                        help="save the chain in DIR (created) every minute, at the end and when interrupted; the "
+                        help="save the chain (with --tempering: every chain) in DIR (created) every minute, at the "
+                             "end and when interrupted; the "
                              "same command (more --sweeps allowed) resumes it, bit-identically")
     parser.add_argument("--no-correlation", action="store_true",
                         help="do not measure the spin correlation by distance (measured up to 3000 sites)")
@@ -169,16 +170,19 @@ def run(args: argparse.Namespace) -> int:
 def _run_tempering(args: argparse.Namespace) -> int:
     from ..spins import tempering_mc
 
-    if args.checkpoint is not None:
-        raise ValueError("--checkpoint is not available with --tempering (tempering chains are not checkpointed).")
+    from .. import _validate
+
+    checkpoint = None if args.checkpoint is None else _validate.directory("--checkpoint", args.checkpoint)
     system = _system(args)
     try:
         res = tempering_mc(system, model=args.model, T=args.tempering, J=args.J, h=args.h, sweeps=args.sweeps,
                            thermalization=args.thermalization, seed=args.seed, update=args.update,
-                           exchange_every=args.exchange_every,
+                           exchange_every=args.exchange_every, checkpoint=checkpoint,
                            measure_correlation=False if args.no_correlation else None)
     except KeyboardInterrupt:
-        raise Interrupted("nothing kept (tempering chains are not checkpointed)") from None
+        if checkpoint is None:
+            raise Interrupted("nothing kept (--checkpoint DIR keeps the chains for a rerun)") from None
+        raise Interrupted(f"the chains are saved in {str(checkpoint)!r}; rerun the same command to resume") from None
     if args.json:
         summary = res.summary()
         temps = []

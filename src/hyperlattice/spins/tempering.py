@@ -14,21 +14,26 @@ the replicas (a configuration walking from the highest temperature to the lowest
 measure of whether the temperature set lets the cold chains forget their state.
 
 Whether it pays is measured in ``benchmarks/spins_tempering.py`` and stated in ``docs/spins.md``.
-Tempering chains are not checkpointed (each is short at the sizes where the exchange pays).
+A run may be checkpointed and resumed bit-identically, like a single chain.
 """
 
 from __future__ import annotations
 
+import contextlib
+import hashlib
+import json
 import math
 import time
 import warnings
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import scipy.sparse as sp
 
 from .. import _validate
 from .._progress import progress_bar
+from ..bosons import _checkpoint
 from ..results import Column, Result, to_jsonable
 from . import classical as _cl
 
@@ -36,6 +41,8 @@ __all__ = ["TemperingResult", "tempering_mc"]
 
 #: most temperatures of one tempering run
 MAX_REPLICAS = 256
+#: the lock file a run holds in its checkpoint directory
+_LOCK_FILE = ".spins_tempering.lock"
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
@@ -207,6 +214,91 @@ class TemperingResult(Result):
         return "\n".join(lines)
 
 
+class _State:
+    """The exchanges' bookkeeping: who sits where, the replicas' labels for round trips, the counts."""
+
+    def __init__(self, R: int):
+        self.who = np.arange(R, dtype=np.int64)        # which replica sits at each temperature
+        self.label = np.zeros(R, dtype=np.int64)       # 1: last seen at the hottest, -1: at the coldest
+        self.label[0] = 1
+        self.accepted = np.zeros(R - 1, dtype=np.int64)
+        self.attempts = np.zeros(R - 1, dtype=np.int64)
+        self.trips = 0
+        self.parity = 0
+        self.done = 0
+
+    def exchange(self, chains, energies, betas, gen) -> None:
+        R = len(chains)
+        for k in range(self.parity, R - 1, 2):
+            self.attempts[k] += 1
+            x = (betas[k + 1] - betas[k]) * (energies[k + 1] - energies[k])
+            if x >= 0 or gen.random() < math.exp(x):
+                self.accepted[k] += 1
+                chains[k].spins, chains[k + 1].spins = chains[k + 1].spins, chains[k].spins
+                energies[k], energies[k + 1] = energies[k + 1], energies[k]
+                self.who[k], self.who[k + 1] = self.who[k + 1], self.who[k]
+        self.parity ^= 1
+        if self.label[self.who[R - 1]] == 1:
+            self.label[self.who[R - 1]] = -1
+        if self.label[self.who[0]] == -1:
+            self.trips += 1
+        self.label[self.who[0]] = 1
+
+    def save(self, path: Path, fingerprint: str, chains, gen) -> None:
+        arrays = {f"c{k}_{f}": getattr(ch, f) for k, ch in enumerate(chains) for f in _cl._Chain.FIELDS}
+        arrays.update(who=self.who, label=self.label, accepted=self.accepted, attempts=self.attempts,
+                      counts=np.array([self.trips, self.parity, self.done], dtype=np.int64))
+        _checkpoint.write(path, {"fingerprint": fingerprint, "generator": gen.bit_generator.state}, arrays)
+
+    def load(self, path: Path, fingerprint: str, chains, gen) -> None:
+        meta, data = _checkpoint.read(path)
+        shown = repr(str(path))
+        if meta.get("fingerprint") != fingerprint:
+            raise ValueError(f"the checkpoint {shown} belongs to a run with other parameters (system, model, J, h, "
+                             "temperatures, update, seed, thermalization or exchange_every); use another directory.")
+        R = len(chains)
+        for name, want in (("who", self.who), ("label", self.label), ("accepted", self.accepted),
+                           ("attempts", self.attempts)):
+            got = data.get(name)
+            if got is None or got.dtype != want.dtype or got.shape != want.shape:
+                raise ValueError(f"the checkpoint {shown} is damaged (field {name}); delete it to start afresh.")
+        counts = data.get("counts")
+        ok = (counts is not None and counts.shape == (3,) and counts.dtype == np.int64 and np.all(counts >= 0)
+              and counts[1] in (0, 1) and np.array_equal(np.sort(data["who"]), np.arange(R))
+              and np.all(np.isin(data["label"], (-1, 0, 1))) and np.all(data["attempts"] >= 0)
+              and np.all((data["accepted"] >= 0) & (data["accepted"] <= data["attempts"])))
+        if not ok:
+            raise ValueError(f"the checkpoint {shown} holds exchange counters out of range; delete it to start afresh.")
+        for k, ch in enumerate(chains):
+            part = {f: data.get(f"c{k}_{f}") for f in _cl._Chain.FIELDS}
+            for f, got in part.items():
+                want = getattr(ch, f)
+                if got is None or got.dtype != want.dtype or got.shape != want.shape:
+                    raise ValueError(f"the checkpoint {shown} is damaged (chain {k}, field {f}); delete it to start "
+                                     "afresh.")
+            ch._check_ranges(path, part)
+        try:
+            gen.bit_generator.state = meta["generator"]
+        except (KeyError, TypeError, ValueError):
+            raise ValueError(f"the checkpoint {shown} holds no valid state of the exchanges' random numbers; delete "
+                             "it to start afresh.") from None
+        for k, ch in enumerate(chains):
+            for f in _cl._Chain.FIELDS:
+                setattr(ch, f, data[f"c{k}_{f}"])
+        self.who, self.label = data["who"], data["label"]
+        self.accepted, self.attempts = data["accepted"], data["attempts"]
+        self.trips, self.parity, self.done = (int(x) for x in counts)
+
+
+def _fingerprint(mdl, name, J, h, betas, mode, overrelax, seed, thermalization, exchange_every, cevery) -> str:
+    hsh = hashlib.sha256()
+    for a in (mdl.indptr, mdl.indices, mdl.J, np.asarray(betas, dtype=float)):
+        hsh.update(np.ascontiguousarray(a).tobytes())
+    hsh.update(json.dumps([mdl.sites, name, J, h, mode, overrelax, seed, thermalization, exchange_every, cevery,
+                           _cl._RULES, "tempering-1"]).encode())
+    return hsh.hexdigest()
+
+
 def _temperatures(beta, T) -> np.ndarray:
     if (beta is None) == (T is None):
         raise ValueError("give the temperatures as exactly one of beta and T (a list of at least two).")
@@ -230,7 +322,7 @@ def _temperatures(beta, T) -> np.ndarray:
 
 def tempering_mc(system, *, model: str, beta=None, T=None, J: float = 1.0, h: float = 0.0, sweeps: int = 10000,
                  thermalization: int | None = None, seed: int | None = None, update: str = "auto",
-                 exchange_every: int = 1, measure_correlation=None, progress=None) -> TemperingResult:
+                 exchange_every: int = 1, measure_correlation=None, checkpoint=None, progress=None) -> TemperingResult:
     r"""Parallel tempering of the classical Ising, XY or Heisenberg model over a set of temperatures.
 
     Parameters
@@ -256,6 +348,11 @@ def tempering_mc(system, *, model: str, beta=None, T=None, J: float = 1.0, h: fl
         Sweeps between exchange attempts (default 1).
     measure_correlation : bool, optional
         Measure the spin correlation by distance at every temperature (default: up to 3000 sites).
+    checkpoint : str or path, optional
+        A directory, locked for the run: every chain and the exchanges' state are saved there every
+        minute, at the end and when interrupted (atomically, with a checksum); a rerun with the same
+        arguments (``sweeps`` may grow) resumes bit-identically. A checkpoint of other parameters is
+        refused.
     progress : bool, optional
         Progress bar on stderr (default: when a terminal watches).
 
@@ -318,39 +415,44 @@ def tempering_mc(system, *, model: str, beta=None, T=None, J: float = 1.0, h: fl
     def energy(spins):
         return float(-0.5 * np.sum(spins * (Jmat @ spins)) - hs @ spins[:, 0])
 
-    who = np.arange(R)              # which replica sits at each temperature
-    label_of = np.zeros(R, dtype=np.int64)      # 1: last seen at the hottest, -1: at the coldest, 0: neither
-    label_of[who[0]] = 1
-    trips = 0
-    accepted = np.zeros(R - 1, dtype=np.int64)
-    attempts = np.zeros(R - 1, dtype=np.int64)
-    parity = 0
-    start = time.perf_counter()
+    state = _State(R)
+    fp = _fingerprint(mdl, name, J, h, betas, mode, kerns[0].overrelax, seed, thermalization, exchange_every,
+                      corr.every)
+    ckdir = None if checkpoint is None else _validate.directory("checkpoint", checkpoint)
     total = thermalization + sweeps
-    done = 0
-    with progress_bar(total, f"tempering {name}", unit="sweep", progress=progress) as bar:
-        while done < total:
-            therm = done < thermalization
-            n = min(exchange_every, (thermalization - done) if therm else (total - done))
-            for kern, ch in zip(kerns, chains):
-                kern.run(K, ch, mdl, n, therm)
-            done += n
-            bar.update(n)
-            energies = [energy(ch.spins) for ch in chains]
-            for k in range(parity, R - 1, 2):
-                attempts[k] += 1
-                x = (betas[k + 1] - betas[k]) * (energies[k + 1] - energies[k])
-                if x >= 0 or gen.random() < math.exp(x):
-                    accepted[k] += 1
-                    chains[k].spins, chains[k + 1].spins = chains[k + 1].spins, chains[k].spins
-                    energies[k], energies[k + 1] = energies[k + 1], energies[k]
-                    who[k], who[k + 1] = who[k + 1], who[k]
-            parity ^= 1
-            if label_of[who[R - 1]] == 1:
-                label_of[who[R - 1]] = -1
-            if label_of[who[0]] == -1:
-                trips += 1
-            label_of[who[0]] = 1
+    with contextlib.ExitStack() as stack:
+        ckpt = None
+        if ckdir is not None:
+            stack.enter_context(_checkpoint.locked(ckdir, _LOCK_FILE))
+            ckpt = ckdir / "spins_tempering.npz"
+            if ckpt.exists():
+                state.load(ckpt, fp, chains, gen)
+                if chains[0].counters[1] > sweeps:
+                    raise ValueError(f"the checkpoint already holds {int(chains[0].counters[1])} measured sweeps per "
+                                     f"temperature, more than the {sweeps} asked for.")
+        start = time.perf_counter()
+        last_save = start
+        try:
+            with progress_bar(total, f"tempering {name}", unit="sweep", progress=progress) as bar:
+                bar.update(state.done)
+                while state.done < total:
+                    therm = state.done < thermalization
+                    n = min(exchange_every, (thermalization - state.done) if therm else (total - state.done))
+                    for kern, ch in zip(kerns, chains):
+                        kern.run(K, ch, mdl, n, therm)
+                    state.done += n
+                    bar.update(n)
+                    state.exchange(chains, [energy(ch.spins) for ch in chains], betas, gen)
+                    if ckpt is not None and time.perf_counter() - last_save > _cl._CHECKPOINT_SECONDS:
+                        state.save(ckpt, fp, chains, gen)
+                        last_save = time.perf_counter()
+        except KeyboardInterrupt:
+            if ckpt is not None:
+                state.save(ckpt, fp, chains, gen)
+            raise
+        if ckpt is not None:
+            state.save(ckpt, fp, chains, gen)
+    accepted, attempts, trips = state.accepted, state.attempts, state.trips
     seconds = time.perf_counter() - start
     results = []
     for kern, ch, s in zip(kerns, chains, seeds):
