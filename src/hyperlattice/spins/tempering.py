@@ -29,7 +29,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-import scipy.sparse as sp
 
 from .. import _validate
 from .._progress import progress_bar
@@ -408,12 +407,10 @@ def tempering_mc(system, *, model: str, beta=None, T=None, J: float = 1.0, h: fl
     seeds = [int(s) % (2**63) for s in streams[:R]]
     chains = [_cl._Chain(mdl, ncomp, s, corr.pairs.size, ngroups) for s in seeds]
     gen = np.random.default_rng(int(streams[R]))
-    # the (gauged) coupling matrix and field for the energies of the exchanges
-    Jmat = sp.csr_matrix((kerns[0].Jg, mdl.indices, mdl.indptr), shape=(mdl.sites, mdl.sites))
-    hs = kerns[0].hsite
+    Jg, hs = kerns[0].Jg, kerns[0].hsite         # the gauged couplings and field (the same at every beta)
 
     def energy(spins):
-        return float(-0.5 * np.sum(spins * (Jmat @ spins)) - hs @ spins[:, 0])
+        return float(K.energy(spins, mdl.indptr, mdl.indices, Jg, hs))
 
     state = _State(R)
     fp = _fingerprint(mdl, name, J, h, betas, mode, kerns[0].overrelax, seed, thermalization, exchange_every,
