@@ -104,6 +104,8 @@ INVOCATIONS = [
      "--update", "local", "--no-correlation", "--seed", "2"],
     ["spins", "classical", "--model", "xy", "--rings", "2", "--line-graph", "--h", "0.2", "--beta", "1", "--sweeps", "200"],
     ["spins", "classical", "--model", "ising", "--adjacency", "{tmp}/square.npz", "--beta", "0.4", "--sweeps", "200"],
+    ["spins", "classical", "--model", "ising", "--rings", "1", "--J", "-1", "--tempering", "1,2", "--exchange-every",
+     "2", "--sweeps", "100", "--seed", "1"],
     ["device", "transmission", "-p", "7", "-q", "3", "--rings", "2", "--line-graph", "--omega0", "7000", "--J", "-66",
      "--kappa-int", "0.7", "--port", "0-1:1", "--port", "30-31:1", "--omegas", "{tmp}/device_omegas.txt",
      "--frequencies", "{tmp}/device_freq.json", "--hoppings", "{tmp}/device_hop.json", "--sigma-omega", "3",

@@ -368,3 +368,59 @@ def test_sweep_task_spins(tmp_path):
     assert cold["m2"] > hot["m2"] and len(cold["ring_alignment"]) == 2
     with pytest.raises(ValueError, match="model"):
         run_sweep("spins", {"model": ["potts"]}, tmp_path / "bad", scheduler="serial", progress=False)
+
+
+@pytest.mark.parametrize("model, edit, match", [
+    ("ising", lambda s: s * 0.5, "other than \\+1 and -1"),
+    ("xy", lambda s: s * 1.01, "not unit vectors"),
+    ("heisenberg", lambda s: s + np.nan, "non-finite spins"),
+])
+def test_checkpoint_ranges(tmp_path, model, edit, match):
+    """A checkpoint whose checksum was recomputed after an edit is still refused by its values."""
+    from hyperlattice.bosons import _checkpoint
+
+    kw = dict(model=model, beta=0.5, sweeps=100, thermalization=10, seed=3)
+    _run(HEPTAGON, checkpoint=tmp_path, **kw)
+    f = tmp_path / "spins_classical_chain.npz"
+    meta, arrays = _checkpoint.read(f)
+    arrays["spins"] = edit(arrays["spins"])
+    _checkpoint.write(f, meta, arrays)
+    with pytest.raises(ValueError, match=match):
+        classical_mc(HEPTAGON, checkpoint=tmp_path, progress=False, **{**kw, "sweeps": 200})
+
+
+def test_checkpoint_directory_lock(tmp_path):
+    from filelock import FileLock
+
+    with FileLock(str(tmp_path / ".spins_classical.lock")):
+        with pytest.raises(ValueError, match="in use by another run"):
+            classical_mc(HEPTAGON, model="ising", beta=0.5, sweeps=50, seed=1, checkpoint=tmp_path, progress=False)
+
+
+def test_saved_result_ranges(tmp_path):
+    import dataclasses
+
+    from hyperlattice.spins import ClassicalResult
+
+    r = _run(HEPTAGON, model="ising", beta=0.5, sweeps=200, seed=1)
+    r.save(tmp_path / "ok.json")
+    assert ClassicalResult.load(tmp_path / "ok.json").e == r.e
+    for change, match in ((dict(m2=1.5), "outside \\[0, 1\\]"), (dict(U4=0.9), "exceeds 2/3"),
+                          (dict(model="potts"), "not one of")):
+        dataclasses.replace(r, **change).save(tmp_path / "bad.json")
+        with pytest.raises(ValueError, match=match):
+            ClassicalResult.load(tmp_path / "bad.json")
+
+
+@pytest.mark.parametrize("matrix, match", [
+    (np.array([[0.0, np.nan], [np.nan, 0.0]]), "finite"),
+    (np.array([[0.0, 1.0], [2.0, 0.0]]), "symmetric"),
+    (np.array([[0.0, 1j], [1j, 0.0]]), "real"),
+])
+def test_cli_adjacency_ranges(tmp_path, capsys, matrix, match):
+    """--adjacency is checked by value (finite, real, symmetric couplings), refused in one line, exit 2."""
+    f = tmp_path / "a.npy"
+    np.save(f, matrix)
+    assert main(["spins", "classical", "--model", "ising", "--adjacency", str(f), "--beta", "1", "--sweeps", "10"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and match in err

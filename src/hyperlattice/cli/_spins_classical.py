@@ -13,7 +13,7 @@ from __future__ import annotations
 import argparse
 
 from ._chain_args import add_chain, add_graph, graph, show
-from ._common import Interrupted, finite_float
+from ._common import Interrupted, finite_float, positive_int, print_json
 
 NAME = "classical"
 ORDER = 10
@@ -31,6 +31,13 @@ def _positive(text: str) -> float:
     if not v > 0:
         raise argparse.ArgumentTypeError(f"expected a number > 0, got {text!r}")
     return v
+
+
+def _temperatures(text: str) -> list:
+    parts = [t for t in text.replace(" ", "").split(",") if t]
+    if len(parts) < 2:
+        raise argparse.ArgumentTypeError(f"expected at least two temperatures separated by commas, got {text!r}")
+    return [_positive(t) for t in parts]
 
 
 def _model(text: str) -> str:
@@ -51,11 +58,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     temp = parser.add_mutually_exclusive_group(required=True)
     temp.add_argument("--beta", type=_positive, help="inverse temperature (k_B = 1)")
     temp.add_argument("--T", type=_positive, help="temperature (k_B = 1)")
+    temp.add_argument("--tempering", type=_temperatures, metavar="T1,T2,...",
+                      help="parallel tempering over these temperatures (at least two; for frustrated or glassy "
+                           "couplings): one chain per temperature, neighbours exchange configurations every "
+                           "--exchange-every sweeps; the JSON holds the acceptance rates and one object of the "
+                           "keys below per temperature")
     parser.add_argument("--update", choices=("auto", "wolff", "swendsen-wang", "local"), default="auto",
                         help="auto (default: Wolff where it applies), wolff, swendsen-wang, or local (heat-bath + "
                              "over-relaxation)")
+    parser.add_argument("--exchange-every", type=positive_int, default=1, metavar="N",
+                        help="with --tempering: sweeps between exchange attempts (default 1)")
     add_chain(parser, sweeps_default=10000, thermalization="max(100, sweeps/10)",
-              saved=", at the end and when interrupted", resume="more --sweeps allowed")
+              saved=" (with --tempering: every chain), at the end and when interrupted",
+              resume="more --sweeps allowed")
     parser.add_argument("--no-correlation", action="store_true",
                         help="do not measure the spin correlation by distance (measured up to 3000 sites)")
     parser.add_argument("--json", action="store_true",
@@ -81,6 +96,10 @@ def run(args: argparse.Namespace) -> int:
     from .. import _validate
     from ..spins import classical_mc
 
+    if args.tempering is not None:
+        return _run_tempering(args)
+    if args.exchange_every != 1:
+        raise ValueError("--exchange-every needs --tempering.")
     checkpoint = None if args.checkpoint is None else _validate.directory("--checkpoint", args.checkpoint)
     system = graph(args, args.line_graph)
     try:
@@ -93,6 +112,37 @@ def run(args: argparse.Namespace) -> int:
             raise Interrupted("nothing kept (--checkpoint DIR keeps the chain for a rerun)") from None
         raise Interrupted(f"the chain is saved in {str(checkpoint)!r}; rerun the same command to resume") from None
     return show(res, KEYS, args.json, before=[f"  update: {res.update} ({res.update_reason})"])
+
+
+def _run_tempering(args: argparse.Namespace) -> int:
+    from ..spins import tempering_mc
+
+    from .. import _validate
+
+    checkpoint = None if args.checkpoint is None else _validate.directory("--checkpoint", args.checkpoint)
+    system = graph(args, args.line_graph)
+    try:
+        res = tempering_mc(system, model=args.model, T=args.tempering, J=args.J, h=args.h, sweeps=args.sweeps,
+                           thermalization=args.thermalization, seed=args.seed, update=args.update,
+                           exchange_every=args.exchange_every, checkpoint=checkpoint,
+                           measure_correlation=False if args.no_correlation else None)
+    except KeyboardInterrupt:
+        if checkpoint is None:
+            raise Interrupted("nothing kept (--checkpoint DIR keeps the chains for a rerun)") from None
+        raise Interrupted(f"the chains are saved in {str(checkpoint)!r}; rerun the same command to resume") from None
+    if args.json:
+        summary = res.summary()
+        temps = []
+        for one in summary.pop("temperatures"):
+            row = {k: one[k] for k in KEYS}
+            row.update((k, v) for k, v in one.items() if k not in row)
+            temps.append(row)
+        summary["temperatures"] = temps
+        print_json(summary)
+        return 0
+    print(str(res))
+    print(f"  seed {res.seed}, {res.seconds:.1f} s")
+    return 0
 
 
 # every public function above checks its annotated argument types at the door

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 
 from ..results import register_plotter
 from . import basic, bosons, boundary, device, disorder, dos, green, limits, magnetic, paper, qmc_lobe, scaling
+from . import spins_classical
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -84,6 +85,9 @@ _DRAWINGS = {
     "DeviceEnsemble": device.plot_ensemble,
     "TransmissionFit": device.plot_fit,
     "TransmissionComparison": device.plot_comparison,
+    # classical spins
+    "ClassicalResult": spins_classical.plot_classical,
+    "TemperingResult": spins_classical.plot_tempering,
 }
 
 for _tag, _func in _DRAWINGS.items():

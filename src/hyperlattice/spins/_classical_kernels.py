@@ -473,3 +473,22 @@ def two_colour(indptr, indices, signs):  # pragma: no cover - jitted
                 elif g[w] != want:
                     return g, False
     return g, True
+
+
+@numba.njit(cache=True)
+def energy(spins, indptr, indices, J, hsite):  # pragma: no cover - jitted
+    r"""The energy :math:`-\tfrac12\sum_{ij} J_{ij}s_i\cdot s_j - \sum_i h_i s_i^0` of a configuration
+    (gauged frame, as in :func:`run`): what a tempering exchange compares."""
+    n = spins.shape[0]
+    ncomp = spins.shape[1]
+    E = 0.0
+    for i in range(n):
+        loc = 0.0
+        for k in range(indptr[i], indptr[i + 1]):
+            j = indices[k]
+            d = 0.0
+            for a in range(ncomp):
+                d += spins[i, a] * spins[j, a]
+            loc += J[k] * d
+        E += -0.5 * loc - hsite[i] * spins[i, 0]
+    return E

@@ -42,6 +42,7 @@ class (hyperbolic distance in bins of :math:`d_0/2` on flakes).
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import math
@@ -77,6 +78,11 @@ _NSCALARS = 11
 _VECTOR_BINS = 32
 _CORR_BINS = 64
 _CHECKPOINT_SECONDS = 60.0
+#: largest deviation |s| - 1 of a stored XY or Heisenberg spin (the reflections keep the norm to
+#: rounding, a random walk of about 1e-16 per update)
+UNIT_TOL = 1e-6
+#: the lock file a run holds in its checkpoint directory
+_LOCK_FILE = ".spins_classical.lock"
 #: the update rules' version (part of a checkpoint's fingerprint)
 _RULES = "wolff-fixed-clusters/heatbath+or-2/sw"
 
@@ -327,6 +333,44 @@ class ClassicalResult(Result):
         """The temperature 1/beta."""
         return 1.0 / self.beta
 
+    def _check_loaded(self) -> str | None:
+        why = super()._check_loaded()
+        if why is not None:
+            return why
+        tol = 1e-9
+        if self.model not in MODELS:
+            return f"model {self.model!r} is not one of {', '.join(MODELS)}"
+        if not (self.beta > 0 and math.isfinite(self.beta)):
+            return f"beta = {self.beta!r} must be positive and finite"
+        if self.sites < 1 or self.sweeps < 1 or self.chains < 1 or len(self.seeds) != self.chains:
+            return "sites, sweeps and chains must be at least 1, with one seed per chain"
+        for k in _SCALAR_NAMES + ("m2_improved",):
+            err = getattr(self, k + "_err")
+            if not (math.isnan(err) or err >= 0):
+                return f"{k}_err = {err!r} is negative"
+        # |m| <= 1 for unit spins; <|m|^4> >= <|m|^2>^2 bounds the Binder cumulant by 2/3
+        for k in ("m2", "m_abs", "m2_s", "m_abs_s"):
+            v = getattr(self, k)
+            if not (math.isnan(v) or -tol <= v <= 1 + tol):
+                return f"{k} = {v!r} lies outside [0, 1], impossible for unit spins"
+        if not (-tol <= abs(self.m) <= 1 + tol or math.isnan(self.m)):
+            return f"m = {self.m!r} lies outside [-1, 1], impossible for unit spins"
+        for k in ("U4", "U4_s"):
+            v = getattr(self, k)
+            if not (math.isnan(v) or v <= 2.0 / 3.0 + 1e-6):
+                return f"{k} = {v!r} exceeds 2/3, impossible for a Binder cumulant"
+        if not (self.c >= -tol or math.isnan(self.c)) or not (self.chi >= -tol or math.isnan(self.chi)):
+            return "the specific heat and the susceptibility cannot be negative"
+        for k in ("site_energy", "site_alignment", "site_m"):
+            v = getattr(self, k)
+            if v is not None and v.shape != (self.sites,):
+                return f"{k} has shape {v.shape}, not ({self.sites},)"
+        for k in ("site_alignment", "site_m", "ring_alignment", "ring_m"):
+            v = getattr(self, k)
+            if v is not None and np.any(np.abs(v[np.isfinite(v)]) > 1 + tol):
+                return f"{k} exceeds 1 in magnitude, impossible for unit spins"
+        return None
+
     def summary(self) -> dict:
         """The JSON view: the scalar observables with errors, tau_int, update, the run's size and flags."""
         out = {"type": self.TYPE, "sites": self.sites}
@@ -466,8 +510,42 @@ class _Chain:
     def load(self, path: Path, fingerprint: str) -> None:
         data = _mc_chain.load_chain(path, fingerprint, {k: getattr(self, k) for k in self.FIELDS},
                                     "system, model, J, h, beta, update, seed or thermalization")
+        self._check_ranges(path, data)
         for k in self.FIELDS:
             setattr(self, k, data[k])
+
+    def _check_ranges(self, path: Path, data: dict) -> None:
+        """Refuse a checkpoint whose values no chain can hold (its checksum may have been recomputed
+        after an edit): spins not +-1 (Ising) or not unit vectors (XY, Heisenberg, within
+        :data:`UNIT_TOL`), a zero generator state, non-finite sums, bin counters out of range."""
+        shown = repr(str(path))
+        spins = data["spins"]
+        if not np.all(np.isfinite(spins)):
+            raise ValueError(f"the checkpoint {shown} holds non-finite spins; delete it to start the chain afresh.")
+        if spins.shape[1] == 1:
+            if not np.all(np.abs(spins) == 1.0):
+                raise ValueError(f"the checkpoint {shown} holds Ising spins other than +1 and -1; delete it to "
+                                 "start the chain afresh.")
+        else:
+            dev = float(np.max(np.abs(np.linalg.norm(spins, axis=1) - 1.0)))
+            if dev > UNIT_TOL:
+                raise ValueError(f"the checkpoint {shown} holds spins that are not unit vectors (|s| - 1 up to "
+                                 f"{dev:.3g}, tolerance {UNIT_TOL:g}); delete it to start the chain afresh.")
+        if not np.any(data["rng"]):
+            raise ValueError(f"the checkpoint {shown} holds an all-zero random-number state; delete it to start "
+                             "the chain afresh.")
+        for k in ("sbins", "scur", "vbins", "vcur", "cbins", "ccur", "cstat"):
+            if not np.all(np.isfinite(data[k])):
+                raise ValueError(f"the checkpoint {shown} holds non-finite sums (field {k}); delete it to start "
+                                 "the chain afresh.")
+        for k, bins in (("sinfo", self.sbins), ("vinfo", self.vbins), ("cinfo", self.cbins)):
+            nb, bs, cur = (int(x) for x in data[k])
+            if not (0 <= nb < bins.shape[0] and bs >= 1 and bs & (bs - 1) == 0 and 0 <= cur < bs):
+                raise ValueError(f"the checkpoint {shown} holds bin counters out of range (field {k}); delete it "
+                                 "to start the chain afresh.")
+        if np.any(data["counters"] < 0):
+            raise ValueError(f"the checkpoint {shown} holds negative sweep counters; delete it to start the "
+                             "chain afresh.")
 
 
 def _fingerprint(model: _Model, name, J, h, beta, mode, overrelax, seed, thermalization, cevery) -> str:
@@ -652,24 +730,64 @@ def classical_mc(system, *, model: str, beta: float | None = None, T: float | No
                              _memory_need(mdl.sites, mdl.indices.size, ncomp, corr_on) + _RUNTIME_BYTES)
     correlation_from = _validate.choice("correlation_from", correlation_from, ("all", "centre"))
     corr = _corr_setup(mdl, measure_correlation, correlation_from)
-    overrelax = OVERRELAX if (mode == 1 and ncomp > 1) else 0
-    Jg = mdl.J * mdl.gauge[np.repeat(np.arange(mdl.sites), np.diff(mdl.indptr))] * mdl.gauge[mdl.indices]
-    hsite = h * mdl.gauge
-    padd = -np.expm1(-2.0 * beta * np.maximum(Jg, 0.0))        # Ising bonds' Wolff probabilities
-    stag = (mdl.eps * mdl.gauge) if mdl.eps is not None else np.zeros(mdl.sites)
     group, ngroups = _groups(mdl)
+    kern = _kern(mdl, mode, ncomp, h, beta, corr, group)
+    overrelax = kern.overrelax
     chain = _Chain(mdl, ncomp, seed, corr.pairs.size, ngroups)
     fp = _fingerprint(mdl, name, J, h, beta, mode, overrelax, seed, thermalization, corr.every) + correlation_from
-    ckpt = None
-    if checkpoint is not None:
-        ckpt = _validate.directory("checkpoint", checkpoint) / "spins_classical_chain.npz"
-        if ckpt.exists():
-            chain.load(ckpt, fp)
-            if chain.counters[1] > sweeps:
-                raise ValueError(f"the checkpoint already holds {int(chain.counters[1])} measured sweeps, more than "
-                                 f"the {sweeps} asked for.")
-    start = time.perf_counter()
-    last_save = start
+    ckdir = None if checkpoint is None else _validate.directory("checkpoint", checkpoint)
+    with contextlib.ExitStack() as stack:
+        ckpt = None
+        if ckdir is not None:
+            # a second run into the same directory is refused, not interleaved
+            stack.enter_context(_mc_chain.locked(ckdir, _LOCK_FILE))
+            ckpt = ckdir / "spins_classical_chain.npz"
+            if ckpt.exists():
+                chain.load(ckpt, fp)
+                if chain.counters[1] > sweeps:
+                    raise ValueError(f"the checkpoint already holds {int(chain.counters[1])} measured sweeps, more "
+                                     f"than the {sweeps} asked for.")
+        start = time.perf_counter()
+        _drive(K, chain, mdl, kern, thermalization, sweeps, name, progress, ckpt, fp)
+    seconds = time.perf_counter() - start
+    return _analyse(chain, mdl, corr, name=name, ncomp=ncomp, J=J, h=h, beta=beta, sweeps=sweeps,
+                    thermalization=thermalization, seed=seed, update=label, reason=reason, seconds=seconds)
+
+
+@dataclass(frozen=True)
+class _Kern:
+    """What the kernel needs besides the chain: the update, the gauged couplings and field at one beta."""
+    mode: int
+    overrelax: int
+    Jg: np.ndarray
+    padd: np.ndarray
+    hsite: np.ndarray
+    beta: float
+    stag: np.ndarray
+    group: np.ndarray
+    corr: _Corr
+
+    def run(self, K, chain: "_Chain", mdl: _Model, n: int, therm: bool) -> None:
+        c = self.corr
+        K.run(n, therm, self.mode, self.overrelax, chain.spins, mdl.indptr, mdl.indices, self.Jg, self.padd,
+              self.hsite, self.beta, mdl.gauge, self.stag, chain.rng, chain.sbins, chain.scur, chain.sinfo,
+              chain.vbins, chain.vcur, chain.vinfo, self.group, c.cls, c.rows, c.every, chain.cbins, chain.ccur,
+              chain.cinfo, chain.counters, chain.cstat)
+
+
+def _kern(mdl: _Model, mode: int, ncomp: int, h: float, beta: float, corr: _Corr, group) -> _Kern:
+    overrelax = OVERRELAX if (mode == 1 and ncomp > 1) else 0
+    Jg = mdl.J * mdl.gauge[np.repeat(np.arange(mdl.sites), np.diff(mdl.indptr))] * mdl.gauge[mdl.indices]
+    padd = -np.expm1(-2.0 * beta * np.maximum(Jg, 0.0))        # Ising bonds' Wolff probabilities
+    stag = (mdl.eps * mdl.gauge) if mdl.eps is not None else np.zeros(mdl.sites)
+    return _Kern(mode, overrelax, Jg, padd, h * mdl.gauge, beta, stag, group, corr)
+
+
+def _drive(K, chain: _Chain, mdl: _Model, kern: _Kern, thermalization: int, sweeps: int, name: str, progress,
+           ckpt, fp) -> None:
+    """Run the chain to ``thermalization`` + ``sweeps`` sweeps in chunks of about half a second, saving
+    to ``ckpt`` every minute, at the end and when interrupted."""
+    last_save = time.perf_counter()
     try:
         with progress_bar(thermalization + sweeps, f"spins {name}", unit="sweep", progress=progress) as bar:
             bar.update(int(chain.counters[0] + chain.counters[1]))
@@ -679,9 +797,7 @@ def classical_mc(system, *, model: str, beta: float | None = None, T: float | No
                 left = (thermalization - chain.counters[0]) if therm else (sweeps - chain.counters[1])
                 n = int(min(chunk, left))
                 t0 = time.perf_counter()
-                K.run(n, therm, mode, overrelax, chain.spins, mdl.indptr, mdl.indices, Jg, padd, hsite, beta, mdl.gauge,
-                      stag, chain.rng, chain.sbins, chain.scur, chain.sinfo, chain.vbins, chain.vcur, chain.vinfo,
-                      group, corr.cls, corr.rows, corr.every, chain.cbins, chain.ccur, chain.cinfo, chain.counters, chain.cstat)
+                kern.run(K, chain, mdl, n, therm)
                 dt = time.perf_counter() - t0
                 bar.update(n)
                 # chunks of about half a second (the split never changes the chain)
@@ -695,9 +811,6 @@ def classical_mc(system, *, model: str, beta: float | None = None, T: float | No
         raise
     if ckpt is not None:
         chain.save(ckpt, fp)
-    seconds = time.perf_counter() - start
-    return _analyse(chain, mdl, corr, name=name, ncomp=ncomp, J=J, h=h, beta=beta, sweeps=sweeps,
-                    thermalization=thermalization, seed=seed, update=label, reason=reason, seconds=seconds)
 
 
 def _groups(mdl: _Model) -> tuple[np.ndarray, int]:
