@@ -150,7 +150,7 @@ def test_lowest_landau_band_of_the_klein_cluster_matches_the_continuum():
 
 @pytest.mark.slow
 @pytest.mark.machine_independence
-@pytest.mark.parametrize("n_phi", [5, 6, 7, 8, 9, 10, 11])
+@pytest.mark.parametrize("n_phi", [5, 7, 11])
 def test_landau_band_counts_follow_riemann_roch_on_the_klein_cluster(n_phi):
     res = landau_bands(hl.pbc_cluster(7, 3, "klein"), n_phi, levels=1)
     assert res.bands.tolist() == [n_phi - 2] == res.degeneracy.tolist()
@@ -165,3 +165,65 @@ def test_landau_bands_bad_input():
         landau_bands(c, 2)
     with pytest.raises(ValueError, match="Cluster"):
         cluster_flux_phases(square_torus(), 1)
+
+
+# ---------------------------------------------------------------- frames of QWZ on clusters
+
+def test_covariant_hop_is_the_flat_qwz_hop_in_the_plane():
+    # a_ji = a_ij + pi (a straight bond): U(a) T0 U(a_ji - pi)^dagger = T(a) = (sz + i(cos a sx + sin a sy))/2
+    from hyperlattice.topology.frames import _T0, _u
+
+    sx = np.array([[0, 1], [1, 0]])
+    sy = np.array([[0, -1j], [1j, 0]])
+    sz = np.diag([1.0, -1.0])
+    for a in (0.0, 0.7, np.pi / 2, 2.9):
+        T = _u(a) @ _T0 @ np.conj(_u(a + np.pi - np.pi)).T
+        assert np.allclose(T, 0.5 * (sz + 1j * (np.cos(a) * sx + np.sin(a) * sy)), atol=1e-15)
+
+
+def test_covariant_frame_rotation_is_a_unitary_on_the_sites():
+    from hyperlattice.topology.frames import qwz_frame_terms
+
+    c = hl.pbc_cluster(8, 3, "bolza")
+    alpha = np.random.default_rng(0).uniform(0, 2 * np.pi, c.sites)
+    k = np.array([0.3, 1.2, -0.4, 2.0])
+    e0 = np.linalg.eigvalsh(bloch_model_hamiltonian(qwz_frame_terms(c, M=1.0), k))
+    e1 = np.linalg.eigvalsh(bloch_model_hamiltonian(qwz_frame_terms(c, M=1.0, alpha=alpha), k))
+    assert np.allclose(e0, e1, atol=1e-12)
+
+
+@pytest.mark.machine_independence
+def test_covariant_frame_invariants_do_not_depend_on_the_labelling():
+    # the covariant (spin-connection) frame: C = -Q (the intersection form) at M = 1 for every labelling
+    from hyperlattice.topology.frames import frame_invariants, qwz_frame_terms, relabel_cluster
+
+    c = hl.pbc_cluster(8, 3, "bolza")
+    for d in (c, relabel_cluster(c, 1)):
+        inv = frame_invariants(qwz_frame_terms(d, M=1.0))
+        assert inv["chern"] == (-intersection_form(d)).tolist()
+        assert (inv["gcd"], inv["abs_pfaffian"]) == (1, 1) and inv["gap"] > 0.7
+
+
+@pytest.mark.slow
+@pytest.mark.machine_independence
+def test_lift_frame_invariants_move_with_the_labelling():
+    # the disk-lift frame (no spin connection): |Pf C| is 2, 2, 0 for labellings 0, 1, 2 (measured), with
+    # gaps of 0.2, 0.005, 0.009 on the grids, against 1 and 0.76 for the covariant frame
+    from hyperlattice.topology.frames import frame_invariants, qwz_frame_terms, relabel_cluster
+
+    c = hl.pbc_cluster(8, 3, "bolza")
+    pf = [frame_invariants(qwz_frame_terms(d, M=1.0, frame="lift"))["abs_pfaffian"]
+          for d in (c, relabel_cluster(c, 1), relabel_cluster(c, 2))]
+    assert pf == [2, 2, 0]
+
+
+def test_frames_bad_input():
+    from hyperlattice.topology.frames import qwz_frame_terms
+
+    c = hl.pbc_cluster(8, 3, "bolza")
+    with pytest.raises(ValueError, match="frame"):
+        qwz_frame_terms(c, frame="parallel")
+    with pytest.raises(ValueError, match="alpha"):
+        qwz_frame_terms(c, alpha=np.zeros(3))
+    with pytest.raises(ValueError, match="Cluster"):
+        qwz_frame_terms(square_torus())
