@@ -227,3 +227,23 @@ def test_frames_bad_input():
         qwz_frame_terms(c, alpha=np.zeros(3))
     with pytest.raises(ValueError, match="Cluster"):
         qwz_frame_terms(square_torus())
+
+
+@pytest.mark.machine_independence
+def test_covariant_gap_closes_at_the_continuum_critical_mass_with_the_dirac_slope():
+    # continuum: M_c = q/2 - q h^2/4 = 1.409 on {8,3}, gap 2|M - M_c| nearby; lattice (Bolza, 400 random k):
+    # gaps 0.76 at M = 1 and 0.56 at M = 1.1 (slope 2 within 3 %), nearly closed at M_c
+    from hyperlattice.topology.frames import covariant_critical_mass, qwz_frame_terms
+
+    c = hl.pbc_cluster(8, 3, "bolza")
+    mc = covariant_critical_mass(8, 3)
+    assert mc == pytest.approx(1.409, abs=1e-3) and mc < 1.5
+    K = np.random.default_rng(0).uniform(0, 2 * np.pi, (400, 4))
+
+    def gap(M):
+        e = np.linalg.eigvalsh(bloch_model_hamiltonian(qwz_frame_terms(c, M=M), K))
+        return float((e[:, 16] - e[:, 15]).min())
+
+    g1, g2, gc = gap(1.0), gap(1.1), gap(mc)
+    assert (g1 - g2) / 0.1 == pytest.approx(2.0, rel=0.03)
+    assert gc < 0.1 * g1

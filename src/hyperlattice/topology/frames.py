@@ -42,7 +42,7 @@ import numpy as np
 from .. import _validate
 from .models import ModelTerms
 
-__all__ = ["qwz_frame_terms", "frame_invariants", "relabel_cluster", "spin_connection_signs"]
+__all__ = ["qwz_frame_terms", "frame_invariants", "relabel_cluster", "spin_connection_signs", "covariant_critical_mass"]
 
 _SX = np.array([[0, 1], [1, 0]], dtype=np.complex128)
 _SY = np.array([[0, -1j], [1j, 0]], dtype=np.complex128)
@@ -310,6 +310,44 @@ def frame_invariants(terms: ModelTerms, *, grid: int = 12, max_grid: int = 48) -
     vals = [abs(int(x)) for x in C[np.triu_indices(g2, 1)]]
     return {"chern": C.tolist(), "gcd": math.gcd(*vals), "abs_pfaffian": abs(int(round(_pf(C.astype(float))))),
             "gap": float(min(gaps))}
+
+
+def covariant_critical_mass(p: int = 8, q: int = 3) -> float:
+    r"""The continuum estimate of the mass where the covariant QWZ model's gap closes on a {p,q} lattice.
+
+    In the covariant frame the :math:`\sigma_z` part of the bonds, :math:`\tfrac12\sigma_z` with the
+    spin connection, is half of a magnetic adjacency whose two orbitals see :math:`\pm A/2` flux per
+    face: in the paper's metric (face area :math:`A/4`) a field :math:`B = 2 = |K|/2`, the spin-1/2
+    coupling to curvature :math:`K = -4`. At B = 2 the magnetic Laplacian has no discrete Landau
+    level (Comtet: :math:`N < B/4 - 1/2 = 0`) and its spectrum starts at :math:`\kappa = 1 + B^2/4 = 2`;
+    the mass band's edge, through the paper's dictionary :math:`E = -q + \frac q4 h^2 \kappa`, closes
+    the gap of :math:`H \approx m\sigma_z + v\,\sigma\cdot p` at
+
+    .. math:: M_c = -\tfrac12 E(\kappa = 2) = \frac q2 - \frac q4 h^2,
+
+    below the flat value q/2; near it the gap is :math:`2|M - M_c|` (the Dirac operator on the disk
+    has no curvature gap: Camporesi and Higuchi, J. Geom. Phys. 20, 1 (1996)).
+
+    Parameters
+    ----------
+    p, q : int, optional
+        The {p,q} lattice (default {8,3}).
+
+    Returns
+    -------
+    float
+        :math:`M_c` in units of the hop (the gap closes at :math:`\pm M_c`).
+
+    Examples
+    --------
+    >>> from hyperlattice.topology.frames import covariant_critical_mass
+    >>> round(covariant_critical_mass(8, 3), 3)
+    1.409
+    """
+    from .. import dictionary
+
+    p, q = _validate.pq(p, q)
+    return float(-0.5 * dictionary.energy_from_lambda(2.0, p, q))
 
 
 from .._validate import guard_public as _guard_public  # noqa: E402

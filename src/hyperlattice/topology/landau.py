@@ -131,6 +131,7 @@ def intersection_form(cluster) -> np.ndarray:
 
     Examples
     --------
+    >>> import numpy as np
     >>> import hyperlattice as hl
     >>> from hyperlattice.topology.landau import intersection_form
     >>> Q = intersection_form(hl.pbc_cluster(8, 3, "bolza"))
