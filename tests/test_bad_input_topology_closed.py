@@ -36,6 +36,7 @@ CLI_FLAGS = [
     (["topology", "landau", "--cluster", "bolza"], "--nphi", set()),
     (["topology", "landau", "--cluster", "bolza", "--nphi", "3"], "--levels", set()),
     (["topology", "landau", "--nphi", "3"], "--cluster", set()),
+    (["topology", "cluster", "--cluster", "bolza"], "--frame", set()),
 ]
 
 

@@ -136,6 +136,7 @@ INVOCATIONS = [
     ["topology", "cluster", "--model", "haldane", "--cluster", "bolza", "--M", "0", "--t2", "0.3", "--chern2"],
     ["topology", "cluster", "--model", "kane-mele", "--cluster", "bolza", "--M", "0", "--t2", "0.3", "--spin-chern"],
     ["topology", "landau", "--cluster", "bolza", "-p", "8", "-q", "3", "--nphi", "3", "--levels", "1", "--json"],
+    ["topology", "cluster", "--cluster", "bolza", "--frame", "covariant", "--json"],
 ]
 
 

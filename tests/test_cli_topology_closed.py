@@ -31,3 +31,16 @@ def test_spin_chern_needs_kane_mele(capsys):
 def test_landau_too_much_flux_is_one_line(capsys):
     assert main(["topology", "landau", "--cluster", "bolza", "--nphi", "7"]) == 2
     assert len(capsys.readouterr().err.strip().splitlines()) == 1
+
+
+def test_cluster_covariant_frame_keys(capsys):
+    assert main(["topology", "cluster", "--cluster", "bolza", "--frame", "covariant", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    for key in ("chern", "gcd", "pfaffian", "gap"):
+        assert key in out
+    assert out["gcd"] == 1 and abs(out["pfaffian"]) == 1 and out["frame"] == "covariant"
+
+
+def test_covariant_frame_needs_qwz(capsys):
+    assert main(["topology", "cluster", "--cluster", "bolza", "--model", "haldane", "--frame", "covariant"]) == 2
+    assert len(capsys.readouterr().err.strip().splitlines()) == 1

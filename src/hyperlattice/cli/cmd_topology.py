@@ -8,7 +8,8 @@ Tasks:
 * ``cluster``  a periodic cluster: the first Chern numbers C_ij of the Abelian bands on every
                2-subtorus, their gcd and Pfaffian, the smallest gap on the grid; with
                ``--chern2`` the second Chern numbers on the 4-subtori, with ``--spin-chern``
-               (kane-mele) the spin Chern numbers and the Z2 index
+               (kane-mele) the spin Chern numbers and the Z2 index, with ``--frame covariant``
+               (qwz) the rotation-system frame with the spin connection
 * ``landau``   a periodic cluster in a field of N_phi flux quanta: the lowest Landau bands,
                their Chern matrices against the continuum (degeneracy, energy, intersection form)
 """
@@ -64,6 +65,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     c = sub.add_parser("cluster", help="Chern numbers C_ij on all 2-subtori of a periodic cluster")
     _model_flags(c, disorder=False)
     c.add_argument("--cluster", required=True, help="a cluster name (hyperlattice cluster --list), e.g. bolza")
+    c.add_argument("--frame", choices=("lift", "covariant"), default="lift",
+                   help="qwz bond frame: the disk lift of the cluster (default) or the rotation-system frame "
+                        "with the spin connection (labelling independent)")
     c.add_argument("--chern2", action="store_true",
                    help="also the second Chern numbers on every 4-subtorus (genus >= 2; tens of seconds)")
     c.add_argument("--spin-chern", action="store_true",
@@ -118,6 +122,26 @@ def _cluster(args) -> int:
     cl = pbc_cluster(p, q, name)
     if args.spin_chern and args.model != "kane-mele":
         raise ValueError("--spin-chern needs --model kane-mele.")
+    if args.frame == "covariant":
+        if args.model != "qwz":
+            raise ValueError("--frame covariant applies to the qwz model.")
+        if args.chern2:
+            raise ValueError("--chern2 is computed in the default frame; drop --frame covariant.")
+        from ..topology.frames import frame_invariants, qwz_frame_terms
+
+        inv = frame_invariants(qwz_frame_terms(cl, M=args.M))
+        out = {"model": "qwz", "cluster": cl.name, "genus": cl.genus, "frame": "covariant", "chern": inv["chern"],
+               "gcd": inv["gcd"], "pfaffian": inv["pfaffian"], "gap": inv["gap"], "grid": inv["grid"],
+               "occupied": cl.sites, "parameters": {"M": args.M}}
+        if args.json:
+            print_json(out)
+            return 0
+        print(f"{{{p},{q}}} cluster {cl.name} (genus {cl.genus}), model qwz (covariant frame), "
+              f"grid {inv['grid']} x {inv['grid']}")
+        for row in inv["chern"]:
+            print("  " + " ".join(f"{x:+d}" for x in row))
+        print(f"  gcd {inv['gcd']}, Pfaffian {inv['pfaffian']}, smallest gap on the grid {inv['gap']:.4g}")
+        return 0
     res = cluster_chern(cl, args.model, M=args.M, t2=args.t2, phi=args.phi)
     out = res.summary()
     extra = []

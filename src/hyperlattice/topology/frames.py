@@ -284,7 +284,8 @@ def frame_invariants(terms: ModelTerms, *, grid: int = 12, max_grid: int = 48) -
     Returns
     -------
     dict
-        ``chern`` (2g x 2g list), ``gcd``, ``abs_pfaffian``, ``gap`` (smallest on the grids).
+        ``chern`` (2g x 2g list), ``gcd``, ``pfaffian``, ``abs_pfaffian``, ``gap`` (smallest on the
+        grids), ``grid`` (the largest grid used).
 
     Examples
     --------
@@ -292,7 +293,7 @@ def frame_invariants(terms: ModelTerms, *, grid: int = 12, max_grid: int = 48) -
     >>> from hyperlattice.topology.frames import qwz_frame_terms, frame_invariants
     >>> inv = frame_invariants(qwz_frame_terms(hl.pbc_cluster(8, 3, "bolza"), M=1.0))
     >>> sorted(inv)
-    ['abs_pfaffian', 'chern', 'gap', 'gcd']
+    ['abs_pfaffian', 'chern', 'gap', 'gcd', 'grid', 'pfaffian']
     """
     from ..graph.solvers import single_threaded_blas
     from .surfaces import _all_subtori, _pf
@@ -305,11 +306,12 @@ def frame_invariants(terms: ModelTerms, *, grid: int = 12, max_grid: int = 48) -
     raw = np.zeros((g2, g2))
     gaps: list = []
     with single_threaded_blas():
-        _all_subtori(terms, g2, terms.sites * terms.orbitals // 2, grid, max_grid, raw, gaps, [])
+        n = _all_subtori(terms, g2, terms.sites * terms.orbitals // 2, grid, max_grid, raw, gaps, [])
     C = np.rint(raw).astype(np.int64)
     vals = [abs(int(x)) for x in C[np.triu_indices(g2, 1)]]
-    return {"chern": C.tolist(), "gcd": math.gcd(*vals), "abs_pfaffian": abs(int(round(_pf(C.astype(float))))),
-            "gap": float(min(gaps))}
+    pf = int(round(_pf(C.astype(float))))
+    return {"chern": C.tolist(), "gcd": math.gcd(*vals), "pfaffian": pf, "abs_pfaffian": abs(pf),
+            "gap": float(min(gaps)), "grid": int(n)}
 
 
 def covariant_critical_mass(p: int = 8, q: int = 3) -> float:
