@@ -35,6 +35,7 @@ def test_second_chern_of_a_product_line_bundle_is_the_pfaffian_of_its_first_cher
     assert abs(res.chern2_raw[0] - 1) < 10 * res.error[0] + 1e-3
 
 
+@pytest.mark.slow  # the same check runs in the fast tier as an example of docs/topology-surfaces.md
 def test_second_chern_of_the_4d_dirac_model_in_one_phase():
     res = second_chern(dirac4_torus(-3.0), grid=8, max_grid=16, tol=0.01)
     assert res.chern2.tolist() == [-1] and res.pfaffian.tolist() == [0] and res.gap == pytest.approx(2.0)
@@ -138,6 +139,7 @@ def test_hofstadter_terms_without_flux_are_the_band_theory_hamiltonian():
     assert np.allclose(H, H0, atol=1e-14)
 
 
+@pytest.mark.slow  # the same check runs in the fast tier as an example of docs/topology-surfaces.md
 @pytest.mark.machine_independence
 def test_lowest_landau_band_of_the_klein_cluster_matches_the_continuum():
     # Riemann-Roch: N_phi - g + 1 = 2 states in the lowest level; one unit of Hall conductance per

@@ -148,7 +148,7 @@ def _cluster(args) -> int:
     if args.chern2:
         from ..topology.closed import second_chern
 
-        c2 = second_chern(cl, args.model, M=args.M, t2=args.t2, phi=args.phi, grid=6)
+        c2 = second_chern(cl, args.model, M=args.M, t2=args.t2, phi=args.phi, grid=4)
         out.update(c2.summary() | {"model": out["model"], "cluster": out["cluster"], "genus": out["genus"],
                                    "occupied": out["occupied"]})
         extra.append(f"  second Chern numbers on the 4-subtori {c2.subtori.tolist()}: {c2.chern2.tolist()} "
