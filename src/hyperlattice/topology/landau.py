@@ -38,7 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _validate
-from ..results import Result
+from ..results import Column, Result
 from .models import ModelTerms
 
 __all__ = ["cluster_flux_phases", "intersection_form", "hofstadter_terms", "LandauBands", "landau_bands"]
@@ -267,6 +267,12 @@ class LandauBands(Result):
     >>> res.bands.tolist(), res.degeneracy.tolist()
     ([2], [2])
     """
+
+    COLUMNS = (Column("level", "level", "1"), Column("bands", "bands", "1"),
+               Column("degeneracy", "degeneracy", "1"), Column("energy_min", "energy_min", "t"),
+               Column("energy_max", "energy_max", "t"), Column("energy_continuum", "energy_continuum", "t"),
+               Column("gap_above", "gap_above", "t"), Column("gcd", "gcd", "1"), Column("pfaffian", "pfaffian", "1"),
+               Column("matches", "matches", "1"))
 
     name: str
     p: int
