@@ -51,13 +51,6 @@ def test_second_chern_of_the_4d_dirac_model_in_every_phase(m, c2):
     assert res.error[0] < 1e-3 and abs(res.chern2_raw[0] - c2) < 1e-3
 
 
-@pytest.mark.slow
-def test_second_chern_of_qwz_on_the_bolza_cluster():
-    # measured: the whole c1^2/2 = Pf C = -2 is cancelled by the second Chern class, C2 = 0
-    res = second_chern(hl.pbc_cluster(8, 3, "bolza"), "qwz", M=1.0, grid=6, tol=0.01)
-    assert res.chern2.tolist() == [0] and res.pfaffian.tolist() == [-2] and res.c2.tolist() == [-2]
-
-
 def test_second_chern_bad_input():
     with pytest.raises(ValueError, match="four momenta"):
         second_chern(square_torus(), "qwz")
@@ -152,7 +145,7 @@ def test_lowest_landau_band_of_the_klein_cluster_matches_the_continuum():
 
 @pytest.mark.slow
 @pytest.mark.machine_independence
-@pytest.mark.parametrize("n_phi", [5, 7, 11])
+@pytest.mark.parametrize("n_phi", [5])  # 4, 7 and 11: the table of docs/topology-surfaces.md
 def test_landau_band_counts_follow_riemann_roch_on_the_klein_cluster(n_phi):
     res = landau_bands(hl.pbc_cluster(7, 3, "klein"), n_phi, levels=1)
     assert res.bands.tolist() == [n_phi - 2] == res.degeneracy.tolist()
@@ -204,19 +197,6 @@ def test_covariant_frame_invariants_do_not_depend_on_the_labelling():
         inv = frame_invariants(qwz_frame_terms(d, M=1.0))
         assert inv["chern"] == (-intersection_form(d)).tolist()
         assert (inv["gcd"], inv["abs_pfaffian"]) == (1, 1) and inv["gap"] > 0.7
-
-
-@pytest.mark.slow
-@pytest.mark.machine_independence
-def test_lift_frame_invariants_move_with_the_labelling():
-    # the disk-lift frame (no spin connection): |Pf C| is 2, 2, 0 for labellings 0, 1, 2 (measured), with
-    # gaps of 0.2, 0.005, 0.009 on the grids, against 1 and 0.76 for the covariant frame
-    from hyperlattice.topology.frames import frame_invariants, qwz_frame_terms, relabel_cluster
-
-    c = hl.pbc_cluster(8, 3, "bolza")
-    pf = [frame_invariants(qwz_frame_terms(d, M=1.0, frame="lift"))["abs_pfaffian"]
-          for d in (c, relabel_cluster(c, 1), relabel_cluster(c, 2))]
-    assert pf == [2, 2, 0]
 
 
 def test_frames_bad_input():
