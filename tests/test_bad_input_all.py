@@ -149,7 +149,7 @@ def _collect_cases():
     calls = {}
     for name in ["test_bad_input", "test_bad_input_below_band", "test_bad_input_bigflakes",
                  "test_bad_input_clusters", "test_bad_input_disorder", "test_bad_input_dos",
-                 "test_bad_input_limits", "test_bad_input_topology"]:
+                 "test_bad_input_limits", "test_bad_input_topology", "test_bad_input_topology_closed"]:
         for _, func, good, _ in importlib.import_module(name).CASES:
             calls.setdefault(inspect.unwrap(func), good)
     return calls

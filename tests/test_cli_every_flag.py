@@ -135,6 +135,10 @@ INVOCATIONS = [
     ["topology", "cluster", "--model", "qwz", "--cluster", "bolza", "-p", "8", "-q", "3", "--M", "1", "--t2", "0.2",
      "--phi", "1.5", "--json"],
     ["topology", "cluster", "--cluster", "bolza", "--M", "2.5"],
+    ["topology", "cluster", "--model", "haldane", "--cluster", "bolza", "--M", "0", "--t2", "0.3", "--chern2"],
+    ["topology", "cluster", "--model", "kane-mele", "--cluster", "bolza", "--M", "0", "--t2", "0.3", "--spin-chern"],
+    ["topology", "landau", "--cluster", "bolza", "-p", "8", "-q", "3", "--nphi", "3", "--levels", "1", "--json"],
+    ["topology", "cluster", "--cluster", "bolza", "--frame", "covariant", "--json"],
 ]
 
 

@@ -6,7 +6,12 @@ Tasks:
                the Bott index and the bulk gap at the centre (dense up to 9,000 rows; above, the
                centre marker by a Chebyshev expansion of the projector, Bott omitted)
 * ``cluster``  a periodic cluster: the first Chern numbers C_ij of the Abelian bands on every
-               2-subtorus, their gcd and Pfaffian, the smallest gap on the grid
+               2-subtorus, their gcd and Pfaffian, the smallest gap on the grid; with
+               ``--chern2`` the second Chern numbers on the 4-subtori, with ``--spin-chern``
+               (kane-mele) the spin Chern numbers and the Z2 index, with ``--frame covariant``
+               (qwz) the rotation-system frame with the spin connection
+* ``landau``   a periodic cluster in a field of N_phi flux quanta: the lowest Landau bands,
+               their Chern matrices against the continuum (degeneracy, energy, intersection form)
 """
 
 from __future__ import annotations
@@ -60,6 +65,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     c = sub.add_parser("cluster", help="Chern numbers C_ij on all 2-subtori of a periodic cluster")
     _model_flags(c, disorder=False)
     c.add_argument("--cluster", required=True, help="a cluster name (hyperlattice cluster --list), e.g. bolza")
+    c.add_argument("--frame", choices=("lift", "covariant"), default="lift",
+                   help="qwz bond frame: the disk lift of the cluster (default) or the rotation-system frame "
+                        "with the spin connection (labelling independent)")
+    c.add_argument("--chern2", action="store_true",
+                   help="also the second Chern numbers on every 4-subtorus (genus >= 2; tens of seconds)")
+    c.add_argument("--spin-chern", action="store_true",
+                   help="kane-mele only: spin Chern numbers (C_up - C_down)/2 and the Z2 index per 2-subtorus")
+    la = sub.add_parser("landau", help="Landau bands of a cluster in a field and their Chern numbers")
+    add_pq(la, default_p=7)
+    la.add_argument("--cluster", required=True, help="a cluster name (hyperlattice cluster --list), e.g. klein")
+    la.add_argument("--nphi", type=positive_int, required=True, help="total flux quanta through the cluster")
+    la.add_argument("--levels", type=positive_int, default=1, help="lowest band groups to report (default 1)")
+    la.add_argument("--json", action="store_true", help="print JSON")
 
 
 def _flake(args) -> int:
@@ -102,8 +120,46 @@ def _cluster(args) -> int:
     name = args.cluster
     p, q = cluster_pq(args, name)
     cl = pbc_cluster(p, q, name)
+    if args.spin_chern and args.model != "kane-mele":
+        raise ValueError("--spin-chern needs --model kane-mele.")
+    if args.frame == "covariant":
+        if args.model != "qwz":
+            raise ValueError("--frame covariant applies to the qwz model.")
+        if args.chern2:
+            raise ValueError("--chern2 is computed in the default frame; drop --frame covariant.")
+        from ..topology.frames import frame_invariants, qwz_frame_terms
+
+        inv = frame_invariants(qwz_frame_terms(cl, M=args.M))
+        out = {"model": "qwz", "cluster": cl.name, "genus": cl.genus, "frame": "covariant", "chern": inv["chern"],
+               "gcd": inv["gcd"], "pfaffian": inv["pfaffian"], "gap": inv["gap"], "grid": inv["grid"],
+               "occupied": cl.sites, "parameters": {"M": args.M}}
+        if args.json:
+            print_json(out)
+            return 0
+        print(f"{{{p},{q}}} cluster {cl.name} (genus {cl.genus}), model qwz (covariant frame), "
+              f"grid {inv['grid']} x {inv['grid']}")
+        for row in inv["chern"]:
+            print("  " + " ".join(f"{x:+d}" for x in row))
+        print(f"  gcd {inv['gcd']}, Pfaffian {inv['pfaffian']}, smallest gap on the grid {inv['gap']:.4g}")
+        return 0
     res = cluster_chern(cl, args.model, M=args.M, t2=args.t2, phi=args.phi)
     out = res.summary()
+    extra = []
+    if args.chern2:
+        from ..topology.closed import second_chern
+
+        c2 = second_chern(cl, args.model, M=args.M, t2=args.t2, phi=args.phi, grid=4)
+        out.update(c2.summary() | {"model": out["model"], "cluster": out["cluster"], "genus": out["genus"],
+                                   "occupied": out["occupied"]})
+        extra.append(f"  second Chern numbers on the 4-subtori {c2.subtori.tolist()}: {c2.chern2.tolist()} "
+                     f"(Pf of C there {c2.pfaffian.tolist()}, c2 {c2.c2.tolist()}, grid {c2.grid.tolist()}, "
+                     f"error {max(c2.error):.1e})")
+    if args.spin_chern:
+        from ..topology.closed import spin_chern
+
+        sc = spin_chern(cl, M=args.M, t2=args.t2, phi=args.phi)
+        out.update(sc.summary() | {"cluster": out["cluster"], "genus": out["genus"]})
+        extra.append(f"  spin Chern numbers {sc.spin_chern.tolist()}, Z2 {sc.z2.tolist()}")
     if args.json:
         print_json(out)
         return 0
@@ -111,11 +167,35 @@ def _cluster(args) -> int:
     for row in res.chern.tolist():
         print("  " + " ".join(f"{x:+d}" for x in row))
     print(f"  gcd {res.gcd}, Pfaffian {res.pfaffian}, smallest gap on the grid {res.gap:.4g}")
+    for line in extra:
+        print(line)
+    return 0
+
+
+def _landau(args) -> int:
+    from ..graph.clusters import pbc_cluster
+    from ..topology.landau import landau_bands
+
+    name = args.cluster
+    p, q = cluster_pq(args, name)
+    cl = pbc_cluster(p, q, name)
+    res = landau_bands(cl, args.nphi, levels=args.levels)
+    out = res.summary()
+    if args.json:
+        print_json(out)
+        return 0
+    print(f"{{{p},{q}}} cluster {cl.name} (genus {cl.genus}, {res.faces} faces), N_phi = {res.n_phi} "
+          f"(flux {res.flux:.4g} per p-gon, B = {res.field:.4g})")
+    print("  level  bands  continuum D_N  lattice E range      continuum E_N  gcd  Pf  C = +-Q")
+    for i in range(len(res.level)):
+        print(f"  {res.level[i]:5d}  {res.bands[i]:5d}  {res.degeneracy[i]:13d}  "
+              f"[{res.energy_min[i]:+.4f}, {res.energy_max[i]:+.4f}]  {res.energy_continuum[i]:+13.4f}  "
+              f"{res.gcd[i]:3d}  {res.pfaffian[i]:+d}  {bool(res.matches[i])}")
     return 0
 
 
 def run(args: argparse.Namespace) -> int:
-    return {"flake": _flake, "cluster": _cluster}[args.task](args)
+    return {"flake": _flake, "cluster": _cluster, "landau": _landau}[args.task](args)
 
 
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402
