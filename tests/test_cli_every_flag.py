@@ -133,6 +133,10 @@ INVOCATIONS = [
     ["topology", "cluster", "--model", "qwz", "--cluster", "bolza", "-p", "8", "-q", "3", "--M", "1", "--t2", "0.2",
      "--phi", "1.5", "--json"],
     ["topology", "cluster", "--cluster", "bolza", "--M", "2.5"],
+    ["topology", "conductance", "--model", "qwz", "-p", "8", "-q", "3", "--rings", "2", "--M", "1", "--t2", "0.2",
+     "--phi", "1.5", "--disorder", "0.5", "--seed", "2", "--energies", "-0.1,0", "--coupling", "1.5", "--arc", "0.2",
+     "--json"],
+    ["topology", "conductance", "--rings", "2"],
 ]
 
 

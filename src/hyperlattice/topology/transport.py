@@ -81,7 +81,7 @@ def edge_contacts(graph, arc: float = 0.25) -> tuple[np.ndarray, np.ndarray]:
     >>> from hyperlattice.topology.transport import edge_contacts
     >>> left, right = edge_contacts(hl.ring_lattice(8, 3, 3))
     >>> len(left), len(right)
-    (36, 36)
+    (39, 39)
     """
     arc = _validate.real("arc", arc, minimum=1e-6, maximum=0.5)
     if arc >= 0.5:
