@@ -12,7 +12,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from ..results import register_plotter
-from . import basic, bosons, boundary, device, disorder, dos, green, limits, magnetic, paper, qmc_lobe, scaling
+from . import basic, bosons, boundary, device, disorder, dos, green, limits, magnetic, paper, qmc_lobe, scaling, topology
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -84,6 +84,8 @@ _DRAWINGS = {
     "DeviceEnsemble": device.plot_ensemble,
     "TransmissionFit": device.plot_fit,
     "TransmissionComparison": device.plot_comparison,
+    # topological bands
+    "Conductance": topology.plot_conductance,
 }
 
 for _tag, _func in _DRAWINGS.items():
