@@ -116,11 +116,13 @@ def _phi(x: float) -> str:
     return {round(np.pi / 2, 9): "π/2", round(np.pi / 4, 9): "π/4"}.get(round(x, 9), f"{x:.3f}")
 
 
-def print_markdown(data: dict) -> None:
-    """The tables of docs/topology.md."""
+def print_markdown(data: dict, brief: bool = False) -> None:
+    """The tables of docs/topology.md (``brief``: the scan's rows at phi = pi/2, M = 0 only)."""
     print("| t2 | φ | M | gap | E_F | filling | LDOS gap | marker | G (e²/h) |")
     print("|---|---|---|---|---|---|---|---|---|")
     for r in data["scan"]:
+        if brief and (r["M"] != 0 or abs(r["phi"] - np.pi / 2) > 1e-9):
+            continue
         print(f"| {r['t2']:.1f} | {_phi(r['phi'])} | {r['M']:.1f} | {r['gap_kind']} | {r['fermi']:.3f} | "
               f"{r['filling']:.3f} | {r['gap']:.3f} | {r['marker']:.3f} | {r['conductance']:.3f} |")
     print()
@@ -163,10 +165,11 @@ def main() -> None:
     ap.add_argument("--rings", type=int, default=4)
     ap.add_argument("--from-json")
     ap.add_argument("--out")
+    ap.add_argument("--brief", action="store_true", help="with --from-json: the rows at phi = pi/2, M = 0")
     args = ap.parse_args()
     if args.from_json:
         data = json.loads(open(args.from_json).read())
-        print_markdown(data)
+        print_markdown(data, args.brief)
         if args.out:
             plot(data, args.out)
         return

@@ -66,6 +66,10 @@ def plot_phase_diagram(rows, ax: Axes | None = None) -> Axes:
     -------
     matplotlib.axes.Axes
     """
+    keys = ("M", "marker", "kitaev", "conductance", "gap", "gcd", "cluster_gap")
+    if (not isinstance(rows, (list, tuple)) or not rows
+            or not all(isinstance(r, dict) and all(k in r for k in keys) for r in rows)):
+        raise ValueError(f"rows must be a non-empty list of dicts with the keys {', '.join(keys)}.")
     ax = _axes(ax, (7.0, 4.0))
     M = [r["M"] for r in rows]
     nan = float("nan")
