@@ -168,7 +168,9 @@ def main() -> None:
     ap.add_argument("--brief", action="store_true", help="with --from-json: the rows at phi = pi/2, M = 0")
     args = ap.parse_args()
     if args.from_json:
-        data = json.loads(open(args.from_json).read())
+        from pathlib import Path
+
+        data = json.loads(Path(args.from_json).read_text())
         print_markdown(data, args.brief)
         if args.out:
             plot(data, args.out)

@@ -313,7 +313,8 @@ def test_magnetic_section(repro):
 
 
 PAPER_ORDER = ["lattice", "sizes", "spectrum", "levels-vs-rings", "green", "scaling", "geometry"]
-BEYOND_ORDER = ["magnetic", "band-bottom", "infinite", "holography", "qubits", "disorder", "bosons", "qmc-lobe"]
+BEYOND_ORDER = ["magnetic", "band-bottom", "infinite", "holography", "qubits", "disorder", "bosons", "qmc-lobe",
+                "topology"]
 
 
 def _html(repro):
