@@ -65,7 +65,7 @@ def test_plateau_breaks_down_in_the_bands_and_vanishes_outside_the_spectrum():
     res = conductance(hl.ring_lattice(8, 3, 3), "qwz", M=1.0, energies=[-0.2, 0.2, 0.5, 4.0])
     assert np.all(np.abs(res.conductance[:2] - 1) < 1e-3)
     assert abs(res.conductance[2] - 1) > 0.1          # bulk states: not quantised
-    assert res.conductance[3] < 1e-6                  # above the spectrum (|E| <= 3 here)
+    assert res.conductance[3] < 1e-6                  # above the spectrum (|E| < 2.5 here)
     df = res.to_dataframe()
     assert list(df.columns) == ["energy", "conductance", "error"]
 
