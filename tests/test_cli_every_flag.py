@@ -139,6 +139,10 @@ INVOCATIONS = [
     ["topology", "cluster", "--model", "kane-mele", "--cluster", "bolza", "--M", "0", "--t2", "0.3", "--spin-chern"],
     ["topology", "landau", "--cluster", "bolza", "-p", "8", "-q", "3", "--nphi", "3", "--levels", "1", "--json"],
     ["topology", "cluster", "--cluster", "bolza", "--frame", "covariant", "--json"],
+    ["topology", "conductance", "--model", "qwz", "-p", "8", "-q", "3", "--rings", "2", "--M", "1", "--t2", "0.2",
+     "--phi", "1.5", "--disorder", "0.5", "--seed", "2", "--energies", "-0.1,0", "--coupling", "1.5", "--arc", "0.2",
+     "--json"],
+    ["topology", "conductance", "--rings", "2"],
 ]
 
 

@@ -314,7 +314,7 @@ def test_magnetic_section(repro):
 
 PAPER_ORDER = ["lattice", "sizes", "spectrum", "levels-vs-rings", "green", "scaling", "geometry"]
 BEYOND_ORDER = ["magnetic", "band-bottom", "infinite", "holography", "qubits", "disorder", "bosons", "qmc-lobe",
-                "magnetism"]
+                "magnetism", "topology"]
 
 
 def _html(repro):

@@ -39,7 +39,7 @@ Index by topic (every name is ``hyperlattice.<name>``)::
                         circuit_resonances fit_transmission read_trace
                         continuum_transmission ensemble_statistics flat_band_degeneracy
     Topology            flake_topology local_markers edge_chirality cluster_chern
-                        centre_marker model_hamiltonian
+                        centre_marker model_hamiltonian conductance
     Spins               classical_mc classical_mc_memory merge_classical xxz_qmc xxz_exact
                         merge_xxz
     Sweeps, results     run_sweep read_table Result Levels load_result
@@ -76,6 +76,7 @@ _EXPORTS = {
     "cluster_chern": "topology.surfaces",
     "centre_marker": "topology.kpm_marker",
     "model_hamiltonian": "topology.models",
+    "conductance": "topology.transport",
     # spins
     "classical_mc": "spins.classical",
     "classical_mc_memory": "spins.classical",

@@ -42,7 +42,8 @@ class _NegativeNumber:
 
     Its own pattern knows only ``-1`` and ``-0.5``: ``--U -1e-3``, ``--omega -2.5+0.1j`` and
     ``--mu -inf`` were read as unknown flags ("expected one argument"). Here any word that starts
-    with ``-`` and parses as a real or complex number is one (then checked by the flag's type).
+    with ``-`` and parses as a real or complex number, or a comma-separated list of them, is one
+    (then checked by the flag's type).
     """
 
     @staticmethod
@@ -50,6 +51,11 @@ class _NegativeNumber:
         if not text.startswith("-") or text.startswith("--") or len(text) < 2:
             return False
         word = text.strip().replace(" ", "")
+        # a comma-separated list of numbers (--energies -0.5,0,0.5) is a value too
+        return all(_NegativeNumber._number(part) for part in word.split(","))
+
+    @staticmethod
+    def _number(word: str) -> bool:
         for candidate in (word, word.replace("i", "j")):     # -inf, and -1.5i for -1.5j
             try:
                 complex(candidate)

@@ -12,6 +12,8 @@ Tasks:
                (qwz) the rotation-system frame with the spin connection
 * ``landau``   a periodic cluster in a field of N_phi flux quanta: the lowest Landau bands,
                their Chern matrices against the continuum (degeneracy, energy, intersection form)
+* ``conductance``  a {p,q} flake between two wide-band leads on two arcs of its edge: the two-terminal
+               conductance (Landauer–Caroli) at the given energies, in units of e^2/h
 """
 
 from __future__ import annotations
@@ -78,6 +80,22 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     la.add_argument("--nphi", type=positive_int, required=True, help="total flux quanta through the cluster")
     la.add_argument("--levels", type=positive_int, default=1, help="lowest band groups to report (default 1)")
     la.add_argument("--json", action="store_true", help="print JSON")
+    g = sub.add_parser("conductance", help="two-terminal conductance (e^2/h) of a flake through leads on its edge")
+    _model_flags(g, disorder=True)
+    g.add_argument("--rings", type=positive_int, default=3, help="rings of the flake (default 3)")
+    g.add_argument("--energies", type=_float_list, default=[0.0],
+                   help="comma-separated energies in units of t (default 0)")
+    g.add_argument("--coupling", type=finite_float, default=2.0,
+                   help="wide-band lead coupling gamma per contact orbital, units of t (default 2)")
+    g.add_argument("--arc", type=finite_float, default=0.25,
+                   help="fraction of the full turn each contact spans on the outer edge (default 0.25)")
+
+
+def _float_list(text: str) -> list:
+    items = [t for t in text.split(",") if t.strip()]
+    if not items:
+        raise argparse.ArgumentTypeError(f"expected comma-separated numbers, got {text!r}")
+    return [finite_float(t) for t in items]
 
 
 def _flake(args) -> int:
@@ -194,8 +212,29 @@ def _landau(args) -> int:
     return 0
 
 
+def _conductance(args) -> int:
+    from ..graph.lattice import ring_lattice
+    from ..topology.transport import conductance
+
+    p, q = _validate.pq(args.p, args.q)
+    rings = _validate.integer("--rings", args.rings, minimum=1, maximum=12)
+    W = _validate.real("--disorder", args.disorder, minimum=0.0, maximum=1e6)
+    res = conductance(ring_lattice(p, q, rings), args.model, energies=args.energies, M=args.M, t2=args.t2,
+                      phi=args.phi, disorder=W, seed=args.seed, coupling=args.coupling, arc=args.arc)
+    out = res.summary()
+    if args.json:
+        print_json(out)
+        return 0
+    print(f"{{{p},{q}}} flake, {rings} rings, {res.sites} sites, model {args.model}; leads on {len(res.left)} and "
+          f"{len(res.right)} edge sites, coupling {args.coupling:g} t")
+    print("  E (t)        G (e^2/h)")
+    for e, g in zip(res.energies, res.conductance):
+        print(f"  {e:+.4f}    {g:.6f}")
+    return 0
+
+
 def run(args: argparse.Namespace) -> int:
-    return {"flake": _flake, "cluster": _cluster, "landau": _landau}[args.task](args)
+    return {"flake": _flake, "cluster": _cluster, "landau": _landau, "conductance": _conductance}[args.task](args)
 
 
 from hyperlattice._validate import guard_public as _guard_public  # noqa: E402

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 
 from ..results import register_plotter
 from . import basic, bosons, boundary, device, disorder, dos, green, limits, magnetic, paper, qmc_lobe, scaling
-from . import spins_classical
+from . import spins_classical, topology
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -88,6 +88,8 @@ _DRAWINGS = {
     # classical spins
     "ClassicalResult": spins_classical.plot_classical,
     "TemperingResult": spins_classical.plot_tempering,
+    # topological bands
+    "Conductance": topology.plot_conductance,
 }
 
 for _tag, _func in _DRAWINGS.items():

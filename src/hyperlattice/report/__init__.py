@@ -118,6 +118,7 @@ def reproduce(out_dir: str | Path = "reproduction", max_rings: int = 10, *, cach
     from .infinite import band_interval_sentence, infinite_section
     from .limits import limits_section
     from .magnetism import magnetism_section
+    from .topology import topology_section
     from .writers import write_html, write_md
 
     if isinstance(max_rings, bool) or not isinstance(max_rings, (int, np.integer)) or not 2 <= max_rings <= 14:
@@ -144,7 +145,8 @@ def reproduce(out_dir: str | Path = "reproduction", max_rings: int = 10, *, cach
     infinite.text.append(band_interval_sentence(limits, infinite))
     beyond = [magnetic, limits, infinite, holography_section(out, progress), qubits_section(out, progress),
               disorder_section(out, progress), bosons_section(out, progress), qmc_lobe_section(out, progress),
-              magnetism_section(out, progress)]
+              magnetism_section(out, progress),
+              topology_section(out, progress)]
     # the paper's sections in the order the paper prints them (main text, then the appendices), then the rest
     sections = [fig1, counts, spec_section, fig2, green, scaling, geometry] + beyond
 
