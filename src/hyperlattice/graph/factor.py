@@ -453,10 +453,12 @@ class SymbolicAnalysis:
     def _transpose_positions(self) -> np.ndarray | None:
         """Position in ``matrix.data`` of the transposed partner of every entry, for a structurally
         symmetric analysed pattern (computed once per pattern); None when the pattern is not symmetric."""
-        m = self.matrix
+        # every matrix an analysis holds is on its analysed pattern (factor, view and with_values
+        # check or keep it), so the map is computed once per analysis
         cached = getattr(self, "_tpos", None)
-        if cached is not None and cached[0] is m.indices:
-            return cached[1]
+        if cached is not None:
+            return cached[0]
+        m = self.matrix
         tpos = None
         if m.nnz:
             # the transpose of the pattern with the entry numbers as values: for a symmetric pattern
@@ -464,7 +466,7 @@ class SymbolicAnalysis:
             t = sp.csc_matrix((np.arange(m.nnz, dtype=np.int64), m.indices, m.indptr), shape=m.shape).T.tocsc()
             if np.array_equal(t.indptr, m.indptr) and np.array_equal(t.indices, m.indices):
                 tpos = np.asarray(t.data, dtype=np.int64)
-        self._tpos = (m.indices, tpos)
+        self._tpos = (tpos,)
         return tpos
 
     def _bytes(self, factor_entries: int) -> int:
@@ -546,6 +548,8 @@ class SymbolicAnalysis:
                     raise ValueError(f"mat ({self.what}) has entries that are NaN or infinite.")
                 mat = sp.csc_matrix((matrix.data.copy(), self.matrix.indices, self.matrix.indptr),
                                     shape=self.matrix.shape)
+                # the constructor copies the index arrays: share the analysed ones instead
+                mat.indices, mat.indptr = self.matrix.indices, self.matrix.indptr
                 mat.has_sorted_indices = True
             else:
                 mat = _with_diagonal(_as_square(matrix, self.what))
