@@ -427,15 +427,47 @@ class SymbolicAnalysis:
         if getattr(self, "_hermitian_of", None) is self.matrix:
             return
         m = self.matrix
-        scale = float(abs(m).max()) if m.nnz else 0.0
-        gap = float(abs(m - m.conj().T).max()) if m.nnz else 0.0
+        tpos = self._transpose_positions()
+        if tpos is not None:
+            # one gather over the values: entry k of H^+ sits at tpos[k] of the (structurally
+            # symmetric) analysed pattern, so no transposed copy of H is built for every shift
+            data = m.data
+            mod = np.abs(data)
+            scale = float(mod.max())
+            gap = float(np.abs(data - data[tpos].conj()).max())
+        else:
+            scale = float(abs(m).max()) if m.nnz else 0.0
+            gap = float(abs(m - m.conj().T).max()) if m.nnz else 0.0
         if gap > _validate.HERMITIAN_RTOL * scale:
             kind = "Hermitian" if self.complex else "symmetric"
             raise ValueError(f"{self.what} must be {kind} for an LDL^T factorisation and its eigenvalue count "
                              f"(max |H - H^+| = {gap:.3g}, largest entry {scale:.3g}); pivoting=True factorises "
                              "any matrix by a plain LU.")
         self._hermitian_of = m
-        self.norm = float(abs(m).sum(axis=0).max()) if m.nnz else 0.0     # ||H||_1 >= ||H||_2
+        if tpos is not None:
+            # every column holds its diagonal entry, so no column is empty for reduceat
+            self.norm = float(np.add.reduceat(mod, m.indptr[:-1]).max())     # ||H||_1 >= ||H||_2
+        else:
+            self.norm = float(abs(m).sum(axis=0).max()) if m.nnz else 0.0     # ||H||_1 >= ||H||_2
+
+    def _transpose_positions(self) -> np.ndarray | None:
+        """Position in ``matrix.data`` of the transposed partner of every entry, for a structurally
+        symmetric analysed pattern (computed once per pattern); None when the pattern is not symmetric."""
+        # every matrix an analysis holds is on its analysed pattern (factor, view and with_values
+        # check or keep it), so the map is computed once per analysis
+        cached = getattr(self, "_tpos", None)
+        if cached is not None:
+            return cached[0]
+        m = self.matrix
+        tpos = None
+        if m.nnz:
+            # the transpose of the pattern with the entry numbers as values: for a symmetric pattern
+            # (sorted, canonical: _with_diagonal) it has the same layout, and its values are the map
+            t = sp.csc_matrix((np.arange(m.nnz, dtype=np.int64), m.indices, m.indptr), shape=m.shape).T.tocsc()
+            if np.array_equal(t.indptr, m.indptr) and np.array_equal(t.indices, m.indices):
+                tpos = np.asarray(t.data, dtype=np.int64)
+        self._tpos = (tpos,)
+        return tpos
 
     def _bytes(self, factor_entries: int) -> int:
         per_entry = self._item + _ENTRY_OVERHEAD
@@ -506,12 +538,29 @@ class SymbolicAnalysis:
             If ``matrix`` does not have the analysed pattern or type.
         """
         if matrix is not None:
-            mat = _with_diagonal(_as_square(matrix, self.what))
-            if (mat.shape != self.matrix.shape or not np.array_equal(mat.indptr, self.matrix.indptr)
-                    or not np.array_equal(mat.indices, self.matrix.indices)):
-                raise ValueError("the matrix does not have the analysed sparsity pattern.")
-            if np.iscomplexobj(mat.data) != self.complex:
-                raise ValueError("the matrix is not of the analysed type (real or complex).")
+            if (type(matrix) is sp.csc_matrix and not self.complex and matrix.dtype == np.float64
+                    and matrix.shape == self.matrix.shape and np.array_equal(matrix.indptr, self.matrix.indptr)
+                    and np.array_equal(matrix.indices, self.matrix.indices)):
+                # a real matrix on the analysed pattern itself (the sector blocks of one kind): its
+                # values are copied onto the analysed index arrays, without a conversion or a
+                # diagonal scan, and the pattern-level data (transposed positions) is kept
+                if not np.all(np.isfinite(matrix.data)):
+                    raise ValueError(f"mat ({self.what}) has entries that are NaN or infinite.")
+                mat = sp.csc_matrix((matrix.data.copy(), self.matrix.indices, self.matrix.indptr),
+                                    shape=self.matrix.shape)
+                # the constructor copies the index arrays: share the analysed ones instead
+                mat.indices, mat.indptr = self.matrix.indices, self.matrix.indptr
+                mat.has_sorted_indices = True
+            else:
+                mat = _with_diagonal(_as_square(matrix, self.what))
+                if (mat.shape != self.matrix.shape or not np.array_equal(mat.indptr, self.matrix.indptr)
+                        or not np.array_equal(mat.indices, self.matrix.indices)):
+                    raise ValueError("the matrix does not have the analysed sparsity pattern.")
+                if np.iscomplexobj(mat.data) != self.complex:
+                    raise ValueError("the matrix is not of the analysed type (real or complex).")
+                # the same pattern: keep the analysed index arrays (and what was learnt from them)
+                mat = sp.csc_matrix((mat.data, self.matrix.indices, self.matrix.indptr), shape=self.matrix.shape)
+                mat.has_sorted_indices = True
             self.matrix = mat
         return Factor(self, sigma, positive=positive, pivoting=pivoting)
 

@@ -520,25 +520,37 @@ def _kernels():
 class _BlockFactory:
     """Mirror-reduced blocks of one SectorLattice: the pattern of each kind is built once."""
 
-    def __init__(self, slat: SectorLattice):
+    def __init__(self, slat: SectorLattice, *, diagonal: bool = False):
         self.slat = slat
+        # diagonal: every diagonal entry stored (zero where no term lands), the pattern the
+        # factorisation layer analyses, so that no block is copied to insert them at every shift
+        self.diagonal = diagonal
         self._patterns = {}
+        self._bases = {}
+
+    def _basis(self, mirror: str):
+        if mirror not in self._bases:
+            self._bases[mirror] = mirror_basis(self.slat, mirror)
+        return self._bases[mirror]
 
     def _pattern(self, mirror: str):
         if mirror not in self._patterns:
             slat = self.slat
             k = _kernels()
-            idx, mag, gamma, dim = mirror_basis(slat, mirror)
+            idx, mag, gamma, dim = self._basis(mirror)
             nz = np.count_nonzero(mag, axis=0)
             count = int(np.dot(nz[slat.rows].astype(np.int64), nz[slat.cols]))
-            out_r = np.empty(count, dtype=np.int32)
-            out_c = np.empty(count, dtype=np.int32)
+            extra = dim if self.diagonal else 0
+            out_r = np.empty(count + extra, dtype=np.int32)
+            out_c = np.empty(count + extra, dtype=np.int32)
             k["pattern"](slat.rows, slat.cols, idx.astype(np.int32), mag, out_r, out_c)
-            pat = sp.csr_matrix((np.ones(count, dtype=np.int8), (out_r, out_c)), shape=(dim, dim))
+            if extra:
+                out_r[count:] = out_c[count:] = np.arange(dim, dtype=np.int32)
+            pat = sp.csr_matrix((np.ones(count + extra, dtype=np.int8), (out_r, out_c)), shape=(dim, dim))
             pat.sum_duplicates()
             pat.sort_indices()
             slot = np.empty(count, dtype=np.int32 if count < 2**31 else np.int64)
-            k["slots"](out_r, out_c, pat.indptr, pat.indices, slot)
+            k["slots"](out_r[:count], out_c[:count], pat.indptr, pat.indices, slot)
             del out_r, out_c
             quarter = np.rint(gamma / (0.5 * np.pi)).astype(np.int64)
             self._patterns[mirror] = (pat.indptr, pat.indices, slot, mag, quarter, dim)
@@ -546,9 +558,13 @@ class _BlockFactory:
 
     def dim(self, mirror: str) -> int:
         """Dimension of the blocks of this kind."""
-        return mirror_basis(self.slat, mirror)[3] if mirror not in self._patterns else self._patterns[mirror][5]
+        return self._basis(mirror)[3] if mirror not in self._patterns else self._patterns[mirror][5]
 
-    def block(self, m: int, mirror: str, t: float) -> sp.csr_matrix:
+    def block(self, m: int, mirror: str, t: float, *, csc: bool = False):
+        """The real block (m, mirror) as CSR, or with ``csc`` as CSC on the same arrays: the block is
+        symmetric (each value is the same sum of the same terms at both ends of an edge), so its CSR
+        arrays are its CSC arrays too (up to the rounding of the order in which three or more terms
+        are summed into one entry), and the factorisation layer needs no conversion."""
         indptr, indices, slot, mag, quarter, dim = self._pattern(mirror)
         slat = self.slat
         p = slat.p
@@ -558,7 +574,7 @@ class _BlockFactory:
                              mag, quarter, int(m), int(p), float(t), np.cos(np.pi * kappa / p),
                              np.sin(np.pi * kappa / p), slot, data)
         # the imaginary parts cancel between mirror images (B is real), so the real parts are B
-        mat = sp.csr_matrix((data, indices, indptr), shape=(dim, dim))
+        mat = (sp.csc_matrix if csc else sp.csr_matrix)((data, indices, indptr), shape=(dim, dim))
         mat.has_sorted_indices = True
         return mat
 
@@ -912,18 +928,20 @@ class _Blocks:
         self.slat = slat
         self.t = t
         self.timings = timings
-        self._factory = _BlockFactory(slat)
+        # CSC with every diagonal entry stored: the layout graph/factor analyses and factorises, so a
+        # block goes to CHOLMOD at every shift without a conversion or a copy to insert its diagonal
+        self._factory = _BlockFactory(slat, diagonal=True)
         self._held = {}
 
     def dims(self) -> dict:
         """Rows of the blocks of each kind ("even", "odd", "real")."""
         return {kind: self._factory.dim(kind) for kind in ("even", "odd", "real")}
 
-    def get(self, spec, keep: bool) -> sp.csr_matrix:
+    def get(self, spec, keep: bool) -> sp.csc_matrix:
         if spec in self._held:
             return self._held[spec]
         t0 = time.perf_counter()
-        mat = self._factory.block(spec[0], spec[1], self.t)
+        mat = self._factory.block(spec[0], spec[1], self.t, csc=True)
         self.timings[f"block {spec[0]} {spec[1]}"] = time.perf_counter() - t0
         if keep:
             self._held[spec] = mat
