@@ -632,8 +632,9 @@ class _Chain:
         self.gbins = np.zeros((max(green.blocks, 1), g, g))
         self.gcur = np.zeros((g, g))
         self.ginfo = np.array([0, 1, 0], dtype=np.int64)
-        # the first string length: a quarter of the expected bound, so that the 4/3 growth per
-        # thermalisation sweep reaches a large string in a few sweeps, not in dozens
+        # the first string length: a quarter of the expected bound, so that the growth per
+        # thermalisation sweep (4/3, or 2 when the string is full) reaches a large string in a few
+        # sweeps, not in dozens
         self.ops = np.full(max(16, int(length)), -1, dtype=np.int64)
         self.state = np.zeros(model.sites, dtype=np.int64)
         self.rng = K.seed_state(seed)
