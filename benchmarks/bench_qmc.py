@@ -35,7 +35,10 @@ Usage::
     python benchmarks/bench_qmc.py --quick          # fewer sweeps, no worm (a smoke run)
     python benchmarks/bench_qmc.py --scale          # the 10^4-site run only
     python benchmarks/bench_qmc.py --profile        # where hyperlattice's time goes on one point
+    python benchmarks/bench_qmc.py --phases 6 --therm 60 --sweeps 20   # CPU s sweep by sweep, 2,240 sites
     python benchmarks/bench_qmc.py --points 6 --repeat 4 --no-worm   # one point, 4 seeds per code, ratio +- error
+    python benchmarks/bench_qmc.py --points 9,10 --repeat 4 --sweeps 300 --therm 100 --no-worm
+                                                    # 847 and 2,240 sites; efficiency also from the seeds' scatter
 
 Numbers measured on the project's shared 2-core machine are quoted in docs/qmc.md.
 """
@@ -44,6 +47,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import sys
 import tempfile
 import time
@@ -67,6 +71,9 @@ POINTS = (
     ("l=4 SF b=4", ("flake", 4), 6.0, 3.0, 4.0, 3),
     ("klein Mott b=4", ("cluster", "klein"), 30.0, 15.0, 4.0, 3),
     ("klein SF b=4", ("cluster", "klein"), 6.0, 3.0, 4.0, 3),
+    # the sizes docs/qmc.md advertises: the l = 5 flake (847 sites) and the l = 6 flake (2,240 sites)
+    ("l=5 SF b=8", ("flake", 5), 6.0, 3.0, 8.0, 3),
+    ("l=6 SF b=8", ("flake", 6), 6.0, 3.0, 8.0, 3),
 )
 
 
@@ -166,6 +173,38 @@ def _pool(runs: list[dict]) -> dict:
     return out
 
 
+def _load() -> str:
+    """The machine's load averages (1, 5, 15 min), printed with every row."""
+    try:
+        return "load " + " ".join(f"{x:.1f}" for x in os.getloadavg())
+    except OSError:
+        return "load unknown"
+
+
+def _scatter_eff(c: dict) -> tuple[float, float]:
+    """Efficiency 1/(s^2 x CPU s) of one run from the K seeds' scatter: s^2 the sample variance of the
+    K energies (each run's own error bar unused), CPU s the mean per run (thermalisation included);
+    its relative error sqrt(2/(K-1)) (the chi^2 of s^2, Gaussian means) with the CPU spread added."""
+    runs = c["runs"]
+    k = len(runs)
+    if k < 2:
+        return math.nan, math.nan
+    e = np.array([r["energy"] for r in runs])
+    cpu = np.array([r["cpu_seconds"] for r in runs])
+    eff = 1.0 / (float(np.var(e, ddof=1)) * float(cpu.mean()))
+    rel2 = 2.0 / (k - 1) + float(np.var(cpu, ddof=1)) / (k * float(cpu.mean()) ** 2)
+    return eff, eff * math.sqrt(rel2)
+
+
+def _calibration(c: dict) -> float:
+    """Root mean square of the runs' own energy errors over the seeds' scatter (1 when calibrated)."""
+    runs = c["runs"]
+    if len(runs) < 2:
+        return math.nan
+    e = np.array([r["energy"] for r in runs])
+    return float(np.sqrt(np.mean([r["energy_err"] ** 2 for r in runs])) / np.std(e, ddof=1))
+
+
 def _ratio(a: dict, b: dict) -> tuple[float, float]:
     """Efficiency ratio of two pooled codes and its error: the delta method on the standard errors of the
     mean of each code's K per-seed efficiencies (NaN for K = 1: one run has no spread)."""
@@ -181,7 +220,7 @@ def _ratio(a: dict, b: dict) -> tuple[float, float]:
 
 
 def table(points, work: Path, *, sweeps: int, alps_sweeps: int, worm_sweeps: int, worm: bool,
-          seed: int, repeat: int = 1) -> list[dict]:
+          seed: int, repeat: int = 1, therm: int | None = None, alps_therm: int | None = None) -> list[dict]:
     """The benchmark table; with ``repeat`` K > 1, K independent seeds (seed, seed + 1, ...) per code and
     point, pooled by :func:`_pool` (one efficiency per code from the merged error and the total CPU s)."""
     rows = []
@@ -193,9 +232,10 @@ def table(points, work: Path, *, sweeps: int, alps_sweeps: int, worm_sweeps: int
             sd = seed + rep
             sfx = f"-s{sd}" if repeat > 1 else ""
             hls.append(_hl(system, U=U, mu=mu, beta=beta, nmax=nmax, sweeps=sweeps,
-                           thermalization=max(200, sweeps // 5), seed=sd))
+                           thermalization=therm if therm is not None else max(200, sweeps // 5), seed=sd))
             dls.append(run_alps("dirloop_sse", system, U=U, mu=mu, beta=beta, nmax=nmax, sweeps=alps_sweeps,
-                                thermalization=max(200, alps_sweeps // 5), seed=sd,
+                                thermalization=(alps_therm if alps_therm is not None else therm if therm is not None
+                                                else max(200, alps_sweeps // 5)), seed=sd,
                                 workdir=work / f"{tag}-dirloop{sfx}"))
             if worm:
                 wms.append(run_alps("worm", system, U=U, mu=mu, beta=beta, nmax=nmax, sweeps=worm_sweeps,
@@ -230,7 +270,15 @@ def _print_row(row, header: bool) -> None:
     print(f"| {row['label']} | {row['sites']} | {h['energy']:.3f} ± {h['energy_err']:.3f} | "
           f"{d['energy']:.3f} ± {d['energy_err']:.3f} | {_z(h, d, 'energy'):+.1f} | {zn:+.1f} | {cpu} | "
           f"{eh:.3g} | {ed:.3g} | {ew:.3g} | {_fmt_ratio(*_ratio(h, d))} | {rw} |", flush=True)
+    print(f"  ({_load()})")
     if row["repeat"] > 1:
+        sh, sd_ = _scatter_eff(h), _scatter_eff(d)
+        rs = sh[0] / sd_[0]
+        rse = rs * math.hypot(sh[1] / sh[0], sd_[1] / sd_[0])
+        print(f"  from the seeds' scatter (K = {row['repeat']}, mean CPU s per run): eff hl {sh[0]:.3g} ± {sh[1]:.2g}, "
+              f"dl {sd_[0]:.3g} ± {sd_[1]:.2g}, hl/dl {rs:.2f} ± {rse:.2f}; own error / scatter: hl "
+              f"{_calibration(h):.2f}, dl {_calibration(d):.2f}")
+        row["scatter_ratio"] = (rs, rse)
         print("  per-seed efficiencies: hl " + " ".join(f"{e:.3g}" for e in h["effs"]) + "; dl "
               + " ".join(f"{e:.3g}" for e in d["effs"])
               + ("; worm " + " ".join(f"{e:.3g}" for e in w["effs"]) if w is not None else ""))
@@ -268,6 +316,49 @@ def scale(sweeps: int, therm: int, seed: int, checkpoint: str | None = None) -> 
         print(f"  warning: {w.message}")
 
 
+def phases(rings: int, beta: float, therm: int, sweeps: int, seed: int, green: bool) -> None:
+    """Where hyperlattice's CPU time goes, sweep by sweep, on the {7,3} flake of ``rings`` rings (U = 6,
+    mu = 3, nmax = 3): the string (operators n, length M), the loops per sweep and their mean length,
+    and the CPU seconds of each thermalisation and measurement sweep (the chain's own kernel calls,
+    one sweep each, so that the first sweeps of a short string show)."""
+    import hyperlattice as hl
+    from hyperlattice.bosons import sse
+
+    U, mu, nmax = 6.0, 3.0, 3
+    lat = hl.ring_lattice(7, 3, rings)
+    model = sse._bonded_model(lat, 1.0)
+    wind, _ = sse._bond_windings(lat, model, None)
+    eps, esite, cb = sse._weights(model, U, mu, nmax)
+    K = sse._load_kernels()
+    bound = sse._check_memory(model, beta, cb, nmax, U, mu, green)
+    sq = np.sqrt(np.arange(nmax + 2, dtype=float))
+    g = sse._green_setup(model, green)
+    tables = sse._exit_tables(model, esite, cb, nmax, sq)
+    args = (beta, model, model.tb, cb, esite, sq, nmax, g, tables, eps, wind)
+    warm = sse._Chain(model, seed + 1, g, length=min(bound / 4, 1e8), windings=wind.shape[1])
+    warm.advance(K, 2, True, *args)          # compile
+    warm.advance(K, 2, False, *args)
+    ch = sse._Chain(model, seed, g, length=min(bound / 4, 1e8), windings=wind.shape[1])
+    print(f"\nphases: {{7,3}} flake l = {rings}, {lat.sites:,} sites, beta = {beta:g}, U = {U:g}, mu = {mu:g}, "
+          f"nmax = {nmax}, G {'measured' if green else 'not measured'}; string bound {bound:,.0f}, first length "
+          f"{ch.ops.size:,}; {_load()}")
+    tot = {True: 0.0, False: 0.0}
+    for s in range(therm + sweeps):
+        th = s < therm
+        c0 = time.process_time()
+        ch.advance(K, 1, th, *args)
+        dt = time.process_time() - c0
+        tot[th] += dt
+        if s < 12 or s % 50 == 0 or s == therm:
+            n = int(ch.counters[0])
+            print(f"  {'therm' if th else 'meas '} {s:4d}: n {n:8,d}  M {ch.ops.size:8,d}  loops {int(ch.counters[1]):6d}  "
+                  f"mean loop {ch.loopstat[0] / max(ch.loopstat[1], 1.0):9.0f} legs  {dt:6.3f} CPU s  "
+                  f"{dt / max(n, 1) * 1e6:5.2f} us/operator  total {tot[True] + tot[False]:6.1f} s", flush=True)
+    print(f"  thermalisation {therm} sweeps {tot[True]:.1f} CPU s; measurement {sweeps} sweeps {tot[False]:.1f} CPU s "
+          f"({tot[False] / max(sweeps, 1):.3f} s per sweep, "
+          f"{tot[False] / max(sweeps, 1) / max(int(ch.counters[0]), 1) * 1e6:.2f} us per operator); {_load()}")
+
+
 def profile(sweeps: int, seed: int) -> None:
     """Split hyperlattice's time on the l = 3 superfluid point: kernels against the Python around them."""
     import cProfile
@@ -287,6 +378,8 @@ def main(argv=None) -> int:
     ap.add_argument("--alps-sweeps", type=int, default=None, help="sweeps of ALPS dirloop_sse (default: --sweeps)")
     ap.add_argument("--worm-sweeps", type=int, default=None, help="sweeps of ALPS worm (default: --sweeps)")
     ap.add_argument("--seed", type=int, default=17)
+    ap.add_argument("--therm", type=int, default=None,
+                    help="thermalisation sweeps of both SSE codes (default max(200, sweeps/5) each)")
     ap.add_argument("--repeat", type=int, default=1,
                     help="independent seeds per code and point (seed, seed + 1, ...), pooled; K > 1 gives the "
                          "efficiency ratio an error bar from the spread of the per-seed efficiencies")
@@ -300,9 +393,17 @@ def main(argv=None) -> int:
                     help="checkpoint directory of the scale run: a rerun resumes there (--scale-sweeps may grow); "
                          "the CPU and wall times printed are this process's only")
     ap.add_argument("--scale-therm", type=int, default=60,
-                    help="thermalisation sweeps of the scale run (the string grows by 4/3 per sweep from 100 "
-                         "operators: about 40 sweeps to reach the ~10^6 of this point)")
+                    help="thermalisation sweeps of the scale run (the string starts at a quarter of its bound "
+                         "and grows by 4/3 per sweep, 2 when full: a few sweeps to reach the ~10^6 of this point)")
     ap.add_argument("--profile", action="store_true", help="only profile hyperlattice on one point")
+    ap.add_argument("--phases", type=int, default=None, metavar="RINGS",
+                    help="only hyperlattice's CPU seconds sweep by sweep on the {7,3} flake of RINGS rings at U = 6, "
+                         "mu = 3, nmax = 3, beta = --phases-beta (--therm and --sweeps sweeps)")
+    ap.add_argument("--phases-beta", type=float, default=8.0)
+    ap.add_argument("--alps-therm", type=int, default=None,
+                    help="thermalisation sweeps of dirloop_sse when it needs other than --therm (its string grows "
+                         "slower: at 847 sites 100 sweeps stop it with 'nnonzero reached the maximum value')")
+    ap.add_argument("--green", action="store_true", help="with --phases: measure the Green function too")
     ap.add_argument("--workdir", default=None, help="keep ALPS's files here (default: a temporary directory)")
     args = ap.parse_args(argv)
     if args.repeat < 1:
@@ -314,6 +415,10 @@ def main(argv=None) -> int:
         return 0
     if args.profile:
         profile(args.sweeps, args.seed)
+        return 0
+    if args.phases is not None:
+        phases(args.phases, args.phases_beta, 200 if args.therm is None else args.therm, args.sweeps, args.seed,
+               args.green)
         return 0
     points = POINTS
     sweeps, worm = args.sweeps, not args.no_worm
@@ -327,7 +432,8 @@ def main(argv=None) -> int:
         if args.validate:
             ok = validate(work, 20000 if not args.quick else 4000)
         rows = table(points, work, sweeps=sweeps, alps_sweeps=args.alps_sweeps or sweeps,
-                     worm_sweeps=args.worm_sweeps or args.alps_sweeps or sweeps, worm=worm, seed=args.seed, repeat=args.repeat)
+                     worm_sweeps=args.worm_sweeps or args.alps_sweeps or sweeps, worm=worm, seed=args.seed, repeat=args.repeat,
+                     therm=args.therm, alps_therm=args.alps_therm)
     ratios = [_ratio(r["hl"], r["dl"]) for r in rows]
     worst = min(ratios)
     print(f"\nefficiency ratio against dirloop_sse: min {_fmt_ratio(*worst)}, max {_fmt_ratio(*max(ratios))} "
@@ -339,6 +445,10 @@ def main(argv=None) -> int:
         print(f"efficiency ratio against worm: min {_fmt_ratio(*min(rw))}, max {_fmt_ratio(*max(rw))}")
     zmax = max(max(abs(_z(r["hl"], r["dl"], "energy")), abs(_z(r["hl"], r["dl"], "density"))) for r in rows)
     print(f"largest |z| against dirloop_sse (energy, density): {zmax:.1f}")
+    sr = [(r["label"], r["scatter_ratio"]) for r in rows if "scatter_ratio" in r]
+    if sr:
+        print("efficiency ratio from the seeds' scatter: " + ", ".join(f"{lab} {v:.2f} ± {e:.2f}" for lab, (v, e) in sr))
+    print(_load())
     return 0 if ok else 1
 
 

@@ -398,9 +398,14 @@ def _pair_class(k, l, gmode, gclass, zr, zi, omz, hbin, ncls):  # pragma: no cov
 @numba.njit(cache=True)
 def _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
                  vpos, link, legs, first, lastleg, gmode, gfull, gcur, gclass, zr, zi, omz, hbin, vcur, voff,
-                 ncls, gsign, ptab, bclass, ntab):  # pragma: no cover
+                 ncls, gsign, ptab, bclass, ntab, legcap, started):  # pragma: no cover
     r"""Directed-loop update (Syljuåsen & Sandvik 2002; bosons: Syljuåsen 2003) with the
     least-bounce exit probabilities (:func:`_cumulative`). Returns the number of vertex passages.
+
+    ``legcap`` > 0 (thermalisation only) stops starting loops once that many vertex passages are
+    done: far from equilibrium the loops are long and the loop count set from the previous
+    sweep's short loops would run for minutes. ``started[0]`` receives the loops started
+    (starts refused at the cutoff included). Measurement sweeps pass 0 and run ``nloops`` loops.
 
     With ``gmode`` > 0 every position of the head on a segment (after each exit) adds the worm
     estimator of the equal-time one-body density matrix, :math:`N_{\mathrm{gap}}\sqrt{n_h n_t}`
@@ -463,10 +468,12 @@ def _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
     maxlen = 200 * nlegs + 100000
     aborted = False
     saved = legs[:nlegs].copy() if nops > 0 else legs[:0].copy()
+    started[0] = 0
     if nops > 0:
         for _ in range(nloops):
-            if aborted:
+            if aborted or (legcap > 0 and visited >= legcap):
                 break
+            started[0] += 1
             j0 = _below(rng, nlegs)
             steps = 0
             d0 = 1 if _uniform(rng) < 0.5 else -1
@@ -573,9 +580,13 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
         gbins, gcur, ginfo, gsign, ptab, bclass, eps, green_legs, wind):  # pragma: no cover - jitted
     r"""Run ``nsweeps`` sweeps. Returns (ops, nops, nloops) (``ops`` is reallocated when it grows).
 
-    Thermalisation (``thermalize``): after each sweep the string grows to M = 4n/3 when
-    n > 3M/4 (Sandvik), and the loops per sweep are set so that about ``target_legs`` x n
-    vertex legs are visited per sweep (from the running mean loop length in ``loopstat``).
+    Thermalisation (``thermalize``): after each sweep the string grows to M = 4n/3 + 4 sqrt(n)
+    when n > 3M/4 (Sandvik's 4n/3, with room for a short string's fluctuations), to M = 2n when
+    it was full (n >= 0.95 M: the equilibrium length is then unknown, and doubling reaches it in
+    a few sweeps), and the loops per sweep are set so that about ``target_legs`` x n vertex legs
+    are visited per sweep (from the running mean loop length in ``loopstat``); a thermalisation
+    sweep starts no loop once 2 x ``target_legs`` x n legs are visited (the loops of a
+    configuration far from equilibrium are long).
 
     Measurement: per sweep the scalars (n, n^2, N, N^2, N^4, E, E^2) are added to ``scur`` and the
     site occupation sums / M and per-bond off-diagonal counts to ``vcur``. E is the energy estimator
@@ -616,6 +627,7 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
     gfull = gbins.shape[1] == nsites and nsites > 1
     voff = nsites + nbonds
     wvec = np.zeros(wind.shape[1], dtype=np.int64)
+    started = np.zeros(1, dtype=np.int64)
     for sweep in range(nsweeps):
         measure = not thermalize
         if measure:
@@ -663,9 +675,11 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
             legs = np.empty(4 * cap, dtype=np.int32)
         gm = 0 if thermalize else gmode
         nl = max(nloops, int(loopstat[3])) if gm > 0 else nloops
+        # thermalisation: at most twice the sweep's leg budget (see _loop_update)
+        legcap = int(2.0 * target_legs * nops) + 64 if thermalize else 0
         visited = _loop_update(ops, state, nops, nl, bi, bj, tb, cb, esite, sq, nmax, rng,
                                vpos, link, legs, first, lastleg, gm, gfull, gcur, gclass,
-                               zr, zi, omz, hbin, vcur, voff, ncls, gsign, ptab, bclass, ntab)
+                               zr, zi, omz, hbin, vcur, voff, ncls, gsign, ptab, bclass, ntab, legcap, started)
         if visited < 0:     # a runaway loop: this sweep's loop update was undone (counted)
             visited = -1 - visited
             loopstat[2] += 1
@@ -673,7 +687,7 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
             # loops per sweep from the recent mean loop length (aborted starts included); the sums
             # decay so that the short loops of the first sweeps, on a short string, are forgotten
             loopstat[0] = 0.9 * loopstat[0] + visited
-            loopstat[1] = 0.9 * loopstat[1] + nloops
+            loopstat[1] = 0.9 * loopstat[1] + started[0]
             mean_len = loopstat[0] / max(loopstat[1], 1.0)
             want = target_legs * nops / max(mean_len, 1e-3)
             # at most a few loops per operator: a loop visits at least its first vertex
@@ -681,7 +695,12 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
             # the Green-function estimator's loops per measured sweep (its own leg budget)
             loopstat[3] = float(int(min(max(want * green_legs / target_legs, 1.0), 4.0 * (nops + 16))))
             if nops > 0.75 * m:
-                newm = (4 * nops) // 3 + 8
+                # 4n/3 (Sandvik) and 4 sqrt(n) more: a short string's n fluctuates by several
+                # sqrt(n), and a measurement that comes near M is flagged as truncated
+                newm = (4 * nops) // 3 + 8 + int(4.0 * np.sqrt(nops))
+                if nops >= 0.95 * m:
+                    # a full string says nothing of the equilibrium length: double it
+                    newm = 2 * nops + 8
                 new = np.full(newm, -1, dtype=np.int64)
                 # spread the operators evenly (their order is what matters)
                 k = 0
