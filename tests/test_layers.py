@@ -227,7 +227,9 @@ def test_a_result_without_a_drawing_says_so():
 #: order inside the sub-packages whose modules import each other (lowest first): every import
 #: between two of their modules, also a lazy one, points to an earlier module, so a level request
 #: flows down once (spectrum chooses the route -> sectors / symmetry build the blocks -> factor and
-#: solvers solve) and flux, operators and symmetry are leaves below every route (issue 28, item 9)
+#: solvers solve) and flux, operators and symmetry are leaves below every route (issue 28, item 9).
+#: The modules of a package inside one of them (sweep/tasks/: one module per task family) take the
+#: package's place; TASK_FAMILIES holds them apart.
 INNER_ORDER = {
     "graph": ("lattice", "groups", "flux", "operators", "symmetry", "solvers", "factor", "walks", "clusters",
               "bands", "disorder", "kpm", "green", "qubits", "levels", "sectors", "spectrum", "butterfly"),
@@ -240,13 +242,28 @@ def test_imports_inside_a_package_point_down(edges, package):
     order = INNER_ORDER[package]
     prefix = f"hyperlattice.{package}."
     mods = sorted(m for m in edges if m.startswith(prefix))
-    unknown = [m for m in mods if m[len(prefix):] not in order]
+
+    def place(module: str) -> str:
+        return module[len(prefix):].split(".")[0]
+
+    unknown = [m for m in mods if place(m) not in order]
     assert not unknown, f"give these modules a place in INNER_ORDER[{package!r}]: {unknown}"
     rank = {name: k for k, name in enumerate(order)}
     upward = [f"{m}:{line} imports {t}" + ("" if top else " (lazily)")
               for m in mods for t, line, top in edges[m]
-              if t.startswith(prefix) and t != m and rank[t[len(prefix):]] > rank[m[len(prefix):]]]
+              if t.startswith(prefix) and t != m and rank[place(t)] > rank[place(m)]]
     assert not upward, f"imports inside {package}/ must point to an earlier module of INNER_ORDER:\n" + "\n".join(upward)
+
+
+def test_sweep_task_families_stand_alone(edges):
+    """A task family of sweep/tasks/ imports of the sweep only the shared helpers (tasks._common), never
+    another family, the registry or the engine above it: a family is added or changed on its own."""
+    prefix = "hyperlattice.sweep."
+    families = [m for m in edges if m.startswith(prefix + "tasks.") and m != prefix + "tasks._common"]
+    assert len(families) >= 8, families
+    found = sorted(f"{m} imports {t}" for m in families for t, _, _ in edges[m]
+                   if t.startswith(prefix) and t != prefix + "tasks._common")
+    assert not found, "\n".join(found)
 
 
 #: the leaves of a level request: the graph modules each may import (lazily too). Nothing else of graph/,

@@ -94,18 +94,64 @@ def test_weighted_adjacency():
     r = qmc(a, sweeps=6000, thermalization=1000, seed=3, progress=False, **kw)
     _check(r, ex)
     assert r.distance_kind == "graph (hops)"
-    # a site without bonds is refused in one sentence (the loops would draw its occupation
-    # uniformly; docs/qmc.md says so)
-    iso = sp.lil_matrix(a)
-    iso.resize((6, 6))
-    with pytest.raises(ValueError, match="no bond") as exc:
-        qmc(iso.tocsr(), **kw)
-    assert "\n" not in str(exc.value)
     # a self-loop is refused in one sentence, not dropped
     loop = sp.lil_matrix(a)
     loop[2, 2] = 1.0
     with pytest.raises(ValueError, match="self-loop") as exc:
         qmc(loop.tocsr(), **kw)
+    assert "\n" not in str(exc.value)
+
+
+def test_sites_without_bonds_are_added_exactly(tmp_path):
+    """Fuzz case: "an isolated site is refused although docs/qmc.md says isolated sites are added exactly".
+
+    A site without bonds is an independent single-site problem: the chain runs on the bonded sites and
+    the site's exact thermal averages are added. Against exact_thermal of the whole graph (a weighted
+    5-ring with a site without bonds numbered 2), and bit for bit against the chain of the ring alone
+    (same seed: the same chain) plus one exact site.
+    """
+    ring = _ring(5, [1.0, 0.5, 2.0, 1.0, 0.3])
+    grown = sp.lil_matrix(ring)
+    grown.resize((6, 6))
+    order = np.array([0, 1, 5, 2, 3, 4])            # the bondless site 5 becomes site 2
+    a = grown.tocsr()[order][:, order]
+    kw = dict(U=2.0, mu=0.7, beta=1.2, nmax=2)
+    ex = exact_thermal(a, **kw)
+    r = qmc(a, sweeps=6000, thermalization=1000, seed=3, progress=False, **kw)
+    _check(r, ex, names=("energy", "density", "compressibility", "condensate_fraction"))
+    assert r.sites == 6 and r.site_density.shape == (6,) and r.site_density_err[2] == 0
+    assert np.all(np.abs(r.site_density - ex.site_density) < 4 * r.site_density_err + 1e-12)
+    assert np.all(np.abs(r.green_matrix - ex.green) < 0.05)
+    assert r.green_matrix[2, 2] == r.site_density[2] and not np.any(np.delete(r.green_matrix[2], 2))
+    assert sorted(map(tuple, r.bonds.tolist())) == [(0, 1), (0, 5), (1, 3), (3, 4), (4, 5)]
+    assert r.green_distance[-1] == np.inf and r.green[-1] == 0 and r.green_pairs.sum() == 6 * 5
+    assert any("without bonds" in n for n in r.notes)
+    # the same chain as the ring's: only the exact site differs
+    alone = qmc(ring, sweeps=6000, thermalization=1000, seed=3, progress=False, **kw)
+    n = np.arange(3.0)
+    eps = 0.5 * kw["U"] * n * (n - 1) - kw["mu"] * n
+    w = np.exp(-kw["beta"] * (eps - eps.min()))
+    w /= w.sum()
+    e1, n1, v1 = w @ eps, w @ n, w @ n ** 2 - (w @ n) ** 2
+    assert r.energy == pytest.approx(alone.energy + e1, rel=1e-13) and r.energy_err == alone.energy_err
+    assert r.density == pytest.approx((5 * alone.density + n1) / 6, rel=1e-13)
+    assert r.compressibility == pytest.approx((5 * alone.compressibility + kw["beta"] * v1) / 6, rel=1e-13)
+    assert r.site_density[2] == pytest.approx(n1, rel=1e-13)
+    # the bondless site enters the chain's identity: a checkpoint of the ring alone is not resumed
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hl.bosons.QMCWarning)        # short chains
+        qmc(ring, sweeps=20, thermalization=10, seed=3, progress=False, checkpoint=tmp_path, **kw)
+        with pytest.raises(ValueError, match="other parameters"):
+            qmc(a, sweeps=20, thermalization=10, seed=3, progress=False, checkpoint=tmp_path, **kw)
+        # merging chains of the graph keeps the exact part
+        m = merge_chains([r, qmc(a, sweeps=1000, thermalization=200, seed=4, progress=False, **kw)])
+    assert m.sites == 6 and m.site_density_err[2] == 0
+    _check(m, ex)
+    # a graph without any bond is still refused in one sentence
+    with pytest.raises(ValueError, match="no bonds") as exc:
+        qmc(sp.csr_matrix((3, 3)), **kw)
     assert "\n" not in str(exc.value)
 
 

@@ -140,6 +140,10 @@ class _Model:
     d0: float | None        # edge length of the {p,q} lattice (flakes and clusters)
     label: str
     kind: str               # "flake", "cluster" or "graph"
+    # sites without bonds, left out of the chain and added exactly (indices of the graph given, which
+    # has ``full_sites`` sites); empty for every flake and cluster
+    dropped: tuple = ()
+    full_sites: int = 0
 
 
 def _matrix(system):
@@ -181,7 +185,7 @@ def _matrix(system):
                      f"{_validate._shown(system)}.")
 
 
-def _model(system, t: float) -> _Model:
+def _model(system, t: float, isolated: bool = False) -> _Model:
     mat, z, d0, kind, label = _matrix(system)
     n = mat.shape[0]
     up = sp.triu(mat, k=1).tocoo()
@@ -216,13 +220,34 @@ def _model(system, t: float) -> _Model:
                              "use exact diagonalisation or mean field instead.")
     tb = np.abs(hop).astype(float)
     degree = np.bincount(np.concatenate([bi, bj]), minlength=n).astype(np.int64)
-    if bi.size and np.any(degree == 0):
+    if bi.size and np.any(degree == 0) and not isolated:
         # the directed loops draw the occupation of a site that no operator touches uniformly from
         # 0..nmax (right for a bonded site, whose on-site energy lives in its bond vertices; wrong
-        # for a site without bonds, whose energy has no vertex at all)
+        # for a site without bonds, whose energy has no vertex at all): see _drop_isolated
         raise ValueError(f"{int(np.sum(degree == 0))} site(s) have no bond (e.g. site {int(np.argmax(degree == 0))}); "
                          "remove them and add their single-site thermal averages (exact_thermal of one site).")
     return _Model(n, bi, bj, tb, gauge, degree, z, d0, label, kind)
+
+
+def _drop_isolated(model: _Model) -> _Model:
+    """The model of the bonded sites alone (renumbered in order), recording the sites without bonds.
+
+    The directed loops draw the occupation of a site that no operator touches uniformly from
+    0..nmax: the right weight for a bonded site (its on-site energy lives in its bond vertices),
+    the wrong one for a site without bonds, whose energy has no vertex at all. Such a site is an
+    independent single-site problem: it is left out of the chain and its exact thermal average is
+    added to the results (:func:`_add_isolated`). A model without such sites is returned as it is.
+    """
+    iso = model.degree == 0
+    if not iso.any() or model.bi.size == 0:
+        return model
+    keep = np.flatnonzero(~iso)
+    new = np.full(model.sites, -1, dtype=np.int64)
+    new[keep] = np.arange(keep.size)
+    # the renumbering is monotone: the bonds keep their order (and their windings, row by row)
+    return _Model(int(keep.size), new[model.bi], new[model.bj], model.tb, model.gauge[keep], model.degree[keep],
+                  None if model.z is None else model.z[keep], model.d0, model.label, model.kind,
+                  tuple(int(i) for i in np.flatnonzero(iso)), model.sites)
 
 
 def _bond_windings(system, model: _Model, windings) -> tuple[np.ndarray, str]:
@@ -613,6 +638,8 @@ def _fingerprint(model: _Model, U, mu, t, beta, nmax, seed, wind=None) -> str:
         h.update(np.ascontiguousarray(a).tobytes())
     if wind is not None and wind.shape[1]:
         h.update(b"windings" + np.ascontiguousarray(wind).tobytes())
+    if model.dropped:           # sites without bonds (added exactly): part of the graph, not of the chain
+        h.update(b"isolated" + np.asarray(model.dropped + (model.full_sites,), dtype=np.int64).tobytes())
     h.update(json.dumps([model.sites, U, mu, t, beta, nmax, seed, OFFSET, _TARGET_LEGS,
                          _EXIT_RULE, _GREEN_LEGS, _SCALAR_BINS, _VECTOR_BINS, _SCALARS]).encode())
     return h.hexdigest()
@@ -848,12 +875,13 @@ def _physical_inputs(U, mu, t, beta, nmax) -> tuple:
     return U, mu, t, beta, nmax
 
 
-def _bonded_model(system, t: float) -> "_Model":
-    """:func:`_model`, refusing a graph without bonds (its sites are independent)."""
-    model = _model(system, t)
+def _bonded_model(system, t: float, whole: bool = False) -> "_Model":
+    """:func:`_model` of the bonded sites (:func:`_drop_isolated`; ``whole``: of every site), refusing a graph
+    without bonds (its sites are independent)."""
+    model = _model(system, t, isolated=True)
     if model.bi.size == 0:
         raise ValueError("the graph has no bonds: the sites are independent (use exact_thermal).")
-    return model
+    return model if whole else _drop_isolated(model)
 
 
 def qmc_memory(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0,
@@ -1080,11 +1108,15 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
     the condensate fraction is the superfluid indicator; an adjacency matrix carries no windings
     unless they are given.
 
-    Sites without bonds (an adjacency with empty rows) are refused: the loops draw the occupation
-    of a site that no operator touches uniformly (its on-site energy lives in the bond vertices),
-    which is the right weight for a bonded site and the wrong one for a site without bonds; such a
-    site is independent, its averages those of :func:`exact_thermal` on one site. A self-loop (a
-    diagonal entry of the adjacency) is refused too: an on-site energy belongs in μ.
+    Sites without bonds (an adjacency with empty rows) are independent single-site problems: the
+    chain runs on the bonded sites, and each site without bonds adds its exact thermal averages
+    (those of :func:`exact_thermal` on one site) to the energy, the density, the compressibility
+    (the variances of independent parts add), the site densities and G(i, i), with G(i, j) = 0 to
+    every other site; a note says so. (The loops could not sample such a site: they draw the
+    occupation of a site that no operator touches uniformly, the right weight for a bonded site,
+    whose on-site energy lives in its bond vertices, and the wrong one for a site without bonds.)
+    A graph without any bond is refused (use :func:`exact_thermal`). A self-loop (a diagonal entry
+    of the adjacency) is refused: an on-site energy belongs in μ.
 
     The one-body density matrix comes from the loop construction (Dorneich & Troyer, PRE 64,
     066701 (2001); in the directed-loop form of Syljuåsen & Sandvik, PRE 66, 046701 (2002) and
@@ -1158,8 +1190,9 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
     if seed is not None:
         seed = _validate.integer("seed", seed, minimum=0)
     measure_green = _validate.flag("measure_green", measure_green)
-    model = _bonded_model(system, t)
-    wind, wind_note = _bond_windings(system, model, windings)
+    whole = _bonded_model(system, t, whole=True)
+    wind, wind_note = _bond_windings(system, whole, windings)
+    model = _drop_isolated(whole)           # the chain runs on the bonded sites (the bonds keep their order)
     eps, esite, cb = _weights(model, U, mu, nmax)
     K = _load_kernels()          # before the check: the available memory is then what the chain has
     bound = _check_memory(model, beta, cb, nmax, U, mu, measure_green)
@@ -1171,9 +1204,74 @@ def qmc(system, *, U: float, mu: float, beta: float, nmax: int, t: float = 1.0, 
 
             stack.enter_context(_checkpoint.locked(ckdir, _LOCK_FILE))
         stop = stack.enter_context(_stop_signals())
-        return _run_chain(K, model, wind, wind_note, eps, esite, cb, bound, stop, ckdir, system_args=dict(
+        result = _run_chain(K, model, wind, wind_note, eps, esite, cb, bound, stop, ckdir, system_args=dict(
             U=U, mu=mu, t=t, beta=beta, nmax=nmax, sweeps=sweeps, thermalization=thermalization, seed=seed,
             measure_green=measure_green, progress=progress))
+    return _add_isolated(result, whole, eps, beta) if model.dropped else result
+
+
+def _add_isolated(r: QMCResult, whole: _Model, eps: np.ndarray, beta: float) -> QMCResult:
+    """The result on the whole graph from the chain of its bonded sites (:func:`_drop_isolated`).
+
+    A site without bonds is an independent single-site problem with the exact thermal averages of
+    :func:`_isolated`: they are added to the energy, to N and to var N (the sites are independent
+    of the rest, so the variances add), the site densities and G(i, i) = <n_i>; G(i, j) = 0 between
+    it and any other site (the pairs of the distance class inf). The chain's error bars carry over
+    (an exact term has none); the condensate fraction max(lambda_max(G_b), <n_i>) / Tr G is
+    propagated to first order, linearly (conservatively) in the chain's fraction and trace.
+    """
+    e_iso, n_iso, var_iso, dens = _isolated(whole, eps, beta)
+    n, mb = whole.sites, r.sites
+    keep = np.flatnonzero(whole.degree > 0)
+    iso = np.flatnonzero(whole.degree == 0)
+    sd_err = np.zeros(n)
+    sd = dens.copy()
+    sd[keep], sd_err[keep] = r.site_density, r.site_density_err
+    out = {"sites": n, "energy": r.energy + e_iso, "density": (r.density * mb + n_iso) / n,
+           "density_err": r.density_err * mb / n,
+           "compressibility": (r.compressibility * mb + beta * var_iso) / n,
+           "compressibility_err": r.compressibility_err * mb / n, "site_density": sd, "site_density_err": sd_err,
+           "bonds": keep[r.bonds],
+           "notes": r.notes + (f"{iso.size} site(s) without bonds (e.g. site {int(iso[0])}) are independent: their "
+                               "exact single-site thermal averages are added (energy, density, compressibility, "
+                               "site densities, G(i, i)).",)}
+    if r.green is not None:
+        extra = n * (n - 1) - mb * (mb - 1)          # ordered pairs with a site without bonds: G = 0
+        dist, g, g_err, pairs = (np.asarray(a, float) for a in (r.green_distance, r.green, r.green_err,
+                                                                r.green_pairs))
+        if dist.size and np.isinf(dist[-1]):
+            tot = pairs[-1] + extra
+            g, g_err = g.copy(), g_err.copy()
+            g[-1], g_err[-1] = g[-1] * pairs[-1] / tot, g_err[-1] * pairs[-1] / tot
+            pairs = np.concatenate([pairs[:-1], [tot]])
+        else:
+            dist, g, g_err = (np.append(a, v) for a, v in ((dist, np.inf), (g, 0.0), (g_err, 0.0)))
+            pairs = np.append(pairs, extra)
+        out.update(green_distance=dist, green=g, green_err=g_err,
+                   green_pairs=pairs.astype(np.asarray(r.green_pairs).dtype))
+    n1 = n_iso / iso.size
+    if r.green_matrix is not None:
+        gm = np.zeros((n, n))
+        gm[np.ix_(keep, keep)] = r.green_matrix
+        gm[iso, iso] = n1
+        out["green_matrix"] = gm
+        tr = float(np.trace(r.green_matrix))
+    else:
+        tr = r.density * mb
+    cf, cf_err = r.condensate_fraction, r.condensate_fraction_err
+    if math.isfinite(cf):
+        s_tr = r.density_err * mb
+        den = tr + n_iso
+        lam = cf * tr
+        bonded = (cf * tr / den, cf_err * tr / den + cf * n_iso / den ** 2 * s_tr)     # lambda_max from G_b
+        single = (n1 / den, n1 / den ** 2 * s_tr)                                       # lambda_max = <n_i>
+        tie = abs(lam - n1) <= 2 * (cf_err * tr + cf * s_tr) if math.isfinite(cf_err) else False
+        best = bonded if lam >= n1 else single
+        out["condensate_fraction"] = best[0]
+        out["condensate_fraction_err"] = max(bonded[1], single[1]) if tie else best[1]
+    import dataclasses
+
+    return dataclasses.replace(r, **out)
 
 
 def _stop_signals():
