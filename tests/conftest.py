@@ -94,61 +94,6 @@ def pytest_collection_modifyitems(config, items):
         if heavy:
             config.hook.pytest_deselected(items=heavy)
             items[:] = [item for item in items if item.get_closest_marker("heavy") is None]
-    if hasattr(config, "workerinput") and getattr(config.option, "dist", "no") == "loadfile":
-        _costliest_files_first(items)
-
-
-# ----------------------------------------------------------------------------------------------
-# the two workers of `make test` (-n 2 --dist loadfile): files are handed out one at a time, in the
-# order the workers collected them, so a file that starts last while the other worker has nothing
-# left sets the run's end. xdist orders the files by their number of tests; a few files cost far
-# more than their count says (a module fixture that builds the reduced reproduction, long docs
-# examples), so the files go out by an estimate of their cost instead, the costliest first. The
-# order inside a file is kept (a docs page's examples run in page order).
-# ----------------------------------------------------------------------------------------------
-
-#: rough seconds of the costliest files on the idle 2-core machine (the rest: SECONDS_PER_TEST each)
-FILE_SECONDS = {
-    "test_reproduce.py": 80.0, "test_bad_input_all.py": 45.0, "test_docstring_examples.py": 45.0,
-    "test_docs_examples.py": 40.0, "test_green.py": 30.0, "test_special_seams.py": 25.0, "test_thermal.py": 20.0,
-    "test_qmc_sse.py": 20.0, "test_qmc_green.py": 15.0, "test_spectrum.py": 12.0, "test_special.py": 12.0,
-    "test_ties.py": 8.0, "test_limits.py": 8.0, "test_sectors.py": 8.0,
-}
-SECONDS_PER_TEST = 0.03
-
-
-def _costliest_files_first(items) -> None:
-    from collections import Counter
-
-    count = Counter(item.path.name for item in items)
-    cost = {name: FILE_SECONDS.get(name, 0.0) + SECONDS_PER_TEST * n for name, n in count.items()}
-    items.sort(key=lambda item: -cost[item.path.name])      # stable: a file's own order is kept
-
-
-@pytest.hookimpl(tryfirst=True)      # before xdist's own sessionstart starts the workers
-def pytest_sessionstart(session):
-    config = session.config
-    if hasattr(config, "workerinput") or getattr(config.option, "dist", "no") != "loadfile":
-        return
-    # the controller: keep the workers' (cost) order of the files, and fill the numba cache first
-    config.option.loadscopereorder = False
-    _warm_numba_cache(config)
-
-
-def _warm_numba_cache(config) -> None:
-    """Compile the package's numba kernels once, in two processes, before the workers start
-    (``numba_warmup.py``: on a fresh clone each worker compiled the kernels it met itself)."""
-    if os.environ.get("NUMBA_DISABLE_JIT") == "1" or config.option.collectonly:
-        return
-    script = os.path.join(os.path.dirname(__file__), "numba_warmup.py")
-    procs = [subprocess.Popen([sys.executable, script, group], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-             for group in ("qmc", "rest")]
-    for proc in procs:
-        try:
-            proc.wait(timeout=600)
-        except subprocess.TimeoutExpired:         # never hold the run: the workers compile what is missing
-            proc.kill()
-            proc.wait()
 
 
 def pytest_report_header(config):
