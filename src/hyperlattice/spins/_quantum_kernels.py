@@ -221,6 +221,7 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
     gcur = np.zeros((1, 1))
     gclass = np.zeros((1, 1), dtype=np.int64)
     one = np.ones(1)
+    started = np.zeros(1, dtype=np.int64)     # loops started (the bosons' thermalisation cap is not used)
     gsign = np.ones(n)
     ntab = ptab.shape[0]
     wvec = np.zeros(wind.shape[1], dtype=np.int64)
@@ -280,7 +281,7 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
             legs = np.empty(4 * cap, dtype=np.int32)
         visited = K._loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, 1, rng,
                                  vpos, link, legs, first, lastleg, 0, False, gcur, gclass,
-                                 one, one, one, 1.0, vcur, 0, 1, gsign, ptab, bclass, ntab)
+                                 one, one, one, 1.0, vcur, 0, 1, gsign, ptab, bclass, ntab, 0, started)
         if visited < 0:
             visited = -1 - visited
             loopstat[2] += 1
