@@ -78,7 +78,7 @@ _NSCALARS = 11
 _VECTOR_BINS = 32
 _CORR_BINS = 64
 _CHECKPOINT_SECONDS = 60.0
-#: largest deviation |s| - 1 of a stored XY or Heisenberg spin (the reflections keep the norm to
+#: largest deviation ``abs(norm(s) - 1)`` of a stored XY or Heisenberg spin (the reflections keep the norm to
 #: rounding, a random walk of about 1e-16 per update)
 UNIT_TOL = 1e-6
 #: the lock file a run holds in its checkpoint directory
