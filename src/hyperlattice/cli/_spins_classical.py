@@ -94,43 +94,33 @@ KEYS = ("sites", "e", "e_err", "c", "c_err", "m", "m_err", "m2", "m2_err", "m_ab
 
 def run(args: argparse.Namespace) -> int:
     from .. import _validate
-    from ..spins import classical_mc
+    from ..spins import classical_mc, tempering_mc
 
-    if args.tempering is not None:
-        return _run_tempering(args)
-    if args.exchange_every != 1:
+    tempering = args.tempering is not None
+    if not tempering and args.exchange_every != 1:
         raise ValueError("--exchange-every needs --tempering.")
     checkpoint = None if args.checkpoint is None else _validate.directory("--checkpoint", args.checkpoint)
     system = graph(args, args.line_graph)
+    common = dict(model=args.model, J=args.J, h=args.h, sweeps=args.sweeps, thermalization=args.thermalization,
+                  seed=args.seed, update=args.update, checkpoint=checkpoint,
+                  measure_correlation=False if args.no_correlation else None)
+    kept = "chains are" if tempering else "chain is"
     try:
-        res = classical_mc(system, model=args.model, beta=args.beta, T=args.T, J=args.J, h=args.h,
-                           sweeps=args.sweeps, thermalization=args.thermalization, seed=args.seed,
-                           update=args.update, checkpoint=checkpoint,
-                           measure_correlation=False if args.no_correlation else None)
+        if tempering:
+            res = tempering_mc(system, T=args.tempering, exchange_every=args.exchange_every, **common)
+        else:
+            res = classical_mc(system, beta=args.beta, T=args.T, **common)
     except KeyboardInterrupt:
         if checkpoint is None:
-            raise Interrupted("nothing kept (--checkpoint DIR keeps the chain for a rerun)") from None
-        raise Interrupted(f"the chain is saved in {str(checkpoint)!r}; rerun the same command to resume") from None
+            raise Interrupted(f"nothing kept (--checkpoint DIR keeps the {kept.split()[0]} for a rerun)") from None
+        raise Interrupted(f"the {kept} saved in {str(checkpoint)!r}; rerun the same command to resume") from None
+    if tempering:
+        return _show_tempering(res, args.json)
     return show(res, KEYS, args.json, before=[f"  update: {res.update} ({res.update_reason})"])
 
 
-def _run_tempering(args: argparse.Namespace) -> int:
-    from ..spins import tempering_mc
-
-    from .. import _validate
-
-    checkpoint = None if args.checkpoint is None else _validate.directory("--checkpoint", args.checkpoint)
-    system = graph(args, args.line_graph)
-    try:
-        res = tempering_mc(system, model=args.model, T=args.tempering, J=args.J, h=args.h, sweeps=args.sweeps,
-                           thermalization=args.thermalization, seed=args.seed, update=args.update,
-                           exchange_every=args.exchange_every, checkpoint=checkpoint,
-                           measure_correlation=False if args.no_correlation else None)
-    except KeyboardInterrupt:
-        if checkpoint is None:
-            raise Interrupted("nothing kept (--checkpoint DIR keeps the chains for a rerun)") from None
-        raise Interrupted(f"the chains are saved in {str(checkpoint)!r}; rerun the same command to resume") from None
-    if args.json:
+def _show_tempering(res, as_json: bool) -> int:
+    if as_json:
         summary = res.summary()
         temps = []
         for one in summary.pop("temperatures"):
