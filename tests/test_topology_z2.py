@@ -101,3 +101,19 @@ def test_transport_frame_is_refused_off_qwz_flakes():
         model_terms(hl.ring_lattice(8, 3, 2), "kane-mele", frame="transport")
     with pytest.raises(ValueError, match="transport"):
         model_terms(honeycomb_torus(), "qwz", frame="transport")
+
+
+# ---------------------------------------------------------------- flakes: spin Chern marker, spin Bott, gap of P s_z P
+
+@pytest.mark.machine_independence
+def test_kane_mele_flake_with_rashba_keeps_z2_where_the_spin_gap_is_open():
+    # {8,3}: the clean gap of the Haldane copies at about a third filling (E_F = -1.247, t2 = 0.2)
+    top = flake_topology(hl.ring_lattice(8, 3, 3), "kane-mele", M=0.0, t2=0.2, rashba=0.2, fermi=-1.247)
+    assert top.spin_gap > 1.0 and top.z2 == 1 and round(top.bott) == 1 and abs(top.marker - 1) < 0.15
+    out = top.summary()
+    assert out["z2"] == 1 and out["spin_bott"] == top.bott and out["spin_gap"] == top.spin_gap
+
+
+def test_kane_mele_flake_warns_when_the_spin_gap_closes():
+    with pytest.warns(UserWarning, match="P s_z P"):
+        flake_topology(hl.ring_lattice(8, 3, 3), "kane-mele", M=0.0, t2=0.2, rashba=0.2)

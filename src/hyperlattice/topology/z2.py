@@ -16,8 +16,11 @@ parity of the number of times the centres cross a reference line over the half t
 is the middle of the largest gap between the centres at each step (Soluyanov and Vanderbilt,
 PRB 83, 235401 (2011)), so no fixed line has to avoid the centres. The Bloch Hamiltonian carries
 the phases :math:`e^{ik\cdot w}` on the hops only, so :math:`H(k + 2\pi e_b) = H(k)` and the loop
-closes without an embedding phase. The grid (points per direction) doubles until two grids give
-the same indices; the smallest direct gap over every momentum used is reported and a gap at the
+closes without an embedding phase. The grid (points per direction) doubles until it resolves the
+bands (every overlap of neighbouring Bloch states along :math:`k_b` has singular values of at
+least :data:`MIN_OVERLAP`, and no Wannier centre lands within :data:`MIN_CLEARANCE` of the
+half-width of the largest gap from the previous step's reference line, where the count would be
+ambiguous) and the next grid gives the same indices; the smallest direct gap over every momentum used is reported and a gap at the
 eigensolver's rounding is refused.
 
 Checks (``tests/test_topology_z2.py``): without Rashba the index equals the spin Chern number mod
@@ -50,6 +53,10 @@ _SY = np.array([[0, -1j], [1j, 0]], dtype=np.complex128)
 MAX_ROWS = 2000
 #: time reversal counts as broken above this relative error
 TR_TOL = 1e-9
+#: a grid resolves the bands when every overlap of neighbouring k_b has singular values above this ...
+MIN_OVERLAP = 0.3
+#: ... and no Wannier centre comes closer than this fraction of the gap's half-width to the reference line
+MIN_CLEARANCE = 0.1
 
 
 class _Bloch:
@@ -192,11 +199,14 @@ def _wilson(bloch: _Bloch, a, b, base, grid, occ):
     nxt = np.roll(V, -1, axis=1)
     ov = np.einsum("agri,agrj->agij", V.conj(), nxt)        # <u(k_j)|u(k_j+1)>, the last one closes the loop
     W = np.broadcast_to(np.eye(occ, dtype=np.complex128), (len(ka), occ, occ)).copy()
+    smin = 1.0
     for j in range(grid):
         # the polar part of each overlap (its unitary factor) keeps the product well conditioned
-        u, _, vh = np.linalg.svd(ov[:, j])
+        u, sv, vh = np.linalg.svd(ov[:, j])
+        smin = min(smin, float(sv.min()))
         W = W @ (u @ vh)
     phases = np.sort(np.angle(np.linalg.eigvals(W)), axis=1)
+    _wilson.resolved = bool(smin >= MIN_OVERLAP)
     return ka, phases, gap
 
 
@@ -204,19 +214,25 @@ def _wrap(x):
     return np.angle(np.exp(1j * np.asarray(x)))
 
 
-def _gap_middle(ph: np.ndarray) -> float:
+def _gap_middle(ph: np.ndarray) -> tuple[float, float]:
     s = np.sort(ph)
     gaps = np.diff(np.concatenate([s, [s[0] + 2 * np.pi]]))
     i = int(np.argmax(gaps))
-    return float(_wrap(s[i] + 0.5 * gaps[i]))
+    return float(_wrap(s[i] + 0.5 * gaps[i])), float(gaps[i])
 
 
 def _z2_of_flow(phases: np.ndarray) -> tuple[int, float]:
-    """Parity of the centres jumped by the largest gap's middle (Soluyanov–Vanderbilt); the smallest clearance."""
+    """Parity of the centres jumped by the largest gap's middle (Soluyanov–Vanderbilt) and the smallest clearance.
+
+    The clearance is the distance of the centres at each step from the previous step's reference
+    line, in units of the half-width of the gap it sits in: near 0 the count is ambiguous (a
+    centre may have crossed the line or not), and the grid must be refined (Gresch et al.'s
+    position tolerance, PRB 95, 075146 (2017)).
+    """
     count = 0
     clearance = np.inf
     for i in range(len(phases) - 1):
-        z0, z1 = _gap_middle(phases[i]), _gap_middle(phases[i + 1])
+        (z0, w0), (z1, _) = _gap_middle(phases[i]), _gap_middle(phases[i + 1])
         d = float(_wrap(z1 - z0))
         x = _wrap(phases[i + 1] - z0)
         if d > 0:
@@ -224,7 +240,7 @@ def _z2_of_flow(phases: np.ndarray) -> tuple[int, float]:
         else:
             inside = (x < 0) & (x >= d)
         count += int(np.sum(inside))
-        clearance = min(clearance, float(np.min(np.abs(_wrap(phases[i + 1] - z1)))))
+        clearance = min(clearance, float(np.min(np.abs(x))) / (0.5 * w0))
     return count % 2, clearance
 
 
@@ -245,8 +261,9 @@ class Z2Index(Result):
     z2 : ndarray of int64, shape (S,)
         The index, 0 or 1.
     clearance : ndarray, shape (S,)
-        Smallest distance (radians) of a Wannier centre from the reference line at the steps:
-        how far the count is from a tie.
+        Smallest distance of a Wannier centre from the previous step's reference line, in units of
+        the half-width of the largest gap: how far the count is from a tie (at least
+        :data:`MIN_CLEARANCE`).
     gap : float
         Smallest direct gap at half filling over every momentum used.
     indirect_gap : float
@@ -291,7 +308,7 @@ class Z2Index(Result):
 
 
 def z2_index(system, *, M: float = 0.0, t2: float = 0.2, phi: float = np.pi / 2, rashba: float = 0.0,
-             grid: int = 16, max_grid: int = 128) -> Z2Index:
+             grid: int = 8, max_grid: int = 128) -> Z2Index:
     r"""The :math:`\mathbb Z_2` index of Kane–Mele (with Rashba) on the TR-symmetric 2-subtori of a closed surface.
 
     Parameters
@@ -303,9 +320,10 @@ def z2_index(system, *, M: float = 0.0, t2: float = 0.2, phi: float = np.pi / 2,
         Kane–Mele's sublattice mass, spin–orbit amplitude and phase, Rashba coupling
         (:func:`~hyperlattice.topology.models.model_terms`; ignored for ModelTerms).
     grid : int, optional
-        Starting points per direction (default 16).
+        Starting points per direction (default 8).
     max_grid : int, optional
-        The grid doubles until two grids give the same indices, up to this (default 128).
+        The grid doubles until it resolves the bands and the next grid gives the same indices (module
+        docstring), up to this (default 128).
 
     Returns
     -------
@@ -347,7 +365,7 @@ def z2_index(system, *, M: float = 0.0, t2: float = 0.2, phi: float = np.pi / 2,
     tol = 50 * bloch.rows * np.finfo(float).eps * max(bloch.scale, 1.0)
 
     def run(n):
-        z, cl, gaps, ind = [], [], [], []
+        z, cl, gaps, ind, ok = [], [], [], [], []
         for (a, b), f in zip(subtori, fixed):
             base = np.where(f > 0, np.pi, 0.0)
             _, ph, gap = _wilson(bloch, a, b, base, n, occ)
@@ -356,8 +374,8 @@ def z2_index(system, *, M: float = 0.0, t2: float = 0.2, phi: float = np.pi / 2,
                                  f"{(f[f >= 0] * np.pi).round(4).tolist()} (smallest gap {gap:.2e} <= {tol:.1e}): "
                                  "the Z2 index is undefined here.")
             zz, c = _z2_of_flow(ph)
-            z.append(zz), cl.append(c), gaps.append(gap), ind.append(_wilson.indirect)
-        return np.array(z, dtype=np.int64), np.array(cl), min(gaps), min(ind)
+            z.append(zz), cl.append(c), gaps.append(gap), ind.append(_wilson.indirect), ok.append(_wilson.resolved)
+        return np.array(z, dtype=np.int64), np.array(cl), min(gaps), min(ind), all(ok) and min(cl) >= MIN_CLEARANCE
 
     n = grid
     prev = run(n)
@@ -367,7 +385,7 @@ def z2_index(system, *, M: float = 0.0, t2: float = 0.2, phi: float = np.pi / 2,
                                    f"raise max_grid above {max_grid}.")
         cur = run(2 * n)
         n *= 2
-        if np.array_equal(cur[0], prev[0]):
+        if np.array_equal(cur[0], prev[0]) and prev[4] and cur[4]:
             break
         prev = cur
     indirect = float(min(cur[3], prev[3]))
