@@ -117,3 +117,16 @@ def test_kane_mele_flake_with_rashba_keeps_z2_where_the_spin_gap_is_open():
 def test_kane_mele_flake_warns_when_the_spin_gap_closes():
     with pytest.warns(UserWarning, match="P s_z P"):
         flake_topology(hl.ring_lattice(8, 3, 3), "kane-mele", M=0.0, t2=0.2, rashba=0.2)
+
+
+def test_chord_frame_is_the_transport_frame_without_the_connection_on_its_sigma_z_part():
+    # the chord of a circular-arc geodesic makes equal angles with both tangents: theta = a + delta/2,
+    # so T_chord = U(delta/2) T_transport U(delta/2): the same sigma_x, sigma_y part, a real sigma_z part
+    lat = hl.ring_lattice(8, 3, 3)
+    _, _, a, delta = transport_rotation(lat)
+    chord = model_terms(lat, "qwz", M=1.0).blocks
+    tr = model_terms(lat, "qwz", M=1.0, frame="transport").blocks
+    u = np.zeros((len(delta), 2, 2), dtype=complex)
+    u[:, 0, 0], u[:, 1, 1] = np.exp(-0.25j * delta), np.exp(0.25j * delta)
+    assert np.abs(u @ tr @ u - chord).max() < 1e-12
+    assert np.abs(np.diagonal(chord, axis1=1, axis2=2).imag).max() < 1e-15
