@@ -52,7 +52,7 @@ def invariants() -> list:
     return rows
 
 
-def invariants_big(rings=5, Ms=(1.0, 1.25, 1.5)) -> list:
+def invariants_big(rings=5, Ms=(1.0, 1.25)) -> list:
     """The Chebyshev centre marker (256 moments) and Kitaev's sum on the l = 5 flake, both frames."""
     import hyperlattice as hl
     from hyperlattice.topology.kpm_marker import centre_marker
