@@ -180,7 +180,8 @@ def wilson_phases(terms: ModelTerms, a: int, b: int, fixed=None, *, grid: int = 
         raise ValueError(f"fixed must have {g2} components, got shape {base.shape}.")
     bloch = _Bloch(terms)
     occ = bloch.rows // 2
-    return _wilson(bloch, a, b, base, grid, occ)
+    ka, phases, gap, _, _ = _wilson(bloch, a, b, base, grid, occ)
+    return ka, phases, gap
 
 
 def _wilson(bloch: _Bloch, a, b, base, grid, occ):
@@ -194,7 +195,7 @@ def _wilson(bloch: _Bloch, a, b, base, grid, occ):
     with single_threaded_blas():
         e, v = np.linalg.eigh(bloch(k))
     gap = float((e[:, occ] - e[:, occ - 1]).min())
-    _wilson.indirect = float(e[:, occ].min() - e[:, occ - 1].max())
+    indirect = float(e[:, occ].min() - e[:, occ - 1].max())
     V = v[:, :, :occ].reshape(len(ka), grid, bloch.rows, occ)
     nxt = np.roll(V, -1, axis=1)
     ov = np.einsum("agri,agrj->agij", V.conj(), nxt)        # <u(k_j)|u(k_j+1)>, the last one closes the loop
@@ -206,8 +207,7 @@ def _wilson(bloch: _Bloch, a, b, base, grid, occ):
         smin = min(smin, float(sv.min()))
         W = W @ (u @ vh)
     phases = np.sort(np.angle(np.linalg.eigvals(W)), axis=1)
-    _wilson.resolved = bool(smin >= MIN_OVERLAP)
-    return ka, phases, gap
+    return ka, phases, gap, indirect, bool(smin >= MIN_OVERLAP)
 
 
 def _wrap(x):
@@ -368,13 +368,13 @@ def z2_index(system, *, M: float = 0.0, t2: float = 0.2, phi: float = np.pi / 2,
         z, cl, gaps, ind, ok = [], [], [], [], []
         for (a, b), f in zip(subtori, fixed):
             base = np.where(f > 0, np.pi, 0.0)
-            _, ph, gap = _wilson(bloch, a, b, base, n, occ)
+            _, ph, gap, indirect, resolved = _wilson(bloch, a, b, base, n, occ)
             if gap <= tol:
                 raise ValueError(f"the gap at half filling closes on subtorus ({a}, {b}) with the other momenta at "
                                  f"{(f[f >= 0] * np.pi).round(4).tolist()} (smallest gap {gap:.2e} <= {tol:.1e}): "
                                  "the Z2 index is undefined here.")
             zz, c = _z2_of_flow(ph)
-            z.append(zz), cl.append(c), gaps.append(gap), ind.append(_wilson.indirect), ok.append(_wilson.resolved)
+            z.append(zz), cl.append(c), gaps.append(gap), ind.append(indirect), ok.append(resolved)
         return np.array(z, dtype=np.int64), np.array(cl), min(gaps), min(ind), all(ok) and min(cl) >= MIN_CLEARANCE
 
     n = grid
