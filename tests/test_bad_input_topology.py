@@ -49,6 +49,9 @@ CLI_FLAGS = [
     (["topology", "flake", "--rings", "2"], "--disorder", {"0", "3.5"}),
     (["topology", "flake", "--rings", "2"], "--seed", {"0"}),
     (["topology", "flake"], "--rings", set()),
+    (["topology", "flake", "--rings", "2", "--model", "kane-mele"], "--rashba", _NUM_OK),
+    (["topology", "flake", "--rings", "2"], "--fermi", {"-1", "0"}),          # 3.5: outside the spectrum
+    (["topology", "flake", "--rings", "2"], "--frame", set()),
     (["topology", "flake", "--rings", "2"], "-p", set()),
     (["topology", "flake", "--rings", "2"], "-q", set()),
     (["topology", "flake", "--rings", "2"], "--model", set()),

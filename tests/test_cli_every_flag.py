@@ -143,6 +143,11 @@ INVOCATIONS = [
      "--phi", "1.5", "--disorder", "0.5", "--seed", "2", "--energies", "-0.1,0", "--coupling", "1.5", "--arc", "0.2",
      "--json"],
     ["topology", "conductance", "--rings", "2"],
+    ["topology", "flake", "--model", "kane-mele", "--rings", "2", "--M", "0", "--rashba", "0.1", "--fermi", "-1.247",
+     "--json"],
+    ["topology", "flake", "--rings", "2", "--frame", "transport"],
+    ["topology", "cluster", "--model", "kane-mele", "--cluster", "bolza", "--M", "0.3", "--rashba", "0.05", "--z2"],
+    ["topology", "conductance", "--model", "kane-mele", "--rings", "2", "--M", "0", "--rashba", "0.1"],
 ]
 
 

@@ -4,12 +4,16 @@ Tasks:
 
 * ``flake``    a {p,q} flake: the hyperbolic local marker at the centre and by ring, Kitaev's sum,
                the Bott index and the bulk gap at the centre (dense up to 9,000 rows; above, the
-               centre marker by a Chebyshev expansion of the projector, Bott omitted)
+               centre marker by a Chebyshev expansion of the projector, Bott omitted); for
+               kane-mele (any ``--rashba``) also ``z2``, ``spin_bott`` and ``spin_gap`` (the gap
+               of P s_z P); ``--frame transport`` for qwz in the parallel-transport frame
 * ``cluster``  a periodic cluster: the first Chern numbers C_ij of the Abelian bands on every
                2-subtorus, their gcd and Pfaffian, the smallest gap on the grid; with
                ``--chern2`` the second Chern numbers on the 4-subtori, with ``--spin-chern``
-               (kane-mele) the spin Chern numbers and the Z2 index, with ``--frame covariant``
-               (qwz) the rotation-system frame with the spin connection
+               (kane-mele) the spin Chern numbers and the Z2 index, with ``--z2`` (kane-mele,
+               any ``--rashba``) the Z2 index of every time-reversal-symmetric 2-subtorus by
+               Wilson loops, with ``--frame covariant`` (qwz) the rotation-system frame with the
+               spin connection
 * ``landau``   a periodic cluster in a field of N_phi flux quanta: the lowest Landau bands,
                their Chern matrices against the continuum (degeneracy, energy, intersection form)
 * ``conductance``  a {p,q} flake between two wide-band leads on two arcs of its edge: the two-terminal
@@ -24,6 +28,8 @@ import numpy as np
 
 from .. import _validate
 from ._common import add_pq, cluster_pq, finite_float, positive_int, print_json
+
+FRAMES = ("chord", "tangent", "transport")
 
 NAME = "topology"
 ORDER = 60
@@ -51,6 +57,8 @@ def _model_flags(parser, *, disorder: bool) -> None:
                         help="Haldane / Kane-Mele second-neighbour amplitude (default 0.2)")
     parser.add_argument("--phi", type=finite_float, default=float(np.pi / 2),
                         help="Haldane phase in radians (default pi/2)")
+    parser.add_argument("--rashba", type=finite_float, default=0.0,
+                        help="Kane-Mele Rashba coupling lambda_R (default 0)")
     if disorder:
         parser.add_argument("--disorder", type=finite_float, default=0.0,
                             help="box disorder width W (on-site energies in [-W/2, W/2]; default 0)")
@@ -64,6 +72,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     f = sub.add_parser("flake", help="local marker by ring, Kitaev's sum, Bott index and gap of a flake")
     _model_flags(f, disorder=True)
     f.add_argument("--rings", type=positive_int, default=3, help="rings of the flake (default 3)")
+    f.add_argument("--frame", choices=FRAMES, default="chord",
+                   help="qwz bond frame: the chord angle (default), the geodesic tangent at the lower-numbered "
+                        "end, or the chart frame with the Levi-Civita connection (parallel transport)")
+    f.add_argument("--fermi", type=finite_float, default=None,
+                   help="Fermi level in units of t (default: half filling)")
     c = sub.add_parser("cluster", help="Chern numbers C_ij on all 2-subtori of a periodic cluster")
     _model_flags(c, disorder=False)
     c.add_argument("--cluster", required=True, help="a cluster name (hyperlattice cluster --list), e.g. bolza")
@@ -74,6 +87,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                    help="also the second Chern numbers on every 4-subtorus (genus >= 2; tens of seconds)")
     c.add_argument("--spin-chern", action="store_true",
                    help="kane-mele only: spin Chern numbers (C_up - C_down)/2 and the Z2 index per 2-subtorus")
+    c.add_argument("--z2", action="store_true",
+                   help="kane-mele only: the Z2 index on every time-reversal-symmetric 2-subtorus by Wilson loops "
+                        "(with or without --rashba)")
     la = sub.add_parser("landau", help="Landau bands of a cluster in a field and their Chern numbers")
     add_pq(la, default_p=7)
     la.add_argument("--cluster", required=True, help="a cluster name (hyperlattice cluster --list), e.g. klein")
@@ -110,13 +126,16 @@ def _flake(args) -> int:
     rows = n * orbitals(args.model)
     if rows <= MAX_DENSE_ROWS:
         res = flake_topology(ring_lattice(p, q, rings), args.model, M=args.M, t2=args.t2, phi=args.phi,
-                             disorder=W, seed=args.seed)
+                             rashba=args.rashba, disorder=W, seed=args.seed, fermi=args.fermi, frame=args.frame)
         out = res.summary()
     else:
         from ..topology.kpm_marker import centre_marker
 
+        if args.rashba != 0.0 or args.frame != "chord":
+            raise ValueError(f"above {MAX_DENSE_ROWS:,} rows the Chebyshev route supports neither --rashba nor "
+                             "--frame; use fewer --rings.")
         res = centre_marker(ring_lattice(p, q, rings), args.model, M=args.M, t2=args.t2, phi=args.phi,
-                            disorder=W, seed=args.seed)
+                            disorder=W, seed=args.seed, fermi=0.0 if args.fermi is None else args.fermi)
         out = res.summary()
     if args.json:
         print_json(out)
@@ -128,6 +147,9 @@ def _flake(args) -> int:
           + ("n/a" if out["bott"] is None else f"{out['bott']:+.4f}"
              + ("" if out.get("bott_reliable", True) else " (unreliable: edge states)")))
     print(f"  bulk gap at the centre: {out['gap']:.4g}")
+    if out.get("spin_gap") is not None:
+        print(f"  Z2 {out['z2']} (spin Chern marker mod 2), spin Bott {out['spin_bott']:+.4f}, "
+              f"gap of P s_z P {out['spin_gap']:.4g}")
     return 0
 
 
@@ -140,6 +162,14 @@ def _cluster(args) -> int:
     cl = pbc_cluster(p, q, name)
     if args.spin_chern and args.model != "kane-mele":
         raise ValueError("--spin-chern needs --model kane-mele.")
+    if args.z2 and args.model != "kane-mele":
+        raise ValueError("--z2 needs --model kane-mele.")
+    if args.rashba != 0.0 and args.model != "kane-mele":
+        raise ValueError("--rashba belongs to --model kane-mele.")
+    if args.spin_chern and args.rashba != 0.0:
+        raise ValueError("--spin-chern needs s_z conserved (--rashba 0); the Z2 index with Rashba is --z2.")
+    if args.spin_chern and args.z2:
+        raise ValueError("--spin-chern and --z2 both report z2: choose one.")
     if args.frame == "covariant":
         if args.model != "qwz":
             raise ValueError("--frame covariant applies to the qwz model.")
@@ -160,9 +190,16 @@ def _cluster(args) -> int:
             print("  " + " ".join(f"{x:+d}" for x in row))
         print(f"  gcd {inv['gcd']}, Pfaffian {inv['pfaffian']}, smallest gap on the grid {inv['gap']:.4g}")
         return 0
-    res = cluster_chern(cl, args.model, M=args.M, t2=args.t2, phi=args.phi)
+    res = cluster_chern(cl, args.model, M=args.M, t2=args.t2, phi=args.phi, rashba=args.rashba)
     out = res.summary()
     extra = []
+    if args.z2:
+        from ..topology.z2 import z2_index
+
+        zi = z2_index(cl, M=args.M, t2=args.t2, phi=args.phi, rashba=args.rashba)
+        out.update(zi.summary())
+        extra.append(f"  Z2 {zi.z2.tolist()} on the subtori {zi.subtori.tolist()} (other momenta / pi: "
+                     f"{zi.fixed.tolist()}), gap {zi.gap:.4g}, grid {zi.grid}")
     if args.chern2:
         from ..topology.closed import second_chern
 
@@ -220,7 +257,7 @@ def _conductance(args) -> int:
     rings = _validate.integer("--rings", args.rings, minimum=1, maximum=12)
     W = _validate.real("--disorder", args.disorder, minimum=0.0, maximum=1e6)
     res = conductance(ring_lattice(p, q, rings), args.model, energies=args.energies, M=args.M, t2=args.t2,
-                      phi=args.phi, disorder=W, seed=args.seed, coupling=args.coupling, arc=args.arc)
+                      phi=args.phi, rashba=args.rashba, disorder=W, seed=args.seed, coupling=args.coupling, arc=args.arc)
     out = res.summary()
     if args.json:
         print_json(out)

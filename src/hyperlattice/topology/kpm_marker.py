@@ -229,7 +229,8 @@ def _ldos_gap(diag: np.ndarray, a: float, fermi: float) -> float:
 
 def centre_marker(graph, model: str = "qwz", *, M: float = 1.0, t2: float = 0.2, phi: float = np.pi / 2,
                   flux: float = 0.0, disorder: float = 0.0, seed: int = 0, fermi: float = 0.0,
-                  moments: int = 256, radius: float | None = None, tol: float = 0.02) -> CentreMarker:
+                  moments: int = 256, radius: float | None = None, tol: float = 0.02,
+                  frame: str = "chord") -> CentreMarker:
     r"""The hyperbolic local marker at a flake's centre without diagonalising (Chebyshev projector).
 
     Parameters
@@ -249,6 +250,8 @@ def centre_marker(graph, model: str = "qwz", *, M: float = 1.0, t2: float = 0.2,
         Radius of the marker's disk (metric), default 4 bond lengths.
     tol : float, optional
         Warn when the estimated error exceeds this (default 0.02).
+    frame : {"chord", "tangent", "transport"}, optional
+        QWZ bond frame (:func:`~hyperlattice.topology.models.model_terms`), default ``"chord"``.
 
     Returns
     -------
@@ -281,7 +284,7 @@ def centre_marker(graph, model: str = "qwz", *, M: float = 1.0, t2: float = 0.2,
     tol = _validate.real("tol", tol, minimum=1e-12, maximum=10.0)
     geo = _geometry(graph)
     r = 4 * geo.bond if radius is None else _validate.real("radius", radius, minimum=1e-3, maximum=1e3)
-    terms = model_terms(graph, model, M=M, t2=t2, phi=phi, flux=flux, disorder=disorder, seed=seed)
+    terms = model_terms(graph, model, M=M, t2=t2, phi=phi, flux=flux, disorder=disorder, seed=seed, frame=frame)
     d = terms.orbitals
     H = model_hamiltonian(terms)
     ring1 = np.flatnonzero(geo.ring == geo.ring.min())
@@ -317,7 +320,7 @@ def centre_marker(graph, model: str = "qwz", *, M: float = 1.0, t2: float = 0.2,
     diag = info["diag_moments"][:, _rows(ring_rows, d)]
     gap = _ldos_gap(diag, info["scale"], float(fermi))
     params = dict(M=M, t2=t2, phi=phi, flux=flux, disorder=disorder, seed=seed, fermi=float(fermi),
-                  moments=moments, radius=float(r))
+                  moments=moments, radius=float(r), frame=frame)
     return CentreMarker(model=model, parameters=params, sites=len(geo.z), marker=m, marker_by_ring=np.array([m]),
                         marker_error=err, kitaev=float(kit), evaluated_sites=evaluated.astype(np.int64),
                         vectors=len(cols), gap=gap, resolution=float(np.pi * info["scale"] / moments),

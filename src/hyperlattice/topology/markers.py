@@ -66,6 +66,8 @@ MAX_DENSE_ROWS = 9_000
 CENTRE_WEIGHT = 0.1
 #: the Bott index warns when its unitary product has an eigenvalue closer than this to -1
 BOTT_MARGIN = 0.05
+#: Kane–Mele: warn when the spectrum of P s_z P has a smaller gap than this where it is split in halves
+SPIN_GAP_MIN = 0.1
 
 
 # ----------------------------------------------------------------------------
@@ -435,6 +437,13 @@ class FlakeTopology(Result):
         The Fermi level.
     method : str
         ``"dense"``.
+    spin_gap : float or None
+        Kane–Mele only: the gap of the spectrum of :math:`P s_z P` on the occupied states where
+        it is split into its upper and lower halves (2 without Rashba). The spin Chern number
+        and the spin Bott index (``marker``, ``kitaev``, ``bott``: Huang and Liu, PRL 121, 126401
+        (2018)) are quantised while it is open; below :data:`SPIN_GAP_MIN` a warning says so.
+    z2 : int or None
+        Kane–Mele only: the spin Chern marker at the centre rounded, mod 2.
 
     Examples
     --------
@@ -469,15 +478,20 @@ class FlakeTopology(Result):
     in_gap_weight_by_ring: np.ndarray
     fermi: float
     method: str
+    spin_gap: float | None = None
+    z2: int | None = None
 
     def summary(self) -> dict:
-        """The CLI's JSON: sites, marker, marker_by_ring, kitaev, bott, gap and the diagnostics."""
-        return {"model": self.model, "sites": self.sites, "marker": self.marker,
-                "marker_by_ring": [float(x) for x in self.marker_by_ring], "kitaev": self.kitaev,
-                "bott": self.bott, "bott_reliable": self.bott_reliable, "bott_margin": self.bott_margin,
-                "gap": self.gap, "in_gap_states": self.in_gap_states, "fermi": self.fermi,
-                "flat_marker_centre": float(self.flat_by_ring[0]), "method": self.method,
-                "parameters": self.parameters}
+        """The CLI's JSON: sites, marker, marker_by_ring, kitaev, bott, gap and the diagnostics (Kane–Mele: z2, spin_bott, spin_gap)."""
+        out = {"model": self.model, "sites": self.sites, "marker": self.marker,
+               "marker_by_ring": [float(x) for x in self.marker_by_ring], "kitaev": self.kitaev,
+               "bott": self.bott, "bott_reliable": self.bott_reliable, "bott_margin": self.bott_margin,
+               "gap": self.gap, "in_gap_states": self.in_gap_states, "fermi": self.fermi,
+               "flat_marker_centre": float(self.flat_by_ring[0]), "method": self.method,
+               "parameters": self.parameters}
+        if self.spin_gap is not None:
+            out.update(z2=self.z2, spin_bott=self.bott, spin_gap=self.spin_gap)
+        return out
 
 
 def _sample(ring: np.ndarray, per_ring: int) -> np.ndarray:
@@ -546,7 +560,7 @@ def flake_topology(graph, model: str = "qwz", *, M: float = 1.0, t2: float = 0.2
         Radius of the local marker's disk in the metric; default 4 bond lengths.
     per_ring : int, optional
         Sites evaluated per ring beyond ring 1 (evenly spread; all of ring 1), default 8.
-    frame : {"chord", "tangent"}, optional
+    frame : {"chord", "tangent", "transport"}, optional
         QWZ / Rashba bond angles (:func:`~hyperlattice.topology.models.model_terms`).
 
     Returns
@@ -595,6 +609,11 @@ def _flake_topology(graph, model, *, M, t2, phi, rashba, flux, disorder, seed, f
         S = V.conj().T @ (sz @ V)
         ev, U = np.linalg.eigh(0.5 * (S + S.conj().T))
         half = len(ev) // 2
+        spin_gap = float(ev[half] - ev[half - 1]) if 0 < half < len(ev) else 0.0
+        if spin_gap < SPIN_GAP_MIN:
+            warnings.warn(f"the spectrum of P s_z P has a gap of only {spin_gap:.2g} where it is split: the spin "
+                          "Chern marker and the spin Bott index are not protected (Rashba mixes the spins too "
+                          "much); the Z2 index of a closed surface (z2_index) does not need s_z.", stacklevel=3)
         up, dn = V @ U[:, half:], V @ U[:, :half]
         a, b = _invariants(geo, up, d, r, per_ring), _invariants(geo, dn, d, r, per_ring)
         keep = ("rings", "sites_by_ring", "kitaev_radius")
@@ -602,6 +621,7 @@ def _flake_topology(graph, model, *, M, t2, phi, rashba, flux, disorder, seed, f
         inv["bott_margin"] = min(a["bott_margin"], b["bott_margin"])
         inv["bott_stable"] = a["bott_stable"] and b["bott_stable"]
     else:
+        spin_gap = None
         inv = _invariants(geo, V, d, r, per_ring, occ.first_empty)
     gap, inside, lo = _centre_gap(occ)
     edge_weight = _edge_weight(geo, occ, lo, inv["rings"])
@@ -622,7 +642,8 @@ def _flake_topology(graph, model, *, M, t2, phi, rashba, flux, disorder, seed, f
                          kitaev=float(inv["kitaev"]), kitaev_radius=float(inv["kitaev_radius"]),
                          bott=float(inv["bott"]), bott_margin=float(inv["bott_margin"]), bott_reliable=reliable,
                          gap=gap, in_gap_states=inside, in_gap_weight_by_ring=edge_weight, fermi=occ.fermi,
-                         method="dense")
+                         method="dense", spin_gap=spin_gap,
+                         z2=None if spin_gap is None else int(round(float(inv["marker_by_ring"][0]))) % 2)
 
 
 

@@ -56,10 +56,12 @@ from ..results import Result
 
 __all__ = ["PlaneGraph", "ModelTerms", "square_flake", "honeycomb_flake", "square_torus", "honeycomb_torus",
            "model_terms", "model_hamiltonian", "bloch_model_hamiltonian", "cluster_angles", "MODELS",
-           "orbitals", "spin_operator"]
+           "orbitals", "spin_operator", "FRAMES", "transport_rotation"]
 
 #: the model names every front end accepts
 MODELS = ("qwz", "haldane", "kane-mele")
+#: the bond frames of a {p,q} flake (:func:`model_terms`)
+FRAMES = ("chord", "tangent", "transport")
 
 _SX = np.array([[0, 1], [1, 0]], dtype=np.complex128)
 _SY = np.array([[0, -1j], [1j, 0]], dtype=np.complex128)
@@ -632,13 +634,22 @@ def model_terms(graph, model: str = "qwz", *, M: float = 1.0, t1: float = 1.0, t
         the orbitals), default 0.
     seed : int, optional
         Seed of the disorder (realization 0 of :func:`~hyperlattice.graph.disorder.realization_rng`).
-    frame : {"chord", "tangent"}, optional
+    frame : {"chord", "tangent", "transport"}, optional
         The bond angles of QWZ and of the Rashba term on a {p,q} flake: ``"chord"`` (default),
         :math:`\arg(z_j - z_i)`; ``"tangent"``, the direction at :math:`z_i` of the geodesic
         towards :math:`z_j` (the chart recentred at :math:`z_i`), taken at the lower-numbered end
         of each bond, the reverse step that angle plus pi (the two ends' tangents are not
         antipodal in the chart: the difference is the chart's rotation along the geodesic).
         Clusters always use their lift (:func:`cluster_angles`).
+        ``"transport"`` (QWZ on a {p,q} flake): every site keeps the chart's frame and the hop
+        carries the Levi-Civita connection, :math:`T_{ij} = U(a_{ij})\,T_0\,U(a_{ij} +
+        \delta_{ij})^\dagger` with :math:`a_{ij}` the geodesic tangent at :math:`z_i` towards
+        :math:`z_j`, :math:`U(\theta) = e^{-i\theta\sigma_z/2}`, :math:`T_0 = T(0)` and
+        :math:`\delta_{ij} = a_{ji} - \pi - a_{ij} \in (-\pi, \pi)` the rotation of the chart's
+        frame against parallel transport along the bond (:func:`transport_rotation`); the
+        orbitals then see :math:`\pm A/2` flux per face, A the face's Levi-Civita holonomy: the
+        flake counterpart of the covariant frame of
+        :func:`~hyperlattice.topology.frames.qwz_frame_terms`.
 
     Returns
     -------
@@ -667,8 +678,10 @@ def model_terms(graph, model: str = "qwz", *, M: float = 1.0, t1: float = 1.0, t
     flux = _validate.real("flux", flux, minimum=-1e6, maximum=1e6)
     disorder = _validate.real("disorder", disorder, minimum=0.0, maximum=1e6)
     seed = _validate.integer("seed", seed, minimum=0, maximum=2**63 - 1)
-    frame = _validate.choice("frame", frame, ("chord", "tangent"))
+    frame = _validate.choice("frame", frame, FRAMES)
     dd = _darts(graph)
+    if frame == "transport" and (model != "qwz" or dd.kind != "flake" or isinstance(graph, PlaneGraph)):
+        raise ValueError("frame='transport' is defined for the qwz model on {p,q} flakes (ring_lattice) only.")
     if frame == "tangent":
         if dd.kind != "flake" or isinstance(graph, PlaneGraph):
             raise ValueError("frame='tangent' is defined on {p,q} flakes (ring_lattice) only.")
@@ -691,9 +704,12 @@ def model_terms(graph, model: str = "qwz", *, M: float = 1.0, t1: float = 1.0, t
     if model == "qwz":
         if rashba != 0.0:
             raise ValueError("rashba belongs to the kane-mele model, not to qwz.")
-        ang = _angles(graph, dd)
-        c, s = np.cos(ang), np.sin(ang)
-        T = 0.5 * (_SZ[None] + 1j * (c[:, None, None] * _SX[None] + s[:, None, None] * _SY[None]))
+        if frame == "transport":
+            T = _transport_blocks(graph, dd)
+        else:
+            ang = _angles(graph, dd)
+            c, s = np.cos(ang), np.sin(ang)
+            T = 0.5 * (_SZ[None] + 1j * (c[:, None, None] * _SX[None] + s[:, None, None] * _SY[None]))
         onsite[:] = M * _SZ
         tails.append(dd.tail), heads.append(dd.head), blocks.append(T * hop_phase[:, None, None])
         winds.append(dd.wind)
@@ -752,6 +768,62 @@ def _tangent_frame(graph, dd: _Darts) -> _Darts:
     out = ang.copy()
     out[dd.rev[lower]] = ang[lower] + np.pi
     return replace(dd, angle=out)
+
+
+def transport_rotation(graph) -> np.ndarray:
+    r"""Tangent angles and the frame's rotation along every bond of a {p,q} flake (parallel transport).
+
+    For the bond i -> j, :math:`a_{ij} = \arg\frac{z_j - z_i}{1 - \bar z_i z_j}` is the direction at
+    :math:`z_i` of the geodesic towards :math:`z_j` (the chart is conformal, so this is the angle
+    in the metric against the chart's x axis at :math:`z_i`), and :math:`\delta_{ij} = a_{ji} - \pi -
+    a_{ij}`, wrapped to :math:`(-\pi, \pi)`, is how far the chart's frame at :math:`z_j` is rotated
+    against the frame at :math:`z_i` parallel-transported along the geodesic (zero in the plane).
+    Around a face the :math:`\delta` add up to the Levi-Civita holonomy, :math:`\pm[(p-2)\pi - 2\pi p/q]`.
+
+    Parameters
+    ----------
+    graph : Lattice
+        A {p,q} flake (:func:`~hyperlattice.graph.lattice.ring_lattice`).
+
+    Returns
+    -------
+    tail, head, a, delta : ndarray
+        The darts (every edge forwards, then backwards) and their two angles (radians).
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.topology.models import transport_rotation
+    >>> tail, head, a, delta = transport_rotation(hl.ring_lattice(8, 3, 2))
+    >>> bool(abs(delta[0] + delta[len(delta) // 2]) < 1e-12)
+    True
+    """
+    if _kind(graph) != "flake" or isinstance(graph, PlaneGraph):
+        raise ValueError("transport_rotation needs a {p,q} flake (ring_lattice).")
+    z = np.asarray(graph.z, dtype=np.complex128)
+    e = np.asarray(graph.edges, dtype=np.int64)
+    tail = np.concatenate([e[:, 0], e[:, 1]])
+    head = np.concatenate([e[:, 1], e[:, 0]])
+    a = np.angle((z[head] - z[tail]) / (1.0 - np.conj(z[tail]) * z[head]))
+    back = np.concatenate([a[len(e):], a[: len(e)]])          # a_ji of every dart i -> j
+    delta = np.angle(np.exp(1j * (back - np.pi - a)))
+    return tail, head, a, delta
+
+
+def _transport_blocks(graph, dd: _Darts) -> np.ndarray:
+    """QWZ hops U(a) T_0 U(a + delta)^dagger in the chart's frame with the Levi-Civita connection."""
+    tail, head, a, delta = transport_rotation(graph)
+    if not (np.array_equal(tail, dd.tail) and np.array_equal(head, dd.head)):  # pragma: no cover - same edges
+        raise ValueError("the flake's darts are not in the order of its edges.")
+
+    def u(theta):
+        out = np.zeros(theta.shape + (2, 2), dtype=np.complex128)
+        out[..., 0, 0] = np.exp(-0.5j * theta)
+        out[..., 1, 1] = np.exp(0.5j * theta)
+        return out
+
+    T0 = 0.5 * (_SZ + 1j * _SX)
+    return u(a) @ T0[None] @ np.conj(np.swapaxes(u(a + delta), 1, 2))
 
 
 def _angles(graph, dd: _Darts) -> np.ndarray:
