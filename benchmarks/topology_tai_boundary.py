@@ -10,9 +10,9 @@ QWZ on the l-ring {8,3} flake (chord frame), box disorder W, E = 0. Three parts,
   every (l, M, W, seed), run as Dask sweeps (task ``conductance``, one local worker); for each (l, M)
   the mean over seeds with its standard error, the median, the fraction within 0.05 of one e²/h,
   and the two boundaries of the plateau: where the mean conductance crosses 1/2 (lower: rising,
-  upper: falling) and where the curves of two flake sizes cross (the finite-size estimate: inside
-  the plateau the conductance grows with l, outside it falls). Errors of both by a bootstrap over
-  the seeds (whole curves resampled: one seed's disorder pattern is the same at every W, scaled);
+  upper: falling), linear between grid points, with errors by a bootstrap over the seeds (whole
+  curves resampled: one seed's disorder pattern is the same at every W, scaled), and the same
+  crossings of the median; their drift from l = 4 to 5 to 6 is the finite-size check;
 * the self-consistent Born approximation on the graph (:mod:`hyperlattice.topology.anderson`):
   W_c(M) where the renormalised mass reaches M_c, on the l = 4, 5, 6 flakes, with M_c moved by its
   error.
@@ -44,12 +44,12 @@ DISORDER = (0.5, 1, 1.5, 2, 2.5, 3, 3.5, 4, 4.5, 5, 5.5, 6, 6.5, 7)
 L5_DISORDER = (1.5, 2, 2.5, 3, 3.5, 4.5, 5, 5.5, 6)
 L6_DISORDER = (2, 2.5, 5, 5.5)
 #: the sweeps: (directory, rings, masses, W, seeds); each is one resumable Dask sweep
-SWEEPS = (("l4", 4, MASSES, DISORDER, 48), ("l5a", 5, (1.5, 1.6, 1.8), L5_DISORDER, 12),
-          ("l6a", 6, (1.6,), L6_DISORDER, 6))
+SWEEPS = (("l4", 4, MASSES, DISORDER, 48), ("l5a", 5, (1.5, 1.6), L5_DISORDER, 12),
+          ("l5b", 5, (1.8,), L5_DISORDER, 8), ("l6a", 6, (1.6,), L6_DISORDER, 6))
 #: the clean critical mass: fine grid of the E = 0 density of states and the clean conductance's grid
 MC_DOS_MASSES = tuple(np.round(np.arange(1.39, 1.4401, 0.005), 4))
 MC_G_MASSES = tuple(np.round(np.arange(1.36, 1.5001, 0.02), 3))
-SCBA_MASSES = (1.45, 1.5, 1.55, 1.6, 1.65, 1.7, 1.75, 1.8, 1.9, 2.0)
+SCBA_MASSES = (1.45, 1.5, 1.6, 1.7, 1.8, 1.9, 2.0)
 BOOTSTRAP = 1000
 
 
@@ -69,8 +69,8 @@ def _crossings(W: np.ndarray, y: np.ndarray, level: float = 0.5) -> tuple[float,
     return float(up), float(down)
 
 
-def _boot(fn, curves: list[np.ndarray], rng) -> tuple[float, float]:
-    """fn(*mean curves) and its bootstrap standard deviation over the seeds (each array: seeds x W)."""
+def _boot(fn, curves: list, rng) -> tuple:
+    """(fn of the mean curves, its bootstrap standard deviation, the fraction of resamples without a value)."""
     best = np.asarray(fn(*[c.mean(axis=0) for c in curves]), float)
     samples = []
     for _ in range(BOOTSTRAP):
@@ -83,14 +83,12 @@ def _boot(fn, curves: list[np.ndarray], rng) -> tuple[float, float]:
 
 
 def analyse(data: dict) -> dict:
-    """Per (l, M): the W table and the boundaries; per M: the crossings of consecutive flake sizes."""
+    """Per (l, M): the W table and the two boundaries (mean conductance 1/2), with bootstrap errors."""
     rng = np.random.default_rng(20261128)
-    out = {"points": [], "size_crossings": []}
-    curves = {}
+    out = {"points": []}
     for block in data["ensembles"]:
         W = np.array(block["W"])
         G = np.array(block["G"])                       # seeds x W
-        curves[(block["rings"], block["M"])] = (W, G)
         (lo, hi), (elo, ehi), (mlo, mhi) = _boot(lambda g: _crossings(W, g), [G], rng)
         med_lo, med_hi = _crossings(W, np.median(G, axis=0))
         out["points"].append({
@@ -99,18 +97,6 @@ def analyse(data: dict) -> dict:
             "median": np.median(G, axis=0).tolist(), "within": np.mean(np.abs(G - 1) < 0.05, axis=0).tolist(),
             "lower": float(lo), "lower_err": float(elo), "upper": float(hi), "upper_err": float(ehi),
             "lower_median": med_lo, "upper_median": med_hi})
-    for (l1, M), (W1, G1) in curves.items():
-        l2 = l1 + 1
-        if (l2, M) not in curves:
-            continue
-        W2, G2 = curves[(l2, M)]
-        common = np.intersect1d(W1, W2)
-        a = G1[:, np.searchsorted(W1, common)]
-        b = G2[:, np.searchsorted(W2, common)]
-        # larger minus smaller flake: rises through 0 at the lower boundary, falls through 0 at the upper
-        (lo, hi), (elo, ehi), _ = _boot(lambda g1, g2: _crossings(common, g2 - g1, 0.0), [a, b], rng)
-        out["size_crossings"].append({"rings": [l1, l2], "M": M, "lower": float(lo), "lower_err": float(elo),
-                                      "upper": float(hi), "upper_err": float(ehi)})
     return out
 
 
@@ -169,6 +155,7 @@ def _sweep(where: Path, rings: int, masses, disorder, seeds: int) -> list:
 
 
 def scba_part(mc: float, dmc: float) -> dict:
+    """The SCBA boundary on l = 4, 5, 6 at M_c (l = 5 also at M_c -+ its error) and the renormalised mass."""
     import hyperlattice as hl
     from hyperlattice.topology.anderson import scba, scba_boundary
 
@@ -177,15 +164,15 @@ def scba_part(mc: float, dmc: float) -> dict:
         lat = hl.ring_lattice(8, 3, rings)
         row = {}
         for tag, m in (("mid", mc), ("low", mc - dmc), ("high", mc + dmc)):
-            if rings != 6 and tag != "mid":
+            if rings != 5 and tag != "mid":
                 continue
             b = scba_boundary(lat, masses=SCBA_MASSES, critical_mass=m)
             row[tag] = b.critical_disorder.round(6).tolist()
             if tag == "mid":
                 row["broadening"] = b.broadening.round(6).tolist()
         out["boundary"][str(rings)] = row
-    lat = hl.ring_lattice(8, 3, 6)
-    Ws = [0.0, 0.5, 1, 1.5, 2, 2.5, 3, 3.5, 4, 5, 6, 7]
+    lat = hl.ring_lattice(8, 3, 5)
+    Ws = [0.0, 1, 2, 3, 4, 5, 6, 7]
     out["mass_vs_W"] = {"W": Ws}
     for M in (1.6, 1.8):
         s = scba(lat, M=M, disorder=Ws)
@@ -193,25 +180,32 @@ def scba_part(mc: float, dmc: float) -> dict:
     return out
 
 
-def run(where: Path) -> dict:
-    import platform
-    import time
+def _cached(where: Path, name: str, compute):
+    """compute() stored as DIR/name.json (a rerun reads it: the parts run in separate processes)."""
+    path = where / f"{name}.json"
+    if path.exists():
+        return json.loads(path.read_text())
+    value = compute()
+    where.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(value))
+    return value
 
-    t0 = time.process_time()
-    mc = critical_mass()
-    ensembles = []
-    for name, rings, masses, disorder, seeds in SWEEPS:
-        ensembles += _sweep(where / name, rings, masses, disorder, seeds)
-    peaks = list(mc["dos_peak"].values())
-    cross = [v for v in mc["clean_crossing"].values() if np.isfinite(v)]
-    est = peaks + cross
+
+def run(where: Path, parts=("critical", "scba", "ensembles")) -> dict:
+    import platform
+
+    mc = _cached(where, "critical", critical_mass)
+    est = list(mc["dos_peak"].values()) + [v for v in mc["clean_crossing"].values() if np.isfinite(v)]
     m_c = round(float(np.mean([min(est), max(est)])), 3)
     dm = round(float(max(est) - min(est)) / 2 + 0.005, 3)
-    data = {"model": "qwz", "p": 8, "q": 3, "energy": 0.0, "coupling": 2.0, "arc": 0.25,
-            "critical": mc, "ensembles": ensembles, "scba": scba_part(m_c, dm),
-            "command": "python benchmarks/topology_tai_boundary.py --run DIR",
-            "machine": platform.machine(), "cpu_seconds_driver": time.process_time() - t0}
-    return data
+    sc = _cached(where, "scba", lambda: scba_part(m_c, dm)) if "scba" in parts else None
+    ensembles = []
+    if "ensembles" in parts:
+        for name, rings, masses, disorder, seeds in SWEEPS:
+            ensembles += _sweep(where / name, rings, masses, disorder, seeds)
+    return {"model": "qwz", "p": 8, "q": 3, "energy": 0.0, "coupling": 2.0, "arc": 0.25,
+            "critical": mc, "ensembles": ensembles, "scba": sc,
+            "command": "python benchmarks/topology_tai_boundary.py --run DIR", "machine": platform.machine()}
 
 
 # ------------------------------------------------------------------------------------------------
@@ -233,16 +227,12 @@ def tables(data: dict) -> str:
         lines.append(f"| {p['M']:g} | {p['rings']} | {p['seeds']} | {_pm(p['lower'], p['lower_err'])} | "
                      f"{_pm(p['upper'], p['upper_err'])} | {_pm(p['lower_median'], np.nan)} | "
                      f"{_pm(p['upper_median'], np.nan)} |")
-    lines += ["", "| M | flakes | lower crossing | upper crossing |", "|---|---|---|---|"]
-    for c in sorted(res["size_crossings"], key=lambda c: (c["M"], c["rings"])):
-        lines.append(f"| {c['M']:g} | ℓ = {c['rings'][0]}, {c['rings'][1]} | {_pm(c['lower'], c['lower_err'])} | "
-                     f"{_pm(c['upper'], c['upper_err'])} |")
     b = sc["boundary"]
-    lines += ["", f"| M | SCBA W_c, ℓ = 4 | ℓ = 5 | ℓ = 6 | ℓ = 6, M_c ∓ {sc['critical_mass_err']:g} | Γ at W_c (ℓ = 6) |",
+    lines += ["", f"| M | SCBA W_c, ℓ = 4 | ℓ = 5 | ℓ = 6 | ℓ = 5, M_c ∓ {sc['critical_mass_err']:g} | Γ at W_c (ℓ = 6) |",
               "|---|---|---|---|---|---|"]
     for i, M in enumerate(sc["masses"]):
         lines.append(f"| {M:g} | {b['4']['mid'][i]:.2f} | {b['5']['mid'][i]:.2f} | {b['6']['mid'][i]:.2f} | "
-                     f"{b['6']['low'][i]:.2f} – {b['6']['high'][i]:.2f} | {b['6']['broadening'][i]:.3f} |")
+                     f"{b['5']['low'][i]:.2f} – {b['5']['high'][i]:.2f} | {b['6']['broadening'][i]:.3f} |")
     return "\n".join(lines)
 
 
@@ -272,15 +262,10 @@ def figure(data: dict, out: Path) -> None:
                     color="C0", ms=4, label=f"⟨G⟩ = ½, ℓ = {rings}")
         ax.errorbar([p["upper"] for p in pts], [p["M"] for p in pts], xerr=[p["upper_err"] for p in pts], fmt=mk,
                     color="C3", ms=4)
-    cr = res["size_crossings"]
-    ax.errorbar([c["lower"] for c in cr], [c["M"] + 0.01 for c in cr], xerr=[c["lower_err"] for c in cr], fmt="*",
-                color="k", ms=6, label="crossing of two flake sizes")
-    ax.errorbar([c["upper"] for c in cr], [c["M"] + 0.01 for c in cr], xerr=[c["upper_err"] for c in cr], fmt="*",
-                color="k", ms=6)
-    b = sc["boundary"]["6"]
+    b = sc["boundary"]
     M = np.array(sc["masses"])
-    ax.plot(b["mid"], M, "-", color="C2", label=f"SCBA (ℓ = 6), M_c = {sc['critical_mass']:g}")
-    ax.fill_betweenx(M, b["low"], b["high"], color="C2", alpha=0.2, lw=0)
+    ax.plot(b["6"]["mid"], M, "-", color="C2", label=f"SCBA (ℓ = 6), M_c = {sc['critical_mass']:g}")
+    ax.fill_betweenx(M, b["5"]["low"], b["5"]["high"], color="C2", alpha=0.2, lw=0)
     ax.axhline(sc["critical_mass"], color="0.5", lw=0.6, ls="--")
     ax.set_xlabel("box disorder W (t)")
     ax.set_ylabel("mass M (t)")
@@ -295,9 +280,11 @@ def main(argv=None) -> None:
     ap.add_argument("--run", metavar="DIR", help="run (or resume) the sweeps in DIR and print the JSON")
     ap.add_argument("--from-json", metavar="FILE", help="print the tables of a stored JSON")
     ap.add_argument("--out", metavar="PNG", help="with --from-json: draw the figure")
+    ap.add_argument("--parts", default="critical,scba,ensembles",
+                    help="with --run: the parts to run (critical, scba, ensembles; each cached in DIR)")
     args = ap.parse_args(argv)
     if args.run:
-        print(json.dumps(run(Path(args.run))))
+        print(json.dumps(run(Path(args.run), tuple(args.parts.split(",")))))
         return
     if not args.from_json:
         ap.error("give --run DIR or --from-json FILE")

@@ -150,7 +150,7 @@ class ScbaScan(Result):
     >>> from hyperlattice.topology.anderson import scba
     >>> s = scba(hl.ring_lattice(8, 3, 3), M=1.6, disorder=[0.0, 3.0])
     >>> [round(float(m), 2) for m in s.mass]
-    [1.6, 1.37]
+    [1.6, 1.28]
     """
 
     COLUMNS = (Column("W", "disorder", "t"), Column("mass", "mass", "t"), Column("broadening", "broadening", "t"),
@@ -225,7 +225,7 @@ def scba(graph, *, M: float, disorder, energy: float = 0.0, absorb: float = 2.0,
     >>> import hyperlattice as hl
     >>> from hyperlattice.topology.anderson import scba
     >>> s = scba(hl.ring_lattice(8, 3, 3), M=1.6, disorder=2.0)
-    >>> round(float(s.sigma_z[0].real), 3) < 0, abs(s.sigma_z[0].imag) < 1e-9
+    >>> bool(s.sigma_z[0].real < 0), bool(abs(s.sigma_z[0].imag) < 1e-9)
     (True, True)
     """
     M = _validate.real("M", M, minimum=-1e6, maximum=1e6)
@@ -289,7 +289,7 @@ class ScbaBoundary(Result):
     >>> from hyperlattice.topology.anderson import scba_boundary
     >>> b = scba_boundary(hl.ring_lattice(8, 3, 3), masses=[1.4, 1.6], critical_mass=1.48)
     >>> float(b.critical_disorder[0]), round(float(b.critical_disorder[1]), 2)
-    (0.0, 1.75)
+    (0.0, 1.57)
     """
 
     COLUMNS = (Column("M", "masses", "t"), Column("W_c", "critical_disorder", "t"),
