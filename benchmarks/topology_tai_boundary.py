@@ -76,7 +76,10 @@ def _boot(fn, curves: list, rng) -> tuple:
     for _ in range(BOOTSTRAP):
         samples.append(fn(*[c[rng.integers(0, c.shape[0], c.shape[0])].mean(axis=0) for c in curves]))
     samples = np.asarray(samples, float)
-    with np.errstate(invalid="ignore"):
+    import warnings
+
+    with warnings.catch_warnings():       # a boundary no resample has (nan) gives an empty nanstd
+        warnings.simplefilter("ignore", RuntimeWarning)
         err = np.nanstd(samples, axis=0, ddof=1)
     missing = np.mean(np.isnan(samples), axis=0)
     return best, err, missing
@@ -221,7 +224,14 @@ def _pm(x, e, digits=2):
 def tables(data: dict) -> str:
     res = analyse(data)
     sc = data["scba"]
-    lines = ["| M | ℓ | seeds | lower W_c (⟨G⟩ = ½) | upper W_c (⟨G⟩ = ½) | lower (median) | upper (median) |",
+    mc = data["critical"]
+    lines = ["| estimate of M_c | ℓ | M_c |", "|---|---|---|"]
+    for rings, v in mc["dos_peak"].items():
+        lines.append(f"| peak of the ring-1 DOS at E = 0 | {rings} | {v:.3f} |")
+    for pair, v in mc["clean_crossing"].items():
+        lines.append(f"| clean G of two flakes equal | {pair.replace('-', ', ')} | {v:.3f} |")
+    lines.append(f"| taken | | {sc['critical_mass']:.3f} ± {sc['critical_mass_err']:.3f} |")
+    lines += ["", "| M | ℓ | seeds | lower W_c (⟨G⟩ = ½) | upper W_c (⟨G⟩ = ½) | lower (median) | upper (median) |",
              "|---|---|---|---|---|---|---|"]
     for p in sorted(res["points"], key=lambda p: (p["M"], p["rings"])):
         lines.append(f"| {p['M']:g} | {p['rings']} | {p['seeds']} | {_pm(p['lower'], p['lower_err'])} | "
@@ -249,19 +259,21 @@ def figure(data: dict, out: Path) -> None:
     colours = {1.3: "C0", 1.5: "C1", 1.6: "C2", 1.7: "C3", 1.8: "C4"}
     styles = {4: ":", 5: "--", 6: "-"}
     for p in res["points"]:
-        ax.errorbar(p["W"], p["mean"], yerr=p["sem"], ls=styles[p["rings"]], color=colours.get(p["M"], "k"),
-                    marker="o", ms=2.5, lw=1, label=f"M = {p['M']:g}, ℓ = {p['rings']}")
+        # l = 6 has two W pairs only: points, no line across the gap between them
+        ax.errorbar(p["W"], p["mean"], yerr=p["sem"], ls="none" if p["rings"] == 6 else styles[p["rings"]],
+                    color=colours.get(p["M"], "k"), marker="s" if p["rings"] == 6 else "o",
+                    ms=5 if p["rings"] == 6 else 2.5, lw=1, label=f"M = {p['M']:g}, ℓ = {p['rings']}")
     ax.axhline(1, color="0.6", lw=0.6)
     ax.set_xlabel("box disorder W (t)")
     ax.set_ylabel("mean conductance ⟨G⟩ (e²/h)")
     ax.legend(fontsize=6, ncol=2)
     ax = axes[1]
-    for rings, mk in ((4, "v"), (5, "s"), (6, "o")):
+    for rings, mk, dy in ((4, "v", -0.012), (5, "s", 0.0), (6, "o", 0.012)):     # sizes apart in M
         pts = [p for p in res["points"] if p["rings"] == rings]
-        ax.errorbar([p["lower"] for p in pts], [p["M"] for p in pts], xerr=[p["lower_err"] for p in pts], fmt=mk,
-                    color="C0", ms=4, label=f"⟨G⟩ = ½, ℓ = {rings}")
-        ax.errorbar([p["upper"] for p in pts], [p["M"] for p in pts], xerr=[p["upper_err"] for p in pts], fmt=mk,
-                    color="C3", ms=4)
+        ax.errorbar([p["lower"] for p in pts], [p["M"] + dy for p in pts], xerr=[p["lower_err"] for p in pts],
+                    fmt=mk, color="C0", ms=4, label=f"⟨G⟩ = ½, ℓ = {rings} (blue: lower, red: upper)")
+        ax.errorbar([p["upper"] for p in pts], [p["M"] + dy for p in pts], xerr=[p["upper_err"] for p in pts],
+                    fmt=mk, color="C3", ms=4)
     b = sc["boundary"]
     M = np.array(sc["masses"])
     ax.plot(b["6"]["mid"], M, "-", color="C2", label=f"SCBA (ℓ = 6), M_c = {sc['critical_mass']:g}")
@@ -270,7 +282,7 @@ def figure(data: dict, out: Path) -> None:
     ax.set_xlabel("box disorder W (t)")
     ax.set_ylabel("mass M (t)")
     ax.set_title("QWZ on {8,3}: the topological Anderson insulator", fontsize=9)
-    ax.legend(fontsize=6, loc="lower right")
+    ax.legend(fontsize=6, loc="lower center")
     fig.tight_layout()
     fig.savefig(out, dpi=130)
 

@@ -2,12 +2,17 @@
 
 from __future__ import annotations
 
+import json
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 import hyperlattice as hl
 from hyperlattice.topology import square_flake
 from hyperlattice.topology.anderson import scba, scba_boundary
+
+STORED = Path(__file__).resolve().parents[1] / "benchmarks" / "topology_tai_boundary.json"
 
 
 def _bloch_scba(M: float, W: float, n: int = 200) -> tuple[complex, complex]:
@@ -78,6 +83,28 @@ def test_the_conductance_task_runs_one_realization_and_checks_its_parameters():
                        (dict(rings=9), "sites")):
         with pytest.raises(ValueError, match=match):
             task.check(dict(params, **bad))
+
+
+def test_the_stored_scan_is_what_the_code_computes():
+    from hyperlattice.topology.transport import conductance
+
+    data = json.loads(STORED.read_text())
+    block = next(b for b in data["ensembles"] if b["rings"] == 4 and b["M"] == 1.6)
+    j = block["W"].index(3.0)
+    g = conductance(hl.ring_lattice(8, 3, 4), "qwz", M=1.6, disorder=3, seed=5).conductance[0]
+    assert abs(block["G"][5][j] - g) < 2e-6
+    sc = data["scba"]
+    i = sc["masses"].index(1.6)
+    b = scba_boundary(hl.ring_lattice(8, 3, 4), masses=[1.6], critical_mass=sc["critical_mass"])
+    assert abs(sc["boundary"]["4"]["mid"][i] - b.critical_disorder[0]) < 1e-5
+    # and the table's crossing of the stored curves
+    import sys
+
+    sys.path.insert(0, str(STORED.parent))
+    from topology_tai_boundary import _crossings
+
+    lo, hi = _crossings(np.array(block["W"]), np.mean(block["G"], axis=0))
+    assert 2.0 < lo < 2.5 and 5.0 < hi < 6.0
 
 
 @pytest.mark.slow
