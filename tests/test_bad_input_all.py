@@ -139,6 +139,9 @@ CALLS = {
     # the spin-1/2 XXZ model: the octagon (8 spins, bipartite), short chains
     "hyperlattice.spins.quantum.xxz_qmc": (dict(system=OCT, J=1.0, Delta=1.0, beta=1.0, sweeps=200), set()),
     "hyperlattice.spins.quantum.xxz_exact": (dict(system=OCT, J=1.0, Delta=1.0, beta=1.0), set()),
+    # the SCBA of the topological Anderson insulator on the 35-site flake
+    "hyperlattice.topology.anderson.scba": (dict(graph=LAT, M=1.6, disorder=[1.0]), set()),
+    "hyperlattice.topology.anderson.scba_boundary": (dict(graph=LAT, masses=[1.6], critical_mass=1.42), set()),
 }
 
 

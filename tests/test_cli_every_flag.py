@@ -46,6 +46,7 @@ INVOCATIONS = [
     ["sweep", "--task", "probe", "--grid", "x=1,2", "--out", "{tmp}/s", "--scheduler", "serial", "--workers", "1",
      "--retries", "0", "--timeout", "60", "--json"],
     ["sweep", "{tmp}/sweep.json", "--scheduler", "serial"],
+    ["sweep", "--task", "conductance", "--grid", "rings=2", "--grid", "W=1", "--out", "{tmp}/sc", "--scheduler", "serial"],
     ["dos", "-p", "7", "-q", "3", "--rings", "3", "--moments", "16", "--vectors", "2", "--seed", "1", "--kind", "phase", "--exclude", "1",
      "--points", "11", "--out", "{tmp}/dos.csv", "--plot", "{tmp}/dos.png", "--checkpoint", "{tmp}/dc", "--json"],
     ["dos", "--cluster", "klein", "--moments", "16", "--vectors", "2", "--keep-uniform"],

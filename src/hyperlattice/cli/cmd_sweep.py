@@ -14,7 +14,7 @@ HELP = ("run a grid of tasks (disorder realizations, levels over flux, rings and
         "into a resumable Parquet table")
 DESCRIPTION = (
     "Run every point of a parameter grid for one task (disorder, levels, qmc, spins, spins_quantum, device, "
-    "topology, probe) and stream one row per task "
+    "topology, conductance, probe) and stream one row per task "
     "into OUT/table.parquet (pandas.read_parquet reads it; the parameters and the package version are in its "
     "metadata). A rerun skips finished tasks. CONFIG is a JSON file {\"task\": ..., \"grid\": {name: [values]}, "
     "\"out\": DIR, \"scheduler\": ..., \"workers\": N, \"retries\": N}; flags override it. --grid NAME=V1,V2,... "
@@ -30,8 +30,8 @@ _JSON_NAMES = {list: "array", str: "string", int: "number", float: "number", boo
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("config", nargs="?", default=None, metavar="CONFIG", help="JSON file with the sweep")
-    parser.add_argument("--task", default=None, help="task name: disorder, levels, qmc, spins, spins_quantum, device, topology "
-                        "or probe")
+    parser.add_argument("--task", default=None, help="task name: disorder, levels, qmc, spins, spins_quantum, device, topology, "
+                        "conductance or probe")
     parser.add_argument("--grid", action="append", default=[], metavar="NAME=VALUES",
                         help="a grid axis: NAME=1,2,3 or NAME=0:100 (repeatable)")
     parser.add_argument("--out", default=None, metavar="DIR", help="sweep directory (created; resumed if present)")

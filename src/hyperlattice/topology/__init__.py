@@ -4,7 +4,9 @@ quantise in hyperbolic space, Chern numbers of Abelian Bloch bands on closed sur
 Layer 3 (above graph/ and continuum/): :mod:`.models` (the models as hop lists),
 :mod:`.markers` (flake invariants from dense diagonalisation), :mod:`.surfaces` (clusters:
 Fukui–Hatsugai–Suzuki Chern numbers on the 2-subtori of the Abelian Brillouin zone),
-:mod:`.kpm_marker` (the centre marker of big flakes by a Chebyshev expansion of the projector).
+:mod:`.kpm_marker` (the centre marker of big flakes by a Chebyshev expansion of the projector),
+:mod:`.anderson` (the self-consistent Born approximation of disorder for the topological Anderson
+insulator).
 """
 
 from .markers import (EdgeChirality, FlakeTopology, OccupiedStates, edge_chirality, flake_topology, local_markers,

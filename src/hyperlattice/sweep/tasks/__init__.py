@@ -7,7 +7,7 @@ linear algebra therefore runs on one BLAS thread (:func:`blas_one_thread`).
 
 The registry (:data:`TASKS`, :func:`get_task`, :func:`execute`) lives here; each task family's
 ``run`` and ``check`` live in a module of their own (``disorder``, ``levels``, ``qmc``, ``spins``,
-``spins_quantum``, ``device``, ``topology``, ``probe``; shared helpers in ``_common``). A new task
+``spins_quantum``, ``device``, ``topology`` (with ``conductance``), ``probe``; shared helpers in ``_common``). A new task
 is a new module with its ``run(**params) -> dict`` (every parameter with a default) and
 ``check(params)``, and one :class:`Task` entry in :data:`TASKS`.
 
@@ -58,6 +58,12 @@ Registered tasks:
     ``p, q, rings, model, M, t2, phi, W, seed, moments``; outputs ``marker``, ``marker_error``,
     ``kitaev``, ``gap``. A grid over ``seed`` gives the ensemble (the topological Anderson
     insulator: the averaged marker against W).
+``conductance``
+    One disorder realization of the two-terminal conductance at one energy
+    (:func:`hyperlattice.topology.transport.conductance`, wide-band leads on two opposite arcs of
+    the edge): ``p, q, rings, model, M, t2, phi, W, seed, energy, coupling, arc``; outputs
+    ``conductance`` (e²/h) and ``error`` (its current-conservation check). A grid over ``seed``
+    gives the ensemble (the plateau of the topological Anderson insulator and its boundaries).
 ``probe``
     ``x -> x**2`` after sleeping ``sleep`` seconds: measures the engine's own overhead and
     exercises its fault handling; no physics.
@@ -81,7 +87,7 @@ from .probe import _check_probe, _probe
 from .qmc import _QMC_GREEN, _QMC_SCALARS, _QMC_STIFFNESS, _QMC_TAUS, _check_qmc, _qmc  # noqa: F401
 from .spins import _SPINS_SCALARS, _check_spins, _spins  # noqa: F401
 from .spins_quantum import _XXZ_SCALARS, _check_spins_quantum, _spins_quantum  # noqa: F401
-from .topology import _check_topology, _topology
+from .topology import _check_conductance, _check_topology, _conductance, _topology
 
 __all__ = ["Task", "TASKS", "get_task", "blas_one_thread"]
 
@@ -182,6 +188,7 @@ TASKS = {t.name: t for t in (Task("disorder", _disorder, _check_disorder), Task(
                              Task("qmc", _qmc, _check_qmc), Task("spins", _spins, _check_spins),
                              Task("spins_quantum", _spins_quantum, _check_spins_quantum),
                              Task("device", _device, _check_device), Task("topology", _topology, _check_topology),
+                             Task("conductance", _conductance, _check_conductance),
                              Task("probe", _probe, _check_probe))}
 
 
@@ -191,7 +198,7 @@ def get_task(name) -> Task:
     Parameters
     ----------
     name : str
-        ``"disorder"``, ``"levels"``, ``"qmc"``, ``"spins"``, ``"spins_quantum"``, ``"device"``, ``"topology"`` or ``"probe"`` (the keys of :data:`TASKS`).
+        ``"disorder"``, ``"levels"``, ``"qmc"``, ``"spins"``, ``"spins_quantum"``, ``"device"``, ``"topology"``, ``"conductance"`` or ``"probe"`` (the keys of :data:`TASKS`).
 
     Returns
     -------
