@@ -446,9 +446,22 @@ class SymbolicAnalysis:
         self._hermitian_of = m
         if tpos is not None:
             # every column holds its diagonal entry, so no column is empty for reduceat
-            self.norm = float(np.add.reduceat(mod, m.indptr[:-1]).max())     # ||H||_1 >= ||H||_2
-        else:
-            self.norm = float(abs(m).sum(axis=0).max()) if m.nnz else 0.0     # ||H||_1 >= ||H||_2
+            self._norm = float(np.add.reduceat(mod, m.indptr[:-1]).max())     # ||H||_1 >= ||H||_2
+            self._norm_of = m
+
+    @property
+    def norm(self) -> float:
+        """The 1-norm of the matrix held (an upper bound of its 2-norm), computed when first needed
+        (the symmetry check computes it on the way)."""
+        if getattr(self, "_norm_of", None) is not self.matrix:
+            m = self.matrix
+            self._norm = float(abs(m).sum(axis=0).max()) if m.nnz else 0.0
+            self._norm_of = m
+        return self._norm
+
+    @norm.setter
+    def norm(self, value: float) -> None:
+        self._norm, self._norm_of = float(value), self.matrix
 
     def _transpose_positions(self) -> np.ndarray | None:
         """Position in ``matrix.data`` of the transposed partner of every entry, for a structurally
@@ -512,7 +525,8 @@ class SymbolicAnalysis:
         out.data[diag] -= sigma
         return out
 
-    def factor(self, sigma: float = 0.0, *, positive: bool = False, matrix=None, pivoting: bool = False) -> "Factor":
+    def factor(self, sigma: float = 0.0, *, positive: bool = False, matrix=None, pivoting: bool = False,
+               symmetric: bool = False) -> "Factor":
         """Numeric factorisation of :math:`H - \\sigma` reusing this analysis (see :func:`factorize`).
 
         ``matrix``: another matrix with the same sparsity pattern (the real sector blocks of
@@ -526,6 +540,11 @@ class SymbolicAnalysis:
             As in :func:`factorize`; default False.
         matrix : sparse matrix, optional
             New values on the analysed pattern.
+        symmetric : bool, optional
+            The caller built ``matrix`` (real, CSC, on the analysed pattern itself) symmetric to
+            rounding, as the rotation-sector blocks are built (:mod:`hyperlattice.graph.sectors`),
+            so the check of its symmetry (a pass over its values at every factorisation) is
+            skipped; ignored for any other matrix. Default False.
 
         Returns
         -------
@@ -551,6 +570,10 @@ class SymbolicAnalysis:
                 # the constructor copies the index arrays: share the analysed ones instead
                 mat.indices, mat.indptr = self.matrix.indices, self.matrix.indptr
                 mat.has_sorted_indices = True
+                if _validate.flag("symmetric", symmetric):
+                    # built symmetric by the caller: the check's pass over the values is skipped (the
+                    # norm, needed only when a tie is asked about, is computed then)
+                    self._hermitian_of = mat
             else:
                 mat = _with_diagonal(_as_square(matrix, self.what))
                 if (mat.shape != self.matrix.shape or not np.array_equal(mat.indptr, self.matrix.indptr)
@@ -1175,7 +1198,8 @@ def shift_invert_lowest(mat, k: int, factor: Factor, tol: float, label: str):
 
 
 def _proved_shift_lowest(mat, k: int, analysis: SymbolicAnalysis, tol: float, label: str, *, what: str,
-                         below: float | None = None, ritz: np.ndarray | None = None, scale: float = 1.0):
+                         below: float | None = None, ritz: np.ndarray | None = None, scale: float = 1.0,
+                         symmetric: bool = False):
     r"""The k lowest eigenvalues of a real symmetric block: a shift σ below them, proved, then shift-invert.
 
     σ starts just below ``below`` (a known lower bound of the block's levels, 1e-6 ``scale`` under
@@ -1185,7 +1209,8 @@ def _proved_shift_lowest(mat, k: int, analysis: SymbolicAnalysis, tol: float, la
     :math:`(B - \sigma)^{-1}` (:func:`shift_invert_lowest`) then gives the k lowest.
 
     Returns ``(energies, residuals, sigma, solves)``; raises ConvergenceError when no shift below
-    the block's lowest level is found in 60 steps (``what`` names the block).
+    the block's lowest level is found in 60 steps (``what`` names the block). ``symmetric``: the
+    block was built symmetric (:meth:`SymbolicAnalysis.factor`).
     """
     if below is not None:
         theta = np.array([below])
@@ -1197,7 +1222,7 @@ def _proved_shift_lowest(mat, k: int, analysis: SymbolicAnalysis, tol: float, la
         delta = max(float(theta[min(k, theta.shape[0] - 1)] - theta[min(k, theta.shape[0]) - 1]), 1e-4 * spread)
     for _ in range(60):
         sigma = float(theta[min(k, theta.shape[0]) - 1]) - delta
-        factor = analysis.factor(sigma, positive=True, matrix=mat)
+        factor = analysis.factor(sigma, positive=True, matrix=mat, symmetric=symmetric)
         if factor.negatives == 0 or factor.negatives is None:
             break
         delta *= 2.0

@@ -997,7 +997,7 @@ class _Solves:
         e, res, sigma, solves = fct._proved_shift_lowest(
             mat, k, self.analyses[self.plan.analysis_key(spec)], self.tol, f"block m={spec[0]}",
             what=f"block m={spec[0]} ({spec[1]})", below=below, ritz=None if below is not None else self.ritz(spec),
-            scale=self.t)
+            scale=self.t, symmetric=True)
         self.info[spec] = {"sigma": sigma, "solves": solves}
         self.timings[f"solve {spec[0]} {spec[1]}"] = time.perf_counter() - t0
         self.bar.note(f"block m={spec[0]} {spec[1]}: {e.tolist()} after {solves} solves")
@@ -1008,7 +1008,8 @@ class _Solves:
         """Eigenvalues of the block below x (Sylvester's law of inertia), or None when not proved."""
         mat = self.blocks.get(spec, False)
         t0 = time.perf_counter()
-        factor = self.analyses[self.plan.analysis_key(spec)].factor(x, positive=positive, matrix=mat)
+        factor = self.analyses[self.plan.analysis_key(spec)].factor(x, positive=positive, matrix=mat,
+                                                                    symmetric=True)
         count = factor.negatives
         del factor, mat
         self.timings["inertia"] = self.timings.get("inertia", 0.0) + time.perf_counter() - t0
