@@ -351,6 +351,11 @@ class SymbolicAnalysis:
         Name of the matrix in error messages; default ``"H - sigma"``.
     max_bytes : int, optional
         Memory budget in bytes (default: what this process may use).
+    ordered : bool, optional
+        The rows are already in a fill-reducing order (derived by the caller from another
+        analysis, as the rotation-sector blocks of m = 0 take theirs from the real blocks'):
+        CHOLMOD keeps it (its natural ordering, postordered) instead of computing a minimum-degree
+        ordering; SuperLU ignores it. Default False.
 
     Attributes
     ----------
@@ -367,6 +372,9 @@ class SymbolicAnalysis:
         Estimated peak bytes of one numeric factorisation (factor plus one shifted copy of H).
     exact : bool
         True when ``factor_entries`` comes from the ordering itself, not from the fill bound.
+    permutation : numpy.ndarray or None
+        CHOLMOD's fill-reducing ordering (row ``permutation[i]`` is eliminated i-th); None for
+        SuperLU, whose column order is chosen at the first factorisation.
 
     Raises
     ------
@@ -384,7 +392,8 @@ class SymbolicAnalysis:
     1
     """
 
-    def __init__(self, mat, backend: str = "auto", *, what: str = "H - sigma", max_bytes: int | None = None):
+    def __init__(self, mat, backend: str = "auto", *, what: str = "H - sigma", max_bytes: int | None = None,
+                 ordered: bool = False):
         self.what = what
         self.backend = resolve_backend(backend)
         self.matrix = _with_diagonal(_as_square(mat, what))
@@ -395,6 +404,8 @@ class SymbolicAnalysis:
         self._cholmod_ldl = None      # simplicial LDL^T analysis (inertia anywhere)
         self._cholmod_llt = None      # supernodal LL^T analysis (positive definite, faster)
         self._perm = None             # SuperLU: the column order of the first factorisation
+        self._ordering = "natural" if ordered else "amd"
+        self.permutation = None
         self.exact = False
         self.supernodal = False
         nnz_a = self.matrix.nnz
@@ -404,8 +415,9 @@ class SymbolicAnalysis:
             try:
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore")   # CHOLMOD warns on complex-to-real conversions
-                    self._cholmod_ldl = cholmod.analyze(self.matrix, mode="simplicial", ordering_method="amd")
-                perm = np.asarray(self._cholmod_ldl.P(), dtype=np.int64)
+                    self._cholmod_ldl = cholmod.analyze(self.matrix, mode="simplicial",
+                                                        ordering_method=self._ordering)
+                perm = self.permutation = np.asarray(self._cholmod_ldl.P(), dtype=np.int64)
                 self.factor_entries, flops = _factor_counts(self.matrix, perm)
                 # CHOLMOD's own rule: supernodal pays when flops / nnz(L) >= 40; on these graphs the
                 # fill is tiny and the simplicial LDL^T is 5x faster (0.010 s vs 0.052 s at l = 10)
@@ -817,7 +829,7 @@ class Factor:
             if an._cholmod_llt is None:
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore")
-                    an._cholmod_llt = cholmod.analyze(shifted, mode="supernodal", ordering_method="amd")
+                    an._cholmod_llt = cholmod.analyze(shifted, mode="supernodal", ordering_method=an._ordering)
             try:
                 self._f = an._cholmod_llt.cholesky(shifted, beta=beta)
             except cholmod.CholmodNotPositiveDefiniteError:
@@ -964,7 +976,8 @@ class Factor:
                 f"proved={self.proved}>")
 
 
-def analyze(mat, *, backend: str = "auto", what: str = "H - sigma", max_bytes: int | None = None) -> SymbolicAnalysis:
+def analyze(mat, *, backend: str = "auto", what: str = "H - sigma", max_bytes: int | None = None,
+            ordered: bool = False) -> SymbolicAnalysis:
     """The symbolic analysis of a real symmetric or complex Hermitian sparse matrix H (shift-independent).
 
     The fill-reducing ordering and the size of the factor depend on the sparsity pattern only,
@@ -981,6 +994,9 @@ def analyze(mat, *, backend: str = "auto", what: str = "H - sigma", max_bytes: i
         How the matrix is named in error messages; default ``"H - sigma"``.
     max_bytes : int, optional
         Budget in bytes; default the memory available to the process (:func:`available_memory`).
+    ordered : bool, optional
+        The rows are already in a fill-reducing order: CHOLMOD keeps it instead of computing
+        one (:class:`SymbolicAnalysis`); default False.
 
     Returns
     -------
@@ -1011,7 +1027,7 @@ def analyze(mat, *, backend: str = "auto", what: str = "H - sigma", max_bytes: i
     what = _text("what", what)
     if max_bytes is not None:
         max_bytes = _validate.positive_int("max_bytes", max_bytes)
-    return SymbolicAnalysis(mat, backend, what=what, max_bytes=max_bytes)
+    return SymbolicAnalysis(mat, backend, what=what, max_bytes=max_bytes, ordered=_validate.flag("ordered", ordered))
 
 
 def factorize(mat, sigma=0.0, *, backend: str = "auto", analysis: SymbolicAnalysis | None = None,
@@ -1095,6 +1111,7 @@ def factorize(mat, sigma=0.0, *, backend: str = "auto", analysis: SymbolicAnalys
 
 #: Lanczos basis of the shift-invert runs (measured: 19 solves per level at 12, the fewest).
 _NCV = 12
+_ARPACK_TOLS = (1e-10, 1e-14)
 
 
 def shift_invert_lowest(mat, k: int, factor: Factor, tol: float, label: str):
@@ -1181,7 +1198,7 @@ def shift_invert_lowest(mat, k: int, factor: Factor, tol: float, label: str):
     # ARPACK's tolerance is relative to the eigenvalues 1/(E - x) of the inverse; a loose first
     # try usually leaves a residual of H far below tol already (and the eigenvalue error is about
     # residual^2 / gap); a tight one follows only when the residual misses tol / 10.
-    for arpack_tol in (1e-10, 1e-14):
+    for arpack_tol in _ARPACK_TOLS:
         try:
             _, vecs = spla.eigsh(lin, k=k, which="LA", ncv=ncv, tol=arpack_tol, v0=v0, maxiter=2000)
         except spla.ArpackNoConvergence as exc:  # pragma: no cover - depends on the matrix
