@@ -568,6 +568,7 @@ class SymbolicAnalysis:
         ValueError
             If ``matrix`` does not have the analysed pattern or type.
         """
+        symmetric = _validate.flag("symmetric", symmetric)
         if matrix is not None:
             if (type(matrix) is sp.csc_matrix and not self.complex and matrix.dtype == np.float64
                     and matrix.shape == self.matrix.shape and np.array_equal(matrix.indptr, self.matrix.indptr)
@@ -582,7 +583,7 @@ class SymbolicAnalysis:
                 # the constructor copies the index arrays: share the analysed ones instead
                 mat.indices, mat.indptr = self.matrix.indices, self.matrix.indptr
                 mat.has_sorted_indices = True
-                if _validate.flag("symmetric", symmetric):
+                if symmetric:
                     # built symmetric by the caller: the check's pass over the values is skipped (the
                     # norm, needed only when a tie is asked about, is computed then)
                     self._hermitian_of = mat
