@@ -285,7 +285,8 @@ def main(argv=None) -> None:
 
     print(f"process peak RSS {peak_rss_mb():.0f} MB; {load()}")
     print("summary (ratio = peer time / hyperlattice time, medians, wall and CPU; for (e) auto time / best "
-          "explicit time):")
+          "explicit time; a [subprocess] line times a fresh interpreter, start-up and imports counted, against "
+          "the peer in this process, its imports and the adjacency build not counted):")
     for label, what, ratio, cpu in rows:
         print(f"  ({label}) {what}: {ratio:.2f}" + (f" (CPU {cpu:.2f})" if cpu is not None else ""))
 

@@ -179,6 +179,24 @@ def test_a_non_symmetric_matrix_is_refused_for_an_inertia_count(backend):
     assert lu.negatives is None and not lu.proved and np.allclose(N @ lu.solve(np.ones(2)), 1.0)
 
 
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_a_matrix_built_symmetric_skips_the_check_and_the_norm_follows_the_values(flake, backend):
+    # new values on the analysed pattern: checked by default, taken as built with symmetric=True (the
+    # sector blocks); the 1-norm used for ties is that of the matrix factorised, whichever path ran
+    H = hamiltonian(flake).tocsc()
+    an = F.analyze(H, backend=backend)
+    assert an.norm == pytest.approx(3.0)
+    twice = an.matrix.copy()
+    twice.data *= 2.0
+    f = an.factor(-7.0, positive=True, matrix=twice, symmetric=True)
+    assert f.negatives == 0 and an.norm == pytest.approx(6.0) and f.proved
+    skew = an.matrix.copy()
+    upper = np.repeat(np.arange(skew.shape[0]), np.diff(skew.indptr)) > skew.indices
+    skew.data[upper] *= 1.5
+    with pytest.raises(ValueError, match="must be symmetric"):
+        an.factor(-7.0, matrix=skew)
+
+
 @pytest.mark.parametrize("value", ["junk", "superLU_dist", "0"])
 def test_a_misspelt_backend_variable_is_refused(value, monkeypatch, capsys):
     # issue 28 item 6: HYPERLATTICE_FACTOR_BACKEND=junk was silently taken as auto

@@ -351,6 +351,11 @@ class SymbolicAnalysis:
         Name of the matrix in error messages; default ``"H - sigma"``.
     max_bytes : int, optional
         Memory budget in bytes (default: what this process may use).
+    ordered : bool, optional
+        The rows are already in a fill-reducing order (derived by the caller from another
+        analysis, as the rotation-sector blocks of m = 0 take theirs from the real blocks'):
+        CHOLMOD keeps it (its natural ordering, postordered) instead of computing a minimum-degree
+        ordering; SuperLU ignores it. Default False.
 
     Attributes
     ----------
@@ -367,6 +372,9 @@ class SymbolicAnalysis:
         Estimated peak bytes of one numeric factorisation (factor plus one shifted copy of H).
     exact : bool
         True when ``factor_entries`` comes from the ordering itself, not from the fill bound.
+    permutation : numpy.ndarray or None
+        CHOLMOD's fill-reducing ordering (row ``permutation[i]`` is eliminated i-th); None for
+        SuperLU, whose column order is chosen at the first factorisation.
 
     Raises
     ------
@@ -384,7 +392,8 @@ class SymbolicAnalysis:
     1
     """
 
-    def __init__(self, mat, backend: str = "auto", *, what: str = "H - sigma", max_bytes: int | None = None):
+    def __init__(self, mat, backend: str = "auto", *, what: str = "H - sigma", max_bytes: int | None = None,
+                 ordered: bool = False):
         self.what = what
         self.backend = resolve_backend(backend)
         self.matrix = _with_diagonal(_as_square(mat, what))
@@ -395,6 +404,8 @@ class SymbolicAnalysis:
         self._cholmod_ldl = None      # simplicial LDL^T analysis (inertia anywhere)
         self._cholmod_llt = None      # supernodal LL^T analysis (positive definite, faster)
         self._perm = None             # SuperLU: the column order of the first factorisation
+        self._ordering = "natural" if ordered else "amd"
+        self.permutation = None
         self.exact = False
         self.supernodal = False
         nnz_a = self.matrix.nnz
@@ -404,8 +415,9 @@ class SymbolicAnalysis:
             try:
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore")   # CHOLMOD warns on complex-to-real conversions
-                    self._cholmod_ldl = cholmod.analyze(self.matrix, mode="simplicial", ordering_method="amd")
-                perm = np.asarray(self._cholmod_ldl.P(), dtype=np.int64)
+                    self._cholmod_ldl = cholmod.analyze(self.matrix, mode="simplicial",
+                                                        ordering_method=self._ordering)
+                perm = self.permutation = np.asarray(self._cholmod_ldl.P(), dtype=np.int64)
                 self.factor_entries, flops = _factor_counts(self.matrix, perm)
                 # CHOLMOD's own rule: supernodal pays when flops / nnz(L) >= 40; on these graphs the
                 # fill is tiny and the simplicial LDL^T is 5x faster (0.010 s vs 0.052 s at l = 10)
@@ -446,9 +458,22 @@ class SymbolicAnalysis:
         self._hermitian_of = m
         if tpos is not None:
             # every column holds its diagonal entry, so no column is empty for reduceat
-            self.norm = float(np.add.reduceat(mod, m.indptr[:-1]).max())     # ||H||_1 >= ||H||_2
-        else:
-            self.norm = float(abs(m).sum(axis=0).max()) if m.nnz else 0.0     # ||H||_1 >= ||H||_2
+            self._norm = float(np.add.reduceat(mod, m.indptr[:-1]).max())     # ||H||_1 >= ||H||_2
+            self._norm_of = m
+
+    @property
+    def norm(self) -> float:
+        """The 1-norm of the matrix held (an upper bound of its 2-norm), computed when first needed
+        (the symmetry check computes it on the way)."""
+        if getattr(self, "_norm_of", None) is not self.matrix:
+            m = self.matrix
+            self._norm = float(abs(m).sum(axis=0).max()) if m.nnz else 0.0
+            self._norm_of = m
+        return self._norm
+
+    @norm.setter
+    def norm(self, value: float) -> None:
+        self._norm, self._norm_of = float(value), self.matrix
 
     def _transpose_positions(self) -> np.ndarray | None:
         """Position in ``matrix.data`` of the transposed partner of every entry, for a structurally
@@ -512,7 +537,8 @@ class SymbolicAnalysis:
         out.data[diag] -= sigma
         return out
 
-    def factor(self, sigma: float = 0.0, *, positive: bool = False, matrix=None, pivoting: bool = False) -> "Factor":
+    def factor(self, sigma: float = 0.0, *, positive: bool = False, matrix=None, pivoting: bool = False,
+               symmetric: bool = False) -> "Factor":
         """Numeric factorisation of :math:`H - \\sigma` reusing this analysis (see :func:`factorize`).
 
         ``matrix``: another matrix with the same sparsity pattern (the real sector blocks of
@@ -526,6 +552,11 @@ class SymbolicAnalysis:
             As in :func:`factorize`; default False.
         matrix : sparse matrix, optional
             New values on the analysed pattern.
+        symmetric : bool, optional
+            The caller built ``matrix`` (real, CSC, on the analysed pattern itself) symmetric to
+            rounding, as the rotation-sector blocks are built (:mod:`hyperlattice.graph.sectors`),
+            so the check of its symmetry (a pass over its values at every factorisation) is
+            skipped; ignored for any other matrix. Default False.
 
         Returns
         -------
@@ -537,6 +568,7 @@ class SymbolicAnalysis:
         ValueError
             If ``matrix`` does not have the analysed pattern or type.
         """
+        symmetric = _validate.flag("symmetric", symmetric)
         if matrix is not None:
             if (type(matrix) is sp.csc_matrix and not self.complex and matrix.dtype == np.float64
                     and matrix.shape == self.matrix.shape and np.array_equal(matrix.indptr, self.matrix.indptr)
@@ -551,6 +583,10 @@ class SymbolicAnalysis:
                 # the constructor copies the index arrays: share the analysed ones instead
                 mat.indices, mat.indptr = self.matrix.indices, self.matrix.indptr
                 mat.has_sorted_indices = True
+                if symmetric:
+                    # built symmetric by the caller: the check's pass over the values is skipped (the
+                    # norm, needed only when a tie is asked about, is computed then)
+                    self._hermitian_of = mat
             else:
                 mat = _with_diagonal(_as_square(matrix, self.what))
                 if (mat.shape != self.matrix.shape or not np.array_equal(mat.indptr, self.matrix.indptr)
@@ -794,7 +830,7 @@ class Factor:
             if an._cholmod_llt is None:
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore")
-                    an._cholmod_llt = cholmod.analyze(shifted, mode="supernodal", ordering_method="amd")
+                    an._cholmod_llt = cholmod.analyze(shifted, mode="supernodal", ordering_method=an._ordering)
             try:
                 self._f = an._cholmod_llt.cholesky(shifted, beta=beta)
             except cholmod.CholmodNotPositiveDefiniteError:
@@ -941,7 +977,8 @@ class Factor:
                 f"proved={self.proved}>")
 
 
-def analyze(mat, *, backend: str = "auto", what: str = "H - sigma", max_bytes: int | None = None) -> SymbolicAnalysis:
+def analyze(mat, *, backend: str = "auto", what: str = "H - sigma", max_bytes: int | None = None,
+            ordered: bool = False) -> SymbolicAnalysis:
     """The symbolic analysis of a real symmetric or complex Hermitian sparse matrix H (shift-independent).
 
     The fill-reducing ordering and the size of the factor depend on the sparsity pattern only,
@@ -958,6 +995,9 @@ def analyze(mat, *, backend: str = "auto", what: str = "H - sigma", max_bytes: i
         How the matrix is named in error messages; default ``"H - sigma"``.
     max_bytes : int, optional
         Budget in bytes; default the memory available to the process (:func:`available_memory`).
+    ordered : bool, optional
+        The rows are already in a fill-reducing order: CHOLMOD keeps it instead of computing
+        one (:class:`SymbolicAnalysis`); default False.
 
     Returns
     -------
@@ -988,7 +1028,7 @@ def analyze(mat, *, backend: str = "auto", what: str = "H - sigma", max_bytes: i
     what = _text("what", what)
     if max_bytes is not None:
         max_bytes = _validate.positive_int("max_bytes", max_bytes)
-    return SymbolicAnalysis(mat, backend, what=what, max_bytes=max_bytes)
+    return SymbolicAnalysis(mat, backend, what=what, max_bytes=max_bytes, ordered=_validate.flag("ordered", ordered))
 
 
 def factorize(mat, sigma=0.0, *, backend: str = "auto", analysis: SymbolicAnalysis | None = None,
@@ -1072,6 +1112,7 @@ def factorize(mat, sigma=0.0, *, backend: str = "auto", analysis: SymbolicAnalys
 
 #: Lanczos basis of the shift-invert runs (measured: 19 solves per level at 12, the fewest).
 _NCV = 12
+_ARPACK_TOLS = (1e-10, 1e-14)
 
 
 def shift_invert_lowest(mat, k: int, factor: Factor, tol: float, label: str):
@@ -1158,7 +1199,7 @@ def shift_invert_lowest(mat, k: int, factor: Factor, tol: float, label: str):
     # ARPACK's tolerance is relative to the eigenvalues 1/(E - x) of the inverse; a loose first
     # try usually leaves a residual of H far below tol already (and the eigenvalue error is about
     # residual^2 / gap); a tight one follows only when the residual misses tol / 10.
-    for arpack_tol in (1e-10, 1e-14):
+    for arpack_tol in _ARPACK_TOLS:
         try:
             _, vecs = spla.eigsh(lin, k=k, which="LA", ncv=ncv, tol=arpack_tol, v0=v0, maxiter=2000)
         except spla.ArpackNoConvergence as exc:  # pragma: no cover - depends on the matrix
@@ -1175,7 +1216,8 @@ def shift_invert_lowest(mat, k: int, factor: Factor, tol: float, label: str):
 
 
 def _proved_shift_lowest(mat, k: int, analysis: SymbolicAnalysis, tol: float, label: str, *, what: str,
-                         below: float | None = None, ritz: np.ndarray | None = None, scale: float = 1.0):
+                         below: float | None = None, ritz: np.ndarray | None = None, scale: float = 1.0,
+                         symmetric: bool = False):
     r"""The k lowest eigenvalues of a real symmetric block: a shift σ below them, proved, then shift-invert.
 
     σ starts just below ``below`` (a known lower bound of the block's levels, 1e-6 ``scale`` under
@@ -1185,7 +1227,8 @@ def _proved_shift_lowest(mat, k: int, analysis: SymbolicAnalysis, tol: float, la
     :math:`(B - \sigma)^{-1}` (:func:`shift_invert_lowest`) then gives the k lowest.
 
     Returns ``(energies, residuals, sigma, solves)``; raises ConvergenceError when no shift below
-    the block's lowest level is found in 60 steps (``what`` names the block).
+    the block's lowest level is found in 60 steps (``what`` names the block). ``symmetric``: the
+    block was built symmetric (:meth:`SymbolicAnalysis.factor`).
     """
     if below is not None:
         theta = np.array([below])
@@ -1197,7 +1240,7 @@ def _proved_shift_lowest(mat, k: int, analysis: SymbolicAnalysis, tol: float, la
         delta = max(float(theta[min(k, theta.shape[0] - 1)] - theta[min(k, theta.shape[0]) - 1]), 1e-4 * spread)
     for _ in range(60):
         sigma = float(theta[min(k, theta.shape[0]) - 1]) - delta
-        factor = analysis.factor(sigma, positive=True, matrix=mat)
+        factor = analysis.factor(sigma, positive=True, matrix=mat, symmetric=symmetric)
         if factor.negatives == 0 or factor.negatives is None:
             break
         delta *= 2.0
