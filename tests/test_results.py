@@ -282,10 +282,23 @@ def _beyond_factories():
 
     out = {"Cluster": cluster, "DosComparison": dos, "SpinModel": spins, **tables(), **per_site(), **comparisons()}
     out["TemperingResult"] = _tempering
+    out["ClassicalResult"] = _classical
     out.update({k: (lambda k=k: bands(k)) for k in ("Windings", "Bands", "AbelianDOS")})
     out.update({k: (lambda k=k: limits(k)) for k in ("BandBottom", "SchurBound", "DictionaryComparison",
                                                      "BandBottomFit")})
     return out
+
+
+def _classical():
+    import warnings
+
+    from hyperlattice.graph.lattice import ring_lattice
+    from hyperlattice.spins import classical_mc
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")          # a short chain: its plateau warnings are not under test
+        return classical_mc(ring_lattice(7, 3, 2), model="ising", J=-1.0, T=1.0, sweeps=64, seed=1,
+                            progress=False)
 
 
 def _tempering():
