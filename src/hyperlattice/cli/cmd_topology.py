@@ -109,7 +109,7 @@ def _fraction(text: str) -> float:
 
     try:
         v = float(Fraction(text.strip()))
-    except (ValueError, ZeroDivisionError):
+    except (ValueError, ZeroDivisionError, OverflowError):
         raise argparse.ArgumentTypeError(f"expected a fraction such as 5/16 or 0.3125, got {text!r}") from None
     if not 0.0 < v < 1.0:
         raise argparse.ArgumentTypeError(f"a filling lies strictly between 0 and 1, got {text!r}")

@@ -584,7 +584,7 @@ def chern2_density(system, model: str = "qwz", *, dirs=(0, 1, 2, 3), k=None, occ
     terms, _, _ = _terms_of(system, model, params)
     occ = _occupied(terms, occupied)
     g2 = terms.windings.shape[1]
-    dirs = tuple(_validate.integer("dirs", x, minimum=0, maximum=g2 - 1) for x in dirs)
+    dirs = tuple(_validate.int_list("dirs", dirs, minimum=0, maximum=g2 - 1))
     if len(dirs) != 4 or len(set(dirs)) != 4:
         raise ValueError(f"dirs must be four different momentum indices, got {dirs}.")
     k = _validate.real_array("k", k, ndim=2)
