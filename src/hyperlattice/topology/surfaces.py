@@ -179,11 +179,15 @@ def _subtorus(terms, a: int, b: int, n: int, occ: int, g2: int, edges: list | No
     return float(-f.sum() / (2 * np.pi)), gap, float(np.max(np.abs(f))), gap > tol, tol
 
 
-def _all_subtori(terms, g2, occ, n, max_grid, raw, gaps, plaq, edges=None):
+def _all_subtori(terms, g2, occ, n, max_grid, raw, gaps, plaq, edges=None, fermi=None):
     """Fill raw, gaps, plaq (and the band edges at the Fermi level) for every subtorus; returns the largest grid."""
     for a, b in itertools.combinations(range(g2), 2):
         while True:
             c, gap, fmax, ok, tol = _subtorus(terms, a, b, n, occ, g2, edges)
+            if fermi is not None and not edges[-1][0] < fermi < edges[-1][1]:
+                raise ValueError(f"the Fermi level {fermi:g} lies in a band on the {n} x {n} grid of subtorus "
+                                 f"({a}, {b}): band {occ} reaches {edges[-1][0]:.4g} and band {occ + 1} comes "
+                                 f"down to {edges[-1][1]:.4g}.")
             if not ok:
                 raise ValueError(f"the gap above band {occ} closes on the {n} x {n} grid of subtorus ({a}, {b}) "
                                  f"(smallest gap {gap:.2e} <= {tol:.1e}): the Chern numbers are undefined here.")
@@ -281,7 +285,7 @@ def cluster_chern(cluster, model: str = "qwz", *, M: float = 1.0, t2: float = 0.
     gaps, plaq, edges = [], [], []
     n = grid
     with single_threaded_blas():   # one thread: the grid's many small eigh calls
-        n = _all_subtori(terms, g2, occ, n, max_grid, raw, gaps, plaq, edges)
+        n = _all_subtori(terms, g2, occ, n, max_grid, raw, gaps, plaq, edges, fermi_level)
     window = (max(x for x, _ in edges), min(y for _, y in edges))
     if fermi_level is not None and not window[0] < fermi_level < window[1]:
         raise ValueError(f"the Fermi level {fermi_level:g} lies in a band on the grids: band {occ} reaches "
