@@ -502,7 +502,7 @@ def particle_hole(terms: ModelTerms, *, tol: float = 1e-9):
     --------
     >>> import hyperlattice as hl
     >>> from hyperlattice.topology.models import model_terms
-    >>> from hyperlattice.topology.closed import particle_hole
+    >>> from hyperlattice.topology.closed import dirac4_torus, particle_hole
     >>> particle_hole(model_terms(hl.pbc_cluster(8, 3, "bolza"), "qwz", M=1.0))["square"]
     1
     >>> particle_hole(dirac4_torus(-3.0)) is None
@@ -576,7 +576,7 @@ def chern2_density(system, model: str = "qwz", *, dirs=(0, 1, 2, 3), k=None, occ
     Examples
     --------
     >>> import numpy as np
-    >>> from hyperlattice.topology.closed import chern2_density
+    >>> from hyperlattice.topology.closed import chern2_density, dirac4_torus
     >>> k = np.array([[0.3, 1.1, 2.0, 0.7]])
     >>> bool(abs(chern2_density(dirac4_torus(-3.0), k=k)[0] - chern2_density(dirac4_torus(-3.0), k=-k)[0]) < 1e-9)
     True
