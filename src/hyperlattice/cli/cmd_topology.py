@@ -13,7 +13,9 @@ Tasks:
                (kane-mele) the spin Chern numbers and the Z2 index, with ``--z2`` (kane-mele,
                any ``--rashba``) the Z2 index of every time-reversal-symmetric 2-subtorus by
                Wilson loops, with ``--frame covariant`` (qwz) the rotation-system frame with the
-               spin connection
+               spin connection; ``--filling`` or ``--fermi-level`` away from half filling;
+               ``--model dirac4 --cluster one-site -p 8 -q 8`` the four-band Dirac model on the
+               {8,8} map with one site (second Chern numbers)
 * ``landau``   a periodic cluster in a field of N_phi flux quanta: the lowest Landau bands,
                their Chern matrices against the continuum (degeneracy, energy, intersection form)
 * ``conductance``  a {p,q} flake between two wide-band leads on two arcs of its edge: the two-terminal
@@ -48,8 +50,12 @@ def _nonnegative_int(text: str) -> int:
     return v
 
 
-def _model_flags(parser, *, disorder: bool) -> None:
-    parser.add_argument("--model", choices=_MODELS, default="qwz", help="the model (default qwz)")
+#: models of ``topology cluster``: the flake models and the {8,8} Dirac model (hyperlattice.topology.dartmaps)
+_CLUSTER_MODELS = _MODELS + ("dirac4",)
+
+
+def _model_flags(parser, *, disorder: bool, models=_MODELS) -> None:
+    parser.add_argument("--model", choices=models, default="qwz", help="the model (default qwz)")
     add_pq(parser, default_p=8)
     parser.add_argument("--M", type=finite_float, default=1.0,
                         help="QWZ mass, or Haldane / Kane-Mele sublattice mass (default 1)")
@@ -78,8 +84,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     f.add_argument("--fermi", type=finite_float, default=None,
                    help="Fermi level in units of t (default: half filling)")
     c = sub.add_parser("cluster", help="Chern numbers C_ij on all 2-subtori of a periodic cluster")
-    _model_flags(c, disorder=False)
-    c.add_argument("--cluster", required=True, help="a cluster name (hyperlattice cluster --list), e.g. bolza")
+    _model_flags(c, disorder=False, models=_CLUSTER_MODELS)
+    c.add_argument("--cluster", required=True, help="a cluster name (hyperlattice cluster --list), e.g. bolza; "
+                   "for dirac4 one-site or two-site ({8,8} maps)")
+    fill = c.add_mutually_exclusive_group()
+    fill.add_argument("--filling", type=_fraction, default=None,
+                      help="fraction of the bands occupied, e.g. 5/16 (default one half)")
+    fill.add_argument("--fermi-level", type=finite_float, default=None,
+                      help="Fermi level (units of t): the bands below it are occupied; checked to lie in a gap "
+                           "on every grid")
     c.add_argument("--frame", choices=("lift", "covariant"), default="lift",
                    help="qwz bond frame: the disk lift of the cluster (default) or the rotation-system frame "
                         "with the spin connection (labelling independent)")
@@ -105,6 +118,92 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                    help="wide-band lead coupling gamma per contact orbital, units of t (default 2)")
     g.add_argument("--arc", type=finite_float, default=0.25,
                    help="fraction of the full turn each contact spans on the outer edge (default 0.25)")
+
+
+def _fraction(text: str) -> float:
+    from fractions import Fraction
+
+    try:
+        v = float(Fraction(text.strip()))
+    except (ValueError, ZeroDivisionError, OverflowError):
+        raise argparse.ArgumentTypeError(f"expected a fraction such as 5/16 or 0.3125, got {text!r}") from None
+    if not 0.0 < v < 1.0:
+        raise argparse.ArgumentTypeError(f"a filling lies strictly between 0 and 1, got {text!r}")
+    return v
+
+
+def _occupied_from_filling(filling, rows: int):
+    """Bands below the Fermi level for a filling, which must be a whole number of the rows bands."""
+    if filling is None:
+        return None
+    occ = filling * rows
+    if abs(occ - round(occ)) > 1e-9 * rows or not 1 <= round(occ) <= rows - 1:
+        raise ValueError(f"--filling {filling:g} of {rows} bands is not a whole number of bands between 1 and "
+                         f"{rows - 1}.")
+    return int(round(occ))
+
+
+def _dirac4_cluster(args) -> int:
+    from ..topology.closed import second_chern
+    from ..topology.dartmaps import dirac4_terms, named_dart_map
+    from ..topology.surfaces import _all_subtori, _pf
+
+    from ._common import DefaultInt
+
+    p = 8 if isinstance(args.p, DefaultInt) else int(args.p)
+    q = 8 if isinstance(args.q, DefaultInt) else int(args.q)
+    if (p, q) != (8, 8):
+        raise ValueError(f"the dirac4 model lives on {{8,8}} maps: give -p 8 -q 8 (got -p {args.p} -q {args.q}).")
+    if args.spin_chern or args.frame != "lift":
+        raise ValueError("--spin-chern and --frame apply to the flake models, not to dirac4.")
+    if args.z2 or args.rashba != 0.0:
+        raise ValueError("--z2 and --rashba belong to --model kane-mele, not to dirac4.")
+    mp = named_dart_map(args.cluster)
+    terms = dirac4_terms(mp, args.M)
+    rows = terms.sites * terms.orbitals
+    occ = _occupied_from_filling(args.filling, rows)
+    if args.fermi_level is not None:
+        from ..topology.models import bloch_model_hamiltonian
+
+        e0 = np.linalg.eigvalsh(bloch_model_hamiltonian(terms, np.zeros((1, terms.windings.shape[1])))[0])
+        occ = int(np.count_nonzero(e0 < args.fermi_level))
+        if occ in (0, rows):
+            raise ValueError(f"the Fermi level {args.fermi_level:g} is outside the spectrum at k = 0.")
+    occ = rows // 2 if occ is None else occ
+    g2 = terms.windings.shape[1]
+    raw = np.zeros((g2, g2))
+    gaps, edges = [], []
+    n = _all_subtori(terms, g2, occ, 12, 96, raw, gaps, [], edges)
+    window = (max(x for x, _ in edges), min(y for _, y in edges))
+    if args.fermi_level is not None and not window[0] < args.fermi_level < window[1]:
+        raise ValueError(f"the Fermi level {args.fermi_level:g} lies in a band on the grids "
+                         f"[{window[0]:.4g}, {window[1]:.4g}].")
+    chern = np.rint(raw).astype(np.int64)
+    vals = [abs(int(x)) for x in chern[np.triu_indices(g2, 1)]]
+    import math
+
+    out = {"model": "dirac4", "cluster": mp.name, "genus": mp.genus, "sites": mp.sites, "chern": chern.tolist(),
+           "gcd": math.gcd(*vals), "pfaffian": int(round(_pf(chern.astype(float)))), "gap": float(min(gaps)),
+           "grid": n, "occupied": occ, "fermi_window": list(window), "fermi_level": args.fermi_level,
+           "parameters": {"m": args.M}}
+    extra = []
+    if args.chern2:
+        c2 = second_chern(terms, occupied=occ, grid=8, max_grid=24, tol=0.01)
+        out.update(c2.summary() | {"model": "dirac4", "cluster": mp.name, "genus": mp.genus, "occupied": occ})
+        extra.append(f"  second Chern numbers on the 4-subtori {c2.subtori.tolist()}: {c2.chern2.tolist()} "
+                     f"(Pf of C there {c2.pfaffian.tolist()}, grid {c2.grid.tolist()}, error {max(c2.error):.1e}, "
+                     f"smallest gap {c2.gap:.4g})")
+    if args.json:
+        print_json(out)
+        return 0
+    print(f"{{8,8}} map {mp.name} ({mp.sites} site(s), genus {mp.genus}), model dirac4, m = {args.M:g}, "
+          f"{occ} of {rows} bands occupied, grid {n} x {n}")
+    for row in out["chern"]:
+        print("  " + " ".join(f"{x:+d}" for x in row))
+    print(f"  gcd {out['gcd']}, Pfaffian {out['pfaffian']}, smallest gap on the grid {out['gap']:.4g}")
+    for line in extra:
+        print(line)
+    return 0
 
 
 def _float_list(text: str) -> list:
@@ -157,9 +256,14 @@ def _cluster(args) -> int:
     from ..graph.clusters import pbc_cluster
     from ..topology.surfaces import cluster_chern
 
+    if args.model == "dirac4":
+        return _dirac4_cluster(args)
     name = args.cluster
     p, q = cluster_pq(args, name)
     cl = pbc_cluster(p, q, name)
+    if (args.filling is not None or args.fermi_level is not None) and (args.frame != "lift" or args.spin_chern):
+        raise ValueError("--filling and --fermi-level apply to the Chern numbers of the default frame, without "
+                         "--frame covariant or --spin-chern.")
     if args.spin_chern and args.model != "kane-mele":
         raise ValueError("--spin-chern needs --model kane-mele.")
     if args.z2 and args.model != "kane-mele":
@@ -190,7 +294,11 @@ def _cluster(args) -> int:
             print("  " + " ".join(f"{x:+d}" for x in row))
         print(f"  gcd {inv['gcd']}, Pfaffian {inv['pfaffian']}, smallest gap on the grid {inv['gap']:.4g}")
         return 0
-    res = cluster_chern(cl, args.model, M=args.M, t2=args.t2, phi=args.phi, rashba=args.rashba)
+    from ..topology.models import orbitals
+
+    occ = _occupied_from_filling(args.filling, cl.sites * orbitals(args.model))
+    res = cluster_chern(cl, args.model, M=args.M, t2=args.t2, phi=args.phi, rashba=args.rashba, occupied=occ,
+                        fermi_level=args.fermi_level)
     out = res.summary()
     extra = []
     if args.z2:
@@ -203,7 +311,7 @@ def _cluster(args) -> int:
     if args.chern2:
         from ..topology.closed import second_chern
 
-        c2 = second_chern(cl, args.model, M=args.M, t2=args.t2, phi=args.phi, grid=4)
+        c2 = second_chern(cl, args.model, M=args.M, t2=args.t2, phi=args.phi, grid=4, occupied=res.occupied)
         out.update(c2.summary() | {"model": out["model"], "cluster": out["cluster"], "genus": out["genus"],
                                    "occupied": out["occupied"]})
         extra.append(f"  second Chern numbers on the 4-subtori {c2.subtori.tolist()}: {c2.chern2.tolist()} "
@@ -218,7 +326,8 @@ def _cluster(args) -> int:
     if args.json:
         print_json(out)
         return 0
-    print(f"{{{p},{q}}} cluster {cl.name} (genus {cl.genus}), model {args.model}, grid {res.grid} x {res.grid}")
+    print(f"{{{p},{q}}} cluster {cl.name} (genus {cl.genus}), model {args.model}, grid {res.grid} x {res.grid}, "
+          f"{res.occupied} bands occupied (between {res.fermi_window[0]:.4g} and {res.fermi_window[1]:.4g})")
     for row in res.chern.tolist():
         print("  " + " ".join(f"{x:+d}" for x in row))
     print(f"  gcd {res.gcd}, Pfaffian {res.pfaffian}, smallest gap on the grid {res.gap:.4g}")

@@ -54,7 +54,7 @@ from ..results import Result
 from .models import MODELS, ModelTerms, PlaneGraph, model_terms
 
 __all__ = ["SecondChern", "SpinChern", "dirac4_torus", "kubo_chern", "second_chern", "spin_chern",
-           "product_terms"]
+           "product_terms", "particle_hole", "chern2_density"]
 
 _SX = np.array([[0, 1], [1, 0]], dtype=np.complex128)
 _SY = np.array([[0, -1j], [1j, 0]], dtype=np.complex128)
@@ -460,6 +460,145 @@ def second_chern(system, model: str = "qwz", *, occupied=None, grid: int = 8, ma
     return SecondChern(model=terms.model, name=name, genus=genus, subtori=np.array(subtori, dtype=np.int64),
                        chern2=ch2, chern2_raw=np.array(raw), error=np.array(err), pfaffian=pf, c2=pf - ch2,
                        gap=float(min(gaps)), grid=np.array(grids, dtype=np.int64), occupied=occ)
+
+
+# ----------------------------------------------------------------------------
+# why the {p,3} models have C2 = 0: a particle-hole symmetry of class D
+# ----------------------------------------------------------------------------
+
+def particle_hole(terms: ModelTerms, *, tol: float = 1e-9):
+    r"""A local antiunitary :math:`\mathcal C = U K` with :math:`\mathcal C H(k)\mathcal C^{-1} = -H(-k)`, if any.
+
+    Solves the linear conditions on a block-diagonal :math:`U = \oplus_i U_i` (one d x d block
+    per site): :math:`U_i O_i^* = -O_i U_i` for every on-site block and :math:`U_t B^* = -B U_h`
+    for every hop (tail t, head h); their solutions form a vector space, whose null-space basis
+    (SVD) is scanned for a unitary member. Such a :math:`\mathcal C` maps the occupied bands at k
+    onto the complex conjugate of the empty bands at -k. With :math:`\mathcal C^2 = +1` the model is
+    in class D, whose entry for four dimensions in the periodic table is 0 (Schnyder, Ryu,
+    Furusaki and Ludwig, PRB 78, 195125 (2008); Kitaev, AIP Conf. Proc. 1134, 22 (2009)): the
+    second Chern density is odd, :math:`\mathrm{tr}F\wedge F(-k) = -\mathrm{tr}F\wedge F(k)`
+    (:func:`chern2_density`), so :math:`C_2 = 0` on every 4-subtorus, while first Chern numbers
+    (class D in two dimensions: :math:`\mathbb Z`) survive.
+
+    Parameters
+    ----------
+    terms : ModelTerms
+        A model (at most 4,096 unknowns: sites x d^2).
+    tol : float, optional
+        Singular values below ``tol`` times the largest count as zero (default 1e-9).
+
+    Returns
+    -------
+    dict or None
+        None when no unitary solution exists; else ``{"unitary": U (sites, d, d), "square": +1 or
+        -1}`` (:math:`\mathcal C^2 = U U^*`).
+
+    Raises
+    ------
+    ValueError
+        For more unknowns than 4,096.
+
+    Examples
+    --------
+    >>> import hyperlattice as hl
+    >>> from hyperlattice.topology.models import model_terms
+    >>> from hyperlattice.topology.closed import dirac4_torus, particle_hole
+    >>> particle_hole(model_terms(hl.pbc_cluster(8, 3, "bolza"), "qwz", M=1.0))["square"]
+    1
+    >>> particle_hole(dirac4_torus(-3.0)) is None
+    True
+    """
+    if not isinstance(terms, ModelTerms):
+        raise ValueError(f"expected ModelTerms, got {type(terms).__name__}.")
+    tol = _validate.real("tol", tol, minimum=1e-15, maximum=1e-2)
+    n, d = terms.sites, terms.orbitals
+    nv = n * d * d
+    if nv > 4096:
+        raise ValueError(f"particle_hole solves for {nv} unknowns; at most 4,096 (sites x orbitals^2).")
+    eye = np.eye(d)
+    idx = np.arange(nv).reshape(n, d * d)
+    rows = []
+    # row-major vec: vec(U A) = kron(I, A^T) vec(U), vec(A U) = kron(A, I) vec(U)
+    for i in range(n):
+        a = np.zeros((d * d, nv), dtype=np.complex128)
+        a[:, idx[i]] = np.kron(eye, terms.onsite[i].conj().T) + np.kron(terms.onsite[i], eye)
+        rows.append(a)
+    for t, h, b in zip(terms.tail, terms.head, terms.blocks):
+        a = np.zeros((d * d, nv), dtype=np.complex128)
+        a[:, idx[t]] += np.kron(eye, b.conj().T)
+        a[:, idx[h]] += np.kron(b, eye)
+        rows.append(a)
+    A = np.vstack(rows)
+    _, sv, vh = np.linalg.svd(A)
+    sv = np.concatenate([sv, np.zeros(vh.shape[0] - len(sv))])
+    null = vh[sv <= tol * max(1.0, float(sv.max()))].conj()
+    for v in null:
+        U = v.reshape(n, d, d)
+        uu = np.einsum("nij,nkj->nik", U, U.conj())
+        scale = uu[:, 0, 0].real
+        if np.any(scale <= tol) or not np.allclose(uu, scale[:, None, None] * eye[None], atol=1e-8):
+            continue
+        U = U / np.sqrt(scale)[:, None, None]
+        sq = np.einsum("nij,njk->nik", U, U.conj())
+        if np.allclose(sq, eye[None], atol=1e-8):
+            return {"unitary": U, "square": 1}
+        if np.allclose(sq, -eye[None], atol=1e-8):
+            return {"unitary": U, "square": -1}
+    return None
+
+
+def chern2_density(system, model: str = "qwz", *, dirs=(0, 1, 2, 3), k=None, occupied=None, **params) -> np.ndarray:
+    r"""The second Chern density :math:`\mathrm{tr}(F_{ab}F_{cd} - F_{ac}F_{bd} + F_{ad}F_{bc})` at momenta k.
+
+    The integrand of :func:`second_chern` on the 4-subtorus ``dirs`` (its integral times
+    :math:`1/4\pi^2` is :math:`C_2`), for checking parities such as the one of
+    :func:`particle_hole`.
+
+    Parameters
+    ----------
+    system : Cluster, PlaneGraph (torus) or ModelTerms
+        As :func:`second_chern`.
+    model : str, optional
+        The model when ``system`` is a graph.
+    dirs : sequence of four int, optional
+        The momenta of the 4-subtorus (default the first four).
+    k : array_like, shape (K, 4)
+        Points on the subtorus (radians).
+    occupied : int, optional
+        Bands below the Fermi level (default half).
+    **params
+        Model parameters when ``system`` is a graph.
+
+    Returns
+    -------
+    numpy.ndarray of float, shape (K,)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from hyperlattice.topology.closed import chern2_density, dirac4_torus
+    >>> k = np.array([[0.3, 1.1, 2.0, 0.7]])
+    >>> bool(abs(chern2_density(dirac4_torus(-3.0), k=k)[0] - chern2_density(dirac4_torus(-3.0), k=-k)[0]) < 1e-9)
+    True
+    """
+    terms, _, _ = _terms_of(system, model, params)
+    occ = _occupied(terms, occupied)
+    g2 = terms.windings.shape[1]
+    dirs = tuple(_validate.int_list("dirs", dirs, minimum=0, maximum=g2 - 1))
+    if len(dirs) != 4 or len(set(dirs)) != 4:
+        raise ValueError(f"dirs must be four different momentum indices, got {dirs}.")
+    k = _validate.real_array("k", k, ndim=2)
+    if k.shape[1] != 4:
+        raise ValueError(f"k must have shape (K, 4), got {k.shape}.")
+    kk = np.zeros((len(k), g2))
+    kk[:, list(dirs)] = k
+    F, gap, tol = _curvatures(_Bloch(terms), kk, dirs, occ)
+    if gap <= tol:
+        raise ValueError("the gap closes at one of the points k.")
+
+    def tr(x, y):
+        return np.einsum("kij,kji->k", x, y).real
+    return tr(F[0, 1], F[2, 3]) - tr(F[0, 2], F[1, 3]) + tr(F[0, 3], F[1, 2])
 
 
 # ----------------------------------------------------------------------------

@@ -111,7 +111,12 @@ class ClusterChern(Result):
     max_plaquette : float
         Largest plaquette Berry phase over all subtori (radians, below pi/2).
     occupied : int
-        Bands below the Fermi level (half filling).
+        Bands below the Fermi level (half filling unless ``occupied`` or ``fermi_level`` was given).
+    fermi_window : tuple of float
+        (top of the occupied bands, bottom of the empty bands) over every grid point used: any
+        Fermi level strictly inside gives the same Chern numbers.
+    fermi_level : float or None
+        The Fermi level asked for, if one was.
 
     Examples
     --------
@@ -135,16 +140,19 @@ class ClusterChern(Result):
     grid: int
     max_plaquette: float
     occupied: int
+    fermi_window: tuple = (float("nan"), float("nan"))
+    fermi_level: float | None = None
 
     def summary(self) -> dict:
         """The CLI's JSON: chern, gcd, pfaffian, gap, and the grid and checks."""
         return {"model": self.model, "cluster": self.name, "genus": self.genus,
                 "chern": self.chern.tolist(), "gcd": self.gcd, "pfaffian": self.pfaffian, "gap": self.gap,
                 "grid": self.grid, "max_plaquette": self.max_plaquette, "occupied": self.occupied,
+                "fermi_window": list(self.fermi_window), "fermi_level": self.fermi_level,
                 "parameters": self.parameters}
 
 
-def _subtorus(terms, a: int, b: int, n: int, occ: int, g2: int):
+def _subtorus(terms, a: int, b: int, n: int, occ: int, g2: int, edges: list | None = None):
     """FHS plaquette sum of one subtorus on an n x n grid; returns (C, min gap, max |plaquette|, gaps ok)."""
     ks = 2 * np.pi * np.arange(n) / n
     kk = np.zeros((n * n, g2))
@@ -153,6 +161,8 @@ def _subtorus(terms, a: int, b: int, n: int, occ: int, g2: int):
     H = bloch_model_hamiltonian(terms, kk)
     e, v = np.linalg.eigh(H)
     gap = float(np.min(e[:, occ] - e[:, occ - 1]))
+    if edges is not None:
+        edges.append((float(e[:, occ - 1].max()), float(e[:, occ].min())))
     tol = 50 * H.shape[-1] * np.finfo(float).eps * max(1.0, float(np.max(np.abs(e))))
     u = v[:, :, :occ].reshape(n, n, -1, occ)
 
@@ -169,13 +179,17 @@ def _subtorus(terms, a: int, b: int, n: int, occ: int, g2: int):
     return float(-f.sum() / (2 * np.pi)), gap, float(np.max(np.abs(f))), gap > tol, tol
 
 
-def _all_subtori(terms, g2, occ, n, max_grid, raw, gaps, plaq):
-    """Fill raw, gaps, plaq for every subtorus; returns the largest grid used."""
+def _all_subtori(terms, g2, occ, n, max_grid, raw, gaps, plaq, edges=None, fermi=None):
+    """Fill raw, gaps, plaq (and the band edges at the Fermi level) for every subtorus; returns the largest grid."""
     for a, b in itertools.combinations(range(g2), 2):
         while True:
-            c, gap, fmax, ok, tol = _subtorus(terms, a, b, n, occ, g2)
+            c, gap, fmax, ok, tol = _subtorus(terms, a, b, n, occ, g2, edges)
+            if fermi is not None and not edges[-1][0] < fermi < edges[-1][1]:
+                raise ValueError(f"the Fermi level {fermi:g} lies in a band on the {n} x {n} grid of subtorus "
+                                 f"({a}, {b}): band {occ} reaches {edges[-1][0]:.4g} and band {occ + 1} comes "
+                                 f"down to {edges[-1][1]:.4g}.")
             if not ok:
-                raise ValueError(f"the gap at half filling closes on the {n} x {n} grid of subtorus ({a}, {b}) "
+                raise ValueError(f"the gap above band {occ} closes on the {n} x {n} grid of subtorus ({a}, {b}) "
                                  f"(smallest gap {gap:.2e} <= {tol:.1e}): the Chern numbers are undefined here.")
             if fmax < np.pi / 2:
                 break
@@ -190,7 +204,8 @@ def _all_subtori(terms, g2, occ, n, max_grid, raw, gaps, plaq):
 
 
 def cluster_chern(cluster, model: str = "qwz", *, M: float = 1.0, t2: float = 0.2, phi: float = np.pi / 2,
-                  rashba: float = 0.0, grid: int = 12, max_grid: int = 96) -> ClusterChern:
+                  rashba: float = 0.0, grid: int = 12, max_grid: int = 96, occupied=None,
+                  fermi_level=None) -> ClusterChern:
     r"""First Chern numbers :math:`C_{ab}` of a model's occupied Abelian bands on every 2-subtorus.
 
     Parameters
@@ -200,13 +215,19 @@ def cluster_chern(cluster, model: str = "qwz", *, M: float = 1.0, t2: float = 0.
         (:func:`~hyperlattice.graph.clusters.pbc_cluster`), or a Euclidean torus of
         :mod:`hyperlattice.topology.models`.
     model : {"qwz", "haldane", "kane-mele"}
-        The model (half filling).
+        The model.
     M, t2, phi, rashba : float, optional
         Model parameters (:func:`~hyperlattice.topology.models.model_terms`).
     grid : int, optional
         Starting points per direction of each subtorus grid (default 12).
     max_grid : int, optional
         The grid is doubled until every plaquette phase is below pi/2, up to this (default 96).
+    occupied : int, optional
+        Bands below the Fermi level (default half of them).
+    fermi_level : float, optional
+        The Fermi level instead of ``occupied``: the bands below it at k = 0 are occupied, and it
+        must lie in the gap above them at every grid point used (checked: the band edges over the
+        grids are ``fermi_window``).
 
     Returns
     -------
@@ -215,8 +236,9 @@ def cluster_chern(cluster, model: str = "qwz", *, M: float = 1.0, t2: float = 0.
     Raises
     ------
     ValueError
-        For a cluster without a closed rotation system, an unknown model, bad parameters, or a
-        gap that closes on the grid (the Chern numbers are then undefined).
+        For a cluster without a closed rotation system, an unknown model, bad parameters, a
+        gap that closes on the grid (the Chern numbers are then undefined), a Fermi level outside
+        the spectrum or inside a band on the grid, or both ``occupied`` and ``fermi_level``.
     ConvergenceError
         If the plaquette phases stay above pi/2 at ``max_grid``.
 
@@ -246,12 +268,28 @@ def cluster_chern(cluster, model: str = "qwz", *, M: float = 1.0, t2: float = 0.
     rows = terms.sites * terms.orbitals
     g2 = terms.windings.shape[1]
     _validate.require_memory("the Bloch Hamiltonians of one grid", 3 * 16.0 * rows * rows * max_grid ** 2)
-    occ = rows // 2
+    if occupied is not None and fermi_level is not None:
+        raise ValueError("give occupied or fermi_level, not both.")
+    if fermi_level is not None:
+        fermi_level = _validate.real("fermi_level", fermi_level)
+        e0 = np.linalg.eigvalsh(bloch_model_hamiltonian(terms, np.zeros((1, g2)))[0])
+        occ = int(np.count_nonzero(e0 < fermi_level))
+        if occ in (0, rows):
+            raise ValueError(f"the Fermi level {fermi_level:g} is outside the spectrum at k = 0 "
+                             f"[{e0[0]:.4g}, {e0[-1]:.4g}].")
+    elif occupied is not None:
+        occ = _validate.integer("occupied", occupied, minimum=1, maximum=rows - 1)
+    else:
+        occ = rows // 2
     raw = np.zeros((g2, g2))
-    gaps, plaq = [], []
+    gaps, plaq, edges = [], [], []
     n = grid
     with single_threaded_blas():   # one thread: the grid's many small eigh calls
-        n = _all_subtori(terms, g2, occ, n, max_grid, raw, gaps, plaq)
+        n = _all_subtori(terms, g2, occ, n, max_grid, raw, gaps, plaq, edges, fermi_level)
+    window = (max(x for x, _ in edges), min(y for _, y in edges))
+    if fermi_level is not None and not window[0] < fermi_level < window[1]:
+        raise ValueError(f"the Fermi level {fermi_level:g} lies in a band on the grids: band {occ} reaches "
+                         f"{window[0]:.4g} and band {occ + 1} comes down to {window[1]:.4g}.")
     chern = np.rint(raw).astype(np.int64)
     vals = [abs(int(x)) for x in chern[np.triu_indices(g2, 1)]]
     gcd = math.gcd(*vals) if vals else 0
@@ -259,7 +297,7 @@ def cluster_chern(cluster, model: str = "qwz", *, M: float = 1.0, t2: float = 0.
     params = dict(M=M, t2=t2, phi=phi, rashba=rashba)
     return ClusterChern(model=model, parameters=params, name=name, genus=genus, chern=chern, chern_raw=raw,
                         gcd=gcd, pfaffian=pf, gap=float(min(gaps)), grid=n, max_plaquette=float(max(plaq)),
-                        occupied=occ)
+                        occupied=occ, fermi_window=window, fermi_level=fermi_level)
 
 
 from .._validate import guard_public as _guard_public  # noqa: E402
