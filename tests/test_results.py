@@ -283,10 +283,19 @@ def _beyond_factories():
     out = {"Cluster": cluster, "DosComparison": dos, "SpinModel": spins, **tables(), **per_site(), **comparisons()}
     out["TemperingResult"] = _tempering
     out["ClassicalResult"] = _classical
+    out["TwistMarker"] = _twist_marker
     out.update({k: (lambda k=k: bands(k)) for k in ("Windings", "Bands", "AbelianDOS")})
     out.update({k: (lambda k=k: limits(k)) for k in ("BandBottom", "SchurBound", "DictionaryComparison",
                                                      "BandBottomFit")})
     return out
+
+
+def _twist_marker():
+    from hyperlattice.graph.clusters import pbc_cluster
+    from hyperlattice.topology.frames import qwz_frame_terms
+    from hyperlattice.topology.twist_marker import twist_marker
+
+    return twist_marker(qwz_frame_terms(pbc_cluster(8, 3, "bolza"), M=1.0), pairs=[(0, 1)])
 
 
 def _classical():

@@ -88,8 +88,6 @@ class TwistMarker(Result):
     ((1, 16), True)
     """
 
-    NOT_TABULAR = "a matrix (total) and per-site markers for a few pairs; see table()"
-
     model: str
     name: str
     sites: int
