@@ -234,6 +234,7 @@ def _worker(job: str) -> None:
 
     e, de, conv = mean("Energy")
     d, dd, _ = mean("Density")
+    eb, ecount = bins("Energy")
     nb, count = bins("Density")
     n2b, _ = bins("Density^2")
     m = min(len(nb), len(n2b))
@@ -245,7 +246,13 @@ def _worker(job: str) -> None:
     kappa, dkappa = _jackknife(lambda x, x2: beta * (x2 - sites * x * x), nb, n2b)
     print(json.dumps({"app": app, "sites": sites, "energy": e, "energy_err": de, "density": d, "density_err": dd,
                       "compressibility": kappa, "compressibility_err": dkappa, "cpu_seconds": cpu,
-                      "measurements": count, "bins": int(len(nb)), "converged": conv == 0}))
+                      "measurements": count, "bins": int(len(nb)), "converged": conv == 0,
+                      # the energy's time series in bins of energy_bin_size sweeps (its first bins show
+                      # what the thermalisation left: benchmarks/bench_qmc.py --therm-scan)
+                      "energy_bins": [float(x) for x in eb],
+                      # tau_int of the energy in the package's convention (sigma^2 = 2 tau var / n, 1/2
+                      # uncorrelated; hyperlattice.mcstats), from ALPS's error and per-measurement variance
+                      "energy_tau": ecount * de * de / (2.0 * float(ar[base + "Energy/variance"]["value"])), "energy_bin_size": 1 << int(np.floor(np.log2(ecount / len(eb))))}))
 
 
 def _spinmc_worker(spec: dict) -> None:

@@ -1,4 +1,4 @@
-"""Quantum Monte Carlo of the Bose–Hubbard model: hyperlattice's SSE against ALPS (issue 27, Performance).
+"""Quantum Monte Carlo of the Bose–Hubbard model: hyperlattice's SSE against ALPS.
 
 For each point (graph, U, mu, beta, nmax) the same model is run by
 
@@ -21,6 +21,18 @@ different amounts of work are compared fairly. The table gives both efficiencies
 (target: >= 2 against dirloop_sse on every point) and the agreement z = (E_hl - E_alps) /
 sqrt(sigma_hl^2 + sigma_alps^2) for the energy and the density (|z| < 3 expected).
 
+Thermalisation is counted in the CPU seconds, and each code gets the thermalisation it needs, by
+one rule for both (``--therm-scan``): K chains per code started afresh, each code's energy series
+after its shortest thermalisation (hyperlattice sweep by sweep; dirloop_sse from its stored bins)
+in blocks of 20 sweeps; the plateau is the seeds' mean over the second half, and a chain counts
+as thermalised after the last first-half block whose seed mean lies more than 3 errors from the
+plateau. dirloop_sse's shortest thermalisation is the fewest sweeps with which it runs at all
+(fewer stop it with "nnonzero reached the maximum value": its cutoff grows only while it
+thermalises; 150 on the 847- and 2,240-site flakes, 60 is too few even on 112 sites). With
+``--repeat`` K > 1 the table also applies the rule to dirloop_sse's own series of its runs.
+``--json PATH`` stores the table's numbers per seed (benchmarks/bench_qmc.json holds the runs
+quoted in docs/qmc.md).
+
 ``--validate`` first checks both codes against exact thermal averages (full diagonalisation,
 :func:`hyperlattice.bosons.exact_thermal`) on the heptagon: the conventions (total energy with
 -mu N, density per site, compressibility per site) are the same.
@@ -39,6 +51,8 @@ Usage::
     python benchmarks/bench_qmc.py --points 6 --repeat 4 --no-worm   # one point, 4 seeds per code, ratio +- error
     python benchmarks/bench_qmc.py --points 9,10 --repeat 4 --sweeps 300 --therm 100 --no-worm
                                                     # 847 and 2,240 sites; efficiency also from the seeds' scatter
+    python benchmarks/bench_qmc.py --therm-scan --points 9 --repeat 4 --sweeps 400 --therm 10 --alps-therm 150
+                                                    # the thermalisation each code needs (the rule above)
 
 Numbers measured on the project's shared 2-core machine are quoted in docs/qmc.md.
 """
@@ -242,8 +256,19 @@ def table(points, work: Path, *, sweeps: int, alps_sweeps: int, worm_sweeps: int
                                     thermalization=max(200, worm_sweeps // 5), seed=sd,
                                     workdir=work / f"{tag}-worm{sfx}"))
         hl_r = _pool(hls)
+        if len(dls) > 1 and all(r.get("energy_bins") for r in dls):
+            # the thermalisation rule on dirloop_sse's own measured series of this table's runs
+            ser = [np.repeat(np.asarray(r["energy_bins"]), int(r["energy_bin_size"])) for r in dls]
+            n = min(len(x) for x in ser)
+            add, z = _thermalised_after(np.array([x[:n] for x in ser]), 20)
+            print(f"  {label}: dirloop_sse's own series after its thermalisation, blocks of 20 sweeps, z against "
+                  "the plateau " + " ".join(f"{v:+.1f}" for v in z) + f" (rule: {add} sweeps more)")
         row = {"label": label, "sites": hls[0]["result"].sites, "U": U, "mu": mu, "beta": beta, "hl": hl_r,
-               "dl": _pool(dls), "worm": _pool(wms) if worm else None, "repeat": repeat}
+               "dl": _pool(dls), "worm": _pool(wms) if worm else None, "repeat": repeat,
+               "therm": (therm if therm is not None else max(200, sweeps // 5),
+                         alps_therm if alps_therm is not None else therm if therm is not None
+                         else max(200, alps_sweeps // 5)),
+               "sweeps": (sweeps, alps_sweeps), "load": _load()}
         rows.append(row)
         _print_row(row, header=len(rows) == 1)
     return rows
@@ -263,6 +288,8 @@ def _print_row(row, header: bool) -> None:
         print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     h, d, w = row["hl"], row["dl"], row["worm"]
     eh, ed = _eff(h), _eff(d)
+    th = [r["tau"] for r in h["runs"]]
+    td = [r.get("energy_tau", math.nan) for r in d["runs"]]
     ew = _eff(w) if w is not None else math.nan
     cpu = f"{h['cpu_seconds']:.0f} / {d['cpu_seconds']:.0f} / " + (f"{w['cpu_seconds']:.0f}" if w else "-")
     zn = _z(h, d, "density")
@@ -270,7 +297,9 @@ def _print_row(row, header: bool) -> None:
     print(f"| {row['label']} | {row['sites']} | {h['energy']:.3f} ± {h['energy_err']:.3f} | "
           f"{d['energy']:.3f} ± {d['energy_err']:.3f} | {_z(h, d, 'energy'):+.1f} | {zn:+.1f} | {cpu} | "
           f"{eh:.3g} | {ed:.3g} | {ew:.3g} | {_fmt_ratio(*_ratio(h, d))} | {rw} |", flush=True)
-    print(f"  ({_load()})")
+    print(f"  tau_int(E) per seed, sweeps: hl " + " ".join(f"{t:.1f}" for t in th) + "; dl "
+          + " ".join(f"{t:.1f}" for t in td) + f"; thermalisation sweeps hl {row['therm'][0]}, dl {row['therm'][1]}"
+          f" (counted in the CPU s)  ({_load()})")
     if row["repeat"] > 1:
         sh, sd_ = _scatter_eff(h), _scatter_eff(d)
         rs = sh[0] / sd_[0]
@@ -359,6 +388,137 @@ def phases(rings: int, beta: float, therm: int, sweeps: int, seed: int, green: b
           f"{tot[False] / max(sweeps, 1) / max(int(ch.counters[0]), 1) * 1e6:.2f} us per operator); {_load()}")
 
 
+def _hl_series(system, *, U, mu, beta, nmax, therm, sweeps, seed) -> tuple[np.ndarray, float]:
+    """hyperlattice's energy sweep by sweep: ``therm`` thermalisation sweeps (string growth, loop count,
+    leg cap: what ``qmc`` does), then ``sweeps`` measured sweeps, one kernel call each; the chain's
+    CPU seconds (thermalisation included)."""
+    from hyperlattice.bosons import sse
+
+    model = sse._bonded_model(system, 1.0)
+    wind, _ = sse._bond_windings(system, model, None)
+    eps, esite, cb = sse._weights(model, U, mu, nmax)
+    K = sse._load_kernels()
+    bound = sse._check_memory(model, beta, cb, nmax, U, mu, False)
+    sq = np.sqrt(np.arange(nmax + 2, dtype=float))
+    g = sse._green_setup(model, False)
+    tables = sse._exit_tables(model, esite, cb, nmax, sq)
+    args = (beta, model, model.tb, cb, esite, sq, nmax, g, tables, eps, wind)
+    c0 = time.process_time()
+    ch = sse._Chain(model, seed, g, length=min(bound / 4, 1e8), windings=wind.shape[1])
+    ch.advance(K, therm, True, *args)
+    out = np.empty(sweeps)
+    for s in range(sweeps):
+        ch.advance(K, 1, False, *args)
+        out[s] = ch.sbins[int(ch.sinfo[0]) - 1, 5]        # a bin of one sweep: that sweep's energy
+        ch.sinfo[0] = 0
+    return out, time.process_time() - c0
+
+
+def _thermalised_after(series: np.ndarray, block: int) -> tuple[int, list[float]]:
+    """The thermalisation rule, the same for both codes: ``series`` (seeds x sweeps, energies after each
+    code's shortest thermalisation) in blocks of ``block`` sweeps; the plateau is the seeds' mean over the
+    second half, the error of a block's seed mean sigma_w / sqrt(K) with sigma_w the scatter of all
+    second-half blocks (seeds x blocks: many degrees of freedom). The chain counts as thermalised after
+    the last block of the first half whose seed mean lies more than 3 errors from the plateau (0 when none
+    does). Returns (sweeps to add, the z of each first-half block)."""
+    k, n = series.shape
+    nb = n // block
+    b = series[:, :nb * block].reshape(k, nb, block).mean(axis=2)
+    half = nb // 2
+    late = b[:, half:]
+    plateau = float(late.mean())
+    sw = float(late.std(ddof=1))
+    err = math.hypot(sw / math.sqrt(k), sw / math.sqrt(late.size))
+    z = [(float(b[:, j].mean()) - plateau) / err for j in range(half)]
+    bad = [j for j in range(half) if abs(z[j]) > 3.0]
+    return (bad[-1] + 1) * block if bad else 0, z
+
+
+def therm_scan(points, work: Path, *, seeds: int, seed: int, therm: int, alps_therm: int, sweeps: int,
+               alps_sweeps: int, block: int, peer: bool = True) -> dict:
+    """How many thermalisation sweeps each code needs, by :func:`_thermalised_after` on the energy time
+    series of ``seeds`` chains per code started afresh (hyperlattice after ``therm`` thermalisation
+    sweeps, sweep by sweep; dirloop_sse after ``alps_therm``, the fewest with which it runs here, from its
+    stored bins; skipped when not ``peer``). Prints the blocks' z and each code's need: the shortest
+    thermalisation plus the rule's sweeps."""
+    out = {}
+    for label, spec, U, mu, beta, nmax in points:
+        system = _system(spec)
+        tag = label.replace(" ", "_").replace("=", "")
+        hs, ds, hc, dc = [], [], [], []
+        for rep in range(seeds):
+            sd = seed + rep
+            e, cpu = _hl_series(system, U=U, mu=mu, beta=beta, nmax=nmax, therm=therm, sweeps=sweeps, seed=sd)
+            hs.append(e)
+            hc.append(cpu)
+            if not peer:
+                print(f"  {label} seed {sd}: hyperlattice {cpu:.1f} CPU s; {_load()}", flush=True)
+                continue
+            r = run_alps("dirloop_sse", system, U=U, mu=mu, beta=beta, nmax=nmax, sweeps=alps_sweeps,
+                         thermalization=alps_therm, seed=sd, workdir=work / f"{tag}-scan-s{sd}")
+            size = int(r["energy_bin_size"])
+            ds.append(np.repeat(np.asarray(r["energy_bins"]), size))      # bins of `size` sweeps
+            dc.append(r["cpu_seconds"])
+            print(f"  {label} seed {sd}: hyperlattice {cpu:.1f} CPU s, dirloop_sse {r['cpu_seconds']:.1f} CPU s "
+                  f"(bins of {size}); {_load()}", flush=True)
+        codes = [("hyperlattice", np.array(hs), therm)]
+        if peer:
+            n = min(len(x) for x in ds)
+            codes.append(("dirloop_sse", np.array([x[:n] for x in ds]), alps_therm))
+        res = {}
+        for code, ser, t0 in codes:
+            add, z = _thermalised_after(ser, block)
+            res[code] = {"shortest": t0, "added": add, "needed": t0 + add, "z": z}
+            print(f"  {label} {code}: after {t0} thermalisation sweeps, blocks of {block} sweeps, z against the "
+                  f"plateau " + " ".join(f"{v:+.1f}" for v in z) + f" -> needs {t0} + {add} = {t0 + add} sweeps")
+        out[label] = res
+    return out
+
+
+def steps(rings_list, seed: int) -> None:
+    """The cost of one loop step (a vertex passage) on {7,3} flakes at U = 6, mu = 3, beta = 8, nmax = 3:
+    a chain thermalised for 60 sweeps, then 30 loop updates with its loop count against 30 that only
+    build the vertex list; (difference) / (vertex passages) is the time of a step."""
+    import hyperlattice as hl
+    from hyperlattice.bosons import sse
+
+    beta, U, mu, nmax = 8.0, 6.0, 3.0, 3
+    for rings in rings_list:
+        lat = hl.ring_lattice(7, 3, rings)
+        model = sse._bonded_model(lat, 1.0)
+        wind, _ = sse._bond_windings(lat, model, None)
+        eps, esite, cb = sse._weights(model, U, mu, nmax)
+        K = sse._load_kernels()
+        bound = sse._check_memory(model, beta, cb, nmax, U, mu, False)
+        sq = np.sqrt(np.arange(nmax + 2, dtype=float))
+        g = sse._green_setup(model, False)
+        tables = sse._exit_tables(model, esite, cb, nmax, sq)
+        args = (beta, model, model.tb, cb, esite, sq, nmax, g, tables, eps, wind)
+        ch = sse._Chain(model, seed, g, length=min(bound / 4, 1e8), windings=wind.shape[1])
+        ch.advance(K, 60, True, *args)
+        ch.advance(K, 10, False, *args)
+        ops, state = ch.ops, ch.state
+        m, nops, nl = ops.size, int(ch.counters[0]), int(ch.counters[1])
+        vb, rec = np.empty(m, np.int32), np.empty(8 * m, np.int32)
+        first, last = np.empty(model.sites, np.int64), np.empty(model.sites, np.int64)
+        started = np.zeros(1, np.int64)
+        vis, t, t0 = 0, 0.0, 0.0
+        for _ in range(30):
+            for loops in (nl, 0):
+                c0 = time.process_time()
+                v = K._loop_update(ops, state, nops, loops, model.bi, model.bj, model.tb, cb, esite, sq, nmax, ch.rng,
+                                   vb, rec, first, last, 0, False, ch.gcur, g.gclass, g.zr, g.zi, g.omz, g.hbin,
+                                   ch.vcur, 0, 1, model.gauge, tables[0], tables[1], tables[0].shape[0], 0, started)
+                dt = time.process_time() - c0
+                if loops:
+                    t, vis = t + dt, vis + v
+                else:
+                    t0 += dt
+        print(f"steps: {{7,3}} l = {rings}, {model.sites:,} sites, n {nops:,}, {nl} loops: {vis / 30 / nops:.2f} n steps "
+              f"per sweep, loop update {t / 30 * 1e3:.1f} ms (vertex list alone {t0 / 30 * 1e3:.1f} ms), "
+              f"{(t - t0) / max(vis, 1) * 1e9:.0f} ns per step; {_load()}", flush=True)
+
+
 def profile(sweeps: int, seed: int) -> None:
     """Split hyperlattice's time on the l = 3 superfluid point: kernels against the Python around them."""
     import cProfile
@@ -400,10 +560,19 @@ def main(argv=None) -> int:
                     help="only hyperlattice's CPU seconds sweep by sweep on the {7,3} flake of RINGS rings at U = 6, "
                          "mu = 3, nmax = 3, beta = --phases-beta (--therm and --sweeps sweeps)")
     ap.add_argument("--phases-beta", type=float, default=8.0)
+    ap.add_argument("--steps", default=None, metavar="RINGS,...",
+                    help="only the CPU time of one loop step on the {7,3} flakes of these rings (e.g. 3,4,5,6)")
     ap.add_argument("--alps-therm", type=int, default=None,
                     help="thermalisation sweeps of dirloop_sse when it needs other than --therm (its string grows "
                          "slower: at 847 sites 100 sweeps stop it with 'nnonzero reached the maximum value')")
     ap.add_argument("--green", action="store_true", help="with --phases: measure the Green function too")
+    ap.add_argument("--therm-scan", action="store_true",
+                    help="only measure the thermalisation each code needs (--repeat seeds per code; hyperlattice after "
+                         "--therm sweeps, dirloop_sse after --alps-therm, then --sweeps / --alps-sweeps measured)")
+    ap.add_argument("--scan-block", type=int, default=20, help="block of sweeps of the thermalisation rule (default 20)")
+    ap.add_argument("--scan-no-peer", action="store_true", help="with --therm-scan: hyperlattice's chains only")
+    ap.add_argument("--json", default=None, metavar="PATH",
+                    help="also write the table's numbers (per seed and pooled) to PATH, e.g. benchmarks/bench_qmc.json")
     ap.add_argument("--workdir", default=None, help="keep ALPS's files here (default: a temporary directory)")
     args = ap.parse_args(argv)
     if args.repeat < 1:
@@ -416,9 +585,21 @@ def main(argv=None) -> int:
     if args.profile:
         profile(args.sweeps, args.seed)
         return 0
+    if args.steps:
+        steps([int(x) for x in args.steps.split(",")], args.seed)
+        return 0
     if args.phases is not None:
         phases(args.phases, args.phases_beta, 200 if args.therm is None else args.therm, args.sweeps, args.seed,
                args.green)
+        return 0
+    if args.therm_scan:
+        points = [POINTS[int(i) - 1] for i in (args.points or "9,10").split(",")]
+        with tempfile.TemporaryDirectory() as tmp:
+            therm_scan(points, Path(args.workdir or tmp), seeds=args.repeat, seed=args.seed,
+                       therm=20 if args.therm is None else args.therm,
+                       alps_therm=150 if args.alps_therm is None else args.alps_therm, sweeps=args.sweeps,
+                       alps_sweeps=args.alps_sweeps or args.sweeps, block=args.scan_block, peer=not args.scan_no_peer)
+        print(_load())
         return 0
     points = POINTS
     sweeps, worm = args.sweeps, not args.no_worm
@@ -449,7 +630,34 @@ def main(argv=None) -> int:
     if sr:
         print("efficiency ratio from the seeds' scatter: " + ", ".join(f"{lab} {v:.2f} ± {e:.2f}" for lab, (v, e) in sr))
     print(_load())
+    if args.json:
+        _write_json(Path(args.json), rows, " ".join(sys.argv[1:]) if argv is None else " ".join(argv))
     return 0 if ok else 1
+
+
+def _write_json(path: Path, rows: list[dict], command: str) -> None:
+    """The table's numbers, per seed and pooled, merged into ``path`` under the point's label (other
+    points already stored there are kept)."""
+    import json
+
+    keys = ("energy", "energy_err", "density", "density_err", "cpu_seconds", "converged")
+    old = json.loads(path.read_text()) if path.exists() else {}
+    for r in rows:
+        ratio, err = _ratio(r["hl"], r["dl"])
+        old[r["label"]] = {
+            "command": "python benchmarks/bench_qmc.py " + command, "machine": machine(), "load": r["load"],
+            "sites": r["sites"], "U": r["U"], "mu": r["mu"], "beta": r["beta"], "seeds": r["repeat"],
+            "sweeps": {"hyperlattice": r["sweeps"][0], "dirloop_sse": r["sweeps"][1]},
+            "thermalization": {"hyperlattice": r["therm"][0], "dirloop_sse": r["therm"][1]},
+            "hyperlattice": [{**{k: run[k] for k in keys}, "tau": run["tau"]} for run in r["hl"]["runs"]],
+            "dirloop_sse": [{**{k: run[k] for k in keys}, "tau": run.get("energy_tau"),
+                             "energy_bins": run.get("energy_bins"), "energy_bin_size": run.get("energy_bin_size")}
+                            for run in r["dl"]["runs"]],
+            "efficiency": {"hyperlattice": _eff(r["hl"]), "dirloop_sse": _eff(r["dl"])},
+            "ratio": ratio, "ratio_err": err,
+        }
+    path.write_text(json.dumps(old, indent=1) + "\n")
+    print(f"wrote {path}")
 
 
 if __name__ == "__main__":

@@ -12,7 +12,12 @@ Configuration
   (:math:`a_j^\dagger a_i`);
 * the vertex list of the loop update: vertex v (the v-th non-identity operator) has legs
   4v + 0 (site i, below), 4v + 1 (site j, below), 4v + 2 (site i, above), 4v + 3 (site j, above);
-  ``link`` joins each leg to the next/previous leg on the same site (periodic in imaginary time).
+  the link of a leg joins it to the next/previous leg on the same site (periodic in imaginary
+  time). One int32 record of 8 entries per vertex holds the four leg states and then the four
+  links (``rec[8v + le]``, ``rec[8v + 4 + le]``; :func:`_st` and :func:`_lk` give the positions
+  from a leg), and ``vb[v]`` is the vertex's bond: a step of a loop reads one 32-byte record and
+  one bond, where separate state, link, position and operator arrays cost four cache misses on a
+  string larger than the cache.
 
 Random numbers
 --------------
@@ -351,14 +356,26 @@ def exit_table(bclass_rep, bi, bj, tb, cb, esite, sq, nmax):  # pragma: no cover
 
 
 @numba.njit(cache=True, inline="always")
-def _gaps(leg, link, n):  # pragma: no cover - jitted
+def _st(leg):  # pragma: no cover - jitted
+    r"""Position of leg ``leg`` = 4v + le's state in the vertex records: 8v + le."""
+    return leg + (leg & ~3)
+
+
+@numba.njit(cache=True, inline="always")
+def _lk(leg):  # pragma: no cover - jitted
+    r"""Position of leg ``leg`` = 4v + le's link in the vertex records: 8v + 4 + le."""
+    return leg + (leg & ~3) + 4
+
+
+@numba.njit(cache=True, inline="always")
+def _gaps(leg, rec, n):  # pragma: no cover - jitted
     r"""(first gap, number of gaps) of the segment that ends at ``leg``; gap g lies just below vertex g.
 
     A segment runs from the upper leg of vertex a to the lower leg of the next vertex c on the
     same site and covers the gaps a+1 .. c (cyclically): c - a of them, all n when a == c.
     """
     v = leg >> 2
-    w = link[leg] >> 2
+    w = rec[_lk(leg)] >> 2
     if (leg & 3) >= 2:
         a = v
         c = w
@@ -397,10 +414,13 @@ def _pair_class(k, l, gmode, gclass, zr, zi, omz, hbin, ncls):  # pragma: no cov
 
 @numba.njit(cache=True)
 def _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
-                 vpos, link, legs, first, lastleg, gmode, gfull, gcur, gclass, zr, zi, omz, hbin, vcur, voff,
+                 vb, rec, first, lastleg, gmode, gfull, gcur, gclass, zr, zi, omz, hbin, vcur, voff,
                  ncls, gsign, ptab, bclass, ntab, legcap, started):  # pragma: no cover
     r"""Directed-loop update (Syljuåsen & Sandvik 2002; bosons: Syljuåsen 2003) with the
     least-bounce exit probabilities (:func:`_cumulative`). Returns the number of vertex passages.
+
+    ``vb`` (int32, at least n) and ``rec`` (int32, at least 8n) are work arrays: the vertices'
+    bonds and records (module docstring), built here from ``ops`` and ``state``.
 
     ``legcap`` > 0 (thermalisation only) stops starting loops once that many vertex passages are
     done: far from equilibrium the loops are long and the loop count set from the previous
@@ -428,35 +448,36 @@ def _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
         k = op & 3
         i = bi[b]
         j = bj[b]
-        vpos[v] = p
+        vb[v] = b
         l0 = 4 * v
-        legs[l0] = state[i]
-        legs[l0 + 1] = state[j]
+        r0 = 8 * v
+        rec[r0] = state[i]
+        rec[r0 + 1] = state[j]
         if k == 1:
             state[i] += 1
             state[j] -= 1
         elif k == 2:
             state[i] -= 1
             state[j] += 1
-        legs[l0 + 2] = state[i]
-        legs[l0 + 3] = state[j]
+        rec[r0 + 2] = state[i]
+        rec[r0 + 3] = state[j]
         if lastleg[i] >= 0:
-            link[l0] = lastleg[i]
-            link[lastleg[i]] = l0
+            rec[r0 + 4] = lastleg[i]
+            rec[_lk(lastleg[i])] = l0
         else:
             first[i] = l0
         lastleg[i] = l0 + 2
         if lastleg[j] >= 0:
-            link[l0 + 1] = lastleg[j]
-            link[lastleg[j]] = l0 + 1
+            rec[r0 + 5] = lastleg[j]
+            rec[_lk(lastleg[j])] = l0 + 1
         else:
             first[j] = l0 + 1
         lastleg[j] = l0 + 3
         v += 1
     for i in range(nsites):
         if first[i] >= 0:
-            link[first[i]] = lastleg[i]
-            link[lastleg[i]] = first[i]
+            rec[_lk(first[i])] = lastleg[i]
+            rec[_lk(lastleg[i])] = first[i]
     nlegs = 4 * nops
     visited = 0
     w = np.empty(4)
@@ -467,7 +488,7 @@ def _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
     # are restored) and is counted, so that the result can say so
     maxlen = 200 * nlegs + 100000
     aborted = False
-    saved = legs[:nlegs].copy() if nops > 0 else legs[:0].copy()
+    saved = rec[:2 * nlegs].copy() if nops > 0 else rec[:0].copy()
     started[0] = 0
     if nops > 0:
         for _ in range(nloops):
@@ -477,28 +498,28 @@ def _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
             j0 = _below(rng, nlegs)
             steps = 0
             d0 = 1 if _uniform(rng) < 0.5 else -1
-            new = legs[j0] + d0
+            new = rec[_st(j0)] + d0
             if new < 0 or new > nmax:
                 continue
-            legs[j0] = new
-            t0 = link[j0]
+            rec[_st(j0)] = new
+            t0 = rec[_lk(j0)]
             jl = j0
             d = d0
             if gmode > 0:
                 tv = j0 >> 2
-                tsite = bj[ops[vpos[tv]] >> 2] if (j0 & 1) else bi[ops[vpos[tv]] >> 2]
-                tg, tl = _gaps(j0, link, nops)
+                tsite = bj[vb[tv]] if (j0 & 1) else bi[vb[tv]]
+                tg, tl = _gaps(j0, rec, nops)
                 # the tail segment jumps up (a^dagger at tsite) when its upper end holds more bosons
-                tup = (legs[t0] > legs[j0]) if (j0 & 3) >= 2 else (legs[j0] > legs[t0])
+                tup = (rec[_st(t0)] > rec[_st(j0)]) if (j0 & 3) >= 2 else (rec[_st(j0)] > rec[_st(t0)])
             while True:
                 vv = jl >> 2
                 le = jl & 3
-                b = ops[vpos[vv]] >> 2
-                base = 4 * vv
-                s0 = legs[base]
-                s1 = legs[base + 1]
-                s2 = legs[base + 2]
-                s3 = legs[base + 3]
+                b = vb[vv]
+                base = 8 * vv
+                s0 = rec[base]
+                s1 = rec[base + 1]
+                s2 = rec[base + 2]
+                s3 = rec[base + 3]
                 r = _uniform(rng)
                 ex = le
                 if ntab > 0:
@@ -517,23 +538,24 @@ def _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
                             ex = x
                             break
                 dx = -d if (ex >> 1) == (le >> 1) else d
-                xl = base + ex
+                xl = 4 * vv + ex
+                xs = base + ex
                 visited += 1
                 steps += 1
                 if steps > maxlen:
-                    legs[:nlegs] = saved
+                    rec[:2 * nlegs] = saved
                     aborted = True
                     break
                 if gmode > 0:
                     hsite = bj[b] if (ex & 1) else bi[b]
                     if hsite != tsite:
-                        hg, hl = _gaps(xl, link, nops)
+                        hg, hl = _gaps(xl, rec, nops)
                         ov = _overlap(hg, hl, tg, tl, nops)
                         if ov > 0:
-                            hx = legs[xl] + dx
-                            hy = legs[link[xl]]
+                            hx = rec[xs] + dx
+                            hy = rec[_st(rec[xs + 4])]
                             # the tail's states shift when the head passed through its segment
-                            val = 2.0 * ov * sq[max(legs[j0], legs[t0])] * sq[max(hx, hy)]
+                            val = 2.0 * ov * sq[max(rec[_st(j0)], rec[_st(t0)])] * sq[max(hx, hy)]
                             if tup:
                                 k = tsite
                                 l = hsite
@@ -545,28 +567,32 @@ def _loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, nmax, rng,
                             c = _pair_class(k, l, gmode, gclass, zr, zi, omz, hbin, ncls)
                             vcur[voff + c] += val * gsign[k] * gsign[l]
                 if xl == j0 or xl == t0:
-                    legs[xl] += dx
-                    if legs[j0] == legs[t0]:
+                    rec[xs] += dx
+                    if rec[_st(j0)] == rec[_st(t0)]:
                         break
-                    legs[xl] -= dx
-                nxt = link[xl]
-                legs[xl] += dx
-                legs[nxt] += dx
+                    rec[xs] -= dx
+                nxt = rec[xs + 4]
+                rec[xs] += dx
+                rec[_st(nxt)] += dx
                 jl = nxt
                 d = dx
     # operator types and the time-0 state from the legs
-    for vv in range(nops):
-        base = 4 * vv
-        b = ops[vpos[vv]] >> 2
-        if legs[base] == legs[base + 2]:
-            ops[vpos[vv]] = 4 * b
-        elif legs[base + 2] > legs[base]:
-            ops[vpos[vv]] = 4 * b + 1
+    vv = 0
+    for p in range(m):
+        if ops[p] < 0:
+            continue
+        base = 8 * vv
+        b = vb[vv]
+        if rec[base] == rec[base + 2]:
+            ops[p] = 4 * b
+        elif rec[base + 2] > rec[base]:
+            ops[p] = 4 * b + 1
         else:
-            ops[vpos[vv]] = 4 * b + 2
+            ops[p] = 4 * b + 2
+        vv += 1
     for i in range(nsites):
         if first[i] >= 0:
-            state[i] = legs[first[i]]
+            state[i] = rec[_st(first[i])]
         else:
             # no operator acts on site i: the weight does not depend on n_i (the on-site energy is
             # inside the bond vertices), so n_i is uniform over 0..nmax
@@ -618,10 +644,9 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
     first = np.empty(nsites, dtype=np.int64)
     lastleg = np.empty(nsites, dtype=np.int64)
     cap = max(m, 16)
-    # int32 vertex positions, links and leg states: half the memory traffic of the loop's link chase
-    vpos = np.empty(cap, dtype=np.int32)
-    link = np.empty(4 * cap, dtype=np.int32)
-    legs = np.empty(4 * cap, dtype=np.int32)
+    # int32 vertex bonds and records (leg states and links side by side: one cache line per step)
+    vb = np.empty(cap, dtype=np.int32)
+    rec = np.empty(8 * cap, dtype=np.int32)
     nv = vcur.shape[0]
     ntab = ptab.shape[0]
     gfull = gbins.shape[1] == nsites and nsites > 1
@@ -670,15 +695,14 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
                 vcur[nsites + b] += offd[b]
         if ops.shape[0] > cap:
             cap = ops.shape[0]
-            vpos = np.empty(cap, dtype=np.int32)
-            link = np.empty(4 * cap, dtype=np.int32)
-            legs = np.empty(4 * cap, dtype=np.int32)
+            vb = np.empty(cap, dtype=np.int32)
+            rec = np.empty(8 * cap, dtype=np.int32)
         gm = 0 if thermalize else gmode
         nl = max(nloops, int(loopstat[3])) if gm > 0 else nloops
         # thermalisation: at most twice the sweep's leg budget (see _loop_update)
         legcap = int(2.0 * target_legs * nops) + 64 if thermalize else 0
         visited = _loop_update(ops, state, nops, nl, bi, bj, tb, cb, esite, sq, nmax, rng,
-                               vpos, link, legs, first, lastleg, gm, gfull, gcur, gclass,
+                               vb, rec, first, lastleg, gm, gfull, gcur, gclass,
                                zr, zi, omz, hbin, vcur, voff, ncls, gsign, ptab, bclass, ntab, legcap, started)
         if visited < 0:     # a runaway loop: this sweep's loop update was undone (counted)
             visited = -1 - visited

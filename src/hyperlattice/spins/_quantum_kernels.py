@@ -213,9 +213,8 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
     first = np.empty(n, dtype=np.int64)
     lastleg = np.empty(n, dtype=np.int64)
     cap = max(m, 16)
-    vpos = np.empty(cap, dtype=np.int32)
-    link = np.empty(4 * cap, dtype=np.int32)
-    legs = np.empty(4 * cap, dtype=np.int32)
+    vb = np.empty(cap, dtype=np.int32)
+    rec = np.empty(8 * cap, dtype=np.int32)
     esite = np.zeros((n, 2))
     sq = np.sqrt(np.arange(3.0))
     gcur = np.zeros((1, 1))
@@ -276,11 +275,10 @@ def run(nsweeps, thermalize, target_legs, ops, state, nops, nloops, beta, bi, bj
                 vcur[2 * n + nb + b] += offd[b]
         if ops.shape[0] > cap:
             cap = ops.shape[0]
-            vpos = np.empty(cap, dtype=np.int32)
-            link = np.empty(4 * cap, dtype=np.int32)
-            legs = np.empty(4 * cap, dtype=np.int32)
+            vb = np.empty(cap, dtype=np.int32)
+            rec = np.empty(8 * cap, dtype=np.int32)
         visited = K._loop_update(ops, state, nops, nloops, bi, bj, tb, cb, esite, sq, 1, rng,
-                                 vpos, link, legs, first, lastleg, 0, False, gcur, gclass,
+                                 vb, rec, first, lastleg, 0, False, gcur, gclass,
                                  one, one, one, 1.0, vcur, 0, 1, gsign, ptab, bclass, ntab, 0, started)
         if visited < 0:
             visited = -1 - visited
