@@ -345,18 +345,15 @@ def scale(sweeps: int, therm: int, seed: int, checkpoint: str | None = None) -> 
         print(f"  warning: {w.message}")
 
 
-def phases(rings: int, beta: float, therm: int, sweeps: int, seed: int, green: bool) -> None:
-    """Where hyperlattice's CPU time goes, sweep by sweep, on the {7,3} flake of ``rings`` rings (U = 6,
-    mu = 3, nmax = 3): the string (operators n, length M), the loops per sweep and their mean length,
-    and the CPU seconds of each thermalisation and measurement sweep (the chain's own kernel calls,
-    one sweep each, so that the first sweeps of a short string show)."""
-    import hyperlattice as hl
+def _kernel_setup(system, *, beta, U, mu, nmax, green):
+    """What ``qmc`` prepares before its chain, for driving the kernels sweep by sweep: the bonded
+    model, the numba kernels, the string bound and the argument tuple of ``_Chain.advance``."""
+    from types import SimpleNamespace
+
     from hyperlattice.bosons import sse
 
-    U, mu, nmax = 6.0, 3.0, 3
-    lat = hl.ring_lattice(7, 3, rings)
-    model = sse._bonded_model(lat, 1.0)
-    wind, _ = sse._bond_windings(lat, model, None)
+    model = sse._bonded_model(system, 1.0)
+    wind, _ = sse._bond_windings(system, model, None)
     eps, esite, cb = sse._weights(model, U, mu, nmax)
     K = sse._load_kernels()
     bound = sse._check_memory(model, beta, cb, nmax, U, mu, green)
@@ -364,10 +361,26 @@ def phases(rings: int, beta: float, therm: int, sweeps: int, seed: int, green: b
     g = sse._green_setup(model, green)
     tables = sse._exit_tables(model, esite, cb, nmax, sq)
     args = (beta, model, model.tb, cb, esite, sq, nmax, g, tables, eps, wind)
-    warm = sse._Chain(model, seed + 1, g, length=min(bound / 4, 1e8), windings=wind.shape[1])
+    return SimpleNamespace(model=model, K=K, bound=bound, cb=cb, esite=esite, sq=sq, g=g, tables=tables,
+                           args=args, chain=lambda seed: sse._Chain(model, seed, g, length=min(bound / 4, 1e8),
+                                                                    windings=wind.shape[1]))
+
+
+def phases(rings: int, beta: float, therm: int, sweeps: int, seed: int, green: bool) -> None:
+    """Where hyperlattice's CPU time goes, sweep by sweep, on the {7,3} flake of ``rings`` rings (U = 6,
+    mu = 3, nmax = 3): the string (operators n, length M), the loops per sweep and their mean length,
+    and the CPU seconds of each thermalisation and measurement sweep (the chain's own kernel calls,
+    one sweep each, so that the first sweeps of a short string show)."""
+    import hyperlattice as hl
+
+    U, mu, nmax = 6.0, 3.0, 3
+    lat = hl.ring_lattice(7, 3, rings)
+    st = _kernel_setup(lat, beta=beta, U=U, mu=mu, nmax=nmax, green=green)
+    K, args, bound = st.K, st.args, st.bound
+    warm = st.chain(seed + 1)
     warm.advance(K, 2, True, *args)          # compile
     warm.advance(K, 2, False, *args)
-    ch = sse._Chain(model, seed, g, length=min(bound / 4, 1e8), windings=wind.shape[1])
+    ch = st.chain(seed)
     print(f"\nphases: {{7,3}} flake l = {rings}, {lat.sites:,} sites, beta = {beta:g}, U = {U:g}, mu = {mu:g}, "
           f"nmax = {nmax}, G {'measured' if green else 'not measured'}; string bound {bound:,.0f}, first length "
           f"{ch.ops.size:,}; {_load()}")
@@ -392,19 +405,10 @@ def _hl_series(system, *, U, mu, beta, nmax, therm, sweeps, seed) -> tuple[np.nd
     """hyperlattice's energy sweep by sweep: ``therm`` thermalisation sweeps (string growth, loop count,
     leg cap: what ``qmc`` does), then ``sweeps`` measured sweeps, one kernel call each; the chain's
     CPU seconds (thermalisation included)."""
-    from hyperlattice.bosons import sse
-
-    model = sse._bonded_model(system, 1.0)
-    wind, _ = sse._bond_windings(system, model, None)
-    eps, esite, cb = sse._weights(model, U, mu, nmax)
-    K = sse._load_kernels()
-    bound = sse._check_memory(model, beta, cb, nmax, U, mu, False)
-    sq = np.sqrt(np.arange(nmax + 2, dtype=float))
-    g = sse._green_setup(model, False)
-    tables = sse._exit_tables(model, esite, cb, nmax, sq)
-    args = (beta, model, model.tb, cb, esite, sq, nmax, g, tables, eps, wind)
+    st = _kernel_setup(system, beta=beta, U=U, mu=mu, nmax=nmax, green=False)
+    K, args = st.K, st.args
     c0 = time.process_time()
-    ch = sse._Chain(model, seed, g, length=min(bound / 4, 1e8), windings=wind.shape[1])
+    ch = st.chain(seed)
     ch.advance(K, therm, True, *args)
     out = np.empty(sweeps)
     for s in range(sweeps):
@@ -480,21 +484,12 @@ def steps(rings_list, seed: int) -> None:
     a chain thermalised for 60 sweeps, then 30 loop updates with its loop count against 30 that only
     build the vertex list; (difference) / (vertex passages) is the time of a step."""
     import hyperlattice as hl
-    from hyperlattice.bosons import sse
 
     beta, U, mu, nmax = 8.0, 6.0, 3.0, 3
     for rings in rings_list:
-        lat = hl.ring_lattice(7, 3, rings)
-        model = sse._bonded_model(lat, 1.0)
-        wind, _ = sse._bond_windings(lat, model, None)
-        eps, esite, cb = sse._weights(model, U, mu, nmax)
-        K = sse._load_kernels()
-        bound = sse._check_memory(model, beta, cb, nmax, U, mu, False)
-        sq = np.sqrt(np.arange(nmax + 2, dtype=float))
-        g = sse._green_setup(model, False)
-        tables = sse._exit_tables(model, esite, cb, nmax, sq)
-        args = (beta, model, model.tb, cb, esite, sq, nmax, g, tables, eps, wind)
-        ch = sse._Chain(model, seed, g, length=min(bound / 4, 1e8), windings=wind.shape[1])
+        st = _kernel_setup(hl.ring_lattice(7, 3, rings), beta=beta, U=U, mu=mu, nmax=nmax, green=False)
+        model, K, args, cb, esite, sq, g, tables = st.model, st.K, st.args, st.cb, st.esite, st.sq, st.g, st.tables
+        ch = st.chain(seed)
         ch.advance(K, 60, True, *args)
         ch.advance(K, 10, False, *args)
         ops, state = ch.ops, ch.state
