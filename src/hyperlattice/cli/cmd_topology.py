@@ -198,9 +198,7 @@ def _dirac4_cluster(args) -> int:
         return 0
     print(f"{{8,8}} map {mp.name} ({mp.sites} site(s), genus {mp.genus}), model dirac4, m = {args.M:g}, "
           f"{occ} of {rows} bands occupied, grid {n} x {n}")
-    for row in out["chern"]:
-        print("  " + " ".join(f"{x:+d}" for x in row))
-    print(f"  gcd {out['gcd']}, Pfaffian {out['pfaffian']}, smallest gap on the grid {out['gap']:.4g}")
+    _print_chern(out["chern"], out["gcd"], out["pfaffian"], out["gap"])
     for line in extra:
         print(line)
     return 0
@@ -252,6 +250,13 @@ def _flake(args) -> int:
     return 0
 
 
+def _print_chern(chern, gcd, pfaffian, gap) -> None:
+    """The Chern matrix, one row a line, then its gcd, Pfaffian and the smallest gap on the grid."""
+    for row in chern:
+        print("  " + " ".join(f"{x:+d}" for x in row))
+    print(f"  gcd {gcd}, Pfaffian {pfaffian}, smallest gap on the grid {gap:.4g}")
+
+
 def _cluster(args) -> int:
     from ..graph.clusters import pbc_cluster
     from ..topology.surfaces import cluster_chern
@@ -290,9 +295,7 @@ def _cluster(args) -> int:
             return 0
         print(f"{{{p},{q}}} cluster {cl.name} (genus {cl.genus}), model qwz (covariant frame), "
               f"grid {inv['grid']} x {inv['grid']}")
-        for row in inv["chern"]:
-            print("  " + " ".join(f"{x:+d}" for x in row))
-        print(f"  gcd {inv['gcd']}, Pfaffian {inv['pfaffian']}, smallest gap on the grid {inv['gap']:.4g}")
+        _print_chern(inv["chern"], inv["gcd"], inv["pfaffian"], inv["gap"])
         return 0
     from ..topology.models import orbitals
 
@@ -328,9 +331,7 @@ def _cluster(args) -> int:
         return 0
     print(f"{{{p},{q}}} cluster {cl.name} (genus {cl.genus}), model {args.model}, grid {res.grid} x {res.grid}, "
           f"{res.occupied} bands occupied (between {res.fermi_window[0]:.4g} and {res.fermi_window[1]:.4g})")
-    for row in res.chern.tolist():
-        print("  " + " ".join(f"{x:+d}" for x in row))
-    print(f"  gcd {res.gcd}, Pfaffian {res.pfaffian}, smallest gap on the grid {res.gap:.4g}")
+    _print_chern(res.chern.tolist(), res.gcd, res.pfaffian, res.gap)
     for line in extra:
         print(line)
     return 0
